@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Installs what is missing (Debian 12 packages), then configures and builds liftoff in Release
+# under ./build. Safe to run again: installed packages are skipped, the build is incremental.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+packages=(
+  cmake make g++ pkg-config        # toolchain
+  libeigen3-dev                    # dense and sparse linear algebra
+  libsundials-dev                  # KINSOL (Newton solver of the Ritz model)
+  libhdf5-dev hdf5-tools           # result files; h5dump
+  catch2                           # unit tests
+  libtomlplusplus-dev              # scene files
+  libcli11-dev                     # command line
+  nlohmann-json3-dev               # --json output
+  libfmt-dev                       # formatting
+  python3-h5py                     # tests read the HDF5 output as a user would
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
+cmake --build build -j"$(nproc)"

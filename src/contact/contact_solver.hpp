@@ -1,0 +1,69 @@
+#pragma once
+// The tensionless (or bilateral) contact problem of a discretised member, solved exactly.
+//
+// Formulations (seed, section 3):
+//  - primal (3.14): the LCP in (u+, u-, r) with M = [K -K C^T; -K K -C^T; -C C T],
+//    q = (-F, F, 0). Works for every structure, stable or not; 2n + m unknowns.
+//  - dual (3.18): the LCP in r alone, M = P = C K^-1 C^T + T, q = -C K^-1 F, then
+//    u = K^-1 (F - C^T r). Needs K positive definite: refused for structures that only the
+//    foundation holds in place (SolverFailure pointing to the primal form).
+//  - a bilateral foundation needs no LCP: the saddle-point system [K C^T; C -T] is solved.
+// Both LCPs are solved by Lemke (lcp/lemke.hpp) on loads scaled to unit size: the problem is
+// positively homogeneous in F, so the scale is undone exactly afterwards.
+
+#include <string>
+
+#include <Eigen/Dense>
+
+#include "fe/discretisation.hpp"
+#include "lcp/lemke.hpp"
+#include "scene/scene.hpp"
+
+namespace liftoff::contact {
+
+using scene::Method;
+
+struct ContactOptions {
+  Method method = Method::dual;
+  double load_factor = 1.0;  // lambda: F = F_dead + lambda F_live
+  lcp::LemkeOptions lemke;
+  void validate() const;  // throws std::invalid_argument naming the field
+};
+
+enum class ContactTermination {
+  solved,             // u and r satisfy equilibrium and the contact conditions (see residual)
+  no_equilibrium,     // Lemke ray: the LCP has no solution; the loads lift the member off and
+                      // the supports cannot hold it (a mechanism)
+  pivot_limit,        // Lemke stopped at its pivot limit; no answer
+  numerical_failure,  // a singular basis or factorisation; no answer
+};
+std::string_view to_string(ContactTermination);
+
+struct ContactSummary {
+  ContactTermination termination = ContactTermination::numerical_failure;
+  Method method = Method::dual;    // the formulation actually used
+  std::string method_reason;       // why (for method = auto, or the bilateral shortcut)
+  std::string message;             // in words
+  int pivots = -1;
+  int lcp_size = -1;
+  // max of the relative equilibrium residual |K u + C^T r - F| / |F|, the feasibility
+  // violations (negative r, negative gap) and the complementarity r.gap, each relative to the
+  // magnitudes involved. -1 until computed.
+  double residual = -1.0;
+  double time_s = -1.0;
+  bool is_usable() const { return termination == ContactTermination::solved; }
+  std::string brief_report() const;
+};
+
+struct ContactSolution {
+  Eigen::VectorXd displacement;  // nondimensional, on every dof (fixed dofs 0)
+  Eigen::VectorXd reaction;      // nondimensional nodal reactions, one per reaction node
+  Eigen::VectorXd gap;           // T r - C u, the weighted gap at the reaction nodes
+  ContactSummary summary;
+};
+
+// Throws SolverFailure when the dual form is asked for a structure that is not stable by
+// itself; every other outcome is in summary.termination.
+ContactSolution solve_contact(const fe::Discretisation& discretisation, const ContactOptions& options);
+
+}  // namespace liftoff::contact

@@ -1,0 +1,28 @@
+#pragma once
+// Circular arch element, linear curved-beam theory, nondimensional (R = 1, EI = 1).
+//
+// Coordinate s = theta; u tangential (positive toward increasing theta), w radial, positive
+// inward (into the foundation). Strains (' = d/dtheta):
+//   membrane  eps = u' - w            (normal force  N = EA eps)
+//   bending   chi = u' + w''          (moment        M = -EI chi, sagging positive)
+// and the cross-section rotation (counterclockwise) is beta = -(u + w').
+// Local dofs: (w0, w0', w1, w1') Hermite cubic, then (u0, u_1/4, u_1/2, u_3/4, u1) Lagrange
+// quartic. The quartic u is what keeps the element free of membrane locking (see
+// shape_functions.hpp).
+
+#include <Eigen/Dense>
+
+namespace liftoff::fe::arch_element {
+
+inline constexpr int dofs = 9;
+using Matrix9d = Eigen::Matrix<double, 9, 9>;
+using Row9d = Eigen::Matrix<double, 1, 9>;
+
+// Rows mapping local dofs to eps and chi at xi.
+Row9d membrane_strain_row(double xi, double h);
+Row9d bending_strain_row(double xi, double h);
+
+// Integral of membrane_stiffness * eps^2 + chi^2 (5-point Gauss, exact).
+Matrix9d stiffness(double h, double membrane_stiffness);
+
+}  // namespace liftoff::fe::arch_element

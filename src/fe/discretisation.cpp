@@ -1,0 +1,279 @@
+#include "fe/discretisation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+
+#include "core/error.hpp"
+#include "fe/arch_element.hpp"
+#include "fe/beam_element.hpp"
+#include "fe/foundation_element.hpp"
+#include "fe/shape_functions.hpp"
+
+namespace liftoff::fe {
+
+using Triplets = std::vector<Eigen::Triplet<double>>;
+
+// ---- dof numbering ---------------------------------------------------------------------------
+
+int Discretisation::deflection_dof(int node) const { return kind == StructureKind::beam ? 2 * node : 6 * node + 1; }
+int Discretisation::slope_dof(int node) const { return kind == StructureKind::beam ? 2 * node + 1 : 6 * node + 2; }
+int Discretisation::tangential_dof(int node) const { return 6 * node; }
+
+std::vector<int> Discretisation::element_dofs(int e) const {
+  if (kind == StructureKind::beam) return {2 * e, 2 * e + 1, 2 * e + 2, 2 * e + 3};
+  return {6 * e + 1, 6 * e + 2, 6 * e + 7, 6 * e + 8, 6 * e, 6 * e + 3, 6 * e + 4, 6 * e + 5, 6 * e + 6};
+}
+
+DofRole Discretisation::role_of_dof(int dof) const {
+  if (kind == StructureKind::beam) return dof % 2 == 0 ? DofRole::deflection : DofRole::slope;
+  switch (dof % 6) {
+    case 1: return DofRole::deflection;
+    case 2: return DofRole::slope;
+    default: return DofRole::tangential;
+  }
+}
+
+double Discretisation::position_of_dof(int dof) const {
+  if (kind == StructureKind::beam) return mesh.nodes[dof / 2];
+  const int block = dof / 6, offset = dof % 6;
+  if (offset < 3) return mesh.nodes[block];
+  const double h = mesh.element_size(block);
+  return mesh.nodes[block] + h * quartic_nodes[offset - 2];
+}
+
+Eigen::VectorXd Discretisation::expand(const Eigen::VectorXd& on_equations) const {
+  Eigen::VectorXd all = Eigen::VectorXd::Zero(dofs());
+  for (int dof = 0; dof < dofs(); ++dof)
+    if (equation_of_dof[dof] >= 0) all[dof] = on_equations[equation_of_dof[dof]];
+  return all;
+}
+
+namespace {
+
+int dof_count(StructureKind kind, int elements) { return kind == StructureKind::beam ? 2 * (elements + 1) : 6 * elements + 3; }
+
+// Dofs fixed by the end and point supports.
+std::vector<int> supported_dofs(const MemberModel& model, const Discretisation& d) {
+  std::vector<int> fixed;
+  auto fix_end = [&](int node, EndSupport support) {
+    const bool arch = model.kind == StructureKind::arch;
+    switch (support) {
+      case EndSupport::free: break;
+      case EndSupport::roller: fixed.push_back(d.deflection_dof(node)); break;
+      case EndSupport::pinned:
+        fixed.push_back(d.deflection_dof(node));
+        if (arch) fixed.push_back(d.tangential_dof(node));
+        break;
+      case EndSupport::clamped:
+        fixed.push_back(d.deflection_dof(node));
+        fixed.push_back(d.slope_dof(node));
+        if (arch) fixed.push_back(d.tangential_dof(node));
+        break;
+    }
+  };
+  fix_end(0, model.left);
+  fix_end(d.mesh.elements(), model.right);
+  for (double s : model.point_supports) fixed.push_back(d.deflection_dof(d.mesh.node_at(s)));
+  return fixed;
+}
+
+// The in-plane rigid motions of the member, on every dof (columns).
+Eigen::MatrixXd rigid_motions(const MemberModel& model, const Discretisation& d) {
+  const int n = d.dofs();
+  const double middle = 0.5 * (model.s_begin + model.s_end);
+  if (model.kind == StructureKind::beam) {
+    Eigen::MatrixXd modes = Eigen::MatrixXd::Zero(n, 2);
+    for (int dof = 0; dof < n; ++dof) {
+      const double s = d.position_of_dof(dof);
+      const bool slope = d.role_of_dof(dof) == DofRole::slope;
+      modes(dof, 0) = slope ? 0.0 : 1.0;          // translation
+      modes(dof, 1) = slope ? 1.0 : s - middle;   // rotation about the middle
+    }
+    return modes;
+  }
+  // Arch: horizontal and vertical translation, rotation about the centre of curvature.
+  Eigen::MatrixXd modes = Eigen::MatrixXd::Zero(n, 3);
+  for (int dof = 0; dof < n; ++dof) {
+    const double t = d.position_of_dof(dof), c = std::cos(t), s = std::sin(t);
+    switch (d.role_of_dof(dof)) {
+      case DofRole::tangential: modes.row(dof) << c, -s, 1.0; break;
+      case DofRole::deflection: modes.row(dof) << -s, -c, 0.0; break;
+      case DofRole::slope: modes.row(dof) << -c, s, 0.0; break;
+    }
+  }
+  return modes;
+}
+
+Eigen::MatrixXd kernel(const Eigen::MatrixXd& a, int columns) {
+  if (a.rows() == 0) return Eigen::MatrixXd::Identity(columns, columns);
+  Eigen::FullPivLU<Eigen::MatrixXd> lu(a);
+  lu.setThreshold(1e-10);
+  if (lu.rank() == columns) return Eigen::MatrixXd(columns, 0);
+  return lu.kernel();
+}
+
+struct Assembly {
+  Triplets stiffness, coupling, flexibility;
+  Eigen::VectorXd dead_load, live_load;  // on every dof
+};
+
+Assembly assemble(const MemberModel& model, const Discretisation& d, const std::vector<int>& reaction_of_node) {
+  Assembly a;
+  const int n = d.dofs();
+  a.dead_load = Eigen::VectorXd::Zero(n);
+  a.live_load = Eigen::VectorXd::Zero(n);
+  const Mesh& mesh = d.mesh;
+
+  for (int e = 0; e < mesh.elements(); ++e) {
+    const double h = mesh.element_size(e);
+    const double middle = mesh.nodes[e] + 0.5 * h;
+    const std::vector<int> dofs = d.element_dofs(e);
+    Eigen::MatrixXd k = model.kind == StructureKind::beam
+                            ? Eigen::MatrixXd(beam_element::stiffness(h))
+                            : Eigen::MatrixXd(arch_element::stiffness(h, model.membrane_stiffness));
+    for (int i = 0; i < k.rows(); ++i)
+      for (int j = 0; j < k.cols(); ++j) a.stiffness.emplace_back(dofs[i], dofs[j], k(i, j));
+
+    // The first four local dofs are the Hermite dofs of w for both element kinds.
+    if (middle >= model.foundation_begin && middle <= model.foundation_end) {
+      const auto c = foundation_element::coupling(h);
+      const auto t = foundation_element::flexibility(h, model.foundation_modulus);
+      const int r[2] = {reaction_of_node[e], reaction_of_node[e + 1]};
+      for (int i = 0; i < 2; ++i) {
+        for (int j = 0; j < 4; ++j) a.coupling.emplace_back(r[i], dofs[j], c(i, j));
+        for (int j = 0; j < 2; ++j) a.flexibility.emplace_back(r[i], r[j], t(i, j));
+      }
+    }
+
+    for (const MemberLoad& load : model.loads) {
+      if (load.kind != LoadKind::uniform || middle < load.from || middle > load.to) continue;
+      Eigen::Vector4d consistent = Eigen::Vector4d::Zero();
+      for (const GaussPoint& g : gauss5) consistent += (g.weight * h * load.value) * hermite_cubic(g.xi, h).value;
+      Eigen::VectorXd& target = load.load_case == LoadCase::dead ? a.dead_load : a.live_load;
+      for (int j = 0; j < 4; ++j) target[dofs[j]] += consistent[j];
+    }
+  }
+
+  for (const MemberLoad& load : model.loads) {
+    if (load.kind == LoadKind::uniform) continue;
+    Eigen::VectorXd& target = load.load_case == LoadCase::dead ? a.dead_load : a.live_load;
+    const int node = mesh.node_at(load.at);
+    if (load.kind == LoadKind::force) {
+      target[d.deflection_dof(node)] += load.value;
+    } else {
+      // Work of a counterclockwise moment: M * rotation, rotation = -w' (beam), -(u + w') (arch).
+      target[d.slope_dof(node)] -= load.value;
+      if (model.kind == StructureKind::arch) target[d.tangential_dof(node)] -= load.value;
+    }
+  }
+  return a;
+}
+
+SparseMatrix to_sparse(int rows, int cols, const Triplets& triplets, const std::vector<int>* row_map,
+                       const std::vector<int>* col_map) {
+  Triplets mapped;
+  mapped.reserve(triplets.size());
+  for (const auto& t : triplets) {
+    const int i = row_map ? (*row_map)[t.row()] : t.row();
+    const int j = col_map ? (*col_map)[t.col()] : t.col();
+    if (i >= 0 && j >= 0) mapped.emplace_back(i, j, t.value());
+  }
+  SparseMatrix m(rows, cols);
+  m.setFromTriplets(mapped.begin(), mapped.end());
+  m.makeCompressed();
+  return m;
+}
+
+std::string describe_rigid_motions(StructureKind kind, int count) {
+  if (kind == StructureKind::beam)
+    return count == 2 ? "rigid translation and rotation" : "a rigid rotation about its only support";
+  return count == 1 ? "one rigid motion" : fmt::format("{} rigid motions", count);
+}
+
+}  // namespace
+
+Discretisation discretise(const MemberModel& model, int elements) {
+  Discretisation d;
+  d.kind = model.kind;
+  d.mesh = make_mesh(model, elements);
+  d.foundation_modulus = model.foundation_modulus;
+  d.tensionless = model.tensionless;
+  const int n = dof_count(model.kind, d.mesh.elements());
+  d.equation_of_dof.assign(n, 0);
+
+  std::vector<int> reaction_of_node(d.mesh.nodes.size(), -1);
+  for (int node = 0; node < static_cast<int>(d.mesh.nodes.size()); ++node) {
+    const double s = d.mesh.nodes[node];
+    const double tol = 1e-12 * model.length();
+    if (s >= model.foundation_begin - tol && s <= model.foundation_end + tol) {
+      reaction_of_node[node] = static_cast<int>(d.reaction_nodes.size());
+      d.reaction_nodes.push_back(node);
+    }
+  }
+
+  Assembly a = assemble(model, d, reaction_of_node);
+  const SparseMatrix coupling_all = to_sparse(d.reactions(), n, a.coupling, nullptr, nullptr);
+
+  // Rigid motions left free by the supports, split into those the foundation sees and those
+  // it cannot (C m = 0).
+  std::vector<int> fixed = supported_dofs(model, d);
+  const Eigen::MatrixXd modes = rigid_motions(model, d);
+  auto free_motions = [&](const std::vector<int>& fixed_dofs) {
+    Eigen::MatrixXd at_fixed(fixed_dofs.size(), modes.cols());
+    for (std::size_t i = 0; i < fixed_dofs.size(); ++i) at_fixed.row(i) = modes.row(fixed_dofs[i]);
+    return Eigen::MatrixXd(modes * kernel(at_fixed, static_cast<int>(modes.cols())));
+  };
+  const Eigen::MatrixXd motions = free_motions(fixed);
+  if (motions.cols() > 0) {
+    const Eigen::MatrixXd seen = coupling_all * motions;
+    const Eigen::MatrixXd unseen = motions * kernel(seen / std::max(1e-300, seen.cwiseAbs().maxCoeff()),
+                                                    static_cast<int>(motions.cols()));
+    const double middle = 0.5 * (model.s_begin + model.s_end);
+    for (int m = 0; m < unseen.cols(); ++m) {
+      const Eigen::VectorXd mode = unseen.col(m) / unseen.col(m).cwiseAbs().maxCoeff();
+      for (const Eigen::VectorXd* load : {&a.dead_load, &a.live_load}) {
+        if (std::abs(load->dot(mode)) > 1e-10 * std::max(1e-300, load->lpNorm<1>()))
+          throw MechanismError(
+              "key 'supports': the supports leave the member free to move rigidly in a way the foundation "
+              "cannot resist (for an arch on rollers: rotation about its centre of curvature), and the loads "
+              "drive that motion, so no equilibrium exists; expected supports that prevent it (e.g. a pinned end)");
+      }
+      // Gauge: fix the dof that moves most, nearest the middle of the member.
+      int gauge = -1;
+      for (int dof = 0; dof < n; ++dof) {
+        if (std::abs(mode[dof]) < 0.999 || std::find(fixed.begin(), fixed.end(), dof) != fixed.end()) continue;
+        if (gauge < 0 || std::abs(d.position_of_dof(dof) - middle) < std::abs(d.position_of_dof(gauge) - middle))
+          gauge = dof;
+      }
+      fixed.push_back(gauge);
+      d.gauge_note = fmt::format(
+          "a rigid motion that neither the supports nor the foundation resist (and the loads do not drive) is "
+          "fixed by a gauge at s = {:.6g}; it changes no deflection, force or moment",
+          d.position_of_dof(gauge));
+    }
+    d.unstable_rigid_motions = static_cast<int>(free_motions(fixed).cols());
+    if (!d.structure_is_stable())
+      d.stability_note = fmt::format("the supports leave {} that only the foundation resists",
+                                     describe_rigid_motions(model.kind, d.unstable_rigid_motions));
+  }
+
+  for (int dof : fixed) d.equation_of_dof[dof] = -1;
+  for (int dof = 0; dof < n; ++dof)
+    if (d.equation_of_dof[dof] >= 0) d.equation_of_dof[dof] = d.equations++;
+
+  d.stiffness = to_sparse(d.equations, d.equations, a.stiffness, &d.equation_of_dof, &d.equation_of_dof);
+  d.coupling = to_sparse(d.reactions(), d.equations, a.coupling, nullptr, &d.equation_of_dof);
+  d.flexibility = to_sparse(d.reactions(), d.reactions(), a.flexibility, nullptr, nullptr);
+  d.dead_load = Eigen::VectorXd::Zero(d.equations);
+  d.live_load = Eigen::VectorXd::Zero(d.equations);
+  for (int dof = 0; dof < n; ++dof) {
+    const int eq = d.equation_of_dof[dof];
+    if (eq < 0) continue;
+    d.dead_load[eq] = a.dead_load[dof];
+    d.live_load[eq] = a.live_load[dof];
+  }
+  return d;
+}
+
+}  // namespace liftoff::fe

@@ -1,0 +1,71 @@
+#pragma once
+// The discrete structure-foundation system of one member on one mesh:
+//   K u + C^T r = F_dead + lambda F_live,   gap = T r - C u >= 0,  r >= 0,  r.gap = 0
+// with u the structural dofs left free by the supports ("equations") and r the nodal foundation
+// reactions (one per node of the foundation's extent). Everything is nondimensional
+// (member_model.hpp) and sparse; dense matrices are built only by the LCP formulations.
+//
+// Rigid-body motions the supports leave free are analysed here, once:
+//  - a motion the foundation cannot see either (the rotation of an arch on rollers about its
+//    centre moves no point radially) is a true mechanism: if the loads do work on it there is
+//    no equilibrium (InputError naming the supports); otherwise one dof is fixed as a gauge,
+//    which changes no strain, force or deflection;
+//  - a motion only the foundation resists (a free-free beam) leaves K singular: the primal LCP
+//    handles it, the dual form is refused (structure_is_stable() == false).
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+#include <Eigen/Sparse>
+
+#include "fe/member_model.hpp"
+#include "fe/mesh.hpp"
+
+namespace liftoff::fe {
+
+using SparseMatrix = Eigen::SparseMatrix<double>;
+
+enum class DofRole { deflection, slope, tangential };
+
+class Discretisation {
+ public:
+  StructureKind kind = StructureKind::beam;
+  Mesh mesh;
+  std::vector<int> equation_of_dof;  // -1: fixed by a support or the gauge
+  int equations = 0;
+  std::vector<int> reaction_nodes;   // mesh node of each reaction unknown
+  SparseMatrix stiffness;            // K: equations x equations
+  SparseMatrix coupling;             // C: reactions x equations
+  SparseMatrix flexibility;          // T: reactions x reactions
+  Eigen::VectorXd dead_load;         // equations
+  Eigen::VectorXd live_load;
+  double foundation_modulus = 0.0;
+  bool tensionless = true;
+  // Rigid motions only the foundation resists; non-empty means K is singular.
+  int unstable_rigid_motions = 0;
+  std::string stability_note;        // in words, for messages
+  std::string gauge_note;            // what gauge was fixed, if any
+
+  int dofs() const { return static_cast<int>(equation_of_dof.size()); }
+  int reactions() const { return static_cast<int>(reaction_nodes.size()); }
+  bool structure_is_stable() const { return unstable_rigid_motions == 0; }
+  Eigen::VectorXd load(double load_factor) const { return dead_load + load_factor * live_load; }
+  // Values on the equations -> values on every dof (fixed dofs 0).
+  Eigen::VectorXd expand(const Eigen::VectorXd& on_equations) const;
+
+  // Dof numbering. Beam: node j has (w, w') at 2j, 2j+1. Arch: node j has (u, w, w') at
+  // 6j..6j+2 and element j's interior u at 6j+3..6j+5.
+  int deflection_dof(int node) const;
+  int slope_dof(int node) const;
+  int tangential_dof(int node) const;  // arch only
+  // Global dofs of an element in the element's local order (beam_element / arch_element).
+  std::vector<int> element_dofs(int element) const;
+  DofRole role_of_dof(int dof) const;
+  double position_of_dof(int dof) const;
+};
+
+// Throws InputError for a mechanism the loads drive (see above).
+Discretisation discretise(const MemberModel& model, int elements);
+
+}  // namespace liftoff::fe

@@ -1,0 +1,67 @@
+#include "fe/member_model.hpp"
+
+#include <cmath>
+#include <numbers>
+
+namespace liftoff::fe {
+
+namespace {
+constexpr double degrees = std::numbers::pi / 180.0;
+}
+
+double MemberModel::s_from_user(double position) const {
+  return kind == StructureKind::beam ? position / scales.length : position * degrees;
+}
+
+double MemberModel::user_from_s(double s) const {
+  return kind == StructureKind::beam ? s * scales.length : s / degrees;
+}
+
+MemberModel make_member_model(const scene::Scene& scene) {
+  const auto& structure = scene.structure;
+  MemberModel model;
+  model.kind = structure.kind;
+  model.scales.bending_stiffness = structure.bending_stiffness;
+  if (structure.kind == StructureKind::beam) {
+    model.scales.length = structure.length;
+    model.s_begin = 0.0;
+    model.s_end = 1.0;
+  } else {
+    model.scales.length = structure.radius;
+    model.s_begin = -structure.half_angle_deg * degrees;
+    model.s_end = structure.half_angle_deg * degrees;
+    model.membrane_stiffness = structure.axial_stiffness.value_or(0.0) * structure.radius *
+                               structure.radius / structure.bending_stiffness;
+  }
+  const Scales& scales = model.scales;
+
+  model.left = scene.supports.left;
+  model.right = scene.supports.right;
+  for (double position : scene.supports.interior) model.point_supports.push_back(model.s_from_user(position));
+
+  const auto& foundation = scene.foundation;
+  model.foundation_modulus = foundation.stiffness_parameter
+                                 ? *foundation.stiffness_parameter
+                                 : *foundation.modulus / (scales.bending_stiffness / std::pow(scales.length, 4));
+  model.tensionless = foundation.tensionless;
+  model.foundation_begin = model.s_from_user(foundation.from);
+  model.foundation_end = model.s_from_user(foundation.to);
+
+  for (const auto& load : scene.loads) {
+    MemberLoad member_load;
+    member_load.kind = load.kind;
+    member_load.load_case = load.load_case;
+    member_load.at = model.s_from_user(load.at);
+    member_load.from = model.s_from_user(load.from);
+    member_load.to = model.s_from_user(load.to);
+    switch (load.kind) {
+      case LoadKind::force: member_load.value = load.value / scales.force(); break;
+      case LoadKind::moment: member_load.value = load.value / scales.moment(); break;
+      case LoadKind::uniform: member_load.value = load.value / scales.force_per_length(); break;
+    }
+    model.loads.push_back(member_load);
+  }
+  return model;
+}
+
+}  // namespace liftoff::fe

@@ -1,0 +1,81 @@
+#include "fe/mesh.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace liftoff::fe {
+
+namespace {
+double tolerance(const MemberModel& model) { return 1e-12 * model.length(); }
+}  // namespace
+
+int Mesh::node_at(double s) const {
+  const double tol = 1e-12 * (nodes.back() - nodes.front());
+  auto it = std::lower_bound(nodes.begin(), nodes.end(), s - tol);
+  if (it != nodes.end() && std::abs(*it - s) <= tol) return static_cast<int>(it - nodes.begin());
+  return -1;
+}
+
+int Mesh::element_containing(double s) const {
+  auto it = std::upper_bound(nodes.begin(), nodes.end(), s);
+  int element = static_cast<int>(it - nodes.begin()) - 1;
+  return std::clamp(element, 0, elements() - 1);
+}
+
+std::vector<double> mesh_breakpoints(const MemberModel& model) {
+  std::vector<double> points{model.s_begin, model.s_end, model.foundation_begin, model.foundation_end};
+  for (double s : model.point_supports) points.push_back(s);
+  for (const auto& load : model.loads) {
+    if (load.kind == LoadKind::uniform) {
+      points.push_back(load.from);
+      points.push_back(load.to);
+    } else {
+      points.push_back(load.at);
+    }
+  }
+  // Roller ends leave the arch free to rotate about its centre; the gauge that removes this
+  // motion fixes u at the crown, so the crown must be a node.
+  if (model.kind == StructureKind::arch && model.left == EndSupport::roller && model.right == EndSupport::roller)
+    points.push_back(0.5 * (model.s_begin + model.s_end));
+
+  for (double& s : points) s = std::clamp(s, model.s_begin, model.s_end);
+  std::sort(points.begin(), points.end());
+  const double tol = tolerance(model);
+  std::vector<double> unique;
+  for (double s : points)
+    if (unique.empty() || s - unique.back() > tol) unique.push_back(s);
+  unique.back() = model.s_end;
+  return unique;
+}
+
+Mesh make_mesh(const MemberModel& model, int requested_elements) {
+  const std::vector<double> points = mesh_breakpoints(model);
+  const int segments = static_cast<int>(points.size()) - 1;
+  const int total = std::max(requested_elements, segments);
+
+  // Largest-remainder apportionment with at least one element per segment.
+  std::vector<double> share(segments);
+  std::vector<int> count(segments);
+  for (int i = 0; i < segments; ++i) {
+    share[i] = total * (points[i + 1] - points[i]) / model.length();
+    count[i] = std::max(1, static_cast<int>(std::floor(share[i])));
+  }
+  int assigned = std::accumulate(count.begin(), count.end(), 0);
+  std::vector<int> order(segments);
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(),
+            [&](int a, int b) { return share[a] - count[a] > share[b] - count[b]; });
+  for (int i = 0; assigned < total; i = (i + 1) % segments, ++assigned) ++count[order[i]];
+
+  Mesh mesh;
+  mesh.nodes.reserve(static_cast<std::size_t>(total) + 1);
+  for (int i = 0; i < segments; ++i) {
+    const double a = points[i], b = points[i + 1];
+    for (int j = 0; j < count[i]; ++j) mesh.nodes.push_back(a + (b - a) * j / count[i]);
+  }
+  mesh.nodes.push_back(model.s_end);
+  return mesh;
+}
+
+}  // namespace liftoff::fe

@@ -1,0 +1,130 @@
+#include "io/hdf5_writer.hpp"
+
+#include <hdf5.h>
+
+#include <system_error>
+
+#include "core/error.hpp"
+
+namespace liftoff::io {
+
+namespace {
+
+// Owns one HDF5 handle; closes it with the matching function.
+class Handle {
+ public:
+  Handle(hid_t id, herr_t (*close)(hid_t), const std::string& what) : id_(id), close_(close) {
+    if (id_ < 0) throw OutputError("HDF5: cannot create " + what);
+  }
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  ~Handle() { close_(id_); }
+  operator hid_t() const { return id_; }
+
+ private:
+  hid_t id_;
+  herr_t (*close_)(hid_t);
+};
+
+void check(herr_t status, const std::string& what) {
+  if (status < 0) throw OutputError("HDF5: cannot write " + what);
+}
+
+// Variable-length UTF-8, which h5py returns as str.
+void write_string_attribute(hid_t object, const char* name, const std::string& value) {
+  Handle type(H5Tcopy(H5T_C_S1), H5Tclose, "string type");
+  check(H5Tset_size(type, H5T_VARIABLE), name);
+  check(H5Tset_cset(type, H5T_CSET_UTF8), name);
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose, "dataspace");
+  Handle attribute(H5Acreate2(object, name, type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose, name);
+  const char* text = value.c_str();
+  check(H5Awrite(attribute, type, &text), name);
+}
+
+template <typename T>
+void write_number_attribute(hid_t object, const char* name, T value) {
+  const hid_t type = std::is_integral_v<T> ? H5T_NATIVE_LLONG : H5T_NATIVE_DOUBLE;
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose, "dataspace");
+  Handle attribute(H5Acreate2(object, name, type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose, name);
+  if constexpr (std::is_integral_v<T>) {
+    const long long v = value;
+    check(H5Awrite(attribute, type, &v), name);
+  } else {
+    const double v = value;
+    check(H5Awrite(attribute, type, &v), name);
+  }
+}
+
+void write_array(hid_t group, const char* name, const std::vector<double>& values, hsize_t columns = 1) {
+  const hsize_t dims[2] = {values.size() / columns, columns};
+  Handle space(H5Screate_simple(columns == 1 ? 1 : 2, dims, nullptr), H5Sclose, name);
+  Handle dataset(H5Dcreate2(group, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose, name);
+  if (!values.empty()) check(H5Dwrite(dataset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), name);
+}
+
+void write_table(hid_t file, const char* group_name, const FieldTable& t) {
+  Handle group(H5Gcreate2(file, group_name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, group_name);
+  const std::pair<const char*, const std::vector<double>*> columns[] = {
+      {"coordinate", &t.coordinate}, {"w", &t.w}, {"u", &t.u}, {"rotation", &t.rotation},
+      {"bending_moment", &t.bending_moment}, {"shear_force", &t.shear_force},
+      {"normal_force", &t.normal_force}, {"reaction", &t.reaction}};
+  for (const auto& [name, values] : columns)
+    if (!values->empty()) write_array(group, name, *values);
+}
+
+void write_file(const SolveReport& r, const std::filesystem::path& path, const std::string& version) {
+  Handle file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose, path.string());
+  write_string_attribute(file, "liftoff_version", version);
+  write_string_attribute(file, "scene_name", r.scene_name);
+  write_string_attribute(file, "structure", std::string(scene::to_string(r.kind)));
+  write_string_attribute(file, "method", std::string(scene::to_string(r.summary.method)));
+  write_string_attribute(file, "termination", std::string(contact::to_string(r.summary.termination)));
+  write_string_attribute(file, "message", r.summary.message);
+  write_string_attribute(file, "coordinate", r.coordinate_name);
+  write_string_attribute(file, "sign_convention", sign_convention);
+  write_number_attribute(file, "tensionless", static_cast<int>(r.tensionless));
+  write_number_attribute(file, "k", r.foundation_parameter);
+  write_number_attribute(file, "elements", r.elements);
+
+  {
+    Handle type(H5Tcopy(H5T_C_S1), H5Tclose, "string type");
+    check(H5Tset_size(type, std::max<std::size_t>(1, r.scene_text.size())), "scene");
+    check(H5Tset_cset(type, H5T_CSET_UTF8), "scene");
+    Handle space(H5Screate(H5S_SCALAR), H5Sclose, "scene");
+    Handle dataset(H5Dcreate2(file, "scene", type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose, "scene");
+    check(H5Dwrite(dataset, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, r.scene_text.c_str()), "scene");
+  }
+
+  std::vector<double> regions;
+  for (const auto& region : r.contact_regions) regions.insert(regions.end(), region.begin(), region.end());
+  write_array(file, "contact_regions", regions, 2);
+  write_table(file, "fields", r.fields);
+  write_table(file, "nodes", r.nodes);
+
+  Handle solver(H5Gcreate2(file, "solver", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "solver");
+  write_number_attribute(solver, "pivots", r.summary.pivots);
+  write_number_attribute(solver, "lcp_size", r.summary.lcp_size);
+  write_number_attribute(solver, "residual", r.summary.residual);
+  write_number_attribute(solver, "time_s", r.time_s);
+  write_string_attribute(solver, "method_reason", r.summary.method_reason);
+}
+
+}  // namespace
+
+void write_hdf5(const SolveReport& report, const std::filesystem::path& path, const std::string& version) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors become OutputError, not stderr noise
+  std::filesystem::path temporary = path;
+  temporary += ".tmp";
+  try {
+    write_file(report, temporary, version);
+    std::error_code error;
+    std::filesystem::rename(temporary, path, error);
+    if (error) throw OutputError(path.string() + ": cannot rename the finished file (" + error.message() + ")");
+  } catch (const OutputError& e) {
+    std::error_code ignored;
+    std::filesystem::remove(temporary, ignored);
+    throw OutputError(path.string() + ": " + e.what());
+  }
+}
+
+}  // namespace liftoff::io

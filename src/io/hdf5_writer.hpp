@@ -1,0 +1,23 @@
+#pragma once
+// The one place that talks to HDF5. A result file is written under a temporary name and
+// renamed when complete, so a failed run never leaves a half-written file (OutputError).
+//
+// Layout (README, "Output"):
+//   /                 attributes: liftoff_version, scene_name, structure, method, termination,
+//                     message, coordinate, sign_convention, tensionless, k, elements
+//   /scene            the scene's TOML text
+//   /contact_regions  n x 2, [begin, end] in the user's coordinate
+//   /fields/*         coordinate, w, rotation, bending_moment, shear_force, reaction
+//                     (+ u, normal_force for arches), sampled inside every element
+//   /nodes/*          coordinate, w, rotation, reaction (+ u) at the mesh nodes
+//   /solver           attributes: pivots, lcp_size, residual, time_s, method_reason
+
+#include <filesystem>
+
+#include "io/report.hpp"
+
+namespace liftoff::io {
+
+void write_hdf5(const SolveReport& report, const std::filesystem::path& path, const std::string& version);
+
+}  // namespace liftoff::io

@@ -1,0 +1,58 @@
+#pragma once
+// What a solve produced, in the user's units, ready for the summary, JSON and HDF5.
+//
+// Coordinates are x (beam, length units) or theta in degrees (arch). Deflection w > 0 is into
+// the foundation; u is tangential (toward increasing theta); rotation is counterclockwise;
+// bending moment sagging positive; normal force tension positive; reaction (force per unit
+// length) compression positive.
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "contact/contact_solver.hpp"
+#include "fe/discretisation.hpp"
+#include "fe/member_model.hpp"
+#include "post/contact_regions.hpp"
+#include "post/fields.hpp"
+#include "scene/scene.hpp"
+
+namespace liftoff::io {
+
+inline constexpr const char* sign_convention =
+    "w > 0 into the foundation; force > 0 toward the foundation; moment and rotation > 0 counterclockwise "
+    "(x or theta to the right, foundation below); bending moment sagging positive; normal force tension "
+    "positive; reaction compression positive";
+
+struct FieldTable {
+  std::vector<double> coordinate, w, u, rotation, bending_moment, shear_force, normal_force, reaction;
+};
+
+struct SolveReport {
+  std::string scene_name;
+  std::string scene_text;
+  scene::StructureKind kind = scene::StructureKind::beam;
+  std::string coordinate_name;   // "x" or "theta_deg"
+  bool tensionless = true;
+  double foundation_parameter = 0.0;  // k = K l^4 / EI
+  int elements = 0;
+  contact::ContactSummary summary;
+  std::string gauge_note;
+  std::vector<std::array<double, 2>> contact_regions;
+  double w_max = 0, at_w_max = 0, w_min = 0, at_w_min = 0;
+  double max_reaction = 0;
+  double time_s = 0;    // whole solve: assembly, LCP, post-processing
+  FieldTable fields;    // sampled inside every element
+  FieldTable nodes;     // at the mesh nodes (w, u, rotation, reaction)
+};
+
+SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model, const fe::Discretisation& d,
+                        const contact::ContactSolution& solution, const post::Fields& fields,
+                        const std::vector<post::Interval>& regions);
+
+nlohmann::json to_json(const SolveReport& report);
+std::string text_summary(const SolveReport& report);
+
+}  // namespace liftoff::io

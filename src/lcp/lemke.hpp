@@ -1,0 +1,84 @@
+#pragma once
+// Lemke's complementary pivoting algorithm for the linear complementarity problem
+//
+//   find z such that  w = q + M z,  w >= 0,  z >= 0,  w^T z = 0.
+//
+// Scheme 1 of Cottle, Pang & Stone (1992, sec. 4.4): an artificial variable z0 with a covering
+// vector d > 0 makes the all-slack basis feasible; complementary pivots follow until z0 leaves
+// the basis (a solution) or the entering column has no blocking row (ray termination). The
+// minimum-ratio test breaks ties lexicographically on the rows of the basis inverse, so a
+// degenerate problem cannot cycle. The basis inverse is kept dense and updated in place; the
+// final complementary basis is refactorised once and solved afresh ("polishing"), so the answer
+// is accurate to round-off whatever the number of pivots.
+//
+// Lemke processes every LCP whose M is copositive-plus (for instance positive semidefinite, as
+// both of liftoff's contact formulations are): for those, ray termination proves that the LCP
+// has no solution, and the ray is returned as the certificate.
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Dense>
+
+namespace liftoff::lcp {
+
+struct LemkeOptions {
+  // Pivot limit; a value <= 0 means 10 * (n + 1).
+  int max_pivots = 0;
+  // An entry of the entering column counts as positive (a candidate blocking row) above this,
+  // relative to the column's largest entry. Must lie in (0, 1).
+  double pivot_tolerance = 1e-12;
+  // Symmetric diagonal scaling D M D, D q (D_ii = 1/sqrt|M_ii|) before pivoting. It preserves
+  // the solution set and makes badly scaled problems (stiffness next to flexibility) tractable.
+  bool equilibrate = true;
+  // Throws std::invalid_argument naming the field if a value is meaningless.
+  void validate() const;
+};
+
+enum class LemkeTermination {
+  solution,      // z0 left the basis: (z, w) solves the LCP; residuals below say how well
+  ray,           // no blocking row for the entering column: the LCP has no solution (for
+                 // copositive-plus M); `ray` holds the direction, z stays at the last vertex
+  pivot_limit,   // max_pivots reached; z is the last (artificial) vertex, not a solution
+  numerical_failure,  // the basis became singular or NaN appeared; z is not a solution
+};
+std::string_view to_string(LemkeTermination);
+
+struct LemkeSummary {
+  LemkeTermination termination = LemkeTermination::numerical_failure;
+  std::string message;                  // what happened, in words
+  int pivots = -1;                      // complementary pivots taken (the first z0 pivot counts)
+  // Residuals of the returned (z, w) on the original (unscaled) data, all dimensionless and
+  // invariant under q -> c q and M -> c M. With
+  //   s  = max(|q|_inf, |M|_inf |z|_inf)   (|M|_inf the largest absolute row sum; 1 if s = 0),
+  //   sz = |z|_inf                          (1 if z = 0):
+  double feasibility_residual = -1.0;   // max(0, max_i(-z_i) / sz, max_i(-w_i) / s)
+  double complementarity_residual = -1.0;  // max_i |z_i w_i| / (s sz)
+  double equation_residual = -1.0;      // |w - q - M z|_inf / s
+  double time_s = -1.0;
+  bool is_usable() const { return termination == LemkeTermination::solution; }
+  std::string brief_report() const;     // one line
+};
+
+struct LemkeResult {
+  Eigen::VectorXd z;
+  Eigen::VectorXd w;
+  // On ray termination: the direction (dz_0..dz_{n-1}, dz0) of size n + 1, artificial z0 last,
+  // along which the almost-complementary path leaves to infinity; dz >= 0, in original units,
+  // scaled to |ray|_inf = 1. For copositive-plus M (exact arithmetic) dz0 = 0, dz != 0,
+  // M dz >= 0, dz^T M dz = 0 (so M^T dz = -M dz <= 0) and q^T dz < 0: dz certifies that the
+  // LCP is not even feasible, as dz^T (q + M z) <= q^T dz < 0 for every z >= 0. Empty otherwise.
+  Eigen::VectorXd ray;
+  // Indices i for which z_i is basic at termination (the "active set": for the contact
+  // problems, the nodes in contact). Useful as a warm start later.
+  std::vector<int> basic_z;
+  LemkeSummary summary;
+};
+
+// Solves the LCP. M must be square with the size of q; NaN or Inf input is misuse and throws
+// std::invalid_argument. Never throws for an outcome: see summary.termination.
+LemkeResult solve_lemke(const Eigen::MatrixXd& M, const Eigen::VectorXd& q,
+                        const LemkeOptions& options = {});
+
+}  // namespace liftoff::lcp

@@ -1,0 +1,76 @@
+#include "post/contact_regions.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "post/fields.hpp"
+
+namespace liftoff::post {
+
+namespace {
+// Subintervals per element in which a sign change of w is looked for; a cubic has at most
+// three roots, so eight brackets separate all but nearly double roots.
+constexpr int brackets = 8;
+}  // namespace
+
+std::vector<Interval> contact_regions(const fe::MemberModel& model, const fe::Discretisation& d,
+                                      const Eigen::VectorXd& displacement) {
+  const double begin = model.foundation_begin, end = model.foundation_end;
+  if (!d.tensionless) return {{begin, end}};
+
+  double w_scale = 0.0;
+  for (int node = 0; node < static_cast<int>(d.mesh.nodes.size()); ++node)
+    w_scale = std::max(w_scale, std::abs(displacement[d.deflection_dof(node)]));
+  if (w_scale == 0.0) return {};
+  const double threshold = 1e-12 * w_scale;
+  const double edge = 1e-10 * model.length();
+
+  auto w_at = [&](int e, double xi) { return evaluate(d, displacement, e, xi).w; };
+  // Points where w changes sign, found by bisection on the element's cubic.
+  std::vector<double> cuts{begin};
+  for (int e = 0; e < d.mesh.elements(); ++e) {
+    const double s0 = d.mesh.nodes[e], h = d.mesh.element_size(e);
+    if (s0 + 0.5 * h < begin || s0 + 0.5 * h > end) continue;
+    for (int i = 0; i < brackets; ++i) {
+      double a = static_cast<double>(i) / brackets, b = static_cast<double>(i + 1) / brackets;
+      double wa = w_at(e, a), wb = w_at(e, b);
+      if ((wa > 0) == (wb > 0)) continue;
+      while (b - a > 1e-15) {
+        const double m = 0.5 * (a + b), wm = w_at(e, m);
+        if ((wm > 0) == (wa > 0)) {
+          a = m;
+          wa = wm;
+        } else {
+          b = m;
+        }
+      }
+      const double root = s0 + 0.5 * (a + b) * h;
+      // A root at the foundation's end is the end itself (a support holds w = 0 there).
+      if (root - begin > edge && end - root > edge) cuts.push_back(root);
+    }
+  }
+  cuts.push_back(end);
+  std::sort(cuts.begin(), cuts.end());
+
+  std::vector<Interval> regions;
+  for (std::size_t i = 0; i + 1 < cuts.size(); ++i) {
+    const double a = cuts[i], b = cuts[i + 1];
+    if (b <= a) continue;
+    // Decide contact from the largest w on the piece (a few samples), so a piece in which w
+    // only grazes round-off does not count.
+    double w_max = -INFINITY;
+    for (int k = 1; k <= 3; ++k) {
+      const double s = a + (b - a) * k / 4.0;
+      const int e = d.mesh.element_containing(s);
+      w_max = std::max(w_max, w_at(e, (s - d.mesh.nodes[e]) / d.mesh.element_size(e)));
+    }
+    if (w_max <= threshold) continue;
+    if (!regions.empty() && regions.back().end == a)
+      regions.back().end = b;
+    else
+      regions.push_back({a, b});
+  }
+  return regions;
+}
+
+}  // namespace liftoff::post

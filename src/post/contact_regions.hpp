@@ -1,0 +1,24 @@
+#pragma once
+// Contact regions: the parts of the foundation's extent where the member presses into it
+// (w > 0), as intervals of s whose ends are located inside elements, at the roots of the
+// element's cubic deflection, not snapped to nodes. A bilateral foundation is in contact
+// over its whole extent.
+
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "fe/discretisation.hpp"
+#include "fe/member_model.hpp"
+
+namespace liftoff::post {
+
+struct Interval {
+  double begin = 0.0;
+  double end = 0.0;
+};
+
+std::vector<Interval> contact_regions(const fe::MemberModel& model, const fe::Discretisation& d,
+                                      const Eigen::VectorXd& displacement);
+
+}  // namespace liftoff::post

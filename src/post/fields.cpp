@@ -1,0 +1,66 @@
+#include "post/fields.hpp"
+
+#include <algorithm>
+
+#include "fe/shape_functions.hpp"
+
+namespace liftoff::post {
+
+using fe::StructureKind;
+
+LocalState evaluate(const fe::Discretisation& d, const Eigen::VectorXd& displacement, int element, double xi) {
+  const double h = d.mesh.element_size(element);
+  const std::vector<int> dofs = d.element_dofs(element);
+  const fe::HermiteCubic n = fe::hermite_cubic(xi, h);
+  Eigen::Vector4d w_dofs;
+  for (int j = 0; j < 4; ++j) w_dofs[j] = displacement[dofs[j]];
+  LocalState state;
+  state.w = n.value.dot(w_dofs);
+  state.dw = n.d1.dot(w_dofs);
+  state.d2w = n.d2.dot(w_dofs);
+  state.d3w = n.d3.dot(w_dofs);
+  if (d.kind == StructureKind::arch) {
+    const fe::LagrangeQuartic l = fe::lagrange_quartic(xi, h);
+    Eigen::Matrix<double, 5, 1> u_dofs;
+    for (int j = 0; j < 5; ++j) u_dofs[j] = displacement[dofs[4 + j]];
+    state.u = l.value.dot(u_dofs);
+    state.du = l.d1.dot(u_dofs);
+    state.d2u = l.d2.dot(u_dofs);
+  }
+  return state;
+}
+
+double reaction_at(const fe::Discretisation& d, const Eigen::VectorXd& reaction, int element, double xi) {
+  // Reaction nodes are consecutive mesh nodes over the foundation's extent.
+  if (d.reactions() == 0) return 0.0;
+  const int first = d.reaction_nodes.front(), last = d.reaction_nodes.back();
+  if (element < first || element + 1 > last) return 0.0;
+  const Eigen::Vector2d shape = fe::reaction_shape(xi);
+  return shape[0] * reaction[element - first] + shape[1] * reaction[element + 1 - first];
+}
+
+Fields sample_fields(const fe::MemberModel& model, const fe::Discretisation& d,
+                     const contact::ContactSolution& solution, int samples_per_element) {
+  Fields f;
+  const bool arch = d.kind == StructureKind::arch;
+  auto add = [&](int element, double xi) {
+    const LocalState x = evaluate(d, solution.displacement, element, xi);
+    f.s.push_back(d.mesh.nodes[element] + xi * d.mesh.element_size(element));
+    f.w.push_back(x.w);
+    f.rotation.push_back(arch ? -(x.u + x.dw) : -x.dw);
+    f.bending_moment.push_back(arch ? -(x.du + x.d2w) : -x.d2w);
+    f.shear_force.push_back(arch ? -(x.d2u + x.d3w) : -x.d3w);
+    f.reaction.push_back(reaction_at(d, solution.reaction, element, xi));
+    if (arch) {
+      f.u.push_back(x.u);
+      f.normal_force.push_back(model.membrane_stiffness * (x.du - x.w));
+    }
+  };
+  const int elements = d.mesh.elements();
+  for (int e = 0; e < elements; ++e)
+    for (int i = 0; i < samples_per_element; ++i) add(e, static_cast<double>(i) / samples_per_element);
+  add(elements - 1, 1.0);
+  return f;
+}
+
+}  // namespace liftoff::post

@@ -1,0 +1,39 @@
+#pragma once
+// Fields along the member, recovered from a contact solution (nondimensional).
+//
+// Beams: rotation = -w' (counterclockwise), bending moment M = -w'' (sagging positive),
+// shear V = dM/ds = -w'''. Arches: rotation = -(u + w'), M = -(u' + w''), V = dM/ds,
+// normal force N = EA R^2/EI (u' - w) (tension positive). The reaction is the seed's linear
+// interpolation of the nodal reactions (compression positive), zero off the foundation.
+
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "contact/contact_solver.hpp"
+#include "fe/discretisation.hpp"
+#include "fe/member_model.hpp"
+
+namespace liftoff::post {
+
+// w and u with their s-derivatives at a point of an element.
+struct LocalState {
+  double w = 0, dw = 0, d2w = 0, d3w = 0;
+  double u = 0, du = 0, d2u = 0;
+};
+LocalState evaluate(const fe::Discretisation& d, const Eigen::VectorXd& displacement, int element, double xi);
+
+struct Fields {
+  std::vector<double> s;
+  std::vector<double> w, rotation, bending_moment, shear_force, reaction;
+  std::vector<double> u, normal_force;  // arches only (empty for beams)
+};
+
+// samples_per_element >= 1 points per element (xi = i / samples, i = 0..samples-1), plus the end.
+Fields sample_fields(const fe::MemberModel& model, const fe::Discretisation& d,
+                     const contact::ContactSolution& solution, int samples_per_element);
+
+// Nodal reaction interpolated at s (zero off the foundation).
+double reaction_at(const fe::Discretisation& d, const Eigen::VectorXd& reaction, int element, double xi);
+
+}  // namespace liftoff::post

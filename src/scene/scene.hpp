@@ -1,0 +1,92 @@
+#pragma once
+// The scene: one problem as the user wrote it, in the user's units, validated.
+//
+// A scene is read from TOML by scene_reader.hpp. Positions are in the user's coordinate:
+// x from the left end for beams, theta in degrees from the crown for arches (positive toward
+// the right end). Sign convention: deflection w > 0 means into the foundation; a force with
+// value > 0 pushes the member toward the foundation; a moment with value > 0 turns
+// counterclockwise when the member is drawn with x (or theta) increasing to the right and the
+// foundation below it.
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace liftoff::scene {
+
+enum class StructureKind { beam, arch };
+// Beam ends: pinned (w = 0), clamped (w = w' = 0), free.
+// Arch ends: pinned (u = w = 0), roller (w = 0), clamped (u = w = rotation = 0), free.
+enum class EndSupport { pinned, clamped, free, roller };
+enum class LoadKind { force, moment, uniform };
+// Live loads are scaled by the load factor lambda (1 in `solve`); dead loads are not.
+enum class LoadCase { live, dead };
+// Formulation of the contact problem. automatic: dual where the structure alone is stable,
+// primal otherwise.
+enum class Method { dual, primal, automatic };
+
+std::string_view to_string(StructureKind);
+std::string_view to_string(EndSupport);
+std::string_view to_string(LoadKind);
+std::string_view to_string(LoadCase);
+std::string_view to_string(Method);
+std::optional<StructureKind> parse_structure_kind(std::string_view);
+std::optional<EndSupport> parse_end_support(std::string_view);
+std::optional<LoadKind> parse_load_kind(std::string_view);
+std::optional<LoadCase> parse_load_case(std::string_view);
+std::optional<Method> parse_method(std::string_view);  // "auto" -> automatic
+
+struct Structure {
+  StructureKind kind = StructureKind::beam;
+  double length = 0.0;                    // beam: L
+  double radius = 0.0;                    // arch: R
+  double half_angle_deg = 0.0;            // arch: gamma, the arch spans -gamma..gamma
+  double bending_stiffness = 0.0;         // EI
+  std::optional<double> axial_stiffness;  // EA (required for arches)
+};
+
+struct Supports {
+  EndSupport left = EndSupport::pinned;
+  EndSupport right = EndSupport::pinned;
+  std::vector<double> interior;  // point supports (w = 0) strictly inside, sorted ascending
+};
+
+struct Foundation {
+  // Exactly one of the two is given: k = K L^4/EI (beam) or K R^4/EI (arch), or K itself.
+  std::optional<double> stiffness_parameter;  // key "k"
+  std::optional<double> modulus;              // key "modulus", force per length per length
+  bool tensionless = true;                    // false: conventional bilateral foundation
+  double from = 0.0;                          // extent of the foundation, user coordinate;
+  double to = 0.0;                            // the reader fills the member's ends by default
+};
+
+struct Load {
+  LoadKind kind = LoadKind::force;
+  double at = 0.0;      // force and moment: position
+  double value = 0.0;   // force, moment, or force per unit length (uniform)
+  double from = 0.0;    // uniform: extent; the reader fills the member's ends by default
+  double to = 0.0;
+  LoadCase load_case = LoadCase::live;
+};
+
+struct SolveSettings {
+  Method method = Method::dual;
+  int elements = 200;
+};
+
+struct Scene {
+  std::string source_name;  // file path, or "<default scene>"
+  std::string text;         // the TOML text, stored in every output so results describe themselves
+  Structure structure;
+  Supports supports;
+  Foundation foundation;
+  std::vector<Load> loads;
+  SolveSettings solve;
+
+  // Ends of the member in the user's coordinate: [0, L] or [-gamma, gamma] degrees.
+  double begin() const;
+  double end() const;
+};
+
+}  // namespace liftoff::scene

@@ -1,0 +1,532 @@
+#include "scene/scene_reader.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <initializer_list>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+#include "core/error.hpp"
+
+namespace liftoff::scene {
+namespace {
+
+constexpr double inf = std::numeric_limits<double>::infinity();
+
+// ---------------------------------------------------------------------------------------------
+// The schema: every table a scene may hold and the keys of each. Anything not listed here is an
+// error, so a typo is never ignored. Adding a table or a key is one line here (plus the code
+// below that reads it).
+struct TableSpec {
+  std::string_view name;
+  bool array_of_tables;  // [[loads]] rather than [structure]
+  std::vector<std::string_view> keys;
+};
+
+const std::vector<TableSpec>& schema() {
+  static const std::vector<TableSpec> tables = {
+      {"structure", false, {"kind", "length", "radius", "half_angle_deg", "EI", "EA"}},
+      {"supports", false, {"left", "right", "interior"}},
+      {"foundation", false, {"k", "modulus", "tensionless", "from", "to"}},
+      {"loads", true, {"kind", "at", "value", "from", "to", "case"}},
+      {"solve", false, {"method", "elements"}},
+  };
+  return tables;
+}
+
+std::string header(const TableSpec& spec) {
+  return spec.array_of_tables ? fmt::format("[[{}]]", spec.name) : fmt::format("[{}]", spec.name);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Message text. Everything the user wrote is escaped so that a message stays on one line.
+
+std::string escaped(std::string_view s) {
+  std::string out;
+  for (const char c : s) {
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '"' || c == '\\') out += {'\\', c};
+    else if (c == '\n') out += "\\n";
+    else if (c == '\r') out += "\\r";
+    else if (c == '\t') out += "\\t";
+    else if (u < 0x20 || u == 0x7f) out += fmt::format("\\x{:02x}", u);
+    else out += c;
+  }
+  return out;
+}
+
+std::string in_quotes(std::string_view s) { return '"' + escaped(s) + '"'; }
+
+// A float as TOML writes it, so that 200.0 does not read as the integer 200.
+std::string toml_float(double x) {
+  std::string s = fmt::format("{}", x);
+  if (std::isfinite(x) && s.find_first_of(".e") == std::string::npos) s += ".0";
+  return s;
+}
+
+// A value as the user wrote it, for "got ...".
+std::string describe(const toml::node& node) {
+  switch (node.type()) {
+    case toml::node_type::string: return in_quotes(node.as_string()->get());
+    case toml::node_type::integer: return std::to_string(node.as_integer()->get());
+    case toml::node_type::floating_point: return toml_float(node.as_floating_point()->get());
+    case toml::node_type::boolean: return node.as_boolean()->get() ? "true" : "false";
+    case toml::node_type::table: return "a table";
+    case toml::node_type::array: return "an array";
+    case toml::node_type::date: return "a date";
+    case toml::node_type::time: return "a time";
+    case toml::node_type::date_time: return "a date-time";
+    default: return "nothing";
+  }
+}
+
+// "a", "a or b", "a, b or c"
+std::string one_of(const std::vector<std::string>& items) {
+  std::string out;
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    if (i > 0) out += i + 1 == items.size() ? " or " : ", ";
+    out += items[i];
+  }
+  return out;
+}
+
+std::string joined(const std::vector<std::string_view>& items) {
+  return fmt::format("{}", fmt::join(items, ", "));
+}
+
+// Case-insensitive edit distance, to suggest the key a typo meant.
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const bool same = std::tolower(static_cast<unsigned char>(a[i - 1])) ==
+                        std::tolower(static_cast<unsigned char>(b[j - 1]));
+      const std::size_t next = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (same ? 0 : 1)});
+      diagonal = row[j];
+      row[j] = next;
+    }
+  }
+  return row[b.size()];
+}
+
+// " (did you mean 'x'?)" for the known name nearest to a misspelt one, if one is near.
+std::string suggestion(std::string_view name, const std::vector<std::string_view>& known) {
+  std::string_view best;
+  std::size_t best_distance = std::max<std::size_t>(2, name.size() / 3) + 1;
+  for (const std::string_view k : known) {
+    if (const std::size_t d = edit_distance(name, k); d < best_distance) {
+      best = k;
+      best_distance = d;
+    }
+  }
+  return best.empty() ? std::string() : fmt::format(" (did you mean '{}'?)", best);
+}
+
+// The one way a scene is refused: "FILE:LINE: key 'PATH': PROBLEM" (LINE where it is known).
+[[noreturn]] void fail(std::string_view source, const toml::source_region* where,
+                       std::string_view path, std::string_view problem) {
+  const std::string location = where != nullptr && where->begin.line > 0
+                                   ? fmt::format("{}:{}", source, where->begin.line)
+                                   : std::string(source);
+  throw InputError(fmt::format("{}: key '{}': {}", location, escaped(path), problem));
+}
+
+// ---------------------------------------------------------------------------------------------
+// The values a number may take, and how a message says so. A closed end accepts values up to
+// `tolerance` beyond it and snaps them onto the end; an open end needs a margin of `tolerance`.
+// Non-finite numbers are never accepted.
+struct Range {
+  std::string expected;  // "a number > 0"
+  double lo = -inf;
+  double hi = inf;
+  bool open_lo = false;
+  bool open_hi = false;
+  double tolerance = 0.0;
+
+  std::optional<double> accept(double x) const {
+    if (!std::isfinite(x)) return std::nullopt;
+    if (open_lo ? !(x > lo + tolerance) : x < lo - tolerance) return std::nullopt;
+    if (open_hi ? !(x < hi - tolerance) : x > hi + tolerance) return std::nullopt;
+    return std::clamp(x, lo, hi);
+  }
+};
+
+Range any_number() { return {"a finite number"}; }
+Range positive() { return {"a number > 0", 0.0, inf, true}; }
+
+// The member in the user's coordinate: x in [0, L] (beam) or theta in [-gamma, gamma] degrees.
+struct Member {
+  double begin;
+  double end;
+  bool arch;
+
+  double tolerance() const { return 1e-12 * (end - begin); }
+  std::string interval(bool open) const {
+    return open ? fmt::format("({}, {})", begin, end) : fmt::format("[{}, {}]", begin, end);
+  }
+  std::string noun() const { return arch ? "an angle in degrees" : "a position"; }
+  Range position() const {  // loads, extents: ends included
+    return {fmt::format("{} in {}", noun(), interval(false)), begin, end, false, false, tolerance()};
+  }
+  Range inside() const {  // interior supports: ends excluded
+    return {fmt::format("{} strictly inside {}", noun(), interval(true)), begin, end, true, true,
+            tolerance()};
+  }
+};
+
+// For an enum value that is refused with a hint: when the user wrote `when`, add `hint`.
+struct Hint {
+  std::string_view when;
+  std::string_view text;
+};
+
+// ---------------------------------------------------------------------------------------------
+// One table of the scene with its path for messages ("structure", "loads[2]"). Each getter
+// returns nothing when the key is absent, the validated value when it is present, and throws
+// InputError otherwise; the required_* forms also refuse an absent key.
+class Section {
+ public:
+  Section(const std::string& source, const toml::table& table, std::string path)
+      : source_(source), table_(table), path_(std::move(path)) {}
+
+  const toml::table& table() const { return table_; }
+  const toml::node* find(std::string_view key) const { return table_.get(key); }
+  std::string path(std::string_view key) const {
+    return path_.empty() ? std::string(key) : fmt::format("{}.{}", path_, key);
+  }
+
+  // At the key's value if present, else at the table (the root table has no useful line).
+  [[noreturn]] void fail(std::string_view key, std::string_view problem) const {
+    const toml::node* node = find(key);
+    const toml::source_region* where =
+        node != nullptr ? &node->source() : path_.empty() ? nullptr : &table_.source();
+    scene::fail(source_, where, path(key), problem);
+  }
+  [[noreturn]] void wrong(std::string_view key, std::string_view expected,
+                          std::string_view hint = {}) const {
+    fail(key, fmt::format("expected {}, got {}{}", expected, describe(*find(key)),
+                          hint.empty() ? "" : fmt::format(" ({})", hint)));
+  }
+  [[noreturn]] void missing(std::string_view key, std::string_view expected) const {
+    fail(key, fmt::format("missing (expected {})", expected));
+  }
+  void refuse(std::string_view key, std::string_view why) const {
+    if (find(key) != nullptr) fail(key, fmt::format("not allowed {}", why));
+  }
+
+  // A sub-table; an absent optional one reads as empty, so every key takes its default.
+  Section section(std::string_view key) const {
+    static const toml::table empty;
+    const toml::node* node = find(key);
+    return {source_, node != nullptr ? *node->as_table() : empty, path(key)};
+  }
+  Section required_section(std::string_view key) const {
+    if (find(key) == nullptr) missing(key, fmt::format("a table [{}]", key));
+    return section(key);
+  }
+
+  std::optional<double> number(std::string_view key, const Range& range) const {
+    const toml::node* node = find(key);
+    if (node == nullptr) return std::nullopt;
+    return checked(*node, path(key), range);
+  }
+  double required_number(std::string_view key, const Range& range) const {
+    return required(number(key, range), key, range.expected);
+  }
+
+  // An array of distinct numbers, each within the range.
+  std::vector<double> numbers(std::string_view key, const Range& range) const {
+    const toml::node* node = find(key);
+    if (node == nullptr) return {};
+    const toml::array* array = node->as_array();
+    if (array == nullptr) wrong(key, "an array of numbers");
+    std::vector<double> values;
+    for (std::size_t i = 0; i < array->size(); ++i) {
+      const toml::node& item = *array->get(i);
+      const std::string item_path = fmt::format("{}[{}]", path(key), i);
+      const double x = checked(item, item_path, range);
+      for (const double earlier : values) {
+        if (std::abs(x - earlier) <= range.tolerance) {
+          scene::fail(source_, &item.source(), item_path,
+                      fmt::format("expected distinct positions, got {} twice", describe(item)));
+        }
+      }
+      values.push_back(x);
+    }
+    return values;
+  }
+
+  std::optional<int> integer(std::string_view key, int lo, int hi) const {
+    const toml::node* node = find(key);
+    if (node == nullptr) return std::nullopt;
+    const toml::value<std::int64_t>* value = node->as_integer();
+    if (value == nullptr || value->get() < lo || value->get() > hi) {
+      wrong(key, fmt::format("an integer in [{}, {}]", lo, hi));
+    }
+    return static_cast<int>(value->get());
+  }
+
+  std::optional<bool> flag(std::string_view key) const {
+    const toml::node* node = find(key);
+    if (node == nullptr) return std::nullopt;
+    if (!node->is_boolean()) wrong(key, "true or false");
+    return node->as_boolean()->get();
+  }
+
+  // A string naming one of `allowed` (spelt by to_string).
+  template <class Enum>
+  std::optional<Enum> choice(std::string_view key, std::initializer_list<Enum> allowed,
+                             Hint hint = {}) const {
+    const toml::node* node = find(key);
+    if (node == nullptr) return std::nullopt;
+    if (const toml::value<std::string>* text = node->as_string()) {
+      for (const Enum e : allowed) {
+        if (to_string(e) == text->get()) return e;
+      }
+      if (!hint.when.empty() && text->get() == hint.when) wrong(key, names(allowed), hint.text);
+    }
+    wrong(key, names(allowed));
+  }
+  template <class Enum>
+  Enum required_choice(std::string_view key, std::initializer_list<Enum> allowed) const {
+    return required(choice(key, allowed), key, names(allowed));
+  }
+
+  // Refuses keys and sub-tables the schema does not list.
+  void check_keys(const TableSpec& spec) const {
+    for (const auto& [key, node] : table_) {
+      if (std::find(spec.keys.begin(), spec.keys.end(), key.str()) == spec.keys.end()) {
+        scene::fail(source_, &key.source(), path(key.str()),
+                    fmt::format("unknown key{}; the keys of {} are {}",
+                                suggestion(key.str(), spec.keys), header(spec), joined(spec.keys)));
+      }
+    }
+  }
+
+ private:
+  template <class T>
+  T required(std::optional<T> value, std::string_view key, std::string_view expected) const {
+    if (!value) missing(key, expected);
+    return *value;
+  }
+
+  double checked(const toml::node& node, const std::string& node_path, const Range& range) const {
+    std::optional<double> x;
+    if (node.is_number()) x = range.accept(*node.value<double>());  // integers are accepted too
+    if (!x) {
+      scene::fail(source_, &node.source(), node_path,
+                  fmt::format("expected {}, got {}", range.expected, describe(node)));
+    }
+    return *x;
+  }
+
+  template <class Enum>
+  static std::string names(std::initializer_list<Enum> allowed) {
+    std::vector<std::string> quoted_names;
+    for (const Enum e : allowed) quoted_names.push_back(in_quotes(to_string(e)));
+    return one_of(quoted_names);
+  }
+
+  const std::string& source_;
+  const toml::table& table_;
+  std::string path_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// The shape of the document: known tables only, each a table or an array of tables as the
+// schema says, with known keys only. Checked before any value so that a typo is reported as
+// the typo, not as the missing key it hides.
+void check_schema(const Section& root, const std::string& source) {
+  std::vector<std::string_view> table_names;
+  std::vector<std::string> headers;
+  for (const TableSpec& spec : schema()) {
+    table_names.push_back(spec.name);
+    headers.push_back(header(spec));
+  }
+  for (const auto& [key, node] : root.table()) {
+    const auto spec = std::find_if(schema().begin(), schema().end(),
+                                   [&](const TableSpec& s) { return s.name == key.str(); });
+    if (spec == schema().end()) {
+      fail(source, &key.source(), key.str(),
+           fmt::format("unknown {}{}; the tables of a scene are {}",
+                       node.is_table() ? "table" : "key", suggestion(key.str(), table_names),
+                       fmt::join(headers, ", ")));
+    }
+    if (!spec->array_of_tables) {
+      if (!node.is_table()) root.wrong(key.str(), fmt::format("a table {}", header(*spec)));
+      root.section(key.str()).check_keys(*spec);
+      continue;
+    }
+    const toml::array* array = node.as_array();
+    if (array == nullptr) root.wrong(key.str(), fmt::format("an array of tables {}", header(*spec)));
+    for (std::size_t i = 0; i < array->size(); ++i) {
+      const toml::node& item = *array->get(i);
+      const std::string item_path = fmt::format("{}[{}]", spec->name, i);
+      if (!item.is_table()) {
+        fail(source, &item.source(), item_path,
+             fmt::format("expected a table {}, got {}", header(*spec), describe(item)));
+      }
+      Section(source, *item.as_table(), item_path).check_keys(*spec);
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The tables, one reader each.
+
+Structure read_structure(const Section& s) {
+  Structure st;
+  st.kind = s.required_choice("kind", {StructureKind::beam, StructureKind::arch});
+  st.bending_stiffness = s.required_number("EI", positive());
+  if (st.kind == StructureKind::beam) {
+    for (const auto key : {"radius", "half_angle_deg"}) s.refuse(key, "for a beam (arches only)");
+    st.length = s.required_number("length", positive());
+    st.axial_stiffness = s.number("EA", positive());  // optional; a beam does not use it
+  } else {
+    s.refuse("length", "for an arch (beams only; an arch has radius and half_angle_deg)");
+    st.radius = s.required_number("radius", positive());
+    st.half_angle_deg =
+        s.required_number("half_angle_deg", {"an angle in degrees in (0, 180)", 0, 180, true, true});
+    st.axial_stiffness = s.required_number("EA", positive());
+  }
+  return st;
+}
+
+Supports read_supports(const Section& s, const Member& member) {
+  Supports sp;
+  for (const auto& [key, end] : {std::pair{"left", &sp.left}, std::pair{"right", &sp.right}}) {
+    const auto support =
+        member.arch
+            ? s.choice(key, {EndSupport::pinned, EndSupport::roller, EndSupport::clamped,
+                             EndSupport::free})
+            : s.choice(key, {EndSupport::pinned, EndSupport::clamped, EndSupport::free},
+                       {"roller", "for a beam, roller is the same as pinned"});
+    if (!support) {
+      s.missing(key, member.arch ? R"("pinned", "roller", "clamped" or "free")"
+                                 : R"("pinned", "clamped" or "free")");
+    }
+    *end = *support;
+  }
+  sp.interior = s.numbers("interior", member.inside());
+  std::sort(sp.interior.begin(), sp.interior.end());
+  return sp;
+}
+
+// The optional extent `from`..`to` of a foundation or a uniform load; the whole member by default.
+std::pair<double, double> read_extent(const Section& s, const Member& member) {
+  const double from = s.number("from", member.position()).value_or(member.begin);
+  const double to = s.number("to", member.position()).value_or(member.end);
+  if (!(from < to)) {
+    s.fail(s.find("to") != nullptr ? "to" : "from",
+           fmt::format("expected from < to, got from = {} and to = {}", from, to));
+  }
+  return {from, to};
+}
+
+Foundation read_foundation(const Section& s, const Member& member) {
+  Foundation f;
+  f.stiffness_parameter = s.number("k", positive());
+  f.modulus = s.number("modulus", positive());
+  if (f.stiffness_parameter && f.modulus) {
+    s.fail("modulus", "expected exactly one of 'k' and 'modulus', got both");
+  }
+  if (!f.stiffness_parameter && !f.modulus) {
+    s.missing("k", "exactly one of 'k' and 'modulus', a number > 0");
+  }
+  f.tensionless = s.flag("tensionless").value_or(true);
+  std::tie(f.from, f.to) = read_extent(s, member);
+  return f;
+}
+
+Load read_load(const Section& s, const Member& member) {
+  Load load;
+  load.kind = s.required_choice("kind", {LoadKind::force, LoadKind::moment, LoadKind::uniform});
+  if (load.kind == LoadKind::uniform) {
+    s.refuse("at", "for a uniform load (it acts on from..to)");
+    std::tie(load.from, load.to) = read_extent(s, member);
+  } else {
+    const std::string why = fmt::format("for a {} (it acts at one point, 'at')", to_string(load.kind));
+    for (const auto key : {"from", "to"}) s.refuse(key, why);
+    load.at = s.required_number("at", member.position());
+  }
+  load.value = s.required_number("value", any_number());
+  load.load_case = s.choice("case", {LoadCase::live, LoadCase::dead}).value_or(LoadCase::live);
+  return load;
+}
+
+SolveSettings read_solve(const Section& s) {
+  SolveSettings solve;
+  solve.method = s.choice("method", {Method::dual, Method::primal, Method::automatic})
+                     .value_or(solve.method);
+  solve.elements = s.integer("elements", 1, 10'000'000).value_or(solve.elements);
+  return solve;
+}
+
+}  // namespace
+
+Scene parse_scene(std::string_view toml_text, std::string source_name) {
+  Scene scene;
+  scene.source_name = std::move(source_name);
+  scene.text = std::string(toml_text);
+  const std::string& source = scene.source_name;
+
+  toml::table document;
+  try {
+    document = toml::parse(scene.text, std::string_view(source));
+  } catch (const toml::parse_error& e) {
+    std::string description(e.description());
+    std::replace(description.begin(), description.end(), '\n', ' ');
+    std::replace(description.begin(), description.end(), '\r', ' ');
+    throw InputError(fmt::format("{}:{}:{}: TOML syntax error: {}", source, e.source().begin.line,
+                                 e.source().begin.column, description));
+  }
+
+  const Section root(source, document, "");
+  check_schema(root, source);
+  scene.structure = read_structure(root.required_section("structure"));
+  const Member member{scene.begin(), scene.end(), scene.structure.kind == StructureKind::arch};
+  scene.supports = read_supports(root.required_section("supports"), member);
+  scene.foundation = read_foundation(root.required_section("foundation"), member);
+  if (const toml::node* loads = root.find("loads")) {
+    const toml::array& array = *loads->as_array();  // the shape is checked above
+    for (std::size_t i = 0; i < array.size(); ++i) {
+      const Section load(source, *array.get(i)->as_table(), fmt::format("loads[{}]", i));
+      scene.loads.push_back(read_load(load, member));
+    }
+  }
+  scene.solve = read_solve(root.section("solve"));
+  return scene;
+}
+
+Scene read_scene_file(const std::filesystem::path& path) {
+  const std::string name = path.string();
+  const auto cannot_read = [&] {
+    return InputError(fmt::format("{}: cannot read the scene file ({})", name, std::strerror(errno)));
+  };
+  const std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"),
+                                                             &std::fclose);
+  if (!file) throw cannot_read();
+  std::string text;
+  char buffer[1 << 16];
+  while (const std::size_t n = std::fread(buffer, 1, sizeof buffer, file.get())) {
+    text.append(buffer, n);
+  }
+  if (std::ferror(file.get())) throw cannot_read();
+  return parse_scene(text, name);
+}
+
+}  // namespace liftoff::scene

@@ -1,0 +1,494 @@
+// Tests of src/scene/scene_reader.*: valid scenes read into the expected values, and every class
+// of mistake is refused with a one-line message naming the file, the line and the key.
+
+#include "scene/scene_reader.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "core/error.hpp"
+
+using namespace liftoff::scene;
+using Catch::Matchers::Contains;
+using Catch::Matchers::StartsWith;
+
+namespace {
+
+// A small valid beam scene; the error tests change one line of it (line numbers on the right).
+const std::string beam_scene = R"([structure]
+kind = "beam"
+length = 2.0
+EI = 1.0
+
+[supports]
+left = "pinned"
+right = "clamped"
+
+[foundation]
+k = 1.0e4
+
+[[loads]]
+kind = "force"
+at = 0.5
+value = 1.0
+)";
+//  1 [structure]   2 kind   3 length   4 EI
+//  6 [supports]    7 left   8 right
+// 10 [foundation] 11 k
+// 13 [[loads]]    14 kind  15 at       16 value
+
+const std::string arch_scene = R"([structure]
+kind = "arch"
+radius = 100.0
+half_angle_deg = 10.0
+EI = 1.0
+EA = 420.0
+
+[supports]
+left = "pinned"
+right = "roller"
+
+[foundation]
+k = 1.0e4
+
+[[loads]]
+kind = "force"
+at = 0.0
+value = 1.0
+)";
+//  1 [structure]   2 kind   3 radius   4 half_angle_deg   5 EI   6 EA
+//  8 [supports]    9 left  10 right
+// 12 [foundation] 13 k
+// 15 [[loads]]    16 kind  17 at      18 value
+
+// `text` with the first occurrence of `from` replaced by `to` (which must be there).
+std::string edited(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  REQUIRE(at != std::string::npos);
+  return text.replace(at, from.size(), to);
+}
+
+// The message of the InputError that reading `text` throws; checks it is one line.
+std::string error_of(const std::string& text) {
+  try {
+    parse_scene(text, "scene.toml");
+  } catch (const liftoff::InputError& e) {
+    const std::string message = e.what();
+    CHECK(message.find('\n') == std::string::npos);
+    return message;
+  }
+  FAIL("the scene was accepted but should have been refused:\n" << text);
+  return {};
+}
+
+}  // namespace
+
+TEST_CASE("the enum names round-trip and the member ends follow the kind", "[scene]") {
+  CHECK(to_string(Method::automatic) == "auto");
+  CHECK(parse_method("auto") == Method::automatic);
+  CHECK(parse_method("automatic") == std::nullopt);
+  CHECK(parse_end_support("roller") == EndSupport::roller);
+  CHECK(parse_load_kind(to_string(LoadKind::uniform)) == LoadKind::uniform);
+  CHECK(parse_load_case(to_string(LoadCase::dead)) == LoadCase::dead);
+  CHECK(parse_structure_kind("plate") == std::nullopt);
+
+  Scene scene;
+  scene.structure.kind = StructureKind::beam;
+  scene.structure.length = 3.0;
+  CHECK(scene.begin() == 0.0);
+  CHECK(scene.end() == 3.0);
+  scene.structure.kind = StructureKind::arch;
+  scene.structure.half_angle_deg = 25.0;
+  CHECK(scene.begin() == -25.0);
+  CHECK(scene.end() == 25.0);
+}
+
+TEST_CASE("a full beam scene reads into the expected values", "[scene]") {
+  const std::string text = R"(# every key of a beam scene
+[structure]
+kind = "beam"
+length = 2
+EI = 3.5
+EA = 1e6
+
+[supports]
+left = "clamped"
+right = "free"
+interior = [1.5, 0.5]
+
+[foundation]
+modulus = 0.014
+tensionless = false
+from = 0.25
+to = 2.0
+
+[[loads]]
+kind = "force"
+at = 2.0
+value = -1.5
+
+[[loads]]
+kind = "moment"
+at = 0
+value = 2
+case = "dead"
+
+[[loads]]
+kind = "uniform"
+value = 0.5
+from = 0.5
+to = 1.0
+case = "live"
+
+[solve]
+method = "auto"
+elements = 64
+)";
+  const Scene scene = parse_scene(text, "full_beam.toml");
+  CHECK(scene.source_name == "full_beam.toml");
+  CHECK(scene.text == text);
+
+  CHECK(scene.structure.kind == StructureKind::beam);
+  CHECK(scene.structure.length == 2.0);  // an integer is accepted for a float
+  CHECK(scene.structure.bending_stiffness == 3.5);
+  REQUIRE(scene.structure.axial_stiffness.has_value());
+  CHECK(*scene.structure.axial_stiffness == 1e6);
+  CHECK(scene.begin() == 0.0);
+  CHECK(scene.end() == 2.0);
+
+  CHECK(scene.supports.left == EndSupport::clamped);
+  CHECK(scene.supports.right == EndSupport::free);
+  CHECK(scene.supports.interior == std::vector<double>{0.5, 1.5});  // sorted
+
+  CHECK_FALSE(scene.foundation.stiffness_parameter.has_value());
+  REQUIRE(scene.foundation.modulus.has_value());
+  CHECK(*scene.foundation.modulus == 0.014);
+  CHECK_FALSE(scene.foundation.tensionless);
+  CHECK(scene.foundation.from == 0.25);
+  CHECK(scene.foundation.to == 2.0);
+
+  REQUIRE(scene.loads.size() == 3);
+  CHECK(scene.loads[0].kind == LoadKind::force);
+  CHECK(scene.loads[0].at == 2.0);
+  CHECK(scene.loads[0].value == -1.5);
+  CHECK(scene.loads[0].load_case == LoadCase::live);
+  CHECK(scene.loads[1].kind == LoadKind::moment);
+  CHECK(scene.loads[1].at == 0.0);
+  CHECK(scene.loads[1].value == 2.0);
+  CHECK(scene.loads[1].load_case == LoadCase::dead);
+  CHECK(scene.loads[2].kind == LoadKind::uniform);
+  CHECK(scene.loads[2].value == 0.5);
+  CHECK(scene.loads[2].from == 0.5);
+  CHECK(scene.loads[2].to == 1.0);
+  CHECK(scene.loads[2].load_case == LoadCase::live);
+
+  CHECK(scene.solve.method == Method::automatic);
+  CHECK(scene.solve.elements == 64);
+}
+
+TEST_CASE("a minimal beam scene takes the defaults", "[scene]") {
+  const Scene scene = parse_scene(edited(beam_scene, "[[loads]]", R"([[loads]]
+kind = "uniform"
+value = 2.0
+
+[[loads]])"),
+                                  "minimal.toml");
+  CHECK_FALSE(scene.structure.axial_stiffness.has_value());
+  CHECK(scene.supports.interior.empty());
+  REQUIRE(scene.foundation.stiffness_parameter.has_value());
+  CHECK(*scene.foundation.stiffness_parameter == 1.0e4);
+  CHECK_FALSE(scene.foundation.modulus.has_value());
+  CHECK(scene.foundation.tensionless);
+  CHECK(scene.foundation.from == 0.0);  // the whole member
+  CHECK(scene.foundation.to == 2.0);
+  REQUIRE(scene.loads.size() == 2);
+  CHECK(scene.loads[0].kind == LoadKind::uniform);
+  CHECK(scene.loads[0].from == 0.0);
+  CHECK(scene.loads[0].to == 2.0);
+  CHECK(scene.loads[0].load_case == LoadCase::live);
+  CHECK(scene.loads[1].load_case == LoadCase::live);
+  CHECK(scene.solve.method == Method::dual);
+  CHECK(scene.solve.elements == 200);
+}
+
+TEST_CASE("a scene without loads is legal", "[scene]") {
+  const Scene scene = parse_scene(beam_scene.substr(0, beam_scene.find("[[loads]]")), "x.toml");
+  CHECK(scene.loads.empty());
+}
+
+TEST_CASE("a full arch scene reads into the expected values", "[scene]") {
+  const std::string text = R"([structure]
+kind = "arch"
+radius = 100
+half_angle_deg = 10.0
+EI = 1.0
+EA = 420
+
+[supports]
+left = "roller"
+right = "clamped"
+interior = [-5.0]
+
+[foundation]
+k = 1.0e4
+tensionless = true
+from = -8
+
+[[loads]]
+kind = "force"
+at = -10.0
+value = 1.0
+
+[[loads]]
+kind = "uniform"
+value = -0.25
+to = 5.0
+case = "dead"
+
+[solve]
+method = "primal"
+)";
+  const Scene scene = parse_scene(text, "arch.toml");
+  CHECK(scene.structure.kind == StructureKind::arch);
+  CHECK(scene.structure.radius == 100.0);
+  CHECK(scene.structure.half_angle_deg == 10.0);
+  CHECK(scene.structure.bending_stiffness == 1.0);
+  REQUIRE(scene.structure.axial_stiffness.has_value());
+  CHECK(*scene.structure.axial_stiffness == 420.0);
+  CHECK(scene.begin() == -10.0);
+  CHECK(scene.end() == 10.0);
+
+  CHECK(scene.supports.left == EndSupport::roller);
+  CHECK(scene.supports.right == EndSupport::clamped);
+  CHECK(scene.supports.interior == std::vector<double>{-5.0});
+
+  CHECK(*scene.foundation.stiffness_parameter == 1.0e4);
+  CHECK(scene.foundation.tensionless);
+  CHECK(scene.foundation.from == -8.0);
+  CHECK(scene.foundation.to == 10.0);  // default: the right end
+
+  REQUIRE(scene.loads.size() == 2);
+  CHECK(scene.loads[0].at == -10.0);
+  CHECK(scene.loads[1].kind == LoadKind::uniform);
+  CHECK(scene.loads[1].from == -10.0);  // default: the left end
+  CHECK(scene.loads[1].to == 5.0);
+  CHECK(scene.loads[1].load_case == LoadCase::dead);
+
+  CHECK(scene.solve.method == Method::primal);
+  CHECK(scene.solve.elements == 200);
+}
+
+TEST_CASE("positions within a relative 1e-12 of an end snap onto it", "[scene]") {
+  const Scene scene = parse_scene(edited(beam_scene, "at = 0.5", "at = 2.000000000001"), "x.toml");
+  CHECK(scene.loads[0].at == 2.0);
+  CHECK_THAT(error_of(edited(beam_scene, "at = 0.5", "at = 2.00000001")),
+             Contains("key 'loads[0].at': expected a position in [0, 2], got 2.00000001"));
+}
+
+TEST_CASE("a missing key names the table and its line", "[scene][errors]") {
+  CHECK(error_of(edited(beam_scene, "EI = 1.0\n", "\n")) ==
+        "scene.toml:1: key 'structure.EI': missing (expected a number > 0)");
+  CHECK(error_of(edited(beam_scene, "right = \"clamped\"\n", "\n")) ==
+        R"(scene.toml:6: key 'supports.right': missing (expected "pinned", "clamped" or "free"))");
+  CHECK(error_of(edited(beam_scene, "at = 0.5\n", "\n")) ==
+        "scene.toml:13: key 'loads[0].at': missing (expected a position in [0, 2])");
+  CHECK(error_of(edited(beam_scene, "length = 2.0\n", "\n")) ==
+        "scene.toml:1: key 'structure.length': missing (expected a number > 0)");
+  CHECK(error_of(edited(arch_scene, "EA = 420.0\n", "\n")) ==
+        "scene.toml:1: key 'structure.EA': missing (expected a number > 0)");
+  // A missing table has no line.
+  CHECK(error_of(edited(beam_scene, "[supports]\nleft = \"pinned\"\nright = \"clamped\"\n", "")) ==
+        "scene.toml: key 'supports': missing (expected a table [supports])");
+}
+
+TEST_CASE("a value of the wrong type is refused", "[scene][errors]") {
+  CHECK(error_of(edited(beam_scene, "EI = 1.0", "EI = \"stiff\"")) ==
+        R"(scene.toml:4: key 'structure.EI': expected a number > 0, got "stiff")");
+  CHECK(error_of(edited(beam_scene, "k = 1.0e4", "k = 1.0e4\ntensionless = \"yes\"")) ==
+        R"(scene.toml:12: key 'foundation.tensionless': expected true or false, got "yes")");
+  CHECK(error_of(edited(beam_scene, "left = \"pinned\"", "left = 1")) ==
+        R"(scene.toml:7: key 'supports.left': expected "pinned", "clamped" or "free", got 1)");
+  CHECK(error_of(edited(beam_scene, "[[loads]]", "[loads]")) ==
+        "scene.toml:13: key 'loads': expected an array of tables [[loads]], got a table");
+  CHECK(error_of(edited(beam_scene, "[supports]", "[[supports]]")) ==
+        "scene.toml:6: key 'supports': expected a table [supports], got an array");
+}
+
+TEST_CASE("an unknown key is refused, with a suggestion", "[scene][errors]") {
+  CHECK(error_of(edited(beam_scene, "length = 2.0", "lenght = 2.0")) ==
+        "scene.toml:3: key 'structure.lenght': unknown key (did you mean 'length'?); the keys of "
+        "[structure] are kind, length, radius, half_angle_deg, EI, EA");
+  CHECK_THAT(error_of(edited(beam_scene, "value = 1.0", "value = 1.0\ncasee = \"dead\"")),
+             StartsWith("scene.toml:17: key 'loads[0].casee': unknown key (did you mean 'case'?)"));
+  CHECK_THAT(error_of(edited(beam_scene, "EI = 1.0", "EI = 1.0\n[structure.extra]\na = 1")),
+             StartsWith("scene.toml:5: key 'structure.extra': unknown key;"));
+}
+
+TEST_CASE("an unknown table is refused", "[scene][errors]") {
+  CHECK(error_of(beam_scene + "\n[solver]\nmethod = \"dual\"\n") ==
+        "scene.toml:18: key 'solver': unknown table (did you mean 'solve'?); the tables of a scene "
+        "are [structure], [supports], [foundation], [[loads]], [solve]");
+  CHECK_THAT(error_of("title = \"x\"\n" + beam_scene),
+             StartsWith("scene.toml:1: key 'title': unknown key;"));
+}
+
+TEST_CASE("an unknown value of a choice is refused", "[scene][errors]") {
+  CHECK(error_of(edited(beam_scene, "kind = \"beam\"", "kind = \"plate\"")) ==
+        R"(scene.toml:2: key 'structure.kind': expected "beam" or "arch", got "plate")");
+  CHECK(error_of(beam_scene + "[solve]\nmethod = \"fastest\"\n") ==
+        R"(scene.toml:18: key 'solve.method': expected "dual", "primal" or "auto", got "fastest")");
+  CHECK(error_of(edited(beam_scene, "kind = \"force\"", "kind = \"torque\"")) ==
+        R"(scene.toml:14: key 'loads[0].kind': expected "force", "moment" or "uniform", got "torque")");
+  CHECK(error_of(edited(beam_scene, "value = 1.0", "value = 1.0\ncase = \"permanent\"")) ==
+        R"(scene.toml:17: key 'loads[0].case': expected "live" or "dead", got "permanent")");
+}
+
+TEST_CASE("stiffnesses and lengths must be positive", "[scene][errors]") {
+  CHECK(error_of(edited(beam_scene, "EI = 1.0", "EI = -1")) ==
+        "scene.toml:4: key 'structure.EI': expected a number > 0, got -1");
+  CHECK(error_of(edited(beam_scene, "EI = 1.0", "EI = 0.0")) ==
+        "scene.toml:4: key 'structure.EI': expected a number > 0, got 0.0");
+  CHECK(error_of(edited(beam_scene, "length = 2.0", "length = 0")) ==
+        "scene.toml:3: key 'structure.length': expected a number > 0, got 0");
+  CHECK(error_of(edited(beam_scene, "length = 2.0", "length = -2.5")) ==
+        "scene.toml:3: key 'structure.length': expected a number > 0, got -2.5");
+  CHECK(error_of(edited(arch_scene, "radius = 100.0", "radius = -100.0")) ==
+        "scene.toml:3: key 'structure.radius': expected a number > 0, got -100.0");
+  CHECK(error_of(edited(arch_scene, "EA = 420.0", "EA = 0")) ==
+        "scene.toml:6: key 'structure.EA': expected a number > 0, got 0");
+  CHECK(error_of(edited(arch_scene, "half_angle_deg = 10.0", "half_angle_deg = 180")) ==
+        "scene.toml:4: key 'structure.half_angle_deg': expected an angle in degrees in (0, 180), "
+        "got 180");
+  CHECK(error_of(edited(beam_scene, "k = 1.0e4", "k = -3")) ==
+        "scene.toml:11: key 'foundation.k': expected a number > 0, got -3");
+}
+
+TEST_CASE("keys of the other kind of structure are refused", "[scene][errors]") {
+  CHECK(error_of(edited(beam_scene, "EI = 1.0", "EI = 1.0\nradius = 5.0")) ==
+        "scene.toml:5: key 'structure.radius': not allowed for a beam (arches only)");
+  CHECK_THAT(error_of(edited(arch_scene, "EI = 1.0", "EI = 1.0\nlength = 5.0")),
+             StartsWith("scene.toml:6: key 'structure.length': not allowed for an arch"));
+}
+
+TEST_CASE("a load or support outside the member is refused", "[scene][errors]") {
+  CHECK(error_of(edited(beam_scene, "at = 0.5", "at = 2.5")) ==
+        "scene.toml:15: key 'loads[0].at': expected a position in [0, 2], got 2.5");
+  CHECK(error_of(edited(beam_scene, "at = 0.5", "at = -0.1")) ==
+        "scene.toml:15: key 'loads[0].at': expected a position in [0, 2], got -0.1");
+  CHECK(error_of(edited(arch_scene, "at = 0.0", "at = 12")) ==
+        "scene.toml:17: key 'loads[0].at': expected an angle in degrees in [-10, 10], got 12");
+  CHECK(error_of(edited(arch_scene, "k = 1.0e4", "k = 1.0e4\nto = -10.5")) ==
+        "scene.toml:14: key 'foundation.to': expected an angle in degrees in [-10, 10], got -10.5");
+  // The second load is loads[1].
+  CHECK_THAT(error_of(beam_scene + "\n[[loads]]\nkind = \"moment\"\nat = 3\nvalue = 1\n"),
+             StartsWith("scene.toml:20: key 'loads[1].at': expected a position in [0, 2], got 3"));
+  // Interior supports: strictly inside and distinct.
+  CHECK(error_of(edited(beam_scene, "right = \"clamped\"", "right = \"clamped\"\ninterior = [0.5, 2.0]")) ==
+        "scene.toml:9: key 'supports.interior[1]': expected a position strictly inside (0, 2), "
+        "got 2.0");
+  CHECK(error_of(edited(beam_scene, "right = \"clamped\"", "right = \"clamped\"\ninterior = [0.5, 1, 0.5]")) ==
+        "scene.toml:9: key 'supports.interior[2]': expected distinct positions, got 0.5 twice");
+  CHECK(error_of(edited(beam_scene, "right = \"clamped\"", "right = \"clamped\"\ninterior = 0.5")) ==
+        "scene.toml:9: key 'supports.interior': expected an array of numbers, got 0.5");
+}
+
+TEST_CASE("the foundation needs exactly one of k and modulus", "[scene][errors]") {
+  CHECK(error_of(edited(beam_scene, "k = 1.0e4", "k = 1.0e4\nmodulus = 0.014")) ==
+        "scene.toml:12: key 'foundation.modulus': expected exactly one of 'k' and 'modulus', got both");
+  CHECK(error_of(edited(beam_scene, "k = 1.0e4", "")) ==
+        "scene.toml:10: key 'foundation.k': missing (expected exactly one of 'k' and 'modulus', a "
+        "number > 0)");
+}
+
+TEST_CASE("an extent needs from < to", "[scene][errors]") {
+  CHECK(error_of(edited(beam_scene, "k = 1.0e4", "k = 1.0e4\nfrom = 0.8\nto = 0.2")) ==
+        "scene.toml:13: key 'foundation.to': expected from < to, got from = 0.8 and to = 0.2");
+  CHECK(error_of(edited(beam_scene, "k = 1.0e4", "k = 1.0e4\nfrom = 2")) ==
+        "scene.toml:12: key 'foundation.from': expected from < to, got from = 2 and to = 2");
+  const std::string uniform = R"([[loads]]
+kind = "uniform"
+value = 1.0
+from = 1.0
+to = 1.0
+)";
+  CHECK(error_of(beam_scene + uniform) ==
+        "scene.toml:21: key 'loads[1].to': expected from < to, got from = 1 and to = 1");
+}
+
+TEST_CASE("at and from/to belong to different kinds of load", "[scene][errors]") {
+  CHECK(error_of(edited(beam_scene, "kind = \"force\"", "kind = \"uniform\"")) ==
+        "scene.toml:15: key 'loads[0].at': not allowed for a uniform load (it acts on from..to)");
+  CHECK(error_of(edited(beam_scene, "at = 0.5", "at = 0.5\nfrom = 0.0")) ==
+        "scene.toml:16: key 'loads[0].from': not allowed for a force (it acts at one point, 'at')");
+}
+
+TEST_CASE("elements must be an integer in range", "[scene][errors]") {
+  CHECK(error_of(beam_scene + "[solve]\nelements = 0\n") ==
+        "scene.toml:18: key 'solve.elements': expected an integer in [1, 10000000], got 0");
+  CHECK(error_of(beam_scene + "[solve]\nelements = 2.5\n") ==
+        "scene.toml:18: key 'solve.elements': expected an integer in [1, 10000000], got 2.5");
+  CHECK(error_of(beam_scene + "[solve]\nelements = 200.0\n") ==
+        "scene.toml:18: key 'solve.elements': expected an integer in [1, 10000000], got 200.0");
+  CHECK(error_of(beam_scene + "[solve]\nelements = 10_000_001\n") ==
+        "scene.toml:18: key 'solve.elements': expected an integer in [1, 10000000], got 10000001");
+  CHECK(parse_scene(beam_scene + "[solve]\nelements = 10_000_000\n", "x").solve.elements == 10'000'000);
+}
+
+TEST_CASE("non-finite numbers are refused", "[scene][errors]") {
+  CHECK(error_of(edited(beam_scene, "value = 1.0", "value = nan")) ==
+        "scene.toml:16: key 'loads[0].value': expected a finite number, got nan");
+  CHECK(error_of(edited(beam_scene, "EI = 1.0", "EI = inf")) ==
+        "scene.toml:4: key 'structure.EI': expected a number > 0, got inf");
+  CHECK(error_of(edited(beam_scene, "at = 0.5", "at = -inf")) ==
+        "scene.toml:15: key 'loads[0].at': expected a position in [0, 2], got -inf");
+}
+
+TEST_CASE("a roller is refused for a beam, with a hint", "[scene][errors]") {
+  CHECK(error_of(edited(beam_scene, "left = \"pinned\"", "left = \"roller\"")) ==
+        R"(scene.toml:7: key 'supports.left': expected "pinned", "clamped" or "free", got "roller" )"
+        R"((for a beam, roller is the same as pinned))");
+  CHECK(error_of(edited(arch_scene, "left = \"pinned\"", "left = \"hinged\"")) ==
+        R"(scene.toml:9: key 'supports.left': expected "pinned", "roller", "clamped" or "free", )"
+        R"(got "hinged")");
+}
+
+TEST_CASE("a TOML syntax error is one line with line and column", "[scene][errors]") {
+  const std::string message = error_of(edited(beam_scene, "EI = 1.0", "EI = = 1.0"));
+  CHECK_THAT(message, StartsWith("scene.toml:4:6: TOML syntax error: "));
+  CHECK_THAT(error_of(edited(beam_scene, "EI = 1.0", "EI = 1.0\nEI = 2.0")),
+             StartsWith("scene.toml:5:"));
+  CHECK_THAT(error_of(edited(beam_scene, "kind = \"beam\"", "kind = \"beam")),
+             StartsWith("scene.toml:2:") && Contains("TOML syntax error"));
+}
+
+TEST_CASE("user strings are escaped so the message stays on one line", "[scene][errors]") {
+  CHECK(error_of(edited(beam_scene, "kind = \"beam\"", "kind = \"be\\nam\"")) ==
+        R"(scene.toml:2: key 'structure.kind': expected "beam" or "arch", got "be\nam")");
+}
+
+TEST_CASE("read_scene_file reads a file and reports one it cannot read", "[scene][file]") {
+  const auto directory = std::filesystem::temp_directory_path() / "liftoff_scene_reader_test";
+  std::filesystem::create_directories(directory);
+  const auto path = directory / "beam.toml";
+  std::ofstream(path) << beam_scene;
+
+  const Scene scene = read_scene_file(path);
+  CHECK(scene.source_name == path.string());
+  CHECK(scene.text == beam_scene);
+  CHECK(scene.structure.length == 2.0);
+
+  std::ofstream(path) << edited(beam_scene, "EI = 1.0", "EI = -1");
+  REQUIRE_THROWS_WITH(read_scene_file(path),
+                      path.string() + ":4: key 'structure.EI': expected a number > 0, got -1");
+
+  const auto absent = directory / "no_such_scene.toml";
+  REQUIRE_THROWS_WITH(read_scene_file(absent),
+                      absent.string() + ": cannot read the scene file (No such file or directory)");
+  REQUIRE_THROWS_AS(read_scene_file(absent), liftoff::InputError);
+  REQUIRE_THROWS_WITH(read_scene_file(directory),
+                      StartsWith(directory.string() + ": cannot read the scene file ("));
+  std::filesystem::remove_all(directory);
+}

@@ -1,0 +1,59 @@
+#pragma once
+// Helpers shared by the tests: shipped scenes by name, and small scenes built in code.
+
+#include <string>
+
+#include "scene/scene.hpp"
+#include "scene/scene_reader.hpp"
+
+namespace liftoff::test {
+
+inline scene::Scene shipped_scene(const std::string& name) {
+  return scene::read_scene_file(std::string(LIFTOFF_SOURCE_DIR) + "/verification/scenes/" + name + ".toml");
+}
+
+// A beam of length L with EI, the given supports and foundation parameter k, no loads.
+inline scene::Scene beam_scene(double length, double bending_stiffness, scene::EndSupport left,
+                               scene::EndSupport right, double k, bool tensionless = true) {
+  scene::Scene s;
+  s.source_name = "<test beam>";
+  s.structure.kind = scene::StructureKind::beam;
+  s.structure.length = length;
+  s.structure.bending_stiffness = bending_stiffness;
+  s.supports.left = left;
+  s.supports.right = right;
+  s.foundation.stiffness_parameter = k;
+  s.foundation.tensionless = tensionless;
+  s.foundation.from = 0.0;
+  s.foundation.to = length;
+  return s;
+}
+
+inline scene::Load point_force(double at, double value, scene::LoadCase c = scene::LoadCase::live) {
+  scene::Load l;
+  l.kind = scene::LoadKind::force;
+  l.at = at;
+  l.value = value;
+  l.load_case = c;
+  return l;
+}
+
+inline scene::Load point_moment(double at, double value) {
+  scene::Load l;
+  l.kind = scene::LoadKind::moment;
+  l.at = at;
+  l.value = value;
+  return l;
+}
+
+inline scene::Load uniform_load(double from, double to, double value, scene::LoadCase c = scene::LoadCase::live) {
+  scene::Load l;
+  l.kind = scene::LoadKind::uniform;
+  l.from = from;
+  l.to = to;
+  l.value = value;
+  l.load_case = c;
+  return l;
+}
+
+}  // namespace liftoff::test
