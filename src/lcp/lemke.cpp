@@ -23,6 +23,10 @@ constexpr double eps = std::numeric_limits<double>::epsilon();
 // the basis every ~50 pivots was tried: it cut that drift 100-fold but changed no outcome
 // (the final polish removes the drift from the answer) and cost up to 5x time, so it is not done.
 constexpr double tie_tolerance = 1e-11;
+// A complementary basis whose best (z, w) has a residual above this is no solution: the
+// pivoting lost accuracy. Generous, as a degenerate z_i of an ill-conditioned block may come
+// out as -cond * eps; far above that, the active set itself is wrong.
+constexpr double acceptable_residual = 1e-6;
 
 // The basis of  w - M z - d z0 = q  (scaled data, d = ones). Variables are numbered
 // w_i = i, z_j = n + j, z0 = 2n; basis[row] is the variable of that row of the basis inverse.
@@ -116,18 +120,29 @@ struct Residuals {
   double worst() const { return std::max({feasibility, complementarity, equation}); }
 };
 
-// Residuals on the original data, normalised as documented in lemke.hpp.
-Residuals residuals(const MatrixXd& M, const VectorXd& q, const VectorXd& z, const VectorXd& w) {
+// D_ii = 1/sqrt|M_ii| rounded to a power of two (1 where M_ii = 0): D M D and D q are then
+// exact, so the scaled problem is the original data, only better balanced.
+VectorXd diagonal_scaling(const MatrixXd& M) {
+  VectorXd D = VectorXd::Ones(M.rows());
+  for (Eigen::Index i = 0; i < M.rows(); ++i)
+    if (M(i, i) != 0.0) D(i) = std::ldexp(1.0, static_cast<int>(std::lround(-0.5 * std::log2(std::abs(M(i, i))))));
+  return D;
+}
+
+// Residuals as documented in lemke.hpp: those of y = D^-1 z, v = D w in the diagonally scaled
+// LCP (Ms = D M D, qs = D q), so that a stiff row cannot hide the error of a flexible one.
+Residuals residuals(const MatrixXd& Ms, const VectorXd& qs, const VectorXd& D, const VectorXd& z,
+                    const VectorXd& w) {
   Residuals r;
-  if (q.size() == 0) return r;
-  const double z_norm = z.cwiseAbs().maxCoeff();
-  const double M_norm = M.cwiseAbs().rowwise().sum().maxCoeff();
-  double scale = std::max(q.cwiseAbs().maxCoeff(), M_norm * z_norm);
+  if (qs.size() == 0) return r;
+  const VectorXd y = z.cwiseQuotient(D), v = w.cwiseProduct(D);
+  const double y_norm = y.cwiseAbs().maxCoeff();
+  double scale = std::max(qs.cwiseAbs().maxCoeff(), Ms.cwiseAbs().rowwise().sum().maxCoeff() * y_norm);
   if (!(scale > 0.0)) scale = 1.0;
-  const double z_scale = z_norm > 0.0 ? z_norm : 1.0;
-  r.feasibility = std::max({0.0, (-z).maxCoeff() / z_scale, (-w).maxCoeff() / scale});
-  r.complementarity = z.cwiseProduct(w).cwiseAbs().maxCoeff() / (scale * z_scale);
-  r.equation = (w - q - M * z).cwiseAbs().maxCoeff() / scale;
+  const double y_scale = y_norm > 0.0 ? y_norm : 1.0;
+  r.feasibility = std::max({0.0, (-y).maxCoeff() / y_scale, (-v).maxCoeff() / scale});
+  r.complementarity = y.cwiseProduct(v).cwiseAbs().maxCoeff() / (scale * y_scale);
+  r.equation = (v - qs - Ms * y).cwiseAbs().maxCoeff() / scale;
   return r;
 }
 
@@ -176,8 +191,12 @@ LemkeResult solve_lemke(const MatrixXd& M, const VectorXd& q, const LemkeOptions
   const int max_pivots = options.max_pivots > 0 ? options.max_pivots : 10 * (n + 1);
   LemkeResult result;
   LemkeSummary& summary = result.summary;
+  // The scaled problem serves the residuals and the polish always, the pivoting if asked.
+  const VectorXd D_exact = diagonal_scaling(M);
+  const MatrixXd M_scaled = D_exact.asDiagonal() * M * D_exact.asDiagonal();
+  const VectorXd q_scaled = D_exact.cwiseProduct(q);
   auto finish = [&](LemkeTermination termination, std::string message, int pivots) {
-    const Residuals r = residuals(M, q, result.z, result.w);
+    const Residuals r = residuals(M_scaled, q_scaled, D_exact, result.z, result.w);
     summary.termination = termination;
     summary.message = std::move(message);
     summary.pivots = pivots;
@@ -195,13 +214,9 @@ LemkeResult solve_lemke(const MatrixXd& M, const VectorXd& q, const LemkeOptions
   }
 
   // Symmetric scaling y = D^-1 z: w' = D w = D q + (D M D) y keeps the LCP's structure.
-  VectorXd D = VectorXd::Ones(n);
-  if (options.equilibrate)
-    for (int i = 0; i < n; ++i)
-      if (M(i, i) != 0.0) D(i) = 1.0 / std::sqrt(std::abs(M(i, i)));
-  const MatrixXd Ms = D.asDiagonal() * M * D.asDiagonal();
-  const VectorXd qs = D.cwiseProduct(q);
-
+  const VectorXd D = options.equilibrate ? D_exact : VectorXd::Ones(n);
+  const MatrixXd& Ms = options.equilibrate ? M_scaled : M;
+  const VectorXd& qs = options.equilibrate ? q_scaled : q;
   Basis basis(Ms, qs);
   // The z-part of the current vertex in original units, and its w-part (which includes z0's
   // contribution until z0 leaves).
@@ -282,31 +297,41 @@ LemkeResult solve_lemke(const MatrixXd& M, const VectorXd& q, const LemkeOptions
 
   }
 
-  // z0 left: the basis is complementary. Polish: solve M_aa z_a = -q_a on the original data
-  // with a fresh LU, so the answer does not carry the round-off of the pivots.
+  // z0 left: the basis is complementary. Polish: solve M_aa z_a = -q_a afresh, so the answer
+  // does not carry the round-off of the pivots. The LU is of the exactly scaled block
+  // (D M D)_aa, i.e. of the original data, balanced so that rcond means something.
   set_vertex();
-  const Residuals pivoted = residuals(M, q, result.z, result.w);
+  const Residuals pivoted = residuals(M_scaled, q_scaled, D_exact, result.z, result.w);
   const std::vector<int>& alpha = result.basic_z;
   std::string polish_note = "polished by a fresh LU of M on the final basic set";
   VectorXd z_polished = VectorXd::Zero(n);
   bool singular = false;
   if (!alpha.empty()) {
-    const Eigen::PartialPivLU<MatrixXd> lu(M(alpha, alpha));
+    const Eigen::PartialPivLU<MatrixXd> lu(M_scaled(alpha, alpha));
     singular = !(lu.rcond() > eps);
     if (!singular) {
-      const VectorXd z_alpha = lu.solve(VectorXd(-q(alpha)));
+      const VectorXd z_alpha = D_exact(alpha).cwiseProduct(lu.solve(VectorXd(-q_scaled(alpha))));
       z_polished(alpha) = z_alpha;
     }
   }
   const VectorXd w_polished = q + M * z_polished;
   if (singular || !z_polished.allFinite()) {
     polish_note = "the final basic block of M is singular; kept the pivoted vertex";
-  } else if (residuals(M, q, z_polished, w_polished).worst() > pivoted.worst()) {
+  } else if (residuals(M_scaled, q_scaled, D_exact, z_polished, w_polished).worst() >
+             pivoted.worst()) {
     polish_note = "polishing did not reduce the residuals; kept the pivoted vertex";
   } else {
     result.z = z_polished;
     result.w = w_polished;
   }
+  if (const double worst = residuals(M_scaled, q_scaled, D_exact, result.z, result.w).worst();
+      !(worst <= acceptable_residual))
+    return finish(LemkeTermination::numerical_failure,
+                  fmt::format("z0 left the basis after {} pivots, but the complementary basis "
+                              "leaves a residual of {:.1e} (> {:.0e}): the pivoting lost accuracy{}",
+                              pivots, worst, acceptable_residual,
+                              options.equilibrate ? "" : "; try equilibrate = true"),
+                  pivots);
   return finish(LemkeTermination::solution,
                 fmt::format("solution after {} pivots ({} of {} z basic); {}", pivots, alpha.size(),
                             n, polish_note),

@@ -29,8 +29,10 @@ struct LemkeOptions {
   // An entry of the entering column counts as positive (a candidate blocking row) above this,
   // relative to the column's largest entry. Must lie in (0, 1).
   double pivot_tolerance = 1e-12;
-  // Symmetric diagonal scaling D M D, D q (D_ii = 1/sqrt|M_ii|) before pivoting. It preserves
-  // the solution set and makes badly scaled problems (stiffness next to flexibility) tractable.
+  // Symmetric diagonal scaling D M D, D q (D_ii = 1/sqrt|M_ii| rounded to a power of two, so
+  // the scaling is exact; 1 where M_ii = 0) before pivoting. It preserves the solution set and
+  // makes badly scaled problems (stiffness next to flexibility) tractable. The residuals and
+  // the final polish use this scaling whatever the option (see LemkeSummary).
   bool equilibrate = true;
   // Throws std::invalid_argument naming the field if a value is meaningless.
   void validate() const;
@@ -41,7 +43,8 @@ enum class LemkeTermination {
   ray,           // no blocking row for the entering column: the LCP has no solution (for
                  // copositive-plus M); `ray` holds the direction, z stays at the last vertex
   pivot_limit,   // max_pivots reached; z is the last (artificial) vertex, not a solution
-  numerical_failure,  // the basis became singular or NaN appeared; z is not a solution
+  numerical_failure,  // NaN appeared, or z0 left but the complementary basis does not solve
+                      // the LCP (a residual above 1e-6: accuracy lost); z is not a solution
 };
 std::string_view to_string(LemkeTermination);
 
@@ -49,13 +52,18 @@ struct LemkeSummary {
   LemkeTermination termination = LemkeTermination::numerical_failure;
   std::string message;                  // what happened, in words
   int pivots = -1;                      // complementary pivots taken (the first z0 pivot counts)
-  // Residuals of the returned (z, w) on the original (unscaled) data, all dimensionless and
-  // invariant under q -> c q and M -> c M. With
-  //   s  = max(|q|_inf, |M|_inf |z|_inf)   (|M|_inf the largest absolute row sum; 1 if s = 0),
-  //   sz = |z|_inf                          (1 if z = 0):
-  double feasibility_residual = -1.0;   // max(0, max_i(-z_i) / sz, max_i(-w_i) / s)
-  double complementarity_residual = -1.0;  // max_i |z_i w_i| / (s sz)
-  double equation_residual = -1.0;      // |w - q - M z|_inf / s
+  // Residuals of the returned (z, w), evaluated with the original M and q but in diagonally
+  // scaled units, so that a stiff row cannot hide the error of a flexible one: with D as for
+  // LemkeOptions::equilibrate (computed whether or not pivoting used it),
+  //   Ms = D M D, qs = D q, y = D^-1 z, v = D w   (v = qs + Ms y for an exact solution),
+  //   s  = max(|qs|_inf, |Ms|_inf |y|_inf)   (|.|_inf of a matrix: largest absolute row sum;
+  //                                           s = 1 if that is 0),
+  //   sy = |y|_inf                           (1 if y = 0),
+  // they are dimensionless, invariant under q -> c q, M -> c M and any positive diagonal
+  // rescaling of the problem, and of order eps for a solution accurate to round-off:
+  double feasibility_residual = -1.0;   // max(0, max_i(-y_i) / sy, max_i(-v_i) / s)
+  double complementarity_residual = -1.0;  // max_i |y_i v_i| / (s sy)   (y_i v_i = z_i w_i)
+  double equation_residual = -1.0;      // |v - qs - Ms y|_inf / s
   double time_s = -1.0;
   bool is_usable() const { return termination == LemkeTermination::solution; }
   std::string brief_report() const;     // one line

@@ -199,6 +199,38 @@ TEST_CASE("degenerate LCPs terminate with a solution and do not cycle", "[lemke]
     CHECK((r.z - z_star).cwiseAbs().maxCoeff() <= 1e3 * round_off(n));
     CHECK(r.summary.pivots <= 2 * (n + 1));
   }
+  SECTION("a problem on which naive tie-breaking cycles") {
+    // Found by a search over small integer LCPs: with ties broken by the first row, the last
+    // row or the largest pivot instead of lexicographically, Lemke cycles here (it hits any
+    // pivot limit); the lexicographic rule reaches the solution in 5 pivots, through two
+    // ratio tests with two rows tied at a zero step. The solution is degenerate (z_1 = w_1 = 0).
+    MatrixXd M(5, 5);
+    M << -1, -2, 2, 2, -1,
+         -1, 0, 0, 1, 1,
+          2, 2, 1, -1, -2,
+          1, 0, 0, 1, 2,
+          2, 2, 1, 0, -1;
+    const VectorXd q = (VectorXd(5) << 1, -1, -1, -1, -1).finished();
+    const auto r = solve_lemke(M, q);
+    require_solution(M, q, r, round_off(5));
+    // z = (0, 0, 2, 1, 0): M z = 2 M(:,2) + M(:,3) = (6, 1, 1, 1, 2), w = q + M z.
+    CHECK((r.z - (VectorXd(5) << 0, 0, 2, 1, 0).finished()).cwiseAbs().maxCoeff() <= round_off(5));
+    CHECK((r.w - (VectorXd(5) << 7, 0, 0, 0, 1).finished()).cwiseAbs().maxCoeff() <= round_off(5));
+    CHECK(r.summary.pivots <= 10);
+  }
+  SECTION("z0 tied with another row leaves at once") {
+    // In the first complementary ratio test z0 ties with w_0 and w_2 (step 1). Letting z0 leave
+    // gives the fully degenerate solution z = (0, 1, 0), w = 0; continuing the lexicographic
+    // rule instead ends in a ray (M is not copositive-plus, so that ray would prove nothing).
+    MatrixXd M(3, 3);
+    M << 2, 0, -1, 1, 1, 2, 2, 1, -2;
+    const VectorXd q = (VectorXd(3) << 0, -1, -1).finished();
+    const auto r = solve_lemke(M, q);
+    require_solution(M, q, r, round_off(3));
+    CHECK((r.z - Eigen::Vector3d(0, 1, 0)).cwiseAbs().maxCoeff() <= round_off(3));
+    CHECK(r.w.cwiseAbs().maxCoeff() <= round_off(3));
+    CHECK(r.summary.pivots == 2);
+  }
   SECTION("Beale's cycling LP as an LCP") {
     // min -3/4 x1 + 20 x2 - 1/2 x3 + 6 x4  s.t.  1/4 x1 - 8 x2 - x3 + 9 x4 <= 0,
     // 1/2 x1 - 12 x2 - 1/2 x3 + 3 x4 <= 0,  x3 <= 1,  x >= 0: the simplex method with the
@@ -281,6 +313,17 @@ TEST_CASE("ray termination on infeasible LCPs", "[lemke]") {
     require_certificate(M, q, r);
     CHECK((r.ray.head(2) - VectorXd::Ones(2)).cwiseAbs().maxCoeff() <= round_off(2));
   }
+  SECTION("rank one M = v v^T, v = (2, -1), q = (-1, -1): the ray is in original units") {
+    // w_1 = -1 + 2u, w_2 = -1 - u with u = 2 z_1 - z_2: u >= 1/2 and u <= -1 at once.
+    // The certificate must have v^T dz = 0, i.e. dz ~ (1, 2); equilibration (D = (1/2, 1))
+    // turns it into (1, 1) internally, so this fails if the ray is not scaled back.
+    MatrixXd M(2, 2);
+    M << 4, -2, -2, 1;
+    const VectorXd q = -VectorXd::Ones(2);
+    const auto r = solve_lemke(M, q);
+    require_certificate(M, q, r);
+    CHECK((r.ray.head(2) - Eigen::Vector2d(0.5, 1.0)).cwiseAbs().maxCoeff() <= round_off(2));
+  }
   SECTION("an infeasible LP (x <= -1, x >= 0) as an LCP") {
     // min x s.t. x <= -1, x >= 0: M = [[0, 1], [-1, 0]], q = (1, -1).
     MatrixXd M(2, 2);
@@ -335,8 +378,31 @@ TEST_CASE("pivot limit", "[lemke]") {
   CHECK(r.summary.pivots == 1);
   CHECK_FALSE(r.summary.is_usable());
   CHECK(r.summary.equation_residual > 0.1);  // the artificial vertex is far from a solution
+  CHECK(r.ray.size() == 0);
   // The default limit 10 (n + 1) is ample for the same problem.
   CHECK(solve_lemke(M, q).summary.termination == LemkeTermination::solution);
+}
+
+TEST_CASE("the last vertex is reported in original units", "[lemke]") {
+  // Diagonal 4, 16, 1/4: the equilibration D = diag(1/2, 1/4, 2) is exact, and the vertex of
+  // the scaled system w' = D q + D M D y + 1 z0 means w - q - M z = z0 D^-1 1 in original
+  // units: its entries times D_ii must all equal z0 > 0.
+  MatrixXd M(3, 3);
+  M << 4, 1, 0, 1, 16, 1, 0, 1, 0.25;
+  const VectorXd q = (VectorXd(3) << -1.0, -2.0, -0.5).finished();
+  LemkeOptions options;
+  options.max_pivots = 2;
+  const auto r = solve_lemke(M, q, options);
+  REQUIRE(r.summary.termination == LemkeTermination::pivot_limit);
+  const VectorXd covering = (r.w - q - M * r.z).cwiseProduct(Eigen::Vector3d(0.5, 0.25, 2.0));
+  INFO("z = " << r.z.transpose() << ", w = " << r.w.transpose());
+  CHECK(covering.minCoeff() > 0.0);
+  CHECK(covering.maxCoeff() - covering.minCoeff() <= round_off(3) * covering.maxCoeff());
+  CHECK(r.z.minCoeff() >= 0.0);
+  CHECK(r.w.minCoeff() >= 0.0);
+  CHECK(r.z.maxCoeff() > 0.0);  // one z became basic in the second pivot
+  // And the full run solves it.
+  require_solution(M, q, solve_lemke(M, q), round_off(3));
 }
 
 TEST_CASE("invalid input throws, outcomes do not", "[lemke]") {
