@@ -1,12 +1,12 @@
 #include "lcp/lemke.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
-
-#include <fmt/format.h>
 
 namespace liftoff::lcp {
 
@@ -33,9 +33,16 @@ constexpr double acceptable_residual = 1e-6;
 class Basis {
  public:
   Basis(const MatrixXd& M, const VectorXd& q)
-      : M_(M), n_(static_cast<int>(q.size())), basis_(n_), row_of_(2 * n_ + 1, -1),
-        basis_inverse_(MatrixXd::Identity(n_, n_)), xB_(q) {
-    for (int i = 0; i < n_; ++i) basis_[i] = i, row_of_[i] = i;  // all-slack start: B = I
+      : M_(M),
+        n_(static_cast<int>(q.size())),
+        basis_(n_),
+        row_of_(2 * n_ + 1, -1),
+        basis_inverse_(MatrixXd::Identity(n_, n_)),
+        xB_(q) {
+    for (int i = 0; i < n_; ++i) {  // all-slack start: B = I
+      basis_[i] = i;
+      row_of_[i] = i;
+    }
   }
 
   int n() const { return n_; }
@@ -94,8 +101,7 @@ int blocking_row(const Basis& basis, const VectorXd& a, double threshold) {
   const double x_scale = xB.cwiseAbs().maxCoeff();
   std::vector<int> tied;
   for (int i = 0; i < n; ++i)
-    if (a(i) > threshold &&
-        xB(i) / a(i) - theta <= tie_tolerance * (std::abs(theta) + x_scale / a(i)))
+    if (a(i) > threshold && xB(i) / a(i) - theta <= tie_tolerance * (std::abs(theta) + x_scale / a(i)))
       tied.push_back(i);
   if (tied.size() == 1) return tied.front();
   const int z0_row = basis.row_of(basis.z0());
@@ -107,9 +113,7 @@ int blocking_row(const Basis& basis, const VectorXd& a, double threshold) {
   for (int j = 0; j < n && tied.size() > 1; ++j) {
     double lowest = std::numeric_limits<double>::infinity();
     for (int i : tied) lowest = std::min(lowest, basis_inverse(i, j) / a(i));
-    std::erase_if(tied, [&](int i) {
-      return basis_inverse(i, j) / a(i) > lowest + tie_tolerance * lex_scale;
-    });
+    std::erase_if(tied, [&](int i) { return basis_inverse(i, j) / a(i) > lowest + tie_tolerance * lex_scale; });
   }
   // Still several only if round-off hides the difference: take the largest pivot.
   return *std::max_element(tied.begin(), tied.end(), [&](int i, int k) { return a(i) < a(k); });
@@ -131,8 +135,7 @@ VectorXd diagonal_scaling(const MatrixXd& M) {
 
 // Residuals as documented in lemke.hpp: those of y = D^-1 z, v = D w in the diagonally scaled
 // LCP (Ms = D M D, qs = D q), so that a stiff row cannot hide the error of a flexible one.
-Residuals residuals(const MatrixXd& Ms, const VectorXd& qs, const VectorXd& D, const VectorXd& z,
-                    const VectorXd& w) {
+Residuals residuals(const MatrixXd& Ms, const VectorXd& qs, const VectorXd& D, const VectorXd& z, const VectorXd& w) {
   Residuals r;
   if (qs.size() == 0) return r;
   const VectorXd y = z.cwiseQuotient(D), v = w.cwiseProduct(D);
@@ -155,16 +158,20 @@ std::string variable_name(int v, int n) {
 
 void LemkeOptions::validate() const {
   if (!(std::isfinite(pivot_tolerance) && pivot_tolerance > 0.0 && pivot_tolerance < 1.0))
-    throw std::invalid_argument(fmt::format(
-        "LemkeOptions.pivot_tolerance: expected a finite number in (0, 1), got {}", pivot_tolerance));
+    throw std::invalid_argument(
+        fmt::format("LemkeOptions.pivot_tolerance: expected a finite number in (0, 1), got {}", pivot_tolerance));
 }
 
 std::string_view to_string(LemkeTermination t) {
   switch (t) {
-    case LemkeTermination::solution: return "solution";
-    case LemkeTermination::ray: return "ray";
-    case LemkeTermination::pivot_limit: return "pivot_limit";
-    case LemkeTermination::numerical_failure: return "numerical_failure";
+    case LemkeTermination::solution:
+      return "solution";
+    case LemkeTermination::ray:
+      return "ray";
+    case LemkeTermination::pivot_limit:
+      return "pivot_limit";
+    case LemkeTermination::numerical_failure:
+      return "numerical_failure";
   }
   return "unknown";
 }
@@ -173,8 +180,7 @@ std::string LemkeSummary::brief_report() const {
   return fmt::format(
       "lemke: {} after {} pivots; residuals: feasibility {:.2e}, complementarity {:.2e}, "
       "equation {:.2e}; {:.3f} ms",
-      to_string(termination), pivots, feasibility_residual, complementarity_residual,
-      equation_residual, time_s * 1e3);
+      to_string(termination), pivots, feasibility_residual, complementarity_residual, equation_residual, time_s * 1e3);
 }
 
 LemkeResult solve_lemke(const MatrixXd& M, const VectorXd& q, const LemkeOptions& options) {
@@ -182,8 +188,7 @@ LemkeResult solve_lemke(const MatrixXd& M, const VectorXd& q, const LemkeOptions
   options.validate();
   if (M.rows() != q.size() || M.cols() != q.size())
     throw std::invalid_argument(fmt::format(
-        "solve_lemke: M is {}x{} but q has size {}; M must be square of the size of q",
-        M.rows(), M.cols(), q.size()));
+        "solve_lemke: M is {}x{} but q has size {}; M must be square of the size of q", M.rows(), M.cols(), q.size()));
   if (!M.allFinite()) throw std::invalid_argument("solve_lemke: M contains NaN or Inf");
   if (!q.allFinite()) throw std::invalid_argument("solve_lemke: q contains NaN or Inf");
 
@@ -226,8 +231,12 @@ LemkeResult solve_lemke(const MatrixXd& M, const VectorXd& q, const LemkeOptions
     result.basic_z.clear();
     for (int row = 0; row < n; ++row) {
       const int v = basis.variable(row);
-      if (v < n) result.w(v) = basis.xB()(row) / D(v);
-      else if (v < 2 * n) result.z(v - n) = basis.xB()(row) * D(v - n), result.basic_z.push_back(v - n);
+      if (v < n) {
+        result.w(v) = basis.xB()(row) / D(v);
+      } else if (v < 2 * n) {
+        result.z(v - n) = basis.xB()(row) * D(v - n);
+        result.basic_z.push_back(v - n);
+      }
     }
     std::sort(result.basic_z.begin(), result.basic_z.end());
   };
@@ -255,8 +264,7 @@ LemkeResult solve_lemke(const MatrixXd& M, const VectorXd& q, const LemkeOptions
     if (!a.allFinite()) {
       set_vertex();
       return finish(LemkeTermination::numerical_failure,
-                    fmt::format("NaN or Inf in the column of {} after {} pivots",
-                                variable_name(entering, n), pivots),
+                    fmt::format("NaN or Inf in the column of {} after {} pivots", variable_name(entering, n), pivots),
                     pivots);
     }
     // Entries below the pivot tolerance, relative to the column, count as zero: they neither
@@ -271,8 +279,10 @@ LemkeResult solve_lemke(const MatrixXd& M, const VectorXd& q, const LemkeOptions
       set_vertex();
       result.ray = VectorXd::Zero(n + 1);
       auto add = [&](int v, double rate) {
-        if (v >= n && v < 2 * n) result.ray(v - n) = rate * D(v - n);
-        else if (v == basis.z0()) result.ray(n) = rate;
+        if (v >= n && v < 2 * n)
+          result.ray(v - n) = rate * D(v - n);
+        else if (v == basis.z0())
+          result.ray(n) = rate;
       };
       add(entering, 1.0);
       for (int i = 0; i < n; ++i) add(basis.variable(i), std::max(0.0, -a(i)));
@@ -294,7 +304,6 @@ LemkeResult solve_lemke(const MatrixXd& M, const VectorXd& q, const LemkeOptions
     }
     if (leaving == basis.z0()) break;
     entering = basis.complement(leaving);
-
   }
 
   // z0 left: the basis is complementary. Polish: solve M_aa z_a = -q_a afresh, so the answer
@@ -317,8 +326,7 @@ LemkeResult solve_lemke(const MatrixXd& M, const VectorXd& q, const LemkeOptions
   const VectorXd w_polished = q + M * z_polished;
   if (singular || !z_polished.allFinite()) {
     polish_note = "the final basic block of M is singular; kept the pivoted vertex";
-  } else if (residuals(M_scaled, q_scaled, D_exact, z_polished, w_polished).worst() >
-             pivoted.worst()) {
+  } else if (residuals(M_scaled, q_scaled, D_exact, z_polished, w_polished).worst() > pivoted.worst()) {
     polish_note = "polishing did not reduce the residuals; kept the pivoted vertex";
   } else {
     result.z = z_polished;
@@ -326,15 +334,14 @@ LemkeResult solve_lemke(const MatrixXd& M, const VectorXd& q, const LemkeOptions
   }
   if (const double worst = residuals(M_scaled, q_scaled, D_exact, result.z, result.w).worst();
       !(worst <= acceptable_residual))
-    return finish(LemkeTermination::numerical_failure,
-                  fmt::format("z0 left the basis after {} pivots, but the complementary basis "
-                              "leaves a residual of {:.1e} (> {:.0e}): the pivoting lost accuracy{}",
-                              pivots, worst, acceptable_residual,
-                              options.equilibrate ? "" : "; try equilibrate = true"),
-                  pivots);
+    return finish(
+        LemkeTermination::numerical_failure,
+        fmt::format("z0 left the basis after {} pivots, but the complementary basis "
+                    "leaves a residual of {:.1e} (> {:.0e}): the pivoting lost accuracy{}",
+                    pivots, worst, acceptable_residual, options.equilibrate ? "" : "; try equilibrate = true"),
+        pivots);
   return finish(LemkeTermination::solution,
-                fmt::format("solution after {} pivots ({} of {} z basic); {}", pivots, alpha.size(),
-                            n, polish_note),
+                fmt::format("solution after {} pivots ({} of {} z basic); {}", pivots, alpha.size(), n, polish_note),
                 pivots);
 }
 

@@ -1,12 +1,12 @@
 #include "lcp/lemke.hpp"
 
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
 #include <random>
 #include <stdexcept>
-
-#include <catch2/catch.hpp>
+#include <tuple>
 
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
@@ -54,13 +54,12 @@ std::pair<VectorXd, double> projected_gauss_seidel(const MatrixXd& M, const Vect
 }
 
 // Every property of a solution of the LCP, checked on (z, w) as returned.
-void require_solution(const MatrixXd& M, const VectorXd& q, const liftoff::lcp::LemkeResult& r,
-                      double tolerance) {
+void require_solution(const MatrixXd& M, const VectorXd& q, const liftoff::lcp::LemkeResult& r, double tolerance) {
   INFO(r.summary.brief_report() << " / " << r.summary.message);
   REQUIRE(r.summary.termination == LemkeTermination::solution);
   REQUIRE(r.summary.is_usable());
-  const double scale = std::max({1.0, q.cwiseAbs().maxCoeff(),
-                                 M.cwiseAbs().rowwise().sum().maxCoeff() * r.z.cwiseAbs().maxCoeff()});
+  const double scale =
+      std::max({1.0, q.cwiseAbs().maxCoeff(), M.cwiseAbs().rowwise().sum().maxCoeff() * r.z.cwiseAbs().maxCoeff()});
   const double z_scale = std::max(1.0, r.z.cwiseAbs().maxCoeff());
   CHECK(r.z.minCoeff() >= -tolerance * z_scale);
   CHECK(r.w.minCoeff() >= -tolerance * scale);
@@ -181,10 +180,11 @@ TEST_CASE("degenerate LCPs terminate with a solution and do not cycle", "[lemke]
     block << 4, -1, 0, -1, -1, 4, -1, 0, 0, -1, 4, -1, -1, 0, -1, 4;
     MatrixXd M = MatrixXd::Zero(n, n);
     for (int b = 0; b < blocks; ++b) {
-      M.block(b * size, b * size, size, size) = block;
+      const Eigen::Index at = Eigen::Index{b} * size, next = at + size;
+      M.block(at, at, size, size) = block;
       if (b + 1 < blocks) {
-        M.block(b * size, (b + 1) * size, size, size) = -MatrixXd::Identity(size, size);
-        M.block((b + 1) * size, b * size, size, size) = -MatrixXd::Identity(size, size);
+        M.block(at, next, size, size) = -MatrixXd::Identity(size, size);
+        M.block(next, at, size, size) = -MatrixXd::Identity(size, size);
       }
     }
     VectorXd z_star = VectorXd::Zero(n), w_star = VectorXd::Zero(n);
@@ -205,11 +205,7 @@ TEST_CASE("degenerate LCPs terminate with a solution and do not cycle", "[lemke]
     // pivot limit); the lexicographic rule reaches the solution in 5 pivots, through two
     // ratio tests with two rows tied at a zero step. The solution is degenerate (z_1 = w_1 = 0).
     MatrixXd M(5, 5);
-    M << -1, -2, 2, 2, -1,
-         -1, 0, 0, 1, 1,
-          2, 2, 1, -1, -2,
-          1, 0, 0, 1, 2,
-          2, 2, 1, 0, -1;
+    M << -1, -2, 2, 2, -1, -1, 0, 0, 1, 1, 2, 2, 1, -1, -2, 1, 0, 0, 1, 2, 2, 2, 1, 0, -1;
     const VectorXd q = (VectorXd(5) << 1, -1, -1, -1, -1).finished();
     const auto r = solve_lemke(M, q);
     require_solution(M, q, r, round_off(5));
@@ -248,7 +244,7 @@ TEST_CASE("degenerate LCPs terminate with a solution and do not cycle", "[lemke]
     const auto r = solve_lemke(M, q);
     require_solution(M, q, r, round_off(7));
     const VectorXd x = r.z.head(4), y = r.z.tail(3);
-    CHECK(std::abs(c.dot(x) - (-1.25)) <= round_off(7));  // the optimum, x = (1, 0, 1, 0)
+    CHECK(std::abs(c.dot(x) - (-1.25)) <= round_off(7));   // the optimum, x = (1, 0, 1, 0)
     CHECK(std::abs(b.dot(y) + c.dot(x)) <= round_off(7));  // strong duality: b^T y = -c^T x
     CHECK(r.summary.pivots <= 10 * 8);
   }
@@ -281,8 +277,7 @@ TEST_CASE("positive semidefinite (singular) M with a solution", "[lemke]") {
 }
 
 TEST_CASE("ray termination on infeasible LCPs", "[lemke]") {
-  auto require_certificate = [](const MatrixXd& M, const VectorXd& q,
-                                const liftoff::lcp::LemkeResult& r) {
+  auto require_certificate = [](const MatrixXd& M, const VectorXd& q, const liftoff::lcp::LemkeResult& r) {
     const int n = static_cast<int>(q.size());
     INFO(r.summary.message);
     REQUIRE(r.summary.termination == LemkeTermination::ray);
@@ -292,11 +287,13 @@ TEST_CASE("ray termination on infeasible LCPs", "[lemke]") {
     const VectorXd dz = r.ray.head(n);
     CHECK(dz.minCoeff() >= 0.0);
     CHECK(dz.maxCoeff() > 0.5);  // normalised to |ray|_inf = 1, and the z part carries it
-    CHECK(std::abs(r.ray(n)) <= round_off(n));  // dz0 = 0 for copositive-plus M
+    // Round-off of products with M, for |dz|_inf = 1.
+    const double tolerance = round_off(n) * std::max(1.0, M.cwiseAbs().rowwise().sum().maxCoeff());
+    CHECK(std::abs(r.ray(n)) <= tolerance);  // dz0 = 0 for copositive-plus M
     // The Farkas-type certificate: M dz >= 0, dz^T M dz = 0, q^T dz < 0.
-    CHECK((M * dz).minCoeff() >= -round_off(n));
-    CHECK(std::abs(dz.dot(M * dz)) <= round_off(n));
-    CHECK(q.dot(dz) < 0.0);
+    CHECK((M * dz).minCoeff() >= -tolerance);
+    CHECK(std::abs(dz.dot(M * dz)) <= tolerance);
+    CHECK(q.dot(dz) < -tolerance * q.cwiseAbs().maxCoeff());
   };
   SECTION("M = [0], q = [-1]: w = -1 whatever z") {
     const MatrixXd M = MatrixXd::Zero(1, 1);
@@ -324,6 +321,21 @@ TEST_CASE("ray termination on infeasible LCPs", "[lemke]") {
     require_certificate(M, q, r);
     CHECK((r.ray.head(2) - Eigen::Vector2d(0.5, 1.0)).cwiseAbs().maxCoeff() <= round_off(2));
   }
+  SECTION("the primal structure [[K, -K], [-K, K]] with q_1 + q_2 < 0: a mechanism") {
+    // w_1 + w_2 = q_1 + q_2 < 0 whatever z. In exact arithmetic the entering column becomes
+    // zero in several rows on the way; in floating point those entries are round-off of
+    // either sign, and pivoting on them (no pivot tolerance) wrecks the basis.
+    const int m = 20, n = 2 * m;
+    std::mt19937 rng(11);
+    const MatrixXd B = random_matrix(m, m, rng);
+    const MatrixXd K = B.transpose() * B + 0.1 * MatrixXd::Identity(m, m);
+    MatrixXd M(n, n);
+    M << K, -K, -K, K;
+    const VectorXd q = -VectorXd::Ones(n) + 0.5 * random_vector(n, rng);
+    REQUIRE((q.head(m) + q.tail(m)).maxCoeff() < 0.0);
+    const auto r = solve_lemke(M, q);
+    require_certificate(M, q, r);
+  }
   SECTION("an infeasible LP (x <= -1, x >= 0) as an LCP") {
     // min x s.t. x <= -1, x >= 0: M = [[0, 1], [-1, 0]], q = (1, -1).
     MatrixXd M(2, 2);
@@ -333,38 +345,57 @@ TEST_CASE("ray termination on infeasible LCPs", "[lemke]") {
   }
 }
 
-TEST_CASE("equilibration: same answer on a badly scaled problem, residuals at round-off",
-          "[lemke]") {
-  // M = S C S with C well conditioned and S spanning 1e-4..1e4: the diagonal of M spans
-  // 1e-8..1e8 (stiffness next to flexibility). q = S p keeps the solution z = S^-1 y moderate
-  // in the scaled variables, so the answer is well defined relative to each component.
+TEST_CASE("equilibration: same answer on a badly scaled problem, residuals at round-off", "[lemke]") {
+  // M = S C S, q = S p with C well conditioned (unit diagonal) and S = diag(10^k) over a range
+  // of decades: the diagonal of M spans 10^-2k..10^2k (stiffness next to flexibility). With
+  // y = S z the problem is the well-conditioned LCP(C, p), solved as the reference, so every
+  // component of z is known to round-off.
   const int n = 9;
   std::mt19937 rng(7);
   const MatrixXd B = random_matrix(n, n, rng);
   MatrixXd C = B.transpose() * B + n * MatrixXd::Identity(n, n);
   const VectorXd unit = C.diagonal().cwiseSqrt().cwiseInverse();
-  C = unit.asDiagonal() * C * unit.asDiagonal();  // unit diagonal: M_ii = s_i^2 exactly
-  VectorXd s(n);
-  for (int i = 0; i < n; ++i) s(i) = std::pow(10.0, -4.0 + i);
-  const MatrixXd M = s.asDiagonal() * C * s.asDiagonal();
-  REQUIRE(M.diagonal().minCoeff() <= 1.0001e-8);
-  REQUIRE(M.diagonal().maxCoeff() >= 0.9999e8);
-  const VectorXd q = s.asDiagonal() * random_vector(n, rng) * 10.0;
+  C = unit.asDiagonal() * C * unit.asDiagonal();
+  const VectorXd p = random_vector(n, rng) * 10.0;
+  const auto reference = solve_lemke(C, p);
+  require_solution(C, p, reference, round_off(n));
+  REQUIRE(reference.basic_z.size() > 1);
+  REQUIRE(reference.basic_z.size() < n);
 
-  const auto scaled = solve_lemke(M, q);
+  auto problem = [&](double decades) {
+    VectorXd s(n);
+    for (int i = 0; i < n; ++i) s(i) = std::pow(10.0, decades * (2.0 * i / (n - 1) - 1.0));
+    return std::tuple{VectorXd(s), MatrixXd(s.asDiagonal() * C * s.asDiagonal()), VectorXd(s.cwiseProduct(p))};
+  };
+  // Componentwise agreement with the reference in the balanced variables y = S z.
+  auto matches_reference = [&](const VectorXd& s, const liftoff::lcp::LemkeResult& r) {
+    return r.basic_z == reference.basic_z && (s.cwiseProduct(r.z) - reference.z).cwiseAbs().maxCoeff() <=
+                                                 1e2 * round_off(n) * reference.z.cwiseAbs().maxCoeff();
+  };
   LemkeOptions raw;
   raw.equilibrate = false;
-  const auto unscaled = solve_lemke(M, q, raw);
-  INFO(scaled.summary.brief_report() << "\n" << unscaled.summary.brief_report());
-  require_solution(M, q, scaled, round_off(n));
-  REQUIRE(unscaled.summary.termination == LemkeTermination::solution);
-  CHECK(unscaled.basic_z == scaled.basic_z);
-  // Compare componentwise in the well-conditioned variables y = S z (cond(C) is modest).
-  const VectorXd y_scaled = s.asDiagonal() * scaled.z, y_unscaled = s.asDiagonal() * unscaled.z;
-  CHECK((y_scaled - y_unscaled).cwiseAbs().maxCoeff() <= 1e3 * round_off(n) * y_scaled.cwiseAbs().maxCoeff());
-  CHECK(scaled.summary.feasibility_residual <= round_off(n));
-  CHECK(scaled.summary.complementarity_residual <= round_off(n));
-  CHECK(scaled.summary.equation_residual <= round_off(n));
+
+  SECTION("diagonal over 1e-8..1e8: on and off agree") {
+    const auto [s, M, q] = problem(4.0);
+    REQUIRE(M.diagonal().minCoeff() <= 1.0001e-8);
+    REQUIRE(M.diagonal().maxCoeff() >= 0.9999e8);
+    const auto scaled = solve_lemke(M, q), unscaled = solve_lemke(M, q, raw);
+    INFO(scaled.summary.brief_report() << "\n" << unscaled.summary.brief_report());
+    require_solution(M, q, scaled, round_off(n));
+    require_solution(M, q, unscaled, round_off(n));
+    CHECK(matches_reference(s, scaled));
+    CHECK(matches_reference(s, unscaled));
+  }
+  SECTION("diagonal over 1e-12..1e12: without scaling, a wrong answer is at least flagged") {
+    // Without equilibration the pivot tolerance (relative to the column) drops the entries
+    // of the flexible rows and the wrong active set comes out; the scaled residuals expose it.
+    const auto [s, M, q] = problem(6.0);
+    const auto scaled = solve_lemke(M, q), unscaled = solve_lemke(M, q, raw);
+    INFO(scaled.summary.brief_report() << "\n" << unscaled.summary.brief_report() << "\n" << unscaled.summary.message);
+    require_solution(M, q, scaled, round_off(n));
+    CHECK(matches_reference(s, scaled));
+    CHECK((!unscaled.summary.is_usable() || matches_reference(s, unscaled)));
+  }
 }
 
 TEST_CASE("pivot limit", "[lemke]") {

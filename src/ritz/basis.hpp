@@ -1,0 +1,57 @@
+#pragma once
+// Ritz bases: complete families of TrigPolynomials in the member coordinate s that satisfy the
+// KINEMATIC end conditions only (the static ones come out of the energy). basis.cpp gives, for
+// every family, the argument why it is complete in the energy space.
+//
+// With xi = (s - s_begin)/(s_end - s_begin) in [0, 1] (psi for arches), and N = modes:
+//
+// Beams (w = 0 at a pinned end, w = w' = 0 at a clamped one; "roller" is taken as pinned):
+//   pinned-pinned    sin(j pi xi)                               j = 1..N   (the seed's eq. 5.1)
+//   clamped-clamped  sin(pi xi) sin(j pi xi)                    j = 1..N
+//   pinned-clamped   sin(j pi xi) cos(pi xi/2)                  j = 1..N
+//   clamped-free     1 - cos((j - 1/2) pi xi)                   j = 1..N
+//   pinned-free      xi, sin((j - 1/2) pi xi)                   j = 1..N-1 (xi: rotation about the pin)
+//   free-free        1, xi, xi^2, cos(j pi xi)                  j = 1..N-3 (1, xi: rigid motions)
+//   and the mirror images (xi -> 1 - xi) for clamped-pinned, free-clamped, free-pinned.
+//   The rigid motions the supports allow come first, so any N >= 1 is meaningful.
+//
+// Arches (u tangential, w radial): w takes the beam family of its own end conditions (w = 0 at
+// pinned, roller and clamped ends, w' = 0 too at clamped ones), and u is made of ANTIDERIVATIVES
+// of the w functions, u_j(s) = integral of w_j + constant, with the constant (and for u fixed at
+// both ends one linear combination) chosen to meet u's conditions (u = 0 at pinned and clamped
+// ends). So every u of the basis has its inextensional partner w = u' in the basis: the basis is
+// free of membrane locking (EA R^2/EI = 3e6 for the seed's arch) by construction. Examples:
+//   roller-roller    w: sin(j pi psi) (the seed's cos((2j-1) pi theta/(2 gamma)) for odd j, and
+//                    the antisymmetric sin(j' pi theta/gamma) for even j = 2j'),
+//                    u: cos(j pi psi) (the seed's sin((2j-1) pi theta/(2 gamma)) and the even
+//                    cos(j' pi theta/gamma)). All u have zero mean: the rigid rotation about the
+//                    centre (u = const, w = 0), which nothing resists, is excluded as a gauge.
+//   pinned-pinned    w: sin(j pi psi); u: the zero-mean-derivative combinations of
+//                    1 - cos(j pi psi), which span the same space as sin(pi psi) sin(j pi psi).
+//   clamped-clamped  w: sin(pi psi) sin(j pi psi); u: sines with u' in that span.
+// Whenever u is free at both ends (roller or free ends) the u functions have zero mean (gauge).
+// N means N functions for w and N for u (u fixed at both ends draws on N + 1 w functions).
+//
+// Every function is scaled to a largest absolute value of 1 over the member, so amplitudes are
+// displacements in units of the length scale.
+
+#include <string>
+#include <vector>
+
+#include "fe/member_model.hpp"
+#include "ritz/trig_polynomial.hpp"
+
+namespace liftoff::ritz {
+
+struct Basis {
+  std::vector<TrigPolynomial> w;  // N functions of s
+  std::vector<TrigPolynomial> u;  // arches: N functions of s; empty for beams
+  std::string description;        // the family in words, for reports
+};
+
+// Throws std::invalid_argument for modes < 1, or s_begin >= s_end.
+Basis beam_basis(fe::EndSupport left, fe::EndSupport right, double s_begin, double s_end, int modes);
+Basis arch_basis(fe::EndSupport left, fe::EndSupport right, double s_begin, double s_end, int modes);
+Basis make_basis(const fe::MemberModel& model, int modes);
+
+}  // namespace liftoff::ritz

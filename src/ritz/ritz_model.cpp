@@ -1,0 +1,297 @@
+#include "ritz/ritz_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "core/error.hpp"
+
+namespace liftoff::ritz {
+
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+void Topology::validate() const {
+  if (limits < 0) throw std::invalid_argument(fmt::format("Topology: limits must be >= 0, got {}", limits));
+}
+
+std::string to_string(const Topology& topology) {
+  std::string text;
+  bool contact = topology.first_in_contact;
+  for (int p = 0; p <= topology.limits; ++p, contact = !contact) text += (p ? " | " : "") + std::string(contact ? "contact" : "lift-off");
+  return fmt::format("{} ({} limit{})", text, topology.limits, topology.limits == 1 ? "" : "s");
+}
+
+namespace {
+
+void require_finite(double value, const char* what) {
+  if (!std::isfinite(value)) throw std::invalid_argument(fmt::format("RitzModel: {} is not finite", what));
+}
+
+// Integral over [a, b] of every pairwise product of `left` and `right` functions.
+MatrixXd gram(const std::vector<TrigPolynomial>& left, const std::vector<TrigPolynomial>& right, double a, double b) {
+  MatrixXd g(left.size(), right.size());
+  for (std::size_t i = 0; i < left.size(); ++i)
+    for (std::size_t j = 0; j < right.size(); ++j) g(i, j) = (left[i] * right[j]).integral(a, b);
+  return g;
+}
+
+}  // namespace
+
+RitzModel::RitzModel(const fe::MemberModel& model, int modes, Topology topology)
+    : arch_(model.kind == fe::StructureKind::arch), modes_(modes), topology_(topology) {
+  if (!model.point_supports.empty())
+    throw std::invalid_argument("the Ritz model does not take interior point supports; use an FE method");
+  topology_.validate();
+  for (double value : {model.s_begin, model.s_end, model.membrane_stiffness, model.foundation_modulus,
+                       model.foundation_begin, model.foundation_end})
+    require_finite(value, "a member model value");
+  for (const fe::MemberLoad& load : model.loads) {
+    require_finite(load.value, "a load value");
+    require_finite(load.at, "a load position");
+    require_finite(load.from, "a load extent");
+    require_finite(load.to, "a load extent");
+  }
+  if (!model.tensionless && (topology.limits != 0 || !topology.first_in_contact))
+    throw std::invalid_argument(
+        fmt::format("RitzModel: a bilateral foundation is in contact everywhere; expected the topology "
+                    "{{first_in_contact = true, limits = 0}}, got {}", to_string(topology)));
+  if (!(model.foundation_begin <= model.foundation_end) || (topology.limits > 0 && model.foundation_begin == model.foundation_end))
+    throw std::invalid_argument(fmt::format("RitzModel: the foundation's extent [{}, {}] has no room for contact limits",
+                                            model.foundation_begin, model.foundation_end));
+  foundation_modulus_ = model.foundation_modulus;
+  foundation_begin_ = model.foundation_begin;
+  foundation_end_ = model.foundation_end;
+
+  basis_ = make_basis(model, modes);  // checks modes >= 1
+  amplitudes_ = arch_ ? 2 * modes_ : modes_;
+  w_derivatives_.resize(4);
+  u_derivatives_.resize(arch_ ? 4 : 0);
+  for (int order = 0; order < 4; ++order) {
+    for (const TrigPolynomial& phi : basis_.w) w_derivatives_[order].push_back(phi.derivative(order));
+    if (arch_)
+      for (const TrigPolynomial& psi : basis_.u) u_derivatives_[order].push_back(psi.derivative(order));
+  }
+  for (int i = 0; i < modes_; ++i)
+    for (int j = i; j < modes_; ++j) w_products_.push_back(basis_.w[i] * basis_.w[j]);
+
+  // Stiffness: beam  int phi_i'' phi_j'';  arch  int EA eps_a eps_b + chi_a chi_b with the
+  // strains of each amplitude: W_j: eps = -phi_j, chi = phi_j''; U_i: eps = chi = psi_i'.
+  const double a = model.s_begin, b = model.s_end;
+  const auto& curvature = w_derivatives_[2];
+  if (!arch_) {
+    stiffness_ = gram(curvature, curvature, a, b);
+  } else {
+    std::vector<TrigPolynomial> membrane, bending;
+    for (int j = 0; j < modes_; ++j) membrane.push_back(-basis_.w[j]), bending.push_back(curvature[j]);
+    for (int i = 0; i < modes_; ++i) membrane.push_back(u_derivatives_[1][i]), bending.push_back(u_derivatives_[1][i]);
+    stiffness_ = model.membrane_stiffness * gram(membrane, membrane, a, b) + gram(bending, bending, a, b);
+  }
+  stiffness_ = 0.5 * (stiffness_ + stiffness_.transpose());  // exactly symmetric
+
+  // Loads: the work of each load is F . A.
+  dead_load_ = VectorXd::Zero(amplitudes_);
+  live_load_ = VectorXd::Zero(amplitudes_);
+  double moment_sum[2] = {0.0, 0.0}, moment_size[2] = {0.0, 0.0};
+  for (const fe::MemberLoad& load : model.loads) {
+    const bool dead = load.load_case == fe::LoadCase::dead;
+    VectorXd& target = dead ? dead_load_ : live_load_;
+    switch (load.kind) {
+      case fe::LoadKind::force: target.head(modes_) += load.value * phi_at(load.at, 0); break;
+      case fe::LoadKind::moment:
+        // Work of a counterclockwise moment: M * rotation, rotation = -w' (beam), -(u + w') (arch).
+        target.head(modes_) -= load.value * phi_at(load.at, 1);
+        if (arch_)
+          for (int i = 0; i < modes_; ++i) target[modes_ + i] -= load.value * basis_.u[i](load.at);
+        moment_sum[dead] += load.value;
+        moment_size[dead] += std::abs(load.value);
+        break;
+      case fe::LoadKind::uniform:
+        for (int j = 0; j < modes_; ++j) target[j] += load.value * basis_.w[j].integral(load.from, load.to);
+        break;
+    }
+  }
+  const bool u_free_at_both_ends = arch_ && model.left != fe::EndSupport::pinned && model.left != fe::EndSupport::clamped &&
+                                   model.right != fe::EndSupport::pinned && model.right != fe::EndSupport::clamped;
+  for (int c = 0; c < 2; ++c)
+    if (u_free_at_both_ends && std::abs(moment_sum[c]) > 1e-12 * moment_size[c])
+      throw MechanismError(
+          "key 'supports': the supports leave the arch free to rotate rigidly about its centre of curvature, which "
+          "the foundation cannot resist, and the moments drive that rotation, so no equilibrium exists; expected "
+          "supports that prevent it (e.g. a pinned end)");
+}
+
+void RitzModel::check_size(const VectorXd& x) const {
+  if (x.size() != unknowns())
+    throw std::invalid_argument(fmt::format("RitzModel: x has {} entries, expected {} ({} amplitudes, {} limits)",
+                                            x.size(), unknowns(), amplitudes_, limits()));
+}
+
+double RitzModel::piece_sign(int limit) const {
+  // Limit m ends piece m and starts piece m + 1; piece p is in contact iff first_in_contact
+  // for even p.
+  const bool ends_contact = topology_.first_in_contact == (limit % 2 == 0);
+  return ends_contact ? 1.0 : -1.0;
+}
+
+VectorXd RitzModel::phi_at(double s, int derivative) const {
+  VectorXd values(modes_);
+  for (int i = 0; i < modes_; ++i) values[i] = w_derivatives_[derivative][i](s);
+  return values;
+}
+
+std::vector<Piece> RitzModel::pieces(const VectorXd& x) const {
+  check_size(x);
+  std::vector<Piece> out;
+  double begin = foundation_begin_;
+  bool contact = topology_.first_in_contact;
+  for (int m = 0; m <= limits(); ++m, contact = !contact) {
+    const double end = m < limits() ? x[limit_offset() + m] : foundation_end_;
+    out.push_back({begin, end, contact});
+    begin = end;
+  }
+  return out;
+}
+
+std::vector<Piece> RitzModel::contact_pieces(const VectorXd& x) const {
+  std::vector<Piece> all = pieces(x);
+  std::erase_if(all, [](const Piece& p) { return !p.in_contact; });
+  return all;
+}
+
+bool RitzModel::admissible(const VectorXd& x) const {
+  check_size(x);
+  if (!x.allFinite()) return false;
+  double previous = foundation_begin_;
+  for (int m = 0; m < limits(); ++m) {
+    const double t = x[limit_offset() + m];
+    if (!(t > previous)) return false;
+    previous = t;
+  }
+  return limits() == 0 || previous < foundation_end_;
+}
+
+MatrixXd RitzModel::contact_gram(const VectorXd& x) const {
+  MatrixXd g = MatrixXd::Zero(modes_, modes_);
+  for (const Piece& piece : contact_pieces(x)) {
+    int index = 0;
+    for (int i = 0; i < modes_; ++i)
+      for (int j = i; j < modes_; ++j) g(i, j) += w_products_[index++].integral(piece.begin, piece.end);
+  }
+  return g.selfadjointView<Eigen::Upper>();
+}
+
+double RitzModel::energy(const VectorXd& x, double lambda) const {
+  check_size(x);
+  const VectorXd amplitudes = x.head(amplitudes_);
+  const VectorXd deflection = x.head(modes_);
+  return 0.5 * amplitudes.dot(stiffness_ * amplitudes) +
+         0.5 * foundation_modulus_ * deflection.dot(contact_gram(x) * deflection) - load(lambda).dot(amplitudes);
+}
+
+VectorXd RitzModel::gradient(const VectorXd& x, double lambda) const {
+  VectorXd g;
+  residual(x, lambda, g);
+  for (int m = 0; m < limits(); ++m) {
+    const double wt = g[limit_offset() + m];  // the residual's limit row is w(t_m)
+    g[limit_offset() + m] = piece_sign(m) * 0.5 * foundation_modulus_ * wt * wt;
+  }
+  return g;
+}
+
+MatrixXd RitzModel::hessian(const VectorXd& x, double lambda) const {
+  MatrixXd h;
+  jacobian(x, lambda, h);
+  // The Jacobian's limit rows are (phi(t_m), w'(t_m)); the Hessian's are its columns' transpose
+  // (sigma_m k w phi) and sigma_m k w w' on the diagonal.
+  for (int m = 0; m < limits(); ++m) {
+    const int row = limit_offset() + m;
+    const double t = x[row];
+    const double wt = w(x, t), slope = w(x, t, 1);
+    h.row(row).setZero();
+    h.block(row, 0, 1, modes_) = h.block(0, row, modes_, 1).transpose();
+    h(row, row) = piece_sign(m) * foundation_modulus_ * wt * slope;
+  }
+  (void)lambda;
+  return h;
+}
+
+void RitzModel::residual(const VectorXd& x, double lambda, VectorXd& f) const {
+  check_size(x);
+  f.resize(unknowns());
+  const VectorXd amplitudes = x.head(amplitudes_);
+  f.head(amplitudes_) = stiffness_ * amplitudes - load(lambda);
+  f.head(modes_) += foundation_modulus_ * (contact_gram(x) * x.head(modes_));
+  for (int m = 0; m < limits(); ++m) f[limit_offset() + m] = w(x, x[limit_offset() + m]);
+}
+
+void RitzModel::jacobian(const VectorXd& x, double lambda, MatrixXd& J) const {
+  check_size(x);
+  (void)lambda;  // the Jacobian does not depend on the load factor
+  J = MatrixXd::Zero(unknowns(), unknowns());
+  J.topLeftCorner(amplitudes_, amplitudes_) = stiffness_;
+  J.topLeftCorner(modes_, modes_) += foundation_modulus_ * contact_gram(x);
+  for (int m = 0; m < limits(); ++m) {
+    const int row = limit_offset() + m;
+    const double t = x[row];
+    const VectorXd phi = phi_at(t, 0);
+    const double wt = phi.dot(x.head(modes_));
+    // d/dt_m of k int_contact phi w = sigma_m k phi(t_m) w(t_m)  (amplitude rows)
+    J.block(0, row, modes_, 1) = piece_sign(m) * foundation_modulus_ * wt * phi;
+    // d w(t_m) = phi(t_m) . dW + w'(t_m) dt_m  (limit rows)
+    J.block(row, 0, 1, modes_) = phi.transpose();
+    J(row, row) = w(x, t, 1);
+  }
+}
+
+VectorXd RitzModel::residual_lambda_derivative(const VectorXd& x) const {
+  check_size(x);
+  VectorXd d = VectorXd::Zero(unknowns());
+  d.head(amplitudes_) = -live_load_;
+  return d;
+}
+
+std::optional<VectorXd> RitzModel::minimiser_for_limits(const VectorXd& limits_in, double lambda) const {
+  if (limits_in.size() != limits())
+    throw std::invalid_argument(fmt::format("RitzModel: {} limits given, expected {}", limits_in.size(), limits()));
+  VectorXd x = VectorXd::Zero(unknowns());
+  x.tail(limits()) = limits_in;
+  MatrixXd h = stiffness_;
+  h.topLeftCorner(modes_, modes_) += foundation_modulus_ * contact_gram(x);
+  const Eigen::LDLT<MatrixXd> ldlt(h);
+  // A rigid motion nothing resists shows as a pivot at round-off level relative to the largest.
+  const VectorXd pivots = ldlt.vectorD().cwiseAbs();
+  if (ldlt.info() != Eigen::Success || !(pivots.minCoeff() > 1e-13 * pivots.maxCoeff())) return std::nullopt;
+  x.head(amplitudes_) = ldlt.solve(load(lambda));
+  if (!x.allFinite()) return std::nullopt;
+  return x;
+}
+
+double RitzModel::w(const VectorXd& x, double s, int derivative) const {
+  check_size(x);
+  if (derivative < 0 || derivative > 3)
+    throw std::invalid_argument(fmt::format("RitzModel::w: derivative order {} outside 0..3", derivative));
+  double sum = 0.0;
+  for (int i = 0; i < modes_; ++i) sum += x[w_offset() + i] * w_derivatives_[derivative][i](s);
+  return sum;
+}
+
+double RitzModel::u(const VectorXd& x, double s, int derivative) const {
+  check_size(x);
+  if (!arch_) throw std::invalid_argument("RitzModel::u: a beam has no tangential displacement in this model");
+  if (derivative < 0 || derivative > 3)
+    throw std::invalid_argument(fmt::format("RitzModel::u: derivative order {} outside 0..3", derivative));
+  double sum = 0.0;
+  for (int i = 0; i < modes_; ++i) sum += x[u_offset() + i] * u_derivatives_[derivative][i](s);
+  return sum;
+}
+
+double RitzModel::reaction(const VectorXd& x, double s) const {
+  for (const Piece& piece : contact_pieces(x))
+    if (s >= piece.begin && s <= piece.end) return foundation_modulus_ * w(x, s);
+  return 0.0;
+}
+
+}  // namespace liftoff::ritz

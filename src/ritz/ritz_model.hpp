@@ -1,0 +1,136 @@
+#pragma once
+// The Ritz model of a member on a tensionless Winkler foundation with moving contact limits
+// (Silveira, Pereira & Goncalves 2008, sec. 4), nondimensional as fe::MemberModel.
+//
+// Displacements w = sum W_i phi_i(s) and, for arches, u = sum U_i psi_i(s) (basis.hpp). The
+// foundation's extent [foundation_begin, foundation_end] is cut by the limits t_1 < ... < t_M
+// into M + 1 pieces which alternate between contact and lift-off, the first one as the
+// Topology says. The unknowns are
+//     x = (W_1..W_N, [U_1..U_N for arches], t_1..t_M),
+// and the total potential energy (EI = 1, length scale 1, EA_hat = membrane_stiffness) is
+//     beam: Pi = 1/2 int w''^2 + k/2 int_contact w^2 - F(lambda).A
+//     arch: Pi = 1/2 int (EA_hat (u' - w)^2 + (u' + w'')^2) + k/2 int_contact w^2 - F(lambda).A
+// with F(lambda) = F_dead + lambda F_live the work-equivalent load vector: a force P at s does
+// work P w(s); a counterclockwise moment M does work -M w'(s) (beam) or -M (u + w')(s) (arch);
+// a uniform load q over [from, to] does work q int w. Arch forces act along the radius.
+//
+// Everything that does not depend on the limits (stiffness, loads) is integrated once, in
+// closed form, at construction; the foundation term is integrated exactly over the current
+// pieces at every call. All functions take any x of size unknowns() (std::invalid_argument
+// otherwise); their values are those of the formulas above, physically meaningful only where
+// admissible(x). Nothing here solves the nonlinear system: that is a Newton solver's job.
+//
+// The system to solve is the REGULARISED stationarity condition:
+//     R_A = dPi/dA = K A + k G(t) W - F(lambda) = 0      (amplitude rows)
+//     R_m = w(t_m) = 0                                   (one row per limit)
+// in place of dPi/dt_m = sigma_m k/2 w(t_m)^2 = 0 (sigma_m = +1 if t_m ends a contact piece,
+// -1 if it starts one), which has a double root. At a solution the amplitude-limit block of
+// the Jacobian, sigma_m k phi(t_m) w(t_m), vanishes, so the Jacobian is block triangular and
+// nonsingular when K + k G is and w'(t_m) != 0: Newton converges quadratically.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "fe/member_model.hpp"
+#include "ritz/basis.hpp"
+
+namespace liftoff::ritz {
+
+// Which pieces of the foundation's extent are in contact: the first (from foundation_begin)
+// as first_in_contact says, then alternating at each of the `limits` contact limits.
+struct Topology {
+  bool first_in_contact = true;
+  int limits = 0;
+  void validate() const;  // throws std::invalid_argument if limits < 0
+};
+std::string to_string(const Topology&);  // e.g. "contact | lift-off | contact (2 limits)"
+
+struct Piece {
+  double begin = 0.0;
+  double end = 0.0;
+  bool in_contact = false;
+};
+
+class RitzModel {
+ public:
+  // Throws std::invalid_argument for interior point supports, modes < 1, an invalid topology,
+  // a bilateral foundation with a topology other than {true, 0}, or a non-finite model value;
+  // liftoff::MechanismError for an arch whose u is free at both ends (roller or free ends)
+  // loaded by moments: they drive the rigid rotation about the centre, which nothing resists.
+  RitzModel(const fe::MemberModel& model, int modes, Topology topology);
+
+  // Layout of x.
+  int modes() const { return modes_; }
+  int amplitudes() const { return amplitudes_; }  // N (beam) or 2N (arch)
+  int limits() const { return topology_.limits; }
+  int unknowns() const { return amplitudes_ + topology_.limits; }
+  int w_offset() const { return 0; }
+  int u_offset() const { return modes_; }           // arches only
+  int limit_offset() const { return amplitudes_; }  // t_m is x[limit_offset() + m], m = 0..M-1
+  const Topology& topology() const { return topology_; }
+  const Basis& basis() const { return basis_; }
+  bool is_arch() const { return arch_; }
+
+  // Limit-independent parts: the stiffness K (amplitudes x amplitudes) and load vectors.
+  const Eigen::MatrixXd& stiffness() const { return stiffness_; }
+  const Eigen::VectorXd& dead_load() const { return dead_load_; }
+  const Eigen::VectorXd& live_load() const { return live_load_; }
+  // G(t): integral over the contact pieces of phi_i phi_j (N x N), for the limits in x.
+  Eigen::MatrixXd contact_gram(const Eigen::VectorXd& x) const;
+
+  // Pi, dPi/dx (the seed's eq. 4.6) and d2Pi/dx2 (eq. 4.5), all analytic:
+  //   d2Pi/dW dt_m = sigma_m k w(t_m) phi(t_m),  d2Pi/dt_m^2 = sigma_m k w(t_m) w'(t_m).
+  double energy(const Eigen::VectorXd& x, double lambda) const;
+  Eigen::VectorXd gradient(const Eigen::VectorXd& x, double lambda) const;
+  Eigen::MatrixXd hessian(const Eigen::VectorXd& x, double lambda) const;
+
+  // The regularised system (see above) and its analytic Jacobian; f and J are resized.
+  void residual(const Eigen::VectorXd& x, double lambda, Eigen::VectorXd& f) const;
+  void jacobian(const Eigen::VectorXd& x, double lambda, Eigen::MatrixXd& J) const;
+  // dR/dlambda = -(F_live, 0 for the limit rows); it does not depend on x or lambda.
+  Eigen::VectorXd residual_lambda_derivative(const Eigen::VectorXd& x) const;
+
+  // The amplitudes minimising Pi for the given limits (a linear solve of (K + k G) A = F),
+  // packed with the limits into an x. A starting point for Newton. nullopt if K + k G is
+  // singular (a rigid motion that neither the supports nor the contact pieces resist).
+  std::optional<Eigen::VectorXd> minimiser_for_limits(const Eigen::VectorXd& limits, double lambda) const;
+
+  // Fields at s: derivative order 0..3 of w, or of u (arches only; std::invalid_argument for
+  // beams). The reaction is k w inside a contact piece (ends included), 0 elsewhere.
+  double w(const Eigen::VectorXd& x, double s, int derivative = 0) const;
+  double u(const Eigen::VectorXd& x, double s, int derivative = 0) const;
+  double reaction(const Eigen::VectorXd& x, double s) const;
+
+  // The M + 1 pieces of the foundation's extent, and those in contact.
+  std::vector<Piece> pieces(const Eigen::VectorXd& x) const;
+  std::vector<Piece> contact_pieces(const Eigen::VectorXd& x) const;
+  // Limits finite, strictly increasing and strictly inside (foundation_begin, foundation_end),
+  // amplitudes finite.
+  bool admissible(const Eigen::VectorXd& x) const;
+
+ private:
+  void check_size(const Eigen::VectorXd& x) const;
+  double piece_sign(int limit) const;  // sigma_m
+  Eigen::VectorXd phi_at(double s, int derivative) const;
+  Eigen::VectorXd load(double lambda) const { return dead_load_ + lambda * live_load_; }
+
+  bool arch_ = false;
+  int modes_ = 0;
+  int amplitudes_ = 0;
+  Topology topology_;
+  double foundation_modulus_ = 0.0;
+  double foundation_begin_ = 0.0;
+  double foundation_end_ = 0.0;
+  Basis basis_;
+  std::vector<std::vector<TrigPolynomial>> w_derivatives_;  // [order 0..3][i]
+  std::vector<std::vector<TrigPolynomial>> u_derivatives_;  // arches
+  std::vector<TrigPolynomial> w_products_;                  // phi_i phi_j, i <= j, row by row
+  Eigen::MatrixXd stiffness_;
+  Eigen::VectorXd dead_load_;
+  Eigen::VectorXd live_load_;
+};
+
+}  // namespace liftoff::ritz

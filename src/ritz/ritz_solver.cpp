@@ -1,0 +1,176 @@
+#include "ritz/ritz_solver.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace liftoff::ritz {
+
+using Eigen::VectorXd;
+
+std::string_view to_string(RitzTermination t) {
+  switch (t) {
+    case RitzTermination::converged: return "converged";
+    case RitzTermination::newton_failed: return "newton_failed";
+    case RitzTermination::inequalities_violated: return "inequalities_violated";
+    case RitzTermination::modes_not_converged: return "modes_not_converged";
+    case RitzTermination::no_starting_point: return "no_starting_point";
+  }
+  return "unknown";
+}
+
+void RitzOptions::validate() const {
+  if (modes < 0) throw std::invalid_argument("RitzOptions::modes must be >= 0 (0: automatic)");
+  if (max_modes < 1) throw std::invalid_argument("RitzOptions::max_modes must be >= 1");
+  if (!(mode_tolerance > 0)) throw std::invalid_argument("RitzOptions::mode_tolerance must be > 0");
+  if (!std::isfinite(load_factor)) throw std::invalid_argument("RitzOptions::load_factor must be finite");
+  if (!(inequality_tolerance > 0)) throw std::invalid_argument("RitzOptions::inequality_tolerance must be > 0");
+}
+
+std::string RitzSummary::brief_report() const {
+  return fmt::format("{}: {} modes, {} Newton iterations, final residual {:.1e}, {:.3f} s", to_string(termination),
+                     modes, newton_iterations, residual_history.empty() ? -1.0 : residual_history.back(), time_s);
+}
+
+namespace {
+
+struct Attempt {
+  VectorXd x;
+  nonlinear::NewtonSummary newton;
+  RitzTermination termination = RitzTermination::newton_failed;
+  std::string message;
+  double max_violation = -1;
+};
+
+// Worst wrong-sign deflection on a grid fine enough to see every piece (relative to max |w|).
+double inequality_violation(const RitzModel& model, const VectorXd& x) {
+  double w_scale = 0.0, violation = 0.0;
+  std::vector<std::pair<double, bool>> samples;
+  for (const Piece& piece : model.pieces(x)) {
+    constexpr int per_piece = 400;
+    // Open pieces: the ends are the limits, where w = 0 by construction.
+    for (int i = 1; i < per_piece; ++i) {
+      const double s = piece.begin + (piece.end - piece.begin) * i / per_piece;
+      const double w = model.w(x, s);
+      w_scale = std::max(w_scale, std::abs(w));
+      samples.emplace_back(w, piece.in_contact);
+    }
+  }
+  for (const auto& [w, in_contact] : samples) violation = std::max(violation, in_contact ? -w : w);
+  return w_scale == 0.0 ? 0.0 : std::max(0.0, violation) / w_scale;
+}
+
+Attempt solve_once(const RitzModel& model, const VectorXd& limits, const RitzOptions& options) {
+  Attempt attempt;
+  const double lambda = options.load_factor;
+  const std::optional<VectorXd> start = model.minimiser_for_limits(limits, lambda);
+  if (!start) {
+    attempt.termination = RitzTermination::no_starting_point;
+    attempt.message =
+        "the Ritz stiffness K + k G is singular for the initial contact limits: nothing holds the member in place";
+    return attempt;
+  }
+  attempt.x = *start;
+
+  // Scale rows and unknowns to unit size, so one tolerance serves forces and deflections.
+  const int n = model.unknowns(), a = model.amplitudes();
+  VectorXd f;
+  model.residual(attempt.x, lambda, f);
+  const double force_scale =
+      std::max({(model.dead_load() + lambda * model.live_load()).lpNorm<Eigen::Infinity>(), 1e-300});
+  const double amplitude_scale = std::max(attempt.x.head(a).lpNorm<Eigen::Infinity>(), 1e-300);
+  nonlinear::NewtonOptions newton = options.newton;
+  newton.residual_scale = VectorXd::Constant(n, 1.0 / force_scale);
+  newton.residual_scale.tail(n - a).setConstant(1.0 / amplitude_scale);
+  newton.unknown_scale = VectorXd::Constant(n, 1.0 / amplitude_scale);
+  newton.unknown_scale.tail(n - a).setConstant(1.0);
+
+  attempt.newton = nonlinear::solve_newton(
+      [&](const VectorXd& x, VectorXd& r) {
+        if (!model.admissible(x)) return false;
+        model.residual(x, lambda, r);
+        return true;
+      },
+      [&](const VectorXd& x, const VectorXd&, Eigen::MatrixXd& j) {
+        model.jacobian(x, lambda, j);
+        return true;
+      },
+      attempt.x, newton);
+  if (!attempt.newton.is_usable()) {
+    attempt.message = "Newton did not converge: " + attempt.newton.message;
+    return attempt;
+  }
+  attempt.max_violation = inequality_violation(model, attempt.x);
+  if (attempt.max_violation > options.inequality_tolerance) {
+    attempt.termination = RitzTermination::inequalities_violated;
+    attempt.message = fmt::format(
+        "Newton converged, but the answer violates the contact inequalities (wrong-sign deflection {:.1e} of max |w|): "
+        "the topology {} cannot hold here",
+        attempt.max_violation, to_string(model.topology()));
+    return attempt;
+  }
+  attempt.termination = RitzTermination::converged;
+  attempt.message = "equilibrium found";
+  return attempt;
+}
+
+}  // namespace
+
+RitzSolution solve_ritz(const fe::MemberModel& member, const Topology& topology,
+                        const std::vector<double>& initial_limits, const RitzOptions& options) {
+  options.validate();
+  if (static_cast<int>(initial_limits.size()) != topology.limits)
+    throw std::invalid_argument("solve_ritz: one initial guess per contact limit is needed");
+  const auto start = std::chrono::steady_clock::now();
+  RitzSolution solution;
+  RitzSummary& summary = solution.summary;
+
+  std::vector<int> sequence;
+  if (options.modes > 0) {
+    sequence = {options.modes};
+  } else {
+    for (int n = 4; n <= options.max_modes; n *= 2) sequence.push_back(n);
+    if (sequence.empty() || sequence.back() != options.max_modes) sequence.push_back(options.max_modes);
+  }
+
+  VectorXd limits = Eigen::Map<const VectorXd>(initial_limits.data(), topology.limits);
+  std::optional<VectorXd> previous_limits;
+  for (int modes : sequence) {
+    RitzModel model(member, modes, topology);
+    Attempt attempt = solve_once(model, limits, options);
+    summary.modes = modes;
+    summary.termination = attempt.termination;
+    summary.message = attempt.message;
+    summary.newton_iterations = attempt.newton.iterations;
+    summary.residual_history = attempt.newton.residual_history;
+    summary.max_violation = attempt.max_violation;
+    solution.unknowns = attempt.x;
+    solution.model = std::move(model);
+    if (attempt.termination != RitzTermination::converged) break;
+
+    limits = attempt.x.tail(topology.limits);
+    summary.mode_history.push_back({modes, {limits.data(), limits.data() + limits.size()}, attempt.newton.iterations});
+    if (options.modes > 0) break;
+    if (previous_limits) {
+      summary.estimated_limit_error =
+          topology.limits == 0 ? 0.0 : (limits - *previous_limits).lpNorm<Eigen::Infinity>();
+      if (summary.estimated_limit_error < options.mode_tolerance) break;
+    }
+    previous_limits = limits;
+    if (modes == sequence.back()) {
+      summary.termination = RitzTermination::modes_not_converged;
+      summary.message = fmt::format("the contact limits still moved by {:.1e} between {} and {} modes",
+                                    summary.estimated_limit_error, summary.mode_history.size() > 1
+                                        ? summary.mode_history[summary.mode_history.size() - 2].modes
+                                        : modes,
+                                    modes);
+    }
+  }
+  summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return solution;
+}
+
+}  // namespace liftoff::ritz

@@ -1,0 +1,76 @@
+#pragma once
+// Solving the Ritz model (ritz_model.hpp): Newton (KINSOL, nonlinear/newton.hpp) on the
+// regularised stationarity conditions, from an initial topology and limits, with the number of
+// modes fixed or chosen automatically, and the answer checked against the contact inequalities
+// before it is returned.
+//
+// Automatic modes: N = 4, 8, 16, ... up to max_modes, each solve started from the previous
+// limits, until every limit moves by less than mode_tolerance (in s) between two successive N;
+// the last change is reported as the estimated error of the limits.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "fe/member_model.hpp"
+#include "nonlinear/newton.hpp"
+#include "ritz/ritz_model.hpp"
+
+namespace liftoff::ritz {
+
+struct RitzOptions {
+  int modes = 0;                  // N; 0 means automatic
+  int max_modes = 64;             // automatic: the largest N tried
+  double mode_tolerance = 1e-9;   // automatic: limits converged when they move less than this (s)
+  double load_factor = 1.0;       // lambda
+  // Contact inequalities on a fine grid after convergence: w >= -tol in contact pieces, w <= tol
+  // in lift-off pieces, tol = inequality_tolerance * max |w|.
+  double inequality_tolerance = 1e-9;
+  nonlinear::NewtonOptions newton;  // residual_tolerance applies to the scaled residual
+  void validate() const;            // throws std::invalid_argument naming the field
+};
+
+enum class RitzTermination {
+  converged,              // Newton converged and the inequalities hold
+  newton_failed,          // KINSOL did not converge; the message says how
+  inequalities_violated,  // converged to a point that is not a contact solution (w < 0 in a
+                          // contact piece or w > 0 in a lift-off piece): the topology is wrong
+  modes_not_converged,    // automatic modes: the limits still moved at max_modes
+  no_starting_point,      // K + k G singular for the initial limits: nothing holds the member
+};
+std::string_view to_string(RitzTermination);
+
+// One row of the automatic-modes history.
+struct ModeStep {
+  int modes = 0;
+  std::vector<double> limits;  // s
+  int newton_iterations = 0;
+};
+
+struct RitzSummary {
+  RitzTermination termination = RitzTermination::newton_failed;
+  std::string message;
+  int modes = -1;
+  int newton_iterations = -1;          // of the final solve
+  std::vector<double> residual_history;  // of the final solve (scaled max-norm per iterate)
+  double estimated_limit_error = -1;   // automatic modes: last change of the limits (s); -1 otherwise
+  double max_violation = -1;           // worst wrong-sign |w| / max|w| on the check grid
+  std::vector<ModeStep> mode_history;
+  double time_s = -1;
+  bool is_usable() const { return termination == RitzTermination::converged; }
+  std::string brief_report() const;
+};
+
+struct RitzSolution {
+  std::optional<RitzModel> model;  // the model of the final N (absent if none could be built)
+  Eigen::VectorXd unknowns;        // amplitudes then limits
+  RitzSummary summary;
+};
+
+// initial_limits: one guess per limit of `topology`, increasing, inside the foundation.
+RitzSolution solve_ritz(const fe::MemberModel& member, const Topology& topology,
+                        const std::vector<double>& initial_limits, const RitzOptions& options = {});
+
+}  // namespace liftoff::ritz
