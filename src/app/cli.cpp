@@ -19,9 +19,40 @@ struct SolveArguments {
   std::string scene_path;
   std::string method;
   int elements = 0;
+  std::string modes;
   bool json = false;
   std::string output;
 };
+
+// `--method all`: every method side by side; exit 3 if one that applies failed. The HDF5 file,
+// if asked for, holds the first usable result (primal, dual, then Ritz).
+int run_all(const scene::Scene& scene, const SolveRequest& request, const SolveArguments& args, std::ostream& out,
+            std::ostream& err) {
+  const std::vector<io::SolveReport> reports = solve_all_methods(scene, request);
+  bool failed = false;
+  for (const auto& r : reports) {
+    if (r.usable || r.termination == "refused") continue;
+    err << "liftoff: " << scene.source_name << ": " << r.method << ": " << r.message << "\n";
+    failed = true;
+  }
+  if (args.json) {
+    nlohmann::json all;
+    all["scene"] = scene.source_name;
+    all["methods"] = nlohmann::json::array();
+    for (const auto& r : reports) all["methods"].push_back(io::to_json(r));
+    out << all.dump(2) << "\n";
+  } else {
+    out << io::side_by_side(reports);
+  }
+  if (failed) return code(ExitCode::solver_failure);
+  if (!args.output.empty())
+    for (const auto& r : reports)
+      if (r.usable) {
+        io::write_hdf5(r, args.output, LIFTOFF_VERSION);
+        break;
+      }
+  return code(ExitCode::success);
+}
 
 int run_solve(const SolveArguments& args, std::ostream& out, std::ostream& err) {
   const scene::Scene scene = args.scene_path.empty()
@@ -32,8 +63,8 @@ int run_solve(const SolveArguments& args, std::ostream& out, std::ostream& err) 
   if (args.elements > 0) request.elements = args.elements;
 
   const io::SolveReport report = solve_scene(scene, request);
-  if (!report.summary.is_usable()) {
-    err << "liftoff: " << scene.source_name << ": " << report.summary.message << "\n";
+  if (!report.usable) {
+    err << "liftoff: " << scene.source_name << ": " << report.message << "\n";
     return code(ExitCode::solver_failure);
   }
   if (!args.output.empty()) io::write_hdf5(report, args.output, LIFTOFF_VERSION);
@@ -47,7 +78,8 @@ int run_solve(const SolveArguments& args, std::ostream& out, std::ostream& err) 
 }  // namespace
 
 int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
-  CLI::App app{"liftoff: beams and arches on a tensionless elastic foundation (FE + LCP, Lemke)", "liftoff"};
+  CLI::App app{"liftoff: beams and arches on a tensionless elastic foundation (FE + LCP by Lemke, Ritz by Newton)",
+               "liftoff"};
   app.set_version_flag("--version", LIFTOFF_VERSION);
   app.require_subcommand(1);
 
@@ -56,8 +88,13 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       "solve", "Solve one scene: contact regions, deflection, forces and reactions along the member");
   solve_command->add_option("scene", solve.scene_path, "Scene file (TOML); default: the seed paper's arch, roller ends")
       ->check(CLI::ExistingFile);
-  solve_command->add_option("--method", solve.method, "Contact formulation: dual | primal | auto (overrides [solve] method)")
-      ->check(CLI::IsMember({"dual", "primal", "auto"}));
+  solve_command
+      ->add_option("--method", solve.method,
+                   "dual | primal | auto (FE + LCP), ritz (moving contact limits), all (side by side); "
+                   "overrides [solve] method")
+      ->check(CLI::IsMember({"dual", "primal", "auto", "ritz", "all"}));
+  solve_command->add_option("--modes", solve.modes, "Ritz modes: a number, or auto (overrides [ritz] modes)")
+      ->check(CLI::IsMember({"auto"}) | CLI::Range(1, 1000));
   solve_command->add_option("--elements", solve.elements, "Number of finite elements (overrides [solve] elements)")
       ->check(CLI::Range(1, 10'000'000));
   solve_command->add_flag("--json", solve.json, "Print one JSON object on stdout instead of the summary");

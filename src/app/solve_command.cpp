@@ -1,6 +1,9 @@
 #include "app/solve_command.hpp"
 
 #include <chrono>
+#include <stdexcept>
+
+#include <fmt/format.h>
 
 #include "contact/contact_solver.hpp"
 #include "core/error.hpp"
@@ -8,35 +11,140 @@
 #include "fe/member_model.hpp"
 #include "post/contact_regions.hpp"
 #include "post/fields.hpp"
+#include "ritz/ritz_solver.hpp"
 
 namespace liftoff::app {
 
-io::SolveReport solve_scene(const scene::Scene& scene, const SolveRequest& request) {
-  const auto start = std::chrono::steady_clock::now();
-  const fe::MemberModel model = fe::make_member_model(scene);
-  const int elements = request.elements.value_or(scene.solve.elements);
+using scene::Method;
 
-  fe::Discretisation discretisation;
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+fe::Discretisation discretise(const scene::Scene& scene, const fe::MemberModel& model, int elements) {
   try {
-    discretisation = fe::discretise(model, elements);
+    return fe::discretise(model, elements);
   } catch (const MechanismError& e) {
     throw MechanismError(scene.source_name + ": " + e.what());
   }
+}
 
-  contact::ContactOptions options;
-  options.method = request.method.value_or(scene.solve.method);
+struct FeResult {
+  fe::Discretisation discretisation;
   contact::ContactSolution solution;
+  std::vector<post::Interval> regions;
+};
+
+FeResult solve_fe(const scene::Scene& scene, const fe::MemberModel& model, Method method, int elements) {
+  FeResult fe;
+  fe.discretisation = discretise(scene, model, elements);
+  contact::ContactOptions options;
+  options.method = method;
   try {
-    solution = contact::solve_contact(discretisation, options);
+    fe.solution = contact::solve_contact(fe.discretisation, options);
   } catch (const SolverFailure& e) {
     throw SolverFailure(scene.source_name + ": " + e.what());
   }
+  fe.regions = post::contact_regions(model, fe.discretisation, fe.solution.displacement);
+  return fe;
+}
 
-  const post::Fields fields = post::sample_fields(model, discretisation, solution, request.samples_per_element);
-  const auto regions = post::contact_regions(model, discretisation, solution.displacement);
-  io::SolveReport report = io::make_report(scene, model, discretisation, solution, fields, regions);
-  report.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+io::SolveReport fe_report(const scene::Scene& scene, Method method, const SolveRequest& request) {
+  const auto start = std::chrono::steady_clock::now();
+  const fe::MemberModel model = fe::make_member_model(scene);
+  const FeResult fe = solve_fe(scene, model, method, request.elements.value_or(scene.solve.elements));
+  const post::Fields fields = post::sample_fields(model, fe.discretisation, fe.solution, request.samples_per_element);
+  io::SolveReport report = io::make_report(scene, model, fe.discretisation, fe.solution, fields, fe.regions);
+  report.time_s = seconds_since(start);
   return report;
+}
+
+// The Ritz topology and initial limits: from the scene, or from an FE + LCP solution.
+struct StartingPoint {
+  ritz::Topology topology;
+  std::vector<double> limits;  // s
+  std::string how;
+};
+
+StartingPoint ritz_starting_point(const scene::Scene& scene, const fe::MemberModel& model, int elements) {
+  StartingPoint start;
+  const double begin = model.foundation_begin, end = model.foundation_end;
+  if (!scene.ritz.topology.empty()) {
+    start.topology = {scene.ritz.topology.front(), static_cast<int>(scene.ritz.topology.size()) - 1};
+    for (double limit : scene.ritz.limits) start.limits.push_back(model.s_from_user(limit));
+    for (int m = 0; start.limits.empty() && m < start.topology.limits; ++m)  // evenly spaced guesses
+      start.limits.push_back(begin + (end - begin) * (m + 1) / (start.topology.limits + 1));
+    if (static_cast<int>(start.limits.size()) != start.topology.limits) start.limits.clear();
+    start.how = "topology from the scene";
+    return start;
+  }
+  const FeResult fe = solve_fe(scene, model, Method::automatic, elements);
+  if (!fe.solution.summary.is_usable())
+    throw SolverFailure(scene.source_name + ": the FE + LCP solution that gives the Ritz topology failed: " +
+                        fe.solution.summary.message);
+  const double edge = 1e-9 * model.length();
+  start.topology.first_in_contact = !fe.regions.empty() && fe.regions.front().begin <= begin + edge;
+  for (const post::Interval& region : fe.regions)
+    for (double limit : {region.begin, region.end})
+      if (limit > begin + edge && limit < end - edge) start.limits.push_back(limit);
+  start.topology.limits = static_cast<int>(start.limits.size());
+  start.how = fmt::format("topology and initial limits from an FE + LCP solution with {} elements",
+                          fe.discretisation.mesh.elements());
+  return start;
+}
+
+io::SolveReport ritz_report(const scene::Scene& scene, const SolveRequest& request) {
+  const auto start = std::chrono::steady_clock::now();
+  const fe::MemberModel model = fe::make_member_model(scene);
+  const int elements = request.elements.value_or(scene.solve.elements);
+  const StartingPoint starting_point = ritz_starting_point(scene, model, elements);
+
+  ritz::RitzOptions options;
+  options.modes = request.modes.value_or(scene.ritz.modes);
+  options.max_modes = scene.ritz.max_modes;
+  options.mode_tolerance = scene.ritz.mode_tolerance * model.length();
+  ritz::RitzSolution solution;
+  try {
+    solution = ritz::solve_ritz(model, starting_point.topology, starting_point.limits, options);
+  } catch (const MechanismError& e) {
+    throw MechanismError(scene.source_name + ": " + e.what());
+  } catch (const std::invalid_argument& e) {
+    throw InputError(fmt::format("{}: key 'solve.method': the Ritz model cannot take this scene ({}); expected an "
+                                 "FE method (\"dual\", \"primal\" or \"auto\")",
+                                 scene.source_name, e.what()));
+  }
+  io::SolveReport report = io::make_report(scene, model, solution, request.samples_per_element * elements + 1);
+  report.method_reason = starting_point.how;
+  report.time_s = seconds_since(start);
+  return report;
+}
+
+}  // namespace
+
+io::SolveReport solve_scene(const scene::Scene& scene, const SolveRequest& request) {
+  const Method method = request.method.value_or(scene.solve.method);
+  if (method == Method::all) throw std::invalid_argument("solve_scene: use solve_all_methods for Method::all");
+  return method == Method::ritz ? ritz_report(scene, request) : fe_report(scene, method, request);
+}
+
+std::vector<io::SolveReport> solve_all_methods(const scene::Scene& scene, const SolveRequest& request) {
+  std::vector<io::SolveReport> reports;
+  for (Method method : {Method::primal, Method::dual, Method::ritz}) {
+    try {
+      reports.push_back(solve_scene(scene, {method, request.elements, request.modes, request.samples_per_element}));
+    } catch (const SolverFailure& e) {
+      io::SolveReport refused;
+      refused.scene_name = scene.source_name;
+      refused.kind = scene.structure.kind;
+      refused.method = scene::to_string(method);
+      refused.termination = "refused";
+      refused.message = e.what();
+      reports.push_back(refused);
+    }
+  }
+  return reports;
 }
 
 }  // namespace liftoff::app

@@ -1,8 +1,9 @@
 #pragma once
-// `liftoff solve`: scene -> member model -> mesh and assembly -> contact LCP -> fields,
-// contact regions -> report. One verb per stage, as in the source.
+// `liftoff solve`: scene -> member model -> (mesh, assembly, contact LCP) or (Ritz model,
+// Newton) -> fields and contact regions -> report. One verb per stage, as in the source.
 
 #include <optional>
+#include <vector>
 
 #include "io/report.hpp"
 #include "scene/scene.hpp"
@@ -12,11 +13,17 @@ namespace liftoff::app {
 struct SolveRequest {
   std::optional<scene::Method> method;  // overrides [solve] method
   std::optional<int> elements;          // overrides [solve] elements
-  int samples_per_element = 16;         // field samples inside each element
+  std::optional<int> modes;             // overrides [ritz] modes (0: auto)
+  int samples_per_element = 16;         // field samples inside each element (Ritz: as many in all)
 };
 
-// Throws InputError (a mechanism the loads drive: the message names the scene) and
-// SolverFailure (a formulation refused). Lemke's outcomes are in report.summary.
+// One method (dual, primal, auto or ritz). Throws InputError (a mechanism the loads drive; a
+// scene the Ritz model cannot take: the message names the scene) and SolverFailure (a
+// formulation refused). The solvers' outcomes are in report.usable / termination / message.
 io::SolveReport solve_scene(const scene::Scene& scene, const SolveRequest& request);
+
+// Primal, dual and Ritz on one scene (`--method all`). A method refused for this scene appears
+// with termination "refused" and the reason as its message.
+std::vector<io::SolveReport> solve_all_methods(const scene::Scene& scene, const SolveRequest& request);
 
 }  // namespace liftoff::app

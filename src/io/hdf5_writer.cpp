@@ -77,14 +77,13 @@ void write_file(const SolveReport& r, const std::filesystem::path& path, const s
   write_string_attribute(file, "liftoff_version", version);
   write_string_attribute(file, "scene_name", r.scene_name);
   write_string_attribute(file, "structure", std::string(scene::to_string(r.kind)));
-  write_string_attribute(file, "method", std::string(scene::to_string(r.summary.method)));
-  write_string_attribute(file, "termination", std::string(contact::to_string(r.summary.termination)));
-  write_string_attribute(file, "message", r.summary.message);
+  write_string_attribute(file, "method", r.method);
+  write_string_attribute(file, "termination", r.termination);
+  write_string_attribute(file, "message", r.message);
   write_string_attribute(file, "coordinate", r.coordinate_name);
   write_string_attribute(file, "sign_convention", sign_convention);
   write_number_attribute(file, "tensionless", static_cast<int>(r.tensionless));
   write_number_attribute(file, "k", r.foundation_parameter);
-  write_number_attribute(file, "elements", r.elements);
 
   {
     Handle type(H5Tcopy(H5T_C_S1), H5Tclose, "string type");
@@ -99,14 +98,26 @@ void write_file(const SolveReport& r, const std::filesystem::path& path, const s
   for (const auto& region : r.contact_regions) regions.insert(regions.end(), region.begin(), region.end());
   write_array(file, "contact_regions", regions, 2);
   write_table(file, "fields", r.fields);
-  write_table(file, "nodes", r.nodes);
+
+  if (!r.nodes.coordinate.empty()) write_table(file, "nodes", r.nodes);
 
   Handle solver(H5Gcreate2(file, "solver", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "solver");
-  write_number_attribute(solver, "pivots", r.summary.pivots);
-  write_number_attribute(solver, "lcp_size", r.summary.lcp_size);
-  write_number_attribute(solver, "residual", r.summary.residual);
+  write_number_attribute(solver, "residual", r.residual);
   write_number_attribute(solver, "time_s", r.time_s);
-  write_string_attribute(solver, "method_reason", r.summary.method_reason);
+  write_string_attribute(solver, "method_reason", r.method_reason);
+  if (r.elements >= 0) {
+    write_number_attribute(solver, "elements", r.elements);
+    write_number_attribute(solver, "pivots", r.pivots);
+    write_number_attribute(solver, "lcp_size", r.lcp_size);
+  }
+  if (r.modes >= 0) {
+    write_number_attribute(solver, "modes", r.modes);
+    write_number_attribute(solver, "newton_iterations", r.newton_iterations);
+    write_number_attribute(solver, "estimated_limit_error", r.estimated_limit_error);
+    write_string_attribute(solver, "topology", r.topology);
+    write_array(solver, "amplitudes", r.amplitudes);
+    write_array(solver, "residual_history", r.residual_history);
+  }
 }
 
 }  // namespace

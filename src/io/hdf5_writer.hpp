@@ -4,13 +4,15 @@
 //
 // Layout (README, "Output"):
 //   /                 attributes: liftoff_version, scene_name, structure, method, termination,
-//                     message, coordinate, sign_convention, tensionless, k, elements
+//                     message, coordinate, sign_convention, tensionless, k
 //   /scene            the scene's TOML text
 //   /contact_regions  n x 2, [begin, end] in the user's coordinate
 //   /fields/*         coordinate, w, rotation, bending_moment, shear_force, reaction
 //                     (+ u, normal_force for arches), sampled inside every element
-//   /nodes/*          coordinate, w, rotation, reaction (+ u) at the mesh nodes
-//   /solver           attributes: pivots, lcp_size, residual, time_s, method_reason
+//   /nodes/*          coordinate, w, rotation, reaction (+ u) at the mesh nodes (FE only)
+//   /solver           attributes: residual, time_s, method_reason; FE: elements, pivots,
+//                     lcp_size; Ritz: modes, newton_iterations, estimated_limit_error, topology,
+//                     and datasets amplitudes, residual_history
 
 #include <filesystem>
 

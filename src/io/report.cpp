@@ -21,11 +21,9 @@ std::vector<double> to_user(const fe::MemberModel& model, const std::vector<doub
   return out;
 }
 
-}  // namespace
-
-SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model, const fe::Discretisation& d,
-                        const contact::ContactSolution& solution, const post::Fields& fields,
-                        const std::vector<post::Interval>& regions) {
+// What every method shares: the scene, fields in user units, extremes, contact regions.
+SolveReport common_report(const scene::Scene& scene, const fe::MemberModel& model, const post::Fields& fields,
+                          const std::vector<post::Interval>& regions) {
   const fe::Scales& scales = model.scales;
   SolveReport r;
   r.scene_name = scene.source_name;
@@ -34,10 +32,8 @@ SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model,
   r.coordinate_name = model.kind == StructureKind::beam ? "x" : "theta_deg";
   r.tensionless = model.tensionless;
   r.foundation_parameter = model.foundation_modulus;
-  r.elements = d.mesh.elements();
-  r.summary = solution.summary;
-  r.gauge_note = d.gauge_note;
-  for (const auto& region : regions) r.contact_regions.push_back({model.user_from_s(region.begin), model.user_from_s(region.end)});
+  for (const auto& region : regions)
+    r.contact_regions.push_back({model.user_from_s(region.begin), model.user_from_s(region.end)});
 
   FieldTable& f = r.fields;
   f.coordinate = to_user(model, fields.s);
@@ -54,7 +50,29 @@ SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model,
   r.at_w_max = f.coordinate[highest - f.w.begin()];
   r.w_min = *lowest;
   r.at_w_min = f.coordinate[lowest - f.w.begin()];
+  r.max_reaction = f.reaction.empty() ? 0.0 : *std::max_element(f.reaction.begin(), f.reaction.end());
+  return r;
+}
 
+}  // namespace
+
+SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model, const fe::Discretisation& d,
+                        const contact::ContactSolution& solution, const post::Fields& fields,
+                        const std::vector<post::Interval>& regions) {
+  SolveReport r = common_report(scene, model, fields, regions);
+  const contact::ContactSummary& summary = solution.summary;
+  r.method = scene::to_string(summary.method);
+  r.method_reason = summary.method_reason;
+  r.termination = contact::to_string(summary.termination);
+  r.message = summary.message;
+  r.usable = summary.is_usable();
+  r.residual = summary.residual;
+  r.elements = d.mesh.elements();
+  r.pivots = summary.pivots;
+  r.lcp_size = summary.lcp_size;
+  r.gauge_note = d.gauge_note;
+
+  const fe::Scales& scales = model.scales;
   FieldTable& n = r.nodes;
   n.coordinate = to_user(model, d.mesh.nodes);
   n.reaction.assign(d.mesh.nodes.size(), 0.0);
@@ -66,7 +84,68 @@ SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model,
     n.rotation.push_back(model.kind == StructureKind::arch ? -(u + slope) : -slope);
     if (model.kind == StructureKind::arch) n.u.push_back(u * scales.displacement());
   }
-  r.max_reaction = n.reaction.empty() ? 0.0 : *std::max_element(n.reaction.begin(), n.reaction.end());
+  // The nodal reactions are the LCP's unknowns: report their largest, not an interpolation's.
+  r.max_reaction = *std::max_element(n.reaction.begin(), n.reaction.end());
+  return r;
+}
+
+post::Fields sample_fields(const fe::MemberModel& model, const ritz::RitzSolution& solution, int samples) {
+  post::Fields f;
+  const ritz::RitzModel& ritz = *solution.model;
+  const Eigen::VectorXd& x = solution.unknowns;
+  const bool arch = ritz.is_arch();
+  for (int i = 0; i < samples; ++i) {
+    const double s = model.s_begin + (model.s_end - model.s_begin) * i / (samples - 1);
+    const double dw = ritz.w(x, s, 1), d2w = ritz.w(x, s, 2), d3w = ritz.w(x, s, 3);
+    const double u = arch ? ritz.u(x, s) : 0.0, du = arch ? ritz.u(x, s, 1) : 0.0, d2u = arch ? ritz.u(x, s, 2) : 0.0;
+    f.s.push_back(s);
+    f.w.push_back(ritz.w(x, s));
+    f.rotation.push_back(-(u + dw));
+    f.bending_moment.push_back(-(du + d2w));
+    f.shear_force.push_back(-(d2u + d3w));
+    f.reaction.push_back(ritz.reaction(x, s));
+    if (arch) {
+      f.u.push_back(u);
+      f.normal_force.push_back(model.membrane_stiffness * (du - f.w.back()));
+    }
+  }
+  return f;
+}
+
+SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model, const ritz::RitzSolution& solution,
+                        int samples) {
+  const ritz::RitzSummary& summary = solution.summary;
+  std::vector<post::Interval> regions;
+  post::Fields fields;
+  if (solution.model && solution.unknowns.size() > 0) {
+    for (const ritz::Piece& piece : solution.model->contact_pieces(solution.unknowns))
+      regions.push_back({piece.begin, piece.end});
+    fields = sample_fields(model, solution, samples);
+  }
+  SolveReport r = fields.s.empty() ? SolveReport{} : common_report(scene, model, fields, regions);
+  if (fields.s.empty()) {
+    r.scene_name = scene.source_name;
+    r.scene_text = scene.text;
+    r.kind = model.kind;
+  }
+  r.method = "ritz";
+  r.termination = ritz::to_string(summary.termination);
+  r.message = summary.message;
+  r.usable = summary.is_usable();
+  r.residual = summary.residual_history.empty() ? -1.0 : summary.residual_history.back();
+  r.modes = summary.modes;
+  r.newton_iterations = summary.newton_iterations;
+  r.residual_history = summary.residual_history;
+  const double user_length = model.user_from_s(model.s_end) - model.user_from_s(model.s_begin);
+  if (summary.estimated_limit_error >= 0)
+    r.estimated_limit_error = summary.estimated_limit_error * user_length / (model.s_end - model.s_begin);
+  if (solution.model) {
+    r.topology = ritz::to_string(solution.model->topology());
+    const int amplitudes = solution.model->amplitudes();
+    const Eigen::VectorXd a = solution.unknowns.head(std::min<int>(amplitudes, solution.unknowns.size()));
+    r.amplitudes.assign(a.data(), a.data() + a.size());
+    for (double& v : r.amplitudes) v *= model.scales.displacement();
+  }
   return r;
 }
 
@@ -74,10 +153,10 @@ nlohmann::json to_json(const SolveReport& r) {
   nlohmann::json j;
   j["scene"] = r.scene_name;
   j["structure"] = scene::to_string(r.kind);
-  j["method"] = scene::to_string(r.summary.method);
-  if (!r.summary.method_reason.empty()) j["method_reason"] = r.summary.method_reason;
-  j["termination"] = contact::to_string(r.summary.termination);
-  j["message"] = r.summary.message;
+  j["method"] = r.method;
+  if (!r.method_reason.empty()) j["method_reason"] = r.method_reason;
+  j["termination"] = r.termination;
+  j["message"] = r.message;
   j["coordinate"] = r.coordinate_name;
   j["tensionless"] = r.tensionless;
   j["k"] = r.foundation_parameter;
@@ -87,34 +166,91 @@ nlohmann::json to_json(const SolveReport& r) {
   j["w_min"] = r.w_min;
   j["at_w_min"] = r.at_w_min;
   j["max_reaction"] = r.max_reaction;
-  j["pivots"] = r.summary.pivots;
-  j["lcp_size"] = r.summary.lcp_size;
-  j["residual"] = r.summary.residual;
-  j["elements"] = r.elements;
+  j["residual"] = r.residual;
   j["time_s"] = r.time_s;
+  if (r.elements >= 0) {
+    j["elements"] = r.elements;
+    j["pivots"] = r.pivots;
+    j["lcp_size"] = r.lcp_size;
+  }
+  if (r.modes >= 0) {
+    j["modes"] = r.modes;
+    j["newton_iterations"] = r.newton_iterations;
+    j["topology"] = r.topology;
+    j["amplitudes"] = r.amplitudes;
+    j["residual_history"] = r.residual_history;
+    if (r.estimated_limit_error >= 0) j["estimated_limit_error"] = r.estimated_limit_error;
+  }
   j["sign_convention"] = sign_convention;
   if (!r.gauge_note.empty()) j["gauge"] = r.gauge_note;
   return j;
 }
 
+namespace {
+std::string solver_line(const SolveReport& r) {
+  if (r.modes >= 0)
+    return fmt::format("{} modes, {} Newton iterations, residual {:.1e}, {:.3f} s", r.modes, r.newton_iterations,
+                       r.residual, r.time_s);
+  return fmt::format("{} elements, {} pivots, residual {:.1e}, {:.3f} s", r.elements, r.pivots, r.residual, r.time_s);
+}
+}  // namespace
+
 std::string text_summary(const SolveReport& r) {
   const bool arch = r.kind == StructureKind::arch;
   const char* unit = arch ? " deg" : "";
-  std::string out = fmt::format("liftoff: {} ({}), {} on a {} foundation, k = {:.6g}\n", r.scene_name,
-                                scene::to_string(r.kind), r.elements == 1 ? "1 element" : fmt::format("{} elements", r.elements),
-                                r.tensionless ? "tensionless" : "bilateral", r.foundation_parameter);
-  out += fmt::format("  method        {}{}\n", scene::to_string(r.summary.method),
-                     r.summary.method_reason.empty() ? "" : " (" + r.summary.method_reason + ")");
-  out += fmt::format("  result        {}: {}\n", contact::to_string(r.summary.termination), r.summary.message);
+  std::string out = fmt::format("liftoff: {} ({}) on a {} foundation, k = {:.6g}\n", r.scene_name,
+                                scene::to_string(r.kind), r.tensionless ? "tensionless" : "bilateral",
+                                r.foundation_parameter);
+  out += fmt::format("  method        {}{}\n", r.method, r.method_reason.empty() ? "" : " (" + r.method_reason + ")");
+  out += fmt::format("  result        {}: {}\n", r.termination, r.message);
   if (r.contact_regions.empty()) out += "  contact       none\n";
   for (const auto& region : r.contact_regions)
     out += fmt::format("  contact       {} = {:.8g}{} .. {:.8g}{}\n", arch ? "theta" : "x", region[0], unit, region[1], unit);
   out += fmt::format("  w max         {:.6e} at {:.6g}{}\n", r.w_max, r.at_w_max, unit);
   out += fmt::format("  w min         {:.6e} at {:.6g}{}\n", r.w_min, r.at_w_min, unit);
   out += fmt::format("  max reaction  {:.6e} (force per unit length)\n", r.max_reaction);
-  out += fmt::format("  solver        {} pivots, residual {:.1e}, {:.3f} s\n", r.summary.pivots, r.summary.residual, r.time_s);
+  out += fmt::format("  solver        {}\n", solver_line(r));
+  if (r.estimated_limit_error >= 0)
+    out += fmt::format("  modes         limits settled to {:.1e}{} (change from the previous N)\n", r.estimated_limit_error, unit);
   if (!r.gauge_note.empty()) out += "  note          " + r.gauge_note + "\n";
   out += "  sign          w > 0 into the foundation\n";
+  return out;
+}
+
+std::string side_by_side(const std::vector<SolveReport>& reports) {
+  if (reports.empty()) return {};
+  const bool arch = reports.front().kind == StructureKind::arch;
+  std::string out = fmt::format("liftoff: {} ({}) on a {} foundation, k = {:.6g}\n", reports.front().scene_name,
+                                scene::to_string(reports.front().kind),
+                                reports.front().tensionless ? "tensionless" : "bilateral",
+                                reports.front().foundation_parameter);
+  auto row = [&](const std::string& label, auto cell) {
+    out += fmt::format("  {:<16}", label);
+    for (const auto& r : reports) out += fmt::format("{:>24}", cell(r));
+    out += "\n";
+  };
+  row("method", [](const SolveReport& r) { return r.method; });
+  row("result", [](const SolveReport& r) { return r.termination; });
+  std::size_t regions = 0;
+  for (const auto& r : reports) regions = std::max(regions, r.contact_regions.size());
+  for (std::size_t i = 0; i < regions; ++i) {
+    for (int end = 0; end < 2; ++end)
+      row(fmt::format("contact {} {}", i + 1, end == 0 ? "begin" : "end"), [&](const SolveReport& r) {
+        return i < r.contact_regions.size() ? fmt::format("{:.10f}", r.contact_regions[i][end]) : std::string("-");
+      });
+  }
+  row("w max", [](const SolveReport& r) { return r.usable ? fmt::format("{:.10e}", r.w_max) : std::string("-"); });
+  row("max reaction",
+      [](const SolveReport& r) { return r.usable ? fmt::format("{:.10e}", r.max_reaction) : std::string("-"); });
+  row("size", [](const SolveReport& r) {
+    return r.modes >= 0 ? fmt::format("{} modes", r.modes) : fmt::format("{} elements", r.elements);
+  });
+  row("iterations", [](const SolveReport& r) {
+    return r.modes >= 0 ? fmt::format("{} Newton", r.newton_iterations) : fmt::format("{} pivots", r.pivots);
+  });
+  row("residual", [](const SolveReport& r) { return fmt::format("{:.1e}", r.residual); });
+  row("time (s)", [](const SolveReport& r) { return fmt::format("{:.3f}", r.time_s); });
+  out += fmt::format("  (contact limits: {}; w > 0 into the foundation)\n", arch ? "theta in degrees" : "x");
   return out;
 }
 

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "contact/contact_solver.hpp"
+#include "ritz/ritz_solver.hpp"
 #include "fe/discretisation.hpp"
 #include "fe/member_model.hpp"
 #include "post/contact_regions.hpp"
@@ -37,22 +38,46 @@ struct SolveReport {
   std::string coordinate_name;   // "x" or "theta_deg"
   bool tensionless = true;
   double foundation_parameter = 0.0;  // k = K l^4 / EI
-  int elements = 0;
-  contact::ContactSummary summary;
+
+  std::string method;             // "dual", "primal" or "ritz"
+  std::string method_reason;      // why (auto), or how the Ritz topology was found
+  std::string termination;        // the solver's own termination name
+  std::string message;            // in words
+  bool usable = false;
+  double residual = -1.0;         // FE: see contact_solver.hpp; Ritz: final scaled Newton residual
+  // FE + LCP (-1 otherwise)
+  int elements = -1;
+  int pivots = -1;
+  int lcp_size = -1;
+  // Ritz (-1 / empty otherwise)
+  int modes = -1;
+  int newton_iterations = -1;
+  double estimated_limit_error = -1.0;  // user coordinate
+  std::string topology;
+  std::vector<double> amplitudes;
+  std::vector<double> residual_history;
+
   std::string gauge_note;
   std::vector<std::array<double, 2>> contact_regions;
   double w_max = 0, at_w_max = 0, w_min = 0, at_w_min = 0;
   double max_reaction = 0;
-  double time_s = 0;    // whole solve: assembly, LCP, post-processing
-  FieldTable fields;    // sampled inside every element
-  FieldTable nodes;     // at the mesh nodes (w, u, rotation, reaction)
+  double time_s = 0;    // the whole solve: set-up, solver, post-processing
+  FieldTable fields;    // FE: sampled inside every element; Ritz: on a uniform grid
+  FieldTable nodes;     // FE only: at the mesh nodes (w, u, rotation, reaction)
 };
 
 SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model, const fe::Discretisation& d,
                         const contact::ContactSolution& solution, const post::Fields& fields,
                         const std::vector<post::Interval>& regions);
+SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model, const ritz::RitzSolution& solution,
+                        int samples);
+
+// A Ritz solution's fields on `samples` uniform points (nondimensional, as post::Fields).
+post::Fields sample_fields(const fe::MemberModel& model, const ritz::RitzSolution& solution, int samples);
 
 nlohmann::json to_json(const SolveReport& report);
 std::string text_summary(const SolveReport& report);
+// Several methods on one scene, one column each (`--method all`).
+std::string side_by_side(const std::vector<SolveReport>& reports);
 
 }  // namespace liftoff::io

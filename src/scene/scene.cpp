@@ -29,10 +29,12 @@ constexpr Names<LoadCase, 2> load_cases{{
     {LoadCase::live, "live"},
     {LoadCase::dead, "dead"},
 }};
-constexpr Names<Method, 3> methods{{
+constexpr Names<Method, 5> methods{{
     {Method::dual, "dual"},
     {Method::primal, "primal"},
     {Method::automatic, "auto"},
+    {Method::ritz, "ritz"},
+    {Method::all, "all"},
 }};
 
 template <class Enum, std::size_t N>

@@ -22,9 +22,10 @@ enum class EndSupport { pinned, clamped, free, roller };
 enum class LoadKind { force, moment, uniform };
 // Live loads are scaled by the load factor lambda (1 in `solve`); dead loads are not.
 enum class LoadCase { live, dead };
-// Formulation of the contact problem. automatic: dual where the structure alone is stable,
-// primal otherwise.
-enum class Method { dual, primal, automatic };
+// How the contact problem is solved. dual, primal: FE + LCP (Lemke); automatic: dual where the
+// structure alone is stable, primal otherwise; ritz: the Ritz model with moving contact limits
+// (Newton); all: primal, dual and Ritz side by side.
+enum class Method { dual, primal, automatic, ritz, all };
 
 std::string_view to_string(StructureKind);
 std::string_view to_string(EndSupport);
@@ -75,6 +76,17 @@ struct SolveSettings {
   int elements = 200;
 };
 
+// [ritz]: the Ritz model with moving contact limits.
+struct RitzSettings {
+  int modes = 0;                 // N; 0 means "auto": increase N until the limits settle
+  int max_modes = 64;            // the largest N "auto" tries
+  double mode_tolerance = 1e-9;  // "auto": limits settled when they move less than this * length
+  // The pieces of the foundation's extent, in order, true = contact; empty means "auto": taken
+  // from an FE + LCP solution of the same scene, which also gives the initial limits.
+  std::vector<bool> topology;
+  std::vector<double> limits;    // initial guesses (user coordinate), one per change of piece
+};
+
 struct Scene {
   std::string source_name;  // file path, or "<default scene>"
   std::string text;         // the TOML text, stored in every output so results describe themselves
@@ -83,6 +95,7 @@ struct Scene {
   Foundation foundation;
   std::vector<Load> loads;
   SolveSettings solve;
+  RitzSettings ritz;
 
   // Ends of the member in the user's coordinate: [0, L] or [-gamma, gamma] degrees.
   double begin() const;

@@ -41,6 +41,7 @@ const std::vector<TableSpec>& schema() {
       {"foundation", false, {"k", "modulus", "tensionless", "from", "to"}},
       {"loads", true, {"kind", "at", "value", "from", "to", "case"}},
       {"solve", false, {"method", "elements"}},
+      {"ritz", false, {"modes", "max_modes", "mode_tolerance", "topology", "limits"}},
   };
   return tables;
 }
@@ -470,10 +471,54 @@ Load read_load(const Section& s, const Member& member) {
 
 SolveSettings read_solve(const Section& s) {
   SolveSettings solve;
-  solve.method = s.choice("method", {Method::dual, Method::primal, Method::automatic})
+  solve.method = s.choice("method", {Method::dual, Method::primal, Method::automatic, Method::ritz, Method::all})
                      .value_or(solve.method);
   solve.elements = s.integer("elements", 1, 10'000'000).value_or(solve.elements);
   return solve;
+}
+
+RitzSettings read_ritz(const Section& s, const Foundation& foundation, const Member& member) {
+  RitzSettings ritz;
+  if (const toml::node* modes = s.find("modes"); modes != nullptr) {
+    const auto* text = modes->as_string();
+    if (text != nullptr && text->get() == "auto") {
+      ritz.modes = 0;
+    } else {
+      if (text != nullptr) s.wrong("modes", "\"auto\" or an integer in [1, 1000]");
+      ritz.modes = *s.integer("modes", 1, 1000);
+    }
+  }
+  ritz.max_modes = s.integer("max_modes", 1, 1000).value_or(ritz.max_modes);
+  ritz.mode_tolerance = s.number("mode_tolerance", positive()).value_or(ritz.mode_tolerance);
+
+  if (const toml::node* topology = s.find("topology"); topology != nullptr) {
+    const char* expected = "\"auto\" or an array of alternating \"contact\" and \"lift_off\"";
+    const auto* text = topology->as_string();
+    const auto* array = topology->as_array();
+    if (text != nullptr && text->get() == "auto") {
+      s.refuse("limits", "with topology = \"auto\" (the FE solution gives them)");
+    } else {
+      if (array == nullptr || array->empty()) s.wrong("topology", expected);
+      for (std::size_t i = 0; i < array->size(); ++i) {
+        const auto* piece = array->get(i)->as_string();
+        if (piece == nullptr || (piece->get() != "contact" && piece->get() != "lift_off")) s.wrong("topology", expected);
+        const bool contact = piece->get() == "contact";
+        if (i > 0 && contact == ritz.topology.back()) s.wrong("topology", expected);
+        ritz.topology.push_back(contact);
+      }
+      const Range inside{fmt::format("{} strictly inside the foundation ({}, {})", member.noun(), foundation.from,
+                                     foundation.to),
+                         foundation.from, foundation.to, true, true, member.tolerance()};
+      ritz.limits = s.numbers("limits", inside);
+      if (!ritz.limits.empty() && ritz.limits.size() + 1 != ritz.topology.size())
+        s.wrong("limits", fmt::format("{} increasing positions, one per change of piece", ritz.topology.size() - 1));
+      if (!std::is_sorted(ritz.limits.begin(), ritz.limits.end()))
+        s.wrong("limits", "increasing positions");
+    }
+  } else {
+    s.refuse("limits", "without a topology");
+  }
+  return ritz;
 }
 
 }  // namespace
@@ -509,6 +554,7 @@ Scene parse_scene(std::string_view toml_text, std::string source_name) {
     }
   }
   scene.solve = read_solve(root.section("solve"));
+  scene.ritz = read_ritz(root.section("ritz"), scene.foundation, member);
   return scene;
 }
 

@@ -138,9 +138,12 @@ TEST_CASE("ritz basis: arch u functions have their inextensional partner w = u' 
     Eigen::VectorXd wu(modes);
     for (int j = 0; j < modes; ++j) wu[j] = (basis.w[j] * du).integral(a, b);
     const Eigen::VectorXd c = ww.ldlt().solve(wu);
-    const double norm2 = (du * du).integral(a, b);
-    const double distance2 = std::max(0.0, norm2 - wu.dot(c));
+    TrigPolynomial mismatch = du;  // u_i' minus its L2 projection on the w span
+    for (int j = 0; j < modes; ++j) mismatch -= c[j] * basis.w[j];
+    const double distance2 = (mismatch * mismatch).integral(a, b), norm2 = (du * du).integral(a, b);
+    CAPTURE(i, distance2 / norm2);
     if (distance2 <= 1e-20 * norm2) ++inextensional;
+    else CHECK(distance2 >= 1e-4 * norm2);  // a missing partner is missing by a lot
   }
   // u fixed at both ends draws on N + 1 w functions, so one u of N lacks its partner.
   CHECK(inextensional == (ends == EndSupport::roller ? modes : modes - 1));

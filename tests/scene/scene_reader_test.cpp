@@ -330,7 +330,7 @@ TEST_CASE("an unknown key is refused, with a suggestion", "[scene][errors]") {
 TEST_CASE("an unknown table is refused", "[scene][errors]") {
   CHECK(error_of(beam_scene + "\n[solver]\nmethod = \"dual\"\n") ==
         "scene.toml:18: key 'solver': unknown table (did you mean 'solve'?); the tables of a scene "
-        "are [structure], [supports], [foundation], [[loads]], [solve]");
+        "are [structure], [supports], [foundation], [[loads]], [solve], [ritz]");
   CHECK_THAT(error_of("title = \"x\"\n" + beam_scene),
              StartsWith("scene.toml:1: key 'title': unknown key;"));
 }
@@ -339,7 +339,7 @@ TEST_CASE("an unknown value of a choice is refused", "[scene][errors]") {
   CHECK(error_of(edited(beam_scene, "kind = \"beam\"", "kind = \"plate\"")) ==
         R"(scene.toml:2: key 'structure.kind': expected "beam" or "arch", got "plate")");
   CHECK(error_of(beam_scene + "[solve]\nmethod = \"fastest\"\n") ==
-        R"(scene.toml:18: key 'solve.method': expected "dual", "primal" or "auto", got "fastest")");
+        R"(scene.toml:18: key 'solve.method': expected "dual", "primal", "auto", "ritz" or "all", got "fastest")");
   CHECK(error_of(edited(beam_scene, "kind = \"force\"", "kind = \"torque\"")) ==
         R"(scene.toml:14: key 'loads[0].kind': expected "force", "moment" or "uniform", got "torque")");
   CHECK(error_of(edited(beam_scene, "value = 1.0", "value = 1.0\ncase = \"permanent\"")) ==
@@ -491,4 +491,26 @@ TEST_CASE("read_scene_file reads a file and reports one it cannot read", "[scene
   REQUIRE_THROWS_WITH(read_scene_file(directory),
                       StartsWith(directory.string() + ": cannot read the scene file ("));
   std::filesystem::remove_all(directory);
+}
+
+TEST_CASE("the [ritz] table: modes, topology and initial limits", "[scene][ritz]") {
+  const Scene defaults = parse_scene(beam_scene, "scene.toml");
+  CHECK(defaults.ritz.modes == 0);  // "auto"
+  CHECK(defaults.ritz.topology.empty());
+
+  const Scene given = parse_scene(beam_scene + "[ritz]\nmodes = 24\ntopology = [\"lift_off\", \"contact\"]\n"
+                                               "limits = [0.7]\n",
+                                  "scene.toml");
+  CHECK(given.ritz.modes == 24);
+  CHECK(given.ritz.topology == std::vector<bool>{false, true});
+  CHECK(given.ritz.limits == std::vector<double>{0.7});
+
+  CHECK(error_of(beam_scene + "[ritz]\ntopology = [\"contact\", \"contact\"]\n") ==
+        R"(scene.toml:18: key 'ritz.topology': expected "auto" or an array of alternating "contact" and "lift_off", got an array)");
+  CHECK_THAT(error_of(beam_scene + "[ritz]\ntopology = [\"contact\", \"lift_off\"]\nlimits = [0.5, 0.7]\n"),
+             StartsWith("scene.toml:19: key 'ritz.limits': expected 1 increasing positions"));
+  CHECK_THAT(error_of(beam_scene + "[ritz]\nlimits = [0.5]\n"), Contains("key 'ritz.limits': not allowed without a topology"));
+  CHECK_THAT(error_of(beam_scene + "[ritz]\nmodes = \"many\"\n"), Contains("key 'ritz.modes'"));
+  CHECK_THAT(error_of(beam_scene + "[ritz]\ntopology = [\"contact\", \"lift_off\"]\nlimits = [2.5]\n"),
+             Contains("strictly inside the foundation"));
 }
