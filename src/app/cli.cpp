@@ -61,7 +61,9 @@ int run_solve(const SolveArguments& args, std::ostream& out, std::ostream& err) 
   SolveRequest request;
   if (!args.method.empty()) request.method = scene::parse_method(args.method);
   if (args.elements > 0) request.elements = args.elements;
+  if (!args.modes.empty()) request.modes = args.modes == "auto" ? 0 : std::stoi(args.modes);
 
+  if (request.method.value_or(scene.solve.method) == scene::Method::all) return run_all(scene, request, args, out, err);
   const io::SolveReport report = solve_scene(scene, request);
   if (!report.usable) {
     err << "liftoff: " << scene.source_name << ": " << report.message << "\n";

@@ -247,10 +247,12 @@ Discretisation discretise(const MemberModel& model, int elements) {
           gauge = dof;
       }
       fixed.push_back(gauge);
+      const bool arch = model.kind == StructureKind::arch;
       d.gauge_note = fmt::format(
-          "a rigid motion that neither the supports nor the foundation resist (and the loads do not drive) is "
-          "fixed by a gauge at s = {:.6g}; it changes no deflection, force or moment",
-          d.position_of_dof(gauge));
+          "{} free to {}, which no support and no foundation resists and the loads do not drive: u = 0 at "
+          "{} = {:.6g}{} fixes it and changes no deflection, force or moment",
+          arch ? "the arch is" : "the member is", arch ? "rotate rigidly about its centre" : "move rigidly",
+          arch ? "theta" : "x", model.user_from_s(d.position_of_dof(gauge)), arch ? " deg" : "");
     }
     d.unstable_rigid_motions = static_cast<int>(free_motions(fixed).cols());
     if (!d.structure_is_stable())

@@ -16,21 +16,31 @@
 //   The rigid motions the supports allow come first, so any N >= 1 is meaningful.
 //
 // Arches (u tangential, w radial): w takes the beam family of its own end conditions (w = 0 at
-// pinned, roller and clamped ends, w' = 0 too at clamped ones), and u is made of ANTIDERIVATIVES
-// of the w functions, u_j(s) = integral of w_j + constant, with the constant (and for u fixed at
-// both ends one linear combination) chosen to meet u's conditions (u = 0 at pinned and clamped
-// ends). So every u of the basis has its inextensional partner w = u' in the basis: the basis is
-// free of membrane locking (EA R^2/EI = 3e6 for the seed's arch) by construction. Examples:
+// pinned, roller and clamped ends, w' = 0 too at clamped ones). u has two parts:
+//  - PARTNERS: antiderivatives of w functions, u_j(s) = integral of w_j + constant, the constant
+//    (and for u fixed at both ends one linear combination) chosen to meet u's conditions (u = 0
+//    at pinned and clamped ends). So each has its inextensional partner w = u' in the basis, and
+//    the basis is free of membrane locking (EA R^2/EI = 3e6 for the seed's arch) by construction.
+//  - END-STRAIN functions, one per end where u is fixed: the partners have u' = w = 0 there,
+//    which would force the membrane strain u' - w to vanish at a pinned or clamped end where the
+//    thrust is not zero (at roller and free ends it is zero, a natural condition). In psi:
+//    fixed at both ends sin(pi psi), sin(2 pi psi); left only sin(pi psi/2); right only
+//    cos(pi psi/2).
+// N means N functions for w and N for u: N - e partners (at least 1) then e end-strain functions,
+// e = number of ends where u is fixed. Examples:
 //   roller-roller    w: sin(j pi psi) (the seed's cos((2j-1) pi theta/(2 gamma)) for odd j, and
 //                    the antisymmetric sin(j' pi theta/gamma) for even j = 2j'),
 //                    u: cos(j pi psi) (the seed's sin((2j-1) pi theta/(2 gamma)) and the even
 //                    cos(j' pi theta/gamma)). All u have zero mean: the rigid rotation about the
 //                    centre (u = const, w = 0), which nothing resists, is excluded as a gauge.
-//   pinned-pinned    w: sin(j pi psi); u: the zero-mean-derivative combinations of
-//                    1 - cos(j pi psi), which span the same space as sin(pi psi) sin(j pi psi).
-//   clamped-clamped  w: sin(pi psi) sin(j pi psi); u: sines with u' in that span.
+//   pinned-pinned    w: sin(j pi psi); u: combinations of 1 - cos(j pi psi) with u = 0 at both ends
+//                    (the span of sin(pi psi) sin(j pi psi)), then sin(pi psi), sin(2 pi psi).
+//   clamped-clamped  w: sin(pi psi) sin(j pi psi); u: sines with u' in that span, then the two.
 // Whenever u is free at both ends (roller or free ends) the u functions have zero mean (gauge).
-// N means N functions for w and N for u (u fixed at both ends draws on N + 1 w functions).
+// Free arch ends: the arch's rigid translations (u, w) = (cos t, -sin t), (-sin t, -cos t) are
+// inextensional but not exactly in the span (w would need sin t, cos t); they are approximated
+// like any smooth field, so a rigid translation stores a small spurious bending energy that
+// vanishes as N grows. Only the foundation resists those motions anyway.
 //
 // Every function is scaled to a largest absolute value of 1 over the member, so amplitudes are
 // displacements in units of the length scale.

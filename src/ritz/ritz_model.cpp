@@ -1,10 +1,10 @@
 #include "ritz/ritz_model.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
-
-#include <fmt/format.h>
 
 #include "core/error.hpp"
 
@@ -20,7 +20,8 @@ void Topology::validate() const {
 std::string to_string(const Topology& topology) {
   std::string text;
   bool contact = topology.first_in_contact;
-  for (int p = 0; p <= topology.limits; ++p, contact = !contact) text += (p ? " | " : "") + std::string(contact ? "contact" : "lift-off");
+  for (int p = 0; p <= topology.limits; ++p, contact = !contact)
+    text += (p ? " | " : "") + std::string(contact ? "contact" : "lift-off");
   return fmt::format("{} ({} limit{})", text, topology.limits, topology.limits == 1 ? "" : "s");
 }
 
@@ -57,10 +58,13 @@ RitzModel::RitzModel(const fe::MemberModel& model, int modes, Topology topology)
   if (!model.tensionless && (topology.limits != 0 || !topology.first_in_contact))
     throw std::invalid_argument(
         fmt::format("RitzModel: a bilateral foundation is in contact everywhere; expected the topology "
-                    "{{first_in_contact = true, limits = 0}}, got {}", to_string(topology)));
-  if (!(model.foundation_begin <= model.foundation_end) || (topology.limits > 0 && model.foundation_begin == model.foundation_end))
-    throw std::invalid_argument(fmt::format("RitzModel: the foundation's extent [{}, {}] has no room for contact limits",
-                                            model.foundation_begin, model.foundation_end));
+                    "{{first_in_contact = true, limits = 0}}, got {}",
+                    to_string(topology)));
+  if (!(model.foundation_begin <= model.foundation_end) ||
+      (topology.limits > 0 && model.foundation_begin == model.foundation_end))
+    throw std::invalid_argument(
+        fmt::format("RitzModel: the foundation's extent [{}, {}] has no room for contact limits",
+                    model.foundation_begin, model.foundation_end));
   foundation_modulus_ = model.foundation_modulus;
   foundation_begin_ = model.foundation_begin;
   foundation_end_ = model.foundation_end;
@@ -99,7 +103,9 @@ RitzModel::RitzModel(const fe::MemberModel& model, int modes, Topology topology)
     const bool dead = load.load_case == fe::LoadCase::dead;
     VectorXd& target = dead ? dead_load_ : live_load_;
     switch (load.kind) {
-      case fe::LoadKind::force: target.head(modes_) += load.value * phi_at(load.at, 0); break;
+      case fe::LoadKind::force:
+        target.head(modes_) += load.value * phi_at(load.at, 0);
+        break;
       case fe::LoadKind::moment:
         // Work of a counterclockwise moment: M * rotation, rotation = -w' (beam), -(u + w') (arch).
         target.head(modes_) -= load.value * phi_at(load.at, 1);
@@ -113,8 +119,9 @@ RitzModel::RitzModel(const fe::MemberModel& model, int modes, Topology topology)
         break;
     }
   }
-  const bool u_free_at_both_ends = arch_ && model.left != fe::EndSupport::pinned && model.left != fe::EndSupport::clamped &&
-                                   model.right != fe::EndSupport::pinned && model.right != fe::EndSupport::clamped;
+  const bool u_free_at_both_ends = arch_ && model.left != fe::EndSupport::pinned &&
+                                   model.left != fe::EndSupport::clamped && model.right != fe::EndSupport::pinned &&
+                                   model.right != fe::EndSupport::clamped;
   for (int c = 0; c < 2; ++c)
     if (u_free_at_both_ends && std::abs(moment_sum[c]) > 1e-12 * moment_size[c])
       throw MechanismError(
@@ -214,7 +221,6 @@ MatrixXd RitzModel::hessian(const VectorXd& x, double lambda) const {
     h.block(row, 0, 1, modes_) = h.block(0, row, modes_, 1).transpose();
     h(row, row) = piece_sign(m) * foundation_modulus_ * wt * slope;
   }
-  (void)lambda;
   return h;
 }
 
@@ -230,7 +236,7 @@ void RitzModel::residual(const VectorXd& x, double lambda, VectorXd& f) const {
 void RitzModel::jacobian(const VectorXd& x, double lambda, MatrixXd& J) const {
   check_size(x);
   (void)lambda;  // the Jacobian does not depend on the load factor
-  J = MatrixXd::Zero(unknowns(), unknowns());
+  J.setZero(unknowns(), unknowns());
   J.topLeftCorner(amplitudes_, amplitudes_) = stiffness_;
   J.topLeftCorner(modes_, modes_) += foundation_modulus_ * contact_gram(x);
   for (int m = 0; m < limits(); ++m) {
@@ -260,11 +266,15 @@ std::optional<VectorXd> RitzModel::minimiser_for_limits(const VectorXd& limits_i
   x.tail(limits()) = limits_in;
   MatrixXd h = stiffness_;
   h.topLeftCorner(modes_, modes_) += foundation_modulus_ * contact_gram(x);
-  const Eigen::LDLT<MatrixXd> ldlt(h);
-  // A rigid motion nothing resists shows as a pivot at round-off level relative to the largest.
-  const VectorXd pivots = ldlt.vectorD().cwiseAbs();
-  if (ldlt.info() != Eigen::Success || !(pivots.minCoeff() > 1e-13 * pivots.maxCoeff())) return std::nullopt;
-  x.head(amplitudes_) = ldlt.solve(load(lambda));
+  // Scale to unit diagonal first: the bending stiffness of mode j grows like j^4, so unscaled
+  // pivots span many decades for a well-posed problem. After scaling, a rigid motion nothing
+  // resists shows as a pivot at round-off level.
+  const VectorXd diagonal = h.diagonal();
+  if (!(diagonal.minCoeff() > 0.0)) return std::nullopt;
+  const VectorXd scale = diagonal.cwiseSqrt().cwiseInverse();
+  const Eigen::LDLT<MatrixXd> ldlt(scale.asDiagonal() * h * scale.asDiagonal());
+  if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().cwiseAbs().minCoeff() > 1e-12)) return std::nullopt;
+  x.head(amplitudes_) = scale.asDiagonal() * ldlt.solve(scale.asDiagonal() * load(lambda));
   if (!x.allFinite()) return std::nullopt;
   return x;
 }

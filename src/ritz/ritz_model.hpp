@@ -28,11 +28,10 @@
 // the Jacobian, sigma_m k phi(t_m) w(t_m), vanishes, so the Jacobian is block triangular and
 // nonsingular when K + k G is and w'(t_m) != 0: Newton converges quadratically.
 
+#include <Eigen/Dense>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <Eigen/Dense>
 
 #include "fe/member_model.hpp"
 #include "ritz/basis.hpp"

@@ -22,8 +22,8 @@ namespace liftoff::ritz {
 
 struct RitzOptions {
   int modes = 0;                  // N; 0 means automatic
-  int max_modes = 64;             // automatic: the largest N tried
-  double mode_tolerance = 1e-9;   // automatic: limits converged when they move less than this (s)
+  int max_modes = 256;            // automatic: the largest N tried
+  double mode_tolerance = 1e-6;   // automatic: limits converged when they move less than this (s)
   double load_factor = 1.0;       // lambda
   // Contact inequalities on a fine grid after convergence: w >= -tol in contact pieces, w <= tol
   // in lift-off pieces, tol = inequality_tolerance * max |w|.

@@ -1,13 +1,13 @@
 #include "ritz/trig_polynomial.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <complex>
 #include <limits>
 #include <stdexcept>
 #include <tuple>
-
-#include <fmt/format.h>
 
 namespace liftoff::ritz {
 
@@ -30,7 +30,7 @@ double snap(double factor) { return std::abs(factor) < negligible_phase_factor ?
 // Relative to the scale X^(p+1)/(p+1) (X = max|a|, |b|), its terms are bounded by
 // z^m/m! with z = omega X, so its cancellation is at most cosh(z).
 double series_integral(int p, double omega, Wave wave, double a, double b, double scale) {
-  int m = wave == Wave::cosine ? 0 : 1;  // order of the Taylor term
+  int m = wave == Wave::cosine ? 0 : 1;                // order of the Taylor term
   double factor = wave == Wave::cosine ? 1.0 : omega;  // (-1)^n omega^m / m!
   int q = p + m + 1;
   double pa = std::pow(a, q), pb = std::pow(b, q);
@@ -91,9 +91,8 @@ double integral(const TrigTerm& term, double a, double b) {
     r *= static_cast<double>(p + 1 - k) / (k == 0 ? 1.0 : z);
     closed_amplification = std::max(closed_amplification, r);
   }
-  const double value = series_amplification <= closed_amplification
-                           ? series_integral(p, omega, term.wave, a, b, scale)
-                           : closed_form_integral(p, omega, term.wave, a, b);
+  const double value = series_amplification <= closed_amplification ? series_integral(p, omega, term.wave, a, b, scale)
+                                                                    : closed_form_integral(p, omega, term.wave, a, b);
   return sign * term.coefficient * value;
 }
 
@@ -131,7 +130,8 @@ void TrigPolynomial::normalise() {
       if (t.wave == Wave::sine) t.coefficient = -t.coefficient;
     }
   }
-  std::erase_if(terms_, [](const TrigTerm& t) { return t.coefficient == 0.0 || (t.wave == Wave::sine && t.omega == 0.0); });
+  std::erase_if(terms_,
+                [](const TrigTerm& t) { return t.coefficient == 0.0 || (t.wave == Wave::sine && t.omega == 0.0); });
   // Cluster nearly equal frequencies onto the smallest of the cluster.
   std::sort(terms_.begin(), terms_.end(), [](const TrigTerm& a, const TrigTerm& b) { return a.omega < b.omega; });
   for (std::size_t i = 1; i < terms_.size(); ++i) {

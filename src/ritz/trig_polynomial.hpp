@@ -28,8 +28,8 @@ enum class Wave { cosine, sine };
 
 struct TrigTerm {
   double coefficient = 0.0;
-  int power = 0;         // p >= 0
-  double omega = 0.0;    // >= 0 after normalisation
+  int power = 0;       // p >= 0
+  double omega = 0.0;  // >= 0 after normalisation
   Wave wave = Wave::cosine;
 };
 

@@ -79,8 +79,8 @@ struct SolveSettings {
 // [ritz]: the Ritz model with moving contact limits.
 struct RitzSettings {
   int modes = 0;                 // N; 0 means "auto": increase N until the limits settle
-  int max_modes = 64;            // the largest N "auto" tries
-  double mode_tolerance = 1e-9;  // "auto": limits settled when they move less than this * length
+  int max_modes = 256;           // the largest N "auto" tries
+  double mode_tolerance = 1e-6;  // "auto": limits settled when they move less than this * length
   // The pieces of the foundation's extent, in order, true = contact; empty means "auto": taken
   // from an FE + LCP solution of the same scene, which also gives the initial limits.
   std::vector<bool> topology;

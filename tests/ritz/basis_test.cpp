@@ -1,14 +1,12 @@
 // Ritz bases: the kinematic end conditions hold for every support combination, the functions
 // are independent, free ends carry the rigid motions the supports allow, and the arch bases
 // contain an inextensional partner (w = u') for every u, so they cannot lock.
-#include <catch2/catch.hpp>
-
-#include <cmath>
-#include <numbers>
+#include "ritz/basis.hpp"
 
 #include <Eigen/Dense>
-
-#include "ritz/basis.hpp"
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <numbers>
 
 using namespace liftoff;
 using namespace liftoff::ritz;
@@ -82,19 +80,31 @@ TEST_CASE("ritz basis: free ends carry the rigid motions the supports allow", "[
     const Eigen::VectorXd ev = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(g).eigenvalues();
     return static_cast<int>((ev.array() < 1e-10 * ev.maxCoeff()).count());
   };
-  CHECK(rigid_count(EndSupport::free, EndSupport::free) == 2);     // translation and rotation
-  CHECK(rigid_count(EndSupport::pinned, EndSupport::free) == 1);   // rotation about the pin
+  CHECK(rigid_count(EndSupport::free, EndSupport::free) == 2);    // translation and rotation
+  CHECK(rigid_count(EndSupport::pinned, EndSupport::free) == 1);  // rotation about the pin
   CHECK(rigid_count(EndSupport::free, EndSupport::pinned) == 1);
   CHECK(rigid_count(EndSupport::clamped, EndSupport::free) == 0);  // a cantilever has none
   CHECK(rigid_count(EndSupport::pinned, EndSupport::pinned) == 0);
 }
 
 TEST_CASE("ritz basis: the seed's pinned-pinned family, on any interval", "[ritz][basis]") {
-  // sin(j pi (s - a)/L), normalised to 1.
-  const Basis basis = beam_basis(EndSupport::pinned, EndSupport::pinned, 0.5, 2.5, 5);
+  // sin(j pi (s - a)/L), normalised to 1, for the first N - 2 functions; then one cubic per
+  // pinned end carrying that end's curvature (w = 0 at both ends, w'' != 0 at its own end only).
+  const Basis basis = beam_basis(EndSupport::pinned, EndSupport::pinned, 0.5, 2.5, 7);
+  REQUIRE(basis.w.size() == 7);
   for (int j = 1; j <= 5; ++j)
     for (double s : {0.5, 0.9, 1.7, 2.5})
       CHECK(basis.w[j - 1](s) == Approx(std::sin(j * pi * (s - 0.5) / 2.0)).margin(1e-13));
+  const TrigPolynomial& left = basis.w[5];
+  const TrigPolynomial& right = basis.w[6];
+  for (double s : {0.5, 2.5}) {
+    CHECK(left(s) == Approx(0).margin(1e-13));
+    CHECK(right(s) == Approx(0).margin(1e-13));
+  }
+  CHECK(std::abs(left.derivative(2)(0.5)) > 0.1);
+  CHECK(left.derivative(2)(2.5) == Approx(0).margin(1e-12));
+  CHECK(right.derivative(2)(0.5) == Approx(0).margin(1e-12));
+  CHECK(std::abs(right.derivative(2)(2.5)) > 0.1);
   CHECK_THROWS_AS(beam_basis(EndSupport::pinned, EndSupport::pinned, 0.0, 1.0, 0), std::invalid_argument);
   CHECK_THROWS_AS(beam_basis(EndSupport::pinned, EndSupport::pinned, 1.0, 1.0, 3), std::invalid_argument);
 }
@@ -142,11 +152,13 @@ TEST_CASE("ritz basis: arch u functions have their inextensional partner w = u' 
     for (int j = 0; j < modes; ++j) mismatch -= c[j] * basis.w[j];
     const double distance2 = (mismatch * mismatch).integral(a, b), norm2 = (du * du).integral(a, b);
     CAPTURE(i, distance2 / norm2);
-    if (distance2 <= 1e-20 * norm2) ++inextensional;
-    else CHECK(distance2 >= 1e-4 * norm2);  // a missing partner is missing by a lot
+    if (distance2 <= 1e-20 * norm2)
+      ++inextensional;
+    else
+      CHECK(distance2 >= 1e-4 * norm2);  // a missing partner is missing by a lot
   }
-  // u fixed at both ends draws on N + 1 w functions, so one u of N lacks its partner.
-  CHECK(inextensional == (ends == EndSupport::roller ? modes : modes - 1));
+  // Where u is fixed at both ends, the last two u are the end-strain functions (no partner).
+  CHECK(inextensional == (ends == EndSupport::roller ? modes : modes - 2));
 }
 
 TEST_CASE("ritz basis: roller arches hold the seed's symmetric family and its antisymmetric half", "[ritz][basis]") {

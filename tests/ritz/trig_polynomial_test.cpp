@@ -1,14 +1,13 @@
 // TrigPolynomial: exact integrals against high-order Gauss quadrature, derivatives against
 // finite differences, continuity as omega -> 0, and the algebra (products, sums, composition,
 // antiderivatives) against pointwise evaluation.
-#include <catch2/catch.hpp>
+#include "ritz/trig_polynomial.hpp"
 
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <numbers>
 #include <random>
 #include <vector>
-
-#include "ritz/trig_polynomial.hpp"
 
 using namespace liftoff::ritz;
 
@@ -73,8 +72,8 @@ TEST_CASE("trig polynomial: integrals of single terms agree with Gauss quadratur
       for (Wave wave : {Wave::cosine, Wave::sine}) {
         for (int trial = 0; trial < 6; ++trial) {
           double a = position(rng), b = position(rng);
-          if (trial == 0) a = 0.0;             // an end at the origin
-          if (trial == 1) b = a + 1e-3;        // a short interval
+          if (trial == 0) a = 0.0;       // an end at the origin
+          if (trial == 1) b = a + 1e-3;  // a short interval
           const TrigTerm term{1.0 + unit(rng), power, omega, wave};
           const double exact = integral(term, a, b);
           const double reference = quadrature([&](double s) { return term_value(term, s); }, a, b, omega);
