@@ -183,3 +183,63 @@ print(regions.shape[0], repr(float(regions[0][0])), repr(float(w.max())), f.attr
 
   CHECK(std::system(("h5dump -H " + output.string() + " > /dev/null").c_str()) == 0);
 }
+
+TEST_CASE("cli: the Ritz method reports modes, iterations and amplitudes", "[app][ritz]") {
+  const Run r = run({"solve", scene_path("seed_beam_end_moments"), "--method", "ritz", "--modes", "24", "--json"});
+  REQUIRE(r.status == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  CHECK(j["method"] == "ritz");
+  CHECK(j["modes"] == 24);
+  CHECK(j["amplitudes"].size() == 24);
+  CHECK(j["newton_iterations"].get<int>() >= 1);
+  CHECK(j["residual_history"].back().get<double>() <= 1e-12);
+  CHECK(j["contact_regions"].size() == 1);
+}
+
+TEST_CASE("cli: --method all runs primal, dual and Ritz side by side", "[app][ritz]") {
+  const Run r = run({"solve", scene_path("seed_beam_end_moments_central_load"), "--method", "all", "--elements", "60",
+                     "--modes", "16", "--json"});
+  REQUIRE(r.status == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  REQUIRE(j["methods"].size() == 3);
+  CHECK(j["methods"][0]["method"] == "primal");
+  CHECK(j["methods"][1]["method"] == "dual");
+  CHECK(j["methods"][2]["method"] == "ritz");
+  const Run text = run({"solve", scene_path("seed_beam_end_moments_central_load"), "--method", "all", "--elements",
+                        "60", "--modes", "16"});
+  CHECK_THAT(text.out, Catch::Matchers::Contains("contact 2 begin"));
+
+  // A free-free beam: the dual is refused, the others run, and that is not a failure.
+  Scratch scratch;
+  const fs::path scene = scratch.write("free.toml", R"(
+[structure]
+kind = "beam"
+length = 1.0
+EI = 1.0
+[supports]
+left = "free"
+right = "free"
+[foundation]
+k = 5184.0
+[[loads]]
+kind = "force"
+at = 0.5
+value = 1.0
+)");
+  const Run free = run({"solve", scene.string(), "--method", "all", "--elements", "40", "--modes", "24", "--json"});
+  CHECK(free.status == 0);
+  const auto f = nlohmann::json::parse(free.out);
+  CHECK(f["methods"][1]["termination"] == "refused");
+  CHECK(f["methods"][2]["termination"] == "converged");
+}
+
+TEST_CASE("cli: the Ritz method refuses interior point supports, exit 2", "[app][ritz]") {
+  Scratch scratch;
+  std::string text = valid_beam;
+  text.replace(text.find("right = \"pinned\""), 16, "right = \"pinned\"\ninterior = [0.5]");
+  const fs::path scene = scratch.write("interior.toml", text);
+  const Run r = run({"solve", scene.string(), "--method", "ritz"});
+  CHECK(r.status == 2);
+  CHECK(one_line(r.err));
+  CHECK_THAT(r.err, Catch::Matchers::Contains("interior point supports"));
+}
