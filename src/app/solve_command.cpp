@@ -131,17 +131,25 @@ io::SolveReport solve_scene(const scene::Scene& scene, const SolveRequest& reque
 
 std::vector<io::SolveReport> solve_all_methods(const scene::Scene& scene, const SolveRequest& request) {
   std::vector<io::SolveReport> reports;
+  auto refused = [&](Method method, const std::exception& e) {
+    io::SolveReport r;
+    r.scene_name = scene.source_name;
+    r.kind = scene.structure.kind;
+    r.method = scene::to_string(method);
+    r.termination = "refused";
+    r.message = e.what();
+    return r;
+  };
   for (Method method : {Method::primal, Method::dual, Method::ritz}) {
     try {
       reports.push_back(solve_scene(scene, {method, request.elements, request.modes, request.samples_per_element}));
+    } catch (const MechanismError&) {
+      throw;  // no method can help
     } catch (const SolverFailure& e) {
-      io::SolveReport refused;
-      refused.scene_name = scene.source_name;
-      refused.kind = scene.structure.kind;
-      refused.method = scene::to_string(method);
-      refused.termination = "refused";
-      refused.message = e.what();
-      reports.push_back(refused);
+      reports.push_back(refused(method, e));
+    } catch (const InputError& e) {  // a scene the Ritz model cannot take
+      if (method != Method::ritz) throw;
+      reports.push_back(refused(method, e));
     }
   }
   return reports;

@@ -28,6 +28,8 @@ std::string_view to_string(ContactTermination t) {
 
 void ContactOptions::validate() const {
   if (!std::isfinite(load_factor)) throw std::invalid_argument("ContactOptions::load_factor must be finite");
+  if (method != Method::dual && method != Method::primal && method != Method::automatic)
+    throw std::invalid_argument("ContactOptions::method must be dual, primal or auto (an FE + LCP formulation)");
   lemke.validate();
 }
 

@@ -63,6 +63,13 @@ value = 1.0
 elements = 40
 )";
 
+// A free-free unit beam on a foundation k with a central force.
+std::string free_beam(double k, double force) {
+  return "[structure]\nkind = \"beam\"\nlength = 1.0\nEI = 1.0\n[supports]\nleft = \"free\"\nright = \"free\"\n"
+         "[foundation]\nk = " + std::to_string(k) + "\n[[loads]]\nkind = \"force\"\nat = 0.5\nvalue = " +
+         std::to_string(force) + "\n";
+}
+
 }  // namespace
 
 TEST_CASE("cli: help and version exit 0", "[app]") {
@@ -106,24 +113,7 @@ TEST_CASE("cli: bad command-line values exit 2", "[app]") {
 TEST_CASE("cli: a solver failure has its own exit code and a reason, no output", "[app]") {
   Scratch scratch;
   // A free beam pulled away from the foundation: no equilibrium.
-  const fs::path scene = scratch.write("lift.toml", R"(
-[structure]
-kind = "beam"
-length = 1.0
-EI = 1.0
-[supports]
-left = "free"
-right = "free"
-[foundation]
-k = 100.0
-[[loads]]
-kind = "force"
-at = 0.5
-value = -1.0
-[solve]
-method = "primal"
-elements = 10
-)");
+  const fs::path scene = scratch.write("lift.toml", free_beam(100.0, -1.0) + "[solve]\nmethod = \"primal\"\nelements = 10\n");
   const fs::path output = scratch.dir / "out.h5";
   const Run r = run({"solve", scene.string(), "--output", output.string()});
   CHECK(r.status == 3);
@@ -211,21 +201,7 @@ TEST_CASE("cli: --method all runs primal, dual and Ritz side by side", "[app][ri
 
   // A free-free beam: the dual is refused, the others run, and that is not a failure.
   Scratch scratch;
-  const fs::path scene = scratch.write("free.toml", R"(
-[structure]
-kind = "beam"
-length = 1.0
-EI = 1.0
-[supports]
-left = "free"
-right = "free"
-[foundation]
-k = 5184.0
-[[loads]]
-kind = "force"
-at = 0.5
-value = 1.0
-)");
+  const fs::path scene = scratch.write("free.toml", free_beam(5184.0, 1.0));
   const Run free = run({"solve", scene.string(), "--method", "all", "--elements", "40", "--modes", "24", "--json"});
   CHECK(free.status == 0);
   const auto f = nlohmann::json::parse(free.out);
