@@ -2,8 +2,12 @@
 
 #include <CLI/CLI.hpp>
 #include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <thread>
 
 #include "app/solve_command.hpp"
+#include "app/sweep_command.hpp"
 #include "core/error.hpp"
 #include "default_scene.hpp"
 #include "io/hdf5_writer.hpp"
@@ -54,14 +58,77 @@ int run_all(const scene::Scene& scene, const SolveRequest& request, const SolveA
   return code(ExitCode::success);
 }
 
-int run_solve(const SolveArguments& args, std::ostream& out, std::ostream& err) {
-  const scene::Scene scene = args.scene_path.empty()
-                                 ? scene::parse_scene(default_scene_text, default_scene_name)
-                                 : scene::read_scene_file(args.scene_path);
+struct SweepArguments {
+  std::string scene_path;
+  std::vector<std::string> sets;
+  std::string method;
+  int elements = 0;
+  std::string modes;
+  std::string output;
+  std::string csv;
+  int jobs = 0;
+};
+
+scene::Scene load_scene(const std::string& path) {
+  return path.empty() ? scene::parse_scene(default_scene_text, default_scene_name) : scene::read_scene_file(path);
+}
+
+SolveRequest make_request(const std::string& method, int elements, const std::string& modes) {
   SolveRequest request;
-  if (!args.method.empty()) request.method = scene::parse_method(args.method);
-  if (args.elements > 0) request.elements = args.elements;
-  if (!args.modes.empty()) request.modes = args.modes == "auto" ? 0 : std::stoi(args.modes);
+  if (!method.empty()) request.method = scene::parse_method(method);
+  if (elements > 0) request.elements = elements;
+  if (!modes.empty()) request.modes = modes == "auto" ? 0 : std::stoi(modes);
+  return request;
+}
+
+// `liftoff sweep`: CSV (to --csv, or stdout), HDF5 with every case (--output), progress on
+// stderr; exit 3 if a case failed (its error is in both outputs).
+int run_sweep_command(const SweepArguments& args, std::ostream& out, std::ostream& err) {
+  const scene::Scene scene = load_scene(args.scene_path);
+  std::vector<SweepParameter> parameters;
+  std::vector<std::string> keys;
+  for (const std::string& set : args.sets) {
+    parameters.push_back(parse_sweep_parameter(set));
+    keys.push_back(parameters.back().key);
+  }
+  const int jobs = args.jobs > 0 ? args.jobs : std::max(1u, std::thread::hardware_concurrency());
+  std::mutex progress_lock;
+  const auto cases = run_sweep(scene, parameters, make_request(args.method, args.elements, args.modes), jobs,
+                               [&](int done, int total) {
+                                 const std::lock_guard<std::mutex> lock(progress_lock);
+                                 const int width = 30, filled = width * done / total;
+                                 err << "\rliftoff sweep [" << std::string(filled, '#') << std::string(width - filled, ' ')
+                                     << "] " << done << "/" << total << (done == total ? "\n" : "") << std::flush;
+                               });
+  const std::string csv = io::sweep_csv(keys, cases);
+  if (args.csv.empty()) {
+    out << csv;
+  } else {
+    std::ofstream file(args.csv + ".tmp");
+    file << csv;
+    file.close();
+    std::error_code error;
+    if (!file || (std::filesystem::rename(args.csv + ".tmp", args.csv, error), error)) {
+      std::filesystem::remove(args.csv + ".tmp", error);
+      throw OutputError(args.csv + ": cannot write the CSV summary");
+    }
+  }
+  if (!args.output.empty()) io::write_sweep_hdf5(keys, cases, args.output, LIFTOFF_VERSION);
+  bool failed = false;
+  for (const auto& c : cases) {
+    if (!c.error.empty()) {
+      err << "liftoff: " << c.error << "\n";
+      failed = true;
+    }
+    for (const auto& r : c.reports)
+      failed |= !r.usable && r.termination != "refused";
+  }
+  return code(failed ? ExitCode::solver_failure : ExitCode::success);
+}
+
+int run_solve(const SolveArguments& args, std::ostream& out, std::ostream& err) {
+  const scene::Scene scene = load_scene(args.scene_path);
+  const SolveRequest request = make_request(args.method, args.elements, args.modes);
 
   if (request.method.value_or(scene.solve.method) == scene::Method::all) return run_all(scene, request, args, out, err);
   const io::SolveReport report = solve_scene(scene, request);
@@ -102,6 +169,26 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   solve_command->add_flag("--json", solve.json, "Print one JSON object on stdout instead of the summary");
   solve_command->add_option("--output,-o", solve.output, "Write every field to this HDF5 file");
 
+  SweepArguments sweep;
+  CLI::App* sweep_command =
+      app.add_subcommand("sweep", "Solve one scene for every combination of values of some of its keys, in parallel");
+  sweep_command->add_option("scene", sweep.scene_path, "Scene file (TOML); default: the seed paper's arch, roller ends")
+      ->check(CLI::ExistingFile);
+  sweep_command
+      ->add_option("--set", sweep.sets,
+                   "KEY=VALUES, e.g. foundation.k=10,100,1e3 or foundation.k=log:10:1e4:7 or loads[0].value=lin:0:1:5; "
+                   "repeat for a grid")
+      ->required();
+  sweep_command->add_option("--method", sweep.method, "As for solve; all gives every method per case")
+      ->check(CLI::IsMember({"dual", "primal", "auto", "ritz", "all"}));
+  sweep_command->add_option("--elements", sweep.elements, "Number of finite elements")->check(CLI::Range(1, 10'000'000));
+  sweep_command->add_option("--modes", sweep.modes, "Ritz modes: a number, or auto")
+      ->check(CLI::IsMember({"auto"}) | CLI::Range(1, 1000));
+  sweep_command->add_option("--output,-o", sweep.output, "Write every case to this HDF5 file");
+  sweep_command->add_option("--csv", sweep.csv, "Write the CSV summary here (default: stdout)");
+  sweep_command->add_option("--jobs,-j", sweep.jobs, "Cases solved at once (default: the machine's cores)")
+      ->check(CLI::Range(1, 1024));
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -111,6 +198,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
 
   try {
     if (*solve_command) return run_solve(solve, out, err);
+    if (*sweep_command) return run_sweep_command(sweep, out, err);
   } catch (const InputError& e) {
     err << "liftoff: " << e.what() << "\n";
     return code(ExitCode::bad_input);

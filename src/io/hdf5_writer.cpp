@@ -1,5 +1,6 @@
 #include "io/hdf5_writer.hpp"
 
+#include <fmt/format.h>
 #include <hdf5.h>
 
 #include <system_error>
@@ -72,9 +73,8 @@ void write_table(hid_t file, const char* group_name, const FieldTable& t) {
     if (!values->empty()) write_array(group, name, *values);
 }
 
-void write_file(const SolveReport& r, const std::filesystem::path& path, const std::string& version) {
-  Handle file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose, path.string());
-  write_string_attribute(file, "liftoff_version", version);
+// One report under `file` (the file's root, or a group of a sweep).
+void write_report(hid_t file, const SolveReport& r) {
   write_string_attribute(file, "scene_name", r.scene_name);
   write_string_attribute(file, "structure", std::string(scene::to_string(r.kind)));
   write_string_attribute(file, "method", r.method);
@@ -120,14 +120,42 @@ void write_file(const SolveReport& r, const std::filesystem::path& path, const s
   }
 }
 
-}  // namespace
+void write_file(const SolveReport& r, const std::filesystem::path& path, const std::string& version) {
+  Handle file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose, path.string());
+  write_string_attribute(file, "liftoff_version", version);
+  write_report(file, r);
+}
 
-void write_hdf5(const SolveReport& report, const std::filesystem::path& path, const std::string& version) {
+void write_sweep_file(const std::vector<std::string>& keys, const std::vector<SweepCase>& cases,
+                      const std::filesystem::path& path, const std::string& version) {
+  Handle file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose, path.string());
+  write_string_attribute(file, "liftoff_version", version);
+  std::string joined;
+  for (const auto& key : keys) joined += (joined.empty() ? "" : ",") + key;
+  write_string_attribute(file, "keys", joined);
+  std::vector<double> values;
+  for (const SweepCase& c : cases) values.insert(values.end(), c.values.begin(), c.values.end());
+  write_array(file, "values", values, keys.size());
+  Handle all(H5Gcreate2(file, "cases", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "cases");
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const std::string name = fmt::format("{:04d}", i);
+    Handle group(H5Gcreate2(all, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, name);
+    if (!cases[i].error.empty()) write_string_attribute(group, "error", cases[i].error);
+    for (const SolveReport& r : cases[i].reports) {
+      Handle method(H5Gcreate2(group, r.method.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, r.method);
+      write_report(method, r);
+    }
+  }
+}
+
+// Writes under a temporary name, renames when complete; removes the temporary on failure.
+template <typename Write>
+void write_atomically(const std::filesystem::path& path, Write write) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors become OutputError, not stderr noise
   std::filesystem::path temporary = path;
   temporary += ".tmp";
   try {
-    write_file(report, temporary, version);
+    write(temporary);
     std::error_code error;
     std::filesystem::rename(temporary, path, error);
     if (error) throw OutputError(path.string() + ": cannot rename the finished file (" + error.message() + ")");
@@ -136,6 +164,18 @@ void write_hdf5(const SolveReport& report, const std::filesystem::path& path, co
     std::filesystem::remove(temporary, ignored);
     throw OutputError(path.string() + ": " + e.what());
   }
+}
+
+}  // namespace
+
+void write_hdf5(const SolveReport& report, const std::filesystem::path& path, const std::string& version) {
+  write_atomically(path, [&](const std::filesystem::path& temporary) { write_file(report, temporary, version); });
+}
+
+void write_sweep_hdf5(const std::vector<std::string>& keys, const std::vector<SweepCase>& cases,
+                      const std::filesystem::path& path, const std::string& version) {
+  write_atomically(path,
+                   [&](const std::filesystem::path& temporary) { write_sweep_file(keys, cases, temporary, version); });
 }
 
 }  // namespace liftoff::io

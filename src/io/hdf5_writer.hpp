@@ -22,4 +22,10 @@ namespace liftoff::io {
 
 void write_hdf5(const SolveReport& report, const std::filesystem::path& path, const std::string& version);
 
+// A sweep: root attributes liftoff_version, keys (the swept scene keys, comma-separated);
+// /values (cases x keys); /cases/NNNN/METHOD/ with the layout above for every case and method
+// (and an attribute `error` on /cases/NNNN when the case failed).
+void write_sweep_hdf5(const std::vector<std::string>& keys, const std::vector<SweepCase>& cases,
+                      const std::filesystem::path& path, const std::string& version);
+
 }  // namespace liftoff::io

@@ -254,4 +254,29 @@ std::string side_by_side(const std::vector<SolveReport>& reports) {
   return out;
 }
 
+std::string sweep_csv(const std::vector<std::string>& keys, const std::vector<SweepCase>& cases) {
+  std::string out;
+  for (const auto& key : keys) out += key + ",";
+  out += "method,termination,contact_regions,w_max,w_min,max_reaction,iterations,time_s\n";
+  for (const SweepCase& c : cases) {
+    std::string prefix;
+    for (double v : c.values) prefix += fmt::format("{:.17g},", v);
+    if (!c.error.empty()) {
+      std::string error = c.error;
+      std::replace(error.begin(), error.end(), '"', '\'');
+      out += prefix + fmt::format(",\"error: {}\",,,,,,\n", error);
+      continue;
+    }
+    for (const SolveReport& r : c.reports) {
+      std::string regions;
+      for (const auto& region : r.contact_regions)
+        regions += fmt::format("{}{:.12g}..{:.12g}", regions.empty() ? "" : ";", region[0], region[1]);
+      const int iterations = r.modes >= 0 ? r.newton_iterations : r.pivots;
+      out += prefix + fmt::format("{},{},{},{:.12g},{:.12g},{:.12g},{},{:.6f}\n", r.method, r.termination, regions,
+                                  r.w_max, r.w_min, r.max_reaction, iterations, r.time_s);
+    }
+  }
+  return out;
+}
+
 }  // namespace liftoff::io

@@ -80,4 +80,15 @@ std::string text_summary(const SolveReport& report);
 // Several methods on one scene, one column each (`--method all`).
 std::string side_by_side(const std::vector<SolveReport>& reports);
 
+// One case of a parameter sweep: the values of the swept keys, and a report per method (or the
+// one-line error that stopped the case).
+struct SweepCase {
+  std::vector<double> values;
+  std::vector<SolveReport> reports;
+  std::string error;
+};
+// One CSV row per case and method: the swept keys, method, termination, contact regions
+// ("a..b;c..d"), w_max, w_min, max_reaction, iterations (pivots or Newton), time_s.
+std::string sweep_csv(const std::vector<std::string>& keys, const std::vector<SweepCase>& cases);
+
 }  // namespace liftoff::io

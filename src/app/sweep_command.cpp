@@ -1,0 +1,116 @@
+#include "app/sweep_command.hpp"
+
+#include <atomic>
+#include <cmath>
+#include <mutex>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "core/error.hpp"
+#include "scene/scene_edit.hpp"
+#include "scene/scene_reader.hpp"
+
+namespace liftoff::app {
+
+namespace {
+
+[[noreturn]] void bad(const std::string& text, const std::string& why) {
+  throw InputError(fmt::format("--set '{}': {}; expected KEY=a,b,c or KEY=lin:a:b:n or KEY=log:a:b:n", text, why));
+}
+
+double number(const std::string& text, const std::string& item) {
+  try {
+    std::size_t used = 0;
+    const double v = std::stod(item, &used);
+    if (used != item.size() || !std::isfinite(v)) bad(text, fmt::format("'{}' is not a finite number", item));
+    return v;
+  } catch (const std::logic_error&) {
+    bad(text, fmt::format("'{}' is not a number", item));
+  }
+}
+
+std::vector<std::string> split(const std::string& s, char separator) {
+  std::vector<std::string> parts;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t end = s.find(separator, start);
+    parts.push_back(s.substr(start, end - start));
+    if (end == std::string::npos) return parts;
+    start = end + 1;
+  }
+}
+
+}  // namespace
+
+SweepParameter parse_sweep_parameter(const std::string& text) {
+  const std::size_t equals = text.find('=');
+  if (equals == std::string::npos || equals == 0) bad(text, "no KEY=");
+  SweepParameter p;
+  p.key = text.substr(0, equals);
+  const std::string values = text.substr(equals + 1);
+  const std::vector<std::string> range = split(values, ':');
+  if (range.size() == 4 && (range[0] == "lin" || range[0] == "log")) {
+    const double a = number(text, range[1]), b = number(text, range[2]);
+    const double n = number(text, range[3]);
+    if (n < 2 || n != std::floor(n) || n > 100000) bad(text, "n must be an integer >= 2");
+    if (range[0] == "log" && (a <= 0 || b <= 0)) bad(text, "a log range needs a > 0 and b > 0");
+    for (int i = 0; i < n; ++i) {
+      const double t = i / (n - 1);
+      p.values.push_back(range[0] == "lin" ? a + (b - a) * t : a * std::pow(b / a, t));
+    }
+  } else {
+    for (const std::string& item : split(values, ',')) p.values.push_back(number(text, item));
+  }
+  return p;
+}
+
+std::vector<io::SweepCase> run_sweep(const scene::Scene& scene, const std::vector<SweepParameter>& parameters,
+                                     const SolveRequest& request, int jobs,
+                                     const std::function<void(int, int)>& progress) {
+  std::size_t total = 1;
+  for (const auto& p : parameters) total *= p.values.size();
+  std::vector<io::SweepCase> cases(total);
+  for (std::size_t i = 0; i < total; ++i) {  // mixed-radix digits: the last parameter fastest
+    std::size_t rest = i;
+    cases[i].values.resize(parameters.size());
+    for (std::size_t k = parameters.size(); k-- > 0;) {
+      cases[i].values[k] = parameters[k].values[rest % parameters[k].values.size()];
+      rest /= parameters[k].values.size();
+    }
+  }
+  // Every case's scene is edited and validated first, so a bad key stops the sweep before any
+  // work (InputError), with the key named once.
+  std::vector<scene::Scene> scenes;
+  for (const io::SweepCase& c : cases) {
+    std::string text = scene.text, label;
+    for (std::size_t k = 0; k < parameters.size(); ++k) {
+      text = scene::with_value(text, parameters[k].key, c.values[k], scene.source_name);
+      label += fmt::format("{}{}={:.6g}", label.empty() ? "" : ", ", parameters[k].key, c.values[k]);
+    }
+    scenes.push_back(scene::parse_scene(text, fmt::format("{} [{}]", scene.source_name, label)));
+  }
+
+  const bool all = request.method.value_or(scene.solve.method) == scene::Method::all;
+  std::atomic<std::size_t> next{0};
+  std::atomic<int> done{0};
+  auto worker = [&] {
+    for (std::size_t i = next++; i < total; i = next++) {
+      try {
+        if (all)
+          cases[i].reports = solve_all_methods(scenes[i], request);
+        else
+          cases[i].reports = {solve_scene(scenes[i], request)};
+      } catch (const std::exception& e) {  // InputError, SolverFailure: the case's own failure
+        cases[i].error = e.what();
+      }
+      if (progress) progress(++done, static_cast<int>(total));
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int t = 0; t < std::max(1, jobs); ++t) threads.emplace_back(worker);
+  for (auto& t : threads) t.join();
+  return cases;
+}
+
+}  // namespace liftoff::app

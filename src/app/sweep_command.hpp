@@ -1,0 +1,30 @@
+#pragma once
+// `liftoff sweep`: one scene solved for every combination of values of some of its keys
+// (`--set foundation.k=10,100,1e3`), the cases run in parallel on the machine's cores.
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "app/solve_command.hpp"
+#include "io/report.hpp"
+
+namespace liftoff::app {
+
+struct SweepParameter {
+  std::string key;             // a scene key: "foundation.k", "loads[0].value"
+  std::vector<double> values;
+};
+
+// "KEY=VALUES" with VALUES "a,b,c", "lin:a:b:n" (n values from a to b) or "log:a:b:n"
+// (n values from a to b, evenly spaced in log). Throws InputError naming the option.
+SweepParameter parse_sweep_parameter(const std::string& text);
+
+// Every combination of the parameters' values (the last parameter varies fastest), solved
+// with `request` (Method::all gives every method per case). A case that fails carries its
+// one-line error. `progress(done, total)` is called after each case, from any thread.
+std::vector<io::SweepCase> run_sweep(const scene::Scene& scene, const std::vector<SweepParameter>& parameters,
+                                     const SolveRequest& request, int jobs,
+                                     const std::function<void(int, int)>& progress = {});
+
+}  // namespace liftoff::app

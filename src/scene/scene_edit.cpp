@@ -1,0 +1,75 @@
+#include "scene/scene_edit.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+#include "core/error.hpp"
+
+namespace liftoff::scene {
+
+namespace {
+
+// "loads[1]" -> ("loads", 1); "foundation" -> ("foundation", -1).
+std::pair<std::string, int> split_index(std::string_view part) {
+  const auto open = part.find('[');
+  if (open == std::string_view::npos || part.back() != ']') return {std::string(part), -1};
+  const std::string index(part.substr(open + 1, part.size() - open - 2));
+  if (index.empty() || index.find_first_not_of("0123456789") != std::string::npos) return {std::string(part), -2};
+  return {std::string(part.substr(0, open)), std::stoi(index)};
+}
+
+}  // namespace
+
+std::string with_value(std::string_view toml_text, std::string_view key, double value, const std::string& source) {
+  auto fail = [&](const std::string& why) {
+    throw InputError(fmt::format("{}: key '{}': {}", source, key, why));
+  };
+  toml::table document;
+  try {
+    document = toml::parse(toml_text, std::string_view(source));
+  } catch (const toml::parse_error& e) {
+    fail(fmt::format("the scene is not valid TOML ({})", e.description()));
+  }
+
+  toml::table* table = &document;
+  std::string_view rest = key;
+  while (true) {
+    const auto dot = rest.find('.');
+    const std::string_view part = rest.substr(0, dot);
+    if (dot == std::string_view::npos) {
+      const auto [name, index] = split_index(part);
+      if (index != -1 || name.empty()) fail("expected a key name as the last part of the path");
+      const toml::node* existing = table->get(name);
+      if (existing != nullptr && (existing->is_table() || existing->is_array()))
+        fail(fmt::format("'{}' is a table or an array, expected a key that holds a number", name));
+      const bool integral = std::floor(value) == value && std::abs(value) < 9e15;
+      if (existing != nullptr && existing->is_integer() && integral)
+        table->insert_or_assign(name, static_cast<std::int64_t>(value));
+      else
+        table->insert_or_assign(name, value);
+      break;
+    }
+    const auto [name, index] = split_index(part);
+    toml::node* node = table->get(name);
+    if (index == -2) fail(fmt::format("'{}' is not of the form name[index]", part));
+    if (node == nullptr) fail(fmt::format("the scene has no [{}] table", name));
+    if (index >= 0) {
+      toml::array* array = node->as_array();
+      if (array == nullptr || index >= static_cast<int>(array->size()) || !array->get(index)->is_table())
+        fail(fmt::format("the scene has no [[{}]] number {} (counted from 0)", name, index));
+      table = array->get(index)->as_table();
+    } else {
+      table = node->as_table();
+      if (table == nullptr) fail(fmt::format("'{}' is not a table", name));
+    }
+    rest = rest.substr(dot + 1);
+  }
+  std::ostringstream text;
+  text << document << "\n";
+  return text.str();
+}
+
+}  // namespace liftoff::scene
