@@ -427,6 +427,8 @@ class Model:
         B = 4.0 * wm - w1 - 3.0 * w0
         C = w0
         r1, r2 = quad_roots(A, B, C)
+        r1 = np.where(np.isfinite(r1), np.clip(r1, 0.0, 1.0), 1.0)
+        r2 = np.where(np.isfinite(r2), np.clip(r2, 0.0, 1.0), 1.0)
         br = np.stack([np.zeros_like(A), r1, r2, np.ones_like(A)], axis=1)
         br = np.sort(br, axis=1)                      # pieces [br0,br1],[br1,br2],[br2,br3]
         gp = np.array([-math.sqrt(0.6), 0.0, math.sqrt(0.6)])
@@ -541,8 +543,11 @@ class Model:
             return PETSc.SNES.ConvergedReason.ITERATING
 
         snes = PETSc.SNES().create(PETSc.COMM_SELF)
+        snes.setOptionsPrefix("penref_")
+        popts = PETSc.Options()
+        popts["penref_snes_linesearch_type"] = self.opts.line_search
         snes.setType("newtonls")
-        snes.getLineSearch().setType(self.opts.line_search)
+        snes.setFromOptions()
         Fvec = PETSc.Vec().createSeq(n)
         snes.setFunction(F_cb, Fvec)
         snes.setJacobian(J_cb, Pmat, Pmat)
@@ -696,7 +701,7 @@ def main(argv=None):
     ap.add_argument("--load-factor", type=float, default=1.0, help="lambda multiplying the live loads")
     ap.add_argument("--json", metavar="OUT.json", help="write the result here ('-' = stdout)")
     opts = ap.parse_args(argv)
-    logging.getLogger().setLevel(logging.WARNING)
+    logging.disable(logging.INFO)
 
     t_start = time.perf_counter()
     try:
