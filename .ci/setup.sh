@@ -15,6 +15,7 @@ packages=(
   nlohmann-json3-dev               # --json output
   libfmt-dev                       # formatting
   python3-h5py                     # tests read the HDF5 output as a user would
+  python3-matplotlib               # verification/plots (figures of sweeps)
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -533,10 +533,11 @@ class Model:
 
         def conv_cb(snes, it, norms):
             xnorm, ynorm, fn = norms
-            floor = max(1e-12 * fnorm_f, 1e3 * np.finfo(float).eps * Knorm * xnorm)
-            if fn <= floor:
+            if self.opts.verbose:
+                print(f"    newton {it}: |F| = {fn:.3e}  |dx| = {ynorm:.3e}  |x| = {xnorm:.3e}", file=sys.stderr)
+            if fn <= 1e-14 * fnorm_f:
                 return PETSc.SNES.ConvergedReason.CONVERGED_FNORM_ABS
-            if it > 0 and ynorm <= 1e-12 * xnorm:
+            if it > 0 and ynorm <= self.opts.step_tolerance * xnorm:
                 return PETSc.SNES.ConvergedReason.CONVERGED_SNORM_RELATIVE
             if it >= maxit:
                 return PETSc.SNES.ConvergedReason.DIVERGED_MAX_IT
@@ -698,6 +699,9 @@ def main(argv=None):
     ap.add_argument("--quadrature-degree", type=int, default=8, help="for --foundation-integration quadrature")
     ap.add_argument("--line-search", default="basic", help="SNES line search: basic, bt, l2, cp")
     ap.add_argument("--max-newton", type=int, default=50)
+    ap.add_argument("--step-tolerance", type=float, default=1e-11,
+                    help="Newton stops when |dx| <= this * |x| (default 1e-11)")
+    ap.add_argument("--verbose", action="store_true", help="print the Newton history")
     ap.add_argument("--load-factor", type=float, default=1.0, help="lambda multiplying the live loads")
     ap.add_argument("--json", metavar="OUT.json", help="write the result here ('-' = stdout)")
     opts = ap.parse_args(argv)
