@@ -74,5 +74,11 @@ TEST_CASE("sweep: the command writes the CSV and an HDF5 file with every case", 
                              "assert f['cases/0001/ritz/fields/w'].shape[0] > 100; "
                              "assert f.attrs['keys']=='foundation.k'";
   CHECK(std::system(("/usr/bin/python3 -c \"" + script + "\" " + h5).c_str()) == 0);
+  // The figures of the sweep, as a user draws them.
+  const std::string plot = std::string("/usr/bin/python3 ") + LIFTOFF_SOURCE_DIR + "/verification/plots/plot_sweep.py " +
+                           h5 + " --out " + (dir / "fig").string() + " > /dev/null";
+  CHECK(std::system(plot.c_str()) == 0);
+  CHECK(fs::file_size(dir / "fig_deflection.png") > 10000);
+  CHECK(fs::file_size(dir / "fig_reaction.png") > 10000);
   fs::remove_all(dir);
 }
