@@ -345,6 +345,7 @@ class Model:
             a += cm * (u.dx(0) - w) * (uh.dx(0) - wh) * dx
         a_bil = kf * J * w * wh * dx          # bilateral foundation (linear)
         Lq = qf * J * wh * dx                  # uniform loads
+        self.a_form_ufl, self.abil_form_ufl = a, a_bil
         self.a_form = fem.form(a)
         self.abil_form = fem.form(a_bil)
         self.L_form = fem.form(Lq)
@@ -479,21 +480,99 @@ class Model:
         return r, sp.csr_matrix((dv, ix, ip), shape=(self.ndofs, self.ndofs))
 
     # ------------------------------------------------------------------
+    def linsolve(self, M, b):
+        """Direct solve of the sparse system M x = b: SuperLU (scipy, partial pivoting, COLAMD)
+        by default, or a PETSc LU package (--lu mumps|petsc)."""
+        if self.opts.lu in ("superlu", "superlu-natural"):
+            import scipy.sparse.linalg as spla
+            spec = "NATURAL" if self.opts.lu == "superlu-natural" else "COLAMD"
+            return spla.splu(M.tocsc(), permc_spec=spec).solve(np.asarray(b, dtype=float))
+        PETSc = self._PETSc
+        M = M.tocsr()
+        M.sort_indices()
+        n = M.shape[0]
+        P = PETSc.Mat().createAIJ(size=(n, n), csr=(M.indptr.astype(PETSc.IntType),
+                                                  M.indices.astype(PETSc.IntType), M.data),
+                                  comm=PETSc.COMM_SELF)
+        P.assemble()
+        ksp = PETSc.KSP().create(PETSc.COMM_SELF)
+        ksp.setOperators(P)
+        ksp.setType("preonly")
+        pc = ksp.getPC()
+        pc.setType("lu")
+        if self.opts.lu != "petsc":
+            pc.setFactorSolverType(self.opts.lu)
+        bv = PETSc.Vec().createWithArray(np.array(b, dtype=float), comm=PETSc.COMM_SELF)
+        xv = P.createVecLeft()
+        ksp.solve(bv, xv)
+        if ksp.getConvergedReason() < 0:
+            raise RuntimeError(f"LU solve failed: reason {ksp.getConvergedReason()}")
+        x = xv.getArray().copy()
+        ksp.destroy()
+        P.destroy()
+        return x
+
     def solve(self):
-        """Bilateral solve, then (if tensionless) Newton by PETSc SNES. Returns x and info."""
+        """Bilateral solve, then (if tensionless) Newton. Returns x and info.
+
+        The foundation residual r(x) = int K max(w,0) v is positively homogeneous of degree 1,
+        so r(x) = Jf(x) x exactly, and the Newton step x+ = x - (K + Jf)^-1 (K x - f + r(x))
+        is the same as solving (K + Jf(x)) x+ = f directly. We iterate in that form ("direct"):
+        it never forms the residual K x - f, whose cancellation (K ~ EI/h^3 rows summing to
+        nearly zero) would put a roundoff floor eps*|K||x| ~ N^3 on every Newton correction.
+        --newton snes runs the same iteration in correction form through PETSc SNES."""
         import scipy.sparse as sp
-        import scipy.sparse.linalg as spla
         PETSc = self._PETSc
         K, Kb, f = self.K, self.Kb, self.f
         Kbil = (K + Kb).tocsr()
-        x0 = spla.spsolve(Kbil.tocsc(), f)
-        info = {"newton_iterations": 0, "snes_reason": None}
+        x0 = self.linsolve(Kbil, f)
+        # roundoff level of this discretisation: the 4th-order P2-CIP matrix has cond ~ N^4, and
+        # the rounding of its entries alone perturbs the solution by ~ eps*cond. Estimate it
+        # by solving the bilateral system once more with a different elimination order.
+        import scipy.sparse.linalg as spla
+        x0b = spla.splu(Kbil.tocsc(), permc_spec="NATURAL").solve(f)
+        noise = float(np.linalg.norm(x0b - x0) / max(np.linalg.norm(x0), 1e-300))
+        self.noise = noise
+        info = {"newton_iterations": 0, "roundoff_estimate": noise}
+        fnorm_f = np.linalg.norm(f)
         if not self.sc["tensionless"]:
             res = Kbil @ x0 - f
-            info["residual"] = float(np.linalg.norm(res) / max(np.linalg.norm(f), 1e-300))
+            info["residual"] = float(np.linalg.norm(res) / max(fnorm_f, 1e-300))
             return x0, info
 
         fnd = self.foundation_exact if self.opts.foundation_integration == "exact" else self.foundation_quadrature
+        if self.opts.newton == "direct":
+            x = x0
+            prev = None
+            steps = []
+            converged = False
+            for it in range(1, self.opts.max_newton + 1):
+                _, Jf = fnd(x, want_jac=True)
+                xn = self.linsolve(K + Jf, f)
+                step = float(np.linalg.norm(xn - x))
+                x = xn
+                xnorm = float(np.linalg.norm(x))
+                steps.append(step / max(xnorm, 1e-300))
+                if self.opts.verbose:
+                    print(f"    newton {it}: |dx|/|x| = {steps[-1]:.3e}", file=sys.stderr)
+                if step <= self.opts.step_tolerance * xnorm:
+                    converged = True
+                    break
+                if step <= 10.0 * noise * xnorm and (prev is None or step >= 0.1 * prev or step <= noise * xnorm):
+                    converged = True     # down to the roundoff level of the linear solves
+                    break
+                prev = step
+            if not converged:
+                raise RuntimeError(f"Newton did not converge in {self.opts.max_newton} iterations")
+            r, _ = fnd(x, want_jac=False)
+            res = K @ x - f + r
+            info.update(newton_iterations=it, newton_steps=steps,
+                        residual=float(np.linalg.norm(res) / max(fnorm_f, 1e-300)),
+                        residual_scaled=float(np.linalg.norm(res) / (abs(K).sum(axis=1).max() * np.linalg.norm(x) + fnorm_f)))
+            return x, info
+
+        # ---- SNES (correction form) ----
+        info["snes_reason"] = None
         # Jacobian pattern: K's pattern plus all w-w couplings of the foundation cells
         dofs = self.cw[self.found_cells]
         rows = np.repeat(dofs, 3, axis=1).ravel()
@@ -697,6 +776,10 @@ def main(argv=None):
     ap.add_argument("--u-degree", type=int, default=3, help="Lagrange degree of u for arches (default 3)")
     ap.add_argument("--foundation-integration", choices=("exact", "quadrature"), default="exact")
     ap.add_argument("--quadrature-degree", type=int, default=8, help="for --foundation-integration quadrature")
+    ap.add_argument("--newton", choices=("direct", "snes"), default="direct",
+                    help="direct: solve (K + Jf(x_k)) x_k+1 = f (default); snes: PETSc SNES, correction form")
+    ap.add_argument("--lu", default="superlu", choices=("superlu", "superlu-natural", "mumps", "petsc"),
+                    help="linear solver: superlu (scipy, default), superlu-natural, or PETSc LU with mumps/petsc")
     ap.add_argument("--line-search", default="basic", help="SNES line search: basic, bt, l2, cp")
     ap.add_argument("--max-newton", type=int, default=50)
     ap.add_argument("--step-tolerance", type=float, default=1e-11,
@@ -735,7 +818,8 @@ def main(argv=None):
             "penalty_scale": opts.penalty_scale,
             "foundation_integration": opts.foundation_integration
             + ("" if opts.foundation_integration == "exact" else f" (degree {opts.quadrature_degree})"),
-            "newton": f"PETSc SNES newtonls, line search {opts.line_search}, LU",
+            "newton": (f"Newton in direct form (K + Jf(x_k)) x_k+1 = f, LU ({opts.lu})"
+                       if opts.newton == "direct" else f"PETSc SNES newtonls, line search {opts.line_search}, LU"),
         },
         "sign_convention": "w > 0 into the foundation",
         "compile_s": compile_s,
