@@ -16,6 +16,7 @@ packages=(
   libfmt-dev                       # formatting
   python3-h5py                     # tests read the HDF5 output as a user would
   python3-matplotlib               # verification/plots (figures of sweeps)
+  python3-dolfinx                  # verification only: the independent penalty-contact reference
 )
 missing=()
 for p in "${packages[@]}"; do
