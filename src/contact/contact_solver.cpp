@@ -40,6 +40,10 @@ std::string ContactSummary::brief_report() const {
 
 namespace {
 
+// An answer whose relative residual (see ContactSummary::residual) exceeds this is not returned
+// as a solution: at 1e-6 the contact limits are already uncertain to a fraction of an element.
+constexpr double acceptable_residual = 1e-6;
+
 // Solution on the equations, before expansion to every dof.
 struct Unknowns {
   VectorXd displacement;
@@ -214,6 +218,16 @@ ContactSolution solve_contact(const Discretisation& d, const ContactOptions& opt
   solution.reaction = x.reaction;
   solution.gap = d.flexibility * x.reaction - d.coupling * x.displacement;
   summary.residual = load_scale == 0.0 ? 0.0 : relative_residual(d, x, load, d.tensionless);
+  // Lemke's own checks are in its scaled units; the answer must also hold in the mechanics'.
+  if (summary.termination == ContactTermination::solved && !(summary.residual <= acceptable_residual)) {
+    summary.termination = ContactTermination::numerical_failure;
+    summary.message = fmt::format(
+        "the {} LCP ended with a relative residual of {:.1e} (equilibrium or contact conditions violated), above {:.0e}: "
+        "round-off has overwhelmed this {}-unknown problem; {}",
+        scene::to_string(summary.method), summary.residual, acceptable_residual, summary.lcp_size,
+        d.structure_is_stable() ? "use the dual form or fewer elements"
+                                : "use fewer elements, or method = \"ritz\" (the dual form needs a stable structure)");
+  }
   summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return solution;
 }

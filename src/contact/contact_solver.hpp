@@ -35,7 +35,8 @@ enum class ContactTermination {
   no_equilibrium,     // Lemke ray: the LCP has no solution; the loads lift the member off and
                       // the supports cannot hold it (a mechanism)
   pivot_limit,        // Lemke stopped at its pivot limit; no answer
-  numerical_failure,  // a singular basis or factorisation; no answer
+  numerical_failure,  // a singular basis or factorisation, or an answer whose residual exceeds
+                      // 1e-6 (round-off overwhelmed the LCP); no answer
 };
 std::string_view to_string(ContactTermination);
 

@@ -149,7 +149,14 @@ RitzSolution solve_ritz(const fe::MemberModel& member, const Topology& topology,
     summary.max_violation = attempt.max_violation;
     solution.unknowns = attempt.x;
     solution.model = std::move(model);
-    if (attempt.termination != RitzTermination::converged) break;
+    if (attempt.termination != RitzTermination::converged) {
+      // Automatic modes: a few modes may be too coarse for the topology (a free-free beam at
+      // N = 4 has three rigid-like functions and one cosine); try more, from the initial limits.
+      if (options.modes > 0 || modes == sequence.back()) break;
+      limits = Eigen::Map<const VectorXd>(initial_limits.data(), topology.limits);
+      previous_limits.reset();
+      continue;
+    }
 
     limits = attempt.x.tail(topology.limits);
     summary.mode_history.push_back({modes, {limits.data(), limits.data() + limits.size()}, attempt.newton.iterations});

@@ -5,8 +5,9 @@
 // before it is returned.
 //
 // Automatic modes: N = 4, 8, 16, ... up to max_modes, each solve started from the previous
-// limits, until every limit moves by less than mode_tolerance (in s) between two successive N;
-// the last change is reported as the estimated error of the limits.
+// limits, until every limit moves by less than mode_tolerance (in s) between two successive
+// converged N; the last change is reported as the estimated error of the limits. An N too small
+// for the topology (Newton fails or the inequalities do not hold) is passed over.
 
 #include <optional>
 #include <string>
@@ -23,7 +24,7 @@ namespace liftoff::ritz {
 struct RitzOptions {
   int modes = 0;                  // N; 0 means automatic
   int max_modes = 256;            // automatic: the largest N tried
-  double mode_tolerance = 1e-6;   // automatic: limits converged when they move less than this (s)
+  double mode_tolerance = 1e-5;   // automatic: limits converged when they move less than this (s)
   double load_factor = 1.0;       // lambda
   // Contact inequalities on a fine grid after convergence: w >= -tol in contact pieces, w <= tol
   // in lift-off pieces, tol = inequality_tolerance * max |w|.

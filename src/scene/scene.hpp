@@ -80,7 +80,7 @@ struct SolveSettings {
 struct RitzSettings {
   int modes = 0;                 // N; 0 means "auto": increase N until the limits settle
   int max_modes = 256;           // the largest N "auto" tries
-  double mode_tolerance = 1e-6;  // "auto": limits settled when they move less than this * length
+  double mode_tolerance = 1e-5;  // "auto": limits settled when they move less than this * length
   // The pieces of the foundation's extent, in order, true = contact; empty means "auto": taken
   // from an FE + LCP solution of the same scene, which also gives the initial limits.
   std::vector<bool> topology;
