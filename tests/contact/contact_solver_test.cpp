@@ -217,3 +217,19 @@ TEST_CASE("dead plus lambda times live loads", "[contact][loads]") {
   const test::Solved b = test::solve(combined, Method::primal, 40, 1.0);
   CHECK(test::relative_difference(a.solution.displacement, b.solution.displacement) < 1e-10);
 }
+
+TEST_CASE("an LCP answer that round-off has spoilt is reported, not returned", "[contact][lcp][slow]") {
+  // A free-free beam needs the primal LCP, whose 2n + m unknowns at 400 elements lose the answer
+  // to round-off (relative residual ~1e-2): it must come back as a numerical failure.
+  const scene::Scene s =
+      scene::read_scene_file(std::string(LIFTOFF_SOURCE_DIR) + "/verification/dolfinx/scenes/free_free_two_contacts.toml");
+  const test::Solved r = test::solve(s, Method::primal, 400);
+  CAPTURE(r.solution.summary.residual, r.solution.summary.message);
+  CHECK(r.solution.summary.termination == contact::ContactTermination::numerical_failure);
+  CHECK(r.solution.summary.residual > 1e-6);
+  CHECK_THAT(r.solution.summary.message, Catch::Matchers::Contains("ritz"));
+  // The same scene on a coarser mesh is solved, with a residual under the threshold.
+  const test::Solved coarse = test::solve(s, Method::primal, 100);
+  CHECK(coarse.solution.summary.is_usable());
+  CHECK(coarse.solution.summary.residual <= 1e-6);
+}
