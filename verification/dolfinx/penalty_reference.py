@@ -675,7 +675,17 @@ class Model:
             contact = [[sc["f_from_user"], sc["f_to_user"]]]
         else:
             contact = positive
+        # w at every vertex and cell midpoint, in order along the member (for figures)
+        order = np.argsort(np.concatenate([cx[:, 0], cx[:, 1]]))
+        field_s = np.concatenate([cx[:, 0], cx[:, 1]])[order]
+        field_w = np.concatenate([w0, wm])[order]
+        last = int(np.argmax(cx[:, 2]))
+        field_s, field_w = np.append(field_s, cx[last, 2]), np.append(field_w, w1[last])
+        in_foundation = (field_s >= sc["f_from"]) & (field_s <= sc["f_to"])
+        field_r = sc["K"] * np.where(in_foundation, np.maximum(field_w, 0.0) if sc["tensionless"] else field_w, 0.0)
         return {
+            "fields": {"coordinate": [user_of(sc, float(v)) for v in field_s], "w": field_w.tolist(),
+                       "reaction": field_r.tolist()},
             "contact_regions": contact,
             "w_positive_regions": positive,
             "w_max": float(cwv[imax]), "at_w_max": user_of(sc, float(cs[imax])),

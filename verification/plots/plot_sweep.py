@@ -5,11 +5,16 @@
 
 writes PREFIX_deflection.png (deflection along the member for every case, overlaid, one panel
 per method: primal, dual and Ritz side by side for `--method all`) and PREFIX_reaction.png (the
-foundation reaction likewise). w > 0 is into the foundation and is drawn downward, as the
-member moves.
+foundation reaction likewise). With --dolfinx, each case's scene (stored in the file) is also
+solved by the independent dolfinx reference (verification/dolfinx/penalty_reference.py) and drawn
+in a panel of its own. w > 0 is into the foundation and is drawn downward, as the member moves.
 """
 import argparse
+import json
+import os
+import subprocess
 import sys
+import tempfile
 
 import h5py
 import matplotlib
@@ -37,8 +42,30 @@ def read(path):
                     "regions": m["contact_regions"][()],
                     "coordinate": m.attrs["coordinate"],
                 }
-            cases.append((values[i], methods))
+            scene = next((group[m]["scene"][()] for m in group.keys() if "scene" in group[m]), None)
+            cases.append((values[i], methods, scene.decode() if isinstance(scene, bytes) else scene))
     return keys, cases
+
+
+def add_dolfinx(cases, elements):
+    """Solves every case's scene with the dolfinx reference and adds it as a method."""
+    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "dolfinx", "penalty_reference.py")
+    with tempfile.TemporaryDirectory() as tmp:
+        for values, methods, scene in cases:
+            if scene is None:
+                continue
+            path, out = os.path.join(tmp, "case.toml"), os.path.join(tmp, "case.json")
+            with open(path, "w") as f:
+                f.write(scene)
+            p = subprocess.run(["/usr/bin/python3", script, path, "--elements", str(elements), "--json", out],
+                               capture_output=True, text=True)
+            if p.returncode != 0:
+                continue
+            with open(out) as f:
+                d = json.load(f)
+            methods["dolfinx"] = {"x": d["fields"]["coordinate"], "w": d["fields"]["w"],
+                                  "reaction": d["fields"]["reaction"], "regions": d["contact_regions"],
+                                  "coordinate": d["coordinate"]}
 
 
 def label(keys, values):
@@ -46,12 +73,12 @@ def label(keys, values):
 
 
 def figure(keys, cases, field, ylabel, path):
-    methods = [m for m in ("primal", "dual", "ritz") if any(m in c[1] for c in cases)]
+    methods = [m for m in ("primal", "dual", "ritz", "dolfinx") if any(m in c[1] for c in cases)]
     if not methods:
         sys.exit("plot_sweep: no solved case in the file")
-    fig, axes = plt.subplots(1, len(methods), figsize=(5 * len(methods), 4), sharey=True, squeeze=False)
+    fig, axes = plt.subplots(1, len(methods), figsize=(4.5 * len(methods), 4), sharey=True, squeeze=False)
     for ax, method in zip(axes[0], methods):
-        for values, results in cases:
+        for values, results, _ in cases:
             if method not in results:
                 continue
             r = results[method]
@@ -74,9 +101,13 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("sweep")
     parser.add_argument("--out", default=None, help="prefix of the PNG files (default: the HDF5 name)")
+    parser.add_argument("--dolfinx", action="store_true", help="add the dolfinx reference as a panel")
+    parser.add_argument("--dolfinx-elements", type=int, default=400)
     args = parser.parse_args()
     prefix = args.out or args.sweep.rsplit(".", 1)[0]
     keys, cases = read(args.sweep)
+    if args.dolfinx:
+        add_dolfinx(cases, args.dolfinx_elements)
     figure(keys, cases, "w", "deflection w (> 0 into the foundation)", prefix + "_deflection.png")
     figure(keys, cases, "reaction", "foundation reaction (force per length)", prefix + "_reaction.png")
 
