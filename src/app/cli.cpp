@@ -19,11 +19,30 @@ namespace {
 
 int code(ExitCode c) { return static_cast<int>(c); }
 
-struct SolveArguments {
+// What `solve` and `sweep` share: the scene and how to solve it.
+struct ProblemArguments {
   std::string scene_path;
   std::string method;
   int elements = 0;
   std::string modes;
+};
+
+void add_problem_options(CLI::App* command, ProblemArguments& args) {
+  command->add_option("scene", args.scene_path, "Scene file (TOML); default: the seed paper's arch, roller ends")
+      ->check(CLI::ExistingFile);
+  command
+      ->add_option("--method", args.method,
+                   "dual | primal | auto (FE + LCP), ritz (moving contact limits), all (side by side); "
+                   "overrides [solve] method")
+      ->check(CLI::IsMember({"dual", "primal", "auto", "ritz", "all"}));
+  command->add_option("--elements", args.elements, "Number of finite elements (overrides [solve] elements)")
+      ->check(CLI::Range(1, 10'000'000));
+  command->add_option("--modes", args.modes, "Ritz modes: a number, or auto (overrides [ritz] modes)")
+      ->check(CLI::IsMember({"auto"}) | CLI::Range(1, 1000));
+}
+
+struct SolveArguments {
+  ProblemArguments problem;
   bool json = false;
   std::string output;
 };
@@ -59,11 +78,8 @@ int run_all(const scene::Scene& scene, const SolveRequest& request, const SolveA
 }
 
 struct SweepArguments {
-  std::string scene_path;
+  ProblemArguments problem;
   std::vector<std::string> sets;
-  std::string method;
-  int elements = 0;
-  std::string modes;
   std::string output;
   std::string csv;
   int jobs = 0;
@@ -73,18 +89,18 @@ scene::Scene load_scene(const std::string& path) {
   return path.empty() ? scene::parse_scene(default_scene_text, default_scene_name) : scene::read_scene_file(path);
 }
 
-SolveRequest make_request(const std::string& method, int elements, const std::string& modes) {
+SolveRequest make_request(const ProblemArguments& args) {
   SolveRequest request;
-  if (!method.empty()) request.method = scene::parse_method(method);
-  if (elements > 0) request.elements = elements;
-  if (!modes.empty()) request.modes = modes == "auto" ? 0 : std::stoi(modes);
+  if (!args.method.empty()) request.method = scene::parse_method(args.method);
+  if (args.elements > 0) request.elements = args.elements;
+  if (!args.modes.empty()) request.modes = args.modes == "auto" ? 0 : std::stoi(args.modes);
   return request;
 }
 
 // `liftoff sweep`: CSV (to --csv, or stdout), HDF5 with every case (--output), progress on
 // stderr; exit 3 if a case failed (its error is in both outputs).
 int run_sweep_command(const SweepArguments& args, std::ostream& out, std::ostream& err) {
-  const scene::Scene scene = load_scene(args.scene_path);
+  const scene::Scene scene = load_scene(args.problem.scene_path);
   std::vector<SweepParameter> parameters;
   std::vector<std::string> keys;
   for (const std::string& set : args.sets) {
@@ -93,7 +109,7 @@ int run_sweep_command(const SweepArguments& args, std::ostream& out, std::ostrea
   }
   const int jobs = args.jobs > 0 ? args.jobs : std::max(1u, std::thread::hardware_concurrency());
   std::mutex progress_lock;
-  const auto cases = run_sweep(scene, parameters, make_request(args.method, args.elements, args.modes), jobs,
+  const auto cases = run_sweep(scene, parameters, make_request(args.problem), jobs,
                                [&](int done, int total) {
                                  const std::lock_guard<std::mutex> lock(progress_lock);
                                  const int width = 30, filled = width * done / total;
@@ -127,8 +143,8 @@ int run_sweep_command(const SweepArguments& args, std::ostream& out, std::ostrea
 }
 
 int run_solve(const SolveArguments& args, std::ostream& out, std::ostream& err) {
-  const scene::Scene scene = load_scene(args.scene_path);
-  const SolveRequest request = make_request(args.method, args.elements, args.modes);
+  const scene::Scene scene = load_scene(args.problem.scene_path);
+  const SolveRequest request = make_request(args.problem);
 
   if (request.method.value_or(scene.solve.method) == scene::Method::all) return run_all(scene, request, args, out, err);
   const io::SolveReport report = solve_scene(scene, request);
@@ -155,35 +171,19 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   SolveArguments solve;
   CLI::App* solve_command = app.add_subcommand(
       "solve", "Solve one scene: contact regions, deflection, forces and reactions along the member");
-  solve_command->add_option("scene", solve.scene_path, "Scene file (TOML); default: the seed paper's arch, roller ends")
-      ->check(CLI::ExistingFile);
-  solve_command
-      ->add_option("--method", solve.method,
-                   "dual | primal | auto (FE + LCP), ritz (moving contact limits), all (side by side); "
-                   "overrides [solve] method")
-      ->check(CLI::IsMember({"dual", "primal", "auto", "ritz", "all"}));
-  solve_command->add_option("--modes", solve.modes, "Ritz modes: a number, or auto (overrides [ritz] modes)")
-      ->check(CLI::IsMember({"auto"}) | CLI::Range(1, 1000));
-  solve_command->add_option("--elements", solve.elements, "Number of finite elements (overrides [solve] elements)")
-      ->check(CLI::Range(1, 10'000'000));
+  add_problem_options(solve_command, solve.problem);
   solve_command->add_flag("--json", solve.json, "Print one JSON object on stdout instead of the summary");
   solve_command->add_option("--output,-o", solve.output, "Write every field to this HDF5 file");
 
   SweepArguments sweep;
   CLI::App* sweep_command =
       app.add_subcommand("sweep", "Solve one scene for every combination of values of some of its keys, in parallel");
-  sweep_command->add_option("scene", sweep.scene_path, "Scene file (TOML); default: the seed paper's arch, roller ends")
-      ->check(CLI::ExistingFile);
   sweep_command
       ->add_option("--set", sweep.sets,
                    "KEY=VALUES, e.g. foundation.k=10,100,1e3 or foundation.k=log:10:1e4:7 or loads[0].value=lin:0:1:5; "
                    "repeat for a grid")
       ->required();
-  sweep_command->add_option("--method", sweep.method, "As for solve; all gives every method per case")
-      ->check(CLI::IsMember({"dual", "primal", "auto", "ritz", "all"}));
-  sweep_command->add_option("--elements", sweep.elements, "Number of finite elements")->check(CLI::Range(1, 10'000'000));
-  sweep_command->add_option("--modes", sweep.modes, "Ritz modes: a number, or auto")
-      ->check(CLI::IsMember({"auto"}) | CLI::Range(1, 1000));
+  add_problem_options(sweep_command, sweep.problem);
   sweep_command->add_option("--output,-o", sweep.output, "Write every case to this HDF5 file");
   sweep_command->add_option("--csv", sweep.csv, "Write the CSV summary here (default: stdout)");
   sweep_command->add_option("--jobs,-j", sweep.jobs, "Cases solved at once (default: the machine's cores)")
