@@ -169,11 +169,9 @@ RitzSolution solve_ritz(const fe::MemberModel& member, const Topology& topology,
     previous_limits = limits;
     if (modes == sequence.back()) {
       summary.termination = RitzTermination::modes_not_converged;
+      const int previous_modes = summary.mode_history.size() > 1 ? summary.mode_history.end()[-2].modes : modes;
       summary.message = fmt::format("the contact limits still moved by {:.1e} between {} and {} modes",
-                                    summary.estimated_limit_error, summary.mode_history.size() > 1
-                                        ? summary.mode_history[summary.mode_history.size() - 2].modes
-                                        : modes,
-                                    modes);
+                                    summary.estimated_limit_error, previous_modes, modes);
     }
   }
   summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
