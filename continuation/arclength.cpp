@@ -1,0 +1,1 @@
+#include "continuation/arclength.hpp"

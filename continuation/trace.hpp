@@ -1,0 +1,114 @@
+#pragma once
+// A load history: the solution of one scene as the live loads grow, F = F_dead + lambda F_live,
+// with every change of the contact topology located and reported.
+//
+// Two paths produce it, both through this one interface so that `liftoff trace`, the HDF5
+// trace writer and the tests do not care which one ran:
+//  - trace_fe   (fe_path.hpp):   the FE + LCP model, traced exactly by parametric pivoting (the
+//                                discrete solution is piecewise linear in lambda);
+//  - trace_ritz (ritz_path.hpp): the Ritz model with moving limits, followed by the
+//                                pseudo-arc-length driver (arclength.hpp), events located by
+//                                secant/bisection on their event functions.
+// Results are in the user's units and coordinate (x, or theta in degrees), like io::SolveReport.
+
+#include <array>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "scene/scene.hpp"
+
+namespace liftoff::continuation {
+
+enum class EventKind {
+  lift_off_opens,     // a lift-off zone opens inside a contact region (w touches 0 from above)
+  contact_opens,      // a contact region opens inside a lift-off zone (w touches 0 from below)
+  region_vanishes,    // a contact region shrinks to nothing
+  lift_off_vanishes,  // a lift-off zone shrinks to nothing (two contact regions merge)
+  limit_at_support,   // a contact limit reaches a point support or a supported end
+  limit_at_load,      // a contact limit reaches a point load
+  limit_at_end,       // a contact limit reaches the end of the foundation (member end)
+  limit_point,        // a fold: lambda reaches a maximum or minimum along the path
+};
+std::string_view to_string(EventKind);
+
+struct TraceEvent {
+  double load_factor = 0.0;  // lambda at the event
+  EventKind kind = EventKind::lift_off_opens;
+  double at = 0.0;           // position along the member, user coordinate
+  std::string description;   // one line, in words
+};
+
+// One recorded point of the path.
+struct TraceStep {
+  double load_factor = 0.0;
+  std::vector<std::array<double, 2>> contact_regions;  // user coordinate
+  double monitor_deflection = 0.0;   // w at TraceOptions::monitor (user length units)
+  std::vector<double> deflection;    // w at TraceOptions::sample_points (user length units)
+  std::vector<double> reaction;      // foundation reaction there (force per length, compression > 0)
+  int iterations = 0;                // corrector iterations (Ritz) or pivots (FE) since the last step
+  // What a resumed trace needs to continue from this step without redoing anything: Ritz: the
+  // topology ("first_in_contact limits") and the unknowns (amplitudes, limits); FE: empty.
+  std::string state_topology;
+  std::vector<double> state;
+};
+
+enum class PathControl { arc_length, load };  // pseudo-arc-length (default) or plain load control
+
+struct TraceOptions {
+  double lambda_min = 0.0;
+  double lambda_max = 1.0;
+  PathControl control = PathControl::arc_length;
+  double initial_step = 0.05;   // in lambda (Ritz path; the FE path has no step length)
+  double min_step = 1e-8;
+  double max_step = 0.25;
+  int max_steps = 10000;
+  double event_tolerance = 1e-10;  // events located to this in lambda
+  int elements = 200;              // FE path
+  int modes = 0;                   // Ritz path: 0 = automatic as in [ritz]
+  double monitor = 0.0;            // user coordinate of the load-displacement curve's w
+  std::vector<double> sample_points;  // user coordinates at which w and r are recorded
+  // Resume after this step (read back from an interrupted trace's file): the path restarts
+  // from its lambda and state, and the steps/events already written are not reported again.
+  std::optional<TraceStep> resume_from;
+};
+
+enum class TraceTermination {
+  completed,        // lambda_max (or lambda_min going down) reached
+  no_equilibrium,   // beyond some lambda no equilibrium exists (the loads lift the member off)
+  step_too_small,   // the Ritz corrector failed at the minimum step
+  step_limit,       // max_steps reached
+  solver_failure,   // a solve failed outright; message says how
+};
+std::string_view to_string(TraceTermination);
+
+struct TraceSummary {
+  TraceTermination termination = TraceTermination::solver_failure;
+  std::string message;
+  std::string path;          // "fe" or "ritz"
+  int steps = 0;
+  int rejected_steps = 0;
+  int corrector_iterations = 0;  // Ritz
+  int pivots = 0;                // FE
+  int factorisations = 0;
+  double final_load_factor = 0.0;
+  double time_s = 0.0;
+  bool is_usable() const { return termination == TraceTermination::completed; }
+};
+
+struct TraceResult {
+  std::vector<TraceStep> steps;
+  std::vector<TraceEvent> events;
+  TraceSummary summary;
+};
+
+// Called once per accepted step (and once per event, right after the step that ends at it), as
+// soon as it is known, so that the caller can write it out incrementally.
+struct TraceSink {
+  std::function<void(const TraceStep&)> on_step;
+  std::function<void(const TraceEvent&)> on_event;
+};
+
+}  // namespace liftoff::continuation

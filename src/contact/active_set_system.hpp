@@ -1,0 +1,62 @@
+#pragma once
+// The contact problem with its contact set fixed, as one sparse symmetric system.
+//
+// With the set A of reaction nodes in contact (gap 0, reaction free) and the rest lifted off
+// (reaction 0, gap free), the conditions K u + C^T r = F, (T r - C u)_A = 0, r_I = 0 are
+//   [ K     C_A^T ] [ u   ]   [ F ]
+//   [ C_A  -T_AA  ] [ r_A ] = [ 0 ],   gap_I = T_IA r_A - C_I u.
+// This is the kernel shared by the sparse active-set solver and the parametric FE path: it
+// costs O(n) to factorise for a beam or arch (banded after AMD ordering) and O(n) per solve, so
+// a contact set that does not change is never refactorised, and every load (dead, live, a
+// correction) is one more solve with the same factors.
+//
+// The matrix is quasi-definite when K is positive definite; when K is singular (a member only
+// the foundation holds) it is still nonsingular as long as the contact set holds every rigid
+// motion. It is equilibrated symmetrically (unit diagonal) before an LDL^T factorisation, and
+// each solve takes one step of iterative refinement on the unscaled system (arch meshes reach
+// cond ~ N^4).
+
+#include <vector>
+
+#include <Eigen/Dense>
+#include <Eigen/Sparse>
+#include <Eigen/SparseCholesky>
+
+#include "fe/discretisation.hpp"
+
+namespace liftoff::contact {
+
+struct ContactState {
+  Eigen::VectorXd displacement;  // on the equations
+  Eigen::VectorXd reaction;      // every reaction node (0 where lifted off)
+  Eigen::VectorXd gap;           // T r - C u, every reaction node (0 in contact, to round-off)
+  double residual = -1.0;        // relative residual of the linear system after refinement
+};
+
+class ActiveSetSystem {
+ public:
+  explicit ActiveSetSystem(const fe::Discretisation& discretisation);
+
+  // Factorises for this contact set (one flag per reaction node). Returns false when the
+  // system is singular to working precision: the contact set leaves a rigid motion free.
+  bool factorise(const std::vector<bool>& in_contact);
+
+  // Solves for a load on the equations (nondimensional). Requires a successful factorise().
+  ContactState solve(const Eigen::VectorXd& load) const;
+
+  const std::vector<bool>& in_contact() const { return in_contact_; }
+  int factorisations() const { return factorisations_; }
+  int size() const { return static_cast<int>(matrix_.rows()); }
+
+ private:
+  const fe::Discretisation& d_;
+  std::vector<bool> in_contact_;
+  std::vector<int> contact_index_;  // reaction node -> row offset in r_A, or -1
+  fe::SparseMatrix matrix_;         // unscaled system
+  Eigen::VectorXd scaling_;         // symmetric equilibration: S A S has unit diagonal
+  Eigen::SimplicialLDLT<fe::SparseMatrix, Eigen::Lower, Eigen::AMDOrdering<int>> factors_;
+  bool factorised_ = false;
+  int factorisations_ = 0;
+};
+
+}  // namespace liftoff::contact

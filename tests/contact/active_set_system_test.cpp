@@ -1,0 +1,54 @@
+// The fixed-contact-set system: with the contact set Lemke found, one sparse solve reproduces
+// Lemke's answer; with every node in contact it is the bilateral foundation.
+
+#include <catch2/catch.hpp>
+
+#include "contact/active_set_system.hpp"
+#include "support/scenes.hpp"
+#include "support/solve.hpp"
+
+using namespace liftoff;
+
+namespace {
+
+std::vector<bool> contact_set_of(const contact::ContactSolution& s) {
+  std::vector<bool> in_contact(s.reaction.size());
+  for (Eigen::Index i = 0; i < s.reaction.size(); ++i) in_contact[i] = s.reaction[i] > 0.0;
+  return in_contact;
+}
+
+}  // namespace
+
+TEST_CASE("the contact set found by Lemke gives Lemke's answer in one sparse solve") {
+  for (const char* name : {"seed_beam_end_moments", "seed_beam_end_moments_central_load", "seed_arch_pinned",
+                           "seed_arch_roller", "seed_arch_clamped"}) {
+    CAPTURE(name);
+    const auto lemke = test::solve(test::shipped_scene(name), scene::Method::dual, 80);
+    contact::ActiveSetSystem system(lemke.discretisation);
+    REQUIRE(system.factorise(contact_set_of(lemke.solution)));
+    const auto state = system.solve(lemke.discretisation.load(1.0));
+    CHECK(state.residual < 1e-12);
+    CHECK(test::relative_difference(lemke.discretisation.expand(state.displacement), lemke.solution.displacement)
+              < 1e-8);
+    // The complement of the contact set has a non-negative gap: the answer is a contact solution.
+    CHECK(state.gap.minCoeff() > -1e-10 * state.gap.cwiseAbs().maxCoeff());
+  }
+}
+
+TEST_CASE("a free-free beam is held by its contact set, and left floating without one") {
+  auto scene = test::beam_scene(10.0, 1.0, scene::EndSupport::free, scene::EndSupport::free, 100.0);
+  scene.loads.push_back(test::uniform_load(0.0, 10.0, 1.0));
+  const auto model = fe::make_member_model(scene);
+  const auto d = fe::discretise(model, 40);
+  contact::ActiveSetSystem system(d);
+  REQUIRE(system.factorise(std::vector<bool>(d.reactions(), true)));
+  const auto state = system.solve(d.load(1.0));
+  // Uniform load on a free-free beam in full contact: uniform settlement q/K, no bending.
+  const double settlement = 1.0 / (100.0 / std::pow(10.0, 4)) / 10.0;  // q/K in units of L
+  for (int node = 0; node < static_cast<int>(d.mesh.nodes.size()); ++node)
+    CHECK(state.displacement[d.equation_of_dof[d.deflection_dof(node)]] == Approx(settlement).epsilon(1e-10));
+  std::vector<bool> one_node(d.reactions(), false);
+  one_node[d.reactions() / 2] = true;  // one spring cannot hold a beam against rotation
+  CHECK_FALSE(system.factorise(one_node));
+  CHECK_FALSE(system.factorise(std::vector<bool>(d.reactions(), false)));
+}
