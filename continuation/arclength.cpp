@@ -138,6 +138,9 @@ std::optional<std::pair<VectorXd, double>> PathFollower::tangent(const VectorXd&
   bordered.topLeftCorner(n, n) = g_x;
   bordered.topRightCorner(n, 1) = g_lambda;
   if (reference) {
+    if (reference->tangent_x.size() != n)
+      throw std::invalid_argument(fmt::format("PathFollower::tangent: the reference tangent has size {}, expected {}",
+                                              reference->tangent_x.size(), n));
     bordered.bottomLeftCorner(1, n) = (scale_.array().square() * reference->tangent_x.array()).matrix().transpose();
     bordered(n, n) = reference->tangent_lambda;
   } else {
@@ -145,9 +148,15 @@ std::optional<std::pair<VectorXd, double>> PathFollower::tangent(const VectorXd&
   }
   VectorXd rhs = VectorXd::Zero(n + 1);
   rhs(n) = 1.0;
-  const Eigen::FullPivLU<MatrixXd> lu(bordered);
-  if (!lu.isInvertible()) return std::nullopt;
-  VectorXd t = lu.solve(rhs);
+  // Equilibrate rows, then columns (a Ritz Jacobian's diagonal spans (N pi)^4), so that the
+  // singularity test sees the problem's own condition, not its units.
+  const VectorXd rows = bordered.rowwise().lpNorm<Eigen::Infinity>().cwiseMax(1e-300).cwiseInverse();
+  bordered = rows.asDiagonal() * bordered;
+  const VectorXd cols = bordered.colwise().lpNorm<Eigen::Infinity>().transpose().cwiseMax(1e-300).cwiseInverse();
+  bordered = bordered * cols.asDiagonal();
+  const Eigen::PartialPivLU<MatrixXd> lu(bordered);
+  if (!(lu.rcond() > 1e3 * std::numeric_limits<double>::epsilon())) return std::nullopt;
+  VectorXd t = cols.asDiagonal() * lu.solve(rows.asDiagonal() * rhs);
   if (!t.allFinite()) return std::nullopt;
   const VectorXd t_x = t.head(n);
   const double norm = std::sqrt(scaled_dot(t_x, t_x) + t(n) * t(n));
@@ -303,6 +312,11 @@ std::optional<PathPoint> PathFollower::locate(const PathPoint& from, const PathP
   return best;
 }
 
+double PathFollower::next_step(double ds, int iterations) const {
+  const double ratio = iterations == 0 ? 2.0 : static_cast<double>(options_.target_iterations) / iterations;
+  return std::clamp(ds * std::clamp(ratio, 0.5, 2.0), options_.min_step, options_.max_step);
+}
+
 ArcLengthResult PathFollower::follow(const PathPoint& start_point, const StepObserver& observer,
                                      std::optional<double> first_step) const {
   ArcLengthResult result;
@@ -394,10 +408,7 @@ ArcLengthResult PathFollower::follow(const PathPoint& start_point, const StepObs
       return result;
     }
     // 4. The next step length from the corrector's effort.
-    const double ratio = result.points.back().iterations == 0
-                             ? 2.0
-                             : static_cast<double>(o.target_iterations) / result.points.back().iterations;
-    ds = std::clamp(ds * std::clamp(ratio, 0.5, 2.0), o.min_step, o.max_step);
+    ds = next_step(ds, result.points.back().iterations);
   }
 }
 

@@ -151,6 +151,10 @@ class PathFollower {
   ArcLengthResult follow(const PathPoint& start, const StepObserver& observer = {},
                          std::optional<double> first_step = std::nullopt) const;
 
+  // The step length after an accepted step of length ds that took `iterations` corrector
+  // iterations (what follow uses; exposed so that a resumed run can continue identically).
+  double next_step(double ds, int iterations) const;
+
   const PathProblem& problem() const { return problem_; }
   const ArcLengthOptions& options() const { return options_; }
   // The unit tangent at (x, lambda) with the sense of `reference` (if null: lambda grows in

@@ -1,14 +1,712 @@
 #include "continuation/ritz_path.hpp"
 
+// The Ritz load history, one topology at a time:
+//  1. start: the topology and limits at lambda_min (from the scene, or from an FE + LCP solution
+//     as `liftoff solve --method ritz` takes them), solved by solve_ritz; or a resumed step;
+//  2. follow: the arc-length driver on the Ritz model of that topology, with an observer that,
+//     between accepted steps, evaluates the event functions (below), locates the first that
+//     changed sign to event_tolerance in lambda and stops the driver there;
+//  3. switch: the topology the event implies, a first equilibrium in it, and back to 2.
+//
+// Event functions of a topology (each > 0 while the topology holds):
+//  - per contact piece: the smallest interior minimum of w (lift_off_opens when it reaches 0),
+//    per lift-off piece: minus the largest interior maximum (contact_opens);
+//  - at a foundation end that is no limit: w there (free end), +-w' (pinned end: w = 0), w''
+//    (clamped end), signed so that it is > 0 while the end piece keeps its state: a new zone
+//    opening at the end (lift_off_opens or contact_opens, at the end);
+//  - per piece between two limits: its length (region_vanishes, lift_off_vanishes); per end
+//    piece: its length (limit_at_end, or limit_at_support at a supported end);
+//  - per limit and load point: t - a (limit_at_load; recorded, no switch).
+// The residual accepts crossed limits (the Ritz integrals continue analytically, a piece of
+// negative length counting negatively), so that a length event is bracketed like any other.
+//
+// Switching: a vanishing piece is removed at the event itself (its two limits, or the end
+// piece's one limit): the same amplitudes solve the new topology there. An opening needs a
+// zone of nonzero width: the old topology is continued a little past the event (its solution
+// there is the local expansion of the new one, w dipping through zero around the event point),
+// the roots of w around the event point give the new limits, and the new topology is solved at
+// that lambda.
+//
+// Units: the path works in fe::MemberModel's nondimensional s and w; steps are reported in the
+// user's units through fe::Scales.
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "contact/contact_solver.hpp"
+#include "continuation/arclength.hpp"
+#include "fe/discretisation.hpp"
+#include "fe/member_model.hpp"
+#include "post/contact_regions.hpp"
+#include "ritz/ritz_model.hpp"
+#include "ritz/ritz_solver.hpp"
+
 namespace liftoff::continuation {
 
-// Placeholder until the ritz path lands.
-TraceResult trace_ritz(const scene::Scene&, const TraceOptions&, const TraceSink&) {
-  TraceResult result;
-  result.summary.termination = TraceTermination::solver_failure;
-  result.summary.path = "ritz";
-  result.summary.message = "the ritz path is not implemented yet";
-  return result;
+namespace {
+
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+using ritz::RitzModel;
+using ritz::Topology;
+
+constexpr double infinity = std::numeric_limits<double>::infinity();
+
+enum class EventFunction { interior_extreme, end_value, length, limit_at_load };
+
+struct EventSpec {
+  EventFunction function;
+  EventKind kind;
+  int piece = 0;        // interior_extreme, length; end_value: 0 (begin) or last piece (end)
+  int limit = 0;        // limit_at_load
+  double position = 0;  // limit_at_load: the load's s
+};
+
+struct EventValue {
+  double value = infinity;
+  double at = 0.0;  // s
+};
+
+// What a resumed step carries (see TraceStep::state): x, tangent, next step length.
+struct ResumeState {
+  Topology topology;
+  PathPoint point;
+  double next_step = 0.0;
+};
+
+class RitzTracer {
+ public:
+  RitzTracer(const scene::Scene& scene, const TraceOptions& options, const TraceSink& sink)
+      : scene_(scene), options_(options), sink_(sink), member_(fe::make_member_model(scene)) {}
+
+  TraceResult run();
+
+ private:
+  // Verbs, in the order run() calls them.
+  void validate() const;
+  ResumeState starting_state();
+  PathFollower make_follower(const RitzModel& model, const VectorXd& x) const;
+  ArcLengthResult follow(const RitzModel& model, const PathFollower& follower, const PathPoint& start,
+                         double first_step);
+  bool switch_topology(const PathFollower& follower);
+
+  // Helpers.
+  std::vector<EventSpec> event_specs(const RitzModel& model) const;
+  EventValue event_value(const RitzModel& model, const VectorXd& x, const EventSpec& spec) const;
+  EventValue extreme(const RitzModel& model, const VectorXd& x, double a, double b, bool minimum) const;
+  double w_scale(const RitzModel& model, const VectorXd& x) const;
+  void record_step(const RitzModel& model, const PathPoint& point, int iterations, double next_step);
+  void record_event(double lambda, EventKind kind, double s, std::string description);
+  std::string topology_text(const Topology& t) const { return fmt::format("{} {}", t.first_in_contact ? 1 : 0, t.limits); }
+  int modes_for_trace(const ritz::RitzSolution& start) const;
+  bool end_supported(bool left) const;
+  double user(double s) const { return member_.user_from_s(s); }
+
+  const scene::Scene& scene_;
+  const TraceOptions& options_;
+  const TraceSink& sink_;
+  fe::MemberModel member_;
+  TraceResult result_;
+  int modes_ = 0;
+  std::optional<RitzModel> model_;
+  // The event the follow loop stopped at, waiting for a switch.
+  struct Pending {
+    std::vector<EventSpec> events;  // located together
+    PathPoint point;                // at the event
+    PathPoint beyond;               // the accepted step the event cut short (old topology)
+    double step = 0.0;              // the step length in use
+  };
+  std::optional<Pending> pending_;
+  std::optional<PathPoint> restart_;  // a non-switching event: go on from here
+  double restart_step_ = 0.0;
+  bool resuming_ = false;
+};
+
+// --------------------------------------------------------------------------------------------
+void RitzTracer::validate() const {
+  const auto fail = [](const std::string& what) { throw std::invalid_argument("TraceOptions." + what); };
+  if (!(std::isfinite(options_.lambda_min) && std::isfinite(options_.lambda_max) &&
+        options_.lambda_min < options_.lambda_max))
+    fail(fmt::format("lambda_min, lambda_max: expected finite with lambda_min < lambda_max, got {} and {}",
+                     options_.lambda_min, options_.lambda_max));
+  if (!(options_.event_tolerance > 0)) fail("event_tolerance: expected > 0");
+  if (options_.modes < 0) fail(fmt::format("modes: expected >= 0 (0: automatic), got {}", options_.modes));
+  if (!(options_.min_step > 0 && options_.min_step <= options_.initial_step &&
+        options_.initial_step <= options_.max_step))
+    fail(fmt::format("initial_step: expected 0 < min_step <= initial_step <= max_step, got {} <= {} <= {}",
+                     options_.min_step, options_.initial_step, options_.max_step));
+  const double lo = std::min(scene_.begin(), scene_.end()), hi = std::max(scene_.begin(), scene_.end());
+  for (double p : options_.sample_points)
+    if (!(p >= lo && p <= hi)) fail(fmt::format("sample_points: expected positions in [{}, {}], got {}", lo, hi, p));
+  if (!(options_.monitor >= lo && options_.monitor <= hi))
+    fail(fmt::format("monitor: expected a position in [{}, {}], got {}", lo, hi, options_.monitor));
+}
+
+int RitzTracer::modes_for_trace(const ritz::RitzSolution& start) const {
+  if (options_.modes > 0) return options_.modes;
+  if (scene_.ritz.modes > 0) return scene_.ritz.modes;
+  // Automatic: what solve_ritz settled on at lambda_min, but at least 32, since limits that do
+  // not exist yet at lambda_min (full contact) say nothing about the N they will need.
+  return std::max(start.summary.modes, 32);
+}
+
+bool RitzTracer::end_supported(bool left) const {
+  const double s = left ? member_.foundation_begin : member_.foundation_end;
+  const double end = left ? member_.s_begin : member_.s_end;
+  if (std::abs(s - end) > 1e-12 * member_.length()) return false;
+  return (left ? member_.left : member_.right) != fe::EndSupport::free;
+}
+
+// The topology and unknowns at lambda_min (or at the resumed step).
+ResumeState RitzTracer::starting_state() {
+  ResumeState state;
+  if (options_.resume_from) {
+    const TraceStep& step = *options_.resume_from;
+    std::istringstream text(step.state_topology);
+    int first = -1, limits = -1;
+    text >> first >> limits;
+    const int n2 = static_cast<int>(step.state.size()) - 2;
+    if (!text || (first != 0 && first != 1) || limits < 0 || n2 <= 0 || n2 % 2 != 0 || n2 / 2 - limits < 1)
+      throw std::invalid_argument(fmt::format(
+          "TraceOptions.resume_from: expected a Ritz step's state (topology \"first_in_contact limits\" and 2 n + 2 "
+          "values), got topology \"{}\" and {} values",
+          step.state_topology, step.state.size()));
+    const int n = n2 / 2;
+    state.topology = {first == 1, limits};
+    const int amplitudes = n - limits;  // N for beams, 2 N for arches
+    modes_ = member_.kind == fe::StructureKind::arch ? amplitudes / 2 : amplitudes;
+    const Eigen::Map<const VectorXd> values(step.state.data(), step.state.size());
+    state.point.x = values.head(n);
+    state.point.tangent_x = values.segment(n, n);
+    state.point.tangent_lambda = values(2 * n);
+    state.point.lambda = step.load_factor;
+    state.next_step = values(2 * n + 1);
+    return state;
+  }
+  // The topology at lambda_min: from the scene, or from the FE + LCP solution there.
+  std::vector<double> limits;
+  if (!scene_.ritz.topology.empty()) {
+    state.topology = {scene_.ritz.topology.front(), static_cast<int>(scene_.ritz.topology.size()) - 1};
+    for (double limit : scene_.ritz.limits) limits.push_back(member_.s_from_user(limit));
+    for (int m = 0; limits.empty() && m < state.topology.limits; ++m)
+      limits.push_back(member_.foundation_begin +
+                       (member_.foundation_end - member_.foundation_begin) * (m + 1) / (state.topology.limits + 1));
+  } else {
+    const fe::Discretisation d = fe::discretise(member_, options_.elements);
+    contact::ContactOptions contact_options;
+    contact_options.method = scene::Method::automatic;
+    contact_options.load_factor = options_.lambda_min;
+    const contact::ContactSolution fe = contact::solve_contact(d, contact_options);
+    if (!fe.summary.is_usable())
+      throw std::runtime_error("the FE + LCP solution at lambda_min that gives the Ritz topology failed: " +
+                               fe.summary.message);
+    const std::vector<post::Interval> regions = post::contact_regions(member_, d, fe.displacement);
+    const double begin = member_.foundation_begin, end = member_.foundation_end, edge = 1e-9 * member_.length();
+    state.topology.first_in_contact = !regions.empty() && regions.front().begin <= begin + edge;
+    for (const post::Interval& region : regions)
+      for (double limit : {region.begin, region.end})
+        if (limit > begin + edge && limit < end - edge) limits.push_back(limit);
+    state.topology.limits = static_cast<int>(limits.size());
+  }
+  ritz::RitzOptions ritz_options;
+  ritz_options.modes = options_.modes > 0 ? options_.modes : scene_.ritz.modes;
+  ritz_options.max_modes = scene_.ritz.max_modes;
+  ritz_options.mode_tolerance = scene_.ritz.mode_tolerance * member_.length();
+  ritz_options.load_factor = options_.lambda_min;
+  ritz::RitzSolution start = ritz::solve_ritz(member_, state.topology, limits, ritz_options);
+  modes_ = modes_for_trace(start);
+  if (start.summary.modes != modes_) {
+    ritz_options.modes = modes_;
+    std::vector<double> settled(start.unknowns.data() + start.unknowns.size() - state.topology.limits,
+                                start.unknowns.data() + start.unknowns.size());
+    if (!start.summary.is_usable()) settled = limits;
+    start = ritz::solve_ritz(member_, state.topology, settled, ritz_options);
+  }
+  if (!start.summary.is_usable())
+    throw std::runtime_error("the Ritz solution at lambda_min failed: " + start.summary.message);
+  state.point.x = start.unknowns;
+  state.point.lambda = options_.lambda_min;
+  state.next_step = options_.initial_step;
+  return state;
+}
+
+PathFollower RitzTracer::make_follower(const RitzModel& model, const VectorXd& x) const {
+  const int n = model.unknowns(), a = model.amplitudes();
+  // Typical sizes: amplitudes from the solutions at both ends of the range with these limits.
+  double amplitude_scale = x.head(a).lpNorm<Eigen::Infinity>();
+  for (double lambda : {options_.lambda_min, options_.lambda_max})
+    if (auto y = model.minimiser_for_limits(x.tail(model.limits()), lambda))
+      amplitude_scale = std::max(amplitude_scale, y->head(a).lpNorm<Eigen::Infinity>());
+  amplitude_scale = std::max(amplitude_scale, 1e-300);
+  const double lambda_size = std::max({std::abs(options_.lambda_min), std::abs(options_.lambda_max), 1.0});
+  const double force_scale = std::max(
+      model.dead_load().lpNorm<Eigen::Infinity>() + lambda_size * model.live_load().lpNorm<Eigen::Infinity>(), 1e-300);
+
+  PathProblem problem;
+  problem.unknowns = n;
+  problem.residual = [&model](const VectorXd& y, double lambda, VectorXd& g) {
+    if (!y.allFinite()) return false;
+    model.residual(y, lambda, g);
+    return true;
+  };
+  problem.jacobian = [&model](const VectorXd& y, double lambda, MatrixXd& j) {
+    model.jacobian(y, lambda, j);
+    return true;
+  };
+  problem.lambda_derivative = [&model](const VectorXd& y, double, VectorXd& g) {
+    g = model.residual_lambda_derivative(y);
+    return true;
+  };
+  problem.unknown_scale = VectorXd::Constant(n, 1.0 / amplitude_scale);
+  problem.unknown_scale.tail(n - a).setConstant(1.0 / member_.length());
+  problem.residual_scale = VectorXd::Constant(n, 1.0 / force_scale);
+  problem.residual_scale.tail(n - a).setConstant(1.0 / amplitude_scale);
+
+  ArcLengthOptions o;
+  o.control = options_.control;
+  o.lambda_min = options_.lambda_min;
+  o.lambda_max = options_.lambda_max;
+  o.initial_step = options_.initial_step;
+  o.min_step = options_.min_step;
+  o.max_step = options_.max_step;
+  o.max_steps = options_.max_steps;
+  o.fold_tolerance = options_.event_tolerance;
+  o.locate_folds = false;  // the observer does it, so that fold events reach the sink in order
+  return PathFollower(std::move(problem), o);
+}
+
+// --------------------------------------------------------------------------------------------
+// Events.
+
+std::vector<EventSpec> RitzTracer::event_specs(const RitzModel& model) const {
+  std::vector<EventSpec> specs;
+  const int pieces = model.limits() + 1;
+  bool contact = model.topology().first_in_contact;
+  for (int p = 0; p < pieces; ++p, contact = !contact) {
+    specs.push_back({EventFunction::interior_extreme,
+                     contact ? EventKind::lift_off_opens : EventKind::contact_opens, p, 0, 0});
+    if (pieces > 1) {
+      EventKind kind = contact ? EventKind::region_vanishes : EventKind::lift_off_vanishes;
+      if (p == 0 || p == pieces - 1)
+        kind = end_supported(p == 0) ? EventKind::limit_at_support : EventKind::limit_at_end;
+      specs.push_back({EventFunction::length, kind, p, 0, 0});
+    }
+  }
+  // Openings at the foundation's ends (member_ tells which end condition holds w there).
+  const bool last_contact = model.topology().first_in_contact == (model.limits() % 2 == 0);
+  specs.push_back({EventFunction::end_value,
+                   model.topology().first_in_contact ? EventKind::lift_off_opens : EventKind::contact_opens, 0, 0, 0});
+  specs.push_back({EventFunction::end_value, last_contact ? EventKind::lift_off_opens : EventKind::contact_opens,
+                   pieces - 1, 0, 0});
+  // Limits passing load points.
+  std::vector<double> points;
+  for (const fe::MemberLoad& load : member_.loads) {
+    if (load.kind == fe::LoadKind::uniform) continue;
+    if (load.at > member_.foundation_begin && load.at < member_.foundation_end) points.push_back(load.at);
+  }
+  std::sort(points.begin(), points.end());
+  points.erase(std::unique(points.begin(), points.end()), points.end());
+  for (int m = 0; m < model.limits(); ++m)
+    for (double a : points) specs.push_back({EventFunction::limit_at_load, EventKind::limit_at_load, 0, m, a});
+  return specs;
+}
+
+// The extreme of w strictly inside [a, b]: local extrema (roots of w' refined by safeguarded
+// Newton) and the grid values between them.
+EventValue RitzTracer::extreme(const RitzModel& model, const VectorXd& x, double a, double b, bool minimum) const {
+  EventValue best;
+  if (!(b > a)) return best;
+  const double sign = minimum ? 1.0 : -1.0;  // minimise sign * w
+  const int samples = std::max(16, static_cast<int>(std::ceil(8.0 * modes_ * (b - a) / member_.length())));
+  const double h = (b - a) / samples;
+  for (int i = 1; i < samples; ++i) {
+    const double s = a + i * h;
+    const double value = sign * model.w(x, s);
+    if (value < best.value) best = {value, s};
+  }
+  // Local minima of sign * w: sign changes of its slope from - to + between grid points.
+  double s0 = a + 0.5 * h, d0 = sign * model.w(x, s0, 1);
+  for (int i = 1; i < samples; ++i) {
+    const double s1 = std::min(a + (i + 0.5) * h, b - 0.5 * h);
+    const double d1 = sign * model.w(x, s1, 1);
+    if (d0 < 0 && d1 >= 0) {
+      double lo = s0, hi = s1, s = 0.5 * (s0 + s1);
+      for (int k = 0; k < 60; ++k) {
+        const double d = sign * model.w(x, s, 1), dd = sign * model.w(x, s, 2);
+        (d < 0 ? lo : hi) = s;
+        double next = dd > 0 ? s - d / dd : 0.5 * (lo + hi);
+        if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+        if (std::abs(next - s) <= 1e-15 * member_.length()) {
+          s = next;
+          break;
+        }
+        s = next;
+      }
+      const double value = sign * model.w(x, s);
+      if (value < best.value) best = {value, s};
+    }
+    s0 = s1, d0 = d1;
+  }
+  return best;
+}
+
+EventValue RitzTracer::event_value(const RitzModel& model, const VectorXd& x, const EventSpec& spec) const {
+  const std::vector<ritz::Piece> pieces = model.pieces(x);
+  switch (spec.function) {
+    case EventFunction::interior_extreme: {
+      const ritz::Piece& p = pieces[spec.piece];
+      if (!(p.end > p.begin)) return {infinity, p.begin};  // a piece of negative length: its own event
+      // contact: min w > 0; lift-off: -max w > 0.
+      return extreme(model, x, p.begin, p.end, p.in_contact);
+    }
+    case EventFunction::end_value: {
+      const bool left = spec.piece == 0;
+      const ritz::Piece& p = pieces[spec.piece];
+      const double s = left ? member_.foundation_begin : member_.foundation_end;
+      double value = model.w(x, s);
+      if (end_supported(left)) {
+        const fe::EndSupport support = left ? member_.left : member_.right;
+        // w = 0 at the end: the sign of w just inside comes from w' (pinned) or w'' (clamped).
+        value = support == fe::EndSupport::clamped ? model.w(x, s, 2) : (left ? 1.0 : -1.0) * model.w(x, s, 1);
+        if (support == fe::EndSupport::clamped) value *= member_.length();
+      }
+      return {p.in_contact ? value : -value, s};
+    }
+    case EventFunction::length: {
+      const ritz::Piece& p = pieces[spec.piece];
+      return {p.end - p.begin, 0.5 * (p.begin + p.end)};
+    }
+    case EventFunction::limit_at_load: {
+      const double t = x[model.limit_offset() + spec.limit];
+      return {t - spec.position, spec.position};
+    }
+  }
+  return {};
+}
+
+double RitzTracer::w_scale(const RitzModel& model, const VectorXd& x) const {
+  double scale = 0.0;
+  const int samples = 8 * modes_;
+  for (int i = 0; i <= samples; ++i)
+    scale = std::max(scale, std::abs(model.w(x, member_.s_begin + member_.length() * i / samples)));
+  return scale;
+}
+
+// --------------------------------------------------------------------------------------------
+void RitzTracer::record_step(const RitzModel& model, const PathPoint& point, int iterations, double next_step) {
+  TraceStep step;
+  step.load_factor = point.lambda;
+  const fe::Scales& scales = member_.scales;
+  for (const ritz::Piece& piece : model.contact_pieces(point.x))
+    if (piece.end > piece.begin) step.contact_regions.push_back({user(piece.begin), user(piece.end)});
+  step.monitor_deflection = model.w(point.x, member_.s_from_user(options_.monitor)) * scales.displacement();
+  for (double p : options_.sample_points) {
+    const double s = member_.s_from_user(p);
+    step.deflection.push_back(model.w(point.x, s) * scales.displacement());
+    step.reaction.push_back(model.reaction(point.x, s) * scales.force_per_length());
+  }
+  step.iterations = iterations;
+  step.state_topology = topology_text(model.topology());
+  const int n = static_cast<int>(point.x.size());
+  step.state.resize(2 * n + 2);
+  Eigen::Map<VectorXd> state(step.state.data(), 2 * n + 2);
+  state.head(n) = point.x;
+  state.segment(n, n) = point.tangent_x;
+  state(2 * n) = point.tangent_lambda;
+  state(2 * n + 1) = next_step;
+  if (sink_.on_step) sink_.on_step(step);
+  result_.steps.push_back(std::move(step));
+  ++result_.summary.steps;
+  result_.summary.corrector_iterations += iterations;
+  result_.summary.final_load_factor = point.lambda;
+}
+
+void RitzTracer::record_event(double lambda, EventKind kind, double s, std::string description) {
+  TraceEvent event{lambda, kind, user(s), std::move(description)};
+  if (sink_.on_event) sink_.on_event(event);
+  result_.events.push_back(std::move(event));
+}
+
+// --------------------------------------------------------------------------------------------
+ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& follower, const PathPoint& start,
+                                   double first_step) {
+  const std::vector<EventSpec> specs = event_specs(model);
+  const double tolerance = options_.event_tolerance;
+  // Values of the event functions at the last accepted point.
+  const auto values_at = [&](const VectorXd& x) {
+    std::vector<double> v;
+    for (const EventSpec& spec : specs) v.push_back(event_value(model, x, spec).value);
+    return v;
+  };
+  std::vector<double> previous = values_at(start.x);
+  double previous_scale = w_scale(model, start.x);
+
+  const auto observer = [&](const PathPoint& from, PathPoint& to) {
+    const double ds = to.arclength - from.arclength;
+    const std::vector<double> now = values_at(to.x);
+    // Which events changed sign (a value that starts at zero, as right after a switch, does not
+    // count: it is the event just handled).
+    std::vector<std::size_t> changed;
+    for (std::size_t i = 0; i < specs.size(); ++i) {
+      const bool length_like =
+          specs[i].function == EventFunction::length || specs[i].function == EventFunction::limit_at_load;
+      const double zero = length_like ? 1e-9 * member_.length() : 1e-9 * previous_scale;
+      if (previous[i] > zero && now[i] <= 0.0) changed.push_back(i);
+      if (specs[i].function == EventFunction::limit_at_load && previous[i] < -zero && now[i] >= 0.0)
+        changed.push_back(i);
+    }
+    if (!changed.empty()) {
+      // Locate each; the earliest wins, and those at the same lambda come along.
+      std::optional<PathPoint> first;
+      std::vector<std::pair<double, std::size_t>> located;
+      for (std::size_t i : changed) {
+        const EventSpec spec = specs[i];
+        auto point = follower.locate(from, to,
+                                     [&](const PathPoint& p) { return event_value(model, p.x, spec).value; },
+                                     tolerance);
+        if (!point) continue;
+        located.emplace_back(point->arclength, i);
+        if (!first || point->arclength < first->arclength) first = std::move(point);
+      }
+      if (first) {
+        Pending pending;
+        pending.point = *first;
+        pending.beyond = to;
+        pending.step = ds;
+        for (auto [arclength, i] : located)
+          if (std::abs(arclength - first->arclength) <= 1e-6 * std::abs(ds) ||
+              std::abs(event_value(model, first->x, specs[i]).value) <=
+                  1e-7 * (specs[i].function == EventFunction::length ? member_.length() : previous_scale))
+            pending.events.push_back(specs[i]);
+        to = *first;
+        record_step(model, to, to.iterations, ds);
+        bool switches = false;
+        for (const EventSpec& spec : pending.events) {
+          const EventValue v = event_value(model, to.x, spec);
+          record_event(to.lambda, spec.kind, v.at,
+                       fmt::format("{} at {} = {:.10g} ({})", to_string(spec.kind),
+                                   member_.kind == fe::StructureKind::arch ? "theta" : "x", user(v.at),
+                                   to_string(model.topology())));
+          if (spec.function != EventFunction::limit_at_load) switches = true;
+        }
+        if (switches) {
+          pending_ = std::move(pending);
+        } else {
+          restart_ = to;
+          restart_step_ = ds;
+        }
+        return ObserverVerdict::stop;
+      }
+    }
+    // A fold of the path (a limit point) between from and to.
+    if (options_.control == PathControl::arc_length && (from.tangent_lambda > 0) != (to.tangent_lambda > 0) &&
+        from.tangent_lambda != 0.0)
+      if (auto fold = follower.locate(from, to, [](const PathPoint& p) { return p.tangent_lambda; }, tolerance))
+        record_event(fold->lambda, EventKind::limit_point, member_.s_from_user(options_.monitor),
+                     fmt::format("limit point: lambda reaches a {} of {:.10g}",
+                                 from.tangent_lambda > 0 ? "maximum" : "minimum", fold->lambda));
+    record_step(model, to, to.iterations, follower.next_step(ds, to.iterations));
+    previous = now;
+    previous_scale = w_scale(model, to.x);
+    return ObserverVerdict::proceed;
+  };
+  return follower.follow(start, observer, first_step);
+}
+
+// The topology after the pending event(s), and a first equilibrium in it. Returns false (with
+// the summary filled) if there is none.
+bool RitzTracer::switch_topology(const PathFollower& old_follower) {
+  const Pending pending = std::move(*pending_);
+  pending_.reset();
+  const RitzModel& old = *model_;
+  const PathPoint& at = pending.point;
+  std::vector<double> limits(at.x.data() + old.limit_offset(), at.x.data() + old.unknowns());
+  std::vector<bool> remove(limits.size(), false);
+  bool flip_first = false;
+  std::vector<std::pair<double, int>> openings;  // s, +1 interior (two limits) / 0 begin / 2 end
+  for (const EventSpec& spec : pending.events) {
+    switch (spec.function) {
+      case EventFunction::length: {
+        const int p = spec.piece;
+        if (p > 0) remove[p - 1] = true;
+        if (p < old.limits()) remove[p] = true;
+        if (p == 0) flip_first = !flip_first;
+        break;
+      }
+      case EventFunction::interior_extreme: openings.emplace_back(event_value(old, at.x, spec).at, 1); break;
+      case EventFunction::end_value: openings.emplace_back(event_value(old, at.x, spec).at, spec.piece == 0 ? 0 : 2); break;
+      case EventFunction::limit_at_load: break;
+    }
+  }
+  VectorXd amplitudes = at.x.head(old.amplitudes());
+  double lambda = at.lambda;
+  if (!openings.empty()) {
+    // Continue the old topology a little past the event; the roots of w around each opening
+    // point there are the new zone's limits. A step of a tenth of the one in use (in lambda).
+    const double direction = pending.beyond.lambda >= at.lambda ? 1.0 : -1.0;
+    double delta = std::max(0.1 * std::abs(pending.beyond.lambda - at.lambda), 1e3 * options_.event_tolerance);
+    std::optional<PathPoint> past;
+    for (int attempt = 0; attempt < 20 && !past; ++attempt, delta *= 0.5) {
+      StepOutcome s = old_follower.step_to_lambda(at, at.lambda + direction * delta);
+      if (s.point) past = std::move(s.point);
+    }
+    if (!past) {
+      result_.summary.termination = TraceTermination::step_too_small;
+      result_.summary.message =
+          fmt::format("could not continue past the event at lambda = {:.10g} to open the new zone", at.lambda);
+      return false;
+    }
+    amplitudes = past->x.head(old.amplitudes());
+    lambda = past->lambda;
+    for (auto [s, where] : openings) {
+      // Walk out from s to the first sign change of w on each side needed.
+      const double w0 = old.w(past->x, s);
+      const auto root = [&](double from, double to) {
+        double a = from, b = to, fa = old.w(past->x, a);
+        for (int k = 0; k < 200 && std::abs(b - a) > 1e-15 * member_.length(); ++k) {
+          const double m = 0.5 * (a + b), fm = old.w(past->x, m);
+          if ((fm > 0) == (fa > 0)) a = m, fa = fm; else b = m;
+        }
+        return 0.5 * (a + b);
+      };
+      const auto scan = [&](double direction_s, double limit_s) {
+        const int samples = 4096;
+        double prev = s;
+        for (int i = 1; i <= samples; ++i) {
+          const double next = s + (limit_s - s) * i / samples;
+          if ((old.w(past->x, next) > 0) != (w0 > 0)) return root(prev, next);
+          prev = next;
+        }
+        (void)direction_s;
+        return limit_s;
+      };
+      if (where == 1) {
+        const ritz::Piece* piece = nullptr;
+        const std::vector<ritz::Piece> pieces = old.pieces(past->x);
+        for (const ritz::Piece& p : pieces)
+          if (s >= p.begin && s <= p.end) piece = &p;
+        const double lo = piece ? piece->begin : member_.foundation_begin, hi = piece ? piece->end : member_.foundation_end;
+        limits.push_back(scan(-1, lo));
+        limits.push_back(scan(+1, hi));
+        remove.push_back(false), remove.push_back(false);
+      } else {
+        const std::vector<ritz::Piece> pieces = old.pieces(past->x);
+        const ritz::Piece& p = where == 0 ? pieces.front() : pieces.back();
+        limits.push_back(scan(0, where == 0 ? p.end : p.begin));
+        remove.push_back(false);
+        if (where == 0) flip_first = !flip_first;
+      }
+    }
+  }
+  std::vector<double> kept;
+  for (std::size_t m = 0; m < limits.size(); ++m)
+    if (!remove[m]) kept.push_back(limits[m]);
+  std::sort(kept.begin(), kept.end());
+  Topology topology{old.topology().first_in_contact != flip_first, static_cast<int>(kept.size())};
+
+  model_.emplace(member_, modes_, topology);
+  // Nothing holds a free-free member that has lifted off everywhere.
+  const bool first_contact = topology.first_in_contact;
+  const bool any_contact = first_contact || topology.limits > 0;
+  if (!any_contact && member_.left == fe::EndSupport::free && member_.right == fe::EndSupport::free &&
+      member_.point_supports.empty()) {
+    result_.summary.termination = TraceTermination::no_equilibrium;
+    result_.summary.message = fmt::format(
+        "no equilibrium beyond lambda = {:.10g}: the member has lifted off the foundation entirely and nothing else "
+        "holds it",
+        at.lambda);
+    return false;
+  }
+  VectorXd x(model_->unknowns());
+  x.head(model_->amplitudes()) = amplitudes;
+  for (int m = 0; m < topology.limits; ++m) x[model_->limit_offset() + m] = kept[m];
+  const PathFollower follower = make_follower(*model_, x);
+  nonlinear::NewtonSummary newton;
+  // The new tangent keeps the old one's sense: its amplitude and lambda parts as the reference.
+  PathPoint orientation;
+  orientation.tangent_x = VectorXd::Zero(model_->unknowns());
+  orientation.tangent_x.head(model_->amplitudes()) = at.tangent_x.head(model_->amplitudes());
+  orientation.tangent_lambda = at.tangent_lambda;
+  std::optional<PathPoint> start = follower.start(x, lambda, &newton, orientation);
+  if (!start) {
+    result_.summary.termination = TraceTermination::solver_failure;
+    result_.summary.message = fmt::format("no equilibrium found in the topology {} after the event at lambda = "
+                                          "{:.10g}: {}",
+                                          to_string(topology), at.lambda, newton.message);
+    return false;
+  }
+  if (lambda != at.lambda) record_step(*model_, *start, newton.iterations, pending.step);
+  restart_ = *start;
+  restart_step_ = pending.step;
+  return true;
+}
+
+TraceResult RitzTracer::run() {
+  const auto clock = std::chrono::steady_clock::now();
+  result_.summary.path = "ritz";
+  validate();
+  ResumeState state = starting_state();
+  model_.emplace(member_, modes_, state.topology);
+  std::optional<PathPoint> start;
+  {
+    const PathFollower follower = make_follower(*model_, state.point.x);
+    if (options_.resume_from) {
+      start = state.point;
+    } else {
+      nonlinear::NewtonSummary newton;
+      start = follower.start(state.point.x, state.point.lambda, &newton);
+      if (!start) {
+        result_.summary.termination = TraceTermination::solver_failure;
+        result_.summary.message = "no equilibrium at lambda_min: " + newton.message;
+        return result_;
+      }
+      record_step(*model_, *start, newton.iterations, state.next_step);
+    }
+  }
+  double step = state.next_step;
+  while (true) {
+    if (result_.summary.steps >= options_.max_steps) {
+      result_.summary.termination = TraceTermination::step_limit;
+      result_.summary.message = fmt::format("step limit: max_steps = {} steps recorded", options_.max_steps);
+      break;
+    }
+    const PathFollower follower = make_follower(*model_, start->x);
+    const ArcLengthResult path = follow(*model_, follower, *start, step);
+    result_.summary.rejected_steps += path.rejected_steps;
+    if (pending_) {
+      if (!switch_topology(follower)) break;
+    }
+    if (restart_ && path.termination == ArcLengthTermination::stopped_by_observer) {
+      start = restart_;
+      step = restart_step_;
+      restart_.reset();
+      continue;
+    }
+    switch (path.termination) {
+      case ArcLengthTermination::completed: result_.summary.termination = TraceTermination::completed; break;
+      case ArcLengthTermination::step_too_small: result_.summary.termination = TraceTermination::step_too_small; break;
+      case ArcLengthTermination::step_limit: result_.summary.termination = TraceTermination::step_limit; break;
+      default: result_.summary.termination = TraceTermination::solver_failure; break;
+    }
+    result_.summary.message = path.message;
+    break;
+  }
+  result_.summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
+  return result_;
+}
+
+}  // namespace
+
+TraceResult trace_ritz(const scene::Scene& scene, const TraceOptions& options, const TraceSink& sink) {
+  RitzTracer tracer(scene, options, sink);
+  return tracer.run();
 }
 
 }  // namespace liftoff::continuation
