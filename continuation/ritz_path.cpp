@@ -104,7 +104,9 @@ class RitzTracer {
   double w_scale(const RitzModel& model, const VectorXd& x) const;
   void record_step(const RitzModel& model, const PathPoint& point, int iterations, double next_step);
   void record_event(double lambda, EventKind kind, double s, std::string description);
-  std::string topology_text(const Topology& t) const { return fmt::format("{} {}", t.first_in_contact ? 1 : 0, t.limits); }
+  std::string topology_text(const Topology& t) const {
+    return fmt::format("{} {} {}", t.first_in_contact ? 1 : 0, t.limits, modes_);
+  }
   int modes_for_trace(const ritz::RitzSolution& start) const;
   bool end_supported(bool left) const;
   double user(double s) const { return member_.user_from_s(s); }
@@ -170,18 +172,21 @@ ResumeState RitzTracer::starting_state() {
   if (options_.resume_from) {
     const TraceStep& step = *options_.resume_from;
     std::istringstream text(step.state_topology);
-    int first = -1, limits = -1;
-    text >> first >> limits;
+    int first = -1, limits = -1, modes = 0;
+    text >> first >> limits >> modes;
     const int n2 = static_cast<int>(step.state.size()) - 2;
-    if (!text || (first != 0 && first != 1) || limits < 0 || n2 <= 0 || n2 % 2 != 0 || n2 / 2 - limits < 1)
+    if (!text || (first != 0 && first != 1) || limits < 0 || modes < 1 || n2 <= 0 || n2 % 2 != 0)
       throw std::invalid_argument(fmt::format(
-          "TraceOptions.resume_from: expected a Ritz step's state (topology \"first_in_contact limits\" and 2 n + 2 "
-          "values), got topology \"{}\" and {} values",
+          "TraceOptions.resume_from: expected a Ritz step's state (topology \"first_in_contact limits modes\" and "
+          "2 n + 2 values), got topology \"{}\" and {} values",
           step.state_topology, step.state.size()));
     const int n = n2 / 2;
     state.topology = {first == 1, limits};
-    const int amplitudes = n - limits;  // N for beams, 2 N for arches
-    modes_ = member_.kind == fe::StructureKind::arch ? amplitudes / 2 : amplitudes;
+    modes_ = modes;
+    if (RitzModel(member_, modes_, state.topology).unknowns() != n)
+      throw std::invalid_argument(fmt::format(
+          "TraceOptions.resume_from: the state has {} unknowns, but the Ritz model of topology \"{}\" has {}", n,
+          step.state_topology, RitzModel(member_, modes_, state.topology).unknowns()));
     const Eigen::Map<const VectorXd> values(step.state.data(), step.state.size());
     state.point.x = values.head(n);
     state.point.tangent_x = values.segment(n, n);

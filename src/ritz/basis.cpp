@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/Dense>
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -313,9 +315,83 @@ Basis arch_basis(fe::EndSupport left, fe::EndSupport right, double s_begin, doub
   return basis;
 }
 
+namespace {
+
+// |s - a|^3 + p(s) (see KinkedFunction in basis.hpp), scaled to a largest |e| of 1. The
+// conditions on e at each end, as rows of a linear system in p's coefficients (in xi).
+KinkedFunction kinked_function(const fe::MemberModel& model, double a) {
+  const double length = model.s_end - model.s_begin;
+  const double alpha = (a - model.s_begin) / length;  // the kink in xi
+  constexpr int degree = 5;
+  // Derivative `order` of |xi - alpha|^3 at xi, and of xi^p.
+  const auto kink_derivative = [alpha](double xi, int order) {
+    const double d = xi - alpha, sign = d < 0 ? -1.0 : 1.0;
+    switch (order) {
+      case 0: return std::abs(d) * d * d;
+      case 1: return 3.0 * d * std::abs(d);
+      case 2: return 6.0 * std::abs(d);
+      default: return 6.0 * sign;
+    }
+  };
+  const auto monomial_derivative = [](double xi, int p, int order) {
+    if (order > p) return 0.0;
+    double factor = 1.0;
+    for (int i = 0; i < order; ++i) factor *= p - i;
+    return factor * std::pow(xi, p - order);
+  };
+  std::vector<std::pair<double, int>> conditions;  // (xi, derivative order) where e^(order) = 0
+  for (const auto& [xi, support] : {std::pair{0.0, model.left}, std::pair{1.0, model.right}}) {
+    switch (deflection_end(support)) {
+      case DeflectionEnd::hinge: conditions.insert(conditions.end(), {{xi, 0}, {xi, 2}}); break;
+      case DeflectionEnd::clamp: conditions.insert(conditions.end(), {{xi, 0}, {xi, 1}}); break;
+      case DeflectionEnd::free: conditions.insert(conditions.end(), {{xi, 2}, {xi, 3}}); break;
+    }
+  }
+  Eigen::MatrixXd m(conditions.size(), degree + 1);
+  Eigen::VectorXd rhs(conditions.size());
+  for (std::size_t r = 0; r < conditions.size(); ++r) {
+    const auto [xi, order] = conditions[r];
+    for (int p = 0; p <= degree; ++p) m(r, p) = monomial_derivative(xi, p, order);
+    rhs(r) = -kink_derivative(xi, order);
+  }
+  const Eigen::VectorXd c = m.completeOrthogonalDecomposition().solve(rhs);
+  TrigPolynomial polynomial;
+  for (int p = 0; p <= degree; ++p) polynomial += TrigPolynomial::monomial(p, c(p));
+  // |xi - alpha|^3 = -(xi - alpha)^3 left of the kink, +(xi - alpha)^3 right of it.
+  const TrigPolynomial cube = TrigPolynomial::monomial(3) - 3.0 * alpha * TrigPolynomial::monomial(2) +
+                              3.0 * alpha * alpha * TrigPolynomial::monomial(1) -
+                              TrigPolynomial::constant(alpha * alpha * alpha);
+  KinkedFunction e;
+  e.kink = a;
+  e.halves = {polynomial - cube, polynomial + cube};
+  double largest = 0.0;
+  constexpr int samples = 400;
+  for (int i = 0; i <= samples; ++i) {
+    const double xi = static_cast<double>(i) / samples;
+    largest = std::max(largest, std::abs(e.halves[xi < alpha ? 0 : 1](xi)));
+  }
+  for (TrigPolynomial& half : e.halves) half = (half * (1.0 / largest)).composed_affine(1.0 / length, -model.s_begin / length);
+  return e;
+}
+
+}  // namespace
+
 Basis make_basis(const fe::MemberModel& model, int modes) {
-  return model.kind == fe::StructureKind::beam ? beam_basis(model.left, model.right, model.s_begin, model.s_end, modes)
-                                               : arch_basis(model.left, model.right, model.s_begin, model.s_end, modes);
+  if (model.kind != fe::StructureKind::beam)
+    return arch_basis(model.left, model.right, model.s_begin, model.s_end, modes);
+  Basis basis = beam_basis(model.left, model.right, model.s_begin, model.s_end, modes);
+  std::vector<double> kinks;
+  const double edge = 1e-9 * (model.s_end - model.s_begin);
+  for (const fe::MemberLoad& load : model.loads)
+    if (load.kind == fe::LoadKind::force && load.at > model.s_begin + edge && load.at < model.s_end - edge)
+      kinks.push_back(load.at);
+  std::sort(kinks.begin(), kinks.end());
+  kinks.erase(std::unique(kinks.begin(), kinks.end()), kinks.end());
+  for (double a : kinks) basis.kinked_w.push_back(kinked_function(model, a));
+  if (!kinks.empty())
+    basis.description += fmt::format(", enriched with |s - a|^3 at {} point force{}", kinks.size(),
+                                     kinks.size() == 1 ? "" : "s");
+  return basis;
 }
 
 }  // namespace liftoff::ritz

@@ -45,6 +45,7 @@
 // Every function is scaled to a largest absolute value of 1 over the member, so amplitudes are
 // displacements in units of the length scale.
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -53,15 +54,31 @@
 
 namespace liftoff::ritz {
 
+// Load-point enrichment (beams): a point force makes w''' jump, which no smooth family
+// approximates faster than about N^-3 at the load. So beams get, for every point force strictly
+// inside the member, one kinked function
+//     e(s) = |s - a|^3 + p(s),   p a polynomial of degree <= 5 (minimum norm in xi)
+// that carries exactly that jump; p gives e the kinematic end conditions and the exact
+// solution's natural ones (w'' = 0 at a pinned end, w'' = w''' = 0 at a free end), so that
+// w - c e is as smooth as a solution without the point force and the family converges on it
+// at its smooth-solution rate. e is stored as its two smooth halves, left and right of a.
+struct KinkedFunction {
+  double kink = 0.0;                       // a (s)
+  std::array<TrigPolynomial, 2> halves;    // the expression for s < a and for s >= a
+};
+
 struct Basis {
   std::vector<TrigPolynomial> w;  // N functions of s
   std::vector<TrigPolynomial> u;  // arches: N functions of s; empty for beams
+  std::vector<KinkedFunction> kinked_w;  // beams: the load-point enrichment, after the N (see above)
   std::string description;        // the family in words, for reports
 };
 
 // Throws std::invalid_argument for modes < 1, or s_begin >= s_end.
 Basis beam_basis(fe::EndSupport left, fe::EndSupport right, double s_begin, double s_end, int modes);
 Basis arch_basis(fe::EndSupport left, fe::EndSupport right, double s_begin, double s_end, int modes);
+// The family of the member's end conditions; beams with interior point forces also get the
+// load-point enrichment (kinked_w).
 Basis make_basis(const fe::MemberModel& model, int modes);
 
 }  // namespace liftoff::ritz

@@ -70,24 +70,41 @@ RitzModel::RitzModel(const fe::MemberModel& model, int modes, Topology topology)
   foundation_end_ = model.foundation_end;
 
   basis_ = make_basis(model, modes);  // checks modes >= 1
+  modes_ = static_cast<int>(basis_.w.size() + basis_.kinked_w.size());
   amplitudes_ = arch_ ? 2 * modes_ : modes_;
-  w_derivatives_.resize(4);
+  for (const KinkedFunction& e : basis_.kinked_w) breakpoints_.push_back(e.kink);
+  std::sort(breakpoints_.begin(), breakpoints_.end());
+  const int regions = static_cast<int>(breakpoints_.size()) + 1;
+  w_derivatives_.assign(regions, std::vector<std::vector<TrigPolynomial>>(4));
   u_derivatives_.resize(arch_ ? 4 : 0);
-  for (int order = 0; order < 4; ++order) {
-    for (const TrigPolynomial& phi : basis_.w) w_derivatives_[order].push_back(phi.derivative(order));
-    if (arch_)
-      for (const TrigPolynomial& psi : basis_.u) u_derivatives_[order].push_back(psi.derivative(order));
+  for (int r = 0; r < regions; ++r) {
+    // The w functions as they are in region r: the smooth ones, then each kinked one's half.
+    std::vector<TrigPolynomial> w = basis_.w;
+    for (const KinkedFunction& e : basis_.kinked_w) {
+      const bool right = r > 0 && breakpoints_[r - 1] >= e.kink;
+      w.push_back(e.halves[right ? 1 : 0]);
+    }
+    for (int order = 0; order < 4; ++order)
+      for (const TrigPolynomial& phi : w) w_derivatives_[r][order].push_back(phi.derivative(order));
+    w_products_.emplace_back();
+    for (int i = 0; i < modes_; ++i)
+      for (int j = i; j < modes_; ++j) w_products_[r].push_back(w[i] * w[j]);
   }
-  for (int i = 0; i < modes_; ++i)
-    for (int j = i; j < modes_; ++j) w_products_.push_back(basis_.w[i] * basis_.w[j]);
+  for (int order = 0; arch_ && order < 4; ++order)
+    for (const TrigPolynomial& psi : basis_.u) u_derivatives_[order].push_back(psi.derivative(order));
 
   // Stiffness: beam  int phi_i'' phi_j'';  arch  int EA eps_a eps_b + chi_a chi_b with the
   // strains of each amplitude: W_j: eps = -phi_j, chi = phi_j''; U_i: eps = chi = psi_i'.
   const double a = model.s_begin, b = model.s_end;
-  const auto& curvature = w_derivatives_[2];
   if (!arch_) {
-    stiffness_ = gram(curvature, curvature, a, b);
+    stiffness_ = MatrixXd::Zero(modes_, modes_);
+    for (int r = 0; r < regions; ++r) {
+      const double lo = r == 0 ? a : std::max(a, breakpoints_[r - 1]);
+      const double hi = r == regions - 1 ? b : std::min(b, breakpoints_[r]);
+      if (hi > lo) stiffness_ += gram(w_derivatives_[r][2], w_derivatives_[r][2], lo, hi);
+    }
   } else {
+    const auto& curvature = w_derivatives_[0][2];
     std::vector<TrigPolynomial> membrane, bending;
     for (int j = 0; j < modes_; ++j) membrane.push_back(-basis_.w[j]), bending.push_back(curvature[j]);
     for (int i = 0; i < modes_; ++i) membrane.push_back(u_derivatives_[1][i]), bending.push_back(u_derivatives_[1][i]);
@@ -115,7 +132,10 @@ RitzModel::RitzModel(const fe::MemberModel& model, int modes, Topology topology)
         moment_size[dead] += std::abs(load.value);
         break;
       case fe::LoadKind::uniform:
-        for (int j = 0; j < modes_; ++j) target[j] += load.value * basis_.w[j].integral(load.from, load.to);
+        for (int j = 0; j < modes_; ++j)
+          target[j] += load.value * split_integral(load.from, load.to, [&](int r, double lo, double hi) {
+                         return w_derivatives_[r][0][j].integral(lo, hi);
+                       });
         break;
     }
   }
@@ -143,9 +163,28 @@ double RitzModel::piece_sign(int limit) const {
   return ends_contact ? 1.0 : -1.0;
 }
 
+int RitzModel::region_of(double s) const {
+  return static_cast<int>(std::upper_bound(breakpoints_.begin(), breakpoints_.end(), s) - breakpoints_.begin());
+}
+
+template <class Integrate>
+double RitzModel::split_integral(double a, double b, const Integrate& integrate) const {
+  if (b < a) return -split_integral(b, a, integrate);
+  double sum = 0.0;
+  const int regions = static_cast<int>(breakpoints_.size()) + 1;
+  for (int r = region_of(a); r < regions; ++r) {
+    const double lo = r == 0 ? a : std::max(a, breakpoints_[r - 1]);
+    const double hi = r == regions - 1 ? b : std::min(b, breakpoints_[r]);
+    if (hi > lo) sum += integrate(r, lo, hi);
+    if (r < regions - 1 && breakpoints_[r] >= b) break;
+  }
+  return sum;
+}
+
 VectorXd RitzModel::phi_at(double s, int derivative) const {
   VectorXd values(modes_);
-  for (int i = 0; i < modes_; ++i) values[i] = w_derivatives_[derivative][i](s);
+  const auto& functions = w_derivatives_[region_of(s)][derivative];
+  for (int i = 0; i < modes_; ++i) values[i] = functions[i](s);
   return values;
 }
 
@@ -183,9 +222,14 @@ bool RitzModel::admissible(const VectorXd& x) const {
 MatrixXd RitzModel::contact_gram(const VectorXd& x) const {
   MatrixXd g = MatrixXd::Zero(modes_, modes_);
   for (const Piece& piece : contact_pieces(x)) {
-    int index = 0;
-    for (int i = 0; i < modes_; ++i)
-      for (int j = i; j < modes_; ++j) g(i, j) += w_products_[index++].integral(piece.begin, piece.end);
+    split_integral(piece.begin, piece.end, [&](int r, double lo, double hi) {
+      // Called with lo < hi; the sign of a reversed piece is applied below through `sign`.
+      const double sign = piece.end < piece.begin ? -1.0 : 1.0;
+      int index = 0;
+      for (int i = 0; i < modes_; ++i)
+        for (int j = i; j < modes_; ++j) g(i, j) += sign * w_products_[r][index++].integral(lo, hi);
+      return 0.0;
+    });
   }
   return g.selfadjointView<Eigen::Upper>();
 }
@@ -284,7 +328,8 @@ double RitzModel::w(const VectorXd& x, double s, int derivative) const {
   if (derivative < 0 || derivative > 3)
     throw std::invalid_argument(fmt::format("RitzModel::w: derivative order {} outside 0..3", derivative));
   double sum = 0.0;
-  for (int i = 0; i < modes_; ++i) sum += x[w_offset() + i] * w_derivatives_[derivative][i](s);
+  const auto& functions = w_derivatives_[region_of(s)][derivative];
+  for (int i = 0; i < modes_; ++i) sum += x[w_offset() + i] * functions[i](s);
   return sum;
 }
 

@@ -62,7 +62,7 @@ class RitzModel {
   RitzModel(const fe::MemberModel& model, int modes, Topology topology);
 
   // Layout of x.
-  int modes() const { return modes_; }
+  int modes() const { return modes_; }  // w functions: the N requested plus the load-point enrichment
   int amplitudes() const { return amplitudes_; }  // N (beam) or 2N (arch)
   int limits() const { return topology_.limits; }
   int unknowns() const { return amplitudes_ + topology_.limits; }
@@ -114,6 +114,13 @@ class RitzModel {
   void check_size(const Eigen::VectorXd& x) const;
   double piece_sign(int limit) const;  // sigma_m
   Eigen::VectorXd phi_at(double s, int derivative) const;
+  // The basis is smooth between breakpoints (the kinks of basis_.kinked_w): region r is
+  // [breakpoint r-1, breakpoint r], the outer ones unbounded.
+  int region_of(double s) const;
+  // Sum over the regions that [a, b] meets of integrate(r, lo, hi); -(that of [b, a]) if b < a,
+  // so that a piece of negative length counts negatively.
+  template <class Integrate>
+  double split_integral(double a, double b, const Integrate& integrate) const;
   Eigen::VectorXd load(double lambda) const { return dead_load_ + lambda * live_load_; }
 
   bool arch_ = false;
@@ -124,9 +131,10 @@ class RitzModel {
   double foundation_begin_ = 0.0;
   double foundation_end_ = 0.0;
   Basis basis_;
-  std::vector<std::vector<TrigPolynomial>> w_derivatives_;  // [order 0..3][i]
+  std::vector<double> breakpoints_;
+  std::vector<std::vector<std::vector<TrigPolynomial>>> w_derivatives_;  // [region][order 0..3][i]
   std::vector<std::vector<TrigPolynomial>> u_derivatives_;  // arches
-  std::vector<TrigPolynomial> w_products_;                  // phi_i phi_j, i <= j, row by row
+  std::vector<std::vector<TrigPolynomial>> w_products_;     // [region]: phi_i phi_j, i <= j, row by row
   Eigen::MatrixXd stiffness_;
   Eigen::VectorXd dead_load_;
   Eigen::VectorXd live_load_;
