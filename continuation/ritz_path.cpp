@@ -92,7 +92,7 @@ class RitzTracer {
   // Verbs, in the order run() calls them.
   void validate() const;
   ResumeState starting_state();
-  PathFollower make_follower(const RitzModel& model, const VectorXd& x) const;
+  PathFollower make_follower(const RitzModel& model) const;
   ArcLengthResult follow(const RitzModel& model, const PathFollower& follower, const PathPoint& start,
                          double first_step);
   bool switch_topology(const PathFollower& follower);
@@ -183,10 +183,10 @@ ResumeState RitzTracer::starting_state() {
     const int n = n2 / 2;
     state.topology = {first == 1, limits};
     modes_ = modes;
-    if (RitzModel(member_, modes_, state.topology).unknowns() != n)
+    if (RitzModel(member_, modes_, state.topology, ritz::Enrichment::load_points).unknowns() != n)
       throw std::invalid_argument(fmt::format(
           "TraceOptions.resume_from: the state has {} unknowns, but the Ritz model of topology \"{}\" has {}", n,
-          step.state_topology, RitzModel(member_, modes_, state.topology).unknowns()));
+          step.state_topology, RitzModel(member_, modes_, state.topology, ritz::Enrichment::load_points).unknowns()));
     const Eigen::Map<const VectorXd> values(step.state.data(), step.state.size());
     state.point.x = values.head(n);
     state.point.tangent_x = values.segment(n, n);
@@ -225,6 +225,7 @@ ResumeState RitzTracer::starting_state() {
   ritz_options.max_modes = scene_.ritz.max_modes;
   ritz_options.mode_tolerance = scene_.ritz.mode_tolerance * member_.length();
   ritz_options.load_factor = options_.lambda_min;
+  ritz_options.enrichment = ritz::Enrichment::load_points;
   ritz::RitzSolution start = ritz::solve_ritz(member_, state.topology, limits, ritz_options);
   modes_ = modes_for_trace(start);
   if (start.summary.modes != modes_) {
@@ -242,17 +243,15 @@ ResumeState RitzTracer::starting_state() {
   return state;
 }
 
-PathFollower RitzTracer::make_follower(const RitzModel& model, const VectorXd& x) const {
+PathFollower RitzTracer::make_follower(const RitzModel& model) const {
   const int n = model.unknowns(), a = model.amplitudes();
-  // Typical sizes: amplitudes from the solutions at both ends of the range with these limits.
-  double amplitude_scale = x.head(a).lpNorm<Eigen::Infinity>();
-  for (double lambda : {options_.lambda_min, options_.lambda_max})
-    if (auto y = model.minimiser_for_limits(x.tail(model.limits()), lambda))
-      amplitude_scale = std::max(amplitude_scale, y->head(a).lpNorm<Eigen::Infinity>());
-  amplitude_scale = std::max(amplitude_scale, 1e-300);
+  // Typical sizes, from the loads alone (not from x: a resumed trace must take the same steps):
+  // forces over the range of lambda, deflections those forces make against the foundation (or
+  // against the unit bending stiffness where the foundation is softer).
   const double lambda_size = std::max({std::abs(options_.lambda_min), std::abs(options_.lambda_max), 1.0});
   const double force_scale = std::max(
       model.dead_load().lpNorm<Eigen::Infinity>() + lambda_size * model.live_load().lpNorm<Eigen::Infinity>(), 1e-300);
+  const double amplitude_scale = force_scale / std::max(member_.foundation_modulus, 1.0);
 
   PathProblem problem;
   problem.unknowns = n;
@@ -616,7 +615,7 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
   std::sort(kept.begin(), kept.end());
   Topology topology{old.topology().first_in_contact != flip_first, static_cast<int>(kept.size())};
 
-  model_.emplace(member_, modes_, topology);
+  model_.emplace(member_, modes_, topology, ritz::Enrichment::load_points);
   // Nothing holds a free-free member that has lifted off everywhere.
   const bool first_contact = topology.first_in_contact;
   const bool any_contact = first_contact || topology.limits > 0;
@@ -632,7 +631,7 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
   VectorXd x(model_->unknowns());
   x.head(model_->amplitudes()) = amplitudes;
   for (int m = 0; m < topology.limits; ++m) x[model_->limit_offset() + m] = kept[m];
-  const PathFollower follower = make_follower(*model_, x);
+  const PathFollower follower = make_follower(*model_);
   nonlinear::NewtonSummary newton;
   // The new tangent keeps the old one's sense: its amplitude and lambda parts as the reference.
   PathPoint orientation;
@@ -658,10 +657,10 @@ TraceResult RitzTracer::run() {
   result_.summary.path = "ritz";
   validate();
   ResumeState state = starting_state();
-  model_.emplace(member_, modes_, state.topology);
+  model_.emplace(member_, modes_, state.topology, ritz::Enrichment::load_points);
   std::optional<PathPoint> start;
   {
-    const PathFollower follower = make_follower(*model_, state.point.x);
+    const PathFollower follower = make_follower(*model_);
     if (options_.resume_from) {
       start = state.point;
     } else {
@@ -682,7 +681,7 @@ TraceResult RitzTracer::run() {
       result_.summary.message = fmt::format("step limit: max_steps = {} steps recorded", options_.max_steps);
       break;
     }
-    const PathFollower follower = make_follower(*model_, start->x);
+    const PathFollower follower = make_follower(*model_);
     const ArcLengthResult path = follow(*model_, follower, *start, step);
     result_.summary.rejected_steps += path.rejected_steps;
     if (pending_) {

@@ -376,10 +376,11 @@ KinkedFunction kinked_function(const fe::MemberModel& model, double a) {
 
 }  // namespace
 
-Basis make_basis(const fe::MemberModel& model, int modes) {
+Basis make_basis(const fe::MemberModel& model, int modes, Enrichment enrichment) {
   if (model.kind != fe::StructureKind::beam)
     return arch_basis(model.left, model.right, model.s_begin, model.s_end, modes);
   Basis basis = beam_basis(model.left, model.right, model.s_begin, model.s_end, modes);
+  if (enrichment == Enrichment::none) return basis;
   std::vector<double> kinks;
   const double edge = 1e-9 * (model.s_end - model.s_begin);
   for (const fe::MemberLoad& load : model.loads)

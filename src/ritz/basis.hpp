@@ -54,7 +54,7 @@
 
 namespace liftoff::ritz {
 
-// Load-point enrichment (beams): a point force makes w''' jump, which no smooth family
+// Load-point enrichment (beams, on request): a point force makes w''' jump, which no smooth family
 // approximates faster than about N^-3 at the load. So beams get, for every point force strictly
 // inside the member, one kinked function
 //     e(s) = |s - a|^3 + p(s),   p a polynomial of degree <= 5 (minimum norm in xi)
@@ -62,6 +62,11 @@ namespace liftoff::ritz {
 // solution's natural ones (w'' = 0 at a pinned end, w'' = w''' = 0 at a free end), so that
 // w - c e is as smooth as a solution without the point force and the family converges on it
 // at its smooth-solution rate. e is stored as its two smooth halves, left and right of a.
+enum class Enrichment {
+  none,         // the family alone
+  load_points,  // beams: plus one kinked function per interior point force (below)
+};
+
 struct KinkedFunction {
   double kink = 0.0;                       // a (s)
   std::array<TrigPolynomial, 2> halves;    // the expression for s < a and for s >= a
@@ -77,8 +82,10 @@ struct Basis {
 // Throws std::invalid_argument for modes < 1, or s_begin >= s_end.
 Basis beam_basis(fe::EndSupport left, fe::EndSupport right, double s_begin, double s_end, int modes);
 Basis arch_basis(fe::EndSupport left, fe::EndSupport right, double s_begin, double s_end, int modes);
-// The family of the member's end conditions; beams with interior point forces also get the
-// load-point enrichment (kinked_w).
-Basis make_basis(const fe::MemberModel& model, int modes);
+// The family of the member's end conditions; with Enrichment::load_points, beams with interior
+// point forces also get the kinked functions (kinked_w). Not the default: where the foundation
+// is stiff (beta L of 40, say) the deflection is local while |s - a|^3 is not, the smooth modes
+// must cancel its far field, and Newton stalls on the round-off that leaves (seen at 3e-8).
+Basis make_basis(const fe::MemberModel& model, int modes, Enrichment enrichment = Enrichment::none);
 
 }  // namespace liftoff::ritz

@@ -41,7 +41,7 @@ MatrixXd gram(const std::vector<TrigPolynomial>& left, const std::vector<TrigPol
 
 }  // namespace
 
-RitzModel::RitzModel(const fe::MemberModel& model, int modes, Topology topology)
+RitzModel::RitzModel(const fe::MemberModel& model, int modes, Topology topology, Enrichment enrichment)
     : arch_(model.kind == fe::StructureKind::arch), modes_(modes), topology_(topology) {
   if (!model.point_supports.empty())
     throw std::invalid_argument("the Ritz model does not take interior point supports; use an FE method");
@@ -69,7 +69,7 @@ RitzModel::RitzModel(const fe::MemberModel& model, int modes, Topology topology)
   foundation_begin_ = model.foundation_begin;
   foundation_end_ = model.foundation_end;
 
-  basis_ = make_basis(model, modes);  // checks modes >= 1
+  basis_ = make_basis(model, modes, enrichment);  // checks modes >= 1
   modes_ = static_cast<int>(basis_.w.size() + basis_.kinked_w.size());
   amplitudes_ = arch_ ? 2 * modes_ : modes_;
   for (const KinkedFunction& e : basis_.kinked_w) breakpoints_.push_back(e.kink);

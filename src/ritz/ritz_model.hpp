@@ -59,7 +59,8 @@ class RitzModel {
   // a bilateral foundation with a topology other than {true, 0}, or a non-finite model value;
   // liftoff::MechanismError for an arch whose u is free at both ends (roller or free ends)
   // loaded by moments: they drive the rigid rotation about the centre, which nothing resists.
-  RitzModel(const fe::MemberModel& model, int modes, Topology topology);
+  // enrichment: see basis.hpp (modes() then counts the kinked functions too).
+  RitzModel(const fe::MemberModel& model, int modes, Topology topology, Enrichment enrichment = Enrichment::none);
 
   // Layout of x.
   int modes() const { return modes_; }  // w functions: the N requested plus the load-point enrichment

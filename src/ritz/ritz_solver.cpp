@@ -139,7 +139,7 @@ RitzSolution solve_ritz(const fe::MemberModel& member, const Topology& topology,
   VectorXd limits = Eigen::Map<const VectorXd>(initial_limits.data(), topology.limits);
   std::optional<VectorXd> previous_limits;
   for (int modes : sequence) {
-    RitzModel model(member, modes, topology);
+    RitzModel model(member, modes, topology, options.enrichment);
     Attempt attempt = solve_once(model, limits, options);
     summary.modes = modes;
     summary.termination = attempt.termination;

@@ -29,6 +29,7 @@ struct RitzOptions {
   // Contact inequalities on a fine grid after convergence: w >= -tol in contact pieces, w <= tol
   // in lift-off pieces, tol = inequality_tolerance * max |w|.
   double inequality_tolerance = 1e-9;
+  Enrichment enrichment = Enrichment::none;  // load-point enrichment of beam bases (basis.hpp)
   nonlinear::NewtonOptions newton;  // residual_tolerance applies to the scaled residual
   void validate() const;            // throws std::invalid_argument naming the field
 };

@@ -535,13 +535,11 @@ TEST_CASE("ritz model: the seed's arch on rollers at a plausible point", "[ritz]
 TEST_CASE("ritz model: pieces, admissibility and layout", "[ritz][model]") {
   const fe::MemberModel member = beam(EndSupport::pinned, EndSupport::pinned, 1e3, {force(0.5, 1.0)});
   const RitzModel model(member, 4, {true, 2});
-  // 4 modes plus the enrichment function of the interior point force (basis.hpp).
-  CHECK(model.modes() == 5);
-  CHECK(model.unknowns() == 7);
-  CHECK(model.limit_offset() == 5);
+  CHECK(model.unknowns() == 6);
+  CHECK(model.limit_offset() == 4);
   CHECK(to_string(model.topology()) == "contact | lift-off | contact (2 limits)");
-  VectorXd x = VectorXd::Zero(7);
-  x[5] = 0.3, x[6] = 0.6;
+  VectorXd x = VectorXd::Zero(6);
+  x[4] = 0.3, x[5] = 0.6;
   CHECK(model.admissible(x));
   const auto pieces = model.pieces(x);
   REQUIRE(pieces.size() == 3);
@@ -551,15 +549,20 @@ TEST_CASE("ritz model: pieces, admissibility and layout", "[ritz][model]") {
   CHECK_FALSE(pieces[1].in_contact);
   CHECK(pieces[2].end == 1.0);
   CHECK(model.contact_pieces(x).size() == 2);
-  x[6] = 0.3;
+  x[5] = 0.3;
   CHECK_FALSE(model.admissible(x));  // not strictly increasing
-  x[6] = 1.0;
+  x[5] = 1.0;
   CHECK_FALSE(model.admissible(x));  // on the foundation's end
-  x[6] = 0.6, x[0] = std::nan("");
+  x[5] = 0.6, x[0] = std::nan("");
   CHECK_FALSE(model.admissible(x));
   CHECK_THROWS_AS(model.energy(VectorXd::Zero(5), 1.0), std::invalid_argument);
-  CHECK_THROWS_AS(model.u(VectorXd::Zero(7), 0.5), std::invalid_argument);  // a beam has no u
-  CHECK_THROWS_AS(model.w(VectorXd::Zero(7), 0.5, 4), std::invalid_argument);
+  CHECK_THROWS_AS(model.u(VectorXd::Zero(6), 0.5), std::invalid_argument);  // a beam has no u
+  CHECK_THROWS_AS(model.w(VectorXd::Zero(6), 0.5, 4), std::invalid_argument);
+  // With the load-point enrichment: 4 modes plus one kinked function for the interior force.
+  const RitzModel enriched(member, 4, {true, 2}, Enrichment::load_points);
+  CHECK(enriched.modes() == 5);
+  CHECK(enriched.unknowns() == 7);
+  CHECK(enriched.limit_offset() == 5);
 }
 
 TEST_CASE("ritz model: the minimiser for fixed limits detects unresisted rigid motions", "[ritz][model]") {
