@@ -385,7 +385,11 @@ EventValue RitzTracer::event_value(const RitzModel& model, const VectorXd& x, co
     }
     case EventFunction::length: {
       const ritz::Piece& p = pieces[spec.piece];
-      return {p.end - p.begin, 0.5 * (p.begin + p.end)};
+      // Where it vanishes: at the member's end for an end piece, else between its limits.
+      const double at = spec.piece == 0                               ? member_.foundation_begin
+                        : spec.piece == static_cast<int>(pieces.size()) - 1 ? member_.foundation_end
+                                                                       : 0.5 * (p.begin + p.end);
+      return {p.end - p.begin, at};
     }
     case EventFunction::limit_at_load: {
       const double t = x[model.limit_offset() + spec.limit];
@@ -489,6 +493,15 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
               std::abs(event_value(model, first->x, specs[i]).value) <=
                   1e-7 * (specs[i].function == EventFunction::length ? member_.length() : previous_scale))
             pending.events.push_back(specs[i]);
+        // A vanishing piece takes the events of its own degeneracy along (at a shrinking end
+        // piece w at the end and the piece's extreme reach zero too): those are no openings.
+        std::vector<bool> vanishing(model.limits() + 1, false);
+        for (const EventSpec& spec : pending.events)
+          if (spec.function == EventFunction::length) vanishing[spec.piece] = true;
+        std::erase_if(pending.events, [&](const EventSpec& spec) {
+          return (spec.function == EventFunction::interior_extreme || spec.function == EventFunction::end_value) &&
+                 vanishing[spec.piece];
+        });
         to = *first;
         record_step(model, to, to.iterations, ds);
         bool switches = false;
@@ -580,7 +593,8 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
         }
         return 0.5 * (a + b);
       };
-      const auto scan = [&](double direction_s, double limit_s) {
+      // From s toward limit_s, the first point where w has left the sign it has at s.
+      const auto scan = [&](double limit_s) {
         const int samples = 4096;
         double prev = s;
         for (int i = 1; i <= samples; ++i) {
@@ -588,7 +602,6 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
           if ((old.w(past->x, next) > 0) != (w0 > 0)) return root(prev, next);
           prev = next;
         }
-        (void)direction_s;
         return limit_s;
       };
       if (where == 1) {
@@ -597,13 +610,13 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
         for (const ritz::Piece& p : pieces)
           if (s >= p.begin && s <= p.end) piece = &p;
         const double lo = piece ? piece->begin : member_.foundation_begin, hi = piece ? piece->end : member_.foundation_end;
-        limits.push_back(scan(-1, lo));
-        limits.push_back(scan(+1, hi));
+        limits.push_back(scan(lo));
+        limits.push_back(scan(hi));
         remove.push_back(false), remove.push_back(false);
       } else {
         const std::vector<ritz::Piece> pieces = old.pieces(past->x);
         const ritz::Piece& p = where == 0 ? pieces.front() : pieces.back();
-        limits.push_back(scan(0, where == 0 ? p.end : p.begin));
+        limits.push_back(scan(where == 0 ? p.end : p.begin));
         remove.push_back(false);
         if (where == 0) flip_first = !flip_first;
       }
@@ -644,6 +657,14 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
     result_.summary.message = fmt::format("no equilibrium found in the topology {} after the event at lambda = "
                                           "{:.10g}: {}",
                                           to_string(topology), at.lambda, newton.message);
+    return false;
+  }
+  if (!model_->admissible(start->x)) {
+    result_.summary.termination = TraceTermination::solver_failure;
+    result_.summary.message = fmt::format(
+        "after the event at lambda = {:.10g} the Ritz solution in the topology {} has limits out of order or outside "
+        "the foundation; the path cannot be continued",
+        at.lambda, to_string(topology));
     return false;
   }
   if (lambda != at.lambda) record_step(*model_, *start, newton.iterations, pending.step);

@@ -203,3 +203,26 @@ TEST_CASE("ritz path: bad options are refused with the field named", "[ritz_path
   options.resume_from = TraceStep{};
   CHECK_THROWS_WITH(trace_ritz(lift_off_beam(), options), Catch::Contains("resume_from"));
 }
+
+TEST_CASE("ritz path: the end regions shrink to nothing when the pull equals the weight", "[ritz_path]") {
+  // Statics: the foundation's resultant is q L - lambda, so the contact regions at the ends
+  // vanish at lambda = q L = 10 and beyond it nothing holds the free-free beam.
+  TraceOptions options = options_for(16);
+  options.lambda_max = 12.0;
+  const TraceResult r = trace_ritz(lift_off_beam(), options);
+  INFO(r.summary.message);
+  CHECK(r.summary.termination == TraceTermination::no_equilibrium);
+  REQUIRE(r.events.size() == 3);  // lift-off at the centre, then both limits reach the ends
+  CHECK(r.events[0].kind == EventKind::lift_off_opens);
+  const double weight = q * length;
+  for (int i : {1, 2}) {
+    CHECK(r.events[i].kind == EventKind::limit_at_end);
+    // Located to event_tolerance in lambda; the Ritz statics are exact (the uniform load and
+    // the constant mode), so only the location and the corrector's tolerance enter.
+    CHECK(std::abs(r.events[i].load_factor - weight) < 10 * options.event_tolerance * weight);
+  }
+  CHECK(r.events[1].at == 0.0);
+  CHECK(r.events[2].at == length);
+  CHECK(r.steps.back().load_factor == r.events[2].load_factor);
+  for (const TraceStep& step : r.steps) CHECK(step.load_factor <= weight * (1 + 1e-9));
+}
