@@ -59,6 +59,11 @@ using ritz::Topology;
 
 constexpr double infinity = std::numeric_limits<double>::infinity();
 
+// No equilibrium to start from: an outcome (solver_failure in the summary), not misuse.
+struct StartFailure : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 enum class EventFunction { interior_extreme, end_value, length, limit_at_load };
 
 struct EventSpec {
@@ -74,11 +79,20 @@ struct EventValue {
   double at = 0.0;  // s
 };
 
-// What a resumed step carries (see TraceStep::state): x, tangent, next step length.
+// How the new zone is opened after an event: the old topology is continued this far in
+// lambda past the event (direction * delta), see switch_topology.
+struct Opening {
+  double direction = 1.0;
+  double delta = 0.0;
+};
+
+// What a resumed step carries (see TraceStep::state): topology, x, tangent, next step length;
+// and for a step at a switching event, how the switch opens its zone.
 struct ResumeState {
   Topology topology;
   PathPoint point;
   double next_step = 0.0;
+  std::optional<Opening> at_event;
 };
 
 class RitzTracer {
@@ -102,7 +116,9 @@ class RitzTracer {
   EventValue event_value(const RitzModel& model, const VectorXd& x, const EventSpec& spec) const;
   EventValue extreme(const RitzModel& model, const VectorXd& x, double a, double b, bool minimum) const;
   double w_scale(const RitzModel& model, const VectorXd& x) const;
-  void record_step(const RitzModel& model, const PathPoint& point, int iterations, double next_step);
+  void record_step(const RitzModel& model, const PathPoint& point, int iterations, double next_step,
+                   const std::optional<Opening>& at_event = std::nullopt);
+  std::vector<EventSpec> without_degenerate_openings(const RitzModel& model, std::vector<EventSpec> events) const;
   void record_event(double lambda, EventKind kind, double s, std::string description);
   std::string topology_text(const Topology& t) const {
     return fmt::format("{} {} {}", t.first_in_contact ? 1 : 0, t.limits, modes_);
@@ -122,13 +138,12 @@ class RitzTracer {
   struct Pending {
     std::vector<EventSpec> events;  // located together
     PathPoint point;                // at the event
-    PathPoint beyond;               // the accepted step the event cut short (old topology)
+    Opening opening;
     double step = 0.0;              // the step length in use
   };
   std::optional<Pending> pending_;
   std::optional<PathPoint> restart_;  // a non-switching event: go on from here
   double restart_step_ = 0.0;
-  bool resuming_ = false;
 };
 
 // --------------------------------------------------------------------------------------------
@@ -174,6 +189,14 @@ ResumeState RitzTracer::starting_state() {
     std::istringstream text(step.state_topology);
     int first = -1, limits = -1, modes = 0;
     text >> first >> limits >> modes;
+    std::string word;
+    Opening opening;
+    if (text >> word) {
+      if (word == "event" && text >> opening.direction >> opening.delta) state.at_event = opening;
+      else text.setstate(std::ios::failbit);
+    } else if (text.eof()) {
+      text.clear();
+    }
     const int n2 = static_cast<int>(step.state.size()) - 2;
     if (!text || (first != 0 && first != 1) || limits < 0 || modes < 1 || n2 <= 0 || n2 % 2 != 0)
       throw std::invalid_argument(fmt::format(
@@ -210,8 +233,8 @@ ResumeState RitzTracer::starting_state() {
     contact_options.load_factor = options_.lambda_min;
     const contact::ContactSolution fe = contact::solve_contact(d, contact_options);
     if (!fe.summary.is_usable())
-      throw std::runtime_error("the FE + LCP solution at lambda_min that gives the Ritz topology failed: " +
-                               fe.summary.message);
+      throw StartFailure("the FE + LCP solution at lambda_min that gives the Ritz topology failed: " +
+                         fe.summary.message);
     const std::vector<post::Interval> regions = post::contact_regions(member_, d, fe.displacement);
     const double begin = member_.foundation_begin, end = member_.foundation_end, edge = 1e-9 * member_.length();
     state.topology.first_in_contact = !regions.empty() && regions.front().begin <= begin + edge;
@@ -236,7 +259,7 @@ ResumeState RitzTracer::starting_state() {
     start = ritz::solve_ritz(member_, state.topology, settled, ritz_options);
   }
   if (!start.summary.is_usable())
-    throw std::runtime_error("the Ritz solution at lambda_min failed: " + start.summary.message);
+    throw StartFailure("the Ritz solution at lambda_min failed: " + start.summary.message);
   state.point.x = start.unknowns;
   state.point.lambda = options_.lambda_min;
   state.next_step = options_.initial_step;
@@ -408,7 +431,22 @@ double RitzTracer::w_scale(const RitzModel& model, const VectorXd& x) const {
 }
 
 // --------------------------------------------------------------------------------------------
-void RitzTracer::record_step(const RitzModel& model, const PathPoint& point, int iterations, double next_step) {
+// A vanishing piece takes the events of its own degeneracy along (at a shrinking end piece, w
+// at the end and the piece's extreme reach zero too): those are no openings.
+std::vector<EventSpec> RitzTracer::without_degenerate_openings(const RitzModel& model,
+                                                               std::vector<EventSpec> events) const {
+  std::vector<bool> vanishing(model.limits() + 1, false);
+  for (const EventSpec& spec : events)
+    if (spec.function == EventFunction::length) vanishing[spec.piece] = true;
+  std::erase_if(events, [&](const EventSpec& spec) {
+    return (spec.function == EventFunction::interior_extreme || spec.function == EventFunction::end_value) &&
+           vanishing[spec.piece];
+  });
+  return events;
+}
+
+void RitzTracer::record_step(const RitzModel& model, const PathPoint& point, int iterations, double next_step,
+                             const std::optional<Opening>& at_event) {
   TraceStep step;
   step.load_factor = point.lambda;
   const fe::Scales& scales = member_.scales;
@@ -422,6 +460,7 @@ void RitzTracer::record_step(const RitzModel& model, const PathPoint& point, int
   }
   step.iterations = iterations;
   step.state_topology = topology_text(model.topology());
+  if (at_event) step.state_topology += fmt::format(" event {} {}", at_event->direction, at_event->delta);
   const int n = static_cast<int>(point.x.size());
   step.state.resize(2 * n + 2);
   Eigen::Map<VectorXd> state(step.state.data(), 2 * n + 2);
@@ -486,32 +525,26 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
       if (first) {
         Pending pending;
         pending.point = *first;
-        pending.beyond = to;
+        pending.opening = {to.lambda >= first->lambda ? 1.0 : -1.0,
+                           std::max(0.1 * std::abs(to.lambda - first->lambda), 1e3 * options_.event_tolerance)};
         pending.step = ds;
         for (auto [arclength, i] : located)
           if (std::abs(arclength - first->arclength) <= 1e-6 * std::abs(ds) ||
               std::abs(event_value(model, first->x, specs[i]).value) <=
                   1e-7 * (specs[i].function == EventFunction::length ? member_.length() : previous_scale))
             pending.events.push_back(specs[i]);
-        // A vanishing piece takes the events of its own degeneracy along (at a shrinking end
-        // piece w at the end and the piece's extreme reach zero too): those are no openings.
-        std::vector<bool> vanishing(model.limits() + 1, false);
-        for (const EventSpec& spec : pending.events)
-          if (spec.function == EventFunction::length) vanishing[spec.piece] = true;
-        std::erase_if(pending.events, [&](const EventSpec& spec) {
-          return (spec.function == EventFunction::interior_extreme || spec.function == EventFunction::end_value) &&
-                 vanishing[spec.piece];
-        });
+        pending.events = without_degenerate_openings(model, std::move(pending.events));
         to = *first;
-        record_step(model, to, to.iterations, ds);
         bool switches = false;
+        for (const EventSpec& spec : pending.events)
+          if (spec.function != EventFunction::limit_at_load) switches = true;
+        record_step(model, to, to.iterations, ds, switches ? std::optional(pending.opening) : std::nullopt);
         for (const EventSpec& spec : pending.events) {
           const EventValue v = event_value(model, to.x, spec);
           record_event(to.lambda, spec.kind, v.at,
                        fmt::format("{} at {} = {:.10g} ({})", to_string(spec.kind),
                                    member_.kind == fe::StructureKind::arch ? "theta" : "x", user(v.at),
                                    to_string(model.topology())));
-          if (spec.function != EventFunction::limit_at_load) switches = true;
         }
         if (switches) {
           pending_ = std::move(pending);
@@ -567,8 +600,8 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
   if (!openings.empty()) {
     // Continue the old topology a little past the event; the roots of w around each opening
     // point there are the new zone's limits. A step of a tenth of the one in use (in lambda).
-    const double direction = pending.beyond.lambda >= at.lambda ? 1.0 : -1.0;
-    double delta = std::max(0.1 * std::abs(pending.beyond.lambda - at.lambda), 1e3 * options_.event_tolerance);
+    const double direction = pending.opening.direction;
+    double delta = pending.opening.delta;
     std::optional<PathPoint> past;
     for (int attempt = 0; attempt < 20 && !past; ++attempt, delta *= 0.5) {
       StepOutcome s = old_follower.step_to_lambda(at, at.lambda + direction * delta);
@@ -677,13 +710,43 @@ TraceResult RitzTracer::run() {
   const auto clock = std::chrono::steady_clock::now();
   result_.summary.path = "ritz";
   validate();
-  ResumeState state = starting_state();
+  ResumeState state;
+  try {
+    state = starting_state();
+  } catch (const StartFailure& failure) {
+    result_.summary.termination = TraceTermination::solver_failure;
+    result_.summary.message = failure.what();
+    return result_;
+  }
   model_.emplace(member_, modes_, state.topology, ritz::Enrichment::load_points);
   std::optional<PathPoint> start;
   {
     const PathFollower follower = make_follower(*model_);
     if (options_.resume_from) {
       start = state.point;
+      if (state.at_event) {
+        // Resumed at a switching event: the events are those whose functions vanish here.
+        Pending pending;
+        pending.point = state.point;
+        pending.opening = *state.at_event;
+        pending.step = state.next_step;
+        const double scale = w_scale(*model_, start->x);
+        for (const EventSpec& spec : event_specs(*model_)) {
+          if (spec.function == EventFunction::limit_at_load) continue;
+          const bool length = spec.function == EventFunction::length;
+          if (std::abs(event_value(*model_, start->x, spec).value) <= 1e-7 * (length ? member_.length() : scale))
+            pending.events.push_back(spec);
+        }
+        pending.events = without_degenerate_openings(*model_, std::move(pending.events));
+        pending_ = std::move(pending);
+        if (!switch_topology(follower)) {
+          result_.summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
+          return result_;
+        }
+        start = restart_;
+        state.next_step = restart_step_;
+        restart_.reset();
+      }
     } else {
       nonlinear::NewtonSummary newton;
       start = follower.start(state.point.x, state.point.lambda, &newton);

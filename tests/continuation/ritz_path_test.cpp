@@ -146,9 +146,13 @@ TEST_CASE("ritz path: a resumed trace reproduces the original", "[ritz_path]") {
   const TraceOptions options = options_for(32);
   const TraceResult original = trace_ritz(lift_off_beam(), options);
   REQUIRE(original.summary.termination == TraceTermination::completed);
-  // Resume from a step in full contact (before the event) and from one past it.
-  for (double fraction : {0.3, 0.85}) {
-    const std::size_t from = static_cast<std::size_t>(fraction * (original.steps.size() - 1));
+  // Resume from a step in full contact (before the event), from the event's own step (the
+  // switch is redone), and from one past it.
+  REQUIRE(original.events.size() == 1);
+  std::size_t event_step = 0;
+  while (original.steps[event_step].load_factor != original.events[0].load_factor) ++event_step;
+  const std::size_t last = original.steps.size() - 1;
+  for (std::size_t from : {last * 3 / 10, event_step, last * 85 / 100}) {
     CAPTURE(from, original.steps[from].load_factor);
     TraceOptions resumed_options = options;
     resumed_options.resume_from = original.steps[from];
@@ -167,10 +171,11 @@ TEST_CASE("ritz path: a resumed trace reproduces the original", "[ritz_path]") {
         CHECK(std::abs(b.contact_regions[j][1] - a.contact_regions[j][1]) < 1e-9 * length);
       }
     }
-    // The events after `from`.
+    // The events after `from` (an event at `from` itself was written with its step).
     std::vector<TraceEvent> later;
     for (const TraceEvent& e : original.events)
       if (e.load_factor > original.steps[from].load_factor) later.push_back(e);
+    CHECK((original.steps[from].state_topology.find(" event ") != std::string::npos) == (from == event_step));
     REQUIRE(resumed.events.size() == later.size());
     for (std::size_t i = 0; i < later.size(); ++i) {
       CHECK(resumed.events[i].kind == later[i].kind);
