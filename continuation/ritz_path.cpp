@@ -218,7 +218,13 @@ ResumeState RitzTracer::starting_state() {
     state.next_step = values(2 * n + 1);
     return state;
   }
-  // The topology at lambda_min: from the scene, or from the FE + LCP solution there.
+  // The topology at lambda_min: from the scene, or from the FE + LCP solution there. Without
+  // load at lambda_min (no dead load, lambda_min = 0) w vanishes and every topology fits, so
+  // the path starts one initial_step later, where the loads define it.
+  const bool unloaded = options_.lambda_min == 0.0 &&
+                        std::all_of(member_.loads.begin(), member_.loads.end(),
+                                    [](const fe::MemberLoad& l) { return l.load_case != fe::LoadCase::dead; });
+  const double lambda_start = unloaded ? options_.initial_step : options_.lambda_min;
   std::vector<double> limits;
   if (!scene_.ritz.topology.empty()) {
     state.topology = {scene_.ritz.topology.front(), static_cast<int>(scene_.ritz.topology.size()) - 1};
@@ -230,7 +236,7 @@ ResumeState RitzTracer::starting_state() {
     const fe::Discretisation d = fe::discretise(member_, options_.elements);
     contact::ContactOptions contact_options;
     contact_options.method = scene::Method::automatic;
-    contact_options.load_factor = options_.lambda_min;
+    contact_options.load_factor = lambda_start;
     const contact::ContactSolution fe = contact::solve_contact(d, contact_options);
     if (!fe.summary.is_usable())
       throw StartFailure("the FE + LCP solution at lambda_min that gives the Ritz topology failed: " +
@@ -247,7 +253,7 @@ ResumeState RitzTracer::starting_state() {
   ritz_options.modes = options_.modes > 0 ? options_.modes : scene_.ritz.modes;
   ritz_options.max_modes = scene_.ritz.max_modes;
   ritz_options.mode_tolerance = scene_.ritz.mode_tolerance * member_.length();
-  ritz_options.load_factor = options_.lambda_min;
+  ritz_options.load_factor = lambda_start;
   ritz_options.enrichment = ritz::Enrichment::load_points;
   ritz::RitzSolution start = ritz::solve_ritz(member_, state.topology, limits, ritz_options);
   modes_ = modes_for_trace(start);
@@ -261,7 +267,7 @@ ResumeState RitzTracer::starting_state() {
   if (!start.summary.is_usable())
     throw StartFailure("the Ritz solution at lambda_min failed: " + start.summary.message);
   state.point.x = start.unknowns;
-  state.point.lambda = options_.lambda_min;
+  state.point.lambda = lambda_start;
   state.next_step = options_.initial_step;
   return state;
 }
