@@ -11,7 +11,6 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
-#include <cstdio>
 
 #include "continuation/arclength.hpp"
 

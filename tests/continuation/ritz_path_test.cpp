@@ -11,7 +11,6 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
-#include <cstdio>
 
 #include "closed_form/beam_on_foundation.hpp"
 #include "continuation/ritz_path.hpp"
@@ -230,4 +229,28 @@ TEST_CASE("ritz path: the end regions shrink to nothing when the pull equals the
   CHECK(r.events[2].at == length);
   CHECK(r.steps.back().load_factor == r.events[2].load_factor);
   for (const TraceStep& step : r.steps) CHECK(step.load_factor <= weight * (1 + 1e-9));
+}
+
+TEST_CASE("ritz path: live loads alone scale the solution, the topology stays (seed arch)", "[ritz_path]") {
+  // No dead load: w(lambda) = lambda w(1) for lambda > 0, with the same contact limits. The path
+  // starts one initial_step above lambda_min = 0 (at 0 every topology fits w = 0).
+  const scene::Scene arch = test::shipped_scene("seed_arch_roller");
+  TraceOptions options;
+  options.lambda_max = 1.0;
+  options.modes = 32;
+  options.monitor = 0.0;  // the crown
+  const TraceResult r = trace_ritz(arch, options);
+  INFO(r.summary.message);
+  REQUIRE(r.summary.termination == TraceTermination::completed);
+  CHECK(r.events.empty());
+  REQUIRE(r.steps.size() >= 3);
+  CHECK(r.steps.front().load_factor == options.initial_step);
+  const TraceStep& last = r.steps.back();
+  REQUIRE(last.contact_regions.size() == 1);
+  for (const TraceStep& step : r.steps) {
+    REQUIRE(step.contact_regions.size() == 1);
+    CHECK(std::abs(step.contact_regions[0][0] - last.contact_regions[0][0]) < 1e-9);  // degrees
+    CHECK(std::abs(step.contact_regions[0][1] - last.contact_regions[0][1]) < 1e-9);
+    CHECK(step.monitor_deflection / step.load_factor == Approx(last.monitor_deflection).epsilon(1e-9));
+  }
 }
