@@ -24,18 +24,18 @@ using ContactSet = std::vector<bool>;
 
 namespace {
 
-// A reaction (or gap) within this fraction of its scale (the largest reaction, or the largest
-// term of T r - C u, over the rest of the path with the current set) is at zero, and a rate
-// that would move it by less than that over the whole load range is no rate. The kernel's
-// solves are accurate to a relative ~1e-13 (one refinement step), so 1e-10 is well above
-// round-off and far below any physical value on a mesh of up to ~1e4 elements.
+// A rate that would move a reaction (or gap) by less than this fraction of its scale (the
+// largest reaction, or the largest term of T r - C u, over the rest of the path with the
+// current set) over the whole load range is no rate: the node is not moving toward zero.
 constexpr double zero_tolerance = 1e-10;
 // Nodes whose reaction (gap) is within this fraction of its scale at a breakpoint switch with
-// it. Mirror-image nodes of a symmetric scene reach zero at one lambda up to round-off
-// (~1e-13 relative, amplified by the conditioning of the fixed-set system); two nodes that
-// physically switch at different loads differ by at least the change of their values over one
-// element, many orders above 1e-9. Switching a node 1e-9 (relative) early would perturb the
-// state by as much, below the accuracy asked of the path (1e-9 relative to a fresh Lemke).
+// it. Mirror-image nodes of a symmetric scene reach zero at one lambda up to round-off, which
+// on a 160-element free-free beam (fixed-set system with cond ~1e10) is ~1e-9 of the scale;
+// two nodes that physically switch at different loads differ by the change of their values
+// over one element, orders above that. A tie that round-off splits anyway costs nothing: the
+// second node is found at zero and falling right after the switch, and is the next
+// breakpoint, at the same lambda, with one more factorisation. Switching a node 1e-9
+// (relative) early perturbs the state by as much, below the 1e-9 the path is tested to.
 constexpr double tie_tolerance = 1e-9;
 // A fixed-set solve whose relative residual exceeds this is not trusted (as contact_solver).
 constexpr double acceptable_residual = 1e-8;
@@ -228,23 +228,28 @@ bool FePath::resolve_by_lemke(double lambda) {
 }
 
 bool FePath::rigid_motions_balanced(double lambda) {
-  const int k = d_.unstable_rigid_motions, n = d_.equations, m = d_.reactions();
+  const int k = d_.unstable_rigid_motions, n = d_.equations;
   if (k == 0) return true;
   if (free_motions_.cols() != k) {
     // The kernel of K by subspace iteration with (K + sigma I)^-1: the rigid motions have
-    // eigenvalue 0, every other mode at least ~1 (nondimensional), so three sweeps leave a
-    // relative ~1e-24 of them.
+    // eigenvalue 0, so each sweep shrinks every other mode relative to them by sigma / (mu +
+    // sigma), mu >= the smallest bending eigenvalue (~1e2 / dofs nondimensional, above 1e-2 for
+    // any mesh we run), ~1e-4 on 200 elements; four sweeps leave round-off.
     fe::SparseMatrix shifted = d_.stiffness;
-    const double sigma = 1e-8 * std::max(1.0, d_.stiffness.diagonal().cwiseAbs().maxCoeff());
+    const double largest = std::max(1.0, d_.stiffness.diagonal().cwiseAbs().maxCoeff());
+    const double sigma = 1e-12 * largest;
     for (int i = 0; i < n; ++i) shifted.coeffRef(i, i) += sigma;
     Eigen::SimplicialLDLT<fe::SparseMatrix> factors(shifted);
+    if (factors.info() != Eigen::Success) return true;  // undecided: let Lemke say
     Eigen::MatrixXd z = Eigen::MatrixXd::Zero(n, k);
     for (int j = 0; j < k; ++j)
       for (int i = 0; i < n; ++i) z(i, j) = std::cos(1.0 + i * (j + 1.7) + j);  // generic start
-    for (int sweep = 0; sweep < 3; ++sweep) {
+    for (int sweep = 0; sweep < 4; ++sweep) {
       z = factors.solve(z);
       z = Eigen::HouseholderQR<Eigen::MatrixXd>(z).householderQ() * Eigen::MatrixXd::Identity(n, k);
     }
+    // Accept only true rigid motions (K z = 0 to round-off of K's entries).
+    if ((d_.stiffness * z).lpNorm<Eigen::Infinity>() > 1e-8 * largest) return true;
     free_motions_ = z;
   }
   // Is Z^T F in the cone of the columns Z^T C^T e_i? Non-negative least squares as an LCP
@@ -254,7 +259,6 @@ bool FePath::rigid_motions_balanced(double lambda) {
   const lcp::LemkeResult nnls = lcp::solve_lemke(a.transpose() * a, -(a.transpose() * b), {});
   if (nnls.summary.termination != lcp::LemkeTermination::solution) return true;  // undecided: let Lemke say
   const double scale = std::max(b.lpNorm<Eigen::Infinity>(), 1e-300);
-  (void)m;
   return (a * nnls.z - b).lpNorm<Eigen::Infinity>() <= 1e-8 * scale;
 }
 
@@ -398,7 +402,12 @@ TraceResult FePath::run() {
     return done();
   }
   if (!options_.resume_from) emit_step(step_at(lambda));
-  ContactTopology topology = topology_at(lambda);
+  // Unloaded at the start, the member touches nothing, but along the first segment the state
+  // is (lambda - lambda_min) times the live one: its topology is that of the live state.
+  ContactTopology topology =
+      state_.displacement(lambda).lpNorm<Eigen::Infinity>() == 0.0
+          ? contact_topology(model_, d_, d_.expand(direction_ * state_.live.displacement), points_)
+          : topology_at(lambda);
   int breakpoints = 0, breakpoints_here = 0;
 
   while (true) {

@@ -367,3 +367,53 @@ TEST_CASE("a resumed trace reproduces the rest of the path and its events") {
   // It did not start over: no Lemke, one factorisation per set from the resumed one on.
   CHECK(resumed.summary.factorisations < full.summary.factorisations);
 }
+
+TEST_CASE("a path through zero load: the degenerate breakpoint there is resolved, and the path stays exact") {
+  // End moments alone, lambda from -1 to 1: at lambda = 0 every reaction and gap is zero, and
+  // the contact set of the reversed moments is not the complement of the first one.
+  auto scene = test::beam_scene(1.0, 1.0, EndSupport::pinned, EndSupport::pinned, 1e4);
+  scene.loads.push_back(test::point_moment(0.0, 1.0));
+  scene.loads.push_back(test::point_moment(1.0, 1.0));
+  TraceOptions options = options_for(-1.0, 1.0, 40);
+  options.sample_points = node_positions(scene, 40);
+  const TraceResult result = continuation::trace_fe(scene, options);
+  INFO(result.summary.message);
+  REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
+  CHECK(result.summary.message.find("degenerate") != std::string::npos);
+  for (double lambda : {-0.7, -0.2, 0.3, 0.9}) {
+    CAPTURE(lambda);
+    std::size_t k = 0;
+    while (result.steps[k + 1].load_factor < lambda) ++k;
+    const TraceStep &a = result.steps[k], &b = result.steps[k + 1];
+    const double t = (lambda - a.load_factor) / (b.load_factor - a.load_factor);
+    const NodalState exact = nodal_state(test::solve(scene, scene::Method::automatic, 40, lambda));
+    std::vector<double> w;
+    for (std::size_t i = 0; i < exact.w.size(); ++i) w.push_back((1 - t) * a.deflection[i] + t * b.deflection[i]);
+    CHECK(max_relative_difference(w, exact.w) < 1e-9);
+    CHECK(lemke_contact_set(test::solve(scene, scene::Method::automatic, 40, lambda)) == set_of(a));
+  }
+}
+
+TEST_CASE("a shipped arch traced from no load to lambda = 1 ends where solve does") {
+  // Live loads only: the path is one ray from the unloaded arch, with one contact set.
+  const auto scene = test::shipped_scene("seed_arch_roller");
+  TraceOptions options = options_for(0.0, 1.0, 80);
+  options.monitor = 0.0;
+  const TraceResult result = continuation::trace_fe(scene, options);
+  INFO(result.summary.message);
+  REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
+  CHECK(result.steps.size() == 2);
+  CHECK(result.events.empty());
+  const auto solved = test::solve(scene, scene::Method::dual, 80, 1.0);
+  const auto& end = result.steps.back();
+  REQUIRE(end.contact_regions.size() == solved.regions.size());
+  for (std::size_t i = 0; i < solved.regions.size(); ++i) {
+    CHECK(end.contact_regions[i][0] == Approx(solved.model.user_from_s(solved.regions[i].begin)).epsilon(1e-9));
+    CHECK(end.contact_regions[i][1] == Approx(solved.model.user_from_s(solved.regions[i].end)).epsilon(1e-9));
+  }
+  const int crown = solved.discretisation.mesh.node_at(0.0);
+  REQUIRE(crown >= 0);
+  CHECK(end.monitor_deflection ==
+        Approx(solved.solution.displacement[solved.discretisation.deflection_dof(crown)] * solved.model.scales.displacement())
+            .epsilon(1e-9));
+}
