@@ -86,6 +86,11 @@ class FePath {
   // on its free rigid motions at lambda? If not, no equilibrium exists (a certificate that does
   // not depend on the primal LCP, which round-off spoils on fine meshes).
   bool rigid_motions_balanced(double lambda);
+  // The rigid motions only the foundation resists, on the equations (empty if not found).
+  const Eigen::MatrixXd& free_motions();
+  // Whether the nodes of `set` resist every such motion (the fixed-set system is nonsingular).
+  // A check of our own: the factorisation's pivot test misses a one-node set on a fine mesh.
+  bool holds_member(const ContactSet& set);
 
   TraceStep step_at(double lambda);
   void emit_step(TraceStep step);
@@ -110,12 +115,13 @@ class FePath {
   int pivots_since_step_ = 0;
   int lemke_resolutions_ = 0;
   Eigen::MatrixXd free_motions_;  // rigid motions only the foundation resists (on the equations)
+  bool free_motions_failed_ = false;
   TraceTermination termination_ = TraceTermination::solver_failure;
   std::string message_;
 };
 
 bool FePath::load_set(const ContactSet& set) {
-  if (!system_.factorise(set)) return false;
+  if (!holds_member(set) || !system_.factorise(set)) return false;
   set_ = set;
   state_.dead = system_.solve(d_.dead_load);
   state_.live = system_.solve(d_.live_load);
@@ -227,35 +233,63 @@ bool FePath::resolve_by_lemke(double lambda) {
   return false;
 }
 
-bool FePath::rigid_motions_balanced(double lambda) {
+const Eigen::MatrixXd& FePath::free_motions() {
   const int k = d_.unstable_rigid_motions, n = d_.equations;
-  if (k == 0) return true;
-  if (free_motions_.cols() != k) {
-    // The kernel of K by subspace iteration with (K + sigma I)^-1: the rigid motions have
-    // eigenvalue 0, so each sweep shrinks every other mode relative to them by sigma / (mu +
-    // sigma), mu >= the smallest bending eigenvalue (~1e2 / dofs nondimensional, above 1e-2 for
-    // any mesh we run), ~1e-4 on 200 elements; four sweeps leave round-off.
-    fe::SparseMatrix shifted = d_.stiffness;
-    const double largest = std::max(1.0, d_.stiffness.diagonal().cwiseAbs().maxCoeff());
-    const double sigma = 1e-12 * largest;
-    for (int i = 0; i < n; ++i) shifted.coeffRef(i, i) += sigma;
-    Eigen::SimplicialLDLT<fe::SparseMatrix> factors(shifted);
-    if (factors.info() != Eigen::Success) return true;  // undecided: let Lemke say
-    Eigen::MatrixXd z = Eigen::MatrixXd::Zero(n, k);
-    for (int j = 0; j < k; ++j)
-      for (int i = 0; i < n; ++i) z(i, j) = std::cos(1.0 + i * (j + 1.7) + j);  // generic start
-    for (int sweep = 0; sweep < 4; ++sweep) {
-      z = factors.solve(z);
-      z = Eigen::HouseholderQR<Eigen::MatrixXd>(z).householderQ() * Eigen::MatrixXd::Identity(n, k);
-    }
-    // Accept only true rigid motions (K z = 0 to round-off of K's entries).
-    if ((d_.stiffness * z).lpNorm<Eigen::Infinity>() > 1e-8 * largest) return true;
+  if (k == 0 || free_motions_.cols() == k || free_motions_failed_) return free_motions_;
+  // The kernel of K by subspace iteration with (K + sigma I)^-1: the rigid motions have
+  // eigenvalue 0, so each sweep shrinks every other mode relative to them by sigma / (mu +
+  // sigma), mu >= the smallest bending eigenvalue (~1e2 / dofs nondimensional, above 1e-2 for
+  // any mesh we run), ~1e-4 on 200 elements; four sweeps leave round-off.
+  fe::SparseMatrix shifted = d_.stiffness;
+  const double largest = std::max(1.0, d_.stiffness.diagonal().cwiseAbs().maxCoeff());
+  const double sigma = 1e-12 * largest;
+  for (int i = 0; i < n; ++i) shifted.coeffRef(i, i) += sigma;
+  Eigen::SimplicialLDLT<fe::SparseMatrix> factors(shifted);
+  Eigen::MatrixXd z = Eigen::MatrixXd::Zero(n, k);
+  for (int j = 0; j < k; ++j)
+    for (int i = 0; i < n; ++i) z(i, j) = std::cos(1.0 + i * (j + 1.7) + j);  // generic start
+  for (int sweep = 0; sweep < 4 && factors.info() == Eigen::Success; ++sweep) {
+    z = factors.solve(z);
+    z = Eigen::HouseholderQR<Eigen::MatrixXd>(z).householderQ() * Eigen::MatrixXd::Identity(n, k);
+  }
+  // Accept only true rigid motions (K z = 0 to round-off of K's entries).
+  if (factors.info() != Eigen::Success || !((d_.stiffness * z).lpNorm<Eigen::Infinity>() <= 1e-8 * largest)) {
+    free_motions_failed_ = true;
+    free_motions_.resize(n, 0);
+  } else {
     free_motions_ = z;
   }
+  return free_motions_;
+}
+
+bool FePath::holds_member(const ContactSet& set) {
+  const int k = d_.unstable_rigid_motions;
+  if (k == 0) return true;
+  const Eigen::MatrixXd& z = free_motions();
+  if (z.cols() != k) return true;  // unknown: the factorisation decides
+  // The fixed-set system is nonsingular iff no free rigid motion leaves every node of the set
+  // where it is: C_A Z of full column rank.
+  const Eigen::MatrixXd seen = d_.coupling * z;
+  std::vector<int> rows;
+  for (int i = 0; i < d_.reactions(); ++i)
+    if (set[i]) rows.push_back(i);
+  if (static_cast<int>(rows.size()) < k) return false;
+  Eigen::MatrixXd seen_by_set(rows.size(), k);
+  for (std::size_t r = 0; r < rows.size(); ++r) seen_by_set.row(r) = seen.row(rows[r]);
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(seen_by_set);
+  qr.setThreshold(1e-8);
+  return qr.rank() == k;
+}
+
+bool FePath::rigid_motions_balanced(double lambda) {
+  const int k = d_.unstable_rigid_motions;
+  if (k == 0) return true;
+  const Eigen::MatrixXd& z = free_motions();
+  if (z.cols() != k) return true;  // undecided: let Lemke say
   // Is Z^T F in the cone of the columns Z^T C^T e_i? Non-negative least squares as an LCP
   // (M = A^T A positive semidefinite, so Lemke solves it), then the residual decides.
-  const Eigen::MatrixXd a = (d_.coupling * free_motions_).transpose();  // k x m
-  const VectorXd b = free_motions_.transpose() * d_.load(lambda);
+  const Eigen::MatrixXd a = (d_.coupling * z).transpose();  // k x m
+  const VectorXd b = z.transpose() * d_.load(lambda);
   const lcp::LemkeResult nnls = lcp::solve_lemke(a.transpose() * a, -(a.transpose() * b), {});
   if (nnls.summary.termination != lcp::LemkeTermination::solution) return true;  // undecided: let Lemke say
   const double scale = std::max(b.lpNorm<Eigen::Infinity>(), 1e-300);
