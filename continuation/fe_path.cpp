@@ -236,28 +236,32 @@ bool FePath::resolve_by_lemke(double lambda) {
 const Eigen::MatrixXd& FePath::free_motions() {
   const int k = d_.unstable_rigid_motions, n = d_.equations;
   if (k == 0 || free_motions_.cols() == k || free_motions_failed_) return free_motions_;
-  // The kernel of K by subspace iteration with (K + sigma I)^-1: the rigid motions have
-  // eigenvalue 0, so each sweep shrinks every other mode relative to them by sigma / (mu +
-  // sigma), mu >= the smallest bending eigenvalue (~1e2 / dofs nondimensional, above 1e-2 for
-  // any mesh we run), ~1e-4 on 200 elements; four sweeps leave round-off.
-  fe::SparseMatrix shifted = d_.stiffness;
-  const double largest = std::max(1.0, d_.stiffness.diagonal().cwiseAbs().maxCoeff());
-  const double sigma = 1e-12 * largest;
-  for (int i = 0; i < n; ++i) shifted.coeffRef(i, i) += sigma;
-  Eigen::SimplicialLDLT<fe::SparseMatrix> factors(shifted);
-  Eigen::MatrixXd z = Eigen::MatrixXd::Zero(n, k);
-  for (int j = 0; j < k; ++j)
-    for (int i = 0; i < n; ++i) z(i, j) = std::cos(1.0 + i * (j + 1.7) + j);  // generic start
-  for (int sweep = 0; sweep < 4 && factors.info() == Eigen::Success; ++sweep) {
-    z = factors.solve(z);
-    z = Eigen::HouseholderQR<Eigen::MatrixXd>(z).householderQ() * Eigen::MatrixXd::Identity(n, k);
+  // The member's rigid motions that leave every fixed dof (supports, gauge) at rest, on the
+  // equations. Built from the exact motions, not from K's kernel: near the load that lifts the
+  // member off, the loads' work on these motions is a tiny residue of large, nearly balancing
+  // terms, which a kernel computed to eps cond(K) would drown.
+  const Eigen::MatrixXd motions = fe::rigid_motions(model_, d_);
+  std::vector<int> fixed;
+  for (int dof = 0; dof < d_.dofs(); ++dof)
+    if (d_.equation_of_dof[dof] < 0) fixed.push_back(dof);
+  Eigen::MatrixXd kernel = Eigen::MatrixXd::Identity(motions.cols(), motions.cols());
+  if (!fixed.empty()) {
+    Eigen::MatrixXd at_fixed(fixed.size(), motions.cols());
+    for (std::size_t i = 0; i < fixed.size(); ++i) at_fixed.row(i) = motions.row(fixed[i]);
+    Eigen::FullPivLU<Eigen::MatrixXd> lu(at_fixed);
+    lu.setThreshold(1e-10);
+    kernel = lu.rank() == motions.cols() ? Eigen::MatrixXd(motions.cols(), 0) : Eigen::MatrixXd(lu.kernel());
   }
-  // Accept only true rigid motions (K z = 0 to round-off of K's entries).
-  if (factors.info() != Eigen::Success || !((d_.stiffness * z).lpNorm<Eigen::Infinity>() <= 1e-8 * largest)) {
+  const Eigen::MatrixXd free = motions * kernel;
+  Eigen::MatrixXd z(n, free.cols());
+  for (int dof = 0; dof < d_.dofs(); ++dof)
+    if (d_.equation_of_dof[dof] >= 0) z.row(d_.equation_of_dof[dof]) = free.row(dof);
+  const double largest = std::max(1.0, d_.stiffness.diagonal().cwiseAbs().maxCoeff());
+  if (z.cols() != k || !((d_.stiffness * z).lpNorm<Eigen::Infinity>() <= 1e-8 * largest * z.lpNorm<Eigen::Infinity>())) {
     free_motions_failed_ = true;
     free_motions_.resize(n, 0);
   } else {
-    free_motions_ = z;
+    free_motions_ = Eigen::HouseholderQR<Eigen::MatrixXd>(z).householderQ() * Eigen::MatrixXd::Identity(n, k);
   }
   return free_motions_;
 }
@@ -288,12 +292,16 @@ bool FePath::rigid_motions_balanced(double lambda) {
   if (z.cols() != k) return true;  // undecided: let Lemke say
   // Is Z^T F in the cone of the columns Z^T C^T e_i? Non-negative least squares as an LCP
   // (M = A^T A positive semidefinite, so Lemke solves it), then the residual decides.
-  const Eigen::MatrixXd a = (d_.coupling * z).transpose();  // k x m
-  const VectorXd b = z.transpose() * d_.load(lambda);
+  // Both sides normalised: near the load at which the member lifts off, b is a tiny residue of
+  // loads that nearly balance, and Lemke's tolerances are relative to the data's size.
+  Eigen::MatrixXd a = (d_.coupling * z).transpose();  // k x m
+  VectorXd b = z.transpose() * d_.load(lambda);
+  if (b.lpNorm<Eigen::Infinity>() == 0.0) return true;
+  a /= std::max(a.lpNorm<Eigen::Infinity>(), 1e-300);
+  b /= b.lpNorm<Eigen::Infinity>();
   const lcp::LemkeResult nnls = lcp::solve_lemke(a.transpose() * a, -(a.transpose() * b), {});
   if (nnls.summary.termination != lcp::LemkeTermination::solution) return true;  // undecided: let Lemke say
-  const double scale = std::max(b.lpNorm<Eigen::Infinity>(), 1e-300);
-  return (a * nnls.z - b).lpNorm<Eigen::Infinity>() <= 1e-8 * scale;
+  return (a * nnls.z - b).lpNorm<Eigen::Infinity>() <= 1e-8;
 }
 
 bool FePath::establish_start(double lambda) {
