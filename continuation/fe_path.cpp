@@ -91,6 +91,10 @@ class FePath {
   // Whether the nodes of `set` resist every such motion (the fixed-set system is nonsingular).
   // A check of our own: the factorisation's pivot test misses a one-node set on a fine mesh.
   bool holds_member(const ContactSet& set);
+  // The load beyond which the loads cannot be balanced, between `from` and lambda_end (none if
+  // they can up to the end), by bisection on rigid_motions_balanced.
+  std::optional<double> lift_off_load(double from);
+  std::string lift_off_message(double lambda) const;
 
   TraceStep step_at(double lambda);
   void emit_step(TraceStep step);
@@ -116,6 +120,8 @@ class FePath {
   int lemke_resolutions_ = 0;
   Eigen::MatrixXd free_motions_;  // rigid motions only the foundation resists (on the equations)
   bool free_motions_failed_ = false;
+  std::vector<bool> held_;               // nodes kept in the set through a split final tie
+  std::optional<double> floating_load_;  // the load beyond which nothing balances the loads
   TraceTermination termination_ = TraceTermination::solver_failure;
   std::string message_;
 };
@@ -123,6 +129,7 @@ class FePath {
 bool FePath::load_set(const ContactSet& set) {
   if (!holds_member(set) || !system_.factorise(set)) return false;
   set_ = set;
+  held_.assign(set.size(), false);
   state_.dead = system_.solve(d_.dead_load);
   state_.live = system_.solve(d_.live_load);
   if (!(std::max(state_.dead.residual, state_.live.residual) <= acceptable_residual)) return false;
@@ -207,10 +214,7 @@ bool FePath::resolve_by_lemke(double lambda) {
   for (int attempt = 0; attempt < lemke_attempts; ++attempt, offset *= 1e-2) {
     if (!rigid_motions_balanced(lambda + direction_ * offset)) {
       termination_ = TraceTermination::no_equilibrium;
-      message_ = fmt::format(
-          "no equilibrium beyond lambda = {:.10g}: the live loads lift the member off the foundation (compressive "
-          "reactions can no longer balance the loads on its free rigid motions, {}), and no support holds it",
-          lambda, d_.stability_note);
+      message_ = lift_off_message(lambda);
       return false;
     }
     const auto set = lemke_set(lambda + direction_ * offset);
@@ -299,9 +303,48 @@ bool FePath::rigid_motions_balanced(double lambda) {
   if (b.lpNorm<Eigen::Infinity>() == 0.0) return true;
   a /= std::max(a.lpNorm<Eigen::Infinity>(), 1e-300);
   b /= b.lpNorm<Eigen::Infinity>();
+  if (k == 1) return ((a.array() * b[0]) > 0.0).any();
+  if (k == 2) {
+    // A cone in the plane is the plane, or the sector opposite the widest gap between the
+    // directions of its generators: test the angle of b against it.
+    std::vector<double> angles;
+    for (Eigen::Index i = 0; i < a.cols(); ++i)
+      if (a.col(i).lpNorm<Eigen::Infinity>() > 1e-14) angles.push_back(std::atan2(a(1, i), a(0, i)));
+    if (angles.empty()) return false;
+    std::sort(angles.begin(), angles.end());
+    double widest = angles.front() + 2 * M_PI - angles.back();  // the gap across +-pi
+    double sector_begin = angles.front(), sector_end = angles.back();
+    for (std::size_t i = 1; i < angles.size(); ++i)
+      if (angles[i] - angles[i - 1] > widest) {
+        widest = angles[i] - angles[i - 1];
+        sector_begin = angles[i];
+        sector_end = angles[i - 1] + 2 * M_PI;
+      }
+    if (widest < M_PI) return true;  // the generators span the plane positively
+    double angle = std::atan2(b[1], b[0]);
+    if (angle < sector_begin - 1e-10) angle += 2 * M_PI;
+    return angle >= sector_begin - 1e-10 && angle <= sector_end + 1e-10;
+  }
   const lcp::LemkeResult nnls = lcp::solve_lemke(a.transpose() * a, -(a.transpose() * b), {});
   if (nnls.summary.termination != lcp::LemkeTermination::solution) return true;  // undecided: let Lemke say
   return (a * nnls.z - b).lpNorm<Eigen::Infinity>() <= 1e-8;
+}
+
+std::optional<double> FePath::lift_off_load(double from) {
+  if (rigid_motions_balanced(lambda_end_)) return std::nullopt;
+  double lo = from, hi = lambda_end_;
+  for (int i = 0; i < 200 && std::abs(hi - lo) > options_.event_tolerance; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (rigid_motions_balanced(mid) ? lo : hi) = mid;
+  }
+  return lo;
+}
+
+std::string FePath::lift_off_message(double lambda) const {
+  return fmt::format(
+      "no equilibrium beyond lambda = {:.10g}: the live loads lift the member off the foundation (compressive "
+      "reactions can no longer balance the loads on its free rigid motions, {}), and no support holds it",
+      lambda, d_.stability_note);
 }
 
 bool FePath::establish_start(double lambda) {
@@ -444,6 +487,11 @@ TraceResult FePath::run() {
     return done();
   }
   if (!options_.resume_from) emit_step(step_at(lambda));
+  // A member only the foundation holds can be held only while compressive reactions can
+  // balance the loads on its free rigid motions: up to the lift-off load, found once here (the
+  // loads' work on those motions is affine in lambda and the reactions' span a convex cone, so
+  // the loads are balanced on one interval of lambda).
+  if (!d_.structure_is_stable() && d_.tensionless) floating_load_ = lift_off_load(lambda);
   // Unloaded at the start, the member touches nothing, but along the first segment the state
   // is (lambda - lambda_min) times the live one: its topology is that of the live state.
   ContactTopology topology =
@@ -459,9 +507,16 @@ TraceResult FePath::run() {
     if (d_.tensionless)
       for (int i = 0; i < m; ++i) {
         const double v = value(i, lambda), rho = rate(i);
-        if (rho * span_ < -zero_tolerance * scale(i)) next = std::min(next, std::max(v, 0.0) / -rho);
+        if (!held_[i] && rho * span_ < -zero_tolerance * scale(i)) next = std::min(next, std::max(v, 0.0) / -rho);
       }
     const double breakpoint = lambda + direction_ * next;
+    if (floating_load_ && !(direction_ * (breakpoint - *floating_load_) < 0.0)) {
+      // The held nodes' reactions vanish together here and nothing balances the loads beyond.
+      locate_events(lambda, *floating_load_, topology);
+      emit_step(step_at(*floating_load_));
+      finish(TraceTermination::no_equilibrium, lift_off_message(*floating_load_), *floating_load_);
+      return done();
+    }
     if (!(direction_ * (breakpoint - lambda_end_) < 0.0)) {
       locate_events(lambda, lambda_end_, topology);
       emit_step(step_at(lambda_end_));
@@ -482,6 +537,18 @@ TraceResult FePath::run() {
         switched[i] = !switched[i];
         pivoted.push_back(i);
       }
+    if (!holds_member(switched) && (!floating_load_ || direction_ * (*floating_load_ - breakpoint) > 0.0)) {
+      // The nodes leaving would leave the member floating while the loads can still be
+      // balanced: round-off has split the final tie, in which every remaining reaction vanishes
+      // together at the load beyond which the loads cannot be balanced (the lift-off load).
+      // Those nodes are held in the set, the path goes on with it, and it stops at that load.
+      for (int i : pivoted)
+        if (set_[i]) {
+          switched[i] = true;
+          held_[i] = true;
+        }
+      pivoted.erase(std::remove_if(pivoted.begin(), pivoted.end(), [&](int i) { return held_[i]; }), pivoted.end());
+    }
     const int pivots = static_cast<int>(pivoted.size());
     summary.pivots += pivots;
     pivots_since_step_ += pivots;
@@ -492,6 +559,12 @@ TraceResult FePath::run() {
       finish(TraceTermination::solver_failure,
              fmt::format("the pivoting cycles at lambda = {:.10g} (degenerate breakpoint)", breakpoint), breakpoint);
       return done();
+    }
+    if (pivoted.empty()) {  // only held nodes: nothing switches, nothing to refactorise
+      step.state.assign(set_.begin(), set_.end());
+      emit_step(std::move(step));
+      lambda = breakpoint;
+      continue;
     }
     bool carried = load_set(switched);
     if (carried) {
