@@ -323,12 +323,42 @@ TEST_CASE("a central contact region splits in two") {
 
 TEST_CASE("a free-free beam lifted off by its loads stops with no equilibrium at the load that does it") {
   // Beyond lambda = q L / P = 10 the upward force exceeds the weight: nothing holds the beam.
-  const TraceResult result = continuation::trace_fe(free_free_uplift(), options_for(0.0, 12.0, 80));
-  INFO(result.summary.message);
-  CHECK(result.summary.termination == continuation::TraceTermination::no_equilibrium);
-  CHECK(result.summary.final_load_factor == Approx(10.0).epsilon(1e-6));
-  CHECK(result.summary.message.find("lambda = 10") != std::string::npos);
-  CHECK(result.steps.back().load_factor == Approx(10.0).epsilon(1e-6));
+  // The load is exact in the discrete model too (the consistent loads have the same
+  // resultants), located by bisection to event_tolerance.
+  for (int elements : {80, 200}) {
+    CAPTURE(elements);
+    const TraceOptions options = options_for(0.0, 12.0, elements);
+    const TraceResult result = continuation::trace_fe(free_free_uplift(), options);
+    INFO(result.summary.message);
+    CHECK(result.summary.termination == continuation::TraceTermination::no_equilibrium);
+    CHECK(result.summary.final_load_factor == Approx(10.0).margin(10 * options.event_tolerance));
+    CHECK(result.summary.message.find("lambda = 10") != std::string::npos);
+    CHECK(result.steps.back().load_factor == result.summary.final_load_factor);
+  }
+}
+
+TEST_CASE("the path does not depend on units") {
+  // The shared scene in millimetres and newtons: L = 1e4 mm, EI = 1e4 N m^2 = 1e10 N mm^2,
+  // q = 1 N/m = 1e-3 N/mm, P = 1 N, k = K L^4/EI unchanged.
+  auto millimetres = test::beam_scene(1e4, 1e10, EndSupport::free, EndSupport::free, 500.0);
+  millimetres.loads.push_back(test::uniform_load(0.0, 1e4, 1e-3, LoadCase::dead));
+  millimetres.loads.push_back(test::point_force(5e3, -1.0, LoadCase::live));
+  TraceOptions metres_options = options_for(0.0, 8.0, 40), millimetres_options = metres_options;
+  metres_options.sample_points = {2.5};
+  millimetres_options.sample_points = {2.5e3};
+  const TraceResult a = continuation::trace_fe(free_free_uplift(), metres_options);
+  const TraceResult b = continuation::trace_fe(millimetres, millimetres_options);
+  REQUIRE(a.steps.size() == b.steps.size());
+  REQUIRE(a.events.size() == b.events.size());
+  for (std::size_t k = 0; k < a.events.size(); ++k) {
+    CHECK(a.events[k].load_factor == Approx(b.events[k].load_factor).epsilon(1e-9));
+    CHECK(1e3 * a.events[k].at == Approx(b.events[k].at).epsilon(1e-9));
+  }
+  for (std::size_t k = 0; k < a.steps.size(); ++k) {
+    CHECK(a.steps[k].load_factor == Approx(b.steps[k].load_factor).epsilon(1e-9));
+    CHECK(1e3 * a.steps[k].deflection[0] == Approx(b.steps[k].deflection[0]).epsilon(1e-9));
+    CHECK(1e-3 * a.steps[k].reaction[0] == Approx(b.steps[k].reaction[0]).epsilon(1e-9));
+  }
 }
 
 TEST_CASE("a resumed trace reproduces the rest of the path and its events") {
