@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -129,7 +130,9 @@ class FePath {
 bool FePath::load_set(const ContactSet& set) {
   if (!holds_member(set) || !system_.factorise(set)) return false;
   set_ = set;
-  held_.assign(set.size(), false);
+  // A held node stays held while it is in the set (until the lift-off load).
+  held_.resize(set.size(), false);
+  for (std::size_t i = 0; i < set.size(); ++i) held_[i] = held_[i] && set[i];
   state_.dead = system_.solve(d_.dead_load);
   state_.live = system_.solve(d_.live_load);
   if (!(std::max(state_.dead.residual, state_.live.residual) <= acceptable_residual)) return false;
@@ -294,10 +297,11 @@ bool FePath::rigid_motions_balanced(double lambda) {
   if (k == 0) return true;
   const Eigen::MatrixXd& z = free_motions();
   if (z.cols() != k) return true;  // undecided: let Lemke say
-  // Is Z^T F in the cone of the columns Z^T C^T e_i? Non-negative least squares as an LCP
-  // (M = A^T A positive semidefinite, so Lemke solves it), then the residual decides.
-  // Both sides normalised: near the load at which the member lifts off, b is a tiny residue of
-  // loads that nearly balance, and Lemke's tolerances are relative to the data's size.
+  // Is b = Z^T F in the cone of the columns a_i = Z^T C^T e_i (what a compressive reaction at
+  // node i does on the motions)? Both sides normalised: near the lift-off load b is a tiny
+  // residue of loads that nearly balance. One or two motions (beams): the cone's directions
+  // decide exactly; three (a free arch): non-negative least squares as an LCP (A^T A positive
+  // semidefinite, so Lemke solves it), and its residual decides.
   Eigen::MatrixXd a = (d_.coupling * z).transpose();  // k x m
   VectorXd b = z.transpose() * d_.load(lambda);
   if (b.lpNorm<Eigen::Infinity>() == 0.0) return true;
@@ -312,17 +316,17 @@ bool FePath::rigid_motions_balanced(double lambda) {
       if (a.col(i).lpNorm<Eigen::Infinity>() > 1e-14) angles.push_back(std::atan2(a(1, i), a(0, i)));
     if (angles.empty()) return false;
     std::sort(angles.begin(), angles.end());
-    double widest = angles.front() + 2 * M_PI - angles.back();  // the gap across +-pi
+    double widest = angles.front() + 2 * std::numbers::pi - angles.back();  // the gap across +-pi
     double sector_begin = angles.front(), sector_end = angles.back();
     for (std::size_t i = 1; i < angles.size(); ++i)
       if (angles[i] - angles[i - 1] > widest) {
         widest = angles[i] - angles[i - 1];
         sector_begin = angles[i];
-        sector_end = angles[i - 1] + 2 * M_PI;
+        sector_end = angles[i - 1] + 2 * std::numbers::pi;
       }
-    if (widest < M_PI) return true;  // the generators span the plane positively
+    if (widest < std::numbers::pi) return true;  // the generators span the plane positively
     double angle = std::atan2(b[1], b[0]);
-    if (angle < sector_begin - 1e-10) angle += 2 * M_PI;
+    if (angle < sector_begin - 1e-10) angle += 2 * std::numbers::pi;
     return angle >= sector_begin - 1e-10 && angle <= sector_end + 1e-10;
   }
   const lcp::LemkeResult nnls = lcp::solve_lemke(a.transpose() * a, -(a.transpose() * b), {});
