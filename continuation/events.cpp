@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -198,6 +199,16 @@ std::vector<TraceEvent> classify_events(const fe::MemberModel& model, const Spec
         what + (supported ? " at the supported end of the foundation" : " at the end of the foundation"));
   };
   auto touches_end = [&](const Piece& p) { return p.begin <= points.begin || p.end >= points.end; };
+  // An interior point support at an end of the piece (w = 0 there, so a limit can sit on it):
+  // a piece opening or closing against it is a limit reaching the support.
+  auto support_at_end = [&](const Piece& p) -> std::optional<double> {
+    const double tol = 1e-9 * model.length();
+    for (std::size_t i = 0; i < points.interior.size(); ++i)
+      if (points.is_support[i] &&
+          (std::abs(points.interior[i] - p.begin) <= tol || std::abs(points.interior[i] - p.end) <= tol))
+        return points.interior[i];
+    return std::nullopt;
+  };
   auto whole = [&](const Piece& p) { return p.begin <= points.begin && p.end >= points.end; };
 
   // Pieces with no piece of their kind overlapping them on the other side are new (after) or
@@ -214,6 +225,9 @@ std::vector<TraceEvent> classify_events(const fe::MemberModel& model, const Spec
           p.contact ? "the whole foundation comes into contact" : "the member lifts off the whole foundation");
     else if (touches_end(p))
       at_end(p, p.contact ? "a contact region forms" : "a lift-off zone opens");
+    else if (const auto support = support_at_end(p))
+      add(EventKind::limit_at_support, *support,
+          p.contact ? "a contact region forms against a point support" : "a lift-off zone opens against a point support");
     else if (p.contact)
       add(EventKind::contact_opens, mid, "a contact region opens inside a lift-off zone");
     else
@@ -227,6 +241,9 @@ std::vector<TraceEvent> classify_events(const fe::MemberModel& model, const Spec
     const double mid = 0.5 * (p.begin + p.end);
     if (touches_end(p))
       at_end(p, p.contact ? "a contact region vanishes" : "a lift-off zone closes");
+    else if (const auto support = support_at_end(p))
+      add(EventKind::limit_at_support, *support,
+          p.contact ? "a contact region vanishes against a point support" : "a lift-off zone closes against a point support");
     else if (p.contact)
       add(EventKind::region_vanishes, mid, "a contact region vanishes");
     else

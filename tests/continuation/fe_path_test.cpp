@@ -447,3 +447,27 @@ TEST_CASE("a shipped arch traced from no load to lambda = 1 ends where solve doe
         Approx(solved.solution.displacement[solved.discretisation.deflection_dof(crown)] * solved.model.scales.displacement())
             .epsilon(1e-9));
 }
+
+TEST_CASE("limits reaching a point support and point loads are events, as Lemke confirms") {
+  // Pinned left end, a point support at x = 3, free right end; dead weight and a dead force
+  // at x = 6, a live uplift at x = 8.
+  auto scene = test::beam_scene(10.0, 1e4, EndSupport::pinned, EndSupport::free, 2000.0);
+  scene.supports.interior = {3.0};
+  scene.loads.push_back(test::uniform_load(0.0, 10.0, 1.0, LoadCase::dead));
+  scene.loads.push_back(test::point_force(6.0, 0.5, LoadCase::dead));
+  scene.loads.push_back(test::point_force(8.0, -1.0, LoadCase::live));
+  const TraceOptions options = options_for(0.0, 6.0, 80);
+  const TraceResult result = continuation::trace_fe(scene, options);
+  INFO(result.summary.message);
+  REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
+  std::set<EventKind> kinds;
+  for (const auto& e : result.events) kinds.insert(e.kind);
+  CHECK(kinds.count(EventKind::limit_at_support) > 0);
+  CHECK(kinds.count(EventKind::limit_at_load) > 0);
+  CHECK(kinds.count(EventKind::lift_off_opens) > 0);
+  for (const auto& e : result.events) {
+    if (e.kind == EventKind::limit_at_support) CHECK(e.at == Approx(3.0).margin(1e-9));
+    if (e.kind == EventKind::limit_at_load) CHECK((std::abs(e.at - 6.0) < 1e-9 || std::abs(e.at - 8.0) < 1e-9));
+  }
+  check_events_against_lemke(scene, options, result);
+}
