@@ -585,6 +585,11 @@ TraceResult FePath::run() {
     step.state.assign(set_.begin(), set_.end());
     emit_step(std::move(step));
     lambda = breakpoint;
+    if (result_.summary.steps >= options_.max_steps) {
+      finish(TraceTermination::step_limit,
+             fmt::format("max_steps = {} reached at lambda = {:.10g}", options_.max_steps, lambda), lambda);
+      return done();
+    }
   }
 }
 
