@@ -523,7 +523,7 @@ TraceResult FePath::run() {
     }
     if (!(direction_ * (breakpoint - lambda_end_) < 0.0)) {
       locate_events(lambda, lambda_end_, topology);
-      emit_step(step_at(lambda_end_));
+      if (result_.steps.empty() || result_.steps.back().load_factor != lambda_end_) emit_step(step_at(lambda_end_));
       finish(TraceTermination::completed,
              fmt::format("lambda = {:.10g} reached: {} breakpoint(s), {} event(s)", lambda_end_, breakpoints,
                          result_.events.size()),
