@@ -471,3 +471,23 @@ TEST_CASE("limits reaching a point support and point loads are events, as Lemke 
   }
   check_events_against_lemke(scene, options, result);
 }
+
+TEST_CASE("the refined run's estimate of the event loads' discretisation error falls with the mesh") {
+  // The split scene has several events (the split, then both ends coming back into contact):
+  // each is matched in the run on twice the elements, and the difference shrinks like the
+  // error it estimates (at least halving per halving of h; test 1 measures h^3).
+  const auto coarse_options = options_for(0.0, 3.9, 40), fine_options = options_for(0.0, 3.9, 80);
+  const auto coarse = continuation::estimate_event_errors(
+      central_region_split(), coarse_options, continuation::trace_fe(central_region_split(), coarse_options));
+  const auto fine = continuation::estimate_event_errors(central_region_split(), fine_options,
+                                                        continuation::trace_fe(central_region_split(), fine_options));
+  REQUIRE(coarse.events.size() >= 2);
+  REQUIRE(coarse.events.size() == fine.events.size());
+  for (std::size_t k = 0; k < coarse.events.size(); ++k) {
+    CAPTURE(coarse.events[k].event.description, coarse.events[k].load_factor_error, fine.events[k].load_factor_error);
+    REQUIRE(coarse.events[k].refined.has_value());
+    REQUIRE(fine.events[k].refined.has_value());
+    CHECK(fine.events[k].event.kind == coarse.events[k].event.kind);
+    CHECK(fine.events[k].load_factor_error < 0.5 * coarse.events[k].load_factor_error);
+  }
+}
