@@ -11,6 +11,11 @@
 // carry the path on (a degenerate one) is resolved by Lemke just beyond it. The start is the
 // full contact set when it is feasible, Lemke otherwise.
 //
+// A member only the foundation holds (free-free beam) is held only while compressive
+// reactions can balance the loads on its free rigid motions; the load beyond which they cannot
+// (the lift-off load) is found once, exactly, and the trace stops there with
+// TraceTermination::no_equilibrium, its message giving that lambda.
+//
 // Steps are recorded at lambda_min, at every breakpoint, at every event and at lambda_max.
 // Events are changes of the contact topology of w (continuation/events.hpp), located between
 // breakpoints, where the path is affine, by bisection on lambda to options.event_tolerance
