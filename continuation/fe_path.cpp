@@ -1,14 +1,647 @@
 #include "continuation/fe_path.hpp"
 
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "contact/active_set_system.hpp"
+#include "contact/contact_solver.hpp"
+#include "continuation/events.hpp"
+#include "fe/discretisation.hpp"
+#include "fe/member_model.hpp"
+#include "lcp/lemke.hpp"
+#include "post/contact_regions.hpp"
+#include "post/fields.hpp"
+
 namespace liftoff::continuation {
 
-// Placeholder until the fe path lands.
-TraceResult trace_fe(const scene::Scene&, const TraceOptions&, const TraceSink&) {
-  TraceResult result;
-  result.summary.termination = TraceTermination::solver_failure;
-  result.summary.path = "fe";
-  result.summary.message = "the fe path is not implemented yet";
-  return result;
+using Eigen::VectorXd;
+using ContactSet = std::vector<bool>;
+
+namespace {
+
+// A rate that would move a reaction (or gap) by less than this fraction of its scale (the
+// largest reaction, or the largest term of T r - C u, over the rest of the path with the
+// current set) over the whole load range is no rate: the node is not moving toward zero.
+constexpr double zero_tolerance = 1e-10;
+// Nodes whose reaction (gap) is within this fraction of its scale at a breakpoint switch with
+// it. Mirror-image nodes of a symmetric scene reach zero at one lambda up to round-off, which
+// on a 160-element free-free beam (fixed-set system with cond ~1e10) is ~1e-9 of the scale;
+// two nodes that physically switch at different loads differ by the change of their values
+// over one element, orders above that. A tie that round-off splits anyway costs nothing: the
+// second node is found at zero and falling right after the switch, and is the next
+// breakpoint, at the same lambda, with one more factorisation. Switching a node 1e-9
+// (relative) early perturbs the state by as much, below the 1e-9 the path is tested to.
+constexpr double tie_tolerance = 1e-9;
+// A fixed-set solve whose relative residual exceeds this is not trusted (as contact_solver).
+constexpr double acceptable_residual = 1e-8;
+// Degenerate breakpoints: Lemke is asked for the contact set this far (times the load range)
+// beyond the breakpoint, then 100 times closer, at most this many times.
+constexpr double lemke_offset = 1e-6;
+constexpr int lemke_attempts = 4;
+constexpr const char* contact_set_tag = "fe contact set";
+
+// The state along one segment of the path: affine in lambda for a fixed contact set.
+struct AffineState {
+  contact::ContactState dead, live;
+  VectorXd coupled_dead, coupled_live;    // C u
+  VectorXd flexible_dead, flexible_live;  // T r
+  VectorXd displacement(double lambda) const { return dead.displacement + lambda * live.displacement; }
+  VectorXd reaction(double lambda) const { return dead.reaction + lambda * live.reaction; }
+};
+
+class FePath {
+ public:
+  FePath(const scene::Scene& scene, const TraceOptions& options, const TraceSink& sink)
+      : options_(options),
+        sink_(sink),
+        model_(fe::make_member_model(scene)),
+        d_(fe::discretise(model_, options.elements)),
+        system_(d_),
+        points_(special_points(model_)) {}
+
+  TraceResult run();
+
+ private:
+  // One factorisation of the fixed-set system for `set`, and the dead and live solves.
+  bool load_set(const ContactSet& set);
+  // The contact set Lemke finds at lambda; empty on failure (termination_ and message_ set).
+  std::optional<ContactSet> lemke_set(double lambda);
+  bool establish_start(double lambda);
+  // Reaction of a node in the set, gap of one out of it, at lambda; and its rate along the path.
+  double value(int node, double lambda) const;
+  double rate(int node) const;
+  void update_scales(double lambda);
+  double scale(int node) const { return set_[node] ? reaction_scale_ : gap_scale_; }
+  bool at_zero_and_falling(int node, double lambda) const;
+  // None of `nodes` (all nodes if empty) is at zero and falling.
+  bool carries_on(double lambda, const std::vector<int>& nodes = {}) const;
+  bool feasible_at(double lambda) const;
+  bool resolve_by_lemke(double lambda);
+  // For a member only the foundation holds: can compressive reactions balance the loads' work
+  // on its free rigid motions at lambda? If not, no equilibrium exists (a certificate that does
+  // not depend on the primal LCP, which round-off spoils on fine meshes).
+  bool rigid_motions_balanced(double lambda);
+  // The rigid motions only the foundation resists, on the equations (empty if not found).
+  const Eigen::MatrixXd& free_motions();
+  // Whether the nodes of `set` resist every such motion (the fixed-set system is nonsingular).
+  // A check of our own: the factorisation's pivot test misses a one-node set on a fine mesh.
+  bool holds_member(const ContactSet& set);
+  // The load beyond which the loads cannot be balanced, between `from` and lambda_end (none if
+  // they can up to the end), by bisection on rigid_motions_balanced.
+  std::optional<double> lift_off_load(double from);
+  std::string lift_off_message(double lambda) const;
+
+  TraceStep step_at(double lambda);
+  void emit_step(TraceStep step);
+  void emit_event(const TraceEvent& event);
+  ContactTopology topology_at(double lambda) const;
+  // Events between a and b (same contact set, so the path is affine there).
+  void locate_events(double a, double b, ContactTopology& topology_a);
+  void finish(TraceTermination termination, std::string message, double lambda);
+
+  TraceOptions options_;
+  TraceSink sink_;
+  fe::MemberModel model_;
+  fe::Discretisation d_;
+  contact::ActiveSetSystem system_;
+  SpecialPoints points_;
+  TraceResult result_;
+
+  double direction_ = 1.0, lambda_end_ = 1.0, span_ = 1.0;
+  ContactSet set_;
+  AffineState state_;
+  double reaction_scale_ = 0.0, gap_scale_ = 0.0;
+  int pivots_since_step_ = 0;
+  int lemke_resolutions_ = 0;
+  Eigen::MatrixXd free_motions_;  // rigid motions only the foundation resists (on the equations)
+  bool free_motions_failed_ = false;
+  std::vector<bool> held_;               // nodes kept in the set through a split final tie
+  std::optional<double> floating_load_;  // the load beyond which nothing balances the loads
+  TraceTermination termination_ = TraceTermination::solver_failure;
+  std::string message_;
+};
+
+bool FePath::load_set(const ContactSet& set) {
+  if (!holds_member(set) || !system_.factorise(set)) return false;
+  set_ = set;
+  // A held node stays held while it is in the set (until the lift-off load).
+  held_.resize(set.size(), false);
+  for (std::size_t i = 0; i < set.size(); ++i) held_[i] = held_[i] && set[i];
+  state_.dead = system_.solve(d_.dead_load);
+  state_.live = system_.solve(d_.live_load);
+  if (!(std::max(state_.dead.residual, state_.live.residual) <= acceptable_residual)) return false;
+  state_.coupled_dead = d_.coupling * state_.dead.displacement;
+  state_.coupled_live = d_.coupling * state_.live.displacement;
+  state_.flexible_dead = d_.flexibility * state_.dead.reaction;
+  state_.flexible_live = d_.flexibility * state_.live.reaction;
+  return true;
+}
+
+std::optional<ContactSet> FePath::lemke_set(double lambda) {
+  contact::ContactOptions options;
+  options.method = scene::Method::automatic;
+  options.load_factor = lambda;
+  const contact::ContactSolution solution = contact::solve_contact(d_, options);
+  result_.summary.pivots += std::max(solution.summary.pivots, 0);
+  pivots_since_step_ += std::max(solution.summary.pivots, 0);
+  if (solution.summary.termination == contact::ContactTermination::no_equilibrium) {
+    termination_ = TraceTermination::no_equilibrium;
+    message_ = solution.summary.message;
+    return std::nullopt;
+  }
+  if (!solution.summary.is_usable()) {
+    termination_ = TraceTermination::solver_failure;
+    message_ = fmt::format("Lemke at lambda = {:.10g}: {}", lambda, solution.summary.message);
+    return std::nullopt;
+  }
+  // In contact where the reaction, not the gap, is the basic (non-zero) one, each relative to
+  // its own size.
+  // (The gap's size is that of its terms, T r and C u: in full contact the gaps are round-off.)
+  const double r_scale = std::max(solution.reaction.lpNorm<Eigen::Infinity>(), 1e-300);
+  const double g_scale = std::max((d_.flexibility * solution.reaction).lpNorm<Eigen::Infinity>(), 1e-300);
+  ContactSet set(d_.reactions());
+  for (int i = 0; i < d_.reactions(); ++i) set[i] = solution.reaction[i] / r_scale > solution.gap[i] / g_scale;
+  return set;
+}
+
+double FePath::value(int node, double lambda) const {
+  return set_[node] ? state_.dead.reaction[node] + lambda * state_.live.reaction[node]
+                    : state_.dead.gap[node] + lambda * state_.live.gap[node];
+}
+
+double FePath::rate(int node) const {
+  return direction_ * (set_[node] ? state_.live.reaction[node] : state_.live.gap[node]);
+}
+
+void FePath::update_scales(double lambda) {
+  reaction_scale_ = gap_scale_ = 1e-300;
+  for (double at : {lambda, lambda_end_}) {
+    reaction_scale_ = std::max(reaction_scale_, state_.reaction(at).lpNorm<Eigen::Infinity>());
+    gap_scale_ = std::max({gap_scale_, (state_.coupled_dead + at * state_.coupled_live).lpNorm<Eigen::Infinity>(),
+                           (state_.flexible_dead + at * state_.flexible_live).lpNorm<Eigen::Infinity>()});
+  }
+}
+
+bool FePath::at_zero_and_falling(int node, double lambda) const {
+  return std::abs(value(node, lambda)) <= tie_tolerance * scale(node) &&
+         rate(node) * span_ < -zero_tolerance * scale(node);
+}
+
+bool FePath::carries_on(double lambda, const std::vector<int>& nodes) const {
+  if (nodes.empty()) {
+    for (int i = 0; i < d_.reactions(); ++i)
+      if (at_zero_and_falling(i, lambda)) return false;
+  }
+  for (int i : nodes)
+    if (at_zero_and_falling(i, lambda)) return false;
+  return true;
+}
+
+bool FePath::feasible_at(double lambda) const {
+  for (int i = 0; i < d_.reactions(); ++i)
+    if (value(i, lambda) < -tie_tolerance * scale(i)) return false;
+  return true;
+}
+
+// A degenerate breakpoint (or a set that no longer holds the member): the set just beyond it
+// from Lemke, accepted only if it is feasible at the breakpoint and carries the path on.
+bool FePath::resolve_by_lemke(double lambda) {
+  ++lemke_resolutions_;
+  double offset = lemke_offset * span_;
+  for (int attempt = 0; attempt < lemke_attempts; ++attempt, offset *= 1e-2) {
+    if (!rigid_motions_balanced(lambda + direction_ * offset)) {
+      termination_ = TraceTermination::no_equilibrium;
+      message_ = lift_off_message(lambda);
+      return false;
+    }
+    const auto set = lemke_set(lambda + direction_ * offset);
+    if (!set) {
+      if (termination_ == TraceTermination::no_equilibrium)
+        message_ = fmt::format(
+            "no equilibrium beyond lambda = {:.10g}: the live loads lift the member off the foundation and the "
+            "supports cannot hold it ({})",
+            lambda, message_);
+      return false;
+    }
+    if (!load_set(*set)) continue;
+    update_scales(lambda);
+    if (feasible_at(lambda) && carries_on(lambda)) return true;
+  }
+  termination_ = TraceTermination::solver_failure;
+  message_ = fmt::format("the degenerate breakpoint at lambda = {:.10g} could not be resolved: no contact set from "
+                         "Lemke just beyond it is feasible there",
+                         lambda);
+  return false;
+}
+
+const Eigen::MatrixXd& FePath::free_motions() {
+  const int k = d_.unstable_rigid_motions, n = d_.equations;
+  if (k == 0 || free_motions_.cols() == k || free_motions_failed_) return free_motions_;
+  // The member's rigid motions that leave every fixed dof (supports, gauge) at rest, on the
+  // equations. Built from the exact motions, not from K's kernel: near the load that lifts the
+  // member off, the loads' work on these motions is a tiny residue of large, nearly balancing
+  // terms, which a kernel computed to eps cond(K) would drown.
+  const Eigen::MatrixXd motions = fe::rigid_motions(model_, d_);
+  std::vector<int> fixed;
+  for (int dof = 0; dof < d_.dofs(); ++dof)
+    if (d_.equation_of_dof[dof] < 0) fixed.push_back(dof);
+  Eigen::MatrixXd kernel = Eigen::MatrixXd::Identity(motions.cols(), motions.cols());
+  if (!fixed.empty()) {
+    Eigen::MatrixXd at_fixed(fixed.size(), motions.cols());
+    for (std::size_t i = 0; i < fixed.size(); ++i) at_fixed.row(i) = motions.row(fixed[i]);
+    Eigen::FullPivLU<Eigen::MatrixXd> lu(at_fixed);
+    lu.setThreshold(1e-10);
+    kernel = lu.rank() == motions.cols() ? Eigen::MatrixXd(motions.cols(), 0) : Eigen::MatrixXd(lu.kernel());
+  }
+  const Eigen::MatrixXd free = motions * kernel;
+  Eigen::MatrixXd z(n, free.cols());
+  for (int dof = 0; dof < d_.dofs(); ++dof)
+    if (d_.equation_of_dof[dof] >= 0) z.row(d_.equation_of_dof[dof]) = free.row(dof);
+  const double largest = std::max(1.0, d_.stiffness.diagonal().cwiseAbs().maxCoeff());
+  if (z.cols() != k || !((d_.stiffness * z).lpNorm<Eigen::Infinity>() <= 1e-8 * largest * z.lpNorm<Eigen::Infinity>())) {
+    free_motions_failed_ = true;
+    free_motions_.resize(n, 0);
+  } else {
+    free_motions_ = Eigen::HouseholderQR<Eigen::MatrixXd>(z).householderQ() * Eigen::MatrixXd::Identity(n, k);
+  }
+  return free_motions_;
+}
+
+bool FePath::holds_member(const ContactSet& set) {
+  const int k = d_.unstable_rigid_motions;
+  if (k == 0) return true;
+  const Eigen::MatrixXd& z = free_motions();
+  if (z.cols() != k) return true;  // unknown: the factorisation decides
+  // The fixed-set system is nonsingular iff no free rigid motion leaves every node of the set
+  // where it is: C_A Z of full column rank.
+  const Eigen::MatrixXd seen = d_.coupling * z;
+  std::vector<int> rows;
+  for (int i = 0; i < d_.reactions(); ++i)
+    if (set[i]) rows.push_back(i);
+  if (static_cast<int>(rows.size()) < k) return false;
+  Eigen::MatrixXd seen_by_set(rows.size(), k);
+  for (std::size_t r = 0; r < rows.size(); ++r) seen_by_set.row(r) = seen.row(rows[r]);
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(seen_by_set);
+  qr.setThreshold(1e-8);
+  return qr.rank() == k;
+}
+
+bool FePath::rigid_motions_balanced(double lambda) {
+  const int k = d_.unstable_rigid_motions;
+  if (k == 0) return true;
+  const Eigen::MatrixXd& z = free_motions();
+  if (z.cols() != k) return true;  // undecided: let Lemke say
+  // Is b = Z^T F in the cone of the columns a_i = Z^T C^T e_i (what a compressive reaction at
+  // node i does on the motions)? Both sides normalised: near the lift-off load b is a tiny
+  // residue of loads that nearly balance. One or two motions (beams): the cone's directions
+  // decide exactly; three (a free arch): non-negative least squares as an LCP (A^T A positive
+  // semidefinite, so Lemke solves it), and its residual decides.
+  Eigen::MatrixXd a = (d_.coupling * z).transpose();  // k x m
+  VectorXd b = z.transpose() * d_.load(lambda);
+  if (b.lpNorm<Eigen::Infinity>() == 0.0) return true;
+  a /= std::max(a.lpNorm<Eigen::Infinity>(), 1e-300);
+  b /= b.lpNorm<Eigen::Infinity>();
+  if (k == 1) return ((a.array() * b[0]) > 0.0).any();
+  if (k == 2) {
+    // A cone in the plane is the plane, or the sector opposite the widest gap between the
+    // directions of its generators: test the angle of b against it.
+    std::vector<double> angles;
+    for (Eigen::Index i = 0; i < a.cols(); ++i)
+      if (a.col(i).lpNorm<Eigen::Infinity>() > 1e-14) angles.push_back(std::atan2(a(1, i), a(0, i)));
+    if (angles.empty()) return false;
+    std::sort(angles.begin(), angles.end());
+    double widest = angles.front() + 2 * std::numbers::pi - angles.back();  // the gap across +-pi
+    double sector_begin = angles.front(), sector_end = angles.back();
+    for (std::size_t i = 1; i < angles.size(); ++i)
+      if (angles[i] - angles[i - 1] > widest) {
+        widest = angles[i] - angles[i - 1];
+        sector_begin = angles[i];
+        sector_end = angles[i - 1] + 2 * std::numbers::pi;
+      }
+    if (widest < std::numbers::pi) return true;  // the generators span the plane positively
+    double angle = std::atan2(b[1], b[0]);
+    if (angle < sector_begin - 1e-10) angle += 2 * std::numbers::pi;
+    return angle >= sector_begin - 1e-10 && angle <= sector_end + 1e-10;
+  }
+  const lcp::LemkeResult nnls = lcp::solve_lemke(a.transpose() * a, -(a.transpose() * b), {});
+  if (nnls.summary.termination != lcp::LemkeTermination::solution) return true;  // undecided: let Lemke say
+  return (a * nnls.z - b).lpNorm<Eigen::Infinity>() <= 1e-8;
+}
+
+std::optional<double> FePath::lift_off_load(double from) {
+  if (rigid_motions_balanced(lambda_end_)) return std::nullopt;
+  double lo = from, hi = lambda_end_;
+  for (int i = 0; i < 200 && std::abs(hi - lo) > options_.event_tolerance; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (rigid_motions_balanced(mid) ? lo : hi) = mid;
+  }
+  return lo;
+}
+
+std::string FePath::lift_off_message(double lambda) const {
+  return fmt::format(
+      "no equilibrium beyond lambda = {:.10g}: the live loads lift the member off the foundation (compressive "
+      "reactions can no longer balance the loads on its free rigid motions, {}), and no support holds it",
+      lambda, d_.stability_note);
+}
+
+bool FePath::establish_start(double lambda) {
+  const int m = d_.reactions();
+  if (options_.resume_from && options_.resume_from->state_topology == contact_set_tag &&
+      static_cast<int>(options_.resume_from->state.size()) == m) {
+    ContactSet set(m);
+    for (int i = 0; i < m; ++i) set[i] = options_.resume_from->state[i] > 0.5;
+    if (load_set(set)) return true;
+  }
+  if (!d_.tensionless) {
+    if (load_set(ContactSet(m, true))) return true;
+    termination_ = TraceTermination::solver_failure;
+    message_ = "the bilateral system is singular: the structure is a mechanism even on the foundation";
+    return false;
+  }
+  const bool unloaded = d_.load(lambda).lpNorm<Eigen::Infinity>() == 0.0;
+  if (!unloaded) {
+    // Cheapest first: full contact, if every reaction it gives is compressive.
+    if (load_set(ContactSet(m, true))) {
+      update_scales(lambda);
+      if (feasible_at(lambda)) return true;
+    }
+  }
+  // Unloaded at the start, F(lambda_min + t) = t F_live: the set along that ray.
+  const auto set = lemke_set(unloaded ? lambda + direction_ : lambda);
+  if (!set) {
+    if (termination_ == TraceTermination::no_equilibrium)
+      message_ = fmt::format("no equilibrium at lambda = {:.10g}: {}", lambda, message_);
+    return false;
+  }
+  if (load_set(*set)) return true;
+  termination_ = TraceTermination::solver_failure;
+  message_ = fmt::format("the contact set Lemke found at lambda = {:.10g} does not hold the member", lambda);
+  return false;
+}
+
+ContactTopology FePath::topology_at(double lambda) const {
+  return contact_topology(model_, d_, d_.expand(state_.displacement(lambda)), points_);
+}
+
+TraceStep FePath::step_at(double lambda) {
+  TraceStep step;
+  step.load_factor = lambda;
+  const VectorXd displacement = d_.expand(state_.displacement(lambda));
+  const VectorXd reaction = state_.reaction(lambda);
+  for (const auto& region : post::contact_regions(model_, d_, displacement))
+    step.contact_regions.push_back({model_.user_from_s(region.begin), model_.user_from_s(region.end)});
+  auto at = [&](double user) {
+    const double s = std::clamp(model_.s_from_user(user), model_.s_begin, model_.s_end);
+    const int e = d_.mesh.element_containing(s);
+    return std::pair{e, (s - d_.mesh.nodes[e]) / d_.mesh.element_size(e)};
+  };
+  const fe::Scales& scales = model_.scales;
+  const auto [me, mxi] = at(options_.monitor);
+  step.monitor_deflection = post::evaluate(d_, displacement, me, mxi).w * scales.displacement();
+  for (double x : options_.sample_points) {
+    const auto [e, xi] = at(x);
+    step.deflection.push_back(post::evaluate(d_, displacement, e, xi).w * scales.displacement());
+    step.reaction.push_back(post::reaction_at(d_, reaction, e, xi) * scales.force_per_length());
+  }
+  step.state_topology = contact_set_tag;
+  step.state.assign(set_.begin(), set_.end());
+  return step;
+}
+
+void FePath::emit_step(TraceStep step) {
+  step.iterations = pivots_since_step_;
+  pivots_since_step_ = 0;
+  if (sink_.on_step) sink_.on_step(step);
+  result_.steps.push_back(std::move(step));
+  ++result_.summary.steps;
+}
+
+void FePath::emit_event(const TraceEvent& event) {
+  if (sink_.on_event) sink_.on_event(event);
+  result_.events.push_back(event);
+}
+
+// Why events are located on w and not at breakpoints: contact in the reports (and in the Ritz
+// model, which the events are compared with) is w > 0 of the element cubic, while a breakpoint
+// is a nodal reaction or gap reaching zero. A lift-off zone opens inside a region where w first
+// touches zero, which is generally inside an element and a little after the breakpoint at which
+// the nearest node's reaction reached zero (its neighbours still press it down). Between
+// breakpoints the path is exactly affine, so w(x, lambda) is known in closed form there and the
+// event is located by bisection on lambda to event_tolerance, with no solve.
+void FePath::locate_events(double a, double b, ContactTopology& topology_a) {
+  ContactTopology topology_b = topology_at(b);
+  for (int guard = 0; guard < 64 && !topology_a.same_as(topology_b); ++guard) {
+    double lo = a, hi = b;
+    for (int i = 0; i < 200 && std::abs(hi - lo) > options_.event_tolerance; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (topology_at(mid).same_as(topology_a) ? lo : hi) = mid;
+    }
+    const ContactTopology after = topology_at(hi);
+    const std::vector<TraceEvent> events = classify_events(model_, points_, topology_at(lo), after, hi);
+    if (!events.empty()) {
+      emit_step(step_at(hi));
+      for (const auto& event : events) emit_event(event);
+    }
+    a = hi;
+    topology_a = after;
+  }
+  topology_a = topology_b;
+}
+
+void FePath::finish(TraceTermination termination, std::string message, double lambda) {
+  result_.summary.termination = termination;
+  result_.summary.message = std::move(message);
+  result_.summary.final_load_factor = lambda;
+}
+
+TraceResult FePath::run() {
+  const auto start = std::chrono::steady_clock::now();
+  TraceSummary& summary = result_.summary;
+  summary.path = "fe";
+  summary.pivots = 0;
+  const int m = d_.reactions();
+
+  direction_ = options_.lambda_max >= options_.lambda_min ? 1.0 : -1.0;
+  lambda_end_ = options_.lambda_max;
+  span_ = std::max(std::abs(options_.lambda_max - options_.lambda_min), 1e-300);
+  double lambda = options_.resume_from ? options_.resume_from->load_factor : options_.lambda_min;
+
+  auto done = [&]() {
+    summary.factorisations = system_.factorisations();
+    if (lemke_resolutions_ > 0 && summary.termination == TraceTermination::completed)
+      summary.message += fmt::format("; {} degenerate breakpoint(s) resolved by Lemke just beyond them",
+                                     lemke_resolutions_);
+    summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return std::move(result_);
+  };
+
+  if (options_.resume_from && !(direction_ * (lambda_end_ - lambda) > 0.0)) {
+    finish(TraceTermination::completed, "the resumed step is already at the end of the load range", lambda);
+    return done();
+  }
+  if (!establish_start(lambda)) {
+    finish(termination_, message_, lambda);
+    return done();
+  }
+  if (!options_.resume_from) emit_step(step_at(lambda));
+  // A member only the foundation holds can be held only while compressive reactions can
+  // balance the loads on its free rigid motions: up to the lift-off load, found once here (the
+  // loads' work on those motions is affine in lambda and the reactions' span a convex cone, so
+  // the loads are balanced on one interval of lambda).
+  if (!d_.structure_is_stable() && d_.tensionless) floating_load_ = lift_off_load(lambda);
+  // Unloaded at the start, the member touches nothing, but along the first segment the state
+  // is (lambda - lambda_min) times the live one: its topology is that of the live state.
+  ContactTopology topology =
+      state_.displacement(lambda).lpNorm<Eigen::Infinity>() == 0.0
+          ? contact_topology(model_, d_, d_.expand(direction_ * state_.live.displacement), points_)
+          : topology_at(lambda);
+  int breakpoints = 0, breakpoints_here = 0;
+
+  while (true) {
+    // The next breakpoint: the first reaction in the set or gap outside it to reach zero.
+    update_scales(lambda);
+    double next = std::numeric_limits<double>::infinity();  // distance in lambda
+    if (d_.tensionless)
+      for (int i = 0; i < m; ++i) {
+        const double v = value(i, lambda), rho = rate(i);
+        if (!held_[i] && rho * span_ < -zero_tolerance * scale(i)) next = std::min(next, std::max(v, 0.0) / -rho);
+      }
+    const double breakpoint = lambda + direction_ * next;
+    if (floating_load_ && !(direction_ * (breakpoint - *floating_load_) < 0.0)) {
+      // The held nodes' reactions vanish together here and nothing balances the loads beyond.
+      locate_events(lambda, *floating_load_, topology);
+      emit_step(step_at(*floating_load_));
+      finish(TraceTermination::no_equilibrium, lift_off_message(*floating_load_), *floating_load_);
+      return done();
+    }
+    if (!(direction_ * (breakpoint - lambda_end_) < 0.0)) {
+      locate_events(lambda, lambda_end_, topology);
+      if (result_.steps.empty() || result_.steps.back().load_factor != lambda_end_) emit_step(step_at(lambda_end_));
+      finish(TraceTermination::completed,
+             fmt::format("lambda = {:.10g} reached: {} breakpoint(s), {} event(s)", lambda_end_, breakpoints,
+                         result_.events.size()),
+             lambda_end_);
+      return done();
+    }
+    locate_events(lambda, breakpoint, topology);
+
+    // Every node at zero there and falling switches, ties together.
+    TraceStep step = step_at(breakpoint);  // the state is continuous: either set gives it
+    ContactSet switched = set_;
+    std::vector<int> pivoted;
+    for (int i = 0; i < m; ++i)
+      if (value(i, breakpoint) <= tie_tolerance * scale(i) && rate(i) * span_ < -zero_tolerance * scale(i)) {
+        switched[i] = !switched[i];
+        pivoted.push_back(i);
+      }
+    if (!holds_member(switched) && (!floating_load_ || direction_ * (*floating_load_ - breakpoint) > 0.0)) {
+      // The nodes leaving would leave the member floating while the loads can still be
+      // balanced: round-off has split the final tie, in which every remaining reaction vanishes
+      // together at the load beyond which the loads cannot be balanced (the lift-off load).
+      // Those nodes are held in the set, the path goes on with it, and it stops at that load.
+      for (int i : pivoted)
+        if (set_[i]) {
+          switched[i] = true;
+          held_[i] = true;
+        }
+      pivoted.erase(std::remove_if(pivoted.begin(), pivoted.end(), [&](int i) { return held_[i]; }), pivoted.end());
+    }
+    const int pivots = static_cast<int>(pivoted.size());
+    summary.pivots += pivots;
+    pivots_since_step_ += pivots;
+    ++breakpoints;
+    breakpoints_here = next == 0.0 ? breakpoints_here + 1 : 0;
+    if (breakpoints_here > m + 1) {
+      emit_step(std::move(step));
+      finish(TraceTermination::solver_failure,
+             fmt::format("the pivoting cycles at lambda = {:.10g} (degenerate breakpoint)", breakpoint), breakpoint);
+      return done();
+    }
+    if (pivoted.empty()) {  // only held nodes: nothing switches, nothing to refactorise
+      step.state.assign(set_.begin(), set_.end());
+      emit_step(std::move(step));
+      lambda = breakpoint;
+      continue;
+    }
+    bool carried = load_set(switched);
+    if (carried) {
+      // Degenerate if a node just switched would switch straight back. Another node found at
+      // zero and falling (a tie that round-off split) is simply the next breakpoint, at once.
+      update_scales(breakpoint);
+      carried = carries_on(breakpoint, pivoted);
+    }
+    if (!carried && !resolve_by_lemke(breakpoint)) {
+      emit_step(std::move(step));
+      finish(termination_, message_, breakpoint);
+      return done();
+    }
+    step.state.assign(set_.begin(), set_.end());
+    emit_step(std::move(step));
+    lambda = breakpoint;
+    if (result_.summary.steps >= options_.max_steps) {
+      finish(TraceTermination::step_limit,
+             fmt::format("max_steps = {} reached at lambda = {:.10g}", options_.max_steps, lambda), lambda);
+      return done();
+    }
+  }
+}
+
+}  // namespace
+
+TraceResult trace_fe(const scene::Scene& scene, const TraceOptions& options, const TraceSink& sink) {
+  if (!std::isfinite(options.lambda_min) || !std::isfinite(options.lambda_max))
+    throw std::invalid_argument("TraceOptions::lambda_min and lambda_max must be finite");
+  if (options.elements < 1) throw std::invalid_argument("TraceOptions::elements must be at least 1");
+  if (!(options.event_tolerance > 0.0)) throw std::invalid_argument("TraceOptions::event_tolerance must be > 0");
+  if (options.resume_from && !std::isfinite(options.resume_from->load_factor))
+    throw std::invalid_argument("TraceOptions::resume_from: the step's load factor must be finite");
+  FePath path(scene, options, sink);
+  return path.run();
+}
+
+EventErrors estimate_event_errors(const scene::Scene& scene, const TraceOptions& options, const TraceResult& base) {
+  TraceOptions refined_options = options;
+  refined_options.elements = 2 * options.elements;
+  refined_options.resume_from.reset();
+  const TraceResult refined = trace_fe(scene, refined_options);
+  EventErrors errors;
+  errors.elements = options.elements;
+  errors.refined_elements = refined_options.elements;
+  errors.refined_summary = refined.summary;
+  // Match each event with the refined run's unmatched event of its kind nearest in load, then
+  // in position (mirror-image events share a load).
+  std::vector<bool> used(refined.events.size(), false);
+  const double length = std::abs(scene.end() - scene.begin());
+  for (const TraceEvent& event : base.events) {
+    EventErrorEstimate estimate;
+    estimate.event = event;
+    double best = std::numeric_limits<double>::infinity();
+    std::size_t best_index = 0;
+    for (std::size_t j = 0; j < refined.events.size(); ++j) {
+      if (used[j] || refined.events[j].kind != event.kind) continue;
+      const double distance = std::abs(refined.events[j].load_factor - event.load_factor) /
+                                  std::max(std::abs(options.lambda_max - options.lambda_min), 1e-300) +
+                              std::abs(refined.events[j].at - event.at) / length;
+      if (distance < best) {
+        best = distance;
+        best_index = j;
+      }
+    }
+    if (std::isfinite(best)) {
+      used[best_index] = true;
+      estimate.refined = refined.events[best_index];
+      estimate.load_factor_error = std::abs(event.load_factor - estimate.refined->load_factor);
+    }
+    errors.events.push_back(estimate);
+  }
+  return errors;
 }
 
 }  // namespace liftoff::continuation

@@ -78,7 +78,8 @@ std::vector<int> supported_dofs(const MemberModel& model, const Discretisation& 
   return fixed;
 }
 
-// The in-plane rigid motions of the member, on every dof (columns).
+}  // namespace
+
 Eigen::MatrixXd rigid_motions(const MemberModel& model, const Discretisation& d) {
   const int n = d.dofs();
   const double middle = 0.5 * (model.s_begin + model.s_end);
@@ -104,6 +105,8 @@ Eigen::MatrixXd rigid_motions(const MemberModel& model, const Discretisation& d)
   }
   return modes;
 }
+
+namespace {
 
 Eigen::MatrixXd kernel(const Eigen::MatrixXd& a, int columns) {
   if (a.rows() == 0) return Eigen::MatrixXd::Identity(columns, columns);

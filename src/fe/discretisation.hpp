@@ -68,4 +68,8 @@ class Discretisation {
 // Throws InputError for a mechanism the loads drive (see above).
 Discretisation discretise(const MemberModel& model, int elements);
 
+// The in-plane rigid motions of the member, on every dof (columns), whatever the supports:
+// beams translation and rotation, arches two translations and the rotation about the centre.
+Eigen::MatrixXd rigid_motions(const MemberModel& model, const Discretisation& d);
+
 }  // namespace liftoff::fe

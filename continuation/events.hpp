@@ -1,0 +1,58 @@
+#pragma once
+// The contact topology of an FE deflection, and the events that turn one topology into another.
+//
+// The topology is what a load history reports as events: the foundation's extent cut into
+// alternating contact (w > 0) and lift-off pieces, and, for every contact limit, which of the
+// intervals between the special points (interior point supports and point loads) it lies in.
+// A limit moving from one element to the next changes nothing here; a piece opening or
+// vanishing, or a limit crossing a special point or reaching an end, does.
+//
+// Contact is decided on the element cubics, exactly: w is sampled at the nodes and at the
+// interior extrema of every element's cubic, between which w is monotone, so a lift-off zone
+// opening inside an element is seen as soon as w dips below zero (post::contact_regions, which
+// looks for sign changes on a fixed grid of brackets, sees it only once the zone spans a
+// bracket point; its limits are what steps report).
+
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "continuation/trace.hpp"
+#include "fe/discretisation.hpp"
+#include "fe/member_model.hpp"
+
+namespace liftoff::continuation {
+
+struct Piece {
+  double begin = 0.0;  // s
+  double end = 0.0;
+  bool contact = false;
+};
+
+// Points of the foundation's extent at which a contact limit arriving is an event.
+struct SpecialPoints {
+  double begin = 0.0, end = 0.0;  // the foundation's extent (s)
+  bool begin_supported = false;   // a support holds w = 0 at that end of the foundation
+  bool end_supported = false;
+  std::vector<double> interior;   // point supports and point loads strictly inside, sorted
+  std::vector<bool> is_support;   // per interior point: support (true) or point load
+};
+SpecialPoints special_points(const fe::MemberModel& model);
+
+struct ContactTopology {
+  std::vector<Piece> pieces;     // in order along the foundation; empty without a foundation
+  std::vector<int> limit_slots;  // per interior limit: how many interior special points lie before it
+  bool same_as(const ContactTopology& other) const;
+};
+
+// displacement on every dof (nondimensional). A bilateral foundation is one contact piece.
+ContactTopology contact_topology(const fe::MemberModel& model, const fe::Discretisation& d,
+                                 const Eigen::VectorXd& displacement, const SpecialPoints& points);
+
+// The events between two topologies on either side of one change (at load factor
+// `load_factor`), with positions in the user's coordinate.
+std::vector<TraceEvent> classify_events(const fe::MemberModel& model, const SpecialPoints& points,
+                                        const ContactTopology& before, const ContactTopology& after,
+                                        double load_factor);
+
+}  // namespace liftoff::continuation
