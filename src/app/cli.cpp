@@ -170,6 +170,7 @@ struct TraceArguments {
   ProblemArguments problem;
   bool json = false;
   bool resume = false;
+  bool progress = false;
   std::string output;
 };
 
@@ -185,16 +186,20 @@ int run_trace_command(const TraceArguments& args, std::ostream& out, std::ostrea
   request.output = args.output;
   request.resume = args.resume;
   request.version = LIFTOFF_VERSION;
+  // On a terminal, one line rewritten at most ten times a second; with --progress elsewhere, a
+  // line per step (a step counted there is already in the file).
+  const bool terminal = &err == &std::cerr && ::isatty(STDERR_FILENO) == 1;
   bool progress_shown = false;
-  if (&err == &std::cerr && ::isatty(STDERR_FILENO) == 1) {
+  if (terminal || args.progress) {
     auto last = std::chrono::steady_clock::now() - std::chrono::seconds(1);
-    request.progress = [&err, &progress_shown, last](const TraceProgress& p) mutable {
+    request.progress = [&err, &progress_shown, last, terminal](const TraceProgress& p) mutable {
       const auto now = std::chrono::steady_clock::now();
-      if (now - last < std::chrono::milliseconds(100)) return;
+      if (terminal && now - last < std::chrono::milliseconds(100)) return;
       last = now;
-      progress_shown = true;
-      err << fmt::format("\rliftoff trace {}: lambda {:.6g} of [{:.6g}, {:.6g}], {} steps, {} events   ", p.path,
-                         p.load_factor, p.lambda_min, p.lambda_max, p.steps, p.events)
+      progress_shown = terminal;
+      err << fmt::format("{}liftoff trace {}: lambda {:.6g} of [{:.6g}, {:.6g}], {} steps, {} events{}",
+                         terminal ? "\r" : "", p.path, p.load_factor, p.lambda_min, p.lambda_max, p.steps, p.events,
+                         terminal ? "   " : "\n")
           << std::flush;
     };
   }
@@ -250,6 +255,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   trace_command->add_flag("--json", trace.json, "Print one JSON object on stdout instead of the summary");
   trace_command->add_option("--output,-o", trace.output, "Write the trace to this HDF5 file as it runs");
   trace_command->add_flag("--resume", trace.resume, "Continue the --output file from its last finished step");
+  trace_command->add_flag("--progress", trace.progress,
+                          "Progress on stderr, a line per step, even when stderr is not a terminal");
 
   try {
     app.parse(argc, argv);

@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "core/error.hpp"
 #include "io/report.hpp"
@@ -115,6 +117,12 @@ void create_rows(hid_t group, const char* name, hid_t type, hsize_t columns) {
   Handle space(H5Screate_simple(rank, dims, max_dims), H5Sclose, name);
   Handle properties(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, name);
   check(H5Pset_chunk(properties, rank, chunk), name);
+  // NaN in rows that were made but never written (a kill between extending and writing): such
+  // a row belongs to no step and is dropped when the file is read back.
+  if (H5Tequal(type, H5T_IEEE_F64LE) > 0) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    check(H5Pset_fill_value(properties, H5T_NATIVE_DOUBLE, &nan), name);
+  }
   Handle dataset(H5Dcreate2(group, name, type, space, H5P_DEFAULT, properties, H5P_DEFAULT), H5Dclose, name);
 }
 
@@ -227,102 +235,177 @@ std::vector<std::string> split_paths(const std::string& joined) {
   return parts;
 }
 
-}  // namespace
 
-struct TraceWriter::File {
-  std::filesystem::path path;
-  hid_t id = -1;
+// A whole path's part of an open file, read back. Rows of a step that was being written when
+// the run stopped are left out (the per-step datasets' common length counts).
+TracePathRecord read_path_record(hid_t id, const std::string& name, std::size_t samples) {
+  const auto steps = [&](const char* d) { return name + "/steps/" + d; };
+  const auto events = [&](const char* d) { return name + "/events/" + d; };
+  Handle group(H5Gopen2(id, name.c_str(), H5P_DEFAULT), H5Gclose, name);
+  TracePathRecord record;
+  record.complete = number_attribute(group, "complete") != 0.0;
+  record.termination = string_attribute(group, "termination");
+  record.message = string_attribute(group, "message");
+  record.monitor = number_attribute(group, "monitor");
+  const std::vector<double> lambda = read_doubles(id, steps("lambda"));
+  const std::vector<double> monitor = read_doubles(id, steps("monitor_deflection"));
+  const std::vector<double> iterations = read_doubles(id, steps("iterations"));
+  const std::vector<double> deflection = read_doubles(id, steps("deflection"));
+  const std::vector<double> reaction = read_doubles(id, steps("reaction"));
+  const std::vector<std::string> topology = read_strings(id, steps("state_topology"));
+  const std::vector<double> regions = read_doubles(id, steps("contact_regions"));
+  const std::vector<double> state = read_doubles(id, steps("state"));
+  std::size_t n = std::min({lambda.size(), monitor.size(), iterations.size(), topology.size()});
+  if (samples > 0) n = std::min({n, deflection.size() / samples, reaction.size() / samples});
+  record.steps.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    TraceStep& s = record.steps[i];
+    s.load_factor = lambda[i];
+    s.monitor_deflection = monitor[i];
+    s.iterations = static_cast<int>(iterations[i]);
+    s.deflection.assign(deflection.begin() + i * samples, deflection.begin() + (i + 1) * samples);
+    s.reaction.assign(reaction.begin() + i * samples, reaction.begin() + (i + 1) * samples);
+    s.state_topology = topology[i];
+  }
+  const auto written_step = [n](double step) { return step >= 0 && step < static_cast<double>(n); };  // NaN: no
+  for (std::size_t r = 0; r + 2 < regions.size(); r += 3)
+    if (written_step(regions[r]))
+      record.steps[static_cast<std::size_t>(regions[r])].contact_regions.push_back({regions[r + 1], regions[r + 2]});
+  for (std::size_t r = 0; r + 1 < state.size(); r += 2)
+    if (written_step(state[r])) record.steps[static_cast<std::size_t>(state[r])].state.push_back(state[r + 1]);
+  const std::vector<double> event_lambda = read_doubles(id, events("lambda"));
+  const std::vector<std::string> kinds = read_strings(id, events("kind"));
+  const std::vector<double> at = read_doubles(id, events("at"));
+  const std::vector<double> event_step = read_doubles(id, events("step"));
+  const std::vector<std::string> descriptions = read_strings(id, events("description"));
+  const std::size_t m = std::min({event_lambda.size(), kinds.size(), at.size(), event_step.size(), descriptions.size()});
+  for (std::size_t i = 0; i < m; ++i) {
+    if (!written_step(event_step[i]) || std::isnan(event_lambda[i]) || std::isnan(at[i])) continue;
+    record.events.push_back({event_lambda[i], event_kind(kinds[i]), at[i], descriptions[i]});
+  }
+  return record;
+}
+
+// A finished step is written in full: a NaN left in one (the fill value of rows that were made
+// but never written) means the file was damaged by a kill in the middle of a flush.
+bool whole(const TracePathRecord& record) {
+  const auto finite = [](const std::vector<double>& v) {
+    return std::all_of(v.begin(), v.end(), [](double x) { return !std::isnan(x); });
+  };
+  return std::all_of(record.steps.begin(), record.steps.end(), [&](const TraceStep& s) {
+    return !std::isnan(s.load_factor) && !std::isnan(s.monitor_deflection) && finite(s.deflection) &&
+           finite(s.reaction) && finite(s.state);
+  });
+}
+
+TraceFileInfo read_info(hid_t id) {
   TraceFileInfo info;
-  std::size_t samples = 0;
+  info.version = string_attribute(id, "liftoff_version");
+  info.scene_name = string_attribute(id, "scene_name");
+  info.coordinate = string_attribute(id, "coordinate");
+  info.options = string_attribute(id, "options");
+  info.paths = split_paths(string_attribute(id, "paths"));
+  info.scene_text = read_text(id, "scene");
+  info.sample_points = read_doubles(id, "sample_points");
+  return info;
+}
 
-  ~File() {
-    if (id >= 0) H5Fclose(id);
-  }
-  void flush() const { check(H5Fflush(id, H5F_SCOPE_GLOBAL), path.string()); }
-  std::string steps(const std::string& name, const char* dataset) const { return name + "/steps/" + dataset; }
-  std::string events(const std::string& name, const char* dataset) const { return name + "/events/" + dataset; }
+// Tables of rows (step, ...) are appended in step order: the rows of steps >= `steps` are a tail.
+void keep_rows_before_step(hid_t id, const std::string& name, hsize_t columns, hsize_t steps) {
+  const std::vector<double> rows = read_doubles(id, name);
+  hsize_t keep = 0;
+  while (keep < rows.size() / columns && rows[keep * columns] < static_cast<double>(steps)) ++keep;
+  set_rows(id, name, keep);
+}
 
-  void read_info() {
-    info.version = string_attribute(id, "liftoff_version");
-    info.scene_name = string_attribute(id, "scene_name");
-    info.coordinate = string_attribute(id, "coordinate");
-    info.options = string_attribute(id, "options");
-    info.paths = split_paths(string_attribute(id, "paths"));
-    info.scene_text = read_text(id, "scene");
-    info.sample_points = read_doubles(id, "sample_points");
-    samples = info.sample_points.size();
-  }
+// Drops the rows of a step (and of events) whose writing was interrupted.
+void trim(hid_t id, const std::string& name) {
+  const auto steps = [&](const char* d) { return name + "/steps/" + d; };
+  const auto events = [&](const char* d) { return name + "/events/" + d; };
+  hsize_t n = row_count(id, steps("lambda"));
+  for (const char* d : step_datasets) n = std::min(n, row_count(id, steps(d)));
+  for (const char* d : step_datasets) set_rows(id, steps(d), n);
+  keep_rows_before_step(id, steps("contact_regions"), 3, n);
+  keep_rows_before_step(id, steps("state"), 2, n);
+  const std::array<const char*, 5> columns{"lambda", "kind", "at", "step", "description"};
+  hsize_t m = row_count(id, events("step"));
+  for (const char* d : columns) m = std::min(m, row_count(id, events(d)));
+  for (const char* d : columns) set_rows(id, events(d), m);
+  keep_rows_before_step(id, events("step"), 1, n);
+  const hsize_t kept = row_count(id, events("step"));
+  for (const char* d : columns) set_rows(id, events(d), kept);
+}
 
-  // Rows of rows-of-(step, ...) tables: appended in step order, so the rows of steps >= `steps`
-  // are a tail.
-  void keep_rows_before_step(const std::string& name, hsize_t columns, hsize_t steps) const {
-    const std::vector<double> rows = read_doubles(id, name);
-    hsize_t keep = 0;
-    while (keep < rows.size() / columns && rows[keep * columns] < static_cast<double>(steps)) ++keep;
-    set_rows(id, name, keep);
-  }
-
-  // Drops the rows of a step whose writing was interrupted.
-  void trim(const std::string& name) const {
-    hsize_t n = row_count(id, steps(name, "lambda"));
-    for (const char* d : step_datasets) n = std::min(n, row_count(id, steps(name, d)));
-    for (const char* d : step_datasets) set_rows(id, steps(name, d), n);
-    keep_rows_before_step(steps(name, "contact_regions"), 3, n);
-    keep_rows_before_step(steps(name, "state"), 2, n);
-    hsize_t m = row_count(id, events(name, "step"));
-    for (const char* d : {"lambda", "kind", "at", "description"}) m = std::min(m, row_count(id, events(name, d)));
-    for (const char* d : {"lambda", "kind", "at", "step", "description"}) set_rows(id, events(name, d), m);
-    keep_rows_before_step(events(name, "step"), 1, n);
-    const hsize_t kept = row_count(id, events(name, "step"));
-    for (const char* d : {"lambda", "kind", "at", "description"}) set_rows(id, events(name, d), kept);
-  }
-
-  TracePathRecord read(const std::string& name) const {
-    Handle group(H5Gopen2(id, name.c_str(), H5P_DEFAULT), H5Gclose, name);
-    TracePathRecord record;
-    record.complete = number_attribute(group, "complete") != 0.0;
-    record.termination = string_attribute(group, "termination");
-    record.message = string_attribute(group, "message");
-    record.monitor = number_attribute(group, "monitor");
-    const std::vector<double> lambda = read_doubles(id, steps(name, "lambda"));
-    const std::vector<double> monitor = read_doubles(id, steps(name, "monitor_deflection"));
-    const std::vector<double> iterations = read_doubles(id, steps(name, "iterations"));
-    const std::vector<double> deflection = read_doubles(id, steps(name, "deflection"));
-    const std::vector<double> reaction = read_doubles(id, steps(name, "reaction"));
-    const std::vector<std::string> topology = read_strings(id, steps(name, "state_topology"));
-    const std::vector<double> regions = read_doubles(id, steps(name, "contact_regions"));
-    const std::vector<double> state = read_doubles(id, steps(name, "state"));
-    std::size_t n = std::min({lambda.size(), monitor.size(), iterations.size(), topology.size()});
-    if (samples > 0) n = std::min({n, deflection.size() / samples, reaction.size() / samples});
-    record.steps.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      TraceStep& s = record.steps[i];
-      s.load_factor = lambda[i];
-      s.monitor_deflection = monitor[i];
-      s.iterations = static_cast<int>(iterations[i]);
-      s.deflection.assign(deflection.begin() + i * samples, deflection.begin() + (i + 1) * samples);
-      s.reaction.assign(reaction.begin() + i * samples, reaction.begin() + (i + 1) * samples);
-      s.state_topology = topology[i];
-    }
-    for (std::size_t r = 0; r + 2 < regions.size(); r += 3) {
-      const auto step = static_cast<std::size_t>(regions[r]);
-      if (step < n) record.steps[step].contact_regions.push_back({regions[r + 1], regions[r + 2]});
-    }
-    for (std::size_t r = 0; r + 1 < state.size(); r += 2) {
-      const auto step = static_cast<std::size_t>(state[r]);
-      if (step < n) record.steps[step].state.push_back(state[r + 1]);
-    }
-    const std::vector<double> event_lambda = read_doubles(id, events(name, "lambda"));
-    const std::vector<std::string> kinds = read_strings(id, events(name, "kind"));
-    const std::vector<double> at = read_doubles(id, events(name, "at"));
-    const std::vector<double> event_step = read_doubles(id, events(name, "step"));
-    const std::vector<std::string> descriptions = read_strings(id, events(name, "description"));
-    const std::size_t m = std::min({event_lambda.size(), kinds.size(), at.size(), event_step.size(), descriptions.size()});
-    for (std::size_t i = 0; i < m; ++i) {
-      if (event_step[i] >= static_cast<double>(n)) continue;
-      record.events.push_back({event_lambda[i], event_kind(kinds[i]), at[i], descriptions[i]});
+// A trace file read whole and checked; nullopt if it cannot be read or is damaged.
+std::optional<TraceFileRecord> read_checked(const std::filesystem::path& path) {
+  if (!std::filesystem::exists(path) || H5Fis_hdf5(path.c_str()) <= 0) return std::nullopt;
+  const hid_t id = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (id < 0) return std::nullopt;
+  try {
+    Handle file(id, H5Fclose, path.string());
+    if (H5Aexists(file, "paths") <= 0 || !exists(file, "scene")) return std::nullopt;
+    TraceFileRecord record;
+    record.info = read_info(file);
+    record.complete = number_attribute(file, "complete") != 0.0;
+    for (const std::string& name : record.info.paths) {
+      if (!exists(file, name)) continue;
+      record.paths.emplace_back(name, read_path_record(file, name, record.info.sample_points.size()));
+      if (!whole(record.paths.back().second)) return std::nullopt;
     }
     return record;
+  } catch (const OutputError&) {
+    return std::nullopt;
+  }
+}
+
+std::size_t step_count(const TraceFileRecord& record) {
+  std::size_t n = 0;
+  for (const auto& [name, path] : record.paths) n += path.steps.size() + path.events.size();
+  return n;
+}
+
+}  // namespace
+
+std::filesystem::path trace_backup_path(const std::filesystem::path& path) {
+  std::filesystem::path backup = path;
+  backup += ".backup";
+  return backup;
+}
+
+// The file and its backup, written alike one after the other: a kill in the middle of one's
+// flush leaves the other whole.
+struct TraceWriter::File {
+  struct Copy {
+    std::filesystem::path path;
+    hid_t id = -1;
+  };
+  std::filesystem::path path;
+  std::array<Copy, 2> copies;
+  TraceFileInfo info;
+  std::size_t samples = 0;
+  bool clean = true;  // no write failed: the backup goes when the file is closed
+
+  ~File() {
+    for (const Copy& c : copies)
+      if (c.id >= 0) H5Fclose(c.id);
+    if (clean && copies[1].id >= 0) {
+      std::error_code ignored;
+      std::filesystem::remove(copies[1].path, ignored);
+    }
+  }
+
+  // Runs `write` on each copy and flushes it; a failure is an OutputError naming the file.
+  template <class Write>
+  void each(Write write) {
+    try {
+      for (const Copy& c : copies) {
+        write(c.id);
+        check(H5Fflush(c.id, H5F_SCOPE_GLOBAL), c.path.string());
+      }
+    } catch (const OutputError& e) {
+      clean = false;
+      throw OutputError(path.string() + ": " + e.what());
+    }
   }
 };
 
@@ -332,13 +415,19 @@ TraceWriter::~TraceWriter() = default;
 
 TraceWriter::TraceWriter(const std::filesystem::path& path, const TraceFileInfo& info) : file_(std::make_unique<File>()) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors become OutputError, not stderr noise
-  file_->path = path;
-  file_->info = info;
-  file_->samples = info.sample_points.size();
-  try {
-    file_->id = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-    if (file_->id < 0) throw OutputError("cannot create the file");
-    const hid_t id = file_->id;
+  File& f = *file_;
+  f.path = path;
+  f.info = info;
+  f.samples = info.sample_points.size();
+  f.copies = {File::Copy{path, -1}, File::Copy{trace_backup_path(path), -1}};
+  for (File::Copy& c : f.copies) {
+    c.id = H5Fcreate(c.path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    if (c.id < 0) {
+      f.clean = c.path != f.copies[1].path;
+      throw OutputError(c.path.string() + ": cannot create the file");
+    }
+  }
+  f.each([&](hid_t id) {
     set_string_attribute(id, "liftoff_version", info.version);
     set_string_attribute(id, "scene_name", info.scene_name);
     set_string_attribute(id, "coordinate", info.coordinate);
@@ -355,133 +444,124 @@ TraceWriter::TraceWriter(const std::filesystem::path& path, const TraceFileInfo&
                   H5Dclose, "sample_points");
     check(H5Dwrite(points, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, info.sample_points.data()),
           "sample_points");
-    file_->flush();
-  } catch (const OutputError& e) {
-    throw OutputError(path.string() + ": " + e.what());
-  }
+  });
 }
 
 TraceWriter TraceWriter::resume(const std::filesystem::path& path) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  const std::filesystem::path backup = trace_backup_path(path);
+  // The whole copy with more finished steps; then the other one made equal to it.
+  const std::optional<TraceFileRecord> main = read_checked(path), spare = read_checked(backup);
+  if (!main && !spare)
+    throw OutputError(path.string() + ": not a liftoff trace file, or damaged (and no whole " + backup.string() + ")");
+  const bool from_backup = !main || (spare && step_count(*spare) > step_count(*main));
+  std::error_code error;
+  std::filesystem::copy_file(from_backup ? backup : path, from_backup ? path : backup,
+                             std::filesystem::copy_options::overwrite_existing, error);
+  if (error) throw OutputError(path.string() + ": cannot restore the trace from its backup (" + error.message() + ")");
+
   auto file = std::make_unique<File>();
   file->path = path;
-  try {
-    if (H5Fis_hdf5(path.c_str()) <= 0) throw OutputError("not an HDF5 file");
-    file->id = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
-    if (file->id < 0) throw OutputError("cannot open the file for writing");
-    if (H5Aexists(file->id, "paths") <= 0 || !exists(file->id, "scene")) throw OutputError("not a liftoff trace file");
-    file->read_info();
-    for (const std::string& name : file->info.paths)
-      if (exists(file->id, name)) file->trim(name);
-    file->flush();
-  } catch (const OutputError& e) {
-    throw OutputError(path.string() + ": " + e.what());
+  file->info = from_backup ? spare->info : main->info;
+  file->samples = file->info.sample_points.size();
+  file->copies = {File::Copy{path, -1}, File::Copy{backup, -1}};
+  for (File::Copy& c : file->copies) {
+    c.id = H5Fopen(c.path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    if (c.id < 0) throw OutputError(c.path.string() + ": cannot open the file for writing");
   }
+  file->each([&](hid_t id) {
+    for (const std::string& name : file->info.paths)
+      if (exists(id, name)) trim(id, name);
+  });
   return TraceWriter(std::move(file));
 }
 
 const TraceFileInfo& TraceWriter::info() const { return file_->info; }
 
 std::optional<TracePathRecord> TraceWriter::read_path(const std::string& name) const {
-  if (!exists(file_->id, name)) return std::nullopt;
-  return file_->read(name);
-}
-
-void TraceWriter::begin_path(const std::string& name, double monitor) {
-  const hid_t id = file_->id;
-  if (exists(id, name)) return;
-  Handle group(H5Gcreate2(id, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, name);
-  set_flag_attribute(group, "complete", false);
-  set_number_attribute(group, "monitor", monitor);
-  Handle steps(H5Gcreate2(group, "steps", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "steps");
-  for (const char* d : {"lambda", "monitor_deflection", "iterations"}) create_rows(steps, d, H5T_IEEE_F64LE, 0);
-  for (const char* d : {"deflection", "reaction"}) create_rows(steps, d, H5T_IEEE_F64LE, file_->samples);
-  create_rows(steps, "state_topology", string_type(true), 0);
-  create_rows(steps, "contact_regions", H5T_IEEE_F64LE, 3);
-  create_rows(steps, "state", H5T_IEEE_F64LE, 2);
-  Handle events(H5Gcreate2(group, "events", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "events");
-  for (const char* d : {"lambda", "at", "step"}) create_rows(events, d, H5T_IEEE_F64LE, 0);
-  for (const char* d : {"kind", "description"}) create_rows(events, d, string_type(true), 0);
-  file_->flush();
-}
-
-void TraceWriter::append_step(const std::string& name, const TraceStep& step) {
-  const File& f = *file_;
-  if (step.deflection.size() != f.samples || step.reaction.size() != f.samples)
-    throw OutputError(fmt::format("{}: a step has {} deflections and {} reactions for {} sample points",
-                                  f.path.string(), step.deflection.size(), step.reaction.size(), f.samples));
+  const hid_t id = file_->copies[0].id;
+  if (!exists(id, name)) return std::nullopt;
   try {
-    const double index = static_cast<double>(row_count(f.id, f.steps(name, "lambda")));
-    // The tables keyed by step first, the per-step rows last: `trim` counts a step as written
-    // only when every per-step dataset holds it.
-    std::vector<double> regions;
-    for (const auto& r : step.contact_regions) regions.insert(regions.end(), {index, r[0], r[1]});
-    append_doubles(f.id, f.steps(name, "contact_regions"), regions, step.contact_regions.size());
-    std::vector<double> state;
-    for (const double v : step.state) state.insert(state.end(), {index, v});
-    append_doubles(f.id, f.steps(name, "state"), state, step.state.size());
-    append_doubles(f.id, f.steps(name, "deflection"), step.deflection, 1);
-    append_doubles(f.id, f.steps(name, "reaction"), step.reaction, 1);
-    append_string(f.id, f.steps(name, "state_topology"), step.state_topology);
-    append_doubles(f.id, f.steps(name, "iterations"), {static_cast<double>(step.iterations)}, 1);
-    append_doubles(f.id, f.steps(name, "monitor_deflection"), {step.monitor_deflection}, 1);
-    append_doubles(f.id, f.steps(name, "lambda"), {step.load_factor}, 1);
-    f.flush();
-  } catch (const OutputError& e) {
-    throw OutputError(f.path.string() + ": " + e.what());
-  }
-}
-
-void TraceWriter::append_event(const std::string& name, const TraceEvent& event) {
-  const File& f = *file_;
-  try {
-    const auto steps = static_cast<double>(row_count(f.id, f.steps(name, "lambda")));
-    append_doubles(f.id, f.events(name, "lambda"), {event.load_factor}, 1);
-    append_string(f.id, f.events(name, "kind"), std::string(continuation::to_string(event.kind)));
-    append_doubles(f.id, f.events(name, "at"), {event.at}, 1);
-    append_string(f.id, f.events(name, "description"), event.description);
-    append_doubles(f.id, f.events(name, "step"), {std::max(0.0, steps - 1)}, 1);
-    f.flush();
-  } catch (const OutputError& e) {
-    throw OutputError(f.path.string() + ": " + e.what());
-  }
-}
-
-void TraceWriter::end_path(const std::string& name, const continuation::TraceSummary& summary) {
-  try {
-    Handle group(H5Gopen2(file_->id, name.c_str(), H5P_DEFAULT), H5Gclose, name);
-    set_string_attribute(group, "termination", std::string(continuation::to_string(summary.termination)));
-    set_string_attribute(group, "message", summary.message);
-    set_flag_attribute(group, "complete", summary.termination == continuation::TraceTermination::completed);
-    file_->flush();
+    return read_path_record(id, name, file_->samples);
   } catch (const OutputError& e) {
     throw OutputError(file_->path.string() + ": " + e.what());
   }
 }
 
+void TraceWriter::begin_path(const std::string& name, double monitor) {
+  if (exists(file_->copies[0].id, name)) return;
+  const std::size_t samples = file_->samples;
+  file_->each([&](hid_t id) {
+    Handle group(H5Gcreate2(id, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, name);
+    set_flag_attribute(group, "complete", false);
+    set_number_attribute(group, "monitor", monitor);
+    Handle steps(H5Gcreate2(group, "steps", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "steps");
+    for (const char* d : {"lambda", "monitor_deflection", "iterations"}) create_rows(steps, d, H5T_IEEE_F64LE, 0);
+    for (const char* d : {"deflection", "reaction"}) create_rows(steps, d, H5T_IEEE_F64LE, samples);
+    create_rows(steps, "state_topology", string_type(true), 0);
+    create_rows(steps, "contact_regions", H5T_IEEE_F64LE, 3);
+    create_rows(steps, "state", H5T_IEEE_F64LE, 2);
+    Handle events(H5Gcreate2(group, "events", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "events");
+    for (const char* d : {"lambda", "at", "step"}) create_rows(events, d, H5T_IEEE_F64LE, 0);
+    for (const char* d : {"kind", "description"}) create_rows(events, d, string_type(true), 0);
+  });
+}
+
+void TraceWriter::append_step(const std::string& name, const TraceStep& step) {
+  if (step.deflection.size() != file_->samples || step.reaction.size() != file_->samples)
+    throw OutputError(fmt::format("{}: a step has {} deflections and {} reactions for {} sample points",
+                                  file_->path.string(), step.deflection.size(), step.reaction.size(), file_->samples));
+  const auto steps = [&](const char* d) { return name + "/steps/" + d; };
+  file_->each([&](hid_t id) {
+    const auto index = static_cast<double>(row_count(id, steps("lambda")));
+    // The tables keyed by step first, the per-step rows after, lambda last: a step counts as
+    // written only when every per-step dataset holds it.
+    std::vector<double> regions;
+    for (const auto& r : step.contact_regions) regions.insert(regions.end(), {index, r[0], r[1]});
+    append_doubles(id, steps("contact_regions"), regions, step.contact_regions.size());
+    std::vector<double> state;
+    for (const double v : step.state) state.insert(state.end(), {index, v});
+    append_doubles(id, steps("state"), state, step.state.size());
+    append_doubles(id, steps("deflection"), step.deflection, 1);
+    append_doubles(id, steps("reaction"), step.reaction, 1);
+    append_string(id, steps("state_topology"), step.state_topology);
+    append_doubles(id, steps("iterations"), {static_cast<double>(step.iterations)}, 1);
+    append_doubles(id, steps("monitor_deflection"), {step.monitor_deflection}, 1);
+    append_doubles(id, steps("lambda"), {step.load_factor}, 1);
+  });
+}
+
+void TraceWriter::append_event(const std::string& name, const TraceEvent& event) {
+  const auto events = [&](const char* d) { return name + "/events/" + d; };
+  file_->each([&](hid_t id) {
+    const auto steps = static_cast<double>(row_count(id, name + "/steps/lambda"));
+    append_doubles(id, events("lambda"), {event.load_factor}, 1);
+    append_string(id, events("kind"), std::string(continuation::to_string(event.kind)));
+    append_doubles(id, events("at"), {event.at}, 1);
+    append_string(id, events("description"), event.description);
+    append_doubles(id, events("step"), {std::max(0.0, steps - 1)}, 1);
+  });
+}
+
+void TraceWriter::end_path(const std::string& name, const continuation::TraceSummary& summary) {
+  file_->each([&](hid_t id) {
+    Handle group(H5Gopen2(id, name.c_str(), H5P_DEFAULT), H5Gclose, name);
+    set_string_attribute(group, "termination", std::string(continuation::to_string(summary.termination)));
+    set_string_attribute(group, "message", summary.message);
+    set_flag_attribute(group, "complete", summary.termination == continuation::TraceTermination::completed);
+  });
+}
+
 void TraceWriter::finish() {
-  set_flag_attribute(file_->id, "complete", true);
-  file_->flush();
+  file_->each([&](hid_t id) { set_flag_attribute(id, "complete", true); });
 }
 
 TraceFileRecord read_trace_file(const std::filesystem::path& path) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  TraceWriter::File file;
-  file.path = path;
-  TraceFileRecord record;
-  try {
-    if (H5Fis_hdf5(path.c_str()) <= 0) throw OutputError("not an HDF5 file");
-    file.id = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-    if (file.id < 0) throw OutputError("cannot open the file");
-    file.read_info();
-    record.info = file.info;
-    record.complete = number_attribute(file.id, "complete") != 0.0;
-    for (const std::string& name : file.info.paths)
-      if (exists(file.id, name)) record.paths.emplace_back(name, file.read(name));
-  } catch (const OutputError& e) {
-    throw OutputError(path.string() + ": " + e.what());
-  }
-  return record;
+  if (std::optional<TraceFileRecord> record = read_checked(path)) return *record;
+  // A run killed in the middle of the file's flush: its backup is whole.
+  if (std::optional<TraceFileRecord> record = read_checked(trace_backup_path(path))) return *record;
+  throw OutputError(path.string() + ": not a liftoff trace file, or damaged");
 }
 
 }  // namespace liftoff::io

@@ -515,7 +515,7 @@ TEST_CASE("the [ritz] table: modes, topology and initial limits", "[scene][ritz]
              Contains("strictly inside the foundation"));
 }
 
-// [trace]: the load history of `liftoff trace`. Lines: the table starts at line 18.
+// [trace]: the load history of `liftoff trace`. Lines: the table starts at line 17.
 TEST_CASE("a [trace] table reads into the expected values, with defaults", "[scene][trace]") {
   CHECK_FALSE(parse_scene(beam_scene, "scene.toml").trace.has_value());
 
@@ -531,7 +531,7 @@ TEST_CASE("a [trace] table reads into the expected values, with defaults", "[sce
   CHECK_FALSE(minimal.trace->monitor.has_value());
   CHECK(minimal.trace->samples == 101);
   CHECK_FALSE(minimal.trace->refine);
-  CHECK(minimal.trace->line == 18);
+  CHECK(minimal.trace->line == 17);
 
   const Scene full = parse_scene(beam_scene + R"([trace]
 lambda_min = -1.5
@@ -568,29 +568,29 @@ refine = true
 TEST_CASE("a bad [trace] value is refused with file, line and key", "[scene][trace][errors]") {
   const auto trace = [](const std::string& lines) { return beam_scene + "[trace]\n" + lines; };
   CHECK(error_of(trace("lambda_max = 0\n")) ==
-        "scene.toml:19: key 'trace.lambda_max': expected a number > lambda_min = 0, got 0");
+        "scene.toml:18: key 'trace.lambda_max': expected a number > lambda_min = 0, got 0");
   CHECK(error_of(trace("lambda_min = 2\nlambda_max = 1.0\n")) ==
-        "scene.toml:20: key 'trace.lambda_max': expected a number > lambda_min = 2, got 1.0");
+        "scene.toml:19: key 'trace.lambda_max': expected a number > lambda_min = 2, got 1.0");
   CHECK(error_of(trace("lambda_max = \"big\"\n")) ==
-        R"(scene.toml:19: key 'trace.lambda_max': expected a number > lambda_min = 0, got "big")");
+        R"(scene.toml:18: key 'trace.lambda_max': expected a number > lambda_min = 0, got "big")");
   CHECK(error_of(trace("lambda_max = 1\nmethod = \"fastest\"\n")) ==
-        R"(scene.toml:20: key 'trace.method': expected "dual", "primal", "auto", "ritz" or "all", got "fastest")");
+        R"(scene.toml:19: key 'trace.method': expected "dual", "primal", "auto", "ritz" or "all", got "fastest")");
   CHECK(error_of(trace("lambda_max = 1\ncontrol = \"arclength\"\n")) ==
-        R"(scene.toml:20: key 'trace.control': expected "arc_length" or "load", got "arclength")");
+        R"(scene.toml:19: key 'trace.control': expected "arc_length" or "load", got "arclength")");
   CHECK(error_of(trace("lambda_max = 1\nmax_step = 0.1\ninitial_step = 0.2\n")) ==
-        "scene.toml:21: key 'trace.initial_step': expected a number in (0, max_step = 0.1], got 0.2");
+        "scene.toml:20: key 'trace.initial_step': expected a number in (0, max_step = 0.1], got 0.2");
   CHECK(error_of(trace("lambda_max = 1\ninitial_step = 0.01\nmin_step = 0.02\n")) ==
-        "scene.toml:21: key 'trace.min_step': expected a number in (0, initial_step = 0.01], got 0.02");
+        "scene.toml:20: key 'trace.min_step': expected a number in (0, initial_step = 0.01], got 0.02");
   CHECK(error_of(trace("lambda_max = 1\nmax_step = -1\n")) ==
-        "scene.toml:20: key 'trace.max_step': expected a number > 0, got -1");
+        "scene.toml:19: key 'trace.max_step': expected a number > 0, got -1");
   CHECK(error_of(trace("lambda_max = 1\nmax_steps = 0\n")) ==
-        "scene.toml:20: key 'trace.max_steps': expected an integer in [1, 100000000], got 0");
+        "scene.toml:19: key 'trace.max_steps': expected an integer in [1, 100000000], got 0");
   CHECK(error_of(trace("lambda_max = 1\nsamples = 1\n")) ==
-        "scene.toml:20: key 'trace.samples': expected an integer in [2, 1000000], got 1");
+        "scene.toml:19: key 'trace.samples': expected an integer in [2, 1000000], got 1");
   CHECK(error_of(trace("lambda_max = 1\nmonitor = 3.0\n")) ==
-        "scene.toml:20: key 'trace.monitor': expected a position in [0, 2], got 3.0");
+        "scene.toml:19: key 'trace.monitor': expected a position in [0, 2], got 3.0");
   CHECK(error_of(trace("lambda_max = 1\nrefine = 1\n")) ==
-        "scene.toml:20: key 'trace.refine': expected true or false, got 1");
+        "scene.toml:19: key 'trace.refine': expected true or false, got 1");
   CHECK_THAT(error_of(trace("lambda_max = 1\nlamda_min = 0\n")),
-             StartsWith("scene.toml:20: key 'trace.lamda_min': unknown key (did you mean 'lambda_min'?)"));
+             StartsWith("scene.toml:19: key 'trace.lamda_min': unknown key (did you mean 'lambda_min'?)"));
 }
