@@ -383,6 +383,19 @@ TEST_CASE("trace: method all pairs the paths' events; refine runs the FE path wi
   CHECK(j["discretisation_error"]["pairs"].size() == 2);
 }
 
+TEST_CASE("trace: plot_trace.py draws both figures from a trace file", "[app][trace][plot]") {
+  Scratch scratch;
+  const scene::Scene s = scene_with_trace("lambda_max = 2\nmax_step = 0.1\nsamples = 11\nmethod = \"all\"\n");
+  SyntheticPath synthetic;
+  app::run_trace(s, to_file(scratch.dir / "t.h5"), synthetic.paths());
+  const std::string prefix = (scratch.dir / "t").string();
+  const std::string plot = "/usr/bin/python3 " + std::string(LIFTOFF_SOURCE_DIR) +
+                           "/verification/plots/plot_trace.py " + prefix + ".h5 --out " + prefix + " > /dev/null";
+  REQUIRE(std::system(plot.c_str()) == 0);
+  CHECK(fs::file_size(prefix + "_load_displacement.png") > 0);
+  CHECK(fs::file_size(prefix + "_lift_off_map.png") > 0);
+}
+
 TEST_CASE("trace: events are paired by kind and nearest load factor", "[app][trace]") {
   app::PathTrace a, b;
   a.path = "fe";
@@ -433,6 +446,7 @@ TEST_CASE("trace: a run killed with SIGKILL leaves a readable file of finished s
   CHECK(resumed.calls[0].resume_from->load_factor == finished.back());
   const io::TraceFileRecord done = io::read_trace_file(killed);
   CHECK(done.complete);
+  CHECK_FALSE(fs::exists(io::trace_backup_path(killed)));  // kept only while the trace runs
   CHECK(lambdas(done.paths[0].second) == lambdas(expected));
   check_same_events(done.paths[0].second.events, expected.events);
 }
@@ -497,7 +511,7 @@ TEST_CASE("trace CLI: every test scene traces, with --json events and steps, and
     CHECK(file.complete);
     const std::string prefix = (scratch.dir / name).string();
     const std::string plot = "/usr/bin/python3 " + std::string(LIFTOFF_SOURCE_DIR) +
-                             "/verification/plots/plot_trace.py " + h5 + " --out " + prefix;
+                             "/verification/plots/plot_trace.py " + h5 + " --out " + prefix + " > /dev/null";
     REQUIRE(std::system(plot.c_str()) == 0);
     CHECK(fs::file_size(prefix + "_load_displacement.png") > 0);
     CHECK(fs::file_size(prefix + "_lift_off_map.png") > 0);
