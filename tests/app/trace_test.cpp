@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <thread>
@@ -451,6 +452,17 @@ TEST_CASE("trace: a run killed with SIGKILL leaves a readable file of finished s
   check_same_events(done.paths[0].second.events, expected.events);
 }
 
+TEST_CASE("trace: the test scenes read, with a [trace] table", "[app][trace]") {
+  for (const char* name : {"free_free_uplift", "simply_supported_end_moments", "region_split"}) {
+    CAPTURE(name);
+    const scene::Scene s =
+        scene::read_scene_file(std::string(LIFTOFF_SOURCE_DIR) + "/continuation/scenes/" + name + ".toml");
+    const TraceOptions o = app::trace_options(s, {});
+    CHECK(o.lambda_max > o.lambda_min);
+    CHECK(app::trace_path_names(s, {}) == std::vector<std::string>{"fe"});
+  }
+}
+
 TEST_CASE("trace CLI: bad input exits 2 with one line and writes no file", "[app][trace][errors]") {
   Scratch scratch;
   const std::string h5 = (scratch.dir / "t.h5").string();
@@ -516,11 +528,52 @@ TEST_CASE("trace CLI: every test scene traces, with --json events and steps, and
     CHECK(fs::file_size(prefix + "_load_displacement.png") > 0);
     CHECK(fs::file_size(prefix + "_lift_off_map.png") > 0);
   }
-  // The first event of the free-free beam: a lift-off zone opens under the upward force.
-  const Run r = cli({"trace", shipped("free_free_uplift"), "--json"});
-  const nlohmann::json j = nlohmann::json::parse(r.out);
-  CHECK(j["events"][0]["kind"] == "lift_off_opens");
-  CHECK(j["events"][0]["at"].get<double>() == Approx(5.0).margin(0.1));
+}
+
+namespace {
+// The first event of `path` (fe or ritz) within [lambda_lo, lambda_hi] near `at`, if any.
+std::optional<nlohmann::json> event_between(const nlohmann::json& path, double lambda_lo, double lambda_hi, double at,
+                                            double margin) {
+  for (const auto& e : path["events"])
+    if (e["lambda"] >= lambda_lo && e["lambda"] <= lambda_hi && std::abs(e["at"].get<double>() - at) <= margin)
+      return e;
+  return std::nullopt;
+}
+}  // namespace
+
+// The brackets are `liftoff solve` at fixed load factors with the scene's own elements (see the
+// scenes' comments): the FE path on the same mesh must put each event inside them.
+TEST_CASE("trace CLI: the FE path puts the test scenes' events between the fixed-load solutions",
+          "[app][trace][real_paths]") {
+  {
+    const Run r = cli({"trace", shipped("free_free_uplift"), "--json"});
+    REQUIRE(r.status == 0);
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    CHECK(j["events"][0]["kind"] == "lift_off_opens");
+    CHECK(j["events"][0]["at"].get<double>() == Approx(5.0).margin(10.0 / 200));
+    CHECK(j["events"][0]["lambda"].get<double>() > 5.0);
+    CHECK(j["events"][0]["lambda"].get<double>() < 6.0);
+  }
+  {
+    const Run r = cli({"trace", shipped("region_split"), "--json"});
+    REQUIRE(r.status == 0);
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    const auto split = event_between(j, 6.7, 7.0, 5.0, 10.0 / 200);
+    REQUIRE(split.has_value());
+    CHECK((*split)["kind"] == "lift_off_opens");
+    CHECK(event_between(j, 8.6, 8.8, 0.0, 1e-9).has_value());
+    CHECK(event_between(j, 8.6, 8.8, 10.0, 1e-9).has_value());
+  }
+  {
+    const Run r = cli({"trace", shipped("simply_supported_end_moments"), "--json"});
+    REQUIRE(r.status == 0);
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    CHECK(event_between(j, 0.20, 0.21, 0.0, 6.0 / 400).has_value());
+    CHECK(event_between(j, 0.40, 0.44, 6.0, 6.0 / 400).has_value());
+    const auto vanishes = event_between(j, 0.846, 0.848, 3.85, 0.15);
+    REQUIRE(vanishes.has_value());
+    CHECK((*vanishes)["kind"] == "region_vanishes");
+  }
 }
 
 TEST_CASE("trace CLI: the Ritz path killed with SIGKILL keeps its steps and resumes to the uninterrupted run",
@@ -542,7 +595,11 @@ TEST_CASE("trace CLI: the Ritz path killed with SIGKILL keeps its steps and resu
   const io::TracePathRecord expected = io::read_trace_file(whole).paths[0].second;
 
   const bool interrupted =
-      kill_midway([&] { ::_exit(cli({"trace", scene, "-o", killed, "--progress"}).status); },
+      kill_midway(
+          [&] {  // the real stderr (a pipe here): --progress writes a line per finished step
+            const char* argv[] = {"liftoff", "trace", scene.c_str(), "-o", killed.c_str(), "--progress"};
+            ::_exit(app::run_cli(6, argv, std::cout, std::cerr));
+          },
                   [](const std::string& line) { return steps_in(line) >= 20; });
   REQUIRE(interrupted);
   const io::TraceFileRecord partial = io::read_trace_file(killed);
