@@ -252,6 +252,9 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   CLI::App* trace_command = app.add_subcommand(
       "trace", "Follow the load history F = F_dead + lambda F_live ([trace] table): contact regions and events");
   add_problem_options(trace_command, trace.problem);
+  trace_command->get_option("--method")
+      ->description("dual | primal | auto: the FE path; ritz: the Ritz path; all: both, events side by side; "
+                    "overrides [trace] method");
   trace_command->add_flag("--json", trace.json, "Print one JSON object on stdout instead of the summary");
   trace_command->add_option("--output,-o", trace.output, "Write the trace to this HDF5 file as it runs");
   trace_command->add_flag("--resume", trace.resume, "Continue the --output file from its last finished step");
