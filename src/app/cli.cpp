@@ -1,6 +1,11 @@
 #include "app/cli.hpp"
 
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <iostream>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -8,6 +13,7 @@
 
 #include "app/solve_command.hpp"
 #include "app/sweep_command.hpp"
+#include "app/trace_command.hpp"
 #include "core/error.hpp"
 #include "default_scene.hpp"
 #include "io/hdf5_writer.hpp"
@@ -160,6 +166,59 @@ int run_solve(const SolveArguments& args, std::ostream& out, std::ostream& err) 
   return code(ExitCode::success);
 }
 
+struct TraceArguments {
+  ProblemArguments problem;
+  bool json = false;
+  bool resume = false;
+  bool progress = false;
+  std::string output;
+};
+
+// `liftoff trace`: the summary (or --json) on stdout; on stderr a progress line when stderr is a
+// terminal, and the reason when a path stops short of lambda_max (exit 3, its steps kept).
+int run_trace_command(const TraceArguments& args, std::ostream& out, std::ostream& err) {
+  const scene::Scene scene = load_scene(args.problem.scene_path);
+  const SolveRequest solve = make_request(args.problem);
+  TraceRequest request;
+  request.method = solve.method;
+  request.elements = solve.elements;
+  request.modes = solve.modes;
+  request.output = args.output;
+  request.resume = args.resume;
+  request.version = LIFTOFF_VERSION;
+  // On a terminal, one line rewritten at most ten times a second; with --progress elsewhere, a
+  // line per step (a step counted there is already in the file).
+  const bool terminal = &err == &std::cerr && ::isatty(STDERR_FILENO) == 1;
+  bool progress_shown = false;
+  if (terminal || args.progress) {
+    auto last = std::chrono::steady_clock::now() - std::chrono::seconds(1);
+    request.progress = [&err, &progress_shown, last, terminal](const TraceProgress& p) mutable {
+      const auto now = std::chrono::steady_clock::now();
+      if (terminal && now - last < std::chrono::milliseconds(100)) return;
+      last = now;
+      progress_shown = terminal;
+      err << fmt::format("{}liftoff trace {}: lambda {:.6g} of [{:.6g}, {:.6g}], {} steps, {} events{}",
+                         terminal ? "\r" : "", p.path, p.load_factor, p.lambda_min, p.lambda_max, p.steps, p.events,
+                         terminal ? "   " : "\n")
+          << std::flush;
+    };
+  }
+  const TraceOutcome outcome = run_trace(scene, request);
+  if (progress_shown) err << "\n";
+  if (args.json)
+    out << to_json(outcome).dump(2) << "\n";
+  else
+    out << text_summary(outcome);
+  if (outcome.usable()) return code(ExitCode::success);
+  for (const PathTrace& p : outcome.paths)
+    if (!p.summary.is_usable())
+      err << "liftoff: " << scene.source_name << ": trace " << p.path << " stopped at lambda "
+          << (p.steps.empty() ? p.summary.final_load_factor : p.steps.back().load_factor) << ": "
+          << continuation::to_string(p.summary.termination) << (p.summary.message.empty() ? "" : ", ")
+          << p.summary.message << "\n";
+  return code(ExitCode::solver_failure);
+}
+
 }  // namespace
 
 int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
@@ -189,6 +248,19 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   sweep_command->add_option("--jobs,-j", sweep.jobs, "Cases solved at once (default: the machine's cores)")
       ->check(CLI::Range(1, 1024));
 
+  TraceArguments trace;
+  CLI::App* trace_command = app.add_subcommand(
+      "trace", "Follow the load history F = F_dead + lambda F_live ([trace] table): contact regions and events");
+  add_problem_options(trace_command, trace.problem);
+  trace_command->get_option("--method")
+      ->description("dual | primal | auto: the FE path; ritz: the Ritz path; all: both, events side by side; "
+                    "overrides [trace] method");
+  trace_command->add_flag("--json", trace.json, "Print one JSON object on stdout instead of the summary");
+  trace_command->add_option("--output,-o", trace.output, "Write the trace to this HDF5 file as it runs");
+  trace_command->add_flag("--resume", trace.resume, "Continue the --output file from its last finished step");
+  trace_command->add_flag("--progress", trace.progress,
+                          "Progress on stderr, a line per step, even when stderr is not a terminal");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -199,6 +271,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   try {
     if (*solve_command) return run_solve(solve, out, err);
     if (*sweep_command) return run_sweep_command(sweep, out, err);
+    if (*trace_command) return run_trace_command(trace, out, err);
   } catch (const InputError& e) {
     err << "liftoff: " << e.what() << "\n";
     return code(ExitCode::bad_input);

@@ -36,6 +36,10 @@ constexpr Names<Method, 5> methods{{
     {Method::ritz, "ritz"},
     {Method::all, "all"},
 }};
+constexpr Names<TraceControl, 2> trace_controls{{
+    {TraceControl::arc_length, "arc_length"},
+    {TraceControl::load, "load"},
+}};
 
 template <class Enum, std::size_t N>
 std::string_view name_of(const Names<Enum, N>& names, Enum value) {
@@ -60,12 +64,14 @@ std::string_view to_string(EndSupport v) { return name_of(end_supports, v); }
 std::string_view to_string(LoadKind v) { return name_of(load_kinds, v); }
 std::string_view to_string(LoadCase v) { return name_of(load_cases, v); }
 std::string_view to_string(Method v) { return name_of(methods, v); }
+std::string_view to_string(TraceControl v) { return name_of(trace_controls, v); }
 
 std::optional<StructureKind> parse_structure_kind(std::string_view s) { return value_of(structure_kinds, s); }
 std::optional<EndSupport> parse_end_support(std::string_view s) { return value_of(end_supports, s); }
 std::optional<LoadKind> parse_load_kind(std::string_view s) { return value_of(load_kinds, s); }
 std::optional<LoadCase> parse_load_case(std::string_view s) { return value_of(load_cases, s); }
 std::optional<Method> parse_method(std::string_view s) { return value_of(methods, s); }
+std::optional<TraceControl> parse_trace_control(std::string_view s) { return value_of(trace_controls, s); }
 
 double Scene::begin() const {
   return structure.kind == StructureKind::beam ? 0.0 : -structure.half_angle_deg;

@@ -26,17 +26,22 @@ enum class LoadCase { live, dead };
 // structure alone is stable, primal otherwise; ritz: the Ritz model with moving contact limits
 // (Newton); all: primal, dual and Ritz side by side.
 enum class Method { dual, primal, automatic, ritz, all };
+// How `liftoff trace` follows the load history: pseudo-arc-length (through folds) or plain load
+// control (lambda stepped directly).
+enum class TraceControl { arc_length, load };
 
 std::string_view to_string(StructureKind);
 std::string_view to_string(EndSupport);
 std::string_view to_string(LoadKind);
 std::string_view to_string(LoadCase);
 std::string_view to_string(Method);
+std::string_view to_string(TraceControl);
 std::optional<StructureKind> parse_structure_kind(std::string_view);
 std::optional<EndSupport> parse_end_support(std::string_view);
 std::optional<LoadKind> parse_load_kind(std::string_view);
 std::optional<LoadCase> parse_load_case(std::string_view);
 std::optional<Method> parse_method(std::string_view);  // "auto" -> automatic
+std::optional<TraceControl> parse_trace_control(std::string_view);
 
 struct Structure {
   StructureKind kind = StructureKind::beam;
@@ -87,6 +92,25 @@ struct RitzSettings {
   std::vector<double> limits;    // initial guesses (user coordinate), one per change of piece
 };
 
+// [trace]: the load history F = F_dead + lambda F_live of `liftoff trace` (`solve` ignores it).
+struct TraceSettings {
+  std::optional<double> lambda_max;  // required by `liftoff trace` (the reader checks > lambda_min)
+  double lambda_min = 0.0;
+  std::optional<Method> method;      // ritz: the Ritz path; dual/primal/auto: the FE path; all:
+                                     // both, events side by side. Absent: [solve] method
+  TraceControl control = TraceControl::arc_length;
+  double initial_step = 0.05;        // in lambda (Ritz path); min_step <= initial_step <= max_step
+  double min_step = 1e-8;
+  double max_step = 0.25;
+  int max_steps = 10000;
+  std::optional<double> monitor;     // w of the load-displacement curve; absent: the first live
+                                     // point force, else mid-member
+  int samples = 101;                 // uniformly spaced points along the member recorded per step
+  bool refine = false;               // FE path: also trace with twice the elements and report
+                                     // the events' differences as the discretisation error
+  int line = 0;                      // line of the [trace] header, for messages (0: unknown)
+};
+
 struct Scene {
   std::string source_name;  // file path, or "<default scene>"
   std::string text;         // the TOML text, stored in every output so results describe themselves
@@ -96,6 +120,7 @@ struct Scene {
   std::vector<Load> loads;
   SolveSettings solve;
   RitzSettings ritz;
+  std::optional<TraceSettings> trace;  // absent when the scene has no [trace] table
 
   // Ends of the member in the user's coordinate: [0, L] or [-gamma, gamma] degrees.
   double begin() const;

@@ -42,6 +42,8 @@ const std::vector<TableSpec>& schema() {
       {"loads", true, {"kind", "at", "value", "from", "to", "case"}},
       {"solve", false, {"method", "elements"}},
       {"ritz", false, {"modes", "max_modes", "mode_tolerance", "topology", "limits"}},
+      {"trace", false, {"lambda_max", "lambda_min", "method", "control", "initial_step", "min_step", "max_step",
+                        "max_steps", "monitor", "samples", "refine"}},
   };
   return tables;
 }
@@ -521,6 +523,31 @@ RitzSettings read_ritz(const Section& s, const Foundation& foundation, const Mem
   return ritz;
 }
 
+// [trace]: everything is checked here, so a bad key is refused by `solve` too (it is the same
+// file); only the absence of lambda_max is left to `liftoff trace`, the one command that needs it.
+TraceSettings read_trace(const Section& s, const Member& member) {
+  TraceSettings trace;
+  trace.line = static_cast<int>(s.table().source().begin.line);
+  trace.lambda_min = s.number("lambda_min", any_number()).value_or(trace.lambda_min);
+  const Range above_min{fmt::format("a number > lambda_min = {}", trace.lambda_min), trace.lambda_min, inf, true};
+  trace.lambda_max = s.number("lambda_max", above_min);
+  trace.method = s.choice("method", {Method::dual, Method::primal, Method::automatic, Method::ritz, Method::all});
+  trace.control = s.choice("control", {TraceControl::arc_length, TraceControl::load}).value_or(trace.control);
+  trace.max_step = s.number("max_step", positive()).value_or(trace.max_step);
+  const Range up_to_max{fmt::format("a number in (0, max_step = {}]", trace.max_step), 0.0, trace.max_step, true};
+  trace.initial_step = std::min(trace.initial_step, trace.max_step);
+  trace.initial_step = s.number("initial_step", up_to_max).value_or(trace.initial_step);
+  const Range up_to_initial{fmt::format("a number in (0, initial_step = {}]", trace.initial_step), 0.0,
+                            trace.initial_step, true};
+  trace.min_step = std::min(trace.min_step, trace.initial_step);
+  trace.min_step = s.number("min_step", up_to_initial).value_or(trace.min_step);
+  trace.max_steps = s.integer("max_steps", 1, 100'000'000).value_or(trace.max_steps);
+  trace.monitor = s.number("monitor", member.position());
+  trace.samples = s.integer("samples", 2, 1'000'000).value_or(trace.samples);
+  trace.refine = s.flag("refine").value_or(trace.refine);
+  return trace;
+}
+
 }  // namespace
 
 Scene parse_scene(std::string_view toml_text, std::string source_name) {
@@ -555,6 +582,7 @@ Scene parse_scene(std::string_view toml_text, std::string source_name) {
   }
   scene.solve = read_solve(root.section("solve"));
   scene.ritz = read_ritz(root.section("ritz"), scene.foundation, member);
+  if (root.find("trace") != nullptr) scene.trace = read_trace(root.section("trace"), member);
   return scene;
 }
 

@@ -330,7 +330,7 @@ TEST_CASE("an unknown key is refused, with a suggestion", "[scene][errors]") {
 TEST_CASE("an unknown table is refused", "[scene][errors]") {
   CHECK(error_of(beam_scene + "\n[solver]\nmethod = \"dual\"\n") ==
         "scene.toml:18: key 'solver': unknown table (did you mean 'solve'?); the tables of a scene "
-        "are [structure], [supports], [foundation], [[loads]], [solve], [ritz]");
+        "are [structure], [supports], [foundation], [[loads]], [solve], [ritz], [trace]");
   CHECK_THAT(error_of("title = \"x\"\n" + beam_scene),
              StartsWith("scene.toml:1: key 'title': unknown key;"));
 }
@@ -513,4 +513,84 @@ TEST_CASE("the [ritz] table: modes, topology and initial limits", "[scene][ritz]
   CHECK_THAT(error_of(beam_scene + "[ritz]\nmodes = \"many\"\n"), Contains("key 'ritz.modes'"));
   CHECK_THAT(error_of(beam_scene + "[ritz]\ntopology = [\"contact\", \"lift_off\"]\nlimits = [2.5]\n"),
              Contains("strictly inside the foundation"));
+}
+
+// [trace]: the load history of `liftoff trace`. Lines: the table starts at line 17.
+TEST_CASE("a [trace] table reads into the expected values, with defaults", "[scene][trace]") {
+  CHECK_FALSE(parse_scene(beam_scene, "scene.toml").trace.has_value());
+
+  const Scene minimal = parse_scene(beam_scene + "[trace]\nlambda_max = 8\n", "scene.toml");
+  REQUIRE(minimal.trace.has_value());
+  const TraceSettings defaults;
+  CHECK(minimal.trace->lambda_max == 8.0);
+  CHECK(minimal.trace->lambda_min == 0.0);
+  CHECK_FALSE(minimal.trace->method.has_value());
+  CHECK(minimal.trace->control == TraceControl::arc_length);
+  CHECK(minimal.trace->initial_step == defaults.initial_step);
+  CHECK(minimal.trace->max_steps == defaults.max_steps);
+  CHECK_FALSE(minimal.trace->monitor.has_value());
+  CHECK(minimal.trace->samples == 101);
+  CHECK_FALSE(minimal.trace->refine);
+  CHECK(minimal.trace->line == 17);
+
+  const Scene full = parse_scene(beam_scene + R"([trace]
+lambda_min = -1.5
+lambda_max = 2.5
+method = "ritz"
+control = "load"
+initial_step = 0.01
+min_step = 1e-6
+max_step = 0.1
+max_steps = 500
+monitor = 1.25
+samples = 51
+refine = true
+)", "scene.toml");
+  const TraceSettings& t = *full.trace;
+  CHECK(t.lambda_min == -1.5);
+  CHECK(t.lambda_max == 2.5);
+  CHECK(t.method == Method::ritz);
+  CHECK(t.control == TraceControl::load);
+  CHECK(t.initial_step == 0.01);
+  CHECK(t.min_step == 1e-6);
+  CHECK(t.max_step == 0.1);
+  CHECK(t.max_steps == 500);
+  CHECK(t.monitor == 1.25);
+  CHECK(t.samples == 51);
+  CHECK(t.refine);
+  CHECK(parse_trace_control("arc_length") == TraceControl::arc_length);
+  CHECK(to_string(TraceControl::load) == "load");
+
+  // lambda_max may be absent: `solve` ignores the table and `trace` asks for it.
+  CHECK_FALSE(parse_scene(beam_scene + "[trace]\nsamples = 11\n", "scene.toml").trace->lambda_max.has_value());
+}
+
+TEST_CASE("a bad [trace] value is refused with file, line and key", "[scene][trace][errors]") {
+  const auto trace = [](const std::string& lines) { return beam_scene + "[trace]\n" + lines; };
+  CHECK(error_of(trace("lambda_max = 0\n")) ==
+        "scene.toml:18: key 'trace.lambda_max': expected a number > lambda_min = 0, got 0");
+  CHECK(error_of(trace("lambda_min = 2\nlambda_max = 1.0\n")) ==
+        "scene.toml:19: key 'trace.lambda_max': expected a number > lambda_min = 2, got 1.0");
+  CHECK(error_of(trace("lambda_max = \"big\"\n")) ==
+        R"(scene.toml:18: key 'trace.lambda_max': expected a number > lambda_min = 0, got "big")");
+  CHECK(error_of(trace("lambda_max = 1\nmethod = \"fastest\"\n")) ==
+        R"(scene.toml:19: key 'trace.method': expected "dual", "primal", "auto", "ritz" or "all", got "fastest")");
+  CHECK(error_of(trace("lambda_max = 1\ncontrol = \"arclength\"\n")) ==
+        R"(scene.toml:19: key 'trace.control': expected "arc_length" or "load", got "arclength")");
+  CHECK(error_of(trace("lambda_max = 1\nmax_step = 0.1\ninitial_step = 0.2\n")) ==
+        "scene.toml:20: key 'trace.initial_step': expected a number in (0, max_step = 0.1], got 0.2");
+  CHECK(error_of(trace("lambda_max = 1\ninitial_step = 0.01\nmin_step = 0.02\n")) ==
+        "scene.toml:20: key 'trace.min_step': expected a number in (0, initial_step = 0.01], got 0.02");
+  CHECK(error_of(trace("lambda_max = 1\nmax_step = -1\n")) ==
+        "scene.toml:19: key 'trace.max_step': expected a number > 0, got -1");
+  CHECK(error_of(trace("lambda_max = 1\nmax_steps = 0\n")) ==
+        "scene.toml:19: key 'trace.max_steps': expected an integer in [1, 100000000], got 0");
+  CHECK(error_of(trace("lambda_max = 1\nsamples = 1\n")) ==
+        "scene.toml:19: key 'trace.samples': expected an integer in [2, 1000000], got 1");
+  CHECK(error_of(trace("lambda_max = 1\nmonitor = 3.0\n")) ==
+        "scene.toml:19: key 'trace.monitor': expected a position in [0, 2], got 3.0");
+  CHECK(error_of(trace("lambda_max = 1\nrefine = 1\n")) ==
+        "scene.toml:19: key 'trace.refine': expected true or false, got 1");
+  CHECK_THAT(error_of(trace("lambda_max = 1\nlamda_min = 0\n")),
+             StartsWith("scene.toml:19: key 'trace.lamda_min': unknown key (did you mean 'lambda_min'?)"));
 }

@@ -1,0 +1,350 @@
+#include "app/trace_command.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+
+#include <fmt/format.h>
+
+#include "continuation/fe_path.hpp"
+#include "continuation/ritz_path.hpp"
+#include "core/error.hpp"
+#include "io/trace_writer.hpp"
+
+namespace liftoff::app {
+
+using continuation::TraceEvent;
+using continuation::TraceOptions;
+using continuation::TraceStep;
+using continuation::TraceTermination;
+
+namespace {
+
+const scene::TraceSettings& trace_settings(const scene::Scene& scene) {
+  if (!scene.trace)
+    throw InputError(fmt::format("{}: key 'trace': missing (expected a table [trace] with lambda_max, the "
+                                 "largest load factor)", scene.source_name));
+  const scene::TraceSettings& t = *scene.trace;
+  if (!t.lambda_max)
+    throw InputError(fmt::format("{}{}: key 'trace.lambda_max': missing (expected a number > lambda_min = {})",
+                                 scene.source_name, t.line > 0 ? fmt::format(":{}", t.line) : "", t.lambda_min));
+  return t;
+}
+
+scene::Method trace_method(const scene::Scene& scene, const TraceRequest& request) {
+  return request.method.value_or(trace_settings(scene).method.value_or(scene.solve.method));
+}
+
+int trace_elements(const scene::Scene& scene, const TraceRequest& request) {
+  return request.elements.value_or(scene.solve.elements);
+}
+
+// The monitor of the load-displacement curve: [trace] monitor, else the first live point force
+// (the load being increased), else mid-member.
+double monitor_point(const scene::Scene& scene) {
+  if (scene.trace && scene.trace->monitor) return *scene.trace->monitor;
+  for (const scene::Load& load : scene.loads)
+    if (load.kind == scene::LoadKind::force && load.load_case == scene::LoadCase::live) return load.at;
+  return 0.5 * (scene.begin() + scene.end());
+}
+
+// What a resumed run must share with the file's first run, beyond the scene text.
+std::string options_text(const scene::Scene& scene, const TraceRequest& request, const TraceOptions& options) {
+  nlohmann::json j;
+  j["method"] = scene::to_string(trace_method(scene, request));
+  j["elements"] = options.elements;
+  j["modes"] = options.modes;
+  j["samples"] = options.sample_points.size();
+  j["monitor"] = options.monitor;
+  return j.dump();
+}
+
+PathTrace from_record(const std::string& name, const io::TracePathRecord& record) {
+  PathTrace p;
+  p.path = name;
+  p.steps = record.steps;
+  for (TraceStep& s : p.steps) s.deflection.clear(), s.reaction.clear();
+  p.events = record.events;
+  p.resumed_steps = static_cast<int>(p.steps.size());
+  p.summary.path = name == "ritz" ? "ritz" : "fe";
+  p.summary.termination = TraceTermination::solver_failure;
+  for (const TraceTermination t : {TraceTermination::completed, TraceTermination::no_equilibrium,
+                                   TraceTermination::step_too_small, TraceTermination::step_limit})
+    if (continuation::to_string(t) == record.termination) p.summary.termination = t;
+  p.summary.message = record.message;
+  p.summary.steps = static_cast<int>(p.steps.size());
+  if (!p.steps.empty()) p.summary.final_load_factor = p.steps.back().load_factor;
+  return p;
+}
+
+nlohmann::json to_json(const TraceEvent& e) {
+  return {{"lambda", e.load_factor}, {"kind", continuation::to_string(e.kind)}, {"at", e.at},
+          {"description", e.description}};
+}
+
+nlohmann::json to_json(const EventComparison& c) {
+  nlohmann::json j;
+  j["a"] = c.a;
+  j["b"] = c.b;
+  j["pairs"] = nlohmann::json::array();
+  for (const EventPair& p : c.pairs)
+    j["pairs"].push_back({{"kind", continuation::to_string(p.kind)}, {"lambda_a", p.load_factor_a},
+                          {"lambda_b", p.load_factor_b}, {"lambda_difference", p.load_factor_b - p.load_factor_a},
+                          {"at_a", p.at_a}, {"at_b", p.at_b}});
+  j["only_a"] = nlohmann::json::array();
+  for (const TraceEvent& e : c.only_a) j["only_a"].push_back(to_json(e));
+  j["only_b"] = nlohmann::json::array();
+  for (const TraceEvent& e : c.only_b) j["only_b"].push_back(to_json(e));
+  return j;
+}
+
+nlohmann::json to_json(const PathTrace& p) {
+  nlohmann::json j;
+  j["path"] = p.path;
+  j["termination"] = continuation::to_string(p.summary.termination);
+  j["message"] = p.summary.message;
+  j["final_lambda"] = p.steps.empty() ? p.summary.final_load_factor : p.steps.back().load_factor;
+  j["resumed_steps"] = p.resumed_steps;
+  j["rejected_steps"] = p.summary.rejected_steps;
+  j["corrector_iterations"] = p.summary.corrector_iterations;
+  j["pivots"] = p.summary.pivots;
+  j["time_s"] = p.summary.time_s;
+  j["events"] = nlohmann::json::array();
+  for (const TraceEvent& e : p.events) j["events"].push_back(to_json(e));
+  j["steps"] = nlohmann::json::array();
+  for (const TraceStep& s : p.steps) {
+    nlohmann::json regions = nlohmann::json::array();
+    for (const auto& r : s.contact_regions) regions.push_back({r[0], r[1]});
+    j["steps"].push_back({{"lambda", s.load_factor}, {"monitor_deflection", s.monitor_deflection},
+                          {"contact_regions", regions}, {"iterations", s.iterations}});
+  }
+  return j;
+}
+
+std::string comparison_text(const EventComparison& c, const char* title) {
+  std::string out = fmt::format("  {}: {} against {}\n", title, c.a, c.b);
+  for (const EventPair& p : c.pairs)
+    out += fmt::format("    {:<18} lambda {:<14.8g} {:<14.8g} difference {:.3e}   at {:.6g} / {:.6g}\n",
+                       continuation::to_string(p.kind), p.load_factor_a, p.load_factor_b,
+                       p.load_factor_b - p.load_factor_a, p.at_a, p.at_b);
+  for (const TraceEvent& e : c.only_a)
+    out += fmt::format("    {:<18} lambda {:<14.8g} only in {}\n", continuation::to_string(e.kind), e.load_factor, c.a);
+  for (const TraceEvent& e : c.only_b)
+    out += fmt::format("    {:<18} lambda {:<14.8g} only in {}\n", continuation::to_string(e.kind), e.load_factor, c.b);
+  return out;
+}
+
+}  // namespace
+
+TracePaths default_trace_paths() {
+  return {[](const scene::Scene& s, const TraceOptions& o, const continuation::TraceSink& k) {
+            return continuation::trace_fe(s, o, k);
+          },
+          [](const scene::Scene& s, const TraceOptions& o, const continuation::TraceSink& k) {
+            return continuation::trace_ritz(s, o, k);
+          }};
+}
+
+bool TraceOutcome::usable() const {
+  return std::all_of(paths.begin(), paths.end(), [](const PathTrace& p) { return p.summary.is_usable(); });
+}
+
+TraceOptions trace_options(const scene::Scene& scene, const TraceRequest& request) {
+  const scene::TraceSettings& t = trace_settings(scene);
+  TraceOptions o;
+  o.lambda_min = t.lambda_min;
+  o.lambda_max = *t.lambda_max;
+  o.control = t.control == scene::TraceControl::load ? continuation::PathControl::load
+                                                       : continuation::PathControl::arc_length;
+  o.initial_step = t.initial_step;
+  o.min_step = t.min_step;
+  o.max_step = t.max_step;
+  o.max_steps = t.max_steps;
+  o.elements = trace_elements(scene, request);
+  o.modes = request.modes.value_or(scene.ritz.modes);
+  o.monitor = monitor_point(scene);
+  o.sample_points.resize(t.samples);
+  for (int i = 0; i < t.samples; ++i)
+    o.sample_points[i] = scene.begin() + (scene.end() - scene.begin()) * i / (t.samples - 1);
+  return o;
+}
+
+std::vector<std::string> trace_path_names(const scene::Scene& scene, const TraceRequest& request) {
+  const scene::TraceSettings& t = trace_settings(scene);
+  const scene::Method method = trace_method(scene, request);
+  std::vector<std::string> names;
+  if (method != scene::Method::ritz) names.push_back("fe");
+  if (method == scene::Method::ritz || method == scene::Method::all) names.push_back("ritz");
+  if (t.refine) {
+    if (method == scene::Method::ritz)
+      throw InputError(fmt::format("{}{}: key 'trace.refine': expected false with method \"ritz\" (refine repeats "
+                                   "the FE path with twice the elements; use method \"all\"), got true",
+                                   scene.source_name, t.line > 0 ? fmt::format(":{}", t.line) : ""));
+    names.push_back("fe_refined");
+  }
+  return names;
+}
+
+EventComparison compare_events(const PathTrace& a, const PathTrace& b) {
+  EventComparison c{a.path, b.path, {}, {}, {}};
+  std::vector<bool> used(b.events.size(), false);
+  for (const TraceEvent& e : a.events) {
+    std::size_t best = b.events.size();
+    double distance = std::numeric_limits<double>::infinity();
+    for (std::size_t j = 0; j < b.events.size(); ++j) {
+      if (used[j] || b.events[j].kind != e.kind) continue;
+      const double d = std::abs(b.events[j].load_factor - e.load_factor);
+      if (d < distance) distance = d, best = j;
+    }
+    if (best == b.events.size()) {
+      c.only_a.push_back(e);
+      continue;
+    }
+    used[best] = true;
+    c.pairs.push_back({e.kind, e.load_factor, b.events[best].load_factor, e.at, b.events[best].at});
+  }
+  for (std::size_t j = 0; j < b.events.size(); ++j)
+    if (!used[j]) c.only_b.push_back(b.events[j]);
+  return c;
+}
+
+TraceOutcome run_trace(const scene::Scene& scene, const TraceRequest& request, const TracePaths& paths) {
+  // Everything is checked before the file is touched: bad input leaves no file behind.
+  const TraceOptions options = trace_options(scene, request);
+  const std::vector<std::string> names = trace_path_names(scene, request);
+  const std::string options_json = options_text(scene, request, options);
+  if (request.resume && request.output.empty())
+    throw InputError("--resume: needs --output FILE.h5, the trace to continue");
+  if (request.resume && !std::filesystem::exists(request.output))
+    throw InputError(fmt::format("--resume: {}: no such file (run without --resume to start it)", request.output.string()));
+
+  TraceOutcome outcome;
+  outcome.scene_name = scene.source_name;
+  outcome.output = request.output.string();
+  outcome.monitor = options.monitor;
+  outcome.sample_points = options.sample_points;
+
+  std::unique_ptr<io::TraceWriter> writer;
+  if (request.resume) {
+    writer = std::make_unique<io::TraceWriter>(io::TraceWriter::resume(request.output));
+    const io::TraceFileInfo& info = writer->info();
+    if (info.scene_text != scene.text || info.options != options_json || info.paths != names)
+      throw InputError(fmt::format("--resume: {}: was written for another scene or other options ({}); resume with "
+                                   "the same scene and options, or start again without --resume",
+                                   request.output.string(), info.options));
+  } else if (!request.output.empty()) {
+    io::TraceFileInfo info;
+    info.version = request.version;
+    info.scene_name = scene.source_name;
+    info.scene_text = scene.text;
+    info.coordinate = scene.structure.kind == scene::StructureKind::beam ? "x" : "theta_deg";
+    info.options = options_json;
+    info.paths = names;
+    info.sample_points = options.sample_points;
+    writer = std::make_unique<io::TraceWriter>(request.output, info);
+  }
+
+  for (const std::string& name : names) {
+    PathTrace trace;
+    trace.path = name;
+    TraceOptions path_options = options;
+    if (writer) {
+      if (const auto record = writer->read_path(name)) {
+        if (record->complete) {  // nothing left to do on this path
+          outcome.paths.push_back(from_record(name, *record));
+          continue;
+        }
+        trace = from_record(name, *record);
+        if (!record->steps.empty()) path_options.resume_from = record->steps.back();
+      }
+      writer->begin_path(name, options.monitor);
+    }
+    scene::Scene path_scene = scene;  // the FE path reads the formulation from [solve]
+    if (name == "fe_refined") path_options.elements = 2 * options.elements;
+    path_scene.solve.elements = path_options.elements;
+    if (name != "ritz") {
+      const scene::Method method = trace_method(scene, request);
+      if (method != scene::Method::all) path_scene.solve.method = method;
+      else if (path_scene.solve.method == scene::Method::all || path_scene.solve.method == scene::Method::ritz)
+        path_scene.solve.method = scene::Method::automatic;
+    }
+
+    const std::size_t resumed_events = trace.events.size();
+    continuation::TraceSink sink;
+    sink.on_step = [&](const TraceStep& step) {
+      if (writer) writer->append_step(name, step);
+      TraceStep kept = step;
+      kept.deflection.clear();
+      kept.reaction.clear();
+      trace.steps.push_back(std::move(kept));
+      if (request.progress)
+        request.progress({name, step.load_factor, options.lambda_min, options.lambda_max,
+                          static_cast<int>(trace.steps.size()), static_cast<int>(trace.events.size())});
+    };
+    sink.on_event = [&](const TraceEvent& event) {
+      if (writer) writer->append_event(name, event);
+      trace.events.push_back(event);
+    };
+    const TracePath& path = name == "ritz" ? paths.ritz : paths.fe;
+    const continuation::TraceResult result = path(path_scene, path_options, sink);
+    trace.summary = result.summary;
+    // A path that reports through its result only (no sink calls) is taken from the result.
+    if (trace.steps.size() == static_cast<std::size_t>(trace.resumed_steps))
+      for (const TraceStep& s : result.steps) sink.on_step(s);
+    if (trace.events.size() == resumed_events)
+      for (const TraceEvent& e : result.events) sink.on_event(e);
+    if (writer) writer->end_path(name, trace.summary);
+    outcome.paths.push_back(std::move(trace));
+  }
+
+  const auto find = [&](const std::string& name) -> const PathTrace* {
+    for (const PathTrace& p : outcome.paths)
+      if (p.path == name) return &p;
+    return nullptr;
+  };
+  if (find("fe") && find("ritz")) outcome.comparison = compare_events(*find("fe"), *find("ritz"));
+  // The FE discretisation error of every event: the same path with twice the elements. (When
+  // fe_path.hpp provides its own refined-run estimate, this is where it plugs in.)
+  if (find("fe") && find("fe_refined")) outcome.discretisation_error = compare_events(*find("fe"), *find("fe_refined"));
+  if (writer && outcome.usable()) writer->finish();
+  return outcome;
+}
+
+nlohmann::json to_json(const TraceOutcome& outcome) {
+  nlohmann::json j;
+  j["scene"] = outcome.scene_name;
+  if (!outcome.output.empty()) j["output"] = outcome.output;
+  j["monitor"] = outcome.monitor;
+  j["usable"] = outcome.usable();
+  // The first path's events and steps at the top level: what a single-path trace is about.
+  if (!outcome.paths.empty()) {
+    const nlohmann::json first = to_json(outcome.paths.front());
+    for (const char* key : {"path", "termination", "message", "final_lambda", "events", "steps"}) j[key] = first[key];
+  }
+  j["paths"] = nlohmann::json::array();
+  for (const PathTrace& p : outcome.paths) j["paths"].push_back(to_json(p));
+  if (outcome.comparison) j["comparison"] = to_json(*outcome.comparison);
+  if (outcome.discretisation_error) j["discretisation_error"] = to_json(*outcome.discretisation_error);
+  return j;
+}
+
+std::string text_summary(const TraceOutcome& outcome) {
+  std::string out = fmt::format("scene         {}\nmonitor       w at {:.6g}\n", outcome.scene_name, outcome.monitor);
+  for (const PathTrace& p : outcome.paths) {
+    out += fmt::format("path {:<9}{}: {} steps{}, lambda {:.8g}{}\n", p.path,
+                       continuation::to_string(p.summary.termination), p.steps.size(),
+                       p.resumed_steps > 0 ? fmt::format(" ({} resumed)", p.resumed_steps) : "",
+                       p.steps.empty() ? p.summary.final_load_factor : p.steps.back().load_factor,
+                       p.summary.message.empty() ? "" : " (" + p.summary.message + ")");
+    for (const TraceEvent& e : p.events)
+      out += fmt::format("  lambda {:<14.8g} {:<18} at {:<10.6g} {}\n", e.load_factor, continuation::to_string(e.kind),
+                         e.at, e.description);
+  }
+  if (outcome.comparison) out += comparison_text(*outcome.comparison, "events side by side");
+  if (outcome.discretisation_error) out += comparison_text(*outcome.discretisation_error, "discretisation error");
+  if (!outcome.output.empty()) out += fmt::format("written       {}\n", outcome.output);
+  return out;
+}
+
+}  // namespace liftoff::app

@@ -1,0 +1,567 @@
+#include "io/trace_writer.hpp"
+
+#include <fmt/format.h>
+#include <hdf5.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "core/error.hpp"
+#include "io/report.hpp"
+
+namespace liftoff::io {
+
+using continuation::EventKind;
+using continuation::TraceEvent;
+using continuation::TraceStep;
+
+namespace {
+
+// Owns one HDF5 handle; closes it with the matching function.
+class Handle {
+ public:
+  Handle(hid_t id, herr_t (*close)(hid_t), const std::string& what) : id_(id), close_(close) {
+    if (id_ < 0) throw OutputError("HDF5: cannot open or create " + what);
+  }
+  Handle(Handle&& other) noexcept : id_(other.id_), close_(other.close_) { other.id_ = -1; }
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  ~Handle() {
+    if (id_ >= 0) close_(id_);
+  }
+  operator hid_t() const { return id_; }
+
+ private:
+  hid_t id_;
+  herr_t (*close_)(hid_t);
+};
+
+void check(herr_t status, const std::string& what) {
+  if (status < 0) throw OutputError("HDF5: cannot write " + what);
+}
+
+Handle string_type(bool variable, std::size_t size = 1) {
+  Handle type(H5Tcopy(H5T_C_S1), H5Tclose, "string type");
+  check(H5Tset_size(type, variable ? H5T_VARIABLE : std::max<std::size_t>(1, size)), "string type");
+  check(H5Tset_cset(type, H5T_CSET_UTF8), "string type");
+  return type;
+}
+
+bool exists(hid_t location, const std::string& name) { return H5Lexists(location, name.c_str(), H5P_DEFAULT) > 0; }
+
+// Attributes are replaced when they exist (complete, termination are written twice).
+void set_string_attribute(hid_t object, const char* name, const std::string& value) {
+  if (H5Aexists(object, name) > 0) check(H5Adelete(object, name), name);
+  Handle type = string_type(true);
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose, "dataspace");
+  Handle attribute(H5Acreate2(object, name, type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose, name);
+  const char* text = value.c_str();
+  check(H5Awrite(attribute, type, &text), name);
+}
+
+void set_number_attribute(hid_t object, const char* name, double value) {
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose, "dataspace");
+  if (H5Aexists(object, name) > 0) {
+    Handle attribute(H5Aopen(object, name, H5P_DEFAULT), H5Aclose, name);
+    check(H5Awrite(attribute, H5T_NATIVE_DOUBLE, &value), name);
+    return;
+  }
+  Handle attribute(H5Acreate2(object, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose, name);
+  check(H5Awrite(attribute, H5T_NATIVE_DOUBLE, &value), name);
+}
+
+void set_flag_attribute(hid_t object, const char* name, bool value) {
+  const long long v = value ? 1 : 0;
+  if (H5Aexists(object, name) > 0) {
+    Handle attribute(H5Aopen(object, name, H5P_DEFAULT), H5Aclose, name);
+    check(H5Awrite(attribute, H5T_NATIVE_LLONG, &v), name);
+    return;
+  }
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose, "dataspace");
+  Handle attribute(H5Acreate2(object, name, H5T_STD_I64LE, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose, name);
+  check(H5Awrite(attribute, H5T_NATIVE_LLONG, &v), name);
+}
+
+std::string string_attribute(hid_t object, const char* name) {
+  if (H5Aexists(object, name) <= 0) return {};
+  Handle attribute(H5Aopen(object, name, H5P_DEFAULT), H5Aclose, name);
+  Handle type = string_type(true);
+  char* text = nullptr;
+  check(H5Aread(attribute, type, &text), name);
+  std::string value = text != nullptr ? text : "";
+  H5free_memory(text);
+  return value;
+}
+
+double number_attribute(hid_t object, const char* name) {
+  if (H5Aexists(object, name) <= 0) return 0.0;
+  Handle attribute(H5Aopen(object, name, H5P_DEFAULT), H5Aclose, name);
+  double value = 0.0;
+  check(H5Aread(attribute, H5T_NATIVE_DOUBLE, &value), name);
+  return value;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Extendible datasets: `columns` == 0 for one value per row.
+
+void create_rows(hid_t group, const char* name, hid_t type, hsize_t columns) {
+  const int rank = columns == 0 ? 1 : 2;
+  const hsize_t dims[2] = {0, columns};
+  const hsize_t max_dims[2] = {H5S_UNLIMITED, columns};
+  // Chunks of about 64 KiB of rows: few enough chunks, and a step's write touches one or two.
+  const hsize_t row_bytes = 8 * std::max<hsize_t>(1, columns);
+  const hsize_t chunk[2] = {std::max<hsize_t>(1, 65536 / row_bytes), std::max<hsize_t>(1, columns)};
+  Handle space(H5Screate_simple(rank, dims, max_dims), H5Sclose, name);
+  Handle properties(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, name);
+  check(H5Pset_chunk(properties, rank, chunk), name);
+  // NaN in rows that were made but never written (a kill between extending and writing): such
+  // a row belongs to no step and is dropped when the file is read back.
+  if (H5Tequal(type, H5T_IEEE_F64LE) > 0) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    check(H5Pset_fill_value(properties, H5T_NATIVE_DOUBLE, &nan), name);
+  }
+  Handle dataset(H5Dcreate2(group, name, type, space, H5P_DEFAULT, properties, H5P_DEFAULT), H5Dclose, name);
+}
+
+hsize_t row_count(hid_t location, const std::string& name) {
+  Handle dataset(H5Dopen2(location, name.c_str(), H5P_DEFAULT), H5Dclose, name);
+  Handle space(H5Dget_space(dataset), H5Sclose, name);
+  hsize_t dims[2] = {0, 0};
+  H5Sget_simple_extent_dims(space, dims, nullptr);
+  return dims[0];
+}
+
+void set_rows(hid_t location, const std::string& name, hsize_t rows) {
+  Handle dataset(H5Dopen2(location, name.c_str(), H5P_DEFAULT), H5Dclose, name);
+  Handle space(H5Dget_space(dataset), H5Sclose, name);
+  hsize_t dims[2] = {0, 0};
+  H5Sget_simple_extent_dims(space, dims, nullptr);
+  dims[0] = rows;
+  check(H5Dset_extent(dataset, dims), name);
+}
+
+void append_rows(hid_t location, const std::string& name, hid_t memory_type, const void* data, hsize_t rows) {
+  if (rows == 0) return;
+  Handle dataset(H5Dopen2(location, name.c_str(), H5P_DEFAULT), H5Dclose, name);
+  hsize_t dims[2] = {0, 0};
+  int rank = 0;
+  {
+    Handle space(H5Dget_space(dataset), H5Sclose, name);
+    rank = H5Sget_simple_extent_dims(space, dims, nullptr);
+  }
+  const hsize_t start[2] = {dims[0], 0};
+  const hsize_t count[2] = {rows, dims[1]};
+  dims[0] += rows;
+  check(H5Dset_extent(dataset, dims), name);
+  Handle file_space(H5Dget_space(dataset), H5Sclose, name);
+  check(H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start, nullptr, count, nullptr), name);
+  Handle memory_space(H5Screate_simple(rank, count, nullptr), H5Sclose, name);
+  check(H5Dwrite(dataset, memory_type, memory_space, file_space, H5P_DEFAULT, data), name);
+}
+
+void append_doubles(hid_t location, const std::string& name, const std::vector<double>& values, hsize_t rows) {
+  append_rows(location, name, H5T_NATIVE_DOUBLE, values.data(), rows);
+}
+
+void append_string(hid_t location, const std::string& name, const std::string& value) {
+  Handle type = string_type(true);
+  const char* text = value.c_str();
+  append_rows(location, name, type, &text, 1);
+}
+
+// Every row of a dataset, flattened.
+std::vector<double> read_doubles(hid_t location, const std::string& name) {
+  Handle dataset(H5Dopen2(location, name.c_str(), H5P_DEFAULT), H5Dclose, name);
+  Handle space(H5Dget_space(dataset), H5Sclose, name);
+  std::vector<double> values(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space)));
+  if (!values.empty()) check(H5Dread(dataset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), name);
+  return values;
+}
+
+std::vector<std::string> read_strings(hid_t location, const std::string& name) {
+  Handle dataset(H5Dopen2(location, name.c_str(), H5P_DEFAULT), H5Dclose, name);
+  Handle space(H5Dget_space(dataset), H5Sclose, name);
+  std::vector<char*> texts(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space)), nullptr);
+  std::vector<std::string> values;
+  if (texts.empty()) return values;
+  Handle type = string_type(true);
+  check(H5Dread(dataset, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, texts.data()), name);
+  for (char* t : texts) values.emplace_back(t != nullptr ? t : "");
+  H5Dvlen_reclaim(type, space, H5P_DEFAULT, texts.data());
+  return values;
+}
+
+void write_text(hid_t location, const char* name, const std::string& text) {
+  Handle type = string_type(false, text.size());
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose, name);
+  Handle dataset(H5Dcreate2(location, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose, name);
+  check(H5Dwrite(dataset, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, text.c_str()), name);
+}
+
+std::string read_text(hid_t location, const char* name) {
+  Handle dataset(H5Dopen2(location, name, H5P_DEFAULT), H5Dclose, name);
+  Handle type(H5Dget_type(dataset), H5Tclose, name);
+  std::string text(H5Tget_size(type), '\0');
+  Handle memory = string_type(false, text.size());
+  check(H5Dread(dataset, memory, H5S_ALL, H5S_ALL, H5P_DEFAULT, text.data()), name);
+  text.resize(std::strlen(text.c_str()));
+  return text;
+}
+
+EventKind event_kind(const std::string& name) {
+  using K = EventKind;
+  for (const K k : {K::lift_off_opens, K::contact_opens, K::region_vanishes, K::lift_off_vanishes, K::limit_at_support,
+                    K::limit_at_load, K::limit_at_end, K::limit_point})
+    if (continuation::to_string(k) == name) return k;
+  throw OutputError("unknown event kind '" + name + "' in the trace file");
+}
+
+// The per-step datasets of /PATH/steps: one row per step each.
+constexpr std::array<const char*, 6> step_datasets{"lambda", "monitor_deflection", "iterations",
+                                                  "deflection", "reaction", "state_topology"};
+
+std::vector<std::string> split_paths(const std::string& joined) {
+  std::vector<std::string> parts;
+  std::size_t start = 0;
+  while (start <= joined.size() && !joined.empty()) {
+    const std::size_t comma = joined.find(',', start);
+    parts.push_back(joined.substr(start, comma - start));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return parts;
+}
+
+
+// A whole path's part of an open file, read back. Rows of a step that was being written when
+// the run stopped are left out (the per-step datasets' common length counts).
+TracePathRecord read_path_record(hid_t id, const std::string& name, std::size_t samples) {
+  const auto steps = [&](const char* d) { return name + "/steps/" + d; };
+  const auto events = [&](const char* d) { return name + "/events/" + d; };
+  Handle group(H5Gopen2(id, name.c_str(), H5P_DEFAULT), H5Gclose, name);
+  TracePathRecord record;
+  record.complete = number_attribute(group, "complete") != 0.0;
+  record.termination = string_attribute(group, "termination");
+  record.message = string_attribute(group, "message");
+  record.monitor = number_attribute(group, "monitor");
+  const std::vector<double> lambda = read_doubles(id, steps("lambda"));
+  const std::vector<double> monitor = read_doubles(id, steps("monitor_deflection"));
+  const std::vector<double> iterations = read_doubles(id, steps("iterations"));
+  const std::vector<double> deflection = read_doubles(id, steps("deflection"));
+  const std::vector<double> reaction = read_doubles(id, steps("reaction"));
+  const std::vector<std::string> topology = read_strings(id, steps("state_topology"));
+  const std::vector<double> regions = read_doubles(id, steps("contact_regions"));
+  const std::vector<double> state = read_doubles(id, steps("state"));
+  std::size_t n = std::min({lambda.size(), monitor.size(), iterations.size(), topology.size()});
+  if (samples > 0) n = std::min({n, deflection.size() / samples, reaction.size() / samples});
+  record.steps.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    TraceStep& s = record.steps[i];
+    s.load_factor = lambda[i];
+    s.monitor_deflection = monitor[i];
+    s.iterations = static_cast<int>(iterations[i]);
+    s.deflection.assign(deflection.begin() + i * samples, deflection.begin() + (i + 1) * samples);
+    s.reaction.assign(reaction.begin() + i * samples, reaction.begin() + (i + 1) * samples);
+    s.state_topology = topology[i];
+  }
+  const auto written_step = [n](double step) { return step >= 0 && step < static_cast<double>(n); };  // NaN: no
+  for (std::size_t r = 0; r + 2 < regions.size(); r += 3)
+    if (written_step(regions[r]))
+      record.steps[static_cast<std::size_t>(regions[r])].contact_regions.push_back({regions[r + 1], regions[r + 2]});
+  for (std::size_t r = 0; r + 1 < state.size(); r += 2)
+    if (written_step(state[r])) record.steps[static_cast<std::size_t>(state[r])].state.push_back(state[r + 1]);
+  const std::vector<double> event_lambda = read_doubles(id, events("lambda"));
+  const std::vector<std::string> kinds = read_strings(id, events("kind"));
+  const std::vector<double> at = read_doubles(id, events("at"));
+  const std::vector<double> event_step = read_doubles(id, events("step"));
+  const std::vector<std::string> descriptions = read_strings(id, events("description"));
+  const std::size_t m = std::min({event_lambda.size(), kinds.size(), at.size(), event_step.size(), descriptions.size()});
+  for (std::size_t i = 0; i < m; ++i) {
+    if (!written_step(event_step[i]) || std::isnan(event_lambda[i]) || std::isnan(at[i])) continue;
+    record.events.push_back({event_lambda[i], event_kind(kinds[i]), at[i], descriptions[i]});
+  }
+  return record;
+}
+
+// A finished step is written in full: a NaN left in one (the fill value of rows that were made
+// but never written) means the file was damaged by a kill in the middle of a flush.
+bool whole(const TracePathRecord& record) {
+  const auto finite = [](const std::vector<double>& v) {
+    return std::all_of(v.begin(), v.end(), [](double x) { return !std::isnan(x); });
+  };
+  return std::all_of(record.steps.begin(), record.steps.end(), [&](const TraceStep& s) {
+    return !std::isnan(s.load_factor) && !std::isnan(s.monitor_deflection) && finite(s.deflection) &&
+           finite(s.reaction) && finite(s.state);
+  });
+}
+
+TraceFileInfo read_info(hid_t id) {
+  TraceFileInfo info;
+  info.version = string_attribute(id, "liftoff_version");
+  info.scene_name = string_attribute(id, "scene_name");
+  info.coordinate = string_attribute(id, "coordinate");
+  info.options = string_attribute(id, "options");
+  info.paths = split_paths(string_attribute(id, "paths"));
+  info.scene_text = read_text(id, "scene");
+  info.sample_points = read_doubles(id, "sample_points");
+  return info;
+}
+
+// Tables of rows (step, ...) are appended in step order: the rows of steps >= `steps` are a tail.
+void keep_rows_before_step(hid_t id, const std::string& name, hsize_t columns, hsize_t steps) {
+  const std::vector<double> rows = read_doubles(id, name);
+  hsize_t keep = 0;
+  while (keep < rows.size() / columns && rows[keep * columns] < static_cast<double>(steps)) ++keep;
+  set_rows(id, name, keep);
+}
+
+// Drops the rows of a step (and of events) whose writing was interrupted.
+void trim(hid_t id, const std::string& name) {
+  const auto steps = [&](const char* d) { return name + "/steps/" + d; };
+  const auto events = [&](const char* d) { return name + "/events/" + d; };
+  hsize_t n = row_count(id, steps("lambda"));
+  for (const char* d : step_datasets) n = std::min(n, row_count(id, steps(d)));
+  for (const char* d : step_datasets) set_rows(id, steps(d), n);
+  keep_rows_before_step(id, steps("contact_regions"), 3, n);
+  keep_rows_before_step(id, steps("state"), 2, n);
+  const std::array<const char*, 5> columns{"lambda", "kind", "at", "step", "description"};
+  hsize_t m = row_count(id, events("step"));
+  for (const char* d : columns) m = std::min(m, row_count(id, events(d)));
+  for (const char* d : columns) set_rows(id, events(d), m);
+  keep_rows_before_step(id, events("step"), 1, n);
+  const hsize_t kept = row_count(id, events("step"));
+  for (const char* d : columns) set_rows(id, events(d), kept);
+}
+
+// A trace file read whole and checked; nullopt if it cannot be read or is damaged.
+std::optional<TraceFileRecord> read_checked(const std::filesystem::path& path) {
+  if (!std::filesystem::exists(path) || H5Fis_hdf5(path.c_str()) <= 0) return std::nullopt;
+  const hid_t id = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (id < 0) return std::nullopt;
+  try {
+    Handle file(id, H5Fclose, path.string());
+    if (H5Aexists(file, "paths") <= 0 || !exists(file, "scene")) return std::nullopt;
+    TraceFileRecord record;
+    record.info = read_info(file);
+    record.complete = number_attribute(file, "complete") != 0.0;
+    for (const std::string& name : record.info.paths) {
+      if (!exists(file, name)) continue;
+      record.paths.emplace_back(name, read_path_record(file, name, record.info.sample_points.size()));
+      if (!whole(record.paths.back().second)) return std::nullopt;
+    }
+    return record;
+  } catch (const OutputError&) {
+    return std::nullopt;
+  }
+}
+
+std::size_t step_count(const TraceFileRecord& record) {
+  std::size_t n = 0;
+  for (const auto& [name, path] : record.paths) n += path.steps.size() + path.events.size();
+  return n;
+}
+
+}  // namespace
+
+std::filesystem::path trace_backup_path(const std::filesystem::path& path) {
+  std::filesystem::path backup = path;
+  backup += ".backup";
+  return backup;
+}
+
+// The file and its backup, written alike one after the other: a kill in the middle of one's
+// flush leaves the other whole.
+struct TraceWriter::File {
+  struct Copy {
+    std::filesystem::path path;
+    hid_t id = -1;
+  };
+  std::filesystem::path path;
+  std::array<Copy, 2> copies;
+  TraceFileInfo info;
+  std::size_t samples = 0;
+  bool clean = true;  // no write failed: the backup goes when the file is closed
+
+  ~File() {
+    for (const Copy& c : copies)
+      if (c.id >= 0) H5Fclose(c.id);
+    if (clean && copies[1].id >= 0) {
+      std::error_code ignored;
+      std::filesystem::remove(copies[1].path, ignored);
+    }
+  }
+
+  // Runs `write` on each copy and flushes it; a failure is an OutputError naming the file.
+  template <class Write>
+  void each(Write write) {
+    try {
+      for (const Copy& c : copies) {
+        write(c.id);
+        check(H5Fflush(c.id, H5F_SCOPE_GLOBAL), c.path.string());
+      }
+    } catch (const OutputError& e) {
+      clean = false;
+      throw OutputError(path.string() + ": " + e.what());
+    }
+  }
+};
+
+TraceWriter::TraceWriter(std::unique_ptr<File> file) : file_(std::move(file)) {}
+TraceWriter::TraceWriter(TraceWriter&&) noexcept = default;
+TraceWriter::~TraceWriter() = default;
+
+TraceWriter::TraceWriter(const std::filesystem::path& path, const TraceFileInfo& info) : file_(std::make_unique<File>()) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors become OutputError, not stderr noise
+  File& f = *file_;
+  f.path = path;
+  f.info = info;
+  f.samples = info.sample_points.size();
+  f.copies = {File::Copy{path, -1}, File::Copy{trace_backup_path(path), -1}};
+  for (File::Copy& c : f.copies) {
+    c.id = H5Fcreate(c.path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    if (c.id < 0) {
+      f.clean = c.path != f.copies[1].path;
+      throw OutputError(c.path.string() + ": cannot create the file");
+    }
+  }
+  f.each([&](hid_t id) {
+    set_string_attribute(id, "liftoff_version", info.version);
+    set_string_attribute(id, "scene_name", info.scene_name);
+    set_string_attribute(id, "coordinate", info.coordinate);
+    set_string_attribute(id, "sign_convention", sign_convention);
+    set_string_attribute(id, "options", info.options);
+    std::string paths;
+    for (const auto& p : info.paths) paths += (paths.empty() ? "" : ",") + p;
+    set_string_attribute(id, "paths", paths);
+    set_flag_attribute(id, "complete", false);
+    write_text(id, "scene", info.scene_text);
+    const hsize_t n = info.sample_points.size();
+    Handle space(H5Screate_simple(1, &n, nullptr), H5Sclose, "sample_points");
+    Handle points(H5Dcreate2(id, "sample_points", H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                  H5Dclose, "sample_points");
+    check(H5Dwrite(points, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, info.sample_points.data()),
+          "sample_points");
+  });
+}
+
+TraceWriter TraceWriter::resume(const std::filesystem::path& path) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  const std::filesystem::path backup = trace_backup_path(path);
+  // The whole copy with more finished steps; then the other one made equal to it.
+  const std::optional<TraceFileRecord> main = read_checked(path), spare = read_checked(backup);
+  if (!main && !spare)
+    throw OutputError(path.string() + ": not a liftoff trace file, or damaged (and no whole " + backup.string() + ")");
+  const bool from_backup = !main || (spare && step_count(*spare) > step_count(*main));
+  std::error_code error;
+  std::filesystem::copy_file(from_backup ? backup : path, from_backup ? path : backup,
+                             std::filesystem::copy_options::overwrite_existing, error);
+  if (error) throw OutputError(path.string() + ": cannot restore the trace from its backup (" + error.message() + ")");
+
+  auto file = std::make_unique<File>();
+  file->path = path;
+  file->info = from_backup ? spare->info : main->info;
+  file->samples = file->info.sample_points.size();
+  file->copies = {File::Copy{path, -1}, File::Copy{backup, -1}};
+  for (File::Copy& c : file->copies) {
+    c.id = H5Fopen(c.path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    if (c.id < 0) throw OutputError(c.path.string() + ": cannot open the file for writing");
+  }
+  file->each([&](hid_t id) {
+    for (const std::string& name : file->info.paths)
+      if (exists(id, name)) trim(id, name);
+  });
+  return TraceWriter(std::move(file));
+}
+
+const TraceFileInfo& TraceWriter::info() const { return file_->info; }
+
+std::optional<TracePathRecord> TraceWriter::read_path(const std::string& name) const {
+  const hid_t id = file_->copies[0].id;
+  if (!exists(id, name)) return std::nullopt;
+  try {
+    return read_path_record(id, name, file_->samples);
+  } catch (const OutputError& e) {
+    throw OutputError(file_->path.string() + ": " + e.what());
+  }
+}
+
+void TraceWriter::begin_path(const std::string& name, double monitor) {
+  if (exists(file_->copies[0].id, name)) return;
+  const std::size_t samples = file_->samples;
+  file_->each([&](hid_t id) {
+    Handle group(H5Gcreate2(id, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, name);
+    set_flag_attribute(group, "complete", false);
+    set_number_attribute(group, "monitor", monitor);
+    Handle steps(H5Gcreate2(group, "steps", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "steps");
+    for (const char* d : {"lambda", "monitor_deflection", "iterations"}) create_rows(steps, d, H5T_IEEE_F64LE, 0);
+    for (const char* d : {"deflection", "reaction"}) create_rows(steps, d, H5T_IEEE_F64LE, samples);
+    create_rows(steps, "state_topology", string_type(true), 0);
+    create_rows(steps, "contact_regions", H5T_IEEE_F64LE, 3);
+    create_rows(steps, "state", H5T_IEEE_F64LE, 2);
+    Handle events(H5Gcreate2(group, "events", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "events");
+    for (const char* d : {"lambda", "at", "step"}) create_rows(events, d, H5T_IEEE_F64LE, 0);
+    for (const char* d : {"kind", "description"}) create_rows(events, d, string_type(true), 0);
+  });
+}
+
+void TraceWriter::append_step(const std::string& name, const TraceStep& step) {
+  if (step.deflection.size() != file_->samples || step.reaction.size() != file_->samples)
+    throw OutputError(fmt::format("{}: a step has {} deflections and {} reactions for {} sample points",
+                                  file_->path.string(), step.deflection.size(), step.reaction.size(), file_->samples));
+  const auto steps = [&](const char* d) { return name + "/steps/" + d; };
+  file_->each([&](hid_t id) {
+    const auto index = static_cast<double>(row_count(id, steps("lambda")));
+    // The tables keyed by step first, the per-step rows after, lambda last: a step counts as
+    // written only when every per-step dataset holds it.
+    std::vector<double> regions;
+    for (const auto& r : step.contact_regions) regions.insert(regions.end(), {index, r[0], r[1]});
+    append_doubles(id, steps("contact_regions"), regions, step.contact_regions.size());
+    std::vector<double> state;
+    for (const double v : step.state) state.insert(state.end(), {index, v});
+    append_doubles(id, steps("state"), state, step.state.size());
+    append_doubles(id, steps("deflection"), step.deflection, 1);
+    append_doubles(id, steps("reaction"), step.reaction, 1);
+    append_string(id, steps("state_topology"), step.state_topology);
+    append_doubles(id, steps("iterations"), {static_cast<double>(step.iterations)}, 1);
+    append_doubles(id, steps("monitor_deflection"), {step.monitor_deflection}, 1);
+    append_doubles(id, steps("lambda"), {step.load_factor}, 1);
+  });
+}
+
+void TraceWriter::append_event(const std::string& name, const TraceEvent& event) {
+  const auto events = [&](const char* d) { return name + "/events/" + d; };
+  file_->each([&](hid_t id) {
+    const auto steps = static_cast<double>(row_count(id, name + "/steps/lambda"));
+    append_doubles(id, events("lambda"), {event.load_factor}, 1);
+    append_string(id, events("kind"), std::string(continuation::to_string(event.kind)));
+    append_doubles(id, events("at"), {event.at}, 1);
+    append_string(id, events("description"), event.description);
+    append_doubles(id, events("step"), {std::max(0.0, steps - 1)}, 1);
+  });
+}
+
+void TraceWriter::end_path(const std::string& name, const continuation::TraceSummary& summary) {
+  file_->each([&](hid_t id) {
+    Handle group(H5Gopen2(id, name.c_str(), H5P_DEFAULT), H5Gclose, name);
+    set_string_attribute(group, "termination", std::string(continuation::to_string(summary.termination)));
+    set_string_attribute(group, "message", summary.message);
+    set_flag_attribute(group, "complete", summary.termination == continuation::TraceTermination::completed);
+  });
+}
+
+void TraceWriter::finish() {
+  file_->each([&](hid_t id) { set_flag_attribute(id, "complete", true); });
+}
+
+TraceFileRecord read_trace_file(const std::filesystem::path& path) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  if (std::optional<TraceFileRecord> record = read_checked(path)) return *record;
+  // A run killed in the middle of the file's flush: its backup is whole.
+  if (std::optional<TraceFileRecord> record = read_checked(trace_backup_path(path))) return *record;
+  throw OutputError(path.string() + ": not a liftoff trace file, or damaged");
+}
+
+}  // namespace liftoff::io

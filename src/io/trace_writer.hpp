@@ -1,0 +1,100 @@
+#pragma once
+// The HDF5 file of a load history (`liftoff trace --output`), written as the trace runs: every
+// accepted step and every event is appended and the file flushed at once, so that a run that is
+// killed leaves a readable file with every finished step, and `--resume` continues it.
+//
+// Why two copies: with HDF5 1.10, a file flushed after every step is readable after a SIGKILL
+// only if the kill did not land inside a flush (a flush writes metadata and chunks in no
+// guaranteed order); killed at random while writing, about 1 run in 75 left a damaged file.
+// SWMR would keep the file consistent, but a killed SWMR writer leaves the superblock marked
+// "open for write" (h5py refuses it until `h5clear -s`), and SWMR forbids new groups and
+// attributes once writing starts. So the trace keeps PATH.backup beside PATH, written alike one
+// after the other: a kill damages at most the one being flushed. Resume and read_trace_file
+// take the whole copy with more steps; the backup is removed when the writer closes normally.
+// Rows of a step that was being written when the run stopped are dropped on reading back.
+//
+// Layout (README, "liftoff trace"):
+//   /                attributes: liftoff_version, scene_name, coordinate, sign_convention,
+//                    options (JSON), paths ("fe", "ritz" or "fe,ritz"), complete (0 until the
+//                    last path ends)
+//   /scene           the scene's TOML text
+//   /sample_points   the points where w and r are recorded (user coordinate)
+//   /PATH/           one group per path run ("fe", "ritz", "fe_refined"); attributes complete,
+//                    termination, message, monitor (user coordinate)
+//   /PATH/steps/     lambda, monitor_deflection, iterations (steps); deflection, reaction
+//                    (steps x samples); state_topology (steps, strings); contact_regions (rows of
+//                    step, begin, end); state (rows of step, value)
+//   /PATH/events/    lambda, kind (strings), at, step (the step it follows), description
+
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "continuation/trace.hpp"
+
+namespace liftoff::io {
+
+// What the whole file describes; written when the file is created.
+struct TraceFileInfo {
+  std::string version;
+  std::string scene_name;
+  std::string scene_text;
+  std::string coordinate;    // "x" or "theta_deg"
+  std::string options;       // JSON text: what a resumed run must match
+  std::vector<std::string> paths;
+  std::vector<double> sample_points;
+};
+
+// One path's part of a file, as read back.
+struct TracePathRecord {
+  bool complete = false;
+  std::string termination;   // empty until the path ends
+  std::string message;
+  double monitor = 0.0;
+  std::vector<continuation::TraceStep> steps;
+  std::vector<continuation::TraceEvent> events;
+};
+
+// The whole file as read back.
+struct TraceFileRecord {
+  TraceFileInfo info;
+  bool complete = false;
+  std::vector<std::pair<std::string, TracePathRecord>> paths;  // in the order of info.paths
+};
+class TraceWriter {
+ public:
+  // A new file at `path` (replacing one that is there). Throws OutputError.
+  TraceWriter(const std::filesystem::path& path, const TraceFileInfo& info);
+  // An existing file, to continue: rows of a step that was being written when the run stopped
+  // are dropped, so every path holds whole steps only. Throws OutputError (not a trace file).
+  static TraceWriter resume(const std::filesystem::path& path);
+  TraceWriter(TraceWriter&&) noexcept;
+  ~TraceWriter();
+
+  const TraceFileInfo& info() const;
+  // What the file holds of one path; nullopt if the path has not started.
+  std::optional<TracePathRecord> read_path(const std::string& name) const;
+
+  // Creates the path's group if it is not there yet.
+  void begin_path(const std::string& name, double monitor);
+  void append_step(const std::string& name, const continuation::TraceStep& step);
+  void append_event(const std::string& name, const continuation::TraceEvent& event);
+  void end_path(const std::string& name, const continuation::TraceSummary& summary);
+  // Sets the root's `complete` attribute (every path ended).
+  void finish();
+
+ private:
+  struct File;
+  explicit TraceWriter(std::unique_ptr<File> file);
+  std::unique_ptr<File> file_;
+};
+
+// The whole file, for readers that are not resuming (tests, a finished file): the file, or its
+// backup if the file was damaged by a kill. Throws OutputError.
+TraceFileRecord read_trace_file(const std::filesystem::path& path);
+// PATH.backup: the second copy that a running trace keeps beside PATH.
+std::filesystem::path trace_backup_path(const std::filesystem::path& path);
+
+}  // namespace liftoff::io
