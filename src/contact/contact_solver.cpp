@@ -5,7 +5,6 @@
 #include <stdexcept>
 
 #include <Eigen/SparseCholesky>
-#include <Eigen/SparseLU>
 #include <fmt/format.h>
 
 #include "core/error.hpp"
@@ -21,6 +20,7 @@ std::string_view to_string(ContactTermination t) {
     case ContactTermination::solved: return "solved";
     case ContactTermination::no_equilibrium: return "no_equilibrium";
     case ContactTermination::pivot_limit: return "pivot_limit";
+    case ContactTermination::iteration_limit: return "iteration_limit";
     case ContactTermination::numerical_failure: return "numerical_failure";
   }
   return "unknown";
@@ -28,12 +28,16 @@ std::string_view to_string(ContactTermination t) {
 
 void ContactOptions::validate() const {
   if (!std::isfinite(load_factor)) throw std::invalid_argument("ContactOptions::load_factor must be finite");
-  if (method != Method::dual && method != Method::primal && method != Method::automatic)
-    throw std::invalid_argument("ContactOptions::method must be dual, primal or auto (an FE + LCP formulation)");
+  if (method != Method::dual && method != Method::primal && method != Method::fast && method != Method::automatic)
+    throw std::invalid_argument("ContactOptions::method must be dual, primal, fast or auto (an FE formulation)");
   lemke.validate();
+  active_set.validate();
 }
 
 std::string ContactSummary::brief_report() const {
+  if (iterations >= 0)
+    return fmt::format("{} ({}): {} contact sets, {} factorisations, residual {:.2e}, {:.3f} s", to_string(termination),
+                       scene::to_string(method), iterations, factorisations, residual, time_s);
   return fmt::format("{} ({}): {} pivots, residual {:.2e}, {:.3f} s", to_string(termination),
                      scene::to_string(method), pivots, residual, time_s);
 }
@@ -91,6 +95,7 @@ std::string explain(ContactTermination termination, const lcp::LemkeSummary& lem
     case ContactTermination::pivot_limit:
       return "Lemke's algorithm reached its pivot limit (" + std::to_string(lemke.pivots) + " pivots) without a solution";
     case ContactTermination::numerical_failure: return "Lemke's algorithm failed numerically: " + lemke.message;
+    case ContactTermination::iteration_limit: break;  // not a Lemke outcome
   }
   return lemke.message;
 }
@@ -138,35 +143,52 @@ LcpOutcome solve_primal(const Discretisation& d, const VectorXd& load, const lcp
   return outcome;
 }
 
-// Bilateral foundation: the saddle-point system [K C^T; C -T] (u, r) = (F, 0).
-bool solve_bilateral(const Discretisation& d, const VectorXd& load, Unknowns& x) {
-  const int n = d.equations, m = d.reactions();
-  std::vector<Eigen::Triplet<double>> entries;
-  auto add = [&](const fe::SparseMatrix& block, int row0, int col0, double sign, bool transpose) {
-    for (int k = 0; k < block.outerSize(); ++k)
-      for (fe::SparseMatrix::InnerIterator it(block, k); it; ++it) {
-        const int i = transpose ? it.col() : it.row(), j = transpose ? it.row() : it.col();
-        entries.emplace_back(row0 + i, col0 + j, sign * it.value());
-      }
-  };
-  add(d.stiffness, 0, 0, 1.0, false);
-  add(d.coupling, 0, n, 1.0, true);
-  add(d.coupling, n, 0, 1.0, false);
-  add(d.flexibility, n, n, -1.0, false);
-  fe::SparseMatrix system(n + m, n + m);
-  system.setFromTriplets(entries.begin(), entries.end());
-  Eigen::SparseLU<fe::SparseMatrix> lu(system);
-  if (lu.info() != Eigen::Success) return false;
-  VectorXd rhs = VectorXd::Zero(n + m);
-  rhs.head(n) = load;
-  const VectorXd solution = lu.solve(rhs);
-  if (lu.info() != Eigen::Success || !solution.allFinite()) return false;
-  x.displacement = solution.head(n);
-  x.reaction = solution.tail(m);
+// Bilateral foundation: the saddle-point system [K C^T; C -T] (u, r) = (F, 0), which is the
+// fixed-contact-set system with every node in contact.
+bool solve_bilateral(const Discretisation& d, const VectorXd& load, Unknowns& x, int& factorisations) {
+  ActiveSetSystem system(d);
+  const bool factorised = system.factorise(std::vector<bool>(d.reactions(), true));
+  factorisations = system.factorisations();
+  if (!factorised) return false;
+  ContactState state = system.solve(load);
+  if (!state.displacement.allFinite() || !state.reaction.allFinite()) return false;
+  x.displacement = std::move(state.displacement);
+  x.reaction = std::move(state.reaction);
   return true;
 }
 
+// The dense LCP of a Lemke formulation: its size, refused above max_dense_lcp.
+int lcp_size_of(const Discretisation& d, Method method) {
+  return method == Method::dual ? d.reactions() : 2 * d.equations + d.reactions();
+}
+
+void check_dense_size(const Discretisation& d, Method method) {
+  const int size = lcp_size_of(d, method);
+  if (size > max_dense_lcp)
+    throw SolverFailure(fmt::format("the {} LCP would have {} unknowns, a dense matrix of {:.1f} GB for Lemke (limit {} "
+                                    "unknowns); use method = \"fast\" (or \"auto\"), which is O(n)",
+                                    scene::to_string(method), size, 8.0 * size * size / 1e9, max_dense_lcp));
+}
+
 }  // namespace
+
+MethodChoice choose_fe_method(const Discretisation& d) {
+  const int m = d.reactions(), primal_size = 2 * d.equations + m;
+  if (!d.tensionless) return {Method::fast, "bilateral foundation: one sparse solve, no LCP"};
+  if (d.structure_is_stable() && m <= auto_dual_limit)
+    return {Method::dual, fmt::format("dual: the structure is stable on its supports and the LCP has {} reaction "
+                                      "unknowns (at most {}): Lemke's exact pivoting costs milliseconds",
+                                      m, auto_dual_limit)};
+  if (!d.structure_is_stable() && primal_size <= auto_primal_limit)
+    return {Method::primal, fmt::format("primal: {}, so K is singular and the dual form does not exist; the primal "
+                                        "LCP has {} unknowns (at most {})",
+                                        d.stability_note, primal_size, auto_primal_limit)};
+  return {Method::fast,
+          fmt::format("fast: {} reaction nodes{}, above the size where dense Lemke pays (dual {}, primal {} "
+                      "unknowns); the sparse active-set solver is O(n)",
+                      m, d.structure_is_stable() ? "" : " on a structure only the foundation holds", auto_dual_limit,
+                      auto_primal_limit)};
+}
 
 ContactSolution solve_contact(const Discretisation& d, const ContactOptions& options) {
   options.validate();
@@ -176,15 +198,15 @@ ContactSolution solve_contact(const Discretisation& d, const ContactOptions& opt
 
   summary.method = options.method;
   if (options.method == Method::automatic) {
-    summary.method = d.structure_is_stable() ? Method::dual : Method::primal;
-    summary.method_reason =
-        d.structure_is_stable()
-            ? "dual: the structure is stable on its supports, so the LCP needs only the reaction unknowns"
-            : "primal: " + d.stability_note + ", so K is singular and the dual form does not exist";
+    const MethodChoice choice = choose_fe_method(d);
+    summary.method = choice.method;
+    summary.method_reason = choice.reason;
   }
   if (summary.method == Method::dual && d.tensionless && !d.structure_is_stable())
     throw SolverFailure("the dual form needs a positive definite stiffness matrix K, but " + d.stability_note +
-                        "; use method = \"primal\" (or \"auto\"), which handles it");
+                        "; use method = \"primal\", \"fast\" or \"auto\", which handle it");
+  if (d.tensionless && (summary.method == Method::dual || summary.method == Method::primal))
+    check_dense_size(d, summary.method);
 
   const VectorXd load = d.load(options.load_factor);
   const double load_scale = load.lpNorm<Eigen::Infinity>();
@@ -192,24 +214,58 @@ ContactSolution solve_contact(const Discretisation& d, const ContactOptions& opt
   summary.termination = ContactTermination::solved;
   summary.pivots = 0;
 
-  if (load_scale == 0.0) {
-    summary.message = "no load: the member stays where it is";
-  } else if (!d.tensionless) {
-    summary.method_reason = "bilateral foundation: one linear solve, no LCP";
-    if (!solve_bilateral(d, load / load_scale, x)) {
-      summary.termination = ContactTermination::numerical_failure;
-      summary.message = "the bilateral system is singular: the structure is a mechanism even on the foundation";
-    } else {
-      summary.message = "equilibrium found";
-    }
-  } else {
-    LcpOutcome outcome = summary.method == Method::dual ? solve_dual(d, load / load_scale, options.lemke)
-                                                        : solve_primal(d, load / load_scale, options.lemke);
+  auto solve_by_lemke = [&](Method method) {
+    LcpOutcome outcome = method == Method::dual ? solve_dual(d, load / load_scale, options.lemke)
+                                                : solve_primal(d, load / load_scale, options.lemke);
     x = outcome.unknowns;
     summary.pivots = outcome.lemke.pivots;
     summary.lcp_size = outcome.size;
     summary.termination = termination_of(outcome.lemke);
     summary.message = explain(summary.termination, outcome.lemke);
+  };
+
+  if (load_scale == 0.0) {
+    summary.message = "no load: the member stays where it is";
+  } else if (!d.tensionless) {
+    summary.method_reason = "bilateral foundation: one sparse solve, no LCP";
+    summary.pivots = -1;
+    if (!solve_bilateral(d, load / load_scale, x, summary.factorisations)) {
+      summary.termination = ContactTermination::numerical_failure;
+      summary.message = "the bilateral system is singular: the structure is a mechanism even on the foundation";
+    } else {
+      summary.message = "equilibrium found";
+    }
+  } else if (summary.method == Method::fast) {
+    summary.pivots = -1;
+    ActiveSetResult fast = solve_active_set(d, load / load_scale, options.active_set);
+    summary.iterations = fast.summary.iterations;
+    summary.factorisations = fast.summary.factorisations;
+    if (fast.summary.is_usable()) {
+      x.displacement = std::move(fast.state.displacement);
+      x.reaction = std::move(fast.state.reaction);
+      summary.message = "equilibrium found: " + fast.summary.message;
+    } else {
+      // Lemke takes over: dual where the structure is stable, else primal, if its dense LCP fits.
+      const Method fallback = d.structure_is_stable() ? Method::dual : Method::primal;
+      const std::string why = fmt::format("the fast solver stopped ({}: {})",
+                                          to_string(fast.summary.termination), fast.summary.message);
+      if (lcp_size_of(d, fallback) > max_dense_lcp) {
+        summary.termination = fast.summary.termination == ActiveSetTermination::singular_system
+                                  ? ContactTermination::numerical_failure
+                                  : ContactTermination::iteration_limit;
+        summary.message = fmt::format("{}, and the {} LCP ({} unknowns) is too large for the Lemke fallback (limit {})",
+                                      why, scene::to_string(fallback), lcp_size_of(d, fallback), max_dense_lcp);
+      } else {
+        solve_by_lemke(fallback);
+        summary.method = fallback;
+        summary.method_reason = fmt::format("{}fell back to {} Lemke: {}",
+                                            summary.method_reason.empty() ? "" : summary.method_reason + "; ",
+                                            scene::to_string(fallback), why);
+        summary.message += fmt::format(" (after falling back to {} Lemke: {})", scene::to_string(fallback), why);
+      }
+    }
+  } else {
+    solve_by_lemke(summary.method);
   }
   x.displacement *= load_scale;
   x.reaction *= load_scale;
@@ -221,12 +277,19 @@ ContactSolution solve_contact(const Discretisation& d, const ContactOptions& opt
   // Lemke's own checks are in its scaled units; the answer must also hold in the mechanics'.
   if (summary.termination == ContactTermination::solved && !(summary.residual <= acceptable_residual)) {
     summary.termination = ContactTermination::numerical_failure;
-    summary.message = fmt::format(
-        "the {} LCP ended with a relative residual of {:.1e} (equilibrium or contact conditions violated), above {:.0e}: "
-        "round-off has overwhelmed this {}-unknown problem; {}",
-        scene::to_string(summary.method), summary.residual, acceptable_residual, summary.lcp_size,
-        d.structure_is_stable() ? "use the dual form or fewer elements"
-                                : "use fewer elements, or method = \"ritz\" (the dual form needs a stable structure)");
+    if (summary.lcp_size < 0)  // a sparse solve: fast, or the bilateral system
+      summary.message = fmt::format(
+          "the {} solve ended with a relative residual of {:.1e} (equilibrium or contact conditions violated), above "
+          "{:.0e}: round-off has overwhelmed this {}-equation system; use fewer elements",
+          d.tensionless ? scene::to_string(summary.method) : "bilateral", summary.residual, acceptable_residual,
+          d.equations + d.reactions());
+    else
+      summary.message = fmt::format(
+          "the {} LCP ended with a relative residual of {:.1e} (equilibrium or contact conditions violated), above "
+          "{:.0e}: round-off has overwhelmed this {}-unknown problem; {}",
+          scene::to_string(summary.method), summary.residual, acceptable_residual, summary.lcp_size,
+          d.structure_is_stable() ? "use method = \"fast\", the dual form or fewer elements"
+                                  : "use method = \"fast\", fewer elements, or method = \"ritz\"");
   }
   summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return solution;

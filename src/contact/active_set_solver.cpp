@@ -1,0 +1,144 @@
+#include "contact/active_set_solver.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <stdexcept>
+#include <unordered_set>
+#include <cstdlib>
+#include <fmt/core.h>
+
+#include <fmt/format.h>
+
+namespace liftoff::contact {
+
+using Eigen::VectorXd;
+
+std::string_view to_string(ActiveSetTermination t) {
+  switch (t) {
+    case ActiveSetTermination::solved: return "solved";
+    case ActiveSetTermination::iteration_limit: return "iteration_limit";
+    case ActiveSetTermination::cycling: return "cycling";
+    case ActiveSetTermination::singular_system: return "singular_system";
+  }
+  return "unknown";
+}
+
+void ActiveSetOptions::validate() const {
+  if (max_iterations < 1) throw std::invalid_argument("ActiveSetOptions::max_iterations must be at least 1");
+  if (block_retries < -1) throw std::invalid_argument("ActiveSetOptions::block_retries must be -1 (no safeguard) or >= 0");
+  if (!(sign_tolerance >= 0.0 && sign_tolerance < 1e-3))
+    throw std::invalid_argument("ActiveSetOptions::sign_tolerance must be in [0, 1e-3)");
+}
+
+namespace {
+
+// Nodes on the wrong side: in contact with r < 0, or lifted off with gap < 0 (ascending).
+std::vector<int> infeasible_nodes(const fe::Discretisation& d, const ContactState& state,
+                                  const std::vector<bool>& in_contact, double tolerance) {
+  const double reaction_scale = state.reaction.lpNorm<Eigen::Infinity>();
+  const VectorXd coupled = d.coupling * state.displacement;
+  const double gap_scale = std::max(coupled.lpNorm<Eigen::Infinity>(), (state.gap).lpNorm<Eigen::Infinity>());
+  std::vector<int> nodes;
+  for (int i = 0; i < static_cast<int>(in_contact.size()); ++i) {
+    const bool wrong = in_contact[i] ? state.reaction[i] < -tolerance * reaction_scale
+                                     : state.gap[i] < -tolerance * gap_scale;
+    if (wrong) nodes.push_back(i);
+  }
+  return nodes;
+}
+
+}  // namespace
+
+ActiveSetResult solve_active_set(const fe::Discretisation& d, const VectorXd& load, const ActiveSetOptions& options,
+                                 std::vector<bool> initial) {
+  options.validate();
+  const int m = d.reactions();
+  if (load.size() != d.equations) throw std::invalid_argument("solve_active_set: one load per equation expected");
+  if (initial.empty()) initial.assign(m, true);
+  if (static_cast<int>(initial.size()) != m)
+    throw std::invalid_argument("solve_active_set: one initial contact flag per reaction node expected");
+
+  ActiveSetResult result;
+  ActiveSetSummary& summary = result.summary;
+  summary.iterations = summary.block_steps = summary.single_steps = 0;
+  ActiveSetSystem system(d);
+  std::unordered_set<std::vector<bool>> seen;
+
+  std::vector<bool> in_contact = std::move(initial);
+  std::vector<bool> last_good;       // the last set that factorised
+  std::vector<int> last_infeasible;  // and its infeasible nodes
+  int best = std::numeric_limits<int>::max();
+  int retries = options.block_retries;
+  bool singular_retry = false;
+
+  summary.termination = ActiveSetTermination::iteration_limit;
+  while (summary.iterations < options.max_iterations) {
+    ++summary.iterations;
+    const bool revisit = !seen.insert(in_contact).second;
+    if (revisit && options.block_retries < 0) {
+      summary.termination = ActiveSetTermination::cycling;
+      summary.message = fmt::format("plain block pivoting came back to a contact set after {} sets (cycling)",
+                                    summary.iterations - 1);
+      break;
+    }
+    if (!system.factorise(in_contact)) {
+      // A set that leaves a rigid motion free: go back and take one single step instead.
+      if (last_good.empty() || singular_retry) {
+        summary.termination = ActiveSetTermination::singular_system;
+        summary.message = "a contact set left a rigid motion free (singular system) and no single step helped";
+        break;
+      }
+      singular_retry = true;
+      in_contact = last_good;
+      in_contact[last_infeasible.back()] = !in_contact[last_infeasible.back()];
+      ++summary.single_steps;
+      continue;
+    }
+    singular_retry = false;
+    result.state = system.solve(load);
+    const std::vector<int> infeasible = infeasible_nodes(d, result.state, in_contact, options.sign_tolerance);
+    summary.infeasible_history.push_back(static_cast<int>(infeasible.size()));
+    if (std::getenv("LIFTOFF_DEBUG")) {
+      fmt::print(stderr, "set {}: {} infeasible, residual {:.2e}:", summary.iterations, infeasible.size(), result.state.residual);
+      for (std::size_t k = 0; k < std::min<std::size_t>(infeasible.size(), 8); ++k) { int i = infeasible[k];
+        fmt::print(stderr, " {}{}(r={:.2e},g={:.2e})", i, in_contact[i] ? "A" : "I", result.state.reaction[i], result.state.gap[i]); }
+      fmt::print(stderr, "  rmax {:.2e}\n", result.state.reaction.lpNorm<Eigen::Infinity>());
+    }
+    if (infeasible.empty()) {
+      summary.termination = ActiveSetTermination::solved;
+      summary.message = fmt::format("contact set found after {} sets ({} block, {} single steps)", summary.iterations,
+                                    summary.block_steps, summary.single_steps);
+      break;
+    }
+    last_good = in_contact;
+    last_infeasible = infeasible;
+    const int count = static_cast<int>(infeasible.size());
+    bool block = true;
+    if (options.block_retries >= 0) {
+      if (count < best) {
+        best = count;
+        retries = options.block_retries;
+      } else if (retries > 0 && !revisit) {
+        --retries;
+      } else {
+        block = false;
+      }
+    }
+    if (block) {
+      for (int i : infeasible) in_contact[i] = !in_contact[i];
+      ++summary.block_steps;
+    } else {
+      in_contact[infeasible.back()] = !in_contact[infeasible.back()];  // Murty: the largest index
+      ++summary.single_steps;
+    }
+  }
+  if (summary.termination == ActiveSetTermination::iteration_limit)
+    summary.message = fmt::format("no contact set found in {} sets ({} infeasible nodes left)", summary.iterations,
+                                  summary.infeasible_history.empty() ? -1 : summary.infeasible_history.back());
+  result.in_contact = system.in_contact();
+  summary.factorisations = system.factorisations();
+  return result;
+}
+
+}  // namespace liftoff::contact
