@@ -33,6 +33,9 @@ void ActiveSetOptions::validate() const {
 
 namespace {
 
+// Signs are trusted only beyond this multiple of the solve's estimated relative error.
+constexpr double round_off_margin = 10.0;
+
 // Nodes on the wrong side: in contact with r < 0, or lifted off with gap < 0 (ascending).
 std::vector<int> infeasible_nodes(const fe::Discretisation& d, const ContactState& state,
                                   const std::vector<bool>& in_contact, double tolerance) {
@@ -97,7 +100,9 @@ ActiveSetResult solve_active_set(const fe::Discretisation& d, const VectorXd& lo
     }
     singular_retry = false;
     result.state = system.solve(load);
-    const std::vector<int> infeasible = infeasible_nodes(d, result.state, in_contact, options.sign_tolerance);
+    // A sign below the solve's own round-off is no evidence: such a node touches (r = gap = 0).
+    const double tolerance = std::max(options.sign_tolerance, round_off_margin * result.state.error_estimate);
+    const std::vector<int> infeasible = infeasible_nodes(d, result.state, in_contact, tolerance);
     summary.infeasible_history.push_back(static_cast<int>(infeasible.size()));
     if (std::getenv("LIFTOFF_DEBUG")) {
       fmt::print(stderr, "set {}: {} infeasible, residual {:.2e}:", summary.iterations, infeasible.size(), result.state.residual);

@@ -45,7 +45,8 @@ struct ActiveSetOptions {
   int block_retries = 3;      // block steps allowed without a new best count; -1: never fall
                               // back to single steps (plain primal-dual active set, no safeguard)
   // A reaction or gap counts as negative below -tolerance times the largest reaction or
-  // structural gap term (round-off must not flip a node that touches with r = gap = 0).
+  // structural gap term (round-off must not flip a node that touches with r = gap = 0); the
+  // tolerance grows to 10x the solve's own error estimate on meshes where that is larger.
   double sign_tolerance = 1e-11;
   void validate() const;  // throws std::invalid_argument naming the field
 };

@@ -7,6 +7,10 @@ namespace liftoff::contact {
 
 using Eigen::VectorXd;
 
+namespace {
+constexpr int max_refinement_steps = 6;
+}  // namespace
+
 ActiveSetSystem::ActiveSetSystem(const fe::Discretisation& discretisation) : d_(discretisation) {
   const int n = d_.equations, m = d_.reactions();
   std::vector<Eigen::Triplet<double>> entries;
@@ -31,9 +35,6 @@ ActiveSetSystem::ActiveSetSystem(const fe::Discretisation& discretisation) : d_(
   scaling_ = full_.diagonal().cwiseAbs();
   for (Eigen::Index i = 0; i < scaling_.size(); ++i)
     scaling_[i] = scaling_[i] > 0 ? 1.0 / std::sqrt(scaling_[i]) : 1.0;
-  for (int k = 0; k < full_.outerSize(); ++k)
-    for (fe::SparseMatrix::InnerIterator it(full_, k); it; ++it)
-      it.valueRef() *= scaling_[it.row()] * scaling_[it.col()];
   scaled_ = full_;
 }
 
@@ -51,10 +52,11 @@ bool ActiveSetSystem::factorise(const std::vector<bool>& in_contact) {
   for (int k = 0; k < scaled_.outerSize(); ++k)
     for (fe::SparseMatrix::InnerIterator it(scaled_, k); it; ++it) {
       const Eigen::Index p = &it.valueRef() - values;
+      const double scaled = full[p] * scaling_[it.row()] * scaling_[it.col()];
       if (it.row() == it.col())
-        values[p] = lifted_off(it.row()) ? -1.0 : full[p];
+        values[p] = lifted_off(it.row()) ? -1.0 : scaled;
       else
-        values[p] = lifted_off(it.row()) || lifted_off(it.col()) ? 0.0 : full[p];
+        values[p] = lifted_off(it.row()) || lifted_off(it.col()) ? 0.0 : scaled;
     }
 
   if (!analysed_) {
@@ -74,32 +76,63 @@ bool ActiveSetSystem::factorise(const std::vector<bool>& in_contact) {
 ContactState ActiveSetSystem::solve(const VectorXd& load) const {
   if (!factorised_) throw std::logic_error("ActiveSetSystem::solve before a successful factorise()");
   const int n = d_.equations, m = d_.reactions();
-  // The equilibrated system S A S y = S b, x = S y; one step of refinement on it.
-  VectorXd rhs = VectorXd::Zero(scaled_.rows());
-  rhs.head(n) = scaling_.head(n).cwiseProduct(load);
-  VectorXd y = factors_.solve(rhs);
-  VectorXd defect = rhs - scaled_ * y;
-  y += factors_.solve(defect);
-  defect = rhs - scaled_ * y;
+  // The equilibrated system S A S y = S b gives x = S y. Refinement computes the defect
+  // b - A x on A as assembled (not its equilibrated, rounded copy) and in extended precision:
+  // for a smooth u a row of K u cancels terms ~N^4 times larger than their sum, so a defect in
+  // double precision holds no digits beyond ~1e4 elements. The size of the last correction
+  // estimates the error left.
+  const Eigen::Index size = full_.rows();
+  VectorXd scaled_rhs = VectorXd::Zero(size);
+  scaled_rhs.head(n) = scaling_.head(n).cwiseProduct(load);
+  VectorXd x = scaling_.cwiseProduct(factors_.solve(scaled_rhs));
+  std::vector<long double> accumulator(size);
+  VectorXd defect(size), magnitude(size);
+  auto in_system = [&](Eigen::Index index) { return index < n || in_contact_[index - n]; };
+  // defect = b - A x (extended precision), magnitude = |b| + |A| |x|, over the current set.
+  auto compute_defect = [&]() {
+    for (Eigen::Index i = 0; i < size; ++i) accumulator[i] = i < n ? load[i] : 0.0;
+    magnitude.head(n) = load.cwiseAbs();
+    magnitude.tail(m).setZero();
+    const double* values = full_.valuePtr();
+    const int* rows = full_.innerIndexPtr();
+    const int* starts = full_.outerIndexPtr();
+    for (int col = 0; col < size; ++col) {
+      if (!in_system(col)) continue;
+      const long double xc = x[col];
+      for (int p = starts[col]; p < starts[col + 1]; ++p) {
+        if (!in_system(rows[p])) continue;
+        accumulator[rows[p]] -= static_cast<long double>(values[p]) * xc;
+        magnitude[rows[p]] += std::abs(values[p] * x[col]);
+      }
+    }
+    for (Eigen::Index i = 0; i < size; ++i) defect[i] = static_cast<double>(accumulator[i]);
+  };
+  double previous = INFINITY, estimate = 0.0;
+  for (int step = 0; step < max_refinement_steps; ++step) {
+    compute_defect();
+    const VectorXd correction = scaling_.cwiseProduct(factors_.solve(scaling_.cwiseProduct(defect)));
+    x += correction;
+    const double change = correction.lpNorm<Eigen::Infinity>() / std::max(x.lpNorm<Eigen::Infinity>(), 1e-300);
+    estimate = change;
+    if (!(change > 1e-15) || change > 0.5 * previous) break;  // converged, or no longer contracting
+    previous = change;
+  }
+  compute_defect();
 
   ContactState state;
-  state.displacement = scaling_.head(n).cwiseProduct(y.head(n));
-  state.reaction = scaling_.tail(m).cwiseProduct(y.tail(m));
+  state.displacement = x.head(n);
+  state.reaction = x.tail(m);
   for (int i = 0; i < m; ++i)
     if (!in_contact_[i]) state.reaction[i] = 0.0;
   state.gap = d_.flexibility * state.reaction - d_.coupling * state.displacement;
   for (int i = 0; i < m; ++i)
     if (in_contact_[i]) state.gap[i] = 0.0;  // exact by construction; the defect measures it
-  // Row-wise relative defect |A x - b|_i / (sum_j |A_ij x_j| + |b_i|): the same for the
-  // equilibrated rows as for the original ones.
-  VectorXd magnitude = rhs.cwiseAbs();
-  for (int k = 0; k < scaled_.outerSize(); ++k)
-    for (fe::SparseMatrix::InnerIterator it(scaled_, k); it; ++it)
-      magnitude[it.row()] += std::abs(it.value() * y[it.col()]);
+  // Row-wise relative defect |A x - b|_i / (sum_j |A_ij x_j| + |b_i|).
   double residual = 0.0;
-  for (Eigen::Index i = 0; i < defect.size(); ++i)
+  for (Eigen::Index i = 0; i < size; ++i)
     if (magnitude[i] > 0) residual = std::max(residual, std::abs(defect[i]) / magnitude[i]);
   state.residual = residual;
+  state.error_estimate = estimate;
   return state;
 }
 

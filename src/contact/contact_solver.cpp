@@ -47,6 +47,9 @@ namespace {
 // An answer whose relative residual (see ContactSummary::residual) exceeds this is not returned
 // as a solution: at 1e-6 the contact limits are already uncertain to a fraction of an element.
 constexpr double acceptable_residual = 1e-6;
+// Likewise for the relative error iterative refinement leaves in u and r (sparse solves): the
+// Hermite FE system's condition grows like N^4, so round-off owns it beyond a few 1e4 elements.
+constexpr double acceptable_error = 1e-6;
 
 // Solution on the equations, before expansion to every dof.
 struct Unknowns {
@@ -54,18 +57,25 @@ struct Unknowns {
   VectorXd reaction;
 };
 
+// |A| |x|: the size of the terms a row of A x sums, the scale its round-off is measured on.
+VectorXd absolute_product(const fe::SparseMatrix& a, const VectorXd& x) {
+  VectorXd out = VectorXd::Zero(a.rows());
+  for (int k = 0; k < a.outerSize(); ++k)
+    for (fe::SparseMatrix::InnerIterator it(a, k); it; ++it) out[it.row()] += std::abs(it.value() * x[it.col()]);
+  return out;
+}
+
 double relative_residual(const Discretisation& d, const Unknowns& x, const VectorXd& load, bool tensionless) {
-  const VectorXd support = d.coupling.transpose() * x.reaction;
-  const VectorXd stiffness_force = d.stiffness * x.displacement;
-  const double force_scale = std::max({load.lpNorm<Eigen::Infinity>(), support.lpNorm<Eigen::Infinity>(),
-                                       stiffness_force.lpNorm<Eigen::Infinity>(), 1e-300});
-  double residual = (stiffness_force + support - load).lpNorm<Eigen::Infinity>() / force_scale;
+  const VectorXd equilibrium = d.stiffness * x.displacement + d.coupling.transpose() * x.reaction - load;
+  const VectorXd force_terms = absolute_product(d.stiffness, x.displacement) +
+                               absolute_product(d.coupling.transpose(), x.reaction) + load.cwiseAbs();
+  double residual = equilibrium.lpNorm<Eigen::Infinity>() / std::max(force_terms.maxCoeff(), 1e-300);
   if (d.reactions() == 0) return residual;
 
-  const VectorXd coupled = d.coupling * x.displacement;
-  const VectorXd foundation = d.flexibility * x.reaction;
-  const VectorXd gap = foundation - coupled;
-  const double gap_scale = std::max({coupled.lpNorm<Eigen::Infinity>(), foundation.lpNorm<Eigen::Infinity>(), 1e-300});
+  const VectorXd gap = d.flexibility * x.reaction - d.coupling * x.displacement;
+  const VectorXd gap_terms =
+      absolute_product(d.flexibility, x.reaction) + absolute_product(d.coupling, x.displacement);
+  const double gap_scale = std::max(gap_terms.maxCoeff(), 1e-300);
   if (!tensionless) return std::max(residual, gap.lpNorm<Eigen::Infinity>() / gap_scale);
 
   const double reaction_scale = std::max(x.reaction.lpNorm<Eigen::Infinity>(), 1e-300);
@@ -145,12 +155,13 @@ LcpOutcome solve_primal(const Discretisation& d, const VectorXd& load, const lcp
 
 // Bilateral foundation: the saddle-point system [K C^T; C -T] (u, r) = (F, 0), which is the
 // fixed-contact-set system with every node in contact.
-bool solve_bilateral(const Discretisation& d, const VectorXd& load, Unknowns& x, int& factorisations) {
+bool solve_bilateral(const Discretisation& d, const VectorXd& load, Unknowns& x, ContactSummary& summary) {
   ActiveSetSystem system(d);
   const bool factorised = system.factorise(std::vector<bool>(d.reactions(), true));
-  factorisations = system.factorisations();
+  summary.factorisations = system.factorisations();
   if (!factorised) return false;
   ContactState state = system.solve(load);
+  summary.error_estimate = state.error_estimate;
   if (!state.displacement.allFinite() || !state.reaction.allFinite()) return false;
   x.displacement = std::move(state.displacement);
   x.reaction = std::move(state.reaction);
@@ -229,7 +240,7 @@ ContactSolution solve_contact(const Discretisation& d, const ContactOptions& opt
   } else if (!d.tensionless) {
     summary.method_reason = "bilateral foundation: one sparse solve, no LCP";
     summary.pivots = -1;
-    if (!solve_bilateral(d, load / load_scale, x, summary.factorisations)) {
+    if (!solve_bilateral(d, load / load_scale, x, summary)) {
       summary.termination = ContactTermination::numerical_failure;
       summary.message = "the bilateral system is singular: the structure is a mechanism even on the foundation";
     } else {
@@ -240,6 +251,7 @@ ContactSolution solve_contact(const Discretisation& d, const ContactOptions& opt
     ActiveSetResult fast = solve_active_set(d, load / load_scale, options.active_set);
     summary.iterations = fast.summary.iterations;
     summary.factorisations = fast.summary.factorisations;
+    summary.error_estimate = fast.state.error_estimate;
     if (fast.summary.is_usable()) {
       x.displacement = std::move(fast.state.displacement);
       x.reaction = std::move(fast.state.reaction);
@@ -290,6 +302,16 @@ ContactSolution solve_contact(const Discretisation& d, const ContactOptions& opt
           scene::to_string(summary.method), summary.residual, acceptable_residual, summary.lcp_size,
           d.structure_is_stable() ? "use method = \"fast\", the dual form or fewer elements"
                                   : "use method = \"fast\", fewer elements, or method = \"ritz\"");
+  }
+  if (summary.termination == ContactTermination::solved && summary.error_estimate > acceptable_error) {
+    summary.termination = ContactTermination::numerical_failure;
+    summary.message = fmt::format(
+        "round-off owns this mesh: the FE system's condition grows like N^4 ({} elements), and iterative refinement "
+        "in extended precision leaves a relative error of about {:.1e} in u and r, above {:.0e}; use fewer elements "
+        "(the equations themselves, not the solver, lose the digits)",
+        d.mesh.elements(), summary.error_estimate, acceptable_error);
+  } else if (summary.error_estimate > 1e-10) {
+    summary.message += fmt::format(" (relative round-off error about {:.0e})", summary.error_estimate);
   }
   summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return solution;

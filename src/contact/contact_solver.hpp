@@ -58,9 +58,13 @@ struct ContactSummary {
   int lcp_size = -1;
   int iterations = -1;      // fast: contact sets tried
   int factorisations = -1;  // fast and bilateral: numeric sparse factorisations
-  // max of the relative equilibrium residual |K u + C^T r - F| / |F|, the feasibility
-  // violations (negative r, negative gap) and the complementarity r.gap, each relative to the
-  // magnitudes involved. -1 until computed.
+  // fast and bilateral: relative error left in u and r by iterative refinement (see
+  // active_set_system.hpp); an answer above 1e-6 is a numerical_failure. -1 for Lemke.
+  double error_estimate = -1.0;
+  // max of the relative equilibrium residual |K u + C^T r - F| / | |K||u| + |C^T||r| + |F| |, the
+  // relative gap defect (bilateral) or the feasibility violations (negative r, negative gap)
+  // and the complementarity r.gap (tensionless), each relative to the magnitudes involved:
+  // the round-off of an exact answer rounded to double is ~1e-16 at any mesh. -1 until computed.
   double residual = -1.0;
   double time_s = -1.0;
   bool is_usable() const { return termination == ContactTermination::solved; }
