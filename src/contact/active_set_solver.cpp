@@ -5,8 +5,6 @@
 #include <functional>
 #include <stdexcept>
 #include <unordered_set>
-#include <cstdlib>
-#include <fmt/core.h>
 
 #include <fmt/format.h>
 
@@ -100,17 +98,13 @@ ActiveSetResult solve_active_set(const fe::Discretisation& d, const VectorXd& lo
     }
     singular_retry = false;
     result.state = system.solve(load);
-    // A sign below the solve's own round-off is no evidence: such a node touches (r = gap = 0).
+    // A sign below the solver's round-off is no evidence: such a node touches (r = gap = 0).
+    // (The data's round-off, data_error(), is a worst-case bound, far too wide for this.)
     const double tolerance = std::max(options.sign_tolerance, round_off_margin * result.state.error_estimate);
     const std::vector<int> infeasible = infeasible_nodes(d, result.state, in_contact, tolerance);
     summary.infeasible_history.push_back(static_cast<int>(infeasible.size()));
-    if (std::getenv("LIFTOFF_DEBUG")) {
-      fmt::print(stderr, "set {}: {} infeasible, residual {:.2e}:", summary.iterations, infeasible.size(), result.state.residual);
-      for (std::size_t k = 0; k < std::min<std::size_t>(infeasible.size(), 8); ++k) { int i = infeasible[k];
-        fmt::print(stderr, " {}{}(r={:.2e},g={:.2e})", i, in_contact[i] ? "A" : "I", result.state.reaction[i], result.state.gap[i]); }
-      fmt::print(stderr, "  rmax {:.2e}\n", result.state.reaction.lpNorm<Eigen::Infinity>());
-    }
     if (infeasible.empty()) {
+      result.round_off_bound = system.data_error(result.state, load);
       summary.termination = ActiveSetTermination::solved;
       summary.message = fmt::format("contact set found after {} sets ({} block, {} single steps)", summary.iterations,
                                     summary.block_steps, summary.single_steps);

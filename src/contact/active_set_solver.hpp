@@ -73,6 +73,7 @@ struct ActiveSetSummary {
 struct ActiveSetResult {
   ContactState state;
   std::vector<bool> in_contact;
+  double round_off_bound = -1.0;  // solved only: ActiveSetSystem::data_error of the answer
   ActiveSetSummary summary;
 };
 

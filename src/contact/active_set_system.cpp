@@ -1,6 +1,7 @@
 #include "contact/active_set_system.hpp"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace liftoff::contact {
@@ -134,6 +135,58 @@ ContactState ActiveSetSystem::solve(const VectorXd& load) const {
   state.residual = residual;
   state.error_estimate = estimate;
   return state;
+}
+
+double ActiveSetSystem::data_error(const ContactState& state, const VectorXd& load) const {
+  if (!factorised_) throw std::logic_error("ActiveSetSystem::data_error before a successful factorise()");
+  const int n = d_.equations, m = d_.reactions();
+  const Eigen::Index size = full_.rows();
+  VectorXd x(size);
+  x << state.displacement, state.reaction;
+  // D = |A| |x| + |b| over the current set.
+  VectorXd weight = VectorXd::Zero(size);
+  weight.head(n) = load.cwiseAbs();
+  auto in_system = [&](Eigen::Index index) { return index < n || in_contact_[index - n]; };
+  for (int col = 0; col < size; ++col) {
+    if (!in_system(col)) continue;
+    for (fe::SparseMatrix::InnerIterator it(full_, col); it; ++it)
+      if (in_system(it.row())) weight[it.row()] += std::abs(it.value() * x[col]);
+  }
+  auto inverse = [&](const VectorXd& v) -> VectorXd {
+    return scaling_.cwiseProduct(factors_.solve(scaling_.cwiseProduct(v)));
+  };
+  // Hager's estimate of || P A^-1 D ||_inf = || D A^-1 P^T ||_1 for the rows P of one block.
+  auto block_norm = [&](Eigen::Index first, Eigen::Index count) {
+    if (count == 0) return 0.0;
+    auto apply = [&](const VectorXd& v) -> VectorXd {  // D A^-1 P^T v
+      VectorXd embedded = VectorXd::Zero(size);
+      embedded.segment(first, count) = v;
+      return weight.cwiseProduct(inverse(embedded));
+    };
+    auto apply_transpose = [&](const VectorXd& w) -> VectorXd {  // P A^-1 D w
+      return inverse(weight.cwiseProduct(w)).segment(first, count);
+    };
+    VectorXd v = VectorXd::Constant(count, 1.0 / static_cast<double>(count));
+    double estimate = 0.0;
+    for (int iteration = 0; iteration < 4; ++iteration) {
+      const VectorXd y = apply(v);
+      estimate = y.lpNorm<1>();
+      const VectorXd signs = y.unaryExpr([](double value) { return value >= 0 ? 1.0 : -1.0; });
+      const VectorXd z = apply_transpose(signs);
+      Eigen::Index j = 0;
+      if (z.cwiseAbs().maxCoeff(&j) <= z.dot(v)) break;
+      v.setZero();
+      v[j] = 1.0;
+    }
+    return estimate;
+  };
+  constexpr double eps = std::numeric_limits<double>::epsilon();
+  const double u_scale = state.displacement.lpNorm<Eigen::Infinity>();
+  const double r_scale = state.reaction.lpNorm<Eigen::Infinity>();
+  double error = 0.0;
+  if (u_scale > 0) error = std::max(error, eps * block_norm(0, n) / u_scale);
+  if (r_scale > 0) error = std::max(error, eps * block_norm(n, m) / r_scale);
+  return error;
 }
 
 }  // namespace liftoff::contact

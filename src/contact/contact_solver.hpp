@@ -58,9 +58,11 @@ struct ContactSummary {
   int lcp_size = -1;
   int iterations = -1;      // fast: contact sets tried
   int factorisations = -1;  // fast and bilateral: numeric sparse factorisations
-  // fast and bilateral: relative error left in u and r by iterative refinement (see
-  // active_set_system.hpp); an answer above 1e-6 is a numerical_failure. -1 for Lemke.
+  // fast and bilateral (-1 for Lemke): the relative error in u and r that iterative refinement
+  // leaves (above 1e-6 the answer is a numerical_failure), and a worst-case bound on what the
+  // rounding of the system's data can do (Skeel's condition; reported in the message above 1e-6).
   double error_estimate = -1.0;
+  double round_off_bound = -1.0;
   // max of the relative equilibrium residual |K u + C^T r - F| / | |K||u| + |C^T||r| + |F| |, the
   // relative gap defect (bilateral) or the feasibility violations (negative r, negative gap)
   // and the complementarity r.gap (tensionless), each relative to the magnitudes involved:
