@@ -144,7 +144,8 @@ int run_sweep_command(const SweepArguments& args, std::ostream& out, std::ostrea
 
 int run_solve(const SolveArguments& args, std::ostream& out, std::ostream& err) {
   const scene::Scene scene = load_scene(args.problem.scene_path);
-  const SolveRequest request = make_request(args.problem);
+  SolveRequest request = make_request(args.problem);
+  request.fields = !args.output.empty();  // only the HDF5 file holds sampled fields
 
   if (request.method.value_or(scene.solve.method) == scene::Method::all) return run_all(scene, request, args, out, err);
   const io::SolveReport report = solve_scene(scene, request);
