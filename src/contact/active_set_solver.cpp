@@ -33,6 +33,9 @@ namespace {
 
 // Signs are trusted only beyond this multiple of the solve's estimated relative error.
 constexpr double round_off_margin = 10.0;
+// A set's solve whose refinement leaves more than this is no basis for a step (as the
+// acceptable error of contact_solver.cpp).
+constexpr double max_solve_error = 1e-6;
 
 // Nodes on the wrong side: in contact with r < 0, or lifted off with gap < 0 (ascending).
 std::vector<int> infeasible_nodes(const fe::Discretisation& d, const ContactState& state,
@@ -83,11 +86,18 @@ ActiveSetResult solve_active_set(const fe::Discretisation& d, const VectorXd& lo
                                     summary.iterations - 1);
       break;
     }
-    if (!system.factorise(in_contact)) {
-      // A set that leaves a rigid motion free: go back and take one single step instead.
+    // A set that leaves a rigid motion free (or nearly: refinement cannot solve it) gives no
+    // signs to trust: go back and take one single step instead.
+    const bool factorised = system.factorise(in_contact);
+    if (factorised) result.state = system.solve(load);
+    if (!factorised || !(result.state.error_estimate <= max_solve_error)) {
       if (last_good.empty() || singular_retry) {
         summary.termination = ActiveSetTermination::singular_system;
-        summary.message = "a contact set left a rigid motion free (singular system) and no single step helped";
+        summary.message =
+            factorised ? fmt::format("refinement could not solve a contact set's system (relative error {:.1e}): the "
+                                     "set leaves a rigid motion nearly free, or round-off owns this mesh",
+                                     result.state.error_estimate)
+                       : "a contact set left a rigid motion free (singular system) and no single step helped";
         break;
       }
       singular_retry = true;
@@ -97,7 +107,6 @@ ActiveSetResult solve_active_set(const fe::Discretisation& d, const VectorXd& lo
       continue;
     }
     singular_retry = false;
-    result.state = system.solve(load);
     // A sign below the solver's round-off is no evidence: such a node touches (r = gap = 0).
     // (The data's round-off, data_error(), is a worst-case bound, far too wide for this.)
     const double tolerance = std::max(options.sign_tolerance, round_off_margin * result.state.error_estimate);

@@ -55,7 +55,8 @@ enum class ActiveSetTermination {
   solved,           // no infeasible node: u, r, gap solve the contact problem (state.residual)
   iteration_limit,  // max_iterations sets factorised without reaching one; state is the last set's
   cycling,          // (block_retries = -1 only) a contact set came back: plain block pivoting cycles
-  singular_system,  // a set left a rigid motion free and no single flip from a good set helped
+  singular_system,  // a set left a rigid motion free (singular, or refinement could not solve it to
+                    // 1e-6) and no single flip from a good set helped
 };
 std::string_view to_string(ActiveSetTermination);
 
