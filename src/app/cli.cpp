@@ -38,9 +38,9 @@ void add_problem_options(CLI::App* command, ProblemArguments& args) {
       ->check(CLI::ExistingFile);
   command
       ->add_option("--method", args.method,
-                   "dual | primal | auto (FE + LCP), ritz (moving contact limits), all (side by side); "
+                   "dual | primal (FE + LCP by Lemke), fast (FE, sparse active set), auto (chosen from the scene), ritz (moving contact limits), all (side by side); "
                    "overrides [solve] method")
-      ->check(CLI::IsMember({"dual", "primal", "auto", "ritz", "all"}));
+      ->check(CLI::IsMember({"dual", "primal", "fast", "auto", "ritz", "all"}));
   command->add_option("--elements", args.elements, "Number of finite elements (overrides [solve] elements)")
       ->check(CLI::Range(1, 10'000'000));
   command->add_option("--modes", args.modes, "Ritz modes: a number, or auto (overrides [ritz] modes)")
@@ -150,7 +150,8 @@ int run_sweep_command(const SweepArguments& args, std::ostream& out, std::ostrea
 
 int run_solve(const SolveArguments& args, std::ostream& out, std::ostream& err) {
   const scene::Scene scene = load_scene(args.problem.scene_path);
-  const SolveRequest request = make_request(args.problem);
+  SolveRequest request = make_request(args.problem);
+  request.fields = !args.output.empty();  // only the HDF5 file holds sampled fields
 
   if (request.method.value_or(scene.solve.method) == scene::Method::all) return run_all(scene, request, args, out, err);
   const io::SolveReport report = solve_scene(scene, request);

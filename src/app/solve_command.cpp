@@ -1,5 +1,6 @@
 #include "app/solve_command.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <stdexcept>
 
@@ -55,8 +56,23 @@ io::SolveReport fe_report(const scene::Scene& scene, Method method, const SolveR
   const auto start = std::chrono::steady_clock::now();
   const fe::MemberModel model = fe::make_member_model(scene);
   const FeResult fe = solve_fe(scene, model, method, request.elements.value_or(scene.solve.elements));
-  const post::Fields fields = post::sample_fields(model, fe.discretisation, fe.solution, request.samples_per_element);
+  const int elements = fe.discretisation.mesh.elements();
+  const int samples = std::max(1, std::min(request.samples_per_element, max_field_samples / elements));
+  const post::Fields fields = request.fields && fe.solution.summary.is_usable()
+                                  ? post::sample_fields(model, fe.discretisation, fe.solution, samples)
+                                  : post::Fields{};
   io::SolveReport report = io::make_report(scene, model, fe.discretisation, fe.solution, fields, fe.regions);
+  if (fields.s.empty() && fe.solution.summary.is_usable()) {
+    const post::DeflectionExtremes x =
+        post::deflection_extremes(fe.discretisation, fe.solution.displacement, request.samples_per_element);
+    report.w_max = x.w_max * model.scales.displacement();
+    report.at_w_max = model.user_from_s(x.s_at_w_max);
+    report.w_min = x.w_min * model.scales.displacement();
+    report.at_w_min = model.user_from_s(x.s_at_w_min);
+  }
+  if (!fields.s.empty() && samples < request.samples_per_element)
+    report.message += fmt::format(" (fields sampled at {} points per element, not {}, to stay under {} points)", samples,
+                                  request.samples_per_element, max_field_samples);
   report.time_s = seconds_since(start);
   return report;
 }
@@ -112,7 +128,7 @@ io::SolveReport ritz_report(const scene::Scene& scene, const SolveRequest& reque
     throw MechanismError(scene.source_name + ": " + e.what());
   } catch (const std::invalid_argument& e) {
     throw InputError(fmt::format("{}: key 'solve.method': the Ritz model cannot take this scene ({}); expected an "
-                                 "FE method (\"dual\", \"primal\" or \"auto\")",
+                                 "FE method (\"dual\", \"primal\", \"fast\" or \"auto\")",
                                  scene.source_name, e.what()));
   }
   io::SolveReport report = io::make_report(scene, model, solution, request.samples_per_element * elements + 1);
@@ -126,6 +142,12 @@ io::SolveReport ritz_report(const scene::Scene& scene, const SolveRequest& reque
 io::SolveReport solve_scene(const scene::Scene& scene, const SolveRequest& request) {
   const Method method = request.method.value_or(scene.solve.method);
   if (method == Method::all) throw std::invalid_argument("solve_scene: use solve_all_methods for Method::all");
+  if (method == Method::automatic && !scene.ritz.topology.empty()) {
+    io::SolveReport report = ritz_report(scene, request);
+    report.method_reason = "ritz: the scene's [ritz] table gives the contact topology, so the moving-limit model "
+                           "applies directly (" + report.method_reason + ")";
+    return report;
+  }
   return method == Method::ritz ? ritz_report(scene, request) : fe_report(scene, method, request);
 }
 
@@ -140,9 +162,11 @@ std::vector<io::SolveReport> solve_all_methods(const scene::Scene& scene, const 
     r.message = e.what();
     return r;
   };
-  for (Method method : {Method::primal, Method::dual, Method::ritz}) {
+  for (Method method : {Method::primal, Method::dual, Method::fast, Method::ritz}) {
     try {
-      reports.push_back(solve_scene(scene, {method, request.elements, request.modes, request.samples_per_element}));
+      SolveRequest one = request;
+      one.method = method;
+      reports.push_back(solve_scene(scene, one));
     } catch (const MechanismError&) {
       throw;  // no method can help
     } catch (const SolverFailure& e) {

@@ -15,14 +15,24 @@ struct SolveRequest {
   std::optional<int> elements;          // overrides [solve] elements
   std::optional<int> modes;             // overrides [ritz] modes (0: auto)
   int samples_per_element = 16;         // field samples inside each element (Ritz: as many in all)
+  bool fields = true;                   // sample the fields (false: only the extremes they give)
 };
 
-// One method (dual, primal, auto or ritz). Throws InputError (a mechanism the loads drive; a
+// Sampled fields are capped at this many points (HDF5 and memory stay O(1e7) bytes per field):
+// a finer mesh gets fewer samples per element, and the report's message says so.
+inline constexpr int max_field_samples = 2'000'000;
+
+// method = auto: Ritz when the scene's [ritz] table gives the contact topology (the user has
+// described the contact pattern, and the moving-limit model resolves the limits exactly);
+// otherwise an FE method chosen by contact::choose_fe_method (dual Lemke for small stable
+// members, primal Lemke for small members only the foundation holds, fast for the rest).
+//
+// One method (dual, primal, fast, auto or ritz). Throws InputError (a mechanism the loads drive; a
 // scene the Ritz model cannot take: the message names the scene) and SolverFailure (a
 // formulation refused). The solvers' outcomes are in report.usable / termination / message.
 io::SolveReport solve_scene(const scene::Scene& scene, const SolveRequest& request);
 
-// Primal, dual and Ritz on one scene (`--method all`). A method refused for this scene appears
+// Primal, dual, fast and Ritz on one scene (`--method all`). A method refused for this scene appears
 // with termination "refused" and the reason as its message.
 std::vector<io::SolveReport> solve_all_methods(const scene::Scene& scene, const SolveRequest& request);
 

@@ -5,7 +5,6 @@
 #include <stdexcept>
 
 #include <Eigen/SparseCholesky>
-#include <Eigen/SparseLU>
 #include <fmt/format.h>
 
 #include "core/error.hpp"
@@ -21,6 +20,7 @@ std::string_view to_string(ContactTermination t) {
     case ContactTermination::solved: return "solved";
     case ContactTermination::no_equilibrium: return "no_equilibrium";
     case ContactTermination::pivot_limit: return "pivot_limit";
+    case ContactTermination::iteration_limit: return "iteration_limit";
     case ContactTermination::numerical_failure: return "numerical_failure";
   }
   return "unknown";
@@ -28,12 +28,16 @@ std::string_view to_string(ContactTermination t) {
 
 void ContactOptions::validate() const {
   if (!std::isfinite(load_factor)) throw std::invalid_argument("ContactOptions::load_factor must be finite");
-  if (method != Method::dual && method != Method::primal && method != Method::automatic)
-    throw std::invalid_argument("ContactOptions::method must be dual, primal or auto (an FE + LCP formulation)");
+  if (method != Method::dual && method != Method::primal && method != Method::fast && method != Method::automatic)
+    throw std::invalid_argument("ContactOptions::method must be dual, primal, fast or auto (an FE formulation)");
   lemke.validate();
+  active_set.validate();
 }
 
 std::string ContactSummary::brief_report() const {
+  if (iterations >= 0)
+    return fmt::format("{} ({}): {} contact sets, {} factorisations, residual {:.2e}, {:.3f} s", to_string(termination),
+                       scene::to_string(method), iterations, factorisations, residual, time_s);
   return fmt::format("{} ({}): {} pivots, residual {:.2e}, {:.3f} s", to_string(termination),
                      scene::to_string(method), pivots, residual, time_s);
 }
@@ -43,6 +47,9 @@ namespace {
 // An answer whose relative residual (see ContactSummary::residual) exceeds this is not returned
 // as a solution: at 1e-6 the contact limits are already uncertain to a fraction of an element.
 constexpr double acceptable_residual = 1e-6;
+// Likewise for the relative error iterative refinement leaves in u and r (sparse solves): above
+// it the factorisation no longer solves the stored system (beyond ~5e4 elements for a beam).
+constexpr double acceptable_error = 1e-6;
 
 // Solution on the equations, before expansion to every dof.
 struct Unknowns {
@@ -50,18 +57,25 @@ struct Unknowns {
   VectorXd reaction;
 };
 
+// |A| |x|: the size of the terms a row of A x sums, the scale its round-off is measured on.
+VectorXd absolute_product(const fe::SparseMatrix& a, const VectorXd& x) {
+  VectorXd out = VectorXd::Zero(a.rows());
+  for (int k = 0; k < a.outerSize(); ++k)
+    for (fe::SparseMatrix::InnerIterator it(a, k); it; ++it) out[it.row()] += std::abs(it.value() * x[it.col()]);
+  return out;
+}
+
 double relative_residual(const Discretisation& d, const Unknowns& x, const VectorXd& load, bool tensionless) {
-  const VectorXd support = d.coupling.transpose() * x.reaction;
-  const VectorXd stiffness_force = d.stiffness * x.displacement;
-  const double force_scale = std::max({load.lpNorm<Eigen::Infinity>(), support.lpNorm<Eigen::Infinity>(),
-                                       stiffness_force.lpNorm<Eigen::Infinity>(), 1e-300});
-  double residual = (stiffness_force + support - load).lpNorm<Eigen::Infinity>() / force_scale;
+  const VectorXd equilibrium = d.stiffness * x.displacement + d.coupling.transpose() * x.reaction - load;
+  const VectorXd force_terms = absolute_product(d.stiffness, x.displacement) +
+                               absolute_product(d.coupling.transpose(), x.reaction) + load.cwiseAbs();
+  double residual = equilibrium.lpNorm<Eigen::Infinity>() / std::max(force_terms.maxCoeff(), 1e-300);
   if (d.reactions() == 0) return residual;
 
-  const VectorXd coupled = d.coupling * x.displacement;
-  const VectorXd foundation = d.flexibility * x.reaction;
-  const VectorXd gap = foundation - coupled;
-  const double gap_scale = std::max({coupled.lpNorm<Eigen::Infinity>(), foundation.lpNorm<Eigen::Infinity>(), 1e-300});
+  const VectorXd gap = d.flexibility * x.reaction - d.coupling * x.displacement;
+  const VectorXd gap_terms =
+      absolute_product(d.flexibility, x.reaction) + absolute_product(d.coupling, x.displacement);
+  const double gap_scale = std::max(gap_terms.maxCoeff(), 1e-300);
   if (!tensionless) return std::max(residual, gap.lpNorm<Eigen::Infinity>() / gap_scale);
 
   const double reaction_scale = std::max(x.reaction.lpNorm<Eigen::Infinity>(), 1e-300);
@@ -91,6 +105,7 @@ std::string explain(ContactTermination termination, const lcp::LemkeSummary& lem
     case ContactTermination::pivot_limit:
       return "Lemke's algorithm reached its pivot limit (" + std::to_string(lemke.pivots) + " pivots) without a solution";
     case ContactTermination::numerical_failure: return "Lemke's algorithm failed numerically: " + lemke.message;
+    case ContactTermination::iteration_limit: break;  // not a Lemke outcome
   }
   return lemke.message;
 }
@@ -138,35 +153,54 @@ LcpOutcome solve_primal(const Discretisation& d, const VectorXd& load, const lcp
   return outcome;
 }
 
-// Bilateral foundation: the saddle-point system [K C^T; C -T] (u, r) = (F, 0).
-bool solve_bilateral(const Discretisation& d, const VectorXd& load, Unknowns& x) {
-  const int n = d.equations, m = d.reactions();
-  std::vector<Eigen::Triplet<double>> entries;
-  auto add = [&](const fe::SparseMatrix& block, int row0, int col0, double sign, bool transpose) {
-    for (int k = 0; k < block.outerSize(); ++k)
-      for (fe::SparseMatrix::InnerIterator it(block, k); it; ++it) {
-        const int i = transpose ? it.col() : it.row(), j = transpose ? it.row() : it.col();
-        entries.emplace_back(row0 + i, col0 + j, sign * it.value());
-      }
-  };
-  add(d.stiffness, 0, 0, 1.0, false);
-  add(d.coupling, 0, n, 1.0, true);
-  add(d.coupling, n, 0, 1.0, false);
-  add(d.flexibility, n, n, -1.0, false);
-  fe::SparseMatrix system(n + m, n + m);
-  system.setFromTriplets(entries.begin(), entries.end());
-  Eigen::SparseLU<fe::SparseMatrix> lu(system);
-  if (lu.info() != Eigen::Success) return false;
-  VectorXd rhs = VectorXd::Zero(n + m);
-  rhs.head(n) = load;
-  const VectorXd solution = lu.solve(rhs);
-  if (lu.info() != Eigen::Success || !solution.allFinite()) return false;
-  x.displacement = solution.head(n);
-  x.reaction = solution.tail(m);
+// Bilateral foundation: the saddle-point system [K C^T; C -T] (u, r) = (F, 0), which is the
+// fixed-contact-set system with every node in contact.
+bool solve_bilateral(const Discretisation& d, const VectorXd& load, Unknowns& x, ContactSummary& summary) {
+  ActiveSetSystem system(d);
+  const bool factorised = system.factorise(std::vector<bool>(d.reactions(), true));
+  summary.factorisations = system.factorisations();
+  if (!factorised) return false;
+  ContactState state = system.solve(load);
+  summary.error_estimate = state.error_estimate;
+  summary.round_off_bound = system.data_error(state, load);
+  if (!state.displacement.allFinite() || !state.reaction.allFinite()) return false;
+  x.displacement = std::move(state.displacement);
+  x.reaction = std::move(state.reaction);
   return true;
 }
 
+// The dense LCP of a Lemke formulation: its size, refused above max_dense_lcp.
+int lcp_size_of(const Discretisation& d, Method method) {
+  return method == Method::dual ? d.reactions() : 2 * d.equations + d.reactions();
+}
+
+void check_dense_size(const Discretisation& d, Method method) {
+  const int size = lcp_size_of(d, method);
+  if (size > max_dense_lcp)
+    throw SolverFailure(fmt::format("the {} LCP would have {} unknowns, a dense matrix of {:.1f} GB for Lemke (limit {} "
+                                    "unknowns); use method = \"fast\" (or \"auto\"), which is O(n)",
+                                    scene::to_string(method), size, 8.0 * size * size / 1e9, max_dense_lcp));
+}
+
 }  // namespace
+
+MethodChoice choose_fe_method(const Discretisation& d) {
+  const int m = d.reactions(), primal_size = 2 * d.equations + m;
+  if (!d.tensionless) return {Method::fast, "bilateral foundation: one sparse solve, no LCP"};
+  if (d.structure_is_stable() && m <= auto_dual_limit)
+    return {Method::dual, fmt::format("dual: the structure is stable on its supports and the LCP has {} reaction "
+                                      "unknowns (at most {}): Lemke's exact pivoting costs milliseconds",
+                                      m, auto_dual_limit)};
+  if (!d.structure_is_stable() && primal_size <= auto_primal_limit)
+    return {Method::primal, fmt::format("primal: {}, so K is singular and the dual form does not exist; the primal "
+                                        "LCP has {} unknowns (at most {})",
+                                        d.stability_note, primal_size, auto_primal_limit)};
+  return {Method::fast,
+          fmt::format("fast: {} reaction nodes{}, above the size where dense Lemke pays (dual {}, primal {} "
+                      "unknowns); the sparse active-set solver is O(n)",
+                      m, d.structure_is_stable() ? "" : " on a structure only the foundation holds", auto_dual_limit,
+                      auto_primal_limit)};
+}
 
 ContactSolution solve_contact(const Discretisation& d, const ContactOptions& options) {
   options.validate();
@@ -176,15 +210,15 @@ ContactSolution solve_contact(const Discretisation& d, const ContactOptions& opt
 
   summary.method = options.method;
   if (options.method == Method::automatic) {
-    summary.method = d.structure_is_stable() ? Method::dual : Method::primal;
-    summary.method_reason =
-        d.structure_is_stable()
-            ? "dual: the structure is stable on its supports, so the LCP needs only the reaction unknowns"
-            : "primal: " + d.stability_note + ", so K is singular and the dual form does not exist";
+    const MethodChoice choice = choose_fe_method(d);
+    summary.method = choice.method;
+    summary.method_reason = choice.reason;
   }
   if (summary.method == Method::dual && d.tensionless && !d.structure_is_stable())
     throw SolverFailure("the dual form needs a positive definite stiffness matrix K, but " + d.stability_note +
-                        "; use method = \"primal\" (or \"auto\"), which handles it");
+                        "; use method = \"primal\", \"fast\" or \"auto\", which handle it");
+  if (d.tensionless && (summary.method == Method::dual || summary.method == Method::primal))
+    check_dense_size(d, summary.method);
 
   const VectorXd load = d.load(options.load_factor);
   const double load_scale = load.lpNorm<Eigen::Infinity>();
@@ -192,24 +226,60 @@ ContactSolution solve_contact(const Discretisation& d, const ContactOptions& opt
   summary.termination = ContactTermination::solved;
   summary.pivots = 0;
 
-  if (load_scale == 0.0) {
-    summary.message = "no load: the member stays where it is";
-  } else if (!d.tensionless) {
-    summary.method_reason = "bilateral foundation: one linear solve, no LCP";
-    if (!solve_bilateral(d, load / load_scale, x)) {
-      summary.termination = ContactTermination::numerical_failure;
-      summary.message = "the bilateral system is singular: the structure is a mechanism even on the foundation";
-    } else {
-      summary.message = "equilibrium found";
-    }
-  } else {
-    LcpOutcome outcome = summary.method == Method::dual ? solve_dual(d, load / load_scale, options.lemke)
-                                                        : solve_primal(d, load / load_scale, options.lemke);
+  auto solve_by_lemke = [&](Method method) {
+    LcpOutcome outcome = method == Method::dual ? solve_dual(d, load / load_scale, options.lemke)
+                                                : solve_primal(d, load / load_scale, options.lemke);
     x = outcome.unknowns;
     summary.pivots = outcome.lemke.pivots;
     summary.lcp_size = outcome.size;
     summary.termination = termination_of(outcome.lemke);
     summary.message = explain(summary.termination, outcome.lemke);
+  };
+
+  if (load_scale == 0.0) {
+    summary.message = "no load: the member stays where it is";
+  } else if (!d.tensionless) {
+    summary.method_reason = "bilateral foundation: one sparse solve, no LCP";
+    summary.pivots = -1;
+    if (!solve_bilateral(d, load / load_scale, x, summary)) {
+      summary.termination = ContactTermination::numerical_failure;
+      summary.message = "the bilateral system is singular: the structure is a mechanism even on the foundation";
+    } else {
+      summary.message = "equilibrium found";
+    }
+  } else if (summary.method == Method::fast) {
+    summary.pivots = -1;
+    ActiveSetResult fast = solve_active_set(d, load / load_scale, options.active_set);
+    summary.iterations = fast.summary.iterations;
+    summary.factorisations = fast.summary.factorisations;
+    summary.error_estimate = fast.state.error_estimate;
+    summary.round_off_bound = fast.round_off_bound;
+    if (fast.summary.is_usable()) {
+      x.displacement = std::move(fast.state.displacement);
+      x.reaction = std::move(fast.state.reaction);
+      summary.message = "equilibrium found: " + fast.summary.message;
+    } else {
+      // Lemke takes over: dual where the structure is stable, else primal, if its dense LCP fits.
+      const Method fallback = d.structure_is_stable() ? Method::dual : Method::primal;
+      const std::string why = fmt::format("the fast solver stopped ({}: {})",
+                                          to_string(fast.summary.termination), fast.summary.message);
+      if (lcp_size_of(d, fallback) > max_dense_lcp) {
+        summary.termination = fast.summary.termination == ActiveSetTermination::singular_system
+                                  ? ContactTermination::numerical_failure
+                                  : ContactTermination::iteration_limit;
+        summary.message = fmt::format("{}, and the {} LCP ({} unknowns) is too large for the Lemke fallback (limit {})",
+                                      why, scene::to_string(fallback), lcp_size_of(d, fallback), max_dense_lcp);
+      } else {
+        solve_by_lemke(fallback);
+        summary.method = fallback;
+        summary.method_reason = fmt::format("{}fell back to {} Lemke: {}",
+                                            summary.method_reason.empty() ? "" : summary.method_reason + "; ",
+                                            scene::to_string(fallback), why);
+        summary.message += fmt::format(" (after falling back to {} Lemke: {})", scene::to_string(fallback), why);
+      }
+    }
+  } else {
+    solve_by_lemke(summary.method);
   }
   x.displacement *= load_scale;
   x.reaction *= load_scale;
@@ -221,12 +291,31 @@ ContactSolution solve_contact(const Discretisation& d, const ContactOptions& opt
   // Lemke's own checks are in its scaled units; the answer must also hold in the mechanics'.
   if (summary.termination == ContactTermination::solved && !(summary.residual <= acceptable_residual)) {
     summary.termination = ContactTermination::numerical_failure;
+    if (summary.lcp_size < 0)  // a sparse solve: fast, or the bilateral system
+      summary.message = fmt::format(
+          "the {} solve ended with a relative residual of {:.1e} (equilibrium or contact conditions violated), above "
+          "{:.0e}: round-off has overwhelmed this {}-equation system; use fewer elements",
+          d.tensionless ? scene::to_string(summary.method) : "bilateral", summary.residual, acceptable_residual,
+          d.equations + d.reactions());
+    else
+      summary.message = fmt::format(
+          "the {} LCP ended with a relative residual of {:.1e} (equilibrium or contact conditions violated), above "
+          "{:.0e}: round-off has overwhelmed this {}-unknown problem; {}",
+          scene::to_string(summary.method), summary.residual, acceptable_residual, summary.lcp_size,
+          d.structure_is_stable() ? "use method = \"fast\", the dual form or fewer elements"
+                                  : "use method = \"fast\", fewer elements, or method = \"ritz\"");
+  }
+  if (summary.termination == ContactTermination::solved && summary.error_estimate > acceptable_error) {
+    summary.termination = ContactTermination::numerical_failure;
     summary.message = fmt::format(
-        "the {} LCP ended with a relative residual of {:.1e} (equilibrium or contact conditions violated), above {:.0e}: "
-        "round-off has overwhelmed this {}-unknown problem; {}",
-        scene::to_string(summary.method), summary.residual, acceptable_residual, summary.lcp_size,
-        d.structure_is_stable() ? "use the dual form or fewer elements"
-                                : "use fewer elements, or method = \"ritz\" (the dual form needs a stable structure)");
+        "round-off owns this mesh: the FE system's condition grows like N^4 ({} elements), and iterative refinement "
+        "in extended precision leaves a relative error of {:.1e} in u and r, above {:.0e}; use fewer elements",
+        d.mesh.elements(), summary.error_estimate, acceptable_error);
+  } else if (summary.round_off_bound > 1e-6) {
+    summary.message += fmt::format(
+        " (but the FE system's condition grows like N^4: the rounding of its data may move u or r by up to {:.0e} "
+        "relative, a worst-case bound; fewer elements are safer)",
+        summary.round_off_bound);
   }
   summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return solution;

@@ -7,14 +7,20 @@
 //  - dual (3.18): the LCP in r alone, M = P = C K^-1 C^T + T, q = -C K^-1 F, then
 //    u = K^-1 (F - C^T r). Needs K positive definite: refused for structures that only the
 //    foundation holds in place (SolverFailure pointing to the primal form).
-//  - a bilateral foundation needs no LCP: the saddle-point system [K C^T; C -T] is solved.
+//  - fast: the sparse active-set solver (active_set_solver.hpp) on [K C_A^T; C_A -T_AA], O(n);
+//    when it ends without an answer, Lemke (dual where the structure is stable, else primal)
+//    takes over and the message says so.
+//  - a bilateral foundation needs no LCP: the saddle-point system [K C^T; C -T] is solved once
+//    (active_set_system.hpp with every node in contact), whatever the method.
 // Both LCPs are solved by Lemke (lcp/lemke.hpp) on loads scaled to unit size: the problem is
-// positively homogeneous in F, so the scale is undone exactly afterwards.
+// positively homogeneous in F, so the scale is undone exactly afterwards. Lemke's LCPs are
+// dense: one larger than max_dense_lcp unknowns is refused (SolverFailure pointing to fast).
 
 #include <string>
 
 #include <Eigen/Dense>
 
+#include "contact/active_set_solver.hpp"
 #include "fe/discretisation.hpp"
 #include "lcp/lemke.hpp"
 #include "scene/scene.hpp"
@@ -27,6 +33,7 @@ struct ContactOptions {
   Method method = Method::dual;
   double load_factor = 1.0;  // lambda: F = F_dead + lambda F_live
   lcp::LemkeOptions lemke;
+  ActiveSetOptions active_set;  // method = fast
   void validate() const;  // throws std::invalid_argument naming the field
 };
 
@@ -35,6 +42,8 @@ enum class ContactTermination {
   no_equilibrium,     // Lemke ray: the LCP has no solution; the loads lift the member off and
                       // the supports cannot hold it (a mechanism)
   pivot_limit,        // Lemke stopped at its pivot limit; no answer
+  iteration_limit,    // fast only: no contact set found within its limits, and the LCP is too large
+                      // for the Lemke fallback; no answer
   numerical_failure,  // a singular basis or factorisation, or an answer whose residual exceeds
                       // 1e-6 (round-off overwhelmed the LCP); no answer
 };
@@ -45,11 +54,19 @@ struct ContactSummary {
   Method method = Method::dual;    // the formulation actually used
   std::string method_reason;       // why (for method = auto, or the bilateral shortcut)
   std::string message;             // in words
-  int pivots = -1;
+  int pivots = -1;          // Lemke
   int lcp_size = -1;
-  // max of the relative equilibrium residual |K u + C^T r - F| / |F|, the feasibility
-  // violations (negative r, negative gap) and the complementarity r.gap, each relative to the
-  // magnitudes involved. -1 until computed.
+  int iterations = -1;      // fast: contact sets tried
+  int factorisations = -1;  // fast and bilateral: numeric sparse factorisations
+  // fast and bilateral (-1 for Lemke): the relative error in u and r that iterative refinement
+  // leaves (above 1e-6 the answer is a numerical_failure), and a worst-case bound on what the
+  // rounding of the system's data can do (Skeel's condition; reported in the message above 1e-6).
+  double error_estimate = -1.0;
+  double round_off_bound = -1.0;
+  // max of the relative equilibrium residual |K u + C^T r - F| / | |K||u| + |C^T||r| + |F| |, the
+  // relative gap defect (bilateral) or the feasibility violations (negative r, negative gap)
+  // and the complementarity r.gap (tensionless), each relative to the magnitudes involved:
+  // the round-off of an exact answer rounded to double is ~1e-16 at any mesh. -1 until computed.
   double residual = -1.0;
   double time_s = -1.0;
   bool is_usable() const { return termination == ContactTermination::solved; }
@@ -62,6 +79,24 @@ struct ContactSolution {
   Eigen::VectorXd gap;           // T r - C u, the weighted gap at the reaction nodes
   ContactSummary summary;
 };
+
+// Unknowns of the largest LCP handed to (dense) Lemke: 8000^2 doubles are 512 MB.
+inline constexpr int max_dense_lcp = 8000;
+
+// What method = auto means for an FE solve, with the reason in words:
+//  - a bilateral foundation: fast (one sparse solve, no LCP);
+//  - a stable structure whose dual LCP has at most auto_dual_limit reaction unknowns: dual
+//    Lemke, the reference (exact pivoting; milliseconds at this size);
+//  - a structure only the foundation holds, with a primal LCP of at most auto_primal_limit
+//    unknowns: primal Lemke;
+//  - anything larger: fast, O(n) where Lemke is O(n^2) in memory and up to O(n^3) in time.
+inline constexpr int auto_dual_limit = 500;
+inline constexpr int auto_primal_limit = 1500;
+struct MethodChoice {
+  Method method = Method::fast;
+  std::string reason;
+};
+MethodChoice choose_fe_method(const fe::Discretisation& discretisation);
 
 // Throws SolverFailure when the dual form is asked for a structure that is not stable by
 // itself; every other outcome is in summary.termination.

@@ -45,6 +45,7 @@ SolveReport common_report(const scene::Scene& scene, const fe::MemberModel& mode
   f.normal_force = scaled(fields.normal_force, scales.force());
   f.reaction = scaled(fields.reaction, scales.force_per_length());
 
+  if (f.w.empty()) return r;  // fields not sampled: the caller fills the extremes
   const auto [lowest, highest] = std::minmax_element(f.w.begin(), f.w.end());
   r.w_max = *highest;
   r.at_w_max = f.coordinate[highest - f.w.begin()];
@@ -70,6 +71,8 @@ SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model,
   r.elements = d.mesh.elements();
   r.pivots = summary.pivots;
   r.lcp_size = summary.lcp_size;
+  r.active_set_iterations = summary.iterations;
+  r.factorisations = summary.factorisations;
   r.gauge_note = d.gauge_note;
 
   const fe::Scales& scales = model.scales;
@@ -172,6 +175,8 @@ nlohmann::json to_json(const SolveReport& r) {
     j["elements"] = r.elements;
     j["pivots"] = r.pivots;
     j["lcp_size"] = r.lcp_size;
+    if (r.active_set_iterations >= 0) j["active_set_iterations"] = r.active_set_iterations;
+    if (r.factorisations >= 0) j["factorisations"] = r.factorisations;
   }
   if (r.modes >= 0) {
     j["modes"] = r.modes;
@@ -191,6 +196,9 @@ std::string solver_line(const SolveReport& r) {
   if (r.modes >= 0)
     return fmt::format("{} modes, {} Newton iterations, residual {:.1e}, {:.3f} s", r.modes, r.newton_iterations,
                        r.residual, r.time_s);
+  if (r.active_set_iterations >= 0)
+    return fmt::format("{} elements, {} contact sets, {} factorisations, residual {:.1e}, {:.3f} s", r.elements,
+                       r.active_set_iterations, r.factorisations, r.residual, r.time_s);
   return fmt::format("{} elements, {} pivots, residual {:.1e}, {:.3f} s", r.elements, r.pivots, r.residual, r.time_s);
 }
 }  // namespace
@@ -246,7 +254,9 @@ std::string side_by_side(const std::vector<SolveReport>& reports) {
     return r.modes >= 0 ? fmt::format("{} modes", r.modes) : fmt::format("{} elements", r.elements);
   });
   row("iterations", [](const SolveReport& r) {
-    return r.modes >= 0 ? fmt::format("{} Newton", r.newton_iterations) : fmt::format("{} pivots", r.pivots);
+    if (r.modes >= 0) return fmt::format("{} Newton", r.newton_iterations);
+    if (r.active_set_iterations >= 0) return fmt::format("{} sets", r.active_set_iterations);
+    return fmt::format("{} pivots", r.pivots);
   });
   row("residual", [](const SolveReport& r) { return fmt::format("{:.1e}", r.residual); });
   row("time (s)", [](const SolveReport& r) { return fmt::format("{:.3f}", r.time_s); });
@@ -271,7 +281,7 @@ std::string sweep_csv(const std::vector<std::string>& keys, const std::vector<Sw
       std::string regions;
       for (const auto& region : r.contact_regions)
         regions += fmt::format("{}{:.12g}..{:.12g}", regions.empty() ? "" : ";", region[0], region[1]);
-      const int iterations = r.modes >= 0 ? r.newton_iterations : r.pivots;
+      const int iterations = r.modes >= 0 ? r.newton_iterations : r.active_set_iterations >= 0 ? r.active_set_iterations : r.pivots;
       out += prefix + fmt::format("{},{},{},{:.12g},{:.12g},{:.12g},{},{:.6f}\n", r.method, r.termination, regions,
                                   r.w_max, r.w_min, r.max_reaction, iterations, r.time_s);
     }

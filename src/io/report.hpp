@@ -49,6 +49,8 @@ struct SolveReport {
   int elements = -1;
   int pivots = -1;
   int lcp_size = -1;
+  int active_set_iterations = -1;  // fast: contact sets tried
+  int factorisations = -1;         // fast and bilateral: sparse numeric factorisations
   // Ritz (-1 / empty otherwise)
   int modes = -1;
   int newton_iterations = -1;
@@ -62,7 +64,8 @@ struct SolveReport {
   double w_max = 0, at_w_max = 0, w_min = 0, at_w_min = 0;
   double max_reaction = 0;
   double time_s = 0;    // the whole solve: set-up, solver, post-processing
-  FieldTable fields;    // FE: sampled inside every element; Ritz: on a uniform grid
+  FieldTable fields;    // FE: sampled inside every element; Ritz: on a uniform grid (empty when
+                        // nothing asked for fields: SolveRequest::fields)
   FieldTable nodes;     // FE only: at the mesh nodes (w, u, rotation, reaction)
 };
 

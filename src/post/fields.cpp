@@ -1,6 +1,7 @@
 #include "post/fields.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "fe/shape_functions.hpp"
 
@@ -61,6 +62,26 @@ Fields sample_fields(const fe::MemberModel& model, const fe::Discretisation& d,
     for (int i = 0; i < samples_per_element; ++i) add(e, static_cast<double>(i) / samples_per_element);
   add(elements - 1, 1.0);
   return f;
+}
+
+DeflectionExtremes deflection_extremes(const fe::Discretisation& d, const Eigen::VectorXd& displacement,
+                                       int samples_per_element) {
+  DeflectionExtremes x{-INFINITY, 0.0, INFINITY, 0.0};
+  const int elements = d.mesh.elements();
+  for (int e = 0; e < elements; ++e) {
+    const double h = d.mesh.element_size(e);
+    const std::vector<int> dofs = d.element_dofs(e);  // w dofs first (see evaluate)
+    const Eigen::Vector4d w_dofs(displacement[dofs[0]], displacement[dofs[1]], displacement[dofs[2]],
+                                 displacement[dofs[3]]);
+    for (int i = 0; i <= samples_per_element; ++i) {
+      if (i == samples_per_element && e + 1 < elements) break;  // the end point once, as sample_fields
+      const double xi = static_cast<double>(i) / samples_per_element;
+      const double w = fe::hermite_cubic(xi, h).value.dot(w_dofs), s = d.mesh.nodes[e] + xi * h;
+      if (w >= x.w_max) x.w_max = w, x.s_at_w_max = s;  // the last largest, as std::minmax_element
+      if (w < x.w_min) x.w_min = w, x.s_at_w_min = s;
+    }
+  }
+  return x;
 }
 
 }  // namespace liftoff::post

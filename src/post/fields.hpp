@@ -33,6 +33,14 @@ struct Fields {
 Fields sample_fields(const fe::MemberModel& model, const fe::Discretisation& d,
                      const contact::ContactSolution& solution, int samples_per_element);
 
+// The largest and smallest deflection at the same sample points as sample_fields, without
+// storing any field: what a report needs when no one asked for the fields themselves.
+struct DeflectionExtremes {
+  double w_max = 0, s_at_w_max = 0, w_min = 0, s_at_w_min = 0;
+};
+DeflectionExtremes deflection_extremes(const fe::Discretisation& d, const Eigen::VectorXd& displacement,
+                                       int samples_per_element);
+
 // Nodal reaction interpolated at s (zero off the foundation).
 double reaction_at(const fe::Discretisation& d, const Eigen::VectorXd& reaction, int element, double xi);
 

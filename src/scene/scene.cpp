@@ -29,9 +29,10 @@ constexpr Names<LoadCase, 2> load_cases{{
     {LoadCase::live, "live"},
     {LoadCase::dead, "dead"},
 }};
-constexpr Names<Method, 5> methods{{
+constexpr Names<Method, 6> methods{{
     {Method::dual, "dual"},
     {Method::primal, "primal"},
+    {Method::fast, "fast"},
     {Method::automatic, "auto"},
     {Method::ritz, "ritz"},
     {Method::all, "all"},

@@ -22,10 +22,11 @@ enum class EndSupport { pinned, clamped, free, roller };
 enum class LoadKind { force, moment, uniform };
 // Live loads are scaled by the load factor lambda (1 in `solve`); dead loads are not.
 enum class LoadCase { live, dead };
-// How the contact problem is solved. dual, primal: FE + LCP (Lemke); automatic: dual where the
-// structure alone is stable, primal otherwise; ritz: the Ritz model with moving contact limits
-// (Newton); all: primal, dual and Ritz side by side.
-enum class Method { dual, primal, automatic, ritz, all };
+// How the contact problem is solved. dual, primal: FE + LCP (Lemke); fast: FE, the sparse
+// active-set solver (contact/active_set_solver.hpp), O(n); automatic: chosen from the scene
+// (app/solve_command.hpp says how); ritz: the Ritz model with moving contact limits (Newton);
+// all: primal, dual, fast and Ritz side by side.
+enum class Method { dual, primal, fast, automatic, ritz, all };
 // How `liftoff trace` follows the load history: pseudo-arc-length (through folds) or plain load
 // control (lambda stepped directly).
 enum class TraceControl { arc_length, load };

@@ -473,7 +473,7 @@ Load read_load(const Section& s, const Member& member) {
 
 SolveSettings read_solve(const Section& s) {
   SolveSettings solve;
-  solve.method = s.choice("method", {Method::dual, Method::primal, Method::automatic, Method::ritz, Method::all})
+  solve.method = s.choice("method", {Method::dual, Method::primal, Method::fast, Method::automatic, Method::ritz, Method::all})
                      .value_or(solve.method);
   solve.elements = s.integer("elements", 1, 10'000'000).value_or(solve.elements);
   return solve;

@@ -1,0 +1,86 @@
+#pragma once
+// The fast contact solver: block principal pivoting (a primal-dual active-set method) on the
+// sparse system of contact/active_set_system.hpp, O(n) per iteration in time and memory.
+//
+// The problem is the LCP of the seed's dual form, r >= 0, gap = P r - b >= 0, r.gap = 0 with
+// P = C K^-1 C^T + T, but P is never formed: for a guessed contact set A the sparse system
+// [K C_A^T; C_A -T_AA] gives u, r_A and gap_I at once (a principal pivot of the LCP). The set
+// is wrong where r_A < 0 or gap_I < 0 ("infeasible" nodes); a block step moves every such node
+// to the other side, as the primal-dual active-set method does (with r - c gap, any c > 0).
+//
+// Why it terminates. The energy of structure plus foundation is strictly convex in r (the
+// dual energy 1/2 r.P r - b.r, T positive definite), so P is a P-matrix: every principal
+// pivot exists and is unique. Plain block pivoting can still cycle between sets. The
+// safeguard is Judice and Pires' (Comput. Oper. Res. 21, 1994): block steps are taken while
+// they reduce the number of infeasible nodes, or for at most `block_retries` steps without a
+// new best; after that single steps flip only the infeasible node of largest index (Murty's
+// least-index rule, finite for P-matrices) until the count drops below the best again. A set
+// seen before also ends the block steps at once. Every step is thus either a new best count
+// (finitely many) or a Murty step, so the iteration ends. When K is singular (a member only
+// the foundation holds) P does not exist; the same iteration runs, and a set that leaves a
+// rigid motion free is answered by a single flip from the last good set.
+//
+// Start: every node in contact, i.e. the bilateral solution, whose sign pattern is already the
+// answer away from the contact limits; a block step then moves the limits, and the number of
+// steps does not grow with the mesh (the limits move by a fraction of the member, not of an
+// element). Each step is one numeric factorisation of a fixed pattern (symbolic analysis once).
+//
+// What it does not do: it returns no ray when there is no equilibrium; the caller
+// (contact_solver.hpp) falls back to Lemke, with a note, whenever this solver does not end in
+// `solved`.
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "contact/active_set_system.hpp"
+#include "fe/discretisation.hpp"
+
+namespace liftoff::contact {
+
+struct ActiveSetOptions {
+  int max_iterations = 100;   // factorised contact sets, at most
+  int block_retries = 3;      // block steps allowed without a new best count; -1: never fall
+                              // back to single steps (plain primal-dual active set, no safeguard)
+  // A reaction or gap counts as negative below -tolerance times the largest reaction or
+  // structural gap term (round-off must not flip a node that touches with r = gap = 0); the
+  // tolerance grows to 10x the solve's own error estimate on meshes where that is larger.
+  double sign_tolerance = 1e-11;
+  void validate() const;  // throws std::invalid_argument naming the field
+};
+
+enum class ActiveSetTermination {
+  solved,           // no infeasible node: u, r, gap solve the contact problem (state.residual)
+  iteration_limit,  // max_iterations sets factorised without reaching one; state is the last set's
+  cycling,          // (block_retries = -1 only) a contact set came back: plain block pivoting cycles
+  singular_system,  // a set left a rigid motion free (singular, or refinement could not solve it to
+                    // 1e-6) and no single flip from a good set helped
+};
+std::string_view to_string(ActiveSetTermination);
+
+struct ActiveSetSummary {
+  ActiveSetTermination termination = ActiveSetTermination::iteration_limit;
+  std::string message;
+  int iterations = -1;       // contact sets tried
+  int factorisations = -1;   // numeric factorisations (one per set; the symbolic analysis once)
+  int block_steps = -1;
+  int single_steps = -1;
+  std::vector<int> infeasible_history;  // infeasible nodes after each set
+  bool is_usable() const { return termination == ActiveSetTermination::solved; }
+};
+
+struct ActiveSetResult {
+  ContactState state;
+  std::vector<bool> in_contact;
+  double round_off_bound = -1.0;  // solved only: ActiveSetSystem::data_error of the answer
+  ActiveSetSummary summary;
+};
+
+// Solves for a load on the equations (nondimensional). `initial`: the first contact set
+// (empty: every node in contact).
+ActiveSetResult solve_active_set(const fe::Discretisation& discretisation, const Eigen::VectorXd& load,
+                                 const ActiveSetOptions& options, std::vector<bool> initial = {});
+
+}  // namespace liftoff::contact
