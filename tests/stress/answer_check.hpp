@@ -19,6 +19,7 @@
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "contact/contact_solver.hpp"
 #include "fe/discretisation.hpp"
