@@ -88,7 +88,14 @@ inline AnswerCheck check_answer(const fe::Discretisation& d, const contact::Cont
   const Eigen::VectorXd u = on_equations(d, s.displacement);
   const Eigen::VectorXd& r = s.reaction;
   const Eigen::VectorXd f = d.load(load_factor);
-  if (terms <= 0.0) terms = s.summary.lcp_size > 0 ? s.summary.lcp_size : d.equations + d.reactions();
+  if (terms <= 0.0) {
+    // A dense LCP's answer comes from inner products as long as the LCP; a sparse solve's from
+    // a row of [K C^T] (a handful of entries).
+    Eigen::Index row_length = 0;
+    const fe::SparseMatrix rows = d.stiffness;  // symmetric: columns are rows
+    for (Eigen::Index j = 0; j < rows.outerSize(); ++j) row_length = std::max(row_length, rows.col(j).nonZeros());
+    terms = s.summary.lcp_size > 0 ? s.summary.lcp_size : static_cast<double>(row_length + 4);
+  }
   const double gamma = terms * eps * std::max(1.0, amplification);
   auto ratio = [](double value, double floor) { return floor > 0.0 ? value / floor : (value > 0.0 ? INFINITY : 0.0); };
 
