@@ -83,6 +83,9 @@ class FePath {
   bool carries_on(double lambda, const std::vector<int>& nodes = {}) const;
   bool feasible_at(double lambda) const;
   bool resolve_by_lemke(double lambda);
+  // A degenerate breakpoint resolved on the nodes at zero there (`at_zero`, the rest keeping
+  // their status in `before`): the LCP of their reaction and gap rates.
+  bool resolve_by_rates(double lambda, const ContactSet& before, const std::vector<int>& at_zero);
   // For a member only the foundation holds: can compressive reactions balance the loads' work
   // on its free rigid motions at lambda? If not, no equilibrium exists (a certificate that does
   // not depend on the primal LCP, which round-off spoils on fine meshes).
@@ -119,6 +122,7 @@ class FePath {
   double reaction_scale_ = 0.0, gap_scale_ = 0.0;
   int pivots_since_step_ = 0;
   int lemke_resolutions_ = 0;
+  int rate_resolutions_ = 0;
   Eigen::MatrixXd free_motions_;  // rigid motions only the foundation resists (on the equations)
   bool free_motions_failed_ = false;
   std::vector<bool> held_;               // nodes kept in the set through a split final tie
@@ -207,6 +211,39 @@ bool FePath::feasible_at(double lambda) const {
   for (int i = 0; i < d_.reactions(); ++i)
     if (value(i, lambda) < -tie_tolerance * scale(i)) return false;
   return true;
+}
+
+// The rates just beyond lambda: the nodes off `at_zero` keep their status (their values are
+// away from zero), those at zero satisfy complementarity on their rates, dr >= 0, dg >= 0,
+// dr dg = 0. With the base set A0 = before minus at_zero, the reaction rates z of those nodes
+// act as loads -C^T z, and their gap rates are q + M z with q from the live load and
+// M_ij = gap_i(-C^T e_j) + T_ij (symmetric, positive semidefinite): an LCP of their size.
+bool FePath::resolve_by_rates(double lambda, const ContactSet& before, const std::vector<int>& at_zero) {
+  ContactSet base = before;
+  for (int i : at_zero) base[i] = false;
+  if (!load_set(base)) return false;
+  const int b = static_cast<int>(at_zero.size());
+  const contact::ContactState live = system_.solve(d_.live_load);
+  Eigen::MatrixXd m(b, b);
+  VectorXd q(b);
+  for (int j = 0; j < b; ++j) {
+    q[j] = direction_ * live.gap[at_zero[j]];
+    const VectorXd unit_reaction = -(d_.coupling.transpose() * VectorXd::Unit(d_.reactions(), at_zero[j]));
+    const contact::ContactState response = system_.solve(unit_reaction);
+    for (int i = 0; i < b; ++i) m(i, j) = response.gap[at_zero[i]] + d_.flexibility.coeff(at_zero[i], at_zero[j]);
+  }
+  const lcp::LemkeResult rates = lcp::solve_lemke(m, q, {});
+  result_.summary.pivots += std::max(rates.summary.pivots, 0);
+  pivots_since_step_ += std::max(rates.summary.pivots, 0);
+  if (rates.summary.termination != lcp::LemkeTermination::solution) return false;
+  const VectorXd gap_rates = q + m * rates.z;
+  const double z_scale = std::max(rates.z.lpNorm<Eigen::Infinity>(), 1e-300);
+  const double g_scale = std::max(gap_rates.lpNorm<Eigen::Infinity>(), 1e-300);
+  ContactSet after = base;
+  for (int j = 0; j < b; ++j) after[at_zero[j]] = rates.z[j] / z_scale > gap_rates[j] / g_scale;
+  if (!load_set(after)) return false;
+  update_scales(lambda);
+  return feasible_at(lambda) && carries_on(lambda);
 }
 
 // A degenerate breakpoint (or a set that no longer holds the member): the set just beyond it
@@ -475,6 +512,10 @@ TraceResult FePath::run() {
 
   auto done = [&]() {
     summary.factorisations = system_.factorisations();
+    if (rate_resolutions_ > 0 && summary.termination == TraceTermination::completed)
+      summary.message += fmt::format("; {} degenerate breakpoint(s) resolved by the LCP of the rates of the nodes at "
+                                     "zero there",
+                                     rate_resolutions_);
     if (lemke_resolutions_ > 0 && summary.termination == TraceTermination::completed)
       summary.message += fmt::format("; {} degenerate breakpoint(s) resolved by Lemke just beyond them",
                                      lemke_resolutions_);
@@ -534,13 +575,16 @@ TraceResult FePath::run() {
 
     // Every node at zero there and falling switches, ties together.
     TraceStep step = step_at(breakpoint);  // the state is continuous: either set gives it
+    const ContactSet before = set_;
     ContactSet switched = set_;
-    std::vector<int> pivoted;
-    for (int i = 0; i < m; ++i)
+    std::vector<int> pivoted, at_zero;
+    for (int i = 0; i < m; ++i) {
+      if (std::abs(value(i, breakpoint)) <= tie_tolerance * scale(i)) at_zero.push_back(i);
       if (value(i, breakpoint) <= tie_tolerance * scale(i) && rate(i) * span_ < -zero_tolerance * scale(i)) {
         switched[i] = !switched[i];
         pivoted.push_back(i);
       }
+    }
     if (!holds_member(switched) && (!floating_load_ || direction_ * (*floating_load_ - breakpoint) > 0.0)) {
       // The nodes leaving would leave the member floating while the loads can still be
       // balanced: round-off has split the final tie, in which every remaining reaction vanishes
@@ -576,6 +620,10 @@ TraceResult FePath::run() {
       // zero and falling (a tie that round-off split) is simply the next breakpoint, at once.
       update_scales(breakpoint);
       carried = carries_on(breakpoint, pivoted);
+    }
+    if (!carried && resolve_by_rates(breakpoint, before, at_zero)) {
+      carried = true;
+      ++rate_resolutions_;
     }
     if (!carried && !resolve_by_lemke(breakpoint)) {
       emit_step(std::move(step));

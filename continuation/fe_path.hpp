@@ -8,8 +8,10 @@
 // (contact/active_set_system.hpp) and two solves. The next breakpoint is the first lambda at
 // which a reaction in A or a gap outside A reaches zero; the node(s) there change status (ties
 // together) and the new set is factorised once. A breakpoint at which the new set would not
-// carry the path on (a degenerate one) is resolved by Lemke just beyond it. The start is the
-// full contact set when it is feasible, Lemke otherwise.
+// carry the path on (a degenerate one) is resolved by the LCP of the reaction and gap rates of
+// the nodes at zero there (Lemke on a problem of their size), failing that by Lemke on the
+// full problem just beyond it; the summary's message says so. The start is the full contact
+// set when it is feasible, Lemke (solve_contact, auto) otherwise.
 //
 // A member only the foundation holds (free-free beam) is held only while compressive
 // reactions can balance the loads on its free rigid motions; the load beyond which they cannot

@@ -160,7 +160,10 @@ TEST_CASE("the shared scene's first lift-off converges to the closed form as the
                     << "; observed order " << order);
   // Each halving of h shrinks the error (no plateau from round-off or a wrong limit).
   for (std::size_t i = 1; i < error.size(); ++i) CHECK(error[i] < error[i - 1]);
-  CHECK(order > 1.5);
+  // Observed: 2.97 (error ratios 7.7, 7.8, 7.9 per halving, i.e. h^3). The breakpoint at which
+  // the centre node's reaction vanishes converges only at h^2 (errors 2.4e-2, 6.1e-3, 1.6e-3,
+  // 3.9e-4 on these meshes): locating the event where w touches zero is what this checks.
+  CHECK(order > 2.5);
   // The finest mesh's error is what Richardson extrapolation from the two finest runs predicts
   // at the observed order, within a factor of 2 (the asymptotic range).
   const double estimate = std::abs(load[3] - load[2]) / (std::pow(2.0, order) - 1.0);
