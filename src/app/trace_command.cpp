@@ -1,11 +1,11 @@
 #include "app/trace_command.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <memory>
-
-#include <fmt/format.h>
 
 #include "continuation/fe_path.hpp"
 #include "continuation/ritz_path.hpp"
@@ -23,8 +23,10 @@ namespace {
 
 const scene::TraceSettings& trace_settings(const scene::Scene& scene) {
   if (!scene.trace)
-    throw InputError(fmt::format("{}: key 'trace': missing (expected a table [trace] with lambda_max, the "
-                                 "largest load factor)", scene.source_name));
+    throw InputError(
+        fmt::format("{}: key 'trace': missing (expected a table [trace] with lambda_max, the "
+                    "largest load factor)",
+                    scene.source_name));
   const scene::TraceSettings& t = *scene.trace;
   if (!t.lambda_max)
     throw InputError(fmt::format("{}{}: key 'trace.lambda_max': missing (expected a number > lambda_min = {})",
@@ -79,7 +81,9 @@ PathTrace from_record(const std::string& name, const io::TracePathRecord& record
 }
 
 nlohmann::json to_json(const TraceEvent& e) {
-  return {{"lambda", e.load_factor}, {"kind", continuation::to_string(e.kind)}, {"at", e.at},
+  return {{"lambda", e.load_factor},
+          {"kind", continuation::to_string(e.kind)},
+          {"at", e.at},
           {"description", e.description}};
 }
 
@@ -89,9 +93,12 @@ nlohmann::json to_json(const EventComparison& c) {
   j["b"] = c.b;
   j["pairs"] = nlohmann::json::array();
   for (const EventPair& p : c.pairs)
-    j["pairs"].push_back({{"kind", continuation::to_string(p.kind)}, {"lambda_a", p.load_factor_a},
-                          {"lambda_b", p.load_factor_b}, {"lambda_difference", p.load_factor_b - p.load_factor_a},
-                          {"at_a", p.at_a}, {"at_b", p.at_b}});
+    j["pairs"].push_back({{"kind", continuation::to_string(p.kind)},
+                          {"lambda_a", p.load_factor_a},
+                          {"lambda_b", p.load_factor_b},
+                          {"lambda_difference", p.load_factor_b - p.load_factor_a},
+                          {"at_a", p.at_a},
+                          {"at_b", p.at_b}});
   j["only_a"] = nlohmann::json::array();
   for (const TraceEvent& e : c.only_a) j["only_a"].push_back(to_json(e));
   j["only_b"] = nlohmann::json::array();
@@ -116,8 +123,10 @@ nlohmann::json to_json(const PathTrace& p) {
   for (const TraceStep& s : p.steps) {
     nlohmann::json regions = nlohmann::json::array();
     for (const auto& r : s.contact_regions) regions.push_back({r[0], r[1]});
-    j["steps"].push_back({{"lambda", s.load_factor}, {"monitor_deflection", s.monitor_deflection},
-                          {"contact_regions", regions}, {"iterations", s.iterations}});
+    j["steps"].push_back({{"lambda", s.load_factor},
+                          {"monitor_deflection", s.monitor_deflection},
+                          {"contact_regions", regions},
+                          {"iterations", s.iterations}});
   }
   return j;
 }
@@ -155,8 +164,8 @@ TraceOptions trace_options(const scene::Scene& scene, const TraceRequest& reques
   TraceOptions o;
   o.lambda_min = t.lambda_min;
   o.lambda_max = *t.lambda_max;
-  o.control = t.control == scene::TraceControl::load ? continuation::PathControl::load
-                                                       : continuation::PathControl::arc_length;
+  o.control =
+      t.control == scene::TraceControl::load ? continuation::PathControl::load : continuation::PathControl::arc_length;
   o.initial_step = t.initial_step;
   o.min_step = t.min_step;
   o.max_step = t.max_step;
@@ -178,9 +187,10 @@ std::vector<std::string> trace_path_names(const scene::Scene& scene, const Trace
   if (method == scene::Method::ritz || method == scene::Method::all) names.push_back("ritz");
   if (t.refine) {
     if (method == scene::Method::ritz)
-      throw InputError(fmt::format("{}{}: key 'trace.refine': expected false with method \"ritz\" (refine repeats "
-                                   "the FE path with twice the elements; use method \"all\"), got true",
-                                   scene.source_name, t.line > 0 ? fmt::format(":{}", t.line) : ""));
+      throw InputError(
+          fmt::format("{}{}: key 'trace.refine': expected false with method \"ritz\" (refine repeats "
+                      "the FE path with twice the elements; use method \"all\"), got true",
+                      scene.source_name, t.line > 0 ? fmt::format(":{}", t.line) : ""));
     names.push_back("fe_refined");
   }
   return names;
@@ -217,7 +227,8 @@ TraceOutcome run_trace(const scene::Scene& scene, const TraceRequest& request, c
   if (request.resume && request.output.empty())
     throw InputError("--resume: needs --output FILE.h5, the trace to continue");
   if (request.resume && !std::filesystem::exists(request.output))
-    throw InputError(fmt::format("--resume: {}: no such file (run without --resume to start it)", request.output.string()));
+    throw InputError(
+        fmt::format("--resume: {}: no such file (run without --resume to start it)", request.output.string()));
 
   TraceOutcome outcome;
   outcome.scene_name = scene.source_name;
@@ -230,9 +241,10 @@ TraceOutcome run_trace(const scene::Scene& scene, const TraceRequest& request, c
     writer = std::make_unique<io::TraceWriter>(io::TraceWriter::resume(request.output));
     const io::TraceFileInfo& info = writer->info();
     if (info.scene_text != scene.text || info.options != options_json || info.paths != names)
-      throw InputError(fmt::format("--resume: {}: was written for another scene or other options ({}); resume with "
-                                   "the same scene and options, or start again without --resume",
-                                   request.output.string(), info.options));
+      throw InputError(
+          fmt::format("--resume: {}: was written for another scene or other options ({}); resume with "
+                      "the same scene and options, or start again without --resume",
+                      request.output.string(), info.options));
   } else if (!request.output.empty()) {
     io::TraceFileInfo info;
     info.version = request.version;
@@ -265,7 +277,8 @@ TraceOutcome run_trace(const scene::Scene& scene, const TraceRequest& request, c
     path_scene.solve.elements = path_options.elements;
     if (name != "ritz") {
       const scene::Method method = trace_method(scene, request);
-      if (method != scene::Method::all) path_scene.solve.method = method;
+      if (method != scene::Method::all)
+        path_scene.solve.method = method;
       else if (path_scene.solve.method == scene::Method::all || path_scene.solve.method == scene::Method::ritz)
         path_scene.solve.method = scene::Method::automatic;
     }
@@ -287,7 +300,23 @@ TraceOutcome run_trace(const scene::Scene& scene, const TraceRequest& request, c
       trace.events.push_back(event);
     };
     const TracePath& path = name == "ritz" ? paths.ritz : paths.fe;
-    const continuation::TraceResult result = path(path_scene, path_options, sink);
+    continuation::TraceResult result;
+    try {
+      result = path(path_scene, path_options, sink);
+    } catch (...) {
+      // Refused before its first step (a mechanism, a scene the Ritz model cannot take): no
+      // half-written file is left behind. Once steps are written they are kept, to resume.
+      const bool nothing_written =
+          !request.resume && trace.steps.empty() &&
+          std::all_of(outcome.paths.begin(), outcome.paths.end(), [](const PathTrace& p) { return p.steps.empty(); });
+      if (writer && nothing_written) {
+        writer.reset();
+        std::error_code ignored;
+        std::filesystem::remove(request.output, ignored);
+        std::filesystem::remove(io::trace_backup_path(request.output), ignored);
+      }
+      throw;
+    }
     trace.summary = result.summary;
     // A path that reports through its result only (no sink calls) is taken from the result.
     if (trace.steps.size() == static_cast<std::size_t>(trace.resumed_steps))

@@ -9,11 +9,10 @@
 
 #include <filesystem>
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "continuation/trace.hpp"
 #include "scene/scene.hpp"
@@ -39,23 +38,23 @@ struct TraceProgress {
 };
 
 struct TraceRequest {
-  std::optional<scene::Method> method;  // overrides [trace] method (itself [solve] method by default)
-  std::optional<int> elements;          // overrides [solve] elements
-  std::optional<int> modes;             // overrides [ritz] modes (0: auto)
-  std::filesystem::path output;         // the HDF5 trace; empty: none
-  bool resume = false;                  // continue `output` from its last finished step
-  std::string version;                  // written into the file
+  std::optional<scene::Method> method;                 // overrides [trace] method (itself [solve] method by default)
+  std::optional<int> elements;                         // overrides [solve] elements
+  std::optional<int> modes;                            // overrides [ritz] modes (0: auto)
+  std::filesystem::path output;                        // the HDF5 trace; empty: none
+  bool resume = false;                                 // continue `output` from its last finished step
+  std::string version;                                 // written into the file
   std::function<void(const TraceProgress&)> progress;  // after every step
 };
 
 // One path as run (or read back, when a resumed file already held it complete).
 struct PathTrace {
-  std::string path;                               // "fe", "ritz", "fe_refined"
+  std::string path;  // "fe", "ritz", "fe_refined"
   continuation::TraceSummary summary;
-  std::vector<continuation::TraceStep> steps;     // every step, resumed ones included; without
-                                                  // the sampled deflection and reaction
-  std::vector<continuation::TraceEvent> events;   // likewise
-  int resumed_steps = 0;                          // of them, read back from the file
+  std::vector<continuation::TraceStep> steps;    // every step, resumed ones included; without
+                                                 // the sampled deflection and reaction
+  std::vector<continuation::TraceEvent> events;  // likewise
+  int resumed_steps = 0;                         // of them, read back from the file
 };
 
 // The events of two traces of one scene paired (same kind, nearest load factor); the
@@ -75,13 +74,13 @@ EventComparison compare_events(const PathTrace& a, const PathTrace& b);
 
 struct TraceOutcome {
   std::string scene_name;
-  std::string output;                 // the HDF5 file, if any
+  std::string output;  // the HDF5 file, if any
   double monitor = 0.0;
   std::vector<double> sample_points;
-  std::vector<PathTrace> paths;       // in the order run: fe, ritz, fe_refined
+  std::vector<PathTrace> paths;                         // in the order run: fe, ritz, fe_refined
   std::optional<EventComparison> comparison;            // fe against ritz (method "all")
   std::optional<EventComparison> discretisation_error;  // fe against fe_refined (refine)
-  bool usable() const;                // every path reached lambda_max
+  bool usable() const;                                  // every path reached lambda_max
 };
 
 // TraceOptions from the scene's [trace] (and [solve], [ritz]) with the request's overrides.

@@ -220,8 +220,8 @@ EventKind event_kind(const std::string& name) {
 }
 
 // The per-step datasets of /PATH/steps: one row per step each.
-constexpr std::array<const char*, 6> step_datasets{"lambda", "monitor_deflection", "iterations",
-                                                  "deflection", "reaction", "state_topology"};
+constexpr std::array<const char*, 6> step_datasets{"lambda",     "monitor_deflection", "iterations",
+                                                   "deflection", "reaction",           "state_topology"};
 
 std::vector<std::string> split_paths(const std::string& joined) {
   std::vector<std::string> parts;
@@ -234,7 +234,6 @@ std::vector<std::string> split_paths(const std::string& joined) {
   }
   return parts;
 }
-
 
 // A whole path's part of an open file, read back. Rows of a step that was being written when
 // the run stopped are left out (the per-step datasets' common length counts).
@@ -278,7 +277,8 @@ TracePathRecord read_path_record(hid_t id, const std::string& name, std::size_t 
   const std::vector<double> at = read_doubles(id, events("at"));
   const std::vector<double> event_step = read_doubles(id, events("step"));
   const std::vector<std::string> descriptions = read_strings(id, events("description"));
-  const std::size_t m = std::min({event_lambda.size(), kinds.size(), at.size(), event_step.size(), descriptions.size()});
+  const std::size_t m =
+      std::min({event_lambda.size(), kinds.size(), at.size(), event_step.size(), descriptions.size()});
   for (std::size_t i = 0; i < m; ++i) {
     if (!written_step(event_step[i]) || std::isnan(event_lambda[i]) || std::isnan(at[i])) continue;
     record.events.push_back({event_lambda[i], event_kind(kinds[i]), at[i], descriptions[i]});
@@ -413,7 +413,8 @@ TraceWriter::TraceWriter(std::unique_ptr<File> file) : file_(std::move(file)) {}
 TraceWriter::TraceWriter(TraceWriter&&) noexcept = default;
 TraceWriter::~TraceWriter() = default;
 
-TraceWriter::TraceWriter(const std::filesystem::path& path, const TraceFileInfo& info) : file_(std::make_unique<File>()) {
+TraceWriter::TraceWriter(const std::filesystem::path& path, const TraceFileInfo& info)
+    : file_(std::make_unique<File>()) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors become OutputError, not stderr noise
   File& f = *file_;
   f.path = path;

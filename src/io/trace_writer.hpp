@@ -41,8 +41,8 @@ struct TraceFileInfo {
   std::string version;
   std::string scene_name;
   std::string scene_text;
-  std::string coordinate;    // "x" or "theta_deg"
-  std::string options;       // JSON text: what a resumed run must match
+  std::string coordinate;  // "x" or "theta_deg"
+  std::string options;     // JSON text: what a resumed run must match
   std::vector<std::string> paths;
   std::vector<double> sample_points;
 };
@@ -50,7 +50,7 @@ struct TraceFileInfo {
 // One path's part of a file, as read back.
 struct TracePathRecord {
   bool complete = false;
-  std::string termination;   // empty until the path ends
+  std::string termination;  // empty until the path ends
   std::string message;
   double monitor = 0.0;
   std::vector<continuation::TraceStep> steps;

@@ -3,20 +3,19 @@
 // and the command line. Most tests drive run_trace with a synthetic path, so they test this
 // command's logic whatever the paths do; the tests tagged [real_paths] run trace_fe and
 // trace_ritz end to end.
-#include <catch2/catch.hpp>
-
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <catch2/catch.hpp>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -54,7 +53,9 @@ std::string beam_with_trace(const std::string& trace) {
          (trace.empty() ? std::string() : "[trace]\n" + trace);
 }
 
-scene::Scene scene_with_trace(const std::string& trace) { return scene::parse_scene(beam_with_trace(trace), "beam.toml"); }
+scene::Scene scene_with_trace(const std::string& trace) {
+  return scene::parse_scene(beam_with_trace(trace), "beam.toml");
+}
 
 struct Interrupted : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -76,7 +77,8 @@ struct SyntheticPath {
       const double range = o.lambda_max - o.lambda_min, length = scene.end() - scene.begin();
       const int n = static_cast<int>(std::ceil(range / o.max_step - 1e-9));
       int first = 0;
-      if (o.resume_from) first = static_cast<int>(std::lround((o.resume_from->load_factor - o.lambda_min) / o.max_step)) + 1;
+      if (o.resume_from)
+        first = static_cast<int>(std::lround((o.resume_from->load_factor - o.lambda_min) / o.max_step)) + 1;
       continuation::TraceResult result;
       result.summary.path = "synthetic";
       const double event_at[2] = {o.lambda_min + 0.3 * range, o.lambda_min + 0.7 * range};
@@ -206,8 +208,9 @@ int steps_in(const std::string& progress_line) {
 }  // namespace
 
 TEST_CASE("trace: options come from [trace], [solve] and [ritz], with the request's overrides", "[app][trace]") {
-  const scene::Scene s = scene_with_trace("lambda_min = 1\nlambda_max = 3\ncontrol = \"load\"\ninitial_step = 0.02\n"
-                                          "min_step = 1e-4\nmax_step = 0.1\nmax_steps = 77\nsamples = 5\n");
+  const scene::Scene s = scene_with_trace(
+      "lambda_min = 1\nlambda_max = 3\ncontrol = \"load\"\ninitial_step = 0.02\n"
+      "min_step = 1e-4\nmax_step = 0.1\nmax_steps = 77\nsamples = 5\n");
   const TraceOptions o = app::trace_options(s, {});
   CHECK(o.lambda_min == 1);
   CHECK(o.lambda_max == 3);
@@ -253,8 +256,9 @@ TEST_CASE("trace: no [trace] or no lambda_max is a one-line error naming the key
         "beam.toml: key 'trace': missing (expected a table [trace] with lambda_max, the largest load factor)");
   CHECK(message(scene_with_trace("lambda_min = 0.5\n")) ==
         "beam.toml:21: key 'trace.lambda_max': missing (expected a number > lambda_min = 0.5)");
-  CHECK_THROWS_WITH(app::trace_path_names(scene_with_trace("lambda_max = 1\nmethod = \"ritz\"\nrefine = true\n"), {}),
-                    Catch::Matchers::StartsWith("beam.toml:21: key 'trace.refine': expected false with method \"ritz\""));
+  CHECK_THROWS_WITH(
+      app::trace_path_names(scene_with_trace("lambda_max = 1\nmethod = \"ritz\"\nrefine = true\n"), {}),
+      Catch::Matchers::StartsWith("beam.toml:21: key 'trace.refine': expected false with method \"ritz\""));
 }
 
 TEST_CASE("trace: every step and event goes to the file, and to the JSON", "[app][trace]") {
@@ -338,6 +342,18 @@ TEST_CASE("trace: an interrupted trace keeps its steps and resumes to the uninte
   check_same_events(repeat.paths[0].events, expected.events);
 }
 
+TEST_CASE("trace: a path that refuses the scene before its first step leaves no file", "[app][trace][errors]") {
+  Scratch scratch;
+  const scene::Scene s = scene_with_trace("lambda_max = 1\n");
+  const app::TracePath refuses = [](const scene::Scene&, const TraceOptions&,
+                                    const continuation::TraceSink&) -> continuation::TraceResult {
+    throw InputError("beam.toml: a mechanism");
+  };
+  CHECK_THROWS_AS(app::run_trace(s, to_file(scratch.dir / "t.h5"), {refuses, refuses}), InputError);
+  CHECK_FALSE(fs::exists(scratch.dir / "t.h5"));
+  CHECK_FALSE(fs::exists(io::trace_backup_path(scratch.dir / "t.h5")));
+}
+
 TEST_CASE("trace: resume refuses another scene, other options, or no file", "[app][trace][errors]") {
   Scratch scratch;
   const scene::Scene s = scene_with_trace("lambda_max = 1\nmax_step = 0.25\nsamples = 5\n");
@@ -360,10 +376,10 @@ TEST_CASE("trace: resume refuses another scene, other options, or no file", "[ap
 
 TEST_CASE("trace: method all pairs the paths' events; refine runs the FE path with twice the elements",
           "[app][trace]") {
-  const scene::Scene s = scene_with_trace("lambda_max = 2\nmax_step = 0.25\nsamples = 5\nmethod = \"all\"\n"
-                                          "refine = true\n");
+  const scene::Scene s = scene_with_trace(
+      "lambda_max = 2\nmax_step = 0.25\nsamples = 5\nmethod = \"all\"\n"
+      "refine = true\n");
   SyntheticPath fe, ritz;
-  ritz.calls.reserve(1);
   app::TracePaths paths{fe.path(), ritz.path()};
   const app::TraceOutcome outcome = app::run_trace(s, {}, paths);
   REQUIRE(outcome.paths.size() == 3);
@@ -402,7 +418,8 @@ TEST_CASE("trace: events are paired by kind and nearest load factor", "[app][tra
   a.path = "fe";
   b.path = "ritz";
   a.events = {{1.0, EventKind::lift_off_opens, 5, ""}, {2.0, EventKind::limit_at_end, 0, ""}};
-  b.events = {{2.1, EventKind::limit_at_end, 0, ""}, {1.01, EventKind::lift_off_opens, 5, ""},
+  b.events = {{2.1, EventKind::limit_at_end, 0, ""},
+              {1.01, EventKind::lift_off_opens, 5, ""},
               {3.0, EventKind::region_vanishes, 1, ""}};
   const app::EventComparison c = app::compare_events(a, b);
   REQUIRE(c.pairs.size() == 2);
@@ -499,7 +516,9 @@ TEST_CASE("trace CLI: bad input exits 2 with one line and writes no file", "[app
 // are merged.
 
 namespace {
-std::string shipped(const std::string& name) { return std::string(LIFTOFF_SOURCE_DIR) + "/continuation/scenes/" + name + ".toml"; }
+std::string shipped(const std::string& name) {
+  return std::string(LIFTOFF_SOURCE_DIR) + "/continuation/scenes/" + name + ".toml";
+}
 }  // namespace
 
 TEST_CASE("trace CLI: every test scene traces, with --json events and steps, and an HDF5 file that plots",
@@ -594,13 +613,12 @@ TEST_CASE("trace CLI: the Ritz path killed with SIGKILL keeps its steps and resu
   REQUIRE(cli({"trace", scene, "-o", whole}).status == 0);
   const io::TracePathRecord expected = io::read_trace_file(whole).paths[0].second;
 
-  const bool interrupted =
-      kill_midway(
-          [&] {  // the real stderr (a pipe here): --progress writes a line per finished step
-            const char* argv[] = {"liftoff", "trace", scene.c_str(), "-o", killed.c_str(), "--progress"};
-            ::_exit(app::run_cli(6, argv, std::cout, std::cerr));
-          },
-                  [](const std::string& line) { return steps_in(line) >= 20; });
+  const bool interrupted = kill_midway(
+      [&] {  // the real stderr (a pipe here): --progress writes a line per finished step
+        const char* argv[] = {"liftoff", "trace", scene.c_str(), "-o", killed.c_str(), "--progress"};
+        ::_exit(app::run_cli(6, argv, std::cout, std::cerr));
+      },
+      [](const std::string& line) { return steps_in(line) >= 20; });
   REQUIRE(interrupted);
   const io::TraceFileRecord partial = io::read_trace_file(killed);
   CHECK_FALSE(partial.complete);

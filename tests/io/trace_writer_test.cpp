@@ -1,14 +1,15 @@
 // The incremental HDF5 trace: what is appended reads back exactly, an interrupted step's rows
 // are dropped on resume, and a resumed file continues where it stopped.
-#include <catch2/catch.hpp>
+#include "io/trace_writer.hpp"
+
 #include <hdf5.h>
 #include <unistd.h>
 
+#include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
 
 #include "core/error.hpp"
-#include "io/trace_writer.hpp"
 
 using namespace liftoff;
 using continuation::EventKind;
