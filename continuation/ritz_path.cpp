@@ -103,6 +103,11 @@ class RitzTracer {
   TraceResult run();
 
  private:
+  ritz::Enrichment choose_enrichment() const {
+    const double beta_l = std::pow(member_.foundation_modulus / 4.0, 0.25) * member_.length();
+    return member_.kind == fe::StructureKind::beam && beta_l <= 10.0 ? ritz::Enrichment::load_points
+                                                                      : ritz::Enrichment::none;
+  }
   // Verbs, in the order run() calls them.
   void validate() const;
   ResumeState starting_state();
@@ -115,6 +120,8 @@ class RitzTracer {
   std::vector<EventSpec> event_specs(const RitzModel& model) const;
   EventValue event_value(const RitzModel& model, const VectorXd& x, const EventSpec& spec) const;
   EventValue extreme(const RitzModel& model, const VectorXd& x, double a, double b, bool minimum) const;
+  std::vector<EventValue> local_minima(const RitzModel& model, const VectorXd& x, double a, double b,
+                                       bool minimum) const;
   double w_scale(const RitzModel& model, const VectorXd& x) const;
   void record_step(const RitzModel& model, const PathPoint& point, int iterations, double next_step,
                    const std::optional<Opening>& at_event = std::nullopt);
@@ -133,6 +140,10 @@ class RitzTracer {
   fe::MemberModel member_;
   TraceResult result_;
   int modes_ = 0;
+  // The load-point enrichment (ritz/basis.hpp) where the foundation leaves a point force's
+  // response global (beta L <= 10, beta = (k/4)^(1/4)); on a stiffer one the response is local,
+  // the kinked functions' far field must be cancelled by the smooth modes, and Newton stalls.
+  ritz::Enrichment enrichment_ = ritz::Enrichment::none;
   std::optional<RitzModel> model_;
   // The event the follow loop stopped at, waiting for a switch.
   struct Pending {
@@ -206,10 +217,10 @@ ResumeState RitzTracer::starting_state() {
     const int n = n2 / 2;
     state.topology = {first == 1, limits};
     modes_ = modes;
-    if (RitzModel(member_, modes_, state.topology, ritz::Enrichment::load_points).unknowns() != n)
+    if (RitzModel(member_, modes_, state.topology, enrichment_).unknowns() != n)
       throw std::invalid_argument(fmt::format(
           "TraceOptions.resume_from: the state has {} unknowns, but the Ritz model of topology \"{}\" has {}", n,
-          step.state_topology, RitzModel(member_, modes_, state.topology, ritz::Enrichment::load_points).unknowns()));
+          step.state_topology, RitzModel(member_, modes_, state.topology, enrichment_).unknowns()));
     const Eigen::Map<const VectorXd> values(step.state.data(), step.state.size());
     state.point.x = values.head(n);
     state.point.tangent_x = values.segment(n, n);
@@ -254,7 +265,7 @@ ResumeState RitzTracer::starting_state() {
   ritz_options.max_modes = scene_.ritz.max_modes;
   ritz_options.mode_tolerance = scene_.ritz.mode_tolerance * member_.length();
   ritz_options.load_factor = lambda_start;
-  ritz_options.enrichment = ritz::Enrichment::load_points;
+  ritz_options.enrichment = enrichment_;
   ritz::RitzSolution start = ritz::solve_ritz(member_, state.topology, limits, ritz_options);
   modes_ = modes_for_trace(start);
   if (start.summary.modes != modes_) {
@@ -364,7 +375,19 @@ EventValue RitzTracer::extreme(const RitzModel& model, const VectorXd& x, double
     const double value = sign * model.w(x, s);
     if (value < best.value) best = {value, s};
   }
-  // Local minima of sign * w: sign changes of its slope from - to + between grid points.
+  for (const EventValue& local : local_minima(model, x, a, b, minimum))
+    if (local.value < best.value) best = local;
+  return best;
+}
+
+std::vector<EventValue> RitzTracer::local_minima(const RitzModel& model, const VectorXd& x, double a, double b,
+                                                 bool minimum) const {
+  std::vector<EventValue> minima;
+  if (!(b > a)) return minima;
+  const double sign = minimum ? 1.0 : -1.0;  // minima of sign * w
+  const int samples = std::max(16, static_cast<int>(std::ceil(8.0 * modes_ * (b - a) / member_.length())));
+  const double h = (b - a) / samples;
+  // Sign changes of the slope from - to + between grid points, refined by safeguarded Newton.
   double s0 = a + 0.5 * h, d0 = sign * model.w(x, s0, 1);
   for (int i = 1; i < samples; ++i) {
     const double s1 = std::min(a + (i + 0.5) * h, b - 0.5 * h);
@@ -382,12 +405,11 @@ EventValue RitzTracer::extreme(const RitzModel& model, const VectorXd& x, double
         }
         s = next;
       }
-      const double value = sign * model.w(x, s);
-      if (value < best.value) best = {value, s};
+      minima.push_back({sign * model.w(x, s), s});
     }
     s0 = s1, d0 = d1;
   }
-  return best;
+  return minima;
 }
 
 EventValue RitzTracer::event_value(const RitzModel& model, const VectorXd& x, const EventSpec& spec) const {
@@ -545,12 +567,22 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
         for (const EventSpec& spec : pending.events)
           if (spec.function != EventFunction::limit_at_load) switches = true;
         record_step(model, to, to.iterations, ds, switches ? std::optional(pending.opening) : std::nullopt);
-        for (const EventSpec& spec : pending.events) {
-          const EventValue v = event_value(model, to.x, spec);
-          record_event(to.lambda, spec.kind, v.at,
+        const auto record = [&](const EventSpec& spec, double s) {
+          record_event(to.lambda, spec.kind, s,
                        fmt::format("{} at {} = {:.10g} ({})", to_string(spec.kind),
-                                   member_.kind == fe::StructureKind::arch ? "theta" : "x", user(v.at),
+                                   member_.kind == fe::StructureKind::arch ? "theta" : "x", user(s),
                                    to_string(model.topology())));
+        };
+        for (const EventSpec& spec : pending.events) {
+          if (spec.function != EventFunction::interior_extreme) {
+            record(spec, event_value(model, to.x, spec).at);
+            continue;
+          }
+          // One event per zone that opens (symmetric loads open several at once).
+          const ritz::Piece piece = model.pieces(to.x)[spec.piece];
+          const double zero = 1e-6 * w_scale(model, to.x);
+          for (const EventValue& local : local_minima(model, to.x, piece.begin, piece.end, piece.in_contact))
+            if (local.value <= zero) record(spec, local.at);
         }
         if (switches) {
           pending_ = std::move(pending);
@@ -583,10 +615,12 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
   pending_.reset();
   const RitzModel& old = *model_;
   const PathPoint& at = pending.point;
+
+  // 1. What the events change: limits removed with vanishing pieces, zones to open.
   std::vector<double> limits(at.x.data() + old.limit_offset(), at.x.data() + old.unknowns());
   std::vector<bool> remove(limits.size(), false);
   bool flip_first = false;
-  std::vector<std::pair<double, int>> openings;  // s, +1 interior (two limits) / 0 begin / 2 end
+  std::vector<std::pair<double, int>> openings;  // s; 1 interior (two limits), 0 at the begin, 2 at the end
   for (const EventSpec& spec : pending.events) {
     switch (spec.function) {
       case EventFunction::length: {
@@ -596,83 +630,32 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
         if (p == 0) flip_first = !flip_first;
         break;
       }
-      case EventFunction::interior_extreme: openings.emplace_back(event_value(old, at.x, spec).at, 1); break;
-      case EventFunction::end_value: openings.emplace_back(event_value(old, at.x, spec).at, spec.piece == 0 ? 0 : 2); break;
-      case EventFunction::limit_at_load: break;
-    }
-  }
-  VectorXd amplitudes = at.x.head(old.amplitudes());
-  double lambda = at.lambda;
-  if (!openings.empty()) {
-    // Continue the old topology a little past the event; the roots of w around each opening
-    // point there are the new zone's limits. A step of a tenth of the one in use (in lambda).
-    const double direction = pending.opening.direction;
-    double delta = pending.opening.delta;
-    std::optional<PathPoint> past;
-    for (int attempt = 0; attempt < 20 && !past; ++attempt, delta *= 0.5) {
-      StepOutcome s = old_follower.step_to_lambda(at, at.lambda + direction * delta);
-      if (s.point) past = std::move(s.point);
-    }
-    if (!past) {
-      result_.summary.termination = TraceTermination::step_too_small;
-      result_.summary.message =
-          fmt::format("could not continue past the event at lambda = {:.10g} to open the new zone", at.lambda);
-      return false;
-    }
-    amplitudes = past->x.head(old.amplitudes());
-    lambda = past->lambda;
-    for (auto [s, where] : openings) {
-      // Walk out from s to the first sign change of w on each side needed.
-      const double w0 = old.w(past->x, s);
-      const auto root = [&](double from, double to) {
-        double a = from, b = to, fa = old.w(past->x, a);
-        for (int k = 0; k < 200 && std::abs(b - a) > 1e-15 * member_.length(); ++k) {
-          const double m = 0.5 * (a + b), fm = old.w(past->x, m);
-          if ((fm > 0) == (fa > 0)) a = m, fa = fm; else b = m;
-        }
-        return 0.5 * (a + b);
-      };
-      // From s toward limit_s, the first point where w has left the sign it has at s.
-      const auto scan = [&](double limit_s) {
-        const int samples = 4096;
-        double prev = s;
-        for (int i = 1; i <= samples; ++i) {
-          const double next = s + (limit_s - s) * i / samples;
-          if ((old.w(past->x, next) > 0) != (w0 > 0)) return root(prev, next);
-          prev = next;
-        }
-        return limit_s;
-      };
-      if (where == 1) {
-        const ritz::Piece* piece = nullptr;
-        const std::vector<ritz::Piece> pieces = old.pieces(past->x);
-        for (const ritz::Piece& p : pieces)
-          if (s >= p.begin && s <= p.end) piece = &p;
-        const double lo = piece ? piece->begin : member_.foundation_begin, hi = piece ? piece->end : member_.foundation_end;
-        limits.push_back(scan(lo));
-        limits.push_back(scan(hi));
-        remove.push_back(false), remove.push_back(false);
-      } else {
-        const std::vector<ritz::Piece> pieces = old.pieces(past->x);
-        const ritz::Piece& p = where == 0 ? pieces.front() : pieces.back();
-        limits.push_back(scan(where == 0 ? p.end : p.begin));
-        remove.push_back(false);
-        if (where == 0) flip_first = !flip_first;
+      case EventFunction::interior_extreme: {
+        // Every local extreme of the piece that reaches zero here opens a zone (symmetric
+        // loads open two at once, and one event function sees only the lower).
+        const ritz::Piece piece = old.pieces(at.x)[spec.piece];
+        const double zero = 1e-6 * w_scale(old, at.x);
+        for (const EventValue& local : local_minima(old, at.x, piece.begin, piece.end, piece.in_contact))
+          if (local.value <= zero) openings.emplace_back(local.at, 1);
+        break;
       }
+      case EventFunction::end_value:
+        openings.emplace_back(event_value(old, at.x, spec).at, spec.piece == 0 ? 0 : 2);
+        if (spec.piece == 0) flip_first = !flip_first;
+        break;
+      case EventFunction::limit_at_load: break;
     }
   }
   std::vector<double> kept;
   for (std::size_t m = 0; m < limits.size(); ++m)
     if (!remove[m]) kept.push_back(limits[m]);
-  std::sort(kept.begin(), kept.end());
-  Topology topology{old.topology().first_in_contact != flip_first, static_cast<int>(kept.size())};
+  int added = 0;
+  for (const auto& opening : openings) added += opening.second == 1 ? 2 : 1;
+  const Topology topology{old.topology().first_in_contact != flip_first, static_cast<int>(kept.size()) + added};
 
-  model_.emplace(member_, modes_, topology, ritz::Enrichment::load_points);
   // Nothing holds a free-free member that has lifted off everywhere.
-  const bool first_contact = topology.first_in_contact;
-  const bool any_contact = first_contact || topology.limits > 0;
-  if (!any_contact && member_.left == fe::EndSupport::free && member_.right == fe::EndSupport::free &&
-      member_.point_supports.empty()) {
+  if (!topology.first_in_contact && topology.limits == 0 && member_.left == fe::EndSupport::free &&
+      member_.right == fe::EndSupport::free && member_.point_supports.empty()) {
     result_.summary.termination = TraceTermination::no_equilibrium;
     result_.summary.message = fmt::format(
         "no equilibrium beyond lambda = {:.10g}: the member has lifted off the foundation entirely and nothing else "
@@ -680,42 +663,93 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
         at.lambda);
     return false;
   }
-  VectorXd x(model_->unknowns());
-  x.head(model_->amplitudes()) = amplitudes;
-  for (int m = 0; m < topology.limits; ++m) x[model_->limit_offset() + m] = kept[m];
-  const PathFollower follower = make_follower(*model_);
-  nonlinear::NewtonSummary newton;
-  // The new tangent keeps the old one's sense: its amplitude and lambda parts as the reference.
-  PathPoint orientation;
-  orientation.tangent_x = VectorXd::Zero(model_->unknowns());
-  orientation.tangent_x.head(model_->amplitudes()) = at.tangent_x.head(model_->amplitudes());
-  orientation.tangent_lambda = at.tangent_lambda;
-  std::optional<PathPoint> start = follower.start(x, lambda, &newton, orientation);
-  if (!start) {
-    result_.summary.termination = TraceTermination::solver_failure;
-    result_.summary.message = fmt::format("no equilibrium found in the topology {} after the event at lambda = "
-                                          "{:.10g}: {}",
-                                          to_string(topology), at.lambda, newton.message);
-    return false;
+
+  // 2. A first equilibrium in the new topology. A removal needs none other than the event's
+  //    own amplitudes. An opening continues the old topology a little past the event (first a
+  //    tenth of the step in use, in lambda); the roots of w around each opening point there
+  //    are the new zone's limits. Should Newton fail from there, the opening step shrinks.
+  std::string failure;
+  double delta = pending.opening.delta;
+  for (int attempt = 0; attempt < 8; ++attempt, delta *= 0.1) {
+    PathPoint base = at;
+    std::vector<double> guess = kept;
+    if (!openings.empty()) {
+      StepOutcome past = old_follower.step_to_lambda(at, at.lambda + pending.opening.direction * delta);
+      if (!past.point) {
+        failure = "the old topology could not be continued past the event: " + past.corrector.message;
+        continue;
+      }
+      base = *past.point;
+      const std::vector<ritz::Piece> pieces = old.pieces(base.x);
+      for (auto [s, where] : openings) {
+        const double w0 = old.w(base.x, s);
+        const auto root = [&](double from, double to) {  // bisection on w
+          double a = from, b = to, fa = old.w(base.x, a);
+          for (int k = 0; k < 200 && std::abs(b - a) > 1e-15 * member_.length(); ++k) {
+            const double m = 0.5 * (a + b), fm = old.w(base.x, m);
+            if ((fm > 0) == (fa > 0)) a = m, fa = fm; else b = m;
+          }
+          return 0.5 * (a + b);
+        };
+        // From s toward limit_s, the first point where w has left the sign it has at s.
+        const auto scan = [&](double limit_s) {
+          constexpr int samples = 4096;
+          double previous = s;
+          for (int i = 1; i <= samples; ++i) {
+            const double next = s + (limit_s - s) * i / samples;
+            if ((old.w(base.x, next) > 0) != (w0 > 0)) return root(previous, next);
+            previous = next;
+          }
+          return limit_s;
+        };
+        if (where == 1) {
+          double lo = member_.foundation_begin, hi = member_.foundation_end;
+          for (const ritz::Piece& p : pieces)
+            if (s >= p.begin && s <= p.end) lo = p.begin, hi = p.end;
+          guess.push_back(scan(lo));
+          guess.push_back(scan(hi));
+        } else {
+          guess.push_back(scan(where == 0 ? pieces.front().end : pieces.back().begin));
+        }
+      }
+      std::sort(guess.begin(), guess.end());
+    }
+    RitzModel candidate(member_, modes_, topology, enrichment_);
+    VectorXd x(candidate.unknowns());
+    x.head(candidate.amplitudes()) = base.x.head(old.amplitudes());
+    for (int m = 0; m < topology.limits; ++m) x[candidate.limit_offset() + m] = guess[m];
+    const PathFollower follower = make_follower(candidate);
+    nonlinear::NewtonSummary newton;
+    // The new tangent keeps the old one's sense: its amplitude and lambda parts as the reference.
+    PathPoint orientation;
+    orientation.tangent_x = VectorXd::Zero(candidate.unknowns());
+    orientation.tangent_x.head(candidate.amplitudes()) = at.tangent_x.head(candidate.amplitudes());
+    orientation.tangent_lambda = at.tangent_lambda;
+    const std::optional<PathPoint> start = follower.start(x, base.lambda, &newton, orientation);
+    if (!start) {
+      failure = "Newton: " + newton.message;
+    } else if (!candidate.admissible(start->x)) {
+      failure = "the solution has limits out of order or outside the foundation";
+    } else {
+      model_.emplace(std::move(candidate));
+      if (base.lambda != at.lambda) record_step(*model_, *start, newton.iterations, pending.step);
+      restart_ = *start;
+      restart_step_ = pending.step;
+      return true;
+    }
+    if (openings.empty()) break;  // nothing to vary
   }
-  if (!model_->admissible(start->x)) {
-    result_.summary.termination = TraceTermination::solver_failure;
-    result_.summary.message = fmt::format(
-        "after the event at lambda = {:.10g} the Ritz solution in the topology {} has limits out of order or outside "
-        "the foundation; the path cannot be continued",
-        at.lambda, to_string(topology));
-    return false;
-  }
-  if (lambda != at.lambda) record_step(*model_, *start, newton.iterations, pending.step);
-  restart_ = *start;
-  restart_step_ = pending.step;
-  return true;
+  result_.summary.termination = TraceTermination::solver_failure;
+  result_.summary.message = fmt::format("no equilibrium found in the topology {} after the event at lambda = {:.10g}: {}",
+                                        to_string(topology), at.lambda, failure);
+  return false;
 }
 
 TraceResult RitzTracer::run() {
   const auto clock = std::chrono::steady_clock::now();
   result_.summary.path = "ritz";
   validate();
+  enrichment_ = choose_enrichment();
   ResumeState state;
   try {
     state = starting_state();
@@ -724,7 +758,7 @@ TraceResult RitzTracer::run() {
     result_.summary.message = failure.what();
     return result_;
   }
-  model_.emplace(member_, modes_, state.topology, ritz::Enrichment::load_points);
+  model_.emplace(member_, modes_, state.topology, enrichment_);
   std::optional<PathPoint> start;
   {
     const PathFollower follower = make_follower(*model_);

@@ -62,6 +62,10 @@ namespace liftoff::ritz {
 // solution's natural ones (w'' = 0 at a pinned end, w'' = w''' = 0 at a free end), so that
 // w - c e is as smooth as a solution without the point force and the family converges on it
 // at its smooth-solution rate. e is stored as its two smooth halves, left and right of a.
+// Where the foundation is stiff (beta L of 40, say) the deflection is local while e is not:
+// the smooth amplitudes must cancel e's far field, and Newton stalls on the round-off that
+// leaves (seen at 3e-8). Orthogonalising e against the smooth family moves the cancellation
+// into e's own coefficients instead (measured: worse). So it is not the default.
 enum class Enrichment {
   none,         // the family alone
   load_points,  // beams: plus one kinked function per interior point force (below)
@@ -83,9 +87,7 @@ struct Basis {
 Basis beam_basis(fe::EndSupport left, fe::EndSupport right, double s_begin, double s_end, int modes);
 Basis arch_basis(fe::EndSupport left, fe::EndSupport right, double s_begin, double s_end, int modes);
 // The family of the member's end conditions; with Enrichment::load_points, beams with interior
-// point forces also get the kinked functions (kinked_w). Not the default: where the foundation
-// is stiff (beta L of 40, say) the deflection is local while |s - a|^3 is not, the smooth modes
-// must cancel its far field, and Newton stalls on the round-off that leaves (seen at 3e-8).
+// point forces also get the kinked functions (kinked_w); see above for when not to.
 Basis make_basis(const fe::MemberModel& model, int modes, Enrichment enrichment = Enrichment::none);
 
 }  // namespace liftoff::ritz

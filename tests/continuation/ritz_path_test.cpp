@@ -254,3 +254,38 @@ TEST_CASE("ritz path: live loads alone scale the solution, the topology stays (s
     CHECK(step.monitor_deflection / step.load_factor == Approx(last.monitor_deflection).epsilon(1e-9));
   }
 }
+
+TEST_CASE("ritz path: on a long beam two lift-off zones open together at beta x = pi", "[ritz_path]") {
+  // The classical result (as in tests/verification/classical_test.cpp): a long free-free beam
+  // under its weight q and a central force P lifts off at beta |x - L/2| = pi when
+  // P beta / q = 2 e^pi (the finite length changes this by ~e^(-beta L / 2)). Here beta L = 40,
+  // q = 1 dead, P = lambda live: lambda* = 2 e^pi / beta. No enrichment at this beta L (the
+  // path's rule), so the Ritz error is several 1e-3: the tolerance is the change from N = 64
+  // to N = 128, an upper estimate of the N = 128 error for a monotone modal convergence.
+  const double beta = 40.0, pi = 3.14159265358979323846;
+  scene::Scene s = test::beam_scene(1.0, 1.0, scene::EndSupport::free, scene::EndSupport::free, 4 * std::pow(beta, 4));
+  s.loads = {test::uniform_load(0.0, 1.0, 1.0, scene::LoadCase::dead), test::point_force(0.5, 1.0)};
+  const double exact = 2 * std::exp(pi) / beta;
+  std::vector<TraceEvent> first_events[2];
+  for (int n : {0, 1}) {
+    TraceOptions options;
+    options.lambda_max = 1.5;
+    options.modes = n == 0 ? 64 : 128;
+    options.monitor = 0.5;
+    const TraceResult r = trace_ritz(s, options);
+    INFO(r.summary.message);
+    REQUIRE(r.summary.termination == TraceTermination::completed);
+    REQUIRE(r.events.size() == 2);  // both zones, at one lambda
+    CHECK(r.events[0].kind == EventKind::lift_off_opens);
+    CHECK(r.events[1].kind == EventKind::lift_off_opens);
+    CHECK(r.events[0].load_factor == r.events[1].load_factor);
+    CHECK(std::abs(r.events[0].at + r.events[1].at - 1.0) < 1e-9);  // symmetric about the load
+    REQUIRE(r.steps.back().contact_regions.size() == 3);
+    first_events[n] = r.events;
+  }
+  const double lambda_change = std::abs(first_events[1][0].load_factor - first_events[0][0].load_factor);
+  const double position_change = std::abs(first_events[1][0].at - first_events[0][0].at);
+  CAPTURE(first_events[1][0].load_factor, exact, lambda_change);
+  CHECK(std::abs(first_events[1][0].load_factor - exact) <= lambda_change);
+  CHECK(std::abs(beta * std::abs(first_events[1][0].at - 0.5) - pi) <= beta * position_change);
+}

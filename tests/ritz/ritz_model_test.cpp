@@ -287,9 +287,11 @@ TEST_CASE("ritz model: gradient and Hessian agree with finite differences of the
 
 TEST_CASE("ritz model: the regularised Jacobian agrees with finite differences of the residual", "[ritz][model]") {
   std::mt19937 rng(99);
+  const Enrichment enrichment = GENERATE(Enrichment::none, Enrichment::load_points);
+  CAPTURE(static_cast<int>(enrichment));
   for (const DerivativeCase& c : derivative_cases()) {
     SECTION(c.name) {
-      const RitzModel model(c.member, c.modes, c.topology);
+      const RitzModel model(c.member, c.modes, c.topology, enrichment);
       const double lambda = 0.6;
       const VectorXd x = random_point(model, c.member, rng, lambda);
       const auto residual = [&](const VectorXd& y) {
