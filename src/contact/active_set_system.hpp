@@ -6,7 +6,8 @@
 //   [ K     C_A^T ] [ u   ]   [ F ]
 //   [ C_A  -T_AA  ] [ r_A ] = [ 0 ],   gap_I = T_IA r_A - C_I u.
 // This is the kernel shared by the sparse active-set solver and the parametric FE path: it
-// costs O(n) to factorise for a beam or arch (banded after AMD ordering) and O(n) per solve, so
+// costs O(n) to factorise for a beam or arch (banded after AMD ordering; unknowns numbered
+// along the member) and O(n) per solve, so
 // a contact set that does not change is never refactorised, and every load (dead, live, a
 // correction) is one more solve with the same factors.
 //
@@ -68,11 +69,21 @@ class ActiveSetSystem {
   int size() const { return static_cast<int>(scaled_.rows()); }
 
  private:
+  bool in_system(int slot) const;  // a displacement, or the reaction of a node in contact
+  Eigen::VectorXd unscaled_solve(const Eigen::VectorXd& b) const;  // A^-1 b, by S (S A S)^-1 S
+
   const fe::Discretisation& d_;
   std::vector<bool> in_contact_;
-  fe::SparseMatrix full_;     // equilibrated [K C^T; C -T], every node in contact
-  fe::SparseMatrix scaled_;   // the same pattern, for the current contact set
+  // Unknowns are numbered along the member ("slots"): equation e at slot_[e], reaction i at
+  // slot_[n + i]; reaction_of_slot_ gives the reaction node of a slot, or -1.
+  std::vector<int> slot_;
+  std::vector<int> reaction_of_slot_;
+  fe::SparseMatrix full_;     // [K C^T; C -T] as assembled, every node in contact, in slots
+  fe::SparseMatrix scaled_;   // equilibrated, for the current contact set (same pattern)
   Eigen::VectorXd scaling_;   // S: S A S has unit diagonal
+  // AMD, not the band order of the slots: with the band order the pivot of a free rigid motion
+  // is not at round-off level (a chain of N eliminations amplifies it), so factorise() could not
+  // tell a singular set; AMD costs ~1 s per 1e6 unknowns, once.
   Eigen::SimplicialLDLT<fe::SparseMatrix, Eigen::Lower, Eigen::AMDOrdering<int>> factors_;
   bool analysed_ = false;
   bool factorised_ = false;

@@ -162,7 +162,7 @@ bool solve_bilateral(const Discretisation& d, const VectorXd& load, Unknowns& x,
   if (!factorised) return false;
   ContactState state = system.solve(load);
   summary.error_estimate = state.error_estimate;
-  summary.round_off_bound = system.data_error(state, load);
+  if (state.error_estimate <= acceptable_error) summary.round_off_bound = system.data_error(state, load);
   if (!state.displacement.allFinite() || !state.reaction.allFinite()) return false;
   x.displacement = std::move(state.displacement);
   x.reaction = std::move(state.reaction);

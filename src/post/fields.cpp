@@ -9,9 +9,12 @@ namespace liftoff::post {
 
 using fe::StructureKind;
 
-LocalState evaluate(const fe::Discretisation& d, const Eigen::VectorXd& displacement, int element, double xi) {
+namespace {
+
+// evaluate() with the element's dofs already gathered (sampling calls it many times per element).
+LocalState evaluate_on(const fe::Discretisation& d, const Eigen::VectorXd& displacement, int element,
+                       const std::vector<int>& dofs, double xi) {
   const double h = d.mesh.element_size(element);
-  const std::vector<int> dofs = d.element_dofs(element);
   const fe::HermiteCubic n = fe::hermite_cubic(xi, h);
   Eigen::Vector4d w_dofs;
   for (int j = 0; j < 4; ++j) w_dofs[j] = displacement[dofs[j]];
@@ -31,6 +34,12 @@ LocalState evaluate(const fe::Discretisation& d, const Eigen::VectorXd& displace
   return state;
 }
 
+}  // namespace
+
+LocalState evaluate(const fe::Discretisation& d, const Eigen::VectorXd& displacement, int element, double xi) {
+  return evaluate_on(d, displacement, element, d.element_dofs(element), xi);
+}
+
 double reaction_at(const fe::Discretisation& d, const Eigen::VectorXd& reaction, int element, double xi) {
   // Reaction nodes are consecutive mesh nodes over the foundation's extent.
   if (d.reactions() == 0) return 0.0;
@@ -44,8 +53,17 @@ Fields sample_fields(const fe::MemberModel& model, const fe::Discretisation& d,
                      const contact::ContactSolution& solution, int samples_per_element) {
   Fields f;
   const bool arch = d.kind == StructureKind::arch;
+  const int elements = d.mesh.elements();
+  const std::size_t samples = static_cast<std::size_t>(elements) * samples_per_element + 1;
+  for (std::vector<double>* field : {&f.s, &f.w, &f.rotation, &f.bending_moment, &f.shear_force, &f.reaction})
+    field->reserve(samples);
+  if (arch) {
+    f.u.reserve(samples);
+    f.normal_force.reserve(samples);
+  }
+  std::vector<int> dofs;
   auto add = [&](int element, double xi) {
-    const LocalState x = evaluate(d, solution.displacement, element, xi);
+    const LocalState x = evaluate_on(d, solution.displacement, element, dofs, xi);
     f.s.push_back(d.mesh.nodes[element] + xi * d.mesh.element_size(element));
     f.w.push_back(x.w);
     f.rotation.push_back(arch ? -(x.u + x.dw) : -x.dw);
@@ -57,9 +75,10 @@ Fields sample_fields(const fe::MemberModel& model, const fe::Discretisation& d,
       f.normal_force.push_back(model.membrane_stiffness * (x.du - x.w));
     }
   };
-  const int elements = d.mesh.elements();
-  for (int e = 0; e < elements; ++e)
+  for (int e = 0; e < elements; ++e) {
+    dofs = d.element_dofs(e);  // once per element, not per sample
     for (int i = 0; i < samples_per_element; ++i) add(e, static_cast<double>(i) / samples_per_element);
+  }
   add(elements - 1, 1.0);
   return f;
 }

@@ -186,15 +186,16 @@ TEST_CASE("cli: the Ritz method reports modes, iterations and amplitudes", "[app
   CHECK(j["contact_regions"].size() == 1);
 }
 
-TEST_CASE("cli: --method all runs primal, dual and Ritz side by side", "[app][ritz]") {
+TEST_CASE("cli: --method all runs primal, dual, fast and Ritz side by side", "[app][ritz]") {
   const Run r = run({"solve", scene_path("seed_beam_end_moments_central_load"), "--method", "all", "--elements", "60",
                      "--modes", "16", "--json"});
   REQUIRE(r.status == 0);
   const auto j = nlohmann::json::parse(r.out);
-  REQUIRE(j["methods"].size() == 3);
+  REQUIRE(j["methods"].size() == 4);
   CHECK(j["methods"][0]["method"] == "primal");
   CHECK(j["methods"][1]["method"] == "dual");
-  CHECK(j["methods"][2]["method"] == "ritz");
+  CHECK(j["methods"][2]["method"] == "fast");
+  CHECK(j["methods"][3]["method"] == "ritz");
   const Run text = run({"solve", scene_path("seed_beam_end_moments_central_load"), "--method", "all", "--elements",
                         "60", "--modes", "16"});
   CHECK_THAT(text.out, Catch::Matchers::Contains("contact 2 begin"));
@@ -206,7 +207,8 @@ TEST_CASE("cli: --method all runs primal, dual and Ritz side by side", "[app][ri
   CHECK(free.status == 0);
   const auto f = nlohmann::json::parse(free.out);
   CHECK(f["methods"][1]["termination"] == "refused");
-  CHECK(f["methods"][2]["termination"] == "converged");
+  CHECK(f["methods"][2]["termination"] == "solved");
+  CHECK(f["methods"][3]["termination"] == "converged");
 }
 
 TEST_CASE("cli: the Ritz method refuses interior point supports, exit 2", "[app][ritz]") {

@@ -68,9 +68,9 @@ TEST_CASE("sweep: the command writes the CSV and an HDF5 file with every case", 
   CHECK(header == "foundation.k,method,termination,contact_regions,w_max,w_min,max_reaction,iterations,time_s");
   int rows = 0;
   while (std::getline(in, line)) ++rows;
-  CHECK(rows == 6);  // two cases, three methods each
+  CHECK(rows == 8);  // two cases, four methods each
   const std::string script = "import h5py,sys; f=h5py.File(sys.argv[1]); "
-                             "assert sorted(f['cases']['0001'].keys())==['dual','primal','ritz']; "
+                             "assert sorted(f['cases']['0001'].keys())==['dual','fast','primal','ritz']; "
                              "assert f['cases/0001/ritz/fields/w'].shape[0] > 100; "
                              "assert f.attrs['keys']=='foundation.k'";
   CHECK(std::system(("/usr/bin/python3 -c \"" + script + "\" " + h5).c_str()) == 0);

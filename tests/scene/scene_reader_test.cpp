@@ -339,7 +339,7 @@ TEST_CASE("an unknown value of a choice is refused", "[scene][errors]") {
   CHECK(error_of(edited(beam_scene, "kind = \"beam\"", "kind = \"plate\"")) ==
         R"(scene.toml:2: key 'structure.kind': expected "beam" or "arch", got "plate")");
   CHECK(error_of(beam_scene + "[solve]\nmethod = \"fastest\"\n") ==
-        R"(scene.toml:18: key 'solve.method': expected "dual", "primal", "auto", "ritz" or "all", got "fastest")");
+        R"(scene.toml:18: key 'solve.method': expected "dual", "primal", "fast", "auto", "ritz" or "all", got "fastest")");
   CHECK(error_of(edited(beam_scene, "kind = \"force\"", "kind = \"torque\"")) ==
         R"(scene.toml:14: key 'loads[0].kind': expected "force", "moment" or "uniform", got "torque")");
   CHECK(error_of(edited(beam_scene, "value = 1.0", "value = 1.0\ncase = \"permanent\"")) ==
