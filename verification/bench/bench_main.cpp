@@ -438,18 +438,21 @@ void scaling_section(const Options& o, const fs::path& scratch) {
       std::fflush(stdout);
     }
   }
-  std::printf("\n  fitted exponents (least squares on log-log, points with N >= 1000, whole-process wall time; memory):\n");
+  // Fitted on the larger half of each method's sizes (at least two): the small ones measure
+  // the process start-up more than the method.
+  std::printf("\n  fitted exponents (least squares on log-log over the larger half of the sizes; whole-process wall "
+              "time, peak memory):\n");
   for (const Series& s : series) {
-    std::vector<double> n, t, m;
+    std::vector<const ScalingRow*> mine;
     for (const ScalingRow& r : rows)
-      if (r.method == s.label && r.elements >= 1000) n.push_back(r.elements), t.push_back(r.wall_s), m.push_back(r.peak_rss_mb);
-    if (n.size() < 2) {
-      n.clear(), t.clear(), m.clear();
-      for (const ScalingRow& r : rows)
-        if (r.method == s.label) n.push_back(r.elements), t.push_back(r.wall_s), m.push_back(r.peak_rss_mb);
-    }
-    std::printf("  %-9s time ~ N^%.2f, peak memory ~ N^%.2f (over %zu sizes from %d)\n", s.label.c_str(),
-                bench::fitted_exponent(n, t), bench::fitted_exponent(n, m), n.size(), n.empty() ? 0 : int(n.front()));
+      if (r.method == s.label) mine.push_back(&r);
+    const std::size_t first = mine.size() >= 4 ? mine.size() / 2 : 0;
+    std::vector<double> n, t, m;
+    for (std::size_t i = first; i < mine.size(); ++i)
+      n.push_back(mine[i]->elements), t.push_back(mine[i]->wall_s), m.push_back(mine[i]->peak_rss_mb);
+    std::printf("  %-9s time ~ N^%.2f, peak memory ~ N^%.2f (%zu sizes, %d to %d elements)\n", s.label.c_str(),
+                bench::fitted_exponent(n, t), bench::fitted_exponent(n, m), n.size(), n.empty() ? 0 : int(n.front()),
+                n.empty() ? 0 : int(n.back()));
   }
   std::ofstream csv(fs::path(o.out) / "scaling.csv");
   csv << "method,elements,exit_code,wall_s,solver_s,peak_rss_mb\n";
