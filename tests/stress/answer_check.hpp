@@ -106,6 +106,8 @@ inline AnswerCheck check_answer(const fe::Discretisation& d, const contact::Cont
   const double force_scale = std::max({f.lpNorm<Eigen::Infinity>(), ku.lpNorm<Eigen::Infinity>(),
                                        ctr.lpNorm<Eigen::Infinity>(), std::numeric_limits<double>::min()});
   c.equilibrium = eq.lpNorm<Eigen::Infinity>() / force_scale;
+  // A row where every magnitude is (nearly) zero would have no floor at all: it gets a thousandth
+  // of the largest row's, so that exact zeros are not divided by zero.
   const double eq_floor_scale = gamma * eq_magnitude.lpNorm<Eigen::Infinity>();
   c.equilibrium_floor = eq_floor_scale / force_scale;
   for (int i = 0; i < eq.size(); ++i)

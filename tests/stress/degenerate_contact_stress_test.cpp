@@ -232,7 +232,7 @@ at = 0.5
 value = -1.0
 )";
   const std::string path = scene_file.string();
-  std::vector<const char*> argv = {"liftoff", "solve", path.c_str(), "--method", "primal"};
+  std::vector<const char*> argv = {"liftoff", "solve", path.c_str(), "--method", "primal", "--elements", "40"};
   std::ostringstream out, err;
   const int status = app::run_cli(static_cast<int>(argv.size()), argv.data(), out, err);
   fs::remove(scene_file);

@@ -304,7 +304,7 @@ std::vector<Point> accuracy_section(const Options& o, const fs::path& scratch) {
   std::vector<Point> points;
   const std::vector<int> dual_sizes = o.full ? std::vector<int>{25, 50, 100, 200, 400, 800, 1600}
                                              : std::vector<int>{25, 50, 100, 200, 400, 800};
-  const std::vector<int> primal_sizes = o.full ? std::vector<int>{25, 50, 100, 200, 400} : std::vector<int>{25, 50, 100, 200};
+  const std::vector<int> primal_sizes = o.full ? std::vector<int>{25, 50, 100, 200} : std::vector<int>{25, 50, 100};
   const std::vector<int> fast_sizes = o.full ? std::vector<int>{25, 50, 100, 200, 400, 800, 1600, 3200, 6400, 12800, 25600, 51200, 102400}
                                              : std::vector<int>{25, 50, 100, 200, 400, 800, 1600, 3200, 6400, 12800};
   const std::vector<int> modes = o.full ? std::vector<int>{4, 8, 16, 32, 64, 128, 256} : std::vector<int>{4, 8, 16, 32, 64, 128};
@@ -337,13 +337,16 @@ std::vector<Point> accuracy_section(const Options& o, const fs::path& scratch) {
 
 // Time for a method to reach a contact-limit error (log-log interpolation between its points,
 // in order of size). NaN if never reached.
-double time_to_error(const std::vector<Point>& points, const std::string& scene, const std::string& method, double target) {
+double time_to_error(const std::vector<Point>& points, const std::string& scene, const std::string& method, double target,
+                     bool bracketed_only = false) {
   std::vector<double> errors, times;
   for (const Point& p : points)
     if (p.scene == scene && p.method == method && std::isfinite(p.limit_error) && p.timing.median_s > 0) {
       errors.push_back(std::max(p.limit_error, 1e-300));
       times.push_back(p.timing.median_s);
     }
+  // The coarsest point already below the target gives only an upper bound on the time.
+  if (bracketed_only && (errors.empty() || errors.front() <= target)) return NAN;
   return bench::interpolate_loglog(errors, times, target);
 }
 
@@ -397,8 +400,10 @@ std::string bilateral_scene(const Options& o, const fs::path& scratch, const std
 
 void scaling_section(const Options& o, const fs::path& scratch) {
   const int largest = o.max_elements > 0 ? o.max_elements : (o.full ? 1'000'000 : 100'000);
-  std::vector<int> sizes;
-  for (double n = 100; n <= largest * 1.0001; n *= std::sqrt(10.0)) sizes.push_back(static_cast<int>(std::lround(n / 10) * 10));
+  std::vector<int> sizes;  // 1, 2, 5 per decade
+  for (int decade = 100; decade <= largest; decade *= 10)
+    for (int step : {1, 2, 5})
+      if (decade * step <= largest) sizes.push_back(decade * step);
   const std::string tensionless = scene_path(o, "seed_beam_end_moments");
   const std::string bilateral = bilateral_scene(o, scratch, "seed_beam_end_moments");
   struct Series {
@@ -407,8 +412,9 @@ void scaling_section(const Options& o, const fs::path& scratch) {
   };
   // Dense methods stop where their matrices stop fitting a shared machine: the dual LCP holds
   // about 24 N^2 bytes (P and K^-1 C^T), the primal 200 N^2 (its 5N x 5N matrix).
-  std::vector<Series> series = {{"dual", "dual", tensionless, o.full ? 4000 : 2000},
-                                {"primal", "primal", tensionless, o.full ? 800 : 400},
+  // The primal's Lemke also takes time ~N^4 (43 s at 320 elements on the reference machine).
+  std::vector<Series> series = {{"dual", "dual", tensionless, o.full ? 5000 : 2000},
+                                {"primal", "primal", tensionless, o.full ? 500 : 200},
                                 {"bilateral", "dual", bilateral, largest}};
   if (fast_method())
     series.push_back({"fast", "fast", tensionless, largest});
@@ -421,7 +427,10 @@ void scaling_section(const Options& o, const fs::path& scratch) {
   for (const Series& s : series) {
     for (int n : sizes) {
       if (n > s.largest) break;
-      const int repeats = n >= 1'000'000 ? 1 : (n >= 100'000 ? std::max(1, o.repeats / 2) : o.repeats);
+      const bool dense = s.label == "dual" || s.label == "primal";
+      const int repeats = (n >= 1'000'000 || (dense && n >= 1000)) ? 1
+                          : n >= 100'000                           ? std::max(1, o.repeats / 2)
+                                                                   : o.repeats;
       const ScalingRow row = spawn_solve(o, s.scene, s.method, s.label, n, repeats);
       rows.push_back(row);
       std::printf("  %-9s %8d %5d %11.4f %11.4f %10.1f\n", row.method.c_str(), row.elements, row.exit_code, row.wall_s,
@@ -429,18 +438,21 @@ void scaling_section(const Options& o, const fs::path& scratch) {
       std::fflush(stdout);
     }
   }
-  std::printf("\n  fitted exponents (least squares on log-log, points with N >= 1000, whole-process wall time; memory):\n");
+  // Fitted on the larger half of each method's sizes (at least two): the small ones measure
+  // the process start-up more than the method.
+  std::printf("\n  fitted exponents (least squares on log-log over the larger half of the sizes; whole-process wall "
+              "time, peak memory):\n");
   for (const Series& s : series) {
-    std::vector<double> n, t, m;
+    std::vector<const ScalingRow*> mine;
     for (const ScalingRow& r : rows)
-      if (r.method == s.label && r.elements >= 1000) n.push_back(r.elements), t.push_back(r.wall_s), m.push_back(r.peak_rss_mb);
-    if (n.size() < 2) {
-      n.clear(), t.clear(), m.clear();
-      for (const ScalingRow& r : rows)
-        if (r.method == s.label) n.push_back(r.elements), t.push_back(r.wall_s), m.push_back(r.peak_rss_mb);
-    }
-    std::printf("  %-9s time ~ N^%.2f, peak memory ~ N^%.2f (over %zu sizes from %d)\n", s.label.c_str(),
-                bench::fitted_exponent(n, t), bench::fitted_exponent(n, m), n.size(), n.empty() ? 0 : int(n.front()));
+      if (r.method == s.label) mine.push_back(&r);
+    const std::size_t first = mine.size() >= 4 ? mine.size() / 2 : 0;
+    std::vector<double> n, t, m;
+    for (std::size_t i = first; i < mine.size(); ++i)
+      n.push_back(mine[i]->elements), t.push_back(mine[i]->wall_s), m.push_back(mine[i]->peak_rss_mb);
+    std::printf("  %-9s time ~ N^%.2f, peak memory ~ N^%.2f (%zu sizes, %d to %d elements)\n", s.label.c_str(),
+                bench::fitted_exponent(n, t), bench::fitted_exponent(n, m), n.size(), n.empty() ? 0 : int(n.front()),
+                n.empty() ? 0 : int(n.back()));
   }
   std::ofstream csv(fs::path(o.out) / "scaling.csv");
   csv << "method,elements,exit_code,wall_s,solver_s,peak_rss_mb\n";
@@ -535,7 +547,7 @@ void ratios_section(const Options& o, const fs::path& scratch, const std::vector
     for (const Point& p : accuracy) {
       if (p.scene != name || p.method != "ritz" || !std::isfinite(p.limit_error)) continue;
       for (const std::string fe_method : {"dual", "fast"}) {
-        const double t_fe = time_to_error(accuracy, name, fe_method, p.limit_error);
+        const double t_fe = time_to_error(accuracy, name, fe_method, p.limit_error, /*bracketed_only=*/true);
         if (!std::isfinite(t_fe)) continue;
         ratios.push_back({fmt::format("{} / Ritz at equal limit error {:.1e} L ({}, {} modes)", fe_method, p.limit_error,
                                       name, p.size),
@@ -559,9 +571,9 @@ void ratios_section(const Options& o, const fs::path& scratch, const std::vector
                         "target >= 1000"});
   }
 
-  std::printf("\n  %-80s %12s %12s %10s  %s\n", "ratio", "numerator s", "denom. s", "ratio", "note");
+  std::printf("\n  %-96s %11s %11s %9s  %s\n", "ratio", "numer. s", "denom. s", "ratio", "note");
   for (const Ratio& r : ratios)
-    std::printf("  %-80s %12.4e %12.4e %10.3g  %s\n", r.name.c_str(), r.numerator_s, r.denominator_s, r.value(),
+    std::printf("  %-96s %11.4e %11.4e %9.3g  %s\n", r.name.c_str(), r.numerator_s, r.denominator_s, r.value(),
                 r.note.c_str());
   std::ofstream csv(fs::path(o.out) / "ratios.csv");
   csv << "ratio,numerator_s,denominator_s,value,note\n";

@@ -27,7 +27,8 @@ struct ProcessRun {
   std::string out;        // its stdout
 };
 
-// Spawns argv[0] with the arguments (no shell), captures stdout, waits with wait4.
+// Spawns argv[0] with the arguments (no shell), captures stdout (stderr is discarded), waits
+// with wait4.
 ProcessRun run_process(const std::vector<std::string>& argv);
 
 // Least-squares slope of log(y) against log(x): the exponent p of y ~ C x^p. NaN for fewer than
