@@ -531,7 +531,7 @@ TraceSettings read_trace(const Section& s, const Member& member) {
   trace.lambda_min = s.number("lambda_min", any_number()).value_or(trace.lambda_min);
   const Range above_min{fmt::format("a number > lambda_min = {}", trace.lambda_min), trace.lambda_min, inf, true};
   trace.lambda_max = s.number("lambda_max", above_min);
-  trace.method = s.choice("method", {Method::dual, Method::primal, Method::automatic, Method::ritz, Method::all});
+  trace.method = s.choice("method", {Method::dual, Method::primal, Method::fast, Method::automatic, Method::ritz, Method::all});
   trace.control = s.choice("control", {TraceControl::arc_length, TraceControl::load}).value_or(trace.control);
   trace.max_step = s.number("max_step", positive()).value_or(trace.max_step);
   const Range up_to_max{fmt::format("a number in (0, max_step = {}]", trace.max_step), 0.0, trace.max_step, true};
