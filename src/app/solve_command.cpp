@@ -90,8 +90,9 @@ StartingPoint ritz_starting_point(const scene::Scene& scene, const fe::MemberMod
   if (!scene.ritz.topology.empty()) {
     start.topology = {scene.ritz.topology.front(), static_cast<int>(scene.ritz.topology.size()) - 1};
     for (double limit : scene.ritz.limits) start.limits.push_back(model.s_from_user(limit));
-    for (int m = 0; start.limits.empty() && m < start.topology.limits; ++m)  // evenly spaced guesses
-      start.limits.push_back(begin + (end - begin) * (m + 1) / (start.topology.limits + 1));
+    if (start.limits.empty())  // evenly spaced guesses
+      for (int m = 0; m < start.topology.limits; ++m)
+        start.limits.push_back(begin + (end - begin) * (m + 1) / (start.topology.limits + 1));
     if (static_cast<int>(start.limits.size()) != start.topology.limits) start.limits.clear();
     start.how = "topology from the scene";
     return start;
