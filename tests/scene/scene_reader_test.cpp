@@ -574,7 +574,7 @@ TEST_CASE("a bad [trace] value is refused with file, line and key", "[scene][tra
   CHECK(error_of(trace("lambda_max = \"big\"\n")) ==
         R"(scene.toml:18: key 'trace.lambda_max': expected a number > lambda_min = 0, got "big")");
   CHECK(error_of(trace("lambda_max = 1\nmethod = \"fastest\"\n")) ==
-        R"(scene.toml:19: key 'trace.method': expected "dual", "primal", "auto", "ritz" or "all", got "fastest")");
+        R"(scene.toml:19: key 'trace.method': expected "dual", "primal", "fast", "auto", "ritz" or "all", got "fastest")");
   CHECK(error_of(trace("lambda_max = 1\ncontrol = \"arclength\"\n")) ==
         R"(scene.toml:19: key 'trace.control': expected "arc_length" or "load", got "arclength")");
   CHECK(error_of(trace("lambda_max = 1\nmax_step = 0.1\ninitial_step = 0.2\n")) ==
