@@ -49,8 +49,11 @@ struct TraceStep {
   std::vector<double> deflection;    // w at TraceOptions::sample_points (user length units)
   std::vector<double> reaction;      // foundation reaction there (force per length, compression > 0)
   int iterations = 0;                // corrector iterations (Ritz) or pivots (FE) since the last step
-  // What a resumed trace needs to continue from this step without redoing anything: Ritz: the
-  // topology ("first_in_contact limits") and the unknowns (amplitudes, limits); FE: empty.
+  // What a resumed trace needs to continue from this step without redoing anything, opaque to
+  // everything but the path that wrote it. Ritz: the topology ("first_in_contact limits modes",
+  // plus " event dir delta" at a switching event) and (unknowns, tangent, next step length), so
+  // a resumed run takes the same steps; FE: "fe contact set" and one 0/1 per reaction node, so
+  // it restarts without Lemke.
   std::string state_topology;
   std::vector<double> state;
 };
@@ -71,7 +74,8 @@ struct TraceOptions {
   double monitor = 0.0;            // user coordinate of the load-displacement curve's w
   std::vector<double> sample_points;  // user coordinates at which w and r are recorded
   // Resume after this step (read back from an interrupted trace's file): the path restarts
-  // from its lambda and state, and the steps/events already written are not reported again.
+  // from its lambda and state. It reports neither that step nor any event at or below its
+  // lambda again: they are in the file already.
   std::optional<TraceStep> resume_from;
 };
 
