@@ -48,7 +48,7 @@ namespace {
 // as a solution: at 1e-6 the contact limits are already uncertain to a fraction of an element.
 constexpr double acceptable_residual = 1e-6;
 // Likewise for the relative error iterative refinement leaves in u and r (sparse solves): above
-// it the factorisation no longer solves the stored system (beyond ~5e4 elements for a beam).
+// it the factorisation no longer solves the stored system (from ~1e4 elements for a beam).
 constexpr double acceptable_error = 1e-6;
 
 // Solution on the equations, before expansion to every dof.
