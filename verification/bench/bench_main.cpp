@@ -508,8 +508,9 @@ void ratios_section(const Options& o, const fs::path& scratch, const std::vector
                 "factorisation + solve %.4f s\n",
                 n, bench::median(floor_wall), floor_wall.size(), floor_exit, in_process.median_s);
     if (floor_exit != 0)
-      std::printf("    (exit %d: `liftoff solve` refuses the bilateral answer at this size: its SparseLU solve of the "
-                  "unscaled saddle-point system loses the 1e-6 residual; the time is still one factorisation and solve)\n",
+      std::printf("    (exit %d: `liftoff solve` refuses the bilateral answer at this size: round-off in the "
+                  "assembled stiffness (cond ~ N^4) leaves iterative refinement unsettled; the time is still one "
+                  "factorisation and solve)\n",
                   floor_exit);
     if (fast) {
       ratios.push_back({"fast / bilateral floor, 1e5 elements, whole process", bench::median(fast_wall),
