@@ -13,7 +13,8 @@
 //    per lift-off piece: minus the largest interior maximum (contact_opens);
 //  - at a foundation end that is no limit: w there (free end), +-w' (pinned end: w = 0), w''
 //    (clamped end), signed so that it is > 0 while the end piece keeps its state: a new zone
-//    opening at the end (lift_off_opens or contact_opens, at the end);
+//    opening at the end, a limit leaving it (limit_at_end, or limit_at_support at a supported
+//    end, as the FE path names a piece opening or closing at an end);
 //  - per piece between two limits: its length (region_vanishes, lift_off_vanishes); per end
 //    piece: its length (limit_at_end, or limit_at_support at a supported end);
 //  - per limit and load point: t - a (limit_at_load; recorded, no switch).
@@ -70,6 +71,8 @@ struct EventSpec {
   EventFunction function;
   EventKind kind;
   int piece = 0;        // interior_extreme, length; end_value: 0 (begin) or last piece (end)
+  bool far_end = false;  // end_value: the foundation's end (true) or its begin; with one piece
+                         // both ends are piece 0, so the piece cannot tell them apart
   int limit = 0;        // limit_at_load
   double position = 0;  // limit_at_load: the load's s
 };
@@ -335,20 +338,18 @@ std::vector<EventSpec> RitzTracer::event_specs(const RitzModel& model) const {
   bool contact = model.topology().first_in_contact;
   for (int p = 0; p < pieces; ++p, contact = !contact) {
     specs.push_back({EventFunction::interior_extreme,
-                     contact ? EventKind::lift_off_opens : EventKind::contact_opens, p, 0, 0});
+                     contact ? EventKind::lift_off_opens : EventKind::contact_opens, p, false, 0, 0});
     if (pieces > 1) {
       EventKind kind = contact ? EventKind::region_vanishes : EventKind::lift_off_vanishes;
       if (p == 0 || p == pieces - 1)
         kind = end_supported(p == 0) ? EventKind::limit_at_support : EventKind::limit_at_end;
-      specs.push_back({EventFunction::length, kind, p, 0, 0});
+      specs.push_back({EventFunction::length, kind, p, false, 0, 0});
     }
   }
   // Openings at the foundation's ends (member_ tells which end condition holds w there).
-  const bool last_contact = model.topology().first_in_contact == (model.limits() % 2 == 0);
-  specs.push_back({EventFunction::end_value,
-                   model.topology().first_in_contact ? EventKind::lift_off_opens : EventKind::contact_opens, 0, 0, 0});
-  specs.push_back({EventFunction::end_value, last_contact ? EventKind::lift_off_opens : EventKind::contact_opens,
-                   pieces - 1, 0, 0});
+  const auto end_kind = [&](bool begin) { return end_supported(begin) ? EventKind::limit_at_support : EventKind::limit_at_end; };
+  specs.push_back({EventFunction::end_value, end_kind(true), 0, false, 0, 0});
+  specs.push_back({EventFunction::end_value, end_kind(false), pieces - 1, true, 0, 0});
   // Limits passing load points.
   std::vector<double> points;
   for (const fe::MemberLoad& load : member_.loads) {
@@ -358,7 +359,7 @@ std::vector<EventSpec> RitzTracer::event_specs(const RitzModel& model) const {
   std::sort(points.begin(), points.end());
   points.erase(std::unique(points.begin(), points.end()), points.end());
   for (int m = 0; m < model.limits(); ++m)
-    for (double a : points) specs.push_back({EventFunction::limit_at_load, EventKind::limit_at_load, 0, m, a});
+    for (double a : points) specs.push_back({EventFunction::limit_at_load, EventKind::limit_at_load, 0, false, m, a});
   return specs;
 }
 
@@ -422,7 +423,7 @@ EventValue RitzTracer::event_value(const RitzModel& model, const VectorXd& x, co
       return extreme(model, x, p.begin, p.end, p.in_contact);
     }
     case EventFunction::end_value: {
-      const bool left = spec.piece == 0;
+      const bool left = !spec.far_end;
       const ritz::Piece& p = pieces[spec.piece];
       const double s = left ? member_.foundation_begin : member_.foundation_end;
       double value = model.w(x, s);
@@ -640,8 +641,8 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
         break;
       }
       case EventFunction::end_value:
-        openings.emplace_back(event_value(old, at.x, spec).at, spec.piece == 0 ? 0 : 2);
-        if (spec.piece == 0) flip_first = !flip_first;
+        openings.emplace_back(event_value(old, at.x, spec).at, spec.far_end ? 2 : 0);
+        if (!spec.far_end) flip_first = !flip_first;
         break;
       case EventFunction::limit_at_load: break;
     }
@@ -682,7 +683,11 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
       base = *past.point;
       const std::vector<ritz::Piece> pieces = old.pieces(base.x);
       for (auto [s, where] : openings) {
-        const double w0 = old.w(base.x, s);
+        // The new zone's sign: w's at an interior opening point; at an end, the opposite of the
+        // end piece's state (w there is 0 at a supported end, and its sign noise: a scan keyed
+        // on it stops at once and Newton settles on a zone of no width).
+        const ritz::Piece& end_piece = where == 0 ? pieces.front() : pieces.back();
+        const double w0 = where == 1 ? old.w(base.x, s) : (end_piece.in_contact ? -1.0 : 1.0);
         const auto root = [&](double from, double to) {  // bisection on w
           double a = from, b = to, fa = old.w(base.x, a);
           for (int k = 0; k < 200 && std::abs(b - a) > 1e-15 * member_.length(); ++k) {
