@@ -226,6 +226,31 @@ TEST_CASE("simply_supported_end_moments: the limits leave both supports and the 
   const double exact = -slope_dead / slope_live;
   CHECK(g.ritz.events[g.ritz_index[0]].load_factor == Approx(exact).epsilon(1e-8));
   CHECK(std::abs(g.fe.events[0].load_factor - exact) <= g.fe_error[0]);
+
+  // The second: one region [t, 6], its slope at the pinned end x = 6 changes sign (secant on
+  // it, the tensionless closed form started from the FE path's region before the event).
+  std::vector<closed_form::Interval> regions;
+  for (const auto& step : g.fe.steps)
+    if (step.load_factor < g.fe.events[1].load_factor - 0.01 && step.contact_regions.size() == 1)
+      regions = {{step.contact_regions[0][0], s.structure.length}};
+  REQUIRE(regions.size() == 1);
+  const auto slope_end = [&](double lambda) {
+    const auto r = closed_form::solve_tensionless(loads_of(s, lambda), regions);
+    REQUIRE(r.residual <= 1e-12);
+    REQUIRE(r.limits.size() == 1);
+    return r.solution.slope(s.structure.length);
+  };
+  double l0 = g.fe.events[1].load_factor - 0.01, l1 = g.fe.events[1].load_factor - 0.005;
+  double f0 = slope_end(l0), f1 = slope_end(l1);
+  for (int k = 0; k < 50 && std::abs(l1 - l0) > 1e-14 * l1; ++k) {
+    const double l2 = l1 - f1 * (l1 - l0) / (f1 - f0);
+    l0 = l1, f0 = f1;
+    l1 = l2, f1 = slope_end(l1);
+  }
+  INFO("second event: closed form " << l1 << ", FE " << g.fe.events[1].load_factor << ", Ritz "
+                                    << g.ritz.events[g.ritz_index[1]].load_factor);
+  CHECK(std::abs(g.fe.events[1].load_factor - l1) <= g.fe_error[1]);
+  CHECK(std::abs(g.ritz.events[g.ritz_index[1]].load_factor - l1) <= g.ritz_error[1]);
 }
 
 TEST_CASE("region_split: the split and the limits reaching the free ends at one load on both paths",
