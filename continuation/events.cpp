@@ -146,7 +146,8 @@ ContactTopology contact_topology(const fe::MemberModel& model, const fe::Discret
   };
   const double end_tol = 1e-12 * model.length();
   if (points.begin_supported && std::abs(samples.front().s - points.begin) <= end_tol)
-    samples.front().w = leading_term(element_dofs[samples.front().element], d.mesh.element_size(samples.front().element), true);
+    samples.front().w =
+        leading_term(element_dofs[samples.front().element], d.mesh.element_size(samples.front().element), true);
   if (points.end_supported && std::abs(samples.back().s - points.end) <= end_tol)
     samples.back().w = leading_term(element_dofs[last], h_last, false);
 

@@ -70,11 +70,11 @@ enum class EventFunction { interior_extreme, end_value, length, limit_at_load };
 struct EventSpec {
   EventFunction function;
   EventKind kind;
-  int piece = 0;        // interior_extreme, length; end_value: 0 (begin) or last piece (end)
+  int piece = 0;         // interior_extreme, length; end_value: 0 (begin) or last piece (end)
   bool far_end = false;  // end_value: the foundation's end (true) or its begin; with one piece
                          // both ends are piece 0, so the piece cannot tell them apart
-  int limit = 0;        // limit_at_load
-  double position = 0;  // limit_at_load: the load's s
+  int limit = 0;         // limit_at_load
+  double position = 0;   // limit_at_load: the load's s
 };
 
 struct EventValue {
@@ -347,7 +347,9 @@ std::vector<EventSpec> RitzTracer::event_specs(const RitzModel& model) const {
     }
   }
   // Openings at the foundation's ends (member_ tells which end condition holds w there).
-  const auto end_kind = [&](bool begin) { return end_supported(begin) ? EventKind::limit_at_support : EventKind::limit_at_end; };
+  const auto end_kind = [&](bool begin) {
+    return end_supported(begin) ? EventKind::limit_at_support : EventKind::limit_at_end;
+  };
   specs.push_back({EventFunction::end_value, end_kind(true), 0, false, 0, 0});
   specs.push_back({EventFunction::end_value, end_kind(false), pieces - 1, true, 0, 0});
   // Limits passing load points.

@@ -22,7 +22,6 @@
 // at or below 800 elements.
 
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <string>
 #include <vector>
@@ -111,8 +110,7 @@ Agreement check_agreement(const std::string& name) {
   const std::vector<int> fewer_index = match(g.ritz.events, fewer.events, 0.01 * length);
   for (std::size_t i = 0; i < g.fe.events.size(); ++i) {
     const TraceEvent& e = g.fe.events[i];
-    INFO("FE event " << i << ": " << continuation::to_string(e.kind) << " at " << e.at << ", lambda "
-                     << e.load_factor);
+    INFO("FE event " << i << ": " << continuation::to_string(e.kind) << " at " << e.at << ", lambda " << e.load_factor);
     REQUIRE(g.ritz_index[i] >= 0);
     REQUIRE(errors.events[i].load_factor_error >= 0.0);  // matched in the refined run
     const int r = g.ritz_index[i];
@@ -130,8 +128,7 @@ Agreement check_agreement(const std::string& name) {
     for (std::size_t j = i + 1; j < g.fe.events.size(); ++j) {
       const double gap = g.fe.events[j].load_factor - g.fe.events[i].load_factor;
       const double blur = g.fe_error[i] + g.fe_error[j] + g.ritz_error[i] + g.ritz_error[j];
-      if (gap > blur)
-        CHECK(g.ritz.events[g.ritz_index[j]].load_factor > g.ritz.events[g.ritz_index[i]].load_factor);
+      if (gap > blur) CHECK(g.ritz.events[g.ritz_index[j]].load_factor > g.ritz.events[g.ritz_index[i]].load_factor);
     }
   return g;
 }
@@ -145,7 +142,8 @@ closed_form::BeamProblem beam_of(const scene::Scene& s) {
   closed_form::BeamProblem p;
   p.length = s.structure.length;
   p.bending_stiffness = s.structure.bending_stiffness;
-  p.foundation_modulus = *s.foundation.stiffness_parameter * p.bending_stiffness / std::pow(p.length, 4);  // k = K L^4/EI
+  p.foundation_modulus =
+      *s.foundation.stiffness_parameter * p.bending_stiffness / std::pow(p.length, 4);  // k = K L^4/EI
   auto end = [](scene::EndSupport e) {
     return e == scene::EndSupport::free     ? closed_form::EndCondition::free
            : e == scene::EndSupport::pinned ? closed_form::EndCondition::pinned
@@ -161,8 +159,12 @@ void add_loads(closed_form::BeamProblem& p, const scene::Scene& s, scene::LoadCa
   for (const scene::Load& load : s.loads) {
     if (load.load_case != which) continue;
     switch (load.kind) {
-      case scene::LoadKind::force: p.forces.push_back({load.at, factor * load.value}); break;
-      case scene::LoadKind::moment: p.moments.push_back({load.at, factor * load.value}); break;
+      case scene::LoadKind::force:
+        p.forces.push_back({load.at, factor * load.value});
+        break;
+      case scene::LoadKind::moment:
+        p.moments.push_back({load.at, factor * load.value});
+        break;
       case scene::LoadKind::uniform:
         p.uniform_loads.push_back({load.from, load.to, factor * load.value});
         break;
@@ -208,9 +210,10 @@ TEST_CASE("free_free_uplift: both paths open the central zone at one load, the c
   CHECK(std::abs(l400 - exact) < std::abs(l200 - exact));
 }
 
-TEST_CASE("simply_supported_end_moments: the limits leave both supports and the region vanishes at one load on both "
-          "paths",
-          "[continuation][agreement]") {
+TEST_CASE(
+    "simply_supported_end_moments: the limits leave both supports and the region vanishes at one load on both "
+    "paths",
+    "[continuation][agreement]") {
   const Agreement g = check_agreement("simply_supported_end_moments");
   REQUIRE(g.fe.events.size() == 3);
   CHECK(g.fe.events[0].kind == EventKind::limit_at_support);
