@@ -128,7 +128,8 @@ class RitzTracer {
   double w_scale(const RitzModel& model, const VectorXd& x) const;
   void record_step(const RitzModel& model, const PathPoint& point, int iterations, double next_step,
                    const std::optional<Opening>& at_event = std::nullopt);
-  std::vector<EventSpec> without_degenerate_openings(const RitzModel& model, std::vector<EventSpec> events) const;
+  std::vector<EventSpec> without_degenerate_openings(const RitzModel& model, const VectorXd& x,
+                                                     std::vector<EventSpec> events) const;
   void record_event(double lambda, EventKind kind, double s, std::string description);
   std::string topology_text(const Topology& t) const {
     return fmt::format("{} {} {}", t.first_in_contact ? 1 : 0, t.limits, modes_);
@@ -463,9 +464,28 @@ double RitzTracer::w_scale(const RitzModel& model, const VectorXd& x) const {
 
 // --------------------------------------------------------------------------------------------
 // A vanishing piece takes the events of its own degeneracy along (at a shrinking end piece, w
-// at the end and the piece's extreme reach zero too): those are no openings.
-std::vector<EventSpec> RitzTracer::without_degenerate_openings(const RitzModel& model,
+// at the end and the piece's extreme reach zero too): those are no openings. And w at an end
+// reaching zero while the end piece is all but gone (shorter than 1e-5 of the member, far
+// below what N modes resolve) is that piece vanishing, seen a little early through round-off
+// (region_split at 40 modes: w(0) = 0 with the limit 4e-7 L from it, and a contact zone was
+// opened at x = 0 instead of the limit removed): its length event replaces the opening.
+std::vector<EventSpec> RitzTracer::without_degenerate_openings(const RitzModel& model, const VectorXd& x,
                                                                std::vector<EventSpec> events) const {
+  const std::vector<ritz::Piece> pieces = model.pieces(x);
+  for (EventSpec& spec : events) {
+    if (spec.function != EventFunction::end_value || pieces.size() < 2) continue;
+    const ritz::Piece& piece = pieces[spec.piece];
+    if (piece.end - piece.begin > 1e-5 * member_.length()) continue;
+    for (const EventSpec& length : event_specs(model))
+      if (length.function == EventFunction::length && length.piece == spec.piece) spec = length;
+  }
+  const auto same = [](const EventSpec& a, const EventSpec& b) {
+    return a.function == b.function && a.piece == b.piece && a.far_end == b.far_end && a.limit == b.limit &&
+           a.position == b.position;
+  };
+  for (std::size_t i = 0; i < events.size(); ++i)
+    for (std::size_t j = events.size(); j-- > i + 1;)
+      if (same(events[i], events[j])) events.erase(events.begin() + static_cast<std::ptrdiff_t>(j));
   std::vector<bool> vanishing(model.limits() + 1, false);
   for (const EventSpec& spec : events)
     if (spec.function == EventFunction::length) vanishing[spec.piece] = true;
@@ -564,7 +584,7 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
               std::abs(event_value(model, first->x, specs[i]).value) <=
                   1e-7 * (specs[i].function == EventFunction::length ? member_.length() : previous_scale))
             pending.events.push_back(specs[i]);
-        pending.events = without_degenerate_openings(model, std::move(pending.events));
+        pending.events = without_degenerate_openings(model, first->x, std::move(pending.events));
         to = *first;
         bool switches = false;
         for (const EventSpec& spec : pending.events)
@@ -784,7 +804,7 @@ TraceResult RitzTracer::run() {
           if (std::abs(event_value(*model_, start->x, spec).value) <= 1e-7 * (length ? member_.length() : scale))
             pending.events.push_back(spec);
         }
-        pending.events = without_degenerate_openings(*model_, std::move(pending.events));
+        pending.events = without_degenerate_openings(*model_, start->x, std::move(pending.events));
         pending_ = std::move(pending);
         if (!switch_topology(follower)) {
           result_.summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();

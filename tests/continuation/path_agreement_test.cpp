@@ -335,3 +335,24 @@ TEST_CASE("region_split: the split and the limits reaching the free ends at one 
   }
   CHECK(std::abs(r400.events[0].load_factor - exact) < std::abs(g.fe.events[0].load_factor - exact));
 }
+
+TEST_CASE("region_split at 40 modes: a limit reaching a free end is removed, not a zone opened there",
+          "[continuation][agreement]") {
+  // At 40 modes round-off separates the two ends' events by 4e-6 in lambda, and w(0) reached
+  // zero with the limit still 4e-7 L from it: the path opened a contact zone at x = 0, and the
+  // limits then ran off the foundation (regions from x = -0.1).
+  const scene::Scene s = scene_named("region_split");
+  const TraceResult ritz = ritz_run(s, 40);
+  const TraceResult fe = fe_run(s, options_for(s).elements);
+  REQUIRE(ritz.events.size() == fe.events.size());
+  const std::vector<int> index = match(fe.events, ritz.events, 0.01 * s.structure.length);
+  for (int i : index) CHECK(i >= 0);
+  for (const auto& step : ritz.steps) {
+    INFO("lambda " << step.load_factor);
+    CHECK(step.contact_regions.size() <= 2);
+    for (const auto& region : step.contact_regions) {
+      CHECK(region[0] >= 0.0);
+      CHECK(region[1] <= s.structure.length);
+    }
+  }
+}
