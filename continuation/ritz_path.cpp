@@ -13,7 +13,8 @@
 //    per lift-off piece: minus the largest interior maximum (contact_opens);
 //  - at a foundation end that is no limit: w there (free end), +-w' (pinned end: w = 0), w''
 //    (clamped end), signed so that it is > 0 while the end piece keeps its state: a new zone
-//    opening at the end (lift_off_opens or contact_opens, at the end);
+//    opening at the end, a limit leaving it (limit_at_end, or limit_at_support at a supported
+//    end, as the FE path names a piece opening or closing at an end);
 //  - per piece between two limits: its length (region_vanishes, lift_off_vanishes); per end
 //    piece: its length (limit_at_end, or limit_at_support at a supported end);
 //  - per limit and load point: t - a (limit_at_load; recorded, no switch).
@@ -69,9 +70,11 @@ enum class EventFunction { interior_extreme, end_value, length, limit_at_load };
 struct EventSpec {
   EventFunction function;
   EventKind kind;
-  int piece = 0;        // interior_extreme, length; end_value: 0 (begin) or last piece (end)
-  int limit = 0;        // limit_at_load
-  double position = 0;  // limit_at_load: the load's s
+  int piece = 0;         // interior_extreme, length; end_value: 0 (begin) or last piece (end)
+  bool far_end = false;  // end_value: the foundation's end (true) or its begin; with one piece
+                         // both ends are piece 0, so the piece cannot tell them apart
+  int limit = 0;         // limit_at_load
+  double position = 0;   // limit_at_load: the load's s
 };
 
 struct EventValue {
@@ -125,7 +128,8 @@ class RitzTracer {
   double w_scale(const RitzModel& model, const VectorXd& x) const;
   void record_step(const RitzModel& model, const PathPoint& point, int iterations, double next_step,
                    const std::optional<Opening>& at_event = std::nullopt);
-  std::vector<EventSpec> without_degenerate_openings(const RitzModel& model, std::vector<EventSpec> events) const;
+  std::vector<EventSpec> without_degenerate_openings(const RitzModel& model, const VectorXd& x,
+                                                     std::vector<EventSpec> events) const;
   void record_event(double lambda, EventKind kind, double s, std::string description);
   std::string topology_text(const Topology& t) const {
     return fmt::format("{} {} {}", t.first_in_contact ? 1 : 0, t.limits, modes_);
@@ -335,20 +339,20 @@ std::vector<EventSpec> RitzTracer::event_specs(const RitzModel& model) const {
   bool contact = model.topology().first_in_contact;
   for (int p = 0; p < pieces; ++p, contact = !contact) {
     specs.push_back({EventFunction::interior_extreme,
-                     contact ? EventKind::lift_off_opens : EventKind::contact_opens, p, 0, 0});
+                     contact ? EventKind::lift_off_opens : EventKind::contact_opens, p, false, 0, 0});
     if (pieces > 1) {
       EventKind kind = contact ? EventKind::region_vanishes : EventKind::lift_off_vanishes;
       if (p == 0 || p == pieces - 1)
         kind = end_supported(p == 0) ? EventKind::limit_at_support : EventKind::limit_at_end;
-      specs.push_back({EventFunction::length, kind, p, 0, 0});
+      specs.push_back({EventFunction::length, kind, p, false, 0, 0});
     }
   }
   // Openings at the foundation's ends (member_ tells which end condition holds w there).
-  const bool last_contact = model.topology().first_in_contact == (model.limits() % 2 == 0);
-  specs.push_back({EventFunction::end_value,
-                   model.topology().first_in_contact ? EventKind::lift_off_opens : EventKind::contact_opens, 0, 0, 0});
-  specs.push_back({EventFunction::end_value, last_contact ? EventKind::lift_off_opens : EventKind::contact_opens,
-                   pieces - 1, 0, 0});
+  const auto end_kind = [&](bool begin) {
+    return end_supported(begin) ? EventKind::limit_at_support : EventKind::limit_at_end;
+  };
+  specs.push_back({EventFunction::end_value, end_kind(true), 0, false, 0, 0});
+  specs.push_back({EventFunction::end_value, end_kind(false), pieces - 1, true, 0, 0});
   // Limits passing load points.
   std::vector<double> points;
   for (const fe::MemberLoad& load : member_.loads) {
@@ -358,7 +362,7 @@ std::vector<EventSpec> RitzTracer::event_specs(const RitzModel& model) const {
   std::sort(points.begin(), points.end());
   points.erase(std::unique(points.begin(), points.end()), points.end());
   for (int m = 0; m < model.limits(); ++m)
-    for (double a : points) specs.push_back({EventFunction::limit_at_load, EventKind::limit_at_load, 0, m, a});
+    for (double a : points) specs.push_back({EventFunction::limit_at_load, EventKind::limit_at_load, 0, false, m, a});
   return specs;
 }
 
@@ -422,7 +426,7 @@ EventValue RitzTracer::event_value(const RitzModel& model, const VectorXd& x, co
       return extreme(model, x, p.begin, p.end, p.in_contact);
     }
     case EventFunction::end_value: {
-      const bool left = spec.piece == 0;
+      const bool left = !spec.far_end;
       const ritz::Piece& p = pieces[spec.piece];
       const double s = left ? member_.foundation_begin : member_.foundation_end;
       double value = model.w(x, s);
@@ -460,9 +464,28 @@ double RitzTracer::w_scale(const RitzModel& model, const VectorXd& x) const {
 
 // --------------------------------------------------------------------------------------------
 // A vanishing piece takes the events of its own degeneracy along (at a shrinking end piece, w
-// at the end and the piece's extreme reach zero too): those are no openings.
-std::vector<EventSpec> RitzTracer::without_degenerate_openings(const RitzModel& model,
+// at the end and the piece's extreme reach zero too): those are no openings. And w at an end
+// reaching zero while the end piece is all but gone (shorter than 1e-5 of the member, far
+// below what N modes resolve) is that piece vanishing, seen a little early through round-off
+// (region_split at 40 modes: w(0) = 0 with the limit 4e-7 L from it, and a contact zone was
+// opened at x = 0 instead of the limit removed): its length event replaces the opening.
+std::vector<EventSpec> RitzTracer::without_degenerate_openings(const RitzModel& model, const VectorXd& x,
                                                                std::vector<EventSpec> events) const {
+  const std::vector<ritz::Piece> pieces = model.pieces(x);
+  for (EventSpec& spec : events) {
+    if (spec.function != EventFunction::end_value || pieces.size() < 2) continue;
+    const ritz::Piece& piece = pieces[spec.piece];
+    if (piece.end - piece.begin > 1e-5 * member_.length()) continue;
+    for (const EventSpec& length : event_specs(model))
+      if (length.function == EventFunction::length && length.piece == spec.piece) spec = length;
+  }
+  const auto same = [](const EventSpec& a, const EventSpec& b) {
+    return a.function == b.function && a.piece == b.piece && a.far_end == b.far_end && a.limit == b.limit &&
+           a.position == b.position;
+  };
+  for (std::size_t i = 0; i < events.size(); ++i)
+    for (std::size_t j = events.size(); j-- > i + 1;)
+      if (same(events[i], events[j])) events.erase(events.begin() + static_cast<std::ptrdiff_t>(j));
   std::vector<bool> vanishing(model.limits() + 1, false);
   for (const EventSpec& spec : events)
     if (spec.function == EventFunction::length) vanishing[spec.piece] = true;
@@ -561,7 +584,7 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
               std::abs(event_value(model, first->x, specs[i]).value) <=
                   1e-7 * (specs[i].function == EventFunction::length ? member_.length() : previous_scale))
             pending.events.push_back(specs[i]);
-        pending.events = without_degenerate_openings(model, std::move(pending.events));
+        pending.events = without_degenerate_openings(model, first->x, std::move(pending.events));
         to = *first;
         bool switches = false;
         for (const EventSpec& spec : pending.events)
@@ -640,8 +663,8 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
         break;
       }
       case EventFunction::end_value:
-        openings.emplace_back(event_value(old, at.x, spec).at, spec.piece == 0 ? 0 : 2);
-        if (spec.piece == 0) flip_first = !flip_first;
+        openings.emplace_back(event_value(old, at.x, spec).at, spec.far_end ? 2 : 0);
+        if (!spec.far_end) flip_first = !flip_first;
         break;
       case EventFunction::limit_at_load: break;
     }
@@ -682,7 +705,11 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
       base = *past.point;
       const std::vector<ritz::Piece> pieces = old.pieces(base.x);
       for (auto [s, where] : openings) {
-        const double w0 = old.w(base.x, s);
+        // The new zone's sign: w's at an interior opening point; at an end, the opposite of the
+        // end piece's state (w there is 0 at a supported end, and its sign noise: a scan keyed
+        // on it stops at once and Newton settles on a zone of no width).
+        const ritz::Piece& end_piece = where == 0 ? pieces.front() : pieces.back();
+        const double w0 = where == 1 ? old.w(base.x, s) : (end_piece.in_contact ? -1.0 : 1.0);
         const auto root = [&](double from, double to) {  // bisection on w
           double a = from, b = to, fa = old.w(base.x, a);
           for (int k = 0; k < 200 && std::abs(b - a) > 1e-15 * member_.length(); ++k) {
@@ -777,7 +804,7 @@ TraceResult RitzTracer::run() {
           if (std::abs(event_value(*model_, start->x, spec).value) <= 1e-7 * (length ? member_.length() : scale))
             pending.events.push_back(spec);
         }
-        pending.events = without_degenerate_openings(*model_, std::move(pending.events));
+        pending.events = without_degenerate_openings(*model_, start->x, std::move(pending.events));
         pending_ = std::move(pending);
         if (!switch_topology(follower)) {
           result_.summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();

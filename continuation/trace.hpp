@@ -27,9 +27,10 @@ enum class EventKind {
   contact_opens,      // a contact region opens inside a lift-off zone (w touches 0 from below)
   region_vanishes,    // a contact region shrinks to nothing
   lift_off_vanishes,  // a lift-off zone shrinks to nothing (two contact regions merge)
-  limit_at_support,   // a contact limit reaches a point support or a supported end
+  limit_at_support,   // a contact limit reaches a point support or a supported end, or leaves
+                      // it (a zone opening there): both paths name it so
   limit_at_load,      // a contact limit reaches a point load
-  limit_at_end,       // a contact limit reaches the end of the foundation (member end)
+  limit_at_end,       // a contact limit reaches or leaves the end of the foundation (member end)
   limit_point,        // a fold: lambda reaches a maximum or minimum along the path
 };
 std::string_view to_string(EventKind);
