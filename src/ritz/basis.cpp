@@ -173,8 +173,7 @@ void normalise(Family& family, double s_begin, double s_end) {
   constexpr int samples = 400;
   for (TrigPolynomial& p : family) {
     double largest = 0.0;
-    for (int i = 0; i <= samples; ++i)
-      largest = std::max(largest, std::abs(p(s_begin + (s_end - s_begin) * i / samples)));
+    for (double value : p.values_on_grid(s_begin, s_end, samples)) largest = std::max(largest, std::abs(value));
     if (!(largest > 0.0)) throw std::logic_error("ritz basis: a basis function vanishes identically");
     p *= 1.0 / largest;
   }

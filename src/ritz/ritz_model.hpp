@@ -35,6 +35,7 @@
 
 #include "fe/member_model.hpp"
 #include "ritz/basis.hpp"
+#include "ritz/product_table.hpp"
 
 namespace liftoff::ritz {
 
@@ -103,6 +104,10 @@ class RitzModel {
   double w(const Eigen::VectorXd& x, double s, int derivative = 0) const;
   double u(const Eigen::VectorXd& x, double s, int derivative = 0) const;
   double reaction(const Eigen::VectorXd& x, double s) const;
+  // w at the n - 1 interior points a + (b - a) i / n, i = 1..n-1 (values is resized), equal to
+  // w(x, s) there up to round-off but much cheaper (add_on_grid in trig_polynomial.hpp). For
+  // checks on dense grids.
+  void w_on_grid(const Eigen::VectorXd& x, double a, double b, int n, std::vector<double>& values) const;
 
   // The M + 1 pieces of the foundation's extent, and those in contact.
   std::vector<Piece> pieces(const Eigen::VectorXd& x) const;
@@ -135,7 +140,9 @@ class RitzModel {
   std::vector<double> breakpoints_;
   std::vector<std::vector<std::vector<TrigPolynomial>>> w_derivatives_;  // [region][order 0..3][i]
   std::vector<std::vector<TrigPolynomial>> u_derivatives_;  // arches
-  std::vector<std::vector<TrigPolynomial>> w_products_;     // [region]: phi_i phi_j, i <= j, row by row
+  std::vector<std::vector<TrigTerm>> w_terms_;    // [region]: every term of every w function
+  std::vector<std::vector<int>> w_term_function_;  // [region]: the function each term is of
+  std::vector<ProductTable> w_products_;                     // [region]: phi_i phi_j, i <= j
   Eigen::MatrixXd stiffness_;
   Eigen::VectorXd dead_load_;
   Eigen::VectorXd live_load_;
