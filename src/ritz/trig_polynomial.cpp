@@ -170,7 +170,7 @@ double TrigPolynomial::value(double s) const {
 }
 
 void add_on_grid(const TrigTerm* terms, const double* factors, int term_count, double s0, double h, int count,
-                 double* out) {
+                 double* out, const int* rows) {
   constexpr int run = 32;
   // Four terms at a time: their rotations are independent, so they overlap in the pipeline
   // (one term's rotation is a chain of dependent multiplications).
@@ -197,18 +197,17 @@ void add_on_grid(const TrigTerm* terms, const double* factors, int term_count, d
         }
       }
       for (int k = first; k < last; ++k) {
-        double sum = 0.0;
-        if (!any_power) {
-          for (int j = 0; j < block; ++j) sum += c_cos[j] * cos_s[j] + c_sin[j] * sin_s[j];
+        const double s = s0 + k * h;
+        double value[block];
+        for (int j = 0; j < block; ++j) value[j] = c_cos[j] * cos_s[j] + c_sin[j] * sin_s[j];
+        if (any_power)
+          for (int j = 0; j < block; ++j)
+            for (int q = 0; q < power[j]; ++q) value[j] *= s;
+        if (rows) {  // each term into its function's row
+          for (int j = 0; j < terms_here; ++j) out[static_cast<std::size_t>(rows[t0 + j]) * count + k] += value[j];
         } else {
-          const double s = s0 + k * h;
-          for (int j = 0; j < block; ++j) {
-            double p = 1.0;
-            for (int q = 0; q < power[j]; ++q) p *= s;
-            sum += p * (c_cos[j] * cos_s[j] + c_sin[j] * sin_s[j]);
-          }
+          out[k] += (value[0] + value[1]) + (value[2] + value[3]);
         }
-        out[k] += sum;
         for (int j = 0; j < block; ++j) {
           const double next_cos = cos_s[j] * cos_h[j] - sin_s[j] * sin_h[j];
           sin_s[j] = sin_s[j] * cos_h[j] + cos_s[j] * sin_h[j];

@@ -40,9 +40,10 @@ double integral(const TrigTerm& term, double a, double b);
 // values give up to round-off, but the phases are rotated from point to point by the addition
 // theorem, re-seeded with an exact sine and cosine every 32 points (the rotations' round-off
 // grows with the run), so a dense grid costs a few multiplications per point and term instead
-// of a sine.
+// of a sine. With rows, term t goes to out[rows[t] * count + k] instead: several functions
+// sampled in one pass.
 void add_on_grid(const TrigTerm* terms, const double* factors, int term_count, double s0, double h, int count,
-                 double* out);
+                 double* out, const int* rows = nullptr);
 
 class TrigPolynomial {
  public:
