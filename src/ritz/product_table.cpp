@@ -1,7 +1,10 @@
 #include "ritz/product_table.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <unordered_map>
 
 namespace liftoff::ritz {
 
@@ -63,31 +66,55 @@ void ProductTable::build(const std::vector<TrigPolynomial>& left, const std::vec
   rows_ = static_cast<int>(left.size());
   cols_ = static_cast<int>(right.size());
   std::vector<RawTerm> raw;
+  raw.reserve(2 * static_cast<std::size_t>(rows_) * cols_);
   int pairs = 0;
   for (int i = 0; i < rows_; ++i)
     for (int j = symmetric_ ? i : 0; j < cols_; ++j, ++pairs)
       for (const TrigTerm& x : left[i].terms())
         for (const TrigTerm& y : right[j].terms()) push_product(pairs, x, y, raw);
 
-  // Atoms: sort by (wave, power, omega), cluster nearly equal frequencies onto the smallest.
-  struct Key {
+  // Atoms. Most raw terms repeat a frequency exactly, so first the distinct (wave, power, omega)
+  // by hashing, then those few sorted by (wave, power, omega) and nearly equal frequencies
+  // clustered onto the smallest.
+  struct Distinct {
     int kind;  // wave and power
     double omega;
-    int raw;
+    int atom = -1;
   };
-  std::vector<Key> keys(raw.size());
-  for (std::size_t k = 0; k < raw.size(); ++k)
-    keys[k] = {2 * raw[k].term.power + (raw[k].term.wave == Wave::sine), raw[k].term.omega, static_cast<int>(k)};
-  std::sort(keys.begin(), keys.end(),
-            [](const Key& a, const Key& b) { return a.kind != b.kind ? a.kind < b.kind : a.omega < b.omega; });
-  int last_kind = -1;
-  for (const Key& key : keys) {
-    const TrigTerm& t = raw[key.raw].term;
-    if (key.kind != last_kind || t.omega - atoms_.back().omega > same_frequency * t.omega)
-      atoms_.push_back({1.0, t.power, t.omega, t.wave});
-    last_kind = key.kind;
-    raw[key.raw].atom = static_cast<int>(atoms_.size()) - 1;
+  std::vector<Distinct> distinct;
+  std::unordered_map<std::uint64_t, int> index;  // omega's bits and kind -> distinct entry
+  index.reserve(raw.size() / 4 + 16);
+  std::vector<int> distinct_of(raw.size());
+  for (std::size_t k = 0; k < raw.size(); ++k) {
+    const TrigTerm& t = raw[k].term;
+    const int kind = 2 * t.power + (t.wave == Wave::sine);
+    const std::uint64_t key = std::bit_cast<std::uint64_t>(t.omega) * 1000003u + static_cast<std::uint64_t>(kind);
+    auto [it, inserted] = index.try_emplace(key, static_cast<int>(distinct.size()));
+    if (inserted) {
+      distinct.push_back({kind, t.omega});
+    } else if (distinct[it->second].kind != kind || distinct[it->second].omega != t.omega) {
+      // Two different keys hashed alike: this term gets an entry of its own.
+      distinct.push_back({kind, t.omega});
+      distinct_of[k] = static_cast<int>(distinct.size()) - 1;
+      continue;
+    }
+    distinct_of[k] = it->second;
   }
+  std::vector<int> order(distinct.size());
+  for (std::size_t d = 0; d < distinct.size(); ++d) order[d] = static_cast<int>(d);
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return distinct[a].kind != distinct[b].kind ? distinct[a].kind < distinct[b].kind
+                                                : distinct[a].omega < distinct[b].omega;
+  });
+  int last_kind = -1;
+  for (int d : order) {
+    const double omega = distinct[d].omega;
+    if (distinct[d].kind != last_kind || omega - atoms_.back().omega > same_frequency * omega)
+      atoms_.push_back({1.0, distinct[d].kind / 2, omega, distinct[d].kind % 2 ? Wave::sine : Wave::cosine});
+    last_kind = distinct[d].kind;
+    distinct[d].atom = static_cast<int>(atoms_.size()) - 1;
+  }
+  for (std::size_t k = 0; k < raw.size(); ++k) raw[k].atom = distinct[distinct_of[k]].atom;
 
   // Per pair, the coefficients of its atoms, like terms merged (raw is in pair order).
   begin_.assign(pairs + 1, 0);
