@@ -16,9 +16,11 @@
 //
 // Everything that does not depend on the limits (stiffness, loads) is integrated once, in
 // closed form, at construction; the foundation term is integrated exactly over the current
-// pieces at every call. All functions take any x of size unknowns() (std::invalid_argument
-// otherwise); their values are those of the formulas above, physically meaningful only where
-// admissible(x). Nothing here solves the nonlinear system: that is a Newton solver's job.
+// pieces at every call, through a product table (product_table.hpp) built at construction, so
+// that each distinct term of the products phi_i phi_j is integrated once per piece. All
+// functions take any x of size unknowns() (std::invalid_argument otherwise); their values
+// are those of the formulas above, physically meaningful only where admissible(x). Nothing
+// here solves the nonlinear system: that is a Newton solver's job.
 //
 // The system to solve is the REGULARISED stationarity condition:
 //     R_A = dPi/dA = K A + k G(t) W - F(lambda) = 0      (amplitude rows)
@@ -142,7 +144,7 @@ class RitzModel {
   std::vector<std::vector<TrigPolynomial>> u_derivatives_;  // arches
   std::vector<std::vector<TrigTerm>> w_terms_;    // [region]: every term of every w function
   std::vector<std::vector<int>> w_term_function_;  // [region]: the function each term is of
-  std::vector<ProductTable> w_products_;                     // [region]: phi_i phi_j, i <= j
+  std::vector<ProductTable> w_products_;           // [region]: phi_i phi_j, i <= j
   Eigen::MatrixXd stiffness_;
   Eigen::VectorXd dead_load_;
   Eigen::VectorXd live_load_;
