@@ -177,24 +177,24 @@ void add_on_grid(const TrigTerm* terms, const double* factors, int term_count, d
   constexpr int block = 4;
   for (int t0 = 0; t0 < term_count; t0 += block) {
     const int terms_here = std::min(block, term_count - t0);
+    double c_cos[block] = {}, c_sin[block] = {}, cos_h[block] = {1.0, 1.0, 1.0, 1.0}, sin_h[block] = {};
+    int power[block] = {};
+    bool any_power = false;
+    for (int j = 0; j < terms_here; ++j) {
+      const TrigTerm& t = terms[t0 + j];
+      const double c = factors[t0 + j] * t.coefficient;
+      (t.wave == Wave::cosine ? c_cos : c_sin)[j] = c;
+      power[j] = t.power;
+      any_power = any_power || t.power > 0;
+      if (t.omega != 0.0) cos_h[j] = std::cos(t.omega * h), sin_h[j] = std::sin(t.omega * h);
+    }
     for (int first = 0; first < count; first += run) {
       const int last = std::min(count, first + run);
       const double start = s0 + first * h;
-      double c_cos[block] = {}, c_sin[block] = {}, cos_s[block] = {}, sin_s[block] = {}, cos_h[block] = {},
-             sin_h[block] = {};
-      int power[block] = {};
-      bool any_power = false;
+      double cos_s[block] = {1.0, 1.0, 1.0, 1.0}, sin_s[block] = {};
       for (int j = 0; j < terms_here; ++j) {
-        const TrigTerm& t = terms[t0 + j];
-        const double c = factors[t0 + j] * t.coefficient;
-        (t.wave == Wave::cosine ? c_cos : c_sin)[j] = c;
-        power[j] = t.power;
-        any_power = any_power || t.power > 0;
-        cos_s[j] = 1.0, cos_h[j] = 1.0;
-        if (t.omega != 0.0) {
-          cos_s[j] = std::cos(t.omega * start), sin_s[j] = std::sin(t.omega * start);
-          cos_h[j] = std::cos(t.omega * h), sin_h[j] = std::sin(t.omega * h);
-        }
+        const double omega = terms[t0 + j].omega;
+        if (omega != 0.0) cos_s[j] = std::cos(omega * start), sin_s[j] = std::sin(omega * start);
       }
       for (int k = first; k < last; ++k) {
         const double s = s0 + k * h;
