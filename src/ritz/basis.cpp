@@ -171,12 +171,20 @@ Family deflection_family(DeflectionEnd left, DeflectionEnd right, double s_begin
 // needs to be about right).
 void normalise(Family& family, double s_begin, double s_end) {
   constexpr int samples = 400;
-  for (TrigPolynomial& p : family) {
+  // Every function on the grid in one pass (add_on_grid, a row per function).
+  std::vector<TrigTerm> terms;
+  std::vector<int> rows;
+  for (std::size_t f = 0; f < family.size(); ++f)
+    for (const TrigTerm& t : family[f].terms()) terms.push_back(t), rows.push_back(static_cast<int>(f));
+  const std::vector<double> ones(terms.size(), 1.0);
+  std::vector<double> values(family.size() * (samples + 1), 0.0);
+  add_on_grid(terms.data(), ones.data(), static_cast<int>(terms.size()), s_begin, (s_end - s_begin) / samples,
+              samples + 1, values.data(), rows.data());
+  for (std::size_t f = 0; f < family.size(); ++f) {
     double largest = 0.0;
-    for (int i = 0; i <= samples; ++i)
-      largest = std::max(largest, std::abs(p(s_begin + (s_end - s_begin) * i / samples)));
+    for (int i = 0; i <= samples; ++i) largest = std::max(largest, std::abs(values[f * (samples + 1) + i]));
     if (!(largest > 0.0)) throw std::logic_error("ritz basis: a basis function vanishes identically");
-    p *= 1.0 / largest;
+    family[f] *= 1.0 / largest;
   }
 }
 

@@ -31,12 +31,11 @@ void require_finite(double value, const char* what) {
   if (!std::isfinite(value)) throw std::invalid_argument(fmt::format("RitzModel: {} is not finite", what));
 }
 
-// Integral over [a, b] of every pairwise product of `left` and `right` functions.
-MatrixXd gram(const std::vector<TrigPolynomial>& left, const std::vector<TrigPolynomial>& right, double a, double b) {
-  MatrixXd g(left.size(), right.size());
-  for (std::size_t i = 0; i < left.size(); ++i)
-    for (std::size_t j = 0; j < right.size(); ++j) g(i, j) = (left[i] * right[j]).integral(a, b);
-  return g;
+// Integral over [a, b] of every pairwise product of the functions f (symmetric).
+MatrixXd gram(const std::vector<TrigPolynomial>& f, double a, double b) {
+  MatrixXd g = MatrixXd::Zero(f.size(), f.size());
+  ProductTable(f).add_integrals(a, b, 1.0, g);
+  return g.selfadjointView<Eigen::Upper>();
 }
 
 }  // namespace
@@ -86,9 +85,11 @@ RitzModel::RitzModel(const fe::MemberModel& model, int modes, Topology topology,
     }
     for (int order = 0; order < 4; ++order)
       for (const TrigPolynomial& phi : w) w_derivatives_[r][order].push_back(phi.derivative(order));
-    w_products_.emplace_back();
+    w_products_.emplace_back(w);
+    w_terms_.emplace_back();
+    w_term_function_.emplace_back();
     for (int i = 0; i < modes_; ++i)
-      for (int j = i; j < modes_; ++j) w_products_[r].push_back(w[i] * w[j]);
+      for (const TrigTerm& t : w[i].terms()) w_terms_[r].push_back(t), w_term_function_[r].push_back(i);
   }
   for (int order = 0; arch_ && order < 4; ++order)
     for (const TrigPolynomial& psi : basis_.u) u_derivatives_[order].push_back(psi.derivative(order));
@@ -101,14 +102,14 @@ RitzModel::RitzModel(const fe::MemberModel& model, int modes, Topology topology,
     for (int r = 0; r < regions; ++r) {
       const double lo = r == 0 ? a : std::max(a, breakpoints_[r - 1]);
       const double hi = r == regions - 1 ? b : std::min(b, breakpoints_[r]);
-      if (hi > lo) stiffness_ += gram(w_derivatives_[r][2], w_derivatives_[r][2], lo, hi);
+      if (hi > lo) stiffness_ += gram(w_derivatives_[r][2], lo, hi);
     }
   } else {
     const auto& curvature = w_derivatives_[0][2];
     std::vector<TrigPolynomial> membrane, bending;
     for (int j = 0; j < modes_; ++j) membrane.push_back(-basis_.w[j]), bending.push_back(curvature[j]);
     for (int i = 0; i < modes_; ++i) membrane.push_back(u_derivatives_[1][i]), bending.push_back(u_derivatives_[1][i]);
-    stiffness_ = model.membrane_stiffness * gram(membrane, membrane, a, b) + gram(bending, bending, a, b);
+    stiffness_ = model.membrane_stiffness * gram(membrane, a, b) + gram(bending, a, b);
   }
   stiffness_ = 0.5 * (stiffness_ + stiffness_.transpose());  // exactly symmetric
 
@@ -224,10 +225,7 @@ MatrixXd RitzModel::contact_gram(const VectorXd& x) const {
   for (const Piece& piece : contact_pieces(x)) {
     split_integral(piece.begin, piece.end, [&](int r, double lo, double hi) {
       // Called with lo < hi; the sign of a reversed piece is applied below through `sign`.
-      const double sign = piece.end < piece.begin ? -1.0 : 1.0;
-      int index = 0;
-      for (int i = 0; i < modes_; ++i)
-        for (int j = i; j < modes_; ++j) g(i, j) += sign * w_products_[r][index++].integral(lo, hi);
+      w_products_[r].add_integrals(lo, hi, piece.end < piece.begin ? -1.0 : 1.0, g);
       return 0.0;
     });
   }
@@ -341,6 +339,26 @@ double RitzModel::u(const VectorXd& x, double s, int derivative) const {
   double sum = 0.0;
   for (int i = 0; i < modes_; ++i) sum += x[u_offset() + i] * u_derivatives_[derivative][i](s);
   return sum;
+}
+
+void RitzModel::w_on_grid(const VectorXd& x, double a, double b, int n, std::vector<double>& values) const {
+  check_size(x);
+  values.assign(std::max(n - 1, 0), 0.0);
+  const double h = (b - a) / n;
+  auto point = [&](int i) { return a + (b - a) * i / n; };
+  std::vector<double> factors;
+  for (int first = 1; first < n;) {
+    // A run of points in one region, where the basis is smooth.
+    const int region = region_of(point(first));
+    int last = first;
+    while (last + 1 < n && region_of(point(last + 1)) == region) ++last;
+    const auto& terms = w_terms_[region];
+    factors.resize(terms.size());
+    for (std::size_t t = 0; t < terms.size(); ++t) factors[t] = x[w_offset() + w_term_function_[region][t]];
+    add_on_grid(terms.data(), factors.data(), static_cast<int>(terms.size()), point(first), h, last - first + 1,
+                values.data() + first - 1);
+    first = last + 1;
+  }
 }
 
 double RitzModel::reaction(const VectorXd& x, double s) const {

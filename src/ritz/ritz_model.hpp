@@ -16,9 +16,11 @@
 //
 // Everything that does not depend on the limits (stiffness, loads) is integrated once, in
 // closed form, at construction; the foundation term is integrated exactly over the current
-// pieces at every call. All functions take any x of size unknowns() (std::invalid_argument
-// otherwise); their values are those of the formulas above, physically meaningful only where
-// admissible(x). Nothing here solves the nonlinear system: that is a Newton solver's job.
+// pieces at every call, through a product table (product_table.hpp) built at construction, so
+// that each distinct term of the products phi_i phi_j is integrated once per piece. All
+// functions take any x of size unknowns() (std::invalid_argument otherwise); their values
+// are those of the formulas above, physically meaningful only where admissible(x). Nothing
+// here solves the nonlinear system: that is a Newton solver's job.
 //
 // The system to solve is the REGULARISED stationarity condition:
 //     R_A = dPi/dA = K A + k G(t) W - F(lambda) = 0      (amplitude rows)
@@ -35,6 +37,7 @@
 
 #include "fe/member_model.hpp"
 #include "ritz/basis.hpp"
+#include "ritz/product_table.hpp"
 
 namespace liftoff::ritz {
 
@@ -103,6 +106,10 @@ class RitzModel {
   double w(const Eigen::VectorXd& x, double s, int derivative = 0) const;
   double u(const Eigen::VectorXd& x, double s, int derivative = 0) const;
   double reaction(const Eigen::VectorXd& x, double s) const;
+  // w at the n - 1 interior points a + (b - a) i / n, i = 1..n-1 (values is resized), equal to
+  // w(x, s) there up to round-off but much cheaper (add_on_grid in trig_polynomial.hpp). For
+  // checks on dense grids.
+  void w_on_grid(const Eigen::VectorXd& x, double a, double b, int n, std::vector<double>& values) const;
 
   // The M + 1 pieces of the foundation's extent, and those in contact.
   std::vector<Piece> pieces(const Eigen::VectorXd& x) const;
@@ -135,7 +142,9 @@ class RitzModel {
   std::vector<double> breakpoints_;
   std::vector<std::vector<std::vector<TrigPolynomial>>> w_derivatives_;  // [region][order 0..3][i]
   std::vector<std::vector<TrigPolynomial>> u_derivatives_;  // arches
-  std::vector<std::vector<TrigPolynomial>> w_products_;     // [region]: phi_i phi_j, i <= j, row by row
+  std::vector<std::vector<TrigTerm>> w_terms_;    // [region]: every term of every w function
+  std::vector<std::vector<int>> w_term_function_;  // [region]: the function each term is of
+  std::vector<ProductTable> w_products_;           // [region]: phi_i phi_j, i <= j
   Eigen::MatrixXd stiffness_;
   Eigen::VectorXd dead_load_;
   Eigen::VectorXd live_load_;

@@ -48,18 +48,16 @@ struct Attempt {
 // Worst wrong-sign deflection on a grid fine enough to see every piece (relative to max |w|).
 double inequality_violation(const RitzModel& model, const VectorXd& x) {
   double w_scale = 0.0, violation = 0.0;
-  std::vector<std::pair<double, bool>> samples;
+  std::vector<double> w;
   for (const Piece& piece : model.pieces(x)) {
     constexpr int per_piece = 400;
     // Open pieces: the ends are the limits, where w = 0 by construction.
-    for (int i = 1; i < per_piece; ++i) {
-      const double s = piece.begin + (piece.end - piece.begin) * i / per_piece;
-      const double w = model.w(x, s);
-      w_scale = std::max(w_scale, std::abs(w));
-      samples.emplace_back(w, piece.in_contact);
+    model.w_on_grid(x, piece.begin, piece.end, per_piece, w);
+    for (double value : w) {
+      w_scale = std::max(w_scale, std::abs(value));
+      violation = std::max(violation, piece.in_contact ? -value : value);
     }
   }
-  for (const auto& [w, in_contact] : samples) violation = std::max(violation, in_contact ? -w : w);
   return w_scale == 0.0 ? 0.0 : std::max(0.0, violation) / w_scale;
 }
 
@@ -77,8 +75,6 @@ Attempt solve_once(const RitzModel& model, const VectorXd& limits, const RitzOpt
 
   // Scale rows and unknowns to unit size, so one tolerance serves forces and deflections.
   const int n = model.unknowns(), a = model.amplitudes();
-  VectorXd f;
-  model.residual(attempt.x, lambda, f);
   const double force_scale =
       std::max({(model.dead_load() + lambda * model.live_load()).lpNorm<Eigen::Infinity>(), 1e-300});
   const double amplitude_scale = std::max(attempt.x.head(a).lpNorm<Eigen::Infinity>(), 1e-300);

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <complex>
 #include <limits>
 #include <stdexcept>
 #include <tuple>
@@ -57,17 +56,24 @@ double series_integral(int p, double omega, Wave wave, double a, double b, doubl
 // whose real part integrates the cosine and imaginary part the sine. Relative to the scale its
 // terms are bounded by (p+1)!/(p-k)! / z^(k+1).
 double closed_form_integral(int p, double omega, Wave wave, double a, double b) {
+  // d_k = (-1)^k p!/(p-k)! / (i omega)^(k+1) = m_k (-i)^(k+1), m_k real: F in real arithmetic.
+  static constexpr double re_of[4] = {1.0, 0.0, -1.0, 0.0};  // (-i)^n by n mod 4
+  static constexpr double im_of[4] = {0.0, -1.0, 0.0, 1.0};
+  double buffer[16];
+  std::vector<double> heap;
+  double* magnitude = p < 16 ? buffer : (heap.resize(p + 1), heap.data());
+  magnitude[0] = 1.0 / omega;
+  for (int k = 1; k <= p; ++k) magnitude[k] = magnitude[k - 1] * -static_cast<double>(p - k + 1) / omega;
   auto antiderivative = [&](double s) {
-    std::complex<double> sum = 0.0;
-    std::complex<double> factor = 1.0 / std::complex<double>(0.0, omega);  // (-1)^k p!/(p-k)! / (i w)^(k+1)
-    for (int k = 0; k <= p; ++k) {
-      sum += factor * std::pow(s, p - k);
-      factor *= -static_cast<double>(p - k) / std::complex<double>(0.0, omega);
+    double sum_re = 0.0, sum_im = 0.0, power = 1.0;  // power = s^(p-k), k from p down
+    for (int k = p; k >= 0; --k, power *= s) {
+      sum_re += magnitude[k] * power * re_of[(k + 1) % 4];
+      sum_im += magnitude[k] * power * im_of[(k + 1) % 4];
     }
-    return sum * std::complex<double>(std::cos(omega * s), std::sin(omega * s));
+    const double cos_s = std::cos(omega * s), sin_s = std::sin(omega * s);
+    return wave == Wave::cosine ? sum_re * cos_s - sum_im * sin_s : sum_re * sin_s + sum_im * cos_s;
   };
-  const std::complex<double> value = antiderivative(b) - antiderivative(a);
-  return wave == Wave::cosine ? value.real() : value.imag();
+  return antiderivative(b) - antiderivative(a);
 }
 
 }  // namespace
@@ -83,16 +89,16 @@ double integral(const TrigTerm& term, double a, double b) {
   }
   const double x = std::max(std::abs(a), std::abs(b));
   const double z = omega * x;
-  const double scale = std::pow(x, p + 1) / (p + 1);
   // Choose the method with the smaller bound on cancellation (see the two functions above).
-  const double series_amplification = std::cosh(std::min(z, 700.0));
   double closed_amplification = 0.0, r = 1.0 / z;
   for (int k = 0; k <= p; ++k) {
     r *= static_cast<double>(p + 1 - k) / (k == 0 ? 1.0 : z);
     closed_amplification = std::max(closed_amplification, r);
   }
-  const double value = series_amplification <= closed_amplification ? series_integral(p, omega, term.wave, a, b, scale)
-                                                                    : closed_form_integral(p, omega, term.wave, a, b);
+  // cosh >= 1: below 1 the closed form wins without computing it.
+  const bool series = closed_amplification >= 1.0 && std::cosh(std::min(z, 700.0)) <= closed_amplification;
+  const double value = series ? series_integral(p, omega, term.wave, a, b, std::pow(x, p + 1) / (p + 1))
+                              : closed_form_integral(p, omega, term.wave, a, b);
   return sign * term.coefficient * value;
 }
 
@@ -161,6 +167,62 @@ double TrigPolynomial::value(double s) const {
     sum += t.coefficient * power * wave;
   }
   return sum;
+}
+
+void add_on_grid(const TrigTerm* terms, const double* factors, int term_count, double s0, double h, int count,
+                 double* out, const int* rows) {
+  constexpr int run = 32;
+  // Four terms at a time: their rotations are independent, so they overlap in the pipeline
+  // (one term's rotation is a chain of dependent multiplications).
+  constexpr int block = 4;
+  for (int t0 = 0; t0 < term_count; t0 += block) {
+    const int terms_here = std::min(block, term_count - t0);
+    double c_cos[block] = {}, c_sin[block] = {}, cos_h[block] = {1.0, 1.0, 1.0, 1.0}, sin_h[block] = {};
+    int power[block] = {};
+    bool any_power = false;
+    for (int j = 0; j < terms_here; ++j) {
+      const TrigTerm& t = terms[t0 + j];
+      const double c = factors[t0 + j] * t.coefficient;
+      (t.wave == Wave::cosine ? c_cos : c_sin)[j] = c;
+      power[j] = t.power;
+      any_power = any_power || t.power > 0;
+      if (t.omega != 0.0) cos_h[j] = std::cos(t.omega * h), sin_h[j] = std::sin(t.omega * h);
+    }
+    for (int first = 0; first < count; first += run) {
+      const int last = std::min(count, first + run);
+      const double start = s0 + first * h;
+      double cos_s[block] = {1.0, 1.0, 1.0, 1.0}, sin_s[block] = {};
+      for (int j = 0; j < terms_here; ++j) {
+        const double omega = terms[t0 + j].omega;
+        if (omega != 0.0) cos_s[j] = std::cos(omega * start), sin_s[j] = std::sin(omega * start);
+      }
+      for (int k = first; k < last; ++k) {
+        const double s = s0 + k * h;
+        double value[block];
+        for (int j = 0; j < block; ++j) value[j] = c_cos[j] * cos_s[j] + c_sin[j] * sin_s[j];
+        if (any_power)
+          for (int j = 0; j < block; ++j)
+            for (int q = 0; q < power[j]; ++q) value[j] *= s;
+        if (rows) {  // each term into its function's row
+          for (int j = 0; j < terms_here; ++j) out[static_cast<std::size_t>(rows[t0 + j]) * count + k] += value[j];
+        } else {
+          out[k] += (value[0] + value[1]) + (value[2] + value[3]);
+        }
+        for (int j = 0; j < block; ++j) {
+          const double next_cos = cos_s[j] * cos_h[j] - sin_s[j] * sin_h[j];
+          sin_s[j] = sin_s[j] * cos_h[j] + cos_s[j] * sin_h[j];
+          cos_s[j] = next_cos;
+        }
+      }
+    }
+  }
+}
+
+std::vector<double> TrigPolynomial::values_on_grid(double a, double b, int n) const {
+  std::vector<double> values(n + 1, 0.0);
+  const std::vector<double> ones(terms_.size(), 1.0);
+  add_on_grid(terms_.data(), ones.data(), static_cast<int>(terms_.size()), a, (b - a) / n, n + 1, values.data());
+  return values;
 }
 
 // d/ds c s^p cos(w s) = c p s^(p-1) cos(w s) - c w s^p sin(w s)

@@ -36,6 +36,15 @@ struct TrigTerm {
 // The exact integral of one term over [a, b] (see above for the accuracy).
 double integral(const TrigTerm& term, double a, double b);
 
+// Adds sum_t factors[t] * terms[t](s0 + k h) to out[k] for k = 0..count-1: what the terms'
+// values give up to round-off, but the phases are rotated from point to point by the addition
+// theorem, re-seeded with an exact sine and cosine every 32 points (the rotations' round-off
+// grows with the run), so a dense grid costs a few multiplications per point and term instead
+// of a sine. With rows, term t goes to out[rows[t] * count + k] instead: several functions
+// sampled in one pass.
+void add_on_grid(const TrigTerm* terms, const double* factors, int term_count, double s0, double h, int count,
+                 double* out, const int* rows = nullptr);
+
 class TrigPolynomial {
  public:
   TrigPolynomial() = default;  // the zero function
@@ -55,6 +64,8 @@ class TrigPolynomial {
 
   double value(double s) const;
   double operator()(double s) const { return value(s); }
+  // The values at a + (b - a) k / n, k = 0..n (n + 1 of them), by add_on_grid.
+  std::vector<double> values_on_grid(double a, double b, int n) const;
   TrigPolynomial derivative(int order = 1) const;
   TrigPolynomial antiderivative() const;
   double integral(double a, double b) const;

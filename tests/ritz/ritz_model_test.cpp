@@ -565,6 +565,18 @@ TEST_CASE("ritz model: pieces, admissibility and layout", "[ritz][model]") {
   CHECK(enriched.modes() == 5);
   CHECK(enriched.unknowns() == 7);
   CHECK(enriched.limit_offset() == 5);
+  // w on a grid is w pointwise, on both sides of the kink too; the bound is round-off of the
+  // phase rotations (add_on_grid), a few hundred eps of sum |W_i| (each |phi_i| <= 1).
+  for (const RitzModel* m : {&model, &enriched}) {
+    VectorXd y = VectorXd::Zero(m->unknowns());
+    for (int i = 0; i < m->modes(); ++i) y[i] = std::cos(1.0 + i) / (1 + i);
+    y[m->limit_offset()] = 0.3, y[m->limit_offset() + 1] = 0.6;
+    std::vector<double> values;
+    m->w_on_grid(y, 0.1, 0.9, 400, values);
+    REQUIRE(values.size() == 399);
+    const double bound = 500 * 2.2e-16 * y.head(m->modes()).lpNorm<1>();
+    for (int i = 1; i < 400; ++i) CHECK(std::abs(values[i - 1] - m->w(y, 0.1 + 0.8 * i / 400)) <= bound);
+  }
 }
 
 TEST_CASE("ritz model: the minimiser for fixed limits detects unresisted rigid motions", "[ritz][model]") {

@@ -178,3 +178,26 @@ TEST_CASE("trig polynomial: products of basis-like functions integrate exactly a
     }
   }
 }
+
+TEST_CASE("trig polynomial: values on a grid agree with pointwise values", "[ritz][trig]") {
+  // Rotating the phase from point to point (re-seeded every 32 points) loses a few eps per
+  // step of the run to round-off: bound it by 200 eps per unit of |c| X^p, plus the argument
+  // rounding of omega s (the grid's s and value()'s s differ by an ulp or so).
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> coefficient(-2.0, 2.0), frequency(0.0, 120.0);
+  const double a = -1.3, b = 2.1, x = 2.1;
+  const int n = 400;
+  for (int trial = 0; trial < 20; ++trial) {
+    std::vector<TrigTerm> terms;
+    double bound = 0.0;
+    for (int k = 0; k < 6; ++k) {
+      const TrigTerm t{coefficient(random), k % 4, k == 0 ? 0.0 : frequency(random), k % 2 ? Wave::sine : Wave::cosine};
+      terms.push_back(t);
+      bound += std::abs(t.coefficient) * std::pow(x, t.power) * (200.0 + 10.0 * t.omega * x) * 2.2e-16;
+    }
+    const TrigPolynomial f(terms);
+    const std::vector<double> values = f.values_on_grid(a, b, n);
+    REQUIRE(values.size() == n + 1);
+    for (int i = 0; i <= n; ++i) CHECK(std::abs(values[i] - f(a + (b - a) * i / n)) <= bound);
+  }
+}
