@@ -11,11 +11,14 @@
 //    limits reaching the free ends: the node-wise contact of the LCP resolves a limit to an
 //    element, so the load converges slowly). fe_safety = 3 covers p >= 0.6; the observed
 //    orders are asserted below, so that the factor stays justified.
-//  - Ritz: the change of the event load from 3/4 of the modes (24) to all of them (32). With an
-//    error decaying like N^-q, the larger run's error is that change over (4/3)^q - 1: 3 for
-//    q = 1, 1.3 for q = 2 (region_split's split, 24 -> 32 modes against the closed form:
-//    6.9e-7 -> 3.9e-7, q = 2.0). ritz_safety = 3 covers q >= 1. The convergence is not
-//    monotone everywhere (region_split at 40 modes is further off than at 32), see the report.
+//  - Ritz: the change of the event load from half the modes (16) to all of them (32). With an
+//    error decaying like N^-q, the larger run's error is that change over 2^q - 1, at most the
+//    change itself for q >= 1 (ritz_safety = 1). A 3/4 ratio (24 -> 32, with a factor 3) was
+//    tried first and proved fragile: on region_split the split's load stagnates near 3e-7 from
+//    24 to 48 modes (closed form 6.8567342861; 24: +3.6e-7, 32: +3.2e-7, 48: +2.3e-6), so two
+//    close mode counts can agree far better than either is right, and round-off changes in the
+//    Ritz integrals were enough to flip that check. Halving the modes keeps the estimate
+//    dominated by the coarse run's error.
 // The FE path also has a round-off floor: its nondimensional stiffness grows like n^4, and
 // beyond ~800 elements the event loads move by 1e-8 to 1e-6 relative for no discretisation
 // reason (free_free_uplift: 5.4869831 at 800, 5.4869757 at 1600). The refined runs here stay
@@ -40,8 +43,8 @@ using continuation::TraceResult;
 
 namespace {
 
-constexpr double fe_safety = 3.0, ritz_safety = 3.0;
-constexpr int ritz_modes = 32, ritz_fewer_modes = 24;
+constexpr double fe_safety = 3.0, ritz_safety = 1.0;
+constexpr int ritz_modes = 32, ritz_fewer_modes = 16;
 
 scene::Scene scene_named(const std::string& name) {
   return scene::read_scene_file(std::string(LIFTOFF_SOURCE_DIR) + "/continuation/scenes/" + name + ".toml");
@@ -287,7 +290,7 @@ TEST_CASE("region_split: the split and the limits reaching the free ends at one 
   }
   const double exact = l1;
   // The Ritz path has limits to resolve here (not so in full contact, as in the other two
-  // scenes): 32 modes give 6e-8 relative, within its estimate, not 1e-8.
+  // scenes): 32 modes give 5e-8 relative, within its estimate, not 1e-8.
   CHECK(std::abs(g.ritz.events[g.ritz_index[0]].load_factor - exact) <= g.ritz_error[0]);
   CHECK(std::abs(g.fe.events[0].load_factor - exact) <= g.fe_error[0]);
 
