@@ -6,30 +6,14 @@
 #include <system_error>
 
 #include "core/error.hpp"
+#include "io/hdf5_handle.hpp"
 
 namespace liftoff::io {
 
 namespace {
 
-// Owns one HDF5 handle; closes it with the matching function.
-class Handle {
- public:
-  Handle(hid_t id, herr_t (*close)(hid_t), const std::string& what) : id_(id), close_(close) {
-    if (id_ < 0) throw OutputError("HDF5: cannot create " + what);
-  }
-  Handle(const Handle&) = delete;
-  Handle& operator=(const Handle&) = delete;
-  ~Handle() { close_(id_); }
-  operator hid_t() const { return id_; }
-
- private:
-  hid_t id_;
-  herr_t (*close_)(hid_t);
-};
-
-void check(herr_t status, const std::string& what) {
-  if (status < 0) throw OutputError("HDF5: cannot write " + what);
-}
+using hdf5::check;
+using hdf5::Handle;
 
 // Variable-length UTF-8, which h5py returns as str.
 void write_string_attribute(hid_t object, const char* name, const std::string& value) {

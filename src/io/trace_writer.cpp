@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "core/error.hpp"
+#include "io/hdf5_handle.hpp"
 #include "io/report.hpp"
 
 namespace liftoff::io {
@@ -20,28 +21,8 @@ using continuation::TraceStep;
 
 namespace {
 
-// Owns one HDF5 handle; closes it with the matching function.
-class Handle {
- public:
-  Handle(hid_t id, herr_t (*close)(hid_t), const std::string& what) : id_(id), close_(close) {
-    if (id_ < 0) throw OutputError("HDF5: cannot open or create " + what);
-  }
-  Handle(Handle&& other) noexcept : id_(other.id_), close_(other.close_) { other.id_ = -1; }
-  Handle(const Handle&) = delete;
-  Handle& operator=(const Handle&) = delete;
-  ~Handle() {
-    if (id_ >= 0) close_(id_);
-  }
-  operator hid_t() const { return id_; }
-
- private:
-  hid_t id_;
-  herr_t (*close_)(hid_t);
-};
-
-void check(herr_t status, const std::string& what) {
-  if (status < 0) throw OutputError("HDF5: cannot write " + what);
-}
+using hdf5::check;
+using hdf5::Handle;
 
 Handle string_type(bool variable, std::size_t size = 1) {
   Handle type(H5Tcopy(H5T_C_S1), H5Tclose, "string type");

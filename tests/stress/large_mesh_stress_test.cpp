@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "answer_check.hpp"
+#include "seed_beams.hpp"
 #include "closed_form/beam_on_foundation.hpp"
 #include "contact/active_set_system.hpp"
 #include "support/scenes.hpp"
@@ -25,18 +26,7 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-closed_form::BeamProblem seed_problem(const scene::Scene& s) {
-  closed_form::BeamProblem p;
-  p.length = s.structure.length;
-  p.bending_stiffness = s.structure.bending_stiffness;
-  p.foundation_modulus = *s.foundation.stiffness_parameter * p.bending_stiffness / std::pow(p.length, 4);
-  p.left = p.right = closed_form::EndCondition::pinned;
-  for (const auto& l : s.loads) {
-    if (l.kind == scene::LoadKind::force) p.forces.push_back({l.at, l.value});
-    if (l.kind == scene::LoadKind::moment) p.moments.push_back({l.at, l.value});
-  }
-  return p;
-}
+using test::seed_problem;
 
 // Largest nodal deflection error against a closed-form solution, relative to max |w| (beam
 // with L = 1: s = x).

@@ -15,6 +15,7 @@
 #include <fmt/ranges.h>
 
 #include "app/solve_command.hpp"
+#include "seed_beams.hpp"
 #include "closed_form/beam_on_foundation.hpp"
 #include "ritz/ritz_solver.hpp"
 #include "support/scenes.hpp"
@@ -31,15 +32,7 @@ struct PoorStart {
 
 // The closed-form contact limits of a shipped beam scene (x / L), from the FE's regions.
 std::vector<double> closed_form_limits(const scene::Scene& s, const io::SolveReport& good) {
-  closed_form::BeamProblem p;
-  p.length = s.structure.length;
-  p.bending_stiffness = s.structure.bending_stiffness;
-  p.foundation_modulus = *s.foundation.stiffness_parameter * p.bending_stiffness / std::pow(p.length, 4);
-  p.left = p.right = closed_form::EndCondition::pinned;
-  for (const auto& l : s.loads) {
-    if (l.kind == scene::LoadKind::force) p.forces.push_back({l.at, l.value});
-    if (l.kind == scene::LoadKind::moment) p.moments.push_back({l.at, l.value});
-  }
+  const closed_form::BeamProblem p = test::seed_problem(s);
   std::vector<closed_form::Interval> guess;
   for (const auto& r : good.contact_regions) guess.push_back({r[0], r[1]});
   const auto exact = closed_form::solve_tensionless(p, guess);
