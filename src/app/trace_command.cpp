@@ -333,8 +333,10 @@ TraceOutcome run_trace(const scene::Scene& scene, const TraceRequest& request, c
     return nullptr;
   };
   if (find("fe") && find("ritz")) outcome.comparison = compare_events(*find("fe"), *find("ritz"));
-  // The FE discretisation error of every event: the same path with twice the elements. (When
-  // fe_path.hpp provides its own refined-run estimate, this is where it plugs in.)
+  // The FE discretisation error of every event: the same path with twice the elements. Here the
+  // refined run is a path of the trace, written to the file like the others, so its events are
+  // compared directly (continuation::estimate_event_errors computes the same from a run of its
+  // own, for callers without a trace file: the tests).
   if (find("fe") && find("fe_refined")) outcome.discretisation_error = compare_events(*find("fe"), *find("fe_refined"));
   if (writer && outcome.usable()) writer->finish();
   return outcome;

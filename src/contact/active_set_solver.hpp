@@ -15,8 +15,7 @@
 // they reduce the number of infeasible nodes, or for at most `block_retries` steps without a
 // new best; after that single steps flip only the infeasible node of largest index (Murty's
 // least-index rule on the reversed order, finite for P-matrices) until the count drops below
-// the best again. A set
-// seen before also ends the block steps at once. Every step is thus either a new best count
+// the best again. A set seen before also ends the block steps at once. Every step is thus either a new best count
 // (finitely many) or a Murty step, so the iteration ends. When K is singular (a member only
 // the foundation holds) P does not exist; the same iteration runs, and a set that leaves a
 // rigid motion free is answered by a single flip from the last good set, and the guarantee is
