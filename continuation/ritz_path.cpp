@@ -46,6 +46,7 @@
 #include "fe/discretisation.hpp"
 #include "fe/member_model.hpp"
 #include "post/contact_regions.hpp"
+#include "ritz/starting_point.hpp"
 #include "ritz/ritz_model.hpp"
 #include "ritz/ritz_solver.hpp"
 
@@ -240,13 +241,9 @@ ResumeState RitzTracer::starting_state() {
                         std::all_of(member_.loads.begin(), member_.loads.end(),
                                     [](const fe::MemberLoad& l) { return l.load_case != fe::LoadCase::dead; });
   const double lambda_start = unloaded ? options_.initial_step : options_.lambda_min;
-  std::vector<double> limits;
+  ritz::StartingPoint initial;
   if (!scene_.ritz.topology.empty()) {
-    state.topology = {scene_.ritz.topology.front(), static_cast<int>(scene_.ritz.topology.size()) - 1};
-    for (double limit : scene_.ritz.limits) limits.push_back(member_.s_from_user(limit));
-    for (int m = 0; limits.empty() && m < state.topology.limits; ++m)
-      limits.push_back(member_.foundation_begin +
-                       (member_.foundation_end - member_.foundation_begin) * (m + 1) / (state.topology.limits + 1));
+    initial = ritz::starting_point_from_scene(scene_.ritz, member_);
   } else {
     const fe::Discretisation d = fe::discretise(member_, options_.elements);
     contact::ContactOptions contact_options;
@@ -256,14 +253,10 @@ ResumeState RitzTracer::starting_state() {
     if (!fe.summary.is_usable())
       throw StartFailure("the FE + LCP solution at lambda_min that gives the Ritz topology failed: " +
                          fe.summary.message);
-    const std::vector<post::Interval> regions = post::contact_regions(member_, d, fe.displacement);
-    const double begin = member_.foundation_begin, end = member_.foundation_end, edge = 1e-9 * member_.length();
-    state.topology.first_in_contact = !regions.empty() && regions.front().begin <= begin + edge;
-    for (const post::Interval& region : regions)
-      for (double limit : {region.begin, region.end})
-        if (limit > begin + edge && limit < end - edge) limits.push_back(limit);
-    state.topology.limits = static_cast<int>(limits.size());
+    initial = ritz::starting_point_from_regions(post::contact_regions(member_, d, fe.displacement), member_);
   }
+  state.topology = initial.topology;
+  const std::vector<double>& limits = initial.limits;
   ritz::RitzOptions ritz_options;
   ritz_options.modes = options_.modes > 0 ? options_.modes : scene_.ritz.modes;
   ritz_options.max_modes = scene_.ritz.max_modes;

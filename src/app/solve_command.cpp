@@ -13,6 +13,7 @@
 #include "post/contact_regions.hpp"
 #include "post/fields.hpp"
 #include "ritz/ritz_solver.hpp"
+#include "ritz/starting_point.hpp"
 
 namespace liftoff::app {
 
@@ -78,45 +79,27 @@ io::SolveReport fe_report(const scene::Scene& scene, Method method, const SolveR
 }
 
 // The Ritz topology and initial limits: from the scene, or from an FE + LCP solution.
-struct StartingPoint {
-  ritz::Topology topology;
-  std::vector<double> limits;  // s
+struct RitzStart {
+  ritz::StartingPoint point;
   std::string how;
 };
 
-StartingPoint ritz_starting_point(const scene::Scene& scene, const fe::MemberModel& model, int elements) {
-  StartingPoint start;
-  const double begin = model.foundation_begin, end = model.foundation_end;
-  if (!scene.ritz.topology.empty()) {
-    start.topology = {scene.ritz.topology.front(), static_cast<int>(scene.ritz.topology.size()) - 1};
-    for (double limit : scene.ritz.limits) start.limits.push_back(model.s_from_user(limit));
-    if (start.limits.empty())  // evenly spaced guesses
-      for (int m = 0; m < start.topology.limits; ++m)
-        start.limits.push_back(begin + (end - begin) * (m + 1) / (start.topology.limits + 1));
-    if (static_cast<int>(start.limits.size()) != start.topology.limits) start.limits.clear();
-    start.how = "topology from the scene";
-    return start;
-  }
+RitzStart ritz_starting_point(const scene::Scene& scene, const fe::MemberModel& model, int elements) {
+  if (!scene.ritz.topology.empty()) return {ritz::starting_point_from_scene(scene.ritz, model), "topology from the scene"};
   const FeResult fe = solve_fe(scene, model, Method::automatic, elements);
   if (!fe.solution.summary.is_usable())
     throw SolverFailure(scene.source_name + ": the FE + LCP solution that gives the Ritz topology failed: " +
                         fe.solution.summary.message);
-  const double edge = 1e-9 * model.length();
-  start.topology.first_in_contact = !fe.regions.empty() && fe.regions.front().begin <= begin + edge;
-  for (const post::Interval& region : fe.regions)
-    for (double limit : {region.begin, region.end})
-      if (limit > begin + edge && limit < end - edge) start.limits.push_back(limit);
-  start.topology.limits = static_cast<int>(start.limits.size());
-  start.how = fmt::format("topology and initial limits from an FE + LCP solution with {} elements",
-                          fe.discretisation.mesh.elements());
-  return start;
+  return {ritz::starting_point_from_regions(fe.regions, model),
+          fmt::format("topology and initial limits from an FE + LCP solution with {} elements",
+                      fe.discretisation.mesh.elements())};
 }
 
 io::SolveReport ritz_report(const scene::Scene& scene, const SolveRequest& request) {
   const auto start = std::chrono::steady_clock::now();
   const fe::MemberModel model = fe::make_member_model(scene);
   const int elements = request.elements.value_or(scene.solve.elements);
-  const StartingPoint starting_point = ritz_starting_point(scene, model, elements);
+  const RitzStart starting_point = ritz_starting_point(scene, model, elements);
 
   ritz::RitzOptions options;
   options.modes = request.modes.value_or(scene.ritz.modes);
@@ -124,7 +107,7 @@ io::SolveReport ritz_report(const scene::Scene& scene, const SolveRequest& reque
   options.mode_tolerance = scene.ritz.mode_tolerance * model.length();
   ritz::RitzSolution solution;
   try {
-    solution = ritz::solve_ritz(model, starting_point.topology, starting_point.limits, options);
+    solution = ritz::solve_ritz(model, starting_point.point.topology, starting_point.point.limits, options);
   } catch (const MechanismError& e) {
     throw MechanismError(scene.source_name + ": " + e.what());
   } catch (const std::invalid_argument& e) {

@@ -1,0 +1,39 @@
+#pragma once
+// Where a Ritz solve starts: the topology (which pieces of the foundation are in contact) and
+// initial limits, either as the scene's [ritz] table gives them or read off the contact regions
+// of an FE + LCP solution of the same member. Shared by `liftoff solve --method ritz` and the
+// Ritz load history, which both start this way.
+
+#include <vector>
+
+#include "fe/member_model.hpp"
+#include "ritz/ritz_model.hpp"
+#include "scene/scene.hpp"
+
+namespace liftoff::ritz {
+
+struct StartingPoint {
+  Topology topology;
+  std::vector<double> limits;  // s
+};
+
+// The scene's topology, with its limits or evenly spaced guesses. Requires a non-empty
+// settings.topology.
+StartingPoint starting_point_from_scene(const scene::RitzSettings& settings, const fe::MemberModel& model);
+
+// The topology of contact regions (intervals of s with members `begin` and `end`, as
+// post::contact_regions returns them): limits within 1e-9 of the member's length of a
+// foundation end are that end, not a limit.
+template <class Intervals>
+StartingPoint starting_point_from_regions(const Intervals& regions, const fe::MemberModel& model) {
+  StartingPoint start;
+  const double begin = model.foundation_begin, end = model.foundation_end, edge = 1e-9 * model.length();
+  start.topology.first_in_contact = !regions.empty() && regions.front().begin <= begin + edge;
+  for (const auto& region : regions)
+    for (double limit : {region.begin, region.end})
+      if (limit > begin + edge && limit < end - edge) start.limits.push_back(limit);
+  start.topology.limits = static_cast<int>(start.limits.size());
+  return start;
+}
+
+}  // namespace liftoff::ritz
