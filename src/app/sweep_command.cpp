@@ -1,11 +1,11 @@
 #include "app/sweep_command.hpp"
 
+#include <fmt/format.h>
+
 #include <atomic>
 #include <cmath>
 #include <mutex>
 #include <thread>
-
-#include <fmt/format.h>
 
 #include "core/error.hpp"
 #include "scene/scene_edit.hpp"
@@ -53,7 +53,8 @@ SweepParameter parse_sweep_parameter(const std::string& text) {
   if (range.size() == 4 && (range[0] == "lin" || range[0] == "log")) {
     const double a = number(text, range[1]), b = number(text, range[2]);
     const double n = number(text, range[3]);
-    if (n < 2 || n != std::floor(n) || n > 100000) bad(text, "n must be an integer >= 2");
+    if (n < 2 || n != std::floor(n) || n > static_cast<double>(max_sweep_cases))
+      bad(text, fmt::format("n must be an integer in [2, {}]", max_sweep_cases));
     if (range[0] == "log" && (a <= 0 || b <= 0)) bad(text, "a log range needs a > 0 and b > 0");
     for (int i = 0; i < n; ++i) {
       const double t = i / (n - 1);
@@ -68,8 +69,23 @@ SweepParameter parse_sweep_parameter(const std::string& text) {
 std::vector<io::SweepCase> run_sweep(const scene::Scene& scene, const std::vector<SweepParameter>& parameters,
                                      const SolveRequest& request, int jobs,
                                      const std::function<void(int, int)>& progress) {
+  // The grid's size is checked before anything is allocated for it (the product of the counts
+  // stops growing past the bound, so it cannot overflow).
   std::size_t total = 1;
-  for (const auto& p : parameters) total *= p.values.size();
+  for (const auto& p : parameters) {
+    if (p.values.empty()) throw InputError(fmt::format("--set '{}': expected at least one value", p.key));
+    total = std::min(total * p.values.size(), max_sweep_cases + 1);
+  }
+  if (total > max_sweep_cases) {
+    double product = 1;
+    std::string counts;
+    for (const auto& p : parameters) {
+      product *= static_cast<double>(p.values.size());
+      counts += fmt::format("{}{} values of {}", counts.empty() ? "" : " x ", p.values.size(), p.key);
+    }
+    throw InputError(fmt::format("--set: the grid has {:g} cases ({}), expected at most {}; sweep fewer values",
+                                 product, counts, max_sweep_cases));
+  }
   std::vector<io::SweepCase> cases(total);
   for (std::size_t i = 0; i < total; ++i) {  // mixed-radix digits: the last parameter fastest
     std::size_t rest = i;
