@@ -111,9 +111,27 @@ bool same_file(const std::filesystem::path& a, const std::filesystem::path& b) {
 
 // No output (nor the temporary or backup beside it) may replace an input or another output of
 // the same run: checked before any work, so a refused run writes nothing (InputError, exit 2).
+// Nor may it replace what is not a regular file: the rename that finishes an output would put
+// a file in place of a directory's name or a device (as root, --output /dev/null replaced
+// /dev/null).
 void check_files(const std::vector<RunFile>& inputs, const std::vector<RunFile>& outputs) {
   for (std::size_t i = 0; i < outputs.size(); ++i) {
     const RunFile& o = outputs[i];
+    std::error_code error;
+    const std::filesystem::file_status status = std::filesystem::status(o.path, error);
+    if (!error && std::filesystem::exists(status) && !std::filesystem::is_regular_file(status)) {
+      const char* kind = std::filesystem::is_directory(status)        ? "a directory"
+                         : std::filesystem::is_character_file(status) ? "a character device"
+                         : std::filesystem::is_block_file(status)     ? "a block device"
+                         : std::filesystem::is_fifo(status)           ? "a named pipe"
+                         : std::filesystem::is_socket(status)         ? "a socket"
+                                                                      : "something other than a regular file";
+      throw InputError(
+          fmt::format("{} '{}': {}is {}; expected the name of a regular file, new or to be replaced "
+                      "(nothing was written)",
+                      o.option, o.named.string(),
+                      o.what.empty() ? "" : fmt::format("its {} '{}' ", o.what, o.path.string()), kind));
+    }
     const auto clash = [&](const RunFile& other) {
       if (!same_file(o.path, other.path)) return;
       throw InputError(fmt::format(

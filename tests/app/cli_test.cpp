@@ -2,6 +2,8 @@
 // output file after a failure, JSON on stdout, and an HDF5 file that describes itself.
 #include "app/cli.hpp"
 
+#include <sys/stat.h>
+
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
@@ -291,6 +293,24 @@ TEST_CASE("cli: an output never replaces the scene or another output; exit 2, no
   // `--method all` writes through the same check.
   CHECK(run({"solve", scene.string(), "--method", "all", "--output", scene.string()}).status == 2);
   CHECK(file_text(scene) == valid_beam);
+
+  // Nor does an output replace what is not a regular file (the rename would put the HDF5 file in
+  // its place: run as root, --output /dev/null once replaced /dev/null). A named pipe and a
+  // directory stand for the devices here.
+  const fs::path pipe = scratch.dir / "pipe", dir = scratch.dir / "dir";
+  REQUIRE(::mkfifo(pipe.c_str(), 0600) == 0);
+  fs::create_directory(dir);
+  Run p = run({"solve", scene.string(), "--output", pipe.string()});
+  CHECK(p.status == 2);
+  CHECK(p.err == "liftoff: --output '" + pipe.string() +
+                     "': is a named pipe; expected the name of a regular file, new or to be replaced (nothing was "
+                     "written)\n");
+  CHECK(fs::is_fifo(pipe));
+  p = run({"solve", scene.string(), "--output", dir.string()});
+  CHECK(p.status == 2);
+  CHECK_THAT(p.err, Catch::Matchers::Contains("is a directory"));
+  CHECK(fs::is_empty(dir));
+  CHECK_FALSE(fs::exists(dir.string() + ".tmp"));
 }
 
 TEST_CASE("cli: --json prints exactly one object for every outcome", "[app][errors]") {
