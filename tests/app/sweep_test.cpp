@@ -102,6 +102,21 @@ TEST_CASE("sweep: a grid of more than max_sweep_cases cases is refused before an
                     Catch::Matchers::Contains("n must be an integer in [2, 100000]"));
 }
 
+TEST_CASE("sweep: a key swept twice, or one that is no scene key, is refused on one line", "[app][sweep][errors]") {
+  const scene::Scene s = test::shipped_scene("seed_beam_end_moments");
+  // Twice: the second --set silently replaced the first (the grid had both columns).
+  CHECK_THROWS_WITH(
+      app::run_sweep(
+          s, {app::parse_sweep_parameter("foundation.k=1,2"), app::parse_sweep_parameter("foundation.k=3,4")}, {}, 1),
+      "--set: key 'foundation.k' given twice; expected each key once (its values in one --set)");
+  // A newline in the key or the values: the message escapes it and stays on one line.
+  CHECK_THROWS_WITH(app::parse_sweep_parameter("foundation.k\n=1"),
+                    Catch::Matchers::EndsWith("got 'foundation.k\\x0a'"));
+  CHECK_THROWS_WITH(app::parse_sweep_parameter("foundation.k=1\n"),
+                    Catch::Matchers::StartsWith("--set 'foundation.k=1\\x0a': '1\\x0a' is not a finite number"));
+  CHECK_THROWS_AS(app::parse_sweep_parameter("foundation.\"k\"=1"), InputError);
+}
+
 TEST_CASE("sweep CLI: bad keys, huge grids and clashing outputs exit 2 and write nothing", "[app][sweep][errors]") {
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path() / ("liftoff_sweep_cli_test_" + std::to_string(::getpid()));
