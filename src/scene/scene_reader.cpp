@@ -603,7 +603,7 @@ Scene parse_scene(std::string_view toml_text, std::string source_name) {
 }
 
 Scene read_scene_file(const std::filesystem::path& path) {
-  const std::string name = path.string();
+  const std::string name = escaped(path.string());  // messages stay on one line whatever the name
   const auto cannot_read = [&] {
     return InputError(fmt::format("{}: cannot read the scene file ({})", name, std::strerror(errno)));
   };

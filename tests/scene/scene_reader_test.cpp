@@ -517,6 +517,11 @@ TEST_CASE("read_scene_file reads a file and reports one it cannot read", "[scene
   REQUIRE_THROWS_AS(read_scene_file(absent), liftoff::InputError);
   REQUIRE_THROWS_WITH(read_scene_file(directory),
                       StartsWith(directory.string() + ": cannot read the scene file ("));
+  // A file name with a newline: the message stays on one line.
+  const auto odd = directory / "two\nlines.toml";
+  std::ofstream(odd) << edited(beam_scene, "EI = 1.0", "EI = -1");
+  REQUIRE_THROWS_WITH(read_scene_file(odd), (directory / "two\\nlines.toml").string() +
+                                                ":4: key 'structure.EI': expected a number > 0, got -1");
   std::filesystem::remove_all(directory);
 }
 
