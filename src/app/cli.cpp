@@ -1,14 +1,18 @@
 #include "app/cli.hpp"
 
+#include <fmt/format.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
-#include <fmt/format.h>
-#include <iostream>
+#include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <mutex>
+#include <optional>
+#include <string_view>
 #include <thread>
 
 #include "app/solve_command.hpp"
@@ -16,7 +20,9 @@
 #include "app/trace_command.hpp"
 #include "core/error.hpp"
 #include "default_scene.hpp"
+#include "fe/member_model.hpp"
 #include "io/hdf5_writer.hpp"
+#include "io/trace_writer.hpp"
 #include "scene/scene_reader.hpp"
 
 namespace liftoff::app {
@@ -34,17 +40,121 @@ struct ProblemArguments {
 };
 
 void add_problem_options(CLI::App* command, ProblemArguments& args) {
-  command->add_option("scene", args.scene_path, "Scene file (TOML); default: the seed paper's arch, roller ends")
+  command->add_option("scene", args.scene_path, fmt::format("Scene file (TOML); default: {}", default_scene_name))
       ->check(CLI::ExistingFile);
   command
       ->add_option("--method", args.method,
-                   "dual | primal (FE + LCP by Lemke), fast (FE, sparse active set), auto (chosen from the scene), ritz (moving contact limits), all (side by side); "
+                   "dual | primal (FE + LCP by Lemke), fast (FE, sparse active set), auto (chosen from the scene), "
+                   "ritz (moving contact limits), all (side by side); "
                    "overrides [solve] method")
       ->check(CLI::IsMember({"dual", "primal", "fast", "auto", "ritz", "all"}));
   command->add_option("--elements", args.elements, "Number of finite elements (overrides [solve] elements)")
       ->check(CLI::Range(1, 10'000'000));
   command->add_option("--modes", args.modes, "Ritz modes: a number, or auto (overrides [ritz] modes)")
       ->check(CLI::IsMember({"auto"}) | CLI::Range(1, 1000));
+}
+
+// What a --json failure object says about the run, filled in as it becomes known.
+struct RunContext {
+  std::string scene;                            // the scene's name, as in every message (empty: unknown)
+  std::optional<std::string> method_requested;  // --method, else the scene's; unknown before the scene is read
+};
+
+// The failure object of --json: one on stdout for every run that gives no answer, whatever the
+// cause (CERTIFICATE.md), with the one-line message also printed on stderr.
+nlohmann::json failure_json(const RunContext& context, const std::string& termination, const std::string& message,
+                            ExitCode exit_code) {
+  nlohmann::json j;
+  j["scene"] = context.scene.empty() ? nlohmann::json() : nlohmann::json(context.scene);
+  j["method_requested"] = context.method_requested ? nlohmann::json(*context.method_requested) : nlohmann::json();
+  j["termination"] = termination;
+  j["message"] = message;
+  j["exit_code"] = code(exit_code);
+  return j;
+}
+
+// What every --json object carries besides its own keys.
+void add_run_keys(nlohmann::json& j, const RunContext& context, ExitCode exit_code) {
+  if (!j.contains("method_requested") && context.method_requested) j["method_requested"] = *context.method_requested;
+  j["exit_code"] = code(exit_code);
+}
+
+// A file the run reads or writes: as named by the user (`option` 'named'), or a file the run
+// keeps beside it (`what`: "temporary file", "backup file").
+struct RunFile {
+  std::string option;  // "--output", "the scene"
+  std::filesystem::path named;
+  std::filesystem::path path;
+  std::string what;  // empty: the named file itself
+
+  std::string description() const {
+    return what.empty() ? fmt::format("{} '{}'", option, named.string())
+                        : fmt::format("the {} '{}' of {} '{}'", what, path.string(), option, named.string());
+  }
+};
+
+// Whether two names are one file: the same inode if both exist (hard and symbolic links
+// included), else the same canonical path.
+bool same_file(const std::filesystem::path& a, const std::filesystem::path& b) {
+  std::error_code error;
+  if (std::filesystem::exists(a, error) && std::filesystem::exists(b, error)) {
+    const bool same = std::filesystem::equivalent(a, b, error);
+    if (!error) return same;
+  }
+  const auto normal = [](const std::filesystem::path& p) {
+    std::error_code e;
+    const std::filesystem::path canonical = std::filesystem::weakly_canonical(p, e);
+    return e ? std::filesystem::absolute(p, e).lexically_normal() : canonical;
+  };
+  return normal(a) == normal(b);
+}
+
+// No output (nor the temporary or backup beside it) may replace an input or another output of
+// the same run: checked before any work, so a refused run writes nothing (InputError, exit 2).
+// Nor may it replace what is not a regular file: the rename that finishes an output would put
+// a file in place of a directory's name or a device (as root, --output /dev/null replaced
+// /dev/null).
+void check_files(const std::vector<RunFile>& inputs, const std::vector<RunFile>& outputs) {
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    const RunFile& o = outputs[i];
+    std::error_code error;
+    const std::filesystem::file_status status = std::filesystem::status(o.path, error);
+    if (!error && std::filesystem::exists(status) && !std::filesystem::is_regular_file(status)) {
+      const char* kind = std::filesystem::is_directory(status)        ? "a directory"
+                         : std::filesystem::is_character_file(status) ? "a character device"
+                         : std::filesystem::is_block_file(status)     ? "a block device"
+                         : std::filesystem::is_fifo(status)           ? "a named pipe"
+                         : std::filesystem::is_socket(status)         ? "a socket"
+                                                                      : "something other than a regular file";
+      throw InputError(
+          fmt::format("{} '{}': {}is {}; expected the name of a regular file, new or to be replaced "
+                      "(nothing was written)",
+                      o.option, o.named.string(),
+                      o.what.empty() ? "" : fmt::format("its {} '{}' ", o.what, o.path.string()), kind));
+    }
+    const auto clash = [&](const RunFile& other) {
+      if (!same_file(o.path, other.path)) return;
+      throw InputError(fmt::format(
+          "{} '{}': {}the same file as {}; expected an output that is neither an input nor "
+          "another output of this run (nothing was written)",
+          o.option, o.named.string(), o.what.empty() ? "" : fmt::format("its {} '{}' is ", o.what, o.path.string()),
+          other.description()));
+    };
+    for (const RunFile& input : inputs) clash(input);
+    for (std::size_t j = 0; j < i; ++j) clash(outputs[j]);
+  }
+}
+
+std::vector<RunFile> scene_input(const std::string& scene_path) {
+  if (scene_path.empty()) return {};
+  return {{"the scene", scene_path, scene_path, ""}};
+}
+
+// An output written under a temporary name and renamed (io/hdf5_writer.hpp): both names.
+void add_atomic_output(std::vector<RunFile>& outputs, const std::string& option, const std::string& path) {
+  if (path.empty()) return;
+  outputs.push_back({option, path, path, ""});
+  outputs.push_back({option, path, io::temporary_path(path), "temporary file"});
 }
 
 struct SolveArguments {
@@ -54,33 +164,42 @@ struct SolveArguments {
 };
 
 // `--method all`: every method side by side; exit 3 if one that applies failed. The HDF5 file,
-// if asked for, holds the first usable result (primal, dual, then Ritz).
-int run_all(const scene::Scene& scene, const SolveRequest& request, const SolveArguments& args, std::ostream& out,
-            std::ostream& err) {
-  const std::vector<io::SolveReport> reports = solve_all_methods(scene, request);
-  bool failed = false;
+// if asked for, holds the first usable result (primal, dual, then Ritz); it is written before
+// anything is printed, so a failure to write it leaves one JSON object (the failure's).
+int run_all(const scene::Scene& scene, const SolveRequest& request, const SolveArguments& args,
+            const RunContext& context, std::ostream& out, std::ostream& err) {
+  std::vector<io::SolveReport> reports = solve_all_methods(scene, request);
+  // A refused method's report knows nothing of the scene; the header and JSON need its k.
+  const fe::MemberModel model = fe::make_member_model(scene);
+  for (io::SolveReport& r : reports)
+    if (r.termination == "refused")
+      r.foundation_parameter = model.foundation_modulus, r.tensionless = model.tensionless;
+  std::string failures;
   for (const auto& r : reports) {
     if (r.usable || r.termination == "refused") continue;
     err << "liftoff: " << scene.source_name << ": " << r.method << ": " << r.message << "\n";
-    failed = true;
+    failures += fmt::format("{}{}: {}", failures.empty() ? "" : "; ", r.method, r.message);
   }
+  if (failures.empty() && !args.output.empty())
+    for (const auto& r : reports)
+      if (r.usable) {
+        io::write_hdf5(r, args.output, LIFTOFF_VERSION);
+        break;
+      }
+  const ExitCode status = failures.empty() ? ExitCode::success : ExitCode::solver_failure;
   if (args.json) {
     nlohmann::json all;
     all["scene"] = scene.source_name;
+    all["termination"] = failures.empty() ? "solved" : "failed";
+    all["message"] = failures.empty() ? "every method that applies gave an answer" : failures;
+    add_run_keys(all, context, status);
     all["methods"] = nlohmann::json::array();
     for (const auto& r : reports) all["methods"].push_back(io::to_json(r));
     out << all.dump(2) << "\n";
   } else {
     out << io::side_by_side(reports);
   }
-  if (failed) return code(ExitCode::solver_failure);
-  if (!args.output.empty())
-    for (const auto& r : reports)
-      if (r.usable) {
-        io::write_hdf5(r, args.output, LIFTOFF_VERSION);
-        break;
-      }
-  return code(ExitCode::success);
+  return code(status);
 }
 
 struct SweepArguments {
@@ -99,13 +218,25 @@ SolveRequest make_request(const ProblemArguments& args) {
   SolveRequest request;
   if (!args.method.empty()) request.method = scene::parse_method(args.method);
   if (args.elements > 0) request.elements = args.elements;
-  if (!args.modes.empty()) request.modes = args.modes == "auto" ? 0 : std::stoi(args.modes);
+  if (!args.modes.empty() && args.modes != "auto") {  // CLI11 has checked an integer in [1, 1000]
+    int modes = 0;
+    const auto [end, error] = std::from_chars(args.modes.data(), args.modes.data() + args.modes.size(), modes);
+    if (error != std::errc() || end != args.modes.data() + args.modes.size() || modes < 1 || modes > 1000)
+      throw InputError(fmt::format("--modes: expected \"auto\" or an integer in [1, 1000], got '{}'", args.modes));
+    request.modes = modes;
+  } else if (args.modes == "auto") {
+    request.modes = 0;
+  }
   return request;
 }
 
 // `liftoff sweep`: CSV (to --csv, or stdout), HDF5 with every case (--output), progress on
 // stderr; exit 3 if a case failed (its error is in both outputs).
 int run_sweep_command(const SweepArguments& args, std::ostream& out, std::ostream& err) {
+  std::vector<RunFile> outputs;
+  add_atomic_output(outputs, "--output", args.output);
+  add_atomic_output(outputs, "--csv", args.csv);
+  check_files(scene_input(args.problem.scene_path), outputs);
   const scene::Scene scene = load_scene(args.problem.scene_path);
   std::vector<SweepParameter> parameters;
   std::vector<std::string> keys;
@@ -115,56 +246,65 @@ int run_sweep_command(const SweepArguments& args, std::ostream& out, std::ostrea
   }
   const int jobs = args.jobs > 0 ? args.jobs : std::max(1u, std::thread::hardware_concurrency());
   std::mutex progress_lock;
-  const auto cases = run_sweep(scene, parameters, make_request(args.problem), jobs,
-                               [&](int done, int total) {
-                                 const std::lock_guard<std::mutex> lock(progress_lock);
-                                 const int width = 30, filled = width * done / total;
-                                 err << "\rliftoff sweep [" << std::string(filled, '#') << std::string(width - filled, ' ')
-                                     << "] " << done << "/" << total << (done == total ? "\n" : "") << std::flush;
-                               });
+  SolveRequest request = make_request(args.problem);
+  request.fields = !args.output.empty();  // only the HDF5 file holds sampled fields
+  const auto cases = run_sweep(scene, parameters, request, jobs, [&](int done, int total) {
+    const std::lock_guard<std::mutex> lock(progress_lock);
+    const int width = 30, filled = width * done / total;
+    err << "\rliftoff sweep [" << std::string(filled, '#') << std::string(width - filled, ' ') << "] " << done << "/"
+        << total << (done == total ? "\n" : "") << std::flush;
+  });
   const std::string csv = io::sweep_csv(keys, cases);
+  // The HDF5 file first, then the CSV: a failure to write either leaves neither.
+  if (!args.output.empty()) io::write_sweep_hdf5(keys, cases, args.output, LIFTOFF_VERSION);
   if (args.csv.empty()) {
     out << csv;
   } else {
-    std::ofstream file(args.csv + ".tmp");
+    const std::filesystem::path temporary = io::temporary_path(args.csv);
+    std::ofstream file(temporary);
     file << csv;
     file.close();
     std::error_code error;
-    if (!file || (std::filesystem::rename(args.csv + ".tmp", args.csv, error), error)) {
-      std::filesystem::remove(args.csv + ".tmp", error);
+    if (!file || (std::filesystem::rename(temporary, args.csv, error), error)) {
+      std::filesystem::remove(temporary, error);
+      if (!args.output.empty()) std::filesystem::remove(args.output, error);
       throw OutputError(args.csv + ": cannot write the CSV summary");
     }
   }
-  if (!args.output.empty()) io::write_sweep_hdf5(keys, cases, args.output, LIFTOFF_VERSION);
   bool failed = false;
   for (const auto& c : cases) {
     if (!c.error.empty()) {
       err << "liftoff: " << c.error << "\n";
       failed = true;
     }
-    for (const auto& r : c.reports)
-      failed |= !r.usable && r.termination != "refused";
+    for (const auto& r : c.reports) failed |= !r.usable && r.termination != "refused";
   }
   return code(failed ? ExitCode::solver_failure : ExitCode::success);
 }
 
-int run_solve(const SolveArguments& args, std::ostream& out, std::ostream& err) {
+int run_solve(const SolveArguments& args, RunContext& context, std::ostream& out, std::ostream& err) {
+  std::vector<RunFile> outputs;
+  add_atomic_output(outputs, "--output", args.output);
+  check_files(scene_input(args.problem.scene_path), outputs);
   const scene::Scene scene = load_scene(args.problem.scene_path);
+  if (!context.method_requested) context.method_requested = scene::to_string(scene.solve.method);
   SolveRequest request = make_request(args.problem);
   request.fields = !args.output.empty();  // only the HDF5 file holds sampled fields
 
-  if (request.method.value_or(scene.solve.method) == scene::Method::all) return run_all(scene, request, args, out, err);
+  if (request.method.value_or(scene.solve.method) == scene::Method::all)
+    return run_all(scene, request, args, context, out, err);
   const io::SolveReport report = solve_scene(scene, request);
-  if (!report.usable) {
-    err << "liftoff: " << scene.source_name << ": " << report.message << "\n";
-    return code(ExitCode::solver_failure);
-  }
-  if (!args.output.empty()) io::write_hdf5(report, args.output, LIFTOFF_VERSION);
-  if (args.json)
-    out << io::to_json(report).dump(2) << "\n";
-  else
+  const ExitCode status = report.usable ? ExitCode::success : ExitCode::solver_failure;
+  if (!report.usable) err << "liftoff: " << scene.source_name << ": " << report.message << "\n";
+  if (report.usable && !args.output.empty()) io::write_hdf5(report, args.output, LIFTOFF_VERSION);
+  if (args.json) {
+    nlohmann::json j = io::to_json(report);
+    add_run_keys(j, context, status);
+    out << j.dump(2) << "\n";
+  } else if (report.usable) {
     out << io::text_summary(report) << (args.output.empty() ? "" : "  written       " + args.output + "\n");
-  return code(ExitCode::success);
+  }
+  return code(status);
 }
 
 struct TraceArguments {
@@ -177,8 +317,16 @@ struct TraceArguments {
 
 // `liftoff trace`: the summary (or --json) on stdout; on stderr a progress line when stderr is a
 // terminal, and the reason when a path stops short of lambda_max (exit 3, its steps kept).
-int run_trace_command(const TraceArguments& args, std::ostream& out, std::ostream& err) {
+int run_trace_command(const TraceArguments& args, RunContext& context, std::ostream& out, std::ostream& err) {
+  std::vector<RunFile> outputs;
+  if (!args.output.empty()) {
+    outputs.push_back({"--output", args.output, args.output, ""});
+    outputs.push_back({"--output", args.output, io::trace_backup_path(args.output), "backup file"});
+  }
+  check_files(scene_input(args.problem.scene_path), outputs);
   const scene::Scene scene = load_scene(args.problem.scene_path);
+  if (!context.method_requested && scene.trace)
+    context.method_requested = scene::to_string(scene.trace->method.value_or(scene.solve.method));
   const SolveRequest solve = make_request(args.problem);
   TraceRequest request;
   request.method = solve.method;
@@ -206,10 +354,22 @@ int run_trace_command(const TraceArguments& args, std::ostream& out, std::ostrea
   }
   const TraceOutcome outcome = run_trace(scene, request);
   if (progress_shown) err << "\n";
-  if (args.json)
-    out << to_json(outcome).dump(2) << "\n";
-  else
+  const ExitCode status = outcome.usable() ? ExitCode::success : ExitCode::solver_failure;
+  if (args.json) {
+    nlohmann::json j = to_json(outcome);
+    // The top-level termination and message are the run's: those of the first path that
+    // stopped short of lambda_max, if one did.
+    for (const PathTrace& p : outcome.paths)
+      if (!p.summary.is_usable()) {
+        j["termination"] = continuation::to_string(p.summary.termination);
+        j["message"] = fmt::format("path {}: {}", p.path, p.summary.message);
+        break;
+      }
+    add_run_keys(j, context, status);
+    out << j.dump(2) << "\n";
+  } else {
     out << text_summary(outcome);
+  }
   if (outcome.usable()) return code(ExitCode::success);
   for (const PathTrace& p : outcome.paths)
     if (!p.summary.is_usable())
@@ -253,38 +413,73 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   CLI::App* trace_command = app.add_subcommand(
       "trace", "Follow the load history F = F_dead + lambda F_live ([trace] table): contact regions and events");
   add_problem_options(trace_command, trace.problem);
+  trace_command->get_option("scene")->required()->description(
+      "Scene file (TOML) with a [trace] table (lambda_max); required (the default scene of `solve` has none)");
   trace_command->get_option("--method")
-      ->description("dual | primal | auto: the FE path; ritz: the Ritz path; all: both, events side by side; "
-                    "overrides [trace] method");
+      ->description(
+          "dual | primal | auto: the FE path; ritz: the Ritz path; all: both, events side by side; "
+          "overrides [trace] method");
   trace_command->add_flag("--json", trace.json, "Print one JSON object on stdout instead of the summary");
   trace_command->add_option("--output,-o", trace.output, "Write the trace to this HDF5 file as it runs");
   trace_command->add_flag("--resume", trace.resume, "Continue the --output file from its last finished step");
   trace_command->add_flag("--progress", trace.progress,
                           "Progress on stderr, a line per step, even when stderr is not a terminal");
 
+  const bool json_asked =
+      std::any_of(argv + 1, argv + argc, [](const char* a) { return std::string_view(a) == "--json"; });
+  RunContext context;
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int status = app.exit(e, out, err);
-    return status == 0 ? code(ExitCode::success) : code(ExitCode::bad_input);
+    if (e.get_exit_code() == 0) {  // --help, --version
+      app.exit(e, out, err);
+      return code(ExitCode::success);
+    }
+    // One line, as every other error (CLI11's own adds a second).
+    std::string message = e.what();
+    std::replace(message.begin(), message.end(), '\n', ' ');
+    const CLI::App* command = *solve_command   ? solve_command
+                              : *sweep_command ? sweep_command
+                              : *trace_command ? trace_command
+                                               : &app;
+    err << "liftoff: " << message << " (see liftoff" << (command == &app ? "" : " " + command->get_name())
+        << " --help)\n";
+    // --json asked for and the command line refused: still one object on stdout.
+    if (json_asked) {
+      const ProblemArguments* problem = *solve_command   ? &solve.problem
+                                        : *trace_command ? &trace.problem
+                                        : *sweep_command ? &sweep.problem
+                                                         : nullptr;
+      if (problem != nullptr) {
+        context.scene = problem->scene_path;
+        if (!problem->method.empty()) context.method_requested = problem->method;
+      }
+      out << failure_json(context, "bad_input", message, ExitCode::bad_input).dump(2) << "\n";
+    }
+    return code(ExitCode::bad_input);
   }
 
+  const ProblemArguments& problem = *solve_command ? solve.problem : *sweep_command ? sweep.problem : trace.problem;
+  context.scene = problem.scene_path.empty() ? std::string(default_scene_name) : problem.scene_path;
+  if (!problem.method.empty()) context.method_requested = problem.method;
+  const bool json = (*solve_command && solve.json) || (*trace_command && trace.json);
+  const auto fail = [&](const std::string& termination, const std::string& message, ExitCode status) {
+    err << "liftoff: " << message << "\n";
+    if (json) out << failure_json(context, termination, message, status).dump(2) << "\n";
+    return code(status);
+  };
   try {
-    if (*solve_command) return run_solve(solve, out, err);
+    if (*solve_command) return run_solve(solve, context, out, err);
     if (*sweep_command) return run_sweep_command(sweep, out, err);
-    if (*trace_command) return run_trace_command(trace, out, err);
+    if (*trace_command) return run_trace_command(trace, context, out, err);
   } catch (const InputError& e) {
-    err << "liftoff: " << e.what() << "\n";
-    return code(ExitCode::bad_input);
+    return fail("bad_input", e.what(), ExitCode::bad_input);
   } catch (const SolverFailure& e) {
-    err << "liftoff: " << e.what() << "\n";
-    return code(ExitCode::solver_failure);
+    return fail("refused", e.what(), ExitCode::solver_failure);
   } catch (const OutputError& e) {
-    err << "liftoff: " << e.what() << "\n";
-    return code(ExitCode::output_error);
+    return fail("output_error", e.what(), ExitCode::output_error);
   } catch (const std::exception& e) {
-    err << "liftoff: internal error: " << e.what() << "\n";
-    return code(ExitCode::internal_error);
+    return fail("internal_error", std::string("internal error: ") + e.what(), ExitCode::internal_error);
   }
   return code(ExitCode::internal_error);
 }

@@ -1,11 +1,11 @@
 #include "app/sweep_command.hpp"
 
+#include <fmt/format.h>
+
 #include <atomic>
 #include <cmath>
 #include <mutex>
 #include <thread>
-
-#include <fmt/format.h>
 
 #include "core/error.hpp"
 #include "scene/scene_edit.hpp"
@@ -15,18 +15,29 @@ namespace liftoff::app {
 
 namespace {
 
+// A user's text on one line: control characters as \xNN.
+std::string escaped(const std::string& s) {
+  std::string out;
+  for (const char c : s) {
+    const auto u = static_cast<unsigned char>(c);
+    out += u < 0x20 || u == 0x7f ? fmt::format("\\x{:02x}", u) : std::string(1, c);
+  }
+  return out;
+}
+
 [[noreturn]] void bad(const std::string& text, const std::string& why) {
-  throw InputError(fmt::format("--set '{}': {}; expected KEY=a,b,c or KEY=lin:a:b:n or KEY=log:a:b:n", text, why));
+  throw InputError(
+      fmt::format("--set '{}': {}; expected KEY=a,b,c or KEY=lin:a:b:n or KEY=log:a:b:n", escaped(text), why));
 }
 
 double number(const std::string& text, const std::string& item) {
   try {
     std::size_t used = 0;
     const double v = std::stod(item, &used);
-    if (used != item.size() || !std::isfinite(v)) bad(text, fmt::format("'{}' is not a finite number", item));
+    if (used != item.size() || !std::isfinite(v)) bad(text, fmt::format("'{}' is not a finite number", escaped(item)));
     return v;
   } catch (const std::logic_error&) {
-    bad(text, fmt::format("'{}' is not a number", item));
+    bad(text, fmt::format("'{}' is not a number", escaped(item)));
   }
 }
 
@@ -48,12 +59,21 @@ SweepParameter parse_sweep_parameter(const std::string& text) {
   if (equals == std::string::npos || equals == 0) bad(text, "no KEY=");
   SweepParameter p;
   p.key = text.substr(0, equals);
+  // Names, indices and dots only: anything else (a newline, a quote) is no scene key, and would
+  // reach the messages and the edited TOML text.
+  if (p.key.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_-.[]") !=
+      std::string::npos)
+    throw InputError(
+        fmt::format("--set: expected KEY=VALUES with KEY a scene key such as foundation.k or "
+                    "loads[0].value (letters, digits, _, -, ., [ and ]), got '{}'",
+                    escaped(p.key)));
   const std::string values = text.substr(equals + 1);
   const std::vector<std::string> range = split(values, ':');
   if (range.size() == 4 && (range[0] == "lin" || range[0] == "log")) {
     const double a = number(text, range[1]), b = number(text, range[2]);
     const double n = number(text, range[3]);
-    if (n < 2 || n != std::floor(n) || n > 100000) bad(text, "n must be an integer >= 2");
+    if (n < 2 || n != std::floor(n) || n > static_cast<double>(max_sweep_cases))
+      bad(text, fmt::format("n must be an integer in [2, {}]", max_sweep_cases));
     if (range[0] == "log" && (a <= 0 || b <= 0)) bad(text, "a log range needs a > 0 and b > 0");
     for (int i = 0; i < n; ++i) {
       const double t = i / (n - 1);
@@ -68,8 +88,28 @@ SweepParameter parse_sweep_parameter(const std::string& text) {
 std::vector<io::SweepCase> run_sweep(const scene::Scene& scene, const std::vector<SweepParameter>& parameters,
                                      const SolveRequest& request, int jobs,
                                      const std::function<void(int, int)>& progress) {
+  for (std::size_t k = 0; k < parameters.size(); ++k)
+    for (std::size_t j = 0; j < k; ++j)
+      if (parameters[j].key == parameters[k].key)
+        throw InputError(fmt::format("--set: key '{}' given twice; expected each key once (its values in one --set)",
+                                     parameters[k].key));
+  // The grid's size is checked before anything is allocated for it (the product of the counts
+  // stops growing past the bound, so it cannot overflow).
   std::size_t total = 1;
-  for (const auto& p : parameters) total *= p.values.size();
+  for (const auto& p : parameters) {
+    if (p.values.empty()) throw InputError(fmt::format("--set '{}': expected at least one value", p.key));
+    total = std::min(total * p.values.size(), max_sweep_cases + 1);
+  }
+  if (total > max_sweep_cases) {
+    double product = 1;
+    std::string counts;
+    for (const auto& p : parameters) {
+      product *= static_cast<double>(p.values.size());
+      counts += fmt::format("{}{} values of {}", counts.empty() ? "" : " x ", p.values.size(), p.key);
+    }
+    throw InputError(fmt::format("--set: the grid has {:g} cases ({}), expected at most {}; sweep fewer values",
+                                 product, counts, max_sweep_cases));
+  }
   std::vector<io::SweepCase> cases(total);
   for (std::size_t i = 0; i < total; ++i) {  // mixed-radix digits: the last parameter fastest
     std::size_t rest = i;

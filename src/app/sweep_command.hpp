@@ -12,7 +12,7 @@
 namespace liftoff::app {
 
 struct SweepParameter {
-  std::string key;             // a scene key: "foundation.k", "loads[0].value"
+  std::string key;  // a scene key: "foundation.k", "loads[0].value"
   std::vector<double> values;
 };
 
@@ -20,9 +20,13 @@ struct SweepParameter {
 // (n values from a to b, evenly spaced in log). Throws InputError naming the option.
 SweepParameter parse_sweep_parameter(const std::string& text);
 
+// The most cases one sweep runs (each keeps its scene and its report in memory until the end).
+inline constexpr std::size_t max_sweep_cases = 100'000;
+
 // Every combination of the parameters' values (the last parameter varies fastest), solved
 // with `request` (Method::all gives every method per case). A case that fails carries its
-// one-line error. `progress(done, total)` is called after each case, from any thread.
+// one-line error. A grid of more than max_sweep_cases cases is refused (InputError) before any
+// work. `progress(done, total)` is called after each case, from any thread.
 std::vector<io::SweepCase> run_sweep(const scene::Scene& scene, const std::vector<SweepParameter>& parameters,
                                      const SolveRequest& request, int jobs,
                                      const std::function<void(int, int)>& progress = {});

@@ -173,9 +173,12 @@ TraceOptions trace_options(const scene::Scene& scene, const TraceRequest& reques
   o.elements = trace_elements(scene, request);
   o.modes = request.modes.value_or(scene.ritz.modes);
   o.monitor = monitor_point(scene);
+  // Uniform, with both ends exact: begin + (end - begin) i / (n - 1) can round one ulp past the
+  // end (L = 0.013), and the paths refuse a sample outside the member.
   o.sample_points.resize(t.samples);
   for (int i = 0; i < t.samples; ++i)
-    o.sample_points[i] = scene.begin() + (scene.end() - scene.begin()) * i / (t.samples - 1);
+    o.sample_points[i] = std::min(scene.end(), scene.begin() + (scene.end() - scene.begin()) * i / (t.samples - 1));
+  o.sample_points.back() = scene.end();
   return o;
 }
 
@@ -184,7 +187,20 @@ std::vector<std::string> trace_path_names(const scene::Scene& scene, const Trace
   const scene::Method method = trace_method(scene, request);
   std::vector<std::string> names;
   if (method != scene::Method::ritz) names.push_back("fe");
-  if (method == scene::Method::ritz || method == scene::Method::all) names.push_back("ritz");
+  if (method == scene::Method::ritz || method == scene::Method::all) {
+    // As `solve --method ritz`: the Ritz model has no interior point supports (bad input, exit 2).
+    if (!scene.supports.interior.empty()) {
+      const std::string where = request.method ? "option '--method'"
+                                : t.method     ? "key 'trace.method'"
+                                               : "key 'solve.method'";
+      throw InputError(
+          fmt::format("{}: {}: the Ritz path cannot take this scene (the Ritz model does not take "
+                      "interior point supports); expected an FE method (\"dual\", \"primal\", "
+                      "\"fast\" or \"auto\")",
+                      scene.source_name, where));
+    }
+    names.push_back("ritz");
+  }
   if (t.refine) {
     if (method == scene::Method::ritz)
       throw InputError(

@@ -136,8 +136,7 @@ void write_sweep_file(const std::vector<std::string>& keys, const std::vector<Sw
 template <typename Write>
 void write_atomically(const std::filesystem::path& path, Write write) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors become OutputError, not stderr noise
-  std::filesystem::path temporary = path;
-  temporary += ".tmp";
+  const std::filesystem::path temporary = temporary_path(path);
   try {
     write(temporary);
     std::error_code error;
@@ -151,6 +150,12 @@ void write_atomically(const std::filesystem::path& path, Write write) {
 }
 
 }  // namespace
+
+std::filesystem::path temporary_path(const std::filesystem::path& path) {
+  std::filesystem::path temporary = path;
+  temporary += ".tmp";
+  return temporary;
+}
 
 void write_hdf5(const SolveReport& report, const std::filesystem::path& path, const std::string& version) {
   write_atomically(path, [&](const std::filesystem::path& temporary) { write_file(report, temporary, version); });

@@ -20,6 +20,10 @@
 
 namespace liftoff::io {
 
+// PATH.tmp: where write_hdf5 and write_sweep_hdf5 write before renaming onto PATH (the front end
+// checks that it is no input of the run either).
+std::filesystem::path temporary_path(const std::filesystem::path& path);
+
 void write_hdf5(const SolveReport& report, const std::filesystem::path& path, const std::string& version);
 
 // A sweep: root attributes liftoff_version, keys (the swept scene keys, comma-separated);

@@ -228,14 +228,22 @@ std::string text_summary(const SolveReport& r) {
 std::string side_by_side(const std::vector<SolveReport>& reports) {
   if (reports.empty()) return {};
   const bool arch = reports.front().kind == StructureKind::arch;
-  std::string out = fmt::format("liftoff: {} ({}) on a {} foundation, k = {:.6g}\n", reports.front().scene_name,
-                                scene::to_string(reports.front().kind),
-                                reports.front().tensionless ? "tensionless" : "bilateral",
-                                reports.front().foundation_parameter);
+  // The scene's k from a method that ran (a refused method's report may not know it; k > 0 in
+  // every valid scene); without one, the header leaves it out.
+  const auto known =
+      std::find_if(reports.begin(), reports.end(), [](const SolveReport& r) { return r.foundation_parameter > 0; });
+  std::string out = fmt::format(
+      "liftoff: {} ({}) on a {} foundation{}\n", reports.front().scene_name, scene::to_string(reports.front().kind),
+      (known != reports.end() ? known->tensionless : reports.front().tensionless) ? "tensionless" : "bilateral",
+      known != reports.end() ? fmt::format(", k = {:.6g}", known->foundation_parameter) : std::string());
   auto row = [&](const std::string& label, auto cell) {
     out += fmt::format("  {:<16}", label);
     for (const auto& r : reports) out += fmt::format("{:>24}", cell(r));
     out += "\n";
+  };
+  // A counter a method did not produce (a refused method's, the FE counters of Ritz) is -1: "-".
+  const auto counted = [](int n, const char* unit) {
+    return n >= 0 ? fmt::format("{} {}", n, unit) : std::string("-");
   };
   row("method", [](const SolveReport& r) { return r.method; });
   row("result", [](const SolveReport& r) { return r.termination; });
@@ -250,16 +258,18 @@ std::string side_by_side(const std::vector<SolveReport>& reports) {
   row("w max", [](const SolveReport& r) { return r.usable ? fmt::format("{:.10e}", r.w_max) : std::string("-"); });
   row("max reaction",
       [](const SolveReport& r) { return r.usable ? fmt::format("{:.10e}", r.max_reaction) : std::string("-"); });
-  row("size", [](const SolveReport& r) {
-    return r.modes >= 0 ? fmt::format("{} modes", r.modes) : fmt::format("{} elements", r.elements);
+  row("size",
+      [&](const SolveReport& r) { return r.modes >= 0 ? counted(r.modes, "modes") : counted(r.elements, "elements"); });
+  row("iterations", [&](const SolveReport& r) {
+    if (r.modes >= 0) return counted(r.newton_iterations, "Newton");
+    if (r.active_set_iterations >= 0) return counted(r.active_set_iterations, "sets");
+    return counted(r.pivots, "pivots");
   });
-  row("iterations", [](const SolveReport& r) {
-    if (r.modes >= 0) return fmt::format("{} Newton", r.newton_iterations);
-    if (r.active_set_iterations >= 0) return fmt::format("{} sets", r.active_set_iterations);
-    return fmt::format("{} pivots", r.pivots);
+  row("residual",
+      [](const SolveReport& r) { return r.residual >= 0 ? fmt::format("{:.1e}", r.residual) : std::string("-"); });
+  row("time (s)", [](const SolveReport& r) {
+    return r.termination == "refused" ? std::string("-") : fmt::format("{:.3f}", r.time_s);
   });
-  row("residual", [](const SolveReport& r) { return fmt::format("{:.1e}", r.residual); });
-  row("time (s)", [](const SolveReport& r) { return fmt::format("{:.3f}", r.time_s); });
   out += fmt::format("  (contact limits: {}; w > 0 into the foundation)\n", arch ? "theta in degrees" : "x");
   return out;
 }

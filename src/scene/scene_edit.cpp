@@ -1,10 +1,12 @@
 #include "scene/scene_edit.hpp"
 
-#include <cmath>
-#include <sstream>
-
 #include <fmt/format.h>
 #include <toml++/toml.h>
+
+#include <charconv>
+#include <cmath>
+#include <limits>
+#include <sstream>
 
 #include "core/error.hpp"
 
@@ -12,21 +14,29 @@ namespace liftoff::scene {
 
 namespace {
 
-// "loads[1]" -> ("loads", 1); "foundation" -> ("foundation", -1).
-std::pair<std::string, int> split_index(std::string_view part) {
+// "loads[1]" -> {"loads", 1, "1"}; "foundation" -> {"foundation", -1}; not of either form: -2.
+// An index too large for a long long reads as the largest one (no scene has that many tables).
+struct PathPart {
+  std::string name;
+  long long index;
+  std::string index_text;
+};
+PathPart split_index(std::string_view part) {
   const auto open = part.find('[');
-  if (open == std::string_view::npos || part.back() != ']') return {std::string(part), -1};
-  const std::string index(part.substr(open + 1, part.size() - open - 2));
-  if (index.empty() || index.find_first_not_of("0123456789") != std::string::npos) return {std::string(part), -2};
-  return {std::string(part.substr(0, open)), std::stoi(index)};
+  if (open == std::string_view::npos || part.back() != ']') return {std::string(part), -1, {}};
+  const std::string_view index = part.substr(open + 1, part.size() - open - 2);
+  if (index.empty() || index.find_first_not_of("0123456789") != std::string_view::npos)
+    return {std::string(part), -2, {}};
+  long long value = 0;
+  if (std::from_chars(index.data(), index.data() + index.size(), value).ec != std::errc())
+    value = std::numeric_limits<long long>::max();
+  return {std::string(part.substr(0, open)), value, std::string(index)};
 }
 
 }  // namespace
 
 std::string with_value(std::string_view toml_text, std::string_view key, double value, const std::string& source) {
-  auto fail = [&](const std::string& why) {
-    throw InputError(fmt::format("{}: key '{}': {}", source, key, why));
-  };
+  auto fail = [&](const std::string& why) { throw InputError(fmt::format("{}: key '{}': {}", source, key, why)); };
   toml::table document;
   try {
     document = toml::parse(toml_text, std::string_view(source));
@@ -40,7 +50,7 @@ std::string with_value(std::string_view toml_text, std::string_view key, double 
     const auto dot = rest.find('.');
     const std::string_view part = rest.substr(0, dot);
     if (dot == std::string_view::npos) {
-      const auto [name, index] = split_index(part);
+      const auto [name, index, index_text] = split_index(part);
       if (index != -1 || name.empty()) fail("expected a key name as the last part of the path");
       const toml::node* existing = table->get(name);
       if (existing != nullptr && (existing->is_table() || existing->is_array()))
@@ -52,15 +62,16 @@ std::string with_value(std::string_view toml_text, std::string_view key, double 
         table->insert_or_assign(name, value);
       break;
     }
-    const auto [name, index] = split_index(part);
+    const auto [name, index, index_text] = split_index(part);
     toml::node* node = table->get(name);
     if (index == -2) fail(fmt::format("'{}' is not of the form name[index]", part));
     if (node == nullptr) fail(fmt::format("the scene has no [{}] table", name));
     if (index >= 0) {
       toml::array* array = node->as_array();
-      if (array == nullptr || index >= static_cast<int>(array->size()) || !array->get(index)->is_table())
-        fail(fmt::format("the scene has no [[{}]] number {} (counted from 0)", name, index));
-      table = array->get(index)->as_table();
+      if (array == nullptr || index >= static_cast<long long>(array->size()) ||
+          !array->get(static_cast<std::size_t>(index))->is_table())
+        fail(fmt::format("the scene has no [[{}]] number {} (counted from 0)", name, index_text));
+      table = array->get(static_cast<std::size_t>(index))->as_table();
     } else {
       table = node->as_table();
       if (table == nullptr) fail(fmt::format("'{}' is not a table", name));

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <initializer_list>
@@ -327,9 +328,24 @@ class Section {
     return *value;
   }
 
+  // Integers are accepted where a double holds them exactly (|n| <= 2^53, or a multiple of a
+  // power of two beyond); any other integer is refused with a hint rather than rounded, since
+  // toml++ reads it as no double at all.
   double checked(const toml::node& node, const std::string& node_path, const Range& range) const {
     std::optional<double> x;
-    if (node.is_number()) x = range.accept(*node.value<double>());  // integers are accepted too
+    if (const toml::value<std::int64_t>* integer = node.as_integer()) {
+      const std::int64_t n = integer->get();
+      const double d = static_cast<double>(n);  // correctly rounded; d <= 2^63
+      if (d >= 0x1p63 || static_cast<std::int64_t>(d) != n) {
+        scene::fail(source_, &node.source(), node_path,
+                    fmt::format("expected {}, got {}, an integer that a double cannot hold exactly (write it as "
+                                "a float, e.g. {:.16e}, to use the nearest double)",
+                                range.expected, n, d));
+      }
+      x = range.accept(d);
+    } else if (const toml::value<double>* floating = node.as_floating_point()) {
+      x = range.accept(floating->get());
+    }
     if (!x) {
       scene::fail(source_, &node.source(), node_path,
                   fmt::format("expected {}, got {}", range.expected, describe(node)));
@@ -587,7 +603,7 @@ Scene parse_scene(std::string_view toml_text, std::string source_name) {
 }
 
 Scene read_scene_file(const std::filesystem::path& path) {
-  const std::string name = path.string();
+  const std::string name = escaped(path.string());  // messages stay on one line whatever the name
   const auto cannot_read = [&] {
     return InputError(fmt::format("{}: cannot read the scene file ({})", name, std::strerror(errno)));
   };

@@ -1,14 +1,17 @@
 // The command line as a user meets it: exit codes, one-line errors naming file and key, no
 // output file after a failure, JSON on stdout, and an HDF5 file that describes itself.
-#include <catch2/catch.hpp>
+#include "app/cli.hpp"
 
+#include <sys/stat.h>
+
+#include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <string>
 #include <vector>
-
-#include "app/cli.hpp"
 
 namespace fs = std::filesystem;
 
@@ -220,4 +223,191 @@ TEST_CASE("cli: the Ritz method refuses interior point supports, exit 2", "[app]
   CHECK(r.status == 2);
   CHECK(one_line(r.err));
   CHECK_THAT(r.err, Catch::Matchers::Contains("interior point supports"));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Issue 10: failure output and the safety of the user's files.
+
+namespace {
+
+std::string file_text(const fs::path& path) {
+  std::ifstream in(path);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+// stdout of a --json run: exactly one JSON object (parse throws on a second one or on none)
+// with the keys every object carries.
+nlohmann::json one_object(const Run& r) {
+  nlohmann::json j;
+  REQUIRE_NOTHROW(j = nlohmann::json::parse(r.out));
+  REQUIRE(j.is_object());
+  for (const char* key : {"scene", "method_requested", "termination", "message", "exit_code"}) CHECK(j.contains(key));
+  CHECK(j["exit_code"] == r.status);
+  return j;
+}
+
+}  // namespace
+
+TEST_CASE("cli: an integer a double cannot hold is refused by key, not read as 1e-323", "[app][errors]") {
+  Scratch scratch;
+  std::string text = valid_beam;
+  text.replace(text.find("value = 1.0"), 11, "value = -9007199254740993");
+  const Run r = run({"solve", scratch.write("big.toml", text).string(), "--method", "fast"});
+  CHECK(r.status == 2);  // was exit 0 with w = 0
+  CHECK(one_line(r.err));
+  CHECK_THAT(r.err, Catch::Matchers::Contains("key 'loads[0].value'") &&
+                        Catch::Matchers::Contains("an integer that a double cannot hold exactly"));
+  std::string k = valid_beam;
+  k.replace(k.find("k = 1.0e4"), 9, "k = 9007199254740993");
+  const Run rk = run({"solve", scratch.write("bigk.toml", k).string()});
+  CHECK(rk.status == 2);  // was exit 1, "solve_lemke: M contains NaN or Inf"
+  CHECK_THAT(rk.err, Catch::Matchers::Contains("key 'foundation.k'"));
+}
+
+TEST_CASE("cli: an output never replaces the scene or another output; exit 2, nothing written", "[app][errors]") {
+  Scratch scratch;
+  const fs::path scene = scratch.write("s.toml", valid_beam);
+  // --output on the scene itself, under another spelling, through a symbolic link and a hard link.
+  const fs::path link = scratch.dir / "link.h5", hard = scratch.dir / "hard.h5";
+  fs::create_symlink(scene, link);
+  fs::create_hard_link(scene, hard);
+  for (const std::string& output : {scene.string(), (scratch.dir / ".." / scratch.dir.filename() / "s.toml").string(),
+                                    link.string(), hard.string()}) {
+    const Run r = run({"solve", scene.string(), "--method", "fast", "--output", output});
+    CHECK(r.status == 2);  // was exit 0 with the scene replaced by the HDF5 file
+    CHECK(r.err == "liftoff: --output '" + output + "': the same file as the scene '" + scene.string() +
+                       "'; expected an output that is neither an input nor another output of this run (nothing was "
+                       "written)\n");
+    CHECK(file_text(scene) == valid_beam);
+    const Run j = run({"solve", scene.string(), "--output", output, "--json"});
+    CHECK(one_object(j)["termination"] == "bad_input");
+  }
+  // The temporary name the HDF5 file is written under is an output too.
+  const fs::path tmp_scene = scratch.write("t.h5.tmp", valid_beam);
+  const Run t = run({"solve", tmp_scene.string(), "--output", (scratch.dir / "t.h5").string()});
+  CHECK(t.status == 2);
+  CHECK_THAT(t.err, Catch::Matchers::Contains("its temporary file '" + tmp_scene.string() +
+                                              "' is the same file as the scene"));
+  CHECK(file_text(tmp_scene) == valid_beam);
+  CHECK_FALSE(fs::exists(scratch.dir / "t.h5"));
+  // `--method all` writes through the same check.
+  CHECK(run({"solve", scene.string(), "--method", "all", "--output", scene.string()}).status == 2);
+  CHECK(file_text(scene) == valid_beam);
+
+  // Nor does an output replace what is not a regular file (the rename would put the HDF5 file in
+  // its place: run as root, --output /dev/null once replaced /dev/null). A named pipe and a
+  // directory stand for the devices here.
+  const fs::path pipe = scratch.dir / "pipe", dir = scratch.dir / "dir";
+  REQUIRE(::mkfifo(pipe.c_str(), 0600) == 0);
+  fs::create_directory(dir);
+  Run p = run({"solve", scene.string(), "--output", pipe.string()});
+  CHECK(p.status == 2);
+  CHECK(p.err == "liftoff: --output '" + pipe.string() +
+                     "': is a named pipe; expected the name of a regular file, new or to be replaced (nothing was "
+                     "written)\n");
+  CHECK(fs::is_fifo(pipe));
+  p = run({"solve", scene.string(), "--output", dir.string()});
+  CHECK(p.status == 2);
+  CHECK_THAT(p.err, Catch::Matchers::Contains("is a directory"));
+  CHECK(fs::is_empty(dir));
+  CHECK_FALSE(fs::exists(dir.string() + ".tmp"));
+}
+
+TEST_CASE("cli: --json prints exactly one object for every outcome", "[app][errors]") {
+  Scratch scratch;
+  const fs::path good = scratch.write("good.toml", valid_beam);
+  // Solved: the report, with the keys of a failure object too.
+  Run r = run({"solve", good.string(), "--method", "fast", "--json"});
+  REQUIRE(r.status == 0);
+  nlohmann::json j = one_object(r);
+  CHECK(j["method_requested"] == "fast");
+  CHECK(j["scene"] == good.string());
+  CHECK(j["termination"] == "solved");
+
+  // Bad scene (exit 2): what is known of the run; the scene's [solve] method is unknown.
+  std::string bad = valid_beam;
+  bad.replace(bad.find("EI = 3.0"), 8, "EI = -3.0");
+  const fs::path bad_scene = scratch.write("bad.toml", bad);
+  r = run({"solve", bad_scene.string(), "--json"});
+  CHECK(r.status == 2);
+  j = one_object(r);
+  CHECK(j["termination"] == "bad_input");
+  CHECK(j["method_requested"].is_null());
+  CHECK(j["scene"] == bad_scene.string());
+  CHECK(j["message"] == r.err.substr(9, r.err.size() - 10));  // stderr: "liftoff: MESSAGE\n"
+  CHECK(one_object(run({"solve", bad_scene.string(), "--json", "--method", "primal"}))["method_requested"] == "primal");
+
+  // Bad command line (exit 2, refused by the parser), a scene that does not exist.
+  r = run({"solve", good.string(), "--json", "--elements", "0"});
+  CHECK(r.status == 2);
+  CHECK(one_object(r)["termination"] == "bad_input");
+  r = run({"solve", "/no/such/scene.toml", "--json"});
+  CHECK(r.status == 2);
+  CHECK(one_object(r)["scene"].is_null());
+
+  // A refused formulation (exit 3): the dual form on a member only the foundation holds.
+  const fs::path free = scratch.write("free.toml", free_beam(100.0, 1.0) + "[solve]\nelements = 10\n");
+  r = run({"solve", free.string(), "--method", "dual", "--json"});
+  CHECK(r.status == 3);
+  j = one_object(r);
+  CHECK(j["termination"] == "refused");
+  CHECK(j["method_requested"] == "dual");
+  CHECK_THAT(j["message"].get<std::string>(), Catch::Matchers::Contains("primal"));
+
+  // A solver failure (exit 3): no equilibrium, with what the solver knows.
+  const fs::path lift =
+      scratch.write("lift.toml", free_beam(100.0, -1.0) + "[solve]\nmethod = \"primal\"\nelements = 10\n");
+  r = run({"solve", lift.string(), "--json"});
+  CHECK(r.status == 3);
+  j = one_object(r);
+  CHECK(j["method_requested"] == "primal");
+  CHECK(j["termination"] != "solved");
+  CHECK_THAT(j["message"].get<std::string>(), Catch::Matchers::Contains("no equilibrium"));
+  CHECK(j["elements"] == 10);
+
+  // The output cannot be written (exit 4): one object, the failure's, and no file.
+  r = run({"solve", good.string(), "--json", "--output", "/no/such/dir/out.h5"});
+  CHECK(r.status == 4);
+  CHECK(one_object(r)["termination"] == "output_error");
+  r = run({"solve", good.string(), "--json", "--method", "all", "--elements", "20", "--modes", "8", "--output",
+           "/no/such/dir/out.h5"});
+  CHECK(r.status == 4);
+  CHECK(one_object(r)["termination"] == "output_error");
+
+  // --method all: one object with the run's keys and every method.
+  r = run({"solve", free.string(), "--json", "--method", "all", "--modes", "8"});
+  CHECK(r.status == 0);
+  j = one_object(r);
+  CHECK(j["method_requested"] == "all");
+  CHECK(j["methods"].size() == 4);
+}
+
+TEST_CASE("cli: --method all shows the scene's k and no counters for a refused method", "[app]") {
+  Scratch scratch;
+  // Primal is listed first; with k known only from the methods that ran, a refused first column
+  // once made the header read k = 0.
+  const fs::path free = scratch.write("free.toml", free_beam(5184.0, 1.0) + "[solve]\nelements = 40\n");
+  const Run r = run({"solve", free.string(), "--method", "all", "--modes", "8"});
+  REQUIRE(r.status == 0);
+  CHECK_THAT(r.out, Catch::Matchers::Contains("on a tensionless foundation, k = 5184\n"));
+  // The dual is refused: no "-1 elements", "-1 pivots" or residual -1.0e+00, but "-".
+  CHECK_THAT(r.out, !Catch::Matchers::Contains(" -1 ") && !Catch::Matchers::Contains(" -1.0e+00"));
+  std::istringstream lines(r.out);
+  std::string line;
+  while (std::getline(lines, line))
+    if (line.rfind("  size", 0) == 0) CHECK(line.find("     -") != std::string::npos);
+  // The JSON of a refused method carries the scene's k too.
+  const auto j = nlohmann::json::parse(run({"solve", free.string(), "--method", "all", "--modes", "8", "--json"}).out);
+  CHECK(j["methods"][1]["termination"] == "refused");
+  CHECK(j["methods"][1]["k"] == 5184.0);
+}
+
+TEST_CASE("cli: trace needs a scene with [trace], and its help says so", "[app][trace]") {
+  const Run help = run({"trace", "--help"});
+  CHECK(help.status == 0);
+  CHECK_THAT(help.out, Catch::Matchers::Contains("with a [trace] table"));
+  CHECK_THAT(help.out, !Catch::Matchers::Contains("default: "));
+  const Run none = run({"trace"});
+  CHECK(none.status == 2);
+  CHECK(one_line(none.err));
 }

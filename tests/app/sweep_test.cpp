@@ -1,10 +1,12 @@
 // Parameter sweeps: the value grammar, the grid of cases, parallel runs equal to serial ones,
 // and the CSV and HDF5 outputs of `liftoff sweep`.
 #include <catch2/catch.hpp>
-
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "app/cli.hpp"
 #include "app/sweep_command.hpp"
@@ -80,5 +82,77 @@ TEST_CASE("sweep: the command writes the CSV and an HDF5 file with every case", 
   CHECK(std::system(plot.c_str()) == 0);
   CHECK(fs::file_size(dir / "fig_deflection.png") > 10000);
   CHECK(fs::file_size(dir / "fig_reaction.png") > 10000);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("sweep: a grid of more than max_sweep_cases cases is refused before any work", "[app][sweep][errors]") {
+  const scene::Scene s = test::shipped_scene("seed_beam_end_moments");
+  // 1e10 cases once ended in std::bad_alloc (exit 1): now an InputError naming the counts,
+  // thrown before the cases are allocated.
+  const std::vector<app::SweepParameter> huge{app::parse_sweep_parameter("foundation.k=lin:1:2:100000"),
+                                              app::parse_sweep_parameter("structure.EI=lin:1:2:100000")};
+  CHECK_THROWS_WITH(app::run_sweep(s, huge, {}, 1),
+                    Catch::Matchers::Contains("--set: the grid has 1e+10 cases (100000 values of foundation.k x "
+                                              "100000 values of structure.EI), expected at most 100000"));
+  // Just past the bound: 317 x 316 = 100172 cases.
+  const std::vector<app::SweepParameter> past{app::parse_sweep_parameter("foundation.k=lin:1:2:317"),
+                                              app::parse_sweep_parameter("structure.EI=lin:1:2:316")};
+  CHECK_THROWS_AS(app::run_sweep(s, past, {}, 1), InputError);
+  CHECK_THROWS_WITH(app::parse_sweep_parameter("foundation.k=lin:1:2:100001"),
+                    Catch::Matchers::Contains("n must be an integer in [2, 100000]"));
+}
+
+TEST_CASE("sweep: a key swept twice, or one that is no scene key, is refused on one line", "[app][sweep][errors]") {
+  const scene::Scene s = test::shipped_scene("seed_beam_end_moments");
+  // Twice: the second --set silently replaced the first (the grid had both columns).
+  CHECK_THROWS_WITH(
+      app::run_sweep(
+          s, {app::parse_sweep_parameter("foundation.k=1,2"), app::parse_sweep_parameter("foundation.k=3,4")}, {}, 1),
+      "--set: key 'foundation.k' given twice; expected each key once (its values in one --set)");
+  // A newline in the key or the values: the message escapes it and stays on one line.
+  CHECK_THROWS_WITH(app::parse_sweep_parameter("foundation.k\n=1"),
+                    Catch::Matchers::EndsWith("got 'foundation.k\\x0a'"));
+  CHECK_THROWS_WITH(app::parse_sweep_parameter("foundation.k=1\n"),
+                    Catch::Matchers::StartsWith("--set 'foundation.k=1\\x0a': '1\\x0a' is not a finite number"));
+  CHECK_THROWS_AS(app::parse_sweep_parameter("foundation.\"k\"=1"), InputError);
+}
+
+TEST_CASE("sweep CLI: bad keys, huge grids and clashing outputs exit 2 and write nothing", "[app][sweep][errors]") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("liftoff_sweep_cli_test_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string scene = std::string(LIFTOFF_SOURCE_DIR) + "/verification/scenes/seed_beam_end_moments.toml";
+  const auto run = [](std::vector<std::string> args, std::string* err_text = nullptr) {
+    args.insert(args.begin(), "liftoff");
+    std::vector<const char*> argv;
+    for (const auto& a : args) argv.push_back(a.c_str());
+    std::ostringstream out, err;
+    const int status = app::run_cli(static_cast<int>(argv.size()), argv.data(), out, err);
+    if (err_text) *err_text = err.str();
+    return status;
+  };
+  std::string err;
+  // std::stoi on the index was exit 1.
+  CHECK(run({"sweep", scene, "--set", "loads[99999999999].value=1,2"}, &err) == 2);
+  CHECK_THAT(err, Catch::Matchers::Contains("key 'loads[99999999999].value'"));
+  CHECK(run({"sweep", scene, "--set", "foundation.k=lin:1:2:100000", "--set", "structure.EI=lin:1:2:100000"}, &err) ==
+        2);
+  CHECK_THAT(err, Catch::Matchers::Contains("expected at most 100000"));
+  // One file for --output and --csv: refused before the solve, nothing written.
+  const std::string same = (dir / "same.out").string();
+  CHECK(run({"sweep", scene, "--set", "foundation.k=1e2,1e4", "--elements", "30", "--output", same, "--csv", same},
+            &err) == 2);
+  CHECK(err == "liftoff: --csv '" + same + "': the same file as --output '" + same +
+                   "'; expected an output that is neither an input nor another output of this run (nothing was "
+                   "written)\n");
+  // The CSV on the HDF5 file's temporary name, and an output on the scene: likewise.
+  CHECK(run({"sweep", scene, "--set", "foundation.k=1e2,1e4", "--output", same, "--csv", same + ".tmp"}) == 2);
+  CHECK(fs::is_empty(dir));
+  const std::string scene_copy = (dir / "scene.toml").string();
+  fs::copy_file(scene, scene_copy);
+  CHECK(run({"sweep", scene_copy, "--set", "foundation.k=1e2,1e4", "--csv", scene_copy}) == 2);
+  std::ifstream copy(scene_copy), original(scene);
+  CHECK(std::string(std::istreambuf_iterator<char>(copy), {}) ==
+        std::string(std::istreambuf_iterator<char>(original), {}));
   fs::remove_all(dir);
 }

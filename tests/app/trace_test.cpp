@@ -4,6 +4,7 @@
 // command's logic whatever the paths do; the tests tagged [real_paths] run trace_fe and
 // trace_ritz end to end.
 #include <fcntl.h>
+#include <fmt/format.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -493,7 +494,13 @@ TEST_CASE("trace CLI: bad input exits 2 with one line and writes no file", "[app
   CHECK(r.status == 2);
   CHECK(one_line(r.err));
   CHECK_THAT(r.err, Catch::Matchers::Contains("no_max.toml:21: key 'trace.lambda_max': missing"));
-  CHECK(r.out.empty());
+  // --json: one failure object on stdout, the message as on stderr.
+  const nlohmann::json failure = nlohmann::json::parse(r.out);
+  CHECK(failure["termination"] == "bad_input");
+  CHECK(failure["exit_code"] == 2);
+  CHECK(failure["scene"] == no_max);
+  CHECK(failure["method_requested"] == "auto");  // [solve] method of beam_with_trace
+  CHECK("liftoff: " + failure["message"].get<std::string>() + "\n" == r.err);
   const std::string bad = scratch.write("bad.toml", beam_with_trace("lambda_max = 1\nsamples = 1\n")).string();
   r = cli({"trace", bad, "-o", h5});
   CHECK(r.status == 2);
@@ -509,6 +516,69 @@ TEST_CASE("trace CLI: bad input exits 2 with one line and writes no file", "[app
   // `solve` ignores [trace]: a scene without lambda_max still solves.
   CHECK(cli({"solve", no_max}).status == 0);
   CHECK(cli({"trace", "--help"}).status == 0);
+}
+
+TEST_CASE("trace: the Ritz path refuses interior supports as bad input, before any file", "[app][trace][errors]") {
+  // `solve --method ritz` refuses this scene with exit 2; the trace once ended in exit 1.
+  std::string text = beam_with_trace("lambda_max = 1\nmethod = \"ritz\"\n");
+  text.replace(text.find("right = \"free\""), 14, "right = \"free\"\ninterior = [5.0]");
+  const scene::Scene s = scene::parse_scene(text, "beam.toml");
+  CHECK_THROWS_WITH(app::trace_path_names(s, {}),
+                    "beam.toml: key 'trace.method': the Ritz path cannot take this scene (the Ritz model does not "
+                    "take interior point supports); expected an FE method (\"dual\", \"primal\", \"fast\" or "
+                    "\"auto\")");
+  app::TraceRequest all;
+  all.method = scene::Method::all;
+  CHECK_THROWS_WITH(app::trace_path_names(s, all), Catch::Matchers::StartsWith("beam.toml: option '--method':"));
+  app::TraceRequest fe;
+  fe.method = scene::Method::fast;
+  CHECK(app::trace_path_names(s, fe) == std::vector<std::string>{"fe"});
+
+  Scratch scratch;
+  const std::string scene_file = scratch.write("interior.toml", text).string();
+  const std::string h5 = (scratch.dir / "t.h5").string();
+  const Run r = cli({"trace", scene_file, "-o", h5, "--json"});
+  CHECK(r.status == 2);
+  CHECK(one_line(r.err));
+  CHECK(nlohmann::json::parse(r.out)["exit_code"] == 2);
+  CHECK_FALSE(fs::exists(h5));
+}
+
+TEST_CASE("trace: the sample points lie on the member, both ends exact", "[app][trace]") {
+  // (L / 100) * 100 rounds one ulp above L = 0.013; the Ritz path refused its own sample (exit 1).
+  for (const double length : {0.013, 1.0, 0.1, 3.3, 7e-5, 123.456}) {
+    std::string text = beam_with_trace("lambda_max = 1\nsamples = 101\n");
+    text.replace(text.find("length = 10.0"), 13, fmt::format("length = {}", length));
+    text.replace(text.find("at = 4.0"), 8, fmt::format("at = {}", length / 2));
+    const scene::Scene s = scene::parse_scene(text, "beam.toml");
+    const TraceOptions o = app::trace_options(s, {});
+    REQUIRE(o.sample_points.size() == 101);
+    CHECK(o.sample_points.front() == 0.0);
+    CHECK(o.sample_points.back() == length);
+    for (std::size_t i = 1; i < o.sample_points.size(); ++i) {
+      CHECK(o.sample_points[i] > o.sample_points[i - 1]);
+      CHECK(o.sample_points[i] <= length);
+    }
+  }
+  // An arch: theta from -gamma to gamma.
+  const scene::Scene arch = scene::parse_scene(
+      "[structure]\nkind = \"arch\"\nradius = 3.0\nhalf_angle_deg = 13.7\nEI = 1.0\nEA = 100.0\n[supports]\n"
+      "left = \"pinned\"\nright = \"pinned\"\n[foundation]\nk = 10.0\n[trace]\nlambda_max = 1\nsamples = 37\n",
+      "arch.toml");
+  const TraceOptions a = app::trace_options(arch, {});
+  CHECK(a.sample_points.front() == -13.7);
+  CHECK(a.sample_points.back() == 13.7);
+  for (double x : a.sample_points) CHECK((x >= -13.7 && x <= 13.7));
+
+  // End to end: the Ritz path of a 0.013 m beam traces (exit 0).
+  Scratch scratch;
+  const std::string text =
+      "[structure]\nkind = \"beam\"\nlength = 0.013\nEI = 1.0\n[supports]\nleft = \"pinned\"\nright = \"pinned\"\n"
+      "[foundation]\nk = 1.0e4\n[[loads]]\nkind = \"force\"\nat = 0.0065\nvalue = 1.0\n"
+      "[trace]\nlambda_max = 2.0\nmethod = \"ritz\"\n";
+  const Run r = cli({"trace", scratch.write("short.toml", text).string(), "--modes", "8"});
+  CHECK(r.status == 0);
+  CHECK(r.err.empty());
 }
 
 // ---------------------------------------------------------------------------------------------

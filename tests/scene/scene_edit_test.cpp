@@ -48,4 +48,12 @@ TEST_CASE("scene edit: a path that does not exist is refused by name", "[scene][
                     Catch::Matchers::Contains("key 'loads[2].value'") && Catch::Matchers::Contains("no [[loads]] number 2"));
   CHECK_THROWS_WITH(scene::with_value(text, "ritz.modes", 8, "s.toml"), Catch::Matchers::Contains("no [ritz] table"));
   CHECK_THROWS_AS(scene::with_value(text, "foundation", 1.0, "s.toml"), InputError);
+  // An index too large for any integer type is a missing table like any other (was std::stoi's
+  // out_of_range: exit 1).
+  CHECK_THROWS_WITH(scene::with_value(text, "loads[99999999999].value", 1.0, "s.toml"),
+                    Catch::Matchers::Contains("no [[loads]] number 99999999999"));
+  CHECK_THROWS_WITH(scene::with_value(text, "loads[99999999999999999999999999].value", 1.0, "s.toml"),
+                    Catch::Matchers::Contains("no [[loads]] number 99999999999999999999999999"));
+  CHECK_THROWS_AS(scene::with_value(text, "loads[-1].value", 1.0, "s.toml"), InputError);
+  CHECK_THROWS_AS(scene::with_value(text, "loads[].value", 1.0, "s.toml"), InputError);
 }

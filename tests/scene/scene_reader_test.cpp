@@ -446,6 +446,33 @@ TEST_CASE("non-finite numbers are refused", "[scene][errors]") {
         "scene.toml:15: key 'loads[0].at': expected a position in [0, 2], got -inf");
 }
 
+TEST_CASE("integers read exactly where a double holds them, and are refused by key where it cannot",
+          "[scene][errors]") {
+  // 2^53 + 1 is the smallest positive integer a double cannot hold: toml++ gives no double for
+  // it, which was once read through an empty optional as ~1e-323 (a wrong answer, exit 0).
+  CHECK(error_of(edited(beam_scene, "value = 1.0", "value = -9007199254740993")) ==
+        "scene.toml:16: key 'loads[0].value': expected a finite number, got -9007199254740993, an integer that a "
+        "double cannot hold exactly (write it as a float, e.g. -9.0071992547409920e+15, to use the nearest double)");
+  CHECK_THAT(error_of(edited(beam_scene, "k = 1.0e4", "k = 9007199254740993")),
+             StartsWith("scene.toml:11: key 'foundation.k': expected a number > 0, got 9007199254740993, an integer"));
+  // The largest int64 rounds up to 2^63, which is no int64: refused too.
+  CHECK_THAT(
+      error_of(edited(beam_scene, "EI = 1.0", "EI = 9223372036854775807")),
+      StartsWith("scene.toml:4: key 'structure.EI': expected a number > 0, got 9223372036854775807, an integer"));
+  // In an array as well.
+  CHECK_THAT(
+      error_of(edited(beam_scene, "right = \"clamped\"", "right = \"clamped\"\ninterior = [1, 9007199254740993]")),
+      StartsWith("scene.toml:9: key 'supports.interior[1]': expected a position strictly inside (0, 2), got "
+                 "9007199254740993, an integer"));
+
+  // Integers a double holds exactly read as that double: 2^53, and beyond it multiples of a
+  // power of two, up to -2^63 (exact comparisons: no rounding is involved).
+  CHECK(parse_scene(edited(beam_scene, "value = 1.0", "value = 9007199254740992"), "s").loads[0].value == 0x1p53);
+  CHECK(parse_scene(edited(beam_scene, "value = 1.0", "value = -9007199254740994"), "s").loads[0].value == -0x1p53 - 2);
+  CHECK(parse_scene(edited(beam_scene, "value = 1.0", "value = -9223372036854775808"), "s").loads[0].value == -0x1p63);
+  CHECK(parse_scene(edited(beam_scene, "EI = 1.0", "EI = 3"), "s").structure.bending_stiffness == 3.0);
+}
+
 TEST_CASE("a roller is refused for a beam, with a hint", "[scene][errors]") {
   CHECK(error_of(edited(beam_scene, "left = \"pinned\"", "left = \"roller\"")) ==
         R"(scene.toml:7: key 'supports.left': expected "pinned", "clamped" or "free", got "roller" )"
@@ -490,6 +517,11 @@ TEST_CASE("read_scene_file reads a file and reports one it cannot read", "[scene
   REQUIRE_THROWS_AS(read_scene_file(absent), liftoff::InputError);
   REQUIRE_THROWS_WITH(read_scene_file(directory),
                       StartsWith(directory.string() + ": cannot read the scene file ("));
+  // A file name with a newline: the message stays on one line.
+  const auto odd = directory / "two\nlines.toml";
+  std::ofstream(odd) << edited(beam_scene, "EI = 1.0", "EI = -1");
+  REQUIRE_THROWS_WITH(read_scene_file(odd), (directory / "two\\nlines.toml").string() +
+                                                ":4: key 'structure.EI': expected a number > 0, got -1");
   std::filesystem::remove_all(directory);
 }
 
