@@ -34,7 +34,7 @@ struct ProblemArguments {
 };
 
 void add_problem_options(CLI::App* command, ProblemArguments& args) {
-  command->add_option("scene", args.scene_path, "Scene file (TOML); default: the seed paper's arch, roller ends")
+  command->add_option("scene", args.scene_path, "Scene file (TOML); default: the seed paper's arch, pinned ends")
       ->check(CLI::ExistingFile);
   command
       ->add_option("--method", args.method,
