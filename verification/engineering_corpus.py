@@ -237,8 +237,8 @@ def run_case(args, name, path, doc, fails):
             message = (obj or {}).get("message") or err
             expected = method in expected_refusal
             print(f"  {method:7} -> refused ({'expected' if expected else 'UNEXPECTED'}): {message}")
-            fails.check(obj is not None and obj.get("termination") and obj.get("message"), where,
-                        "exit 3 without one JSON object holding termination and message on stdout")
+            fails.check(obj is not None and obj.get("termination") and obj.get("message") and obj.get("exit_code") == 3,
+                        where, "exit 3 without one JSON object holding termination, message and exit_code on stdout")
             fails.check(method not in MUST_ANSWER, where, f"{method} must answer every scene")
             fails.check(expected, where, "refused where no refusal is expected")
         else:
