@@ -1,6 +1,7 @@
 #include "io/report.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <fmt/format.h>
 
 namespace liftoff::io {
@@ -28,6 +29,7 @@ SolveReport common_report(const scene::Scene& scene, const fe::MemberModel& mode
   SolveReport r;
   r.scene_name = scene.source_name;
   r.scene_text = scene.text;
+  r.comparison = scene.compare;
   r.kind = model.kind;
   r.coordinate_name = model.kind == StructureKind::beam ? "x" : "theta_deg";
   r.tensionless = model.tensionless;
@@ -129,6 +131,7 @@ SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model,
   if (fields.s.empty()) {
     r.scene_name = scene.source_name;
     r.scene_text = scene.text;
+    r.comparison = scene.compare;
     r.kind = model.kind;
   }
   r.method = "ritz";
@@ -201,6 +204,20 @@ std::string solver_line(const SolveReport& r) {
                        r.active_set_iterations, r.factorisations, r.residual, r.time_s);
   return fmt::format("{} elements, {} pivots, residual {:.1e}, {:.3f} s", r.elements, r.pivots, r.residual, r.time_s);
 }
+// The published result the scene names ([compare]) beside ours: the half-width of the contact
+// region around the crown.
+std::string comparison_line(const SolveReport& r) {
+  const scene::Comparison& c = *r.comparison;
+  const auto crown = std::find_if(r.contact_regions.begin(), r.contact_regions.end(),
+                                  [](const auto& region) { return region[0] <= 0.0 && 0.0 <= region[1]; });
+  if (crown == r.contact_regions.end())
+    return fmt::format("  compare       no contact at the crown; {} gives a contact half-angle of {:.4g} deg\n",
+                       c.source, c.contact_half_angle_deg);
+  const double here = ((*crown)[1] - (*crown)[0]) / 2;
+  const double percent = 100 * (c.contact_half_angle_deg - here) / here;
+  return fmt::format("  compare       contact half-angle {:.4g} deg; {} gives {:.4g} deg, {:.2g} % {}\n", here,
+                     c.source, c.contact_half_angle_deg, std::abs(percent), percent < 0 ? "less" : "more");
+}
 }  // namespace
 
 std::string text_summary(const SolveReport& r) {
@@ -214,6 +231,7 @@ std::string text_summary(const SolveReport& r) {
   if (r.contact_regions.empty()) out += "  contact       none\n";
   for (const auto& region : r.contact_regions)
     out += fmt::format("  contact       {} = {:.8g}{} .. {:.8g}{}\n", arch ? "theta" : "x", region[0], unit, region[1], unit);
+  if (r.comparison && r.usable && arch) out += comparison_line(r);
   out += fmt::format("  w max         {:.6e} at {:.6g}{}\n", r.w_max, r.at_w_max, unit);
   out += fmt::format("  w min         {:.6e} at {:.6g}{}\n", r.w_min, r.at_w_min, unit);
   out += fmt::format("  max reaction  {:.6e} (force per unit length)\n", r.max_reaction);

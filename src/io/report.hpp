@@ -7,6 +7,7 @@
 // length) compression positive.
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -60,6 +61,7 @@ struct SolveReport {
   std::vector<double> residual_history;
 
   std::string gauge_note;
+  std::optional<scene::Comparison> comparison;  // the scene's [compare]: set beside the answer
   std::vector<std::array<double, 2>> contact_regions;
   double w_max = 0, at_w_max = 0, w_min = 0, at_w_min = 0;
   double max_reaction = 0;

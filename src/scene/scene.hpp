@@ -112,6 +112,13 @@ struct TraceSettings {
   int line = 0;                      // line of the [trace] header, for messages (0: unknown)
 };
 
+// [compare]: a published result the summary sets the answer beside (the default scene: the seed
+// paper's contact angle). Arches only: the half-width of the contact region around the crown.
+struct Comparison {
+  std::string source;  // where the value comes from, quoted by the summary
+  double contact_half_angle_deg = 0.0;
+};
+
 struct Scene {
   std::string source_name;  // file path, or "<default scene>"
   std::string text;         // the TOML text, stored in every output so results describe themselves
@@ -122,6 +129,7 @@ struct Scene {
   SolveSettings solve;
   RitzSettings ritz;
   std::optional<TraceSettings> trace;  // absent when the scene has no [trace] table
+  std::optional<Comparison> compare;   // absent when the scene has no [compare] table
 
   // Ends of the member in the user's coordinate: [0, L] or [-gamma, gamma] degrees.
   double begin() const;

@@ -45,6 +45,7 @@ const std::vector<TableSpec>& schema() {
       {"ritz", false, {"modes", "max_modes", "mode_tolerance", "topology", "limits"}},
       {"trace", false, {"lambda_max", "lambda_min", "method", "control", "initial_step", "min_step", "max_step",
                         "max_steps", "monitor", "samples", "refine"}},
+      {"compare", false, {"source", "contact_half_angle_deg"}},
   };
   return tables;
 }
@@ -564,6 +565,19 @@ TraceSettings read_trace(const Section& s, const Member& member) {
   return trace;
 }
 
+// [compare]: a published result to set beside the answer; `source` says where it comes from.
+Comparison read_compare(const Section& s, const Structure& structure) {
+  Comparison c;
+  const toml::node* source = s.find("source");
+  if (source == nullptr) s.missing("source", "a string naming where the value comes from");
+  if (!source->is_string() || source->as_string()->get().empty()) s.wrong("source", "a non-empty string");
+  c.source = source->as_string()->get();
+  const Range half_angle{fmt::format("an angle in degrees in (0, half_angle_deg = {}]", structure.half_angle_deg), 0.0,
+                         structure.half_angle_deg, true};
+  c.contact_half_angle_deg = s.required_number("contact_half_angle_deg", half_angle);
+  return c;
+}
+
 }  // namespace
 
 Scene parse_scene(std::string_view toml_text, std::string source_name) {
@@ -599,6 +613,10 @@ Scene parse_scene(std::string_view toml_text, std::string source_name) {
   scene.solve = read_solve(root.section("solve"));
   scene.ritz = read_ritz(root.section("ritz"), scene.foundation, member);
   if (root.find("trace") != nullptr) scene.trace = read_trace(root.section("trace"), member);
+  if (root.find("compare") != nullptr) {
+    if (!member.arch) root.refuse("compare", "for a beam (arches only: the contact half-angle around the crown)");
+    scene.compare = read_compare(root.section("compare"), scene.structure);
+  }
   return scene;
 }
 

@@ -6,6 +6,7 @@
 
 #include <catch2/catch.hpp>
 #include <filesystem>
+#include <fmt/format.h>
 #include <fstream>
 #include <iterator>
 #include <nlohmann/json.hpp>
@@ -90,6 +91,12 @@ TEST_CASE("cli: solve with no scene runs the seed arch", "[app]") {
   for (const char* key : {"method", "contact_regions", "w_max", "at_w_max", "w_min", "at_w_min", "max_reaction",
                           "pivots", "residual", "elements", "time_s"})
     CHECK(j.contains(key));
+  // The summary sets the seed paper's contact half-angle (the scene's [compare]) beside ours.
+  const double half_angle = (j["contact_regions"][0][1].get<double>() - j["contact_regions"][0][0].get<double>()) / 2;
+  CHECK_THAT(run({"solve"}).out, Catch::Matchers::Contains(fmt::format("compare       contact half-angle {:.4g} deg; "
+                                                                       "Silveira, Pereira & Goncalves (2008), sec. 5 "
+                                                                       "gives 3.73 deg",
+                                                                       half_angle)));
 }
 
 TEST_CASE("cli: a malformed scene is one line naming file and key, exit 2, no output", "[app]") {

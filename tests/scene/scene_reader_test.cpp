@@ -330,7 +330,7 @@ TEST_CASE("an unknown key is refused, with a suggestion", "[scene][errors]") {
 TEST_CASE("an unknown table is refused", "[scene][errors]") {
   CHECK(error_of(beam_scene + "\n[solver]\nmethod = \"dual\"\n") ==
         "scene.toml:18: key 'solver': unknown table (did you mean 'solve'?); the tables of a scene "
-        "are [structure], [supports], [foundation], [[loads]], [solve], [ritz], [trace]");
+        "are [structure], [supports], [foundation], [[loads]], [solve], [ritz], [trace], [compare]");
   CHECK_THAT(error_of("title = \"x\"\n" + beam_scene),
              StartsWith("scene.toml:1: key 'title': unknown key;"));
 }
@@ -625,4 +625,26 @@ TEST_CASE("a bad [trace] value is refused with file, line and key", "[scene][tra
         "scene.toml:19: key 'trace.refine': expected true or false, got 1");
   CHECK_THAT(error_of(trace("lambda_max = 1\nlamda_min = 0\n")),
              StartsWith("scene.toml:19: key 'trace.lamda_min': unknown key (did you mean 'lambda_min'?)"));
+}
+
+TEST_CASE("a [compare] table: a published contact half-angle, arches only", "[scene][compare]") {
+  CHECK_FALSE(parse_scene(arch_scene, "scene.toml").compare.has_value());
+  const Scene s =
+      parse_scene(arch_scene + "[compare]\nsource = \"the paper\"\ncontact_half_angle_deg = 3.73\n", "scene.toml");
+  REQUIRE(s.compare.has_value());
+  CHECK(s.compare->source == "the paper");
+  CHECK(s.compare->contact_half_angle_deg == 3.73);
+
+  const auto compare = [](const std::string& lines) { return arch_scene + "[compare]\n" + lines; };
+  CHECK(error_of(compare("contact_half_angle_deg = 3.73\n")) ==
+        "scene.toml:19: key 'compare.source': missing (expected a string naming where the value comes from)");
+  CHECK(error_of(compare("source = 3\ncontact_half_angle_deg = 3.73\n")) ==
+        "scene.toml:20: key 'compare.source': expected a non-empty string, got 3");
+  CHECK(error_of(compare("source = \"p\"\ncontact_half_angle_deg = 12\n")) ==
+        "scene.toml:21: key 'compare.contact_half_angle_deg': expected an angle in degrees in (0, half_angle_deg = "
+        "10], got 12");
+  CHECK_THAT(error_of(compare("source = \"p\"\n")),
+             StartsWith("scene.toml:19: key 'compare.contact_half_angle_deg': missing"));
+  CHECK_THAT(error_of(beam_scene + "[compare]\nsource = \"p\"\ncontact_half_angle_deg = 1\n"),
+             StartsWith("scene.toml:17: key 'compare': not allowed for a beam"));
 }

@@ -1,0 +1,392 @@
+#!/usr/bin/python3
+"""The engineering corpus: every method on every scene of verification/scenes/engineering/.
+
+    /usr/bin/python3 verification/engineering_corpus.py --liftoff build/src/liftoff \\
+        --closed-form build/verification/closed_form_reference [--elements N] [--only NAME ...]
+
+Each scene (real members in real units, the hand calculation in its comments) is solved with
+dual, primal, fast, auto and ritz (`liftoff solve --json`), on the scene's own mesh n unless
+--elements says otherwise. The footing is also solved at the seven column moments of issue 10's
+sweep (`loads[1].value=lin:-600e3:0:7`). For every scene and method:
+
+  - exit 0: the answer carries a certificate that passed (CERTIFICATE.md);
+  - exit 3: exactly one JSON object on stdout with the termination and a message; allowed only
+    where a refusal is expected: the dual form on a member that only the foundation holds (its
+    stiffness matrix is singular). fast and auto must answer everywhere.
+  - Anything else fails.
+
+The answers must agree within their error estimates:
+  - FE (dual, primal, fast, auto on mesh n): the contact limits converge at about h^2 but
+    oscillate with where a limit falls in its element, so the error of the mesh-n answer is
+    taken as its whole change from mesh n/2 (fast; Richardson would take a third of it); the
+    same for w_max, w_min and max_reaction;
+  - Ritz: its own estimate, estimated_limit_error (the last change of the limits with N). It
+    estimates the limits only: Ritz deflections are printed, not compared;
+  - the exact closed form (verification/closed_form, Hetenyi's beam solved segment by segment,
+    no shared code) for beams on a foundation over their whole length: 1e-10 of the length.
+Two values agree when |a - b| <= 3 (e_a + e_b) + 1e-12 * scale (compare.py's rule: the factor 3
+covers estimates that are themselves only estimates).
+
+Hand calculations, where they are exact enough to test:
+  - the footing (every moment): the rigid-footing pressure distribution plus its first-order
+    flexibility correction, computed here from the scene's data. The hand model's own error is
+    the series' remainder, taken as no larger than the first-order correction itself (asserted
+    to be a small fraction of the answer, so the series converges fast): heel limit within
+    |da1| + 3 e, peak pressure within |dp1| + 3 e of rigid + first order;
+  - the pipeline: the load factor of the first lift-off, lambda = 2 q / (F beta) (Hetenyi's
+    infinite beam: exact while the pipe is in full contact, the clamped ends beta L / 2 = 50 away
+    change it by e^-50), against the FE trace on meshes n and n/2, within 3 times their change.
+Exit code 1 if anything fails; every case and method is printed.
+"""
+import argparse
+import glob
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import tomllib
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+METHODS = ["dual", "primal", "fast", "auto", "ritz"]
+MUST_ANSWER = {"fast", "auto"}
+FOOTING = "footing_eccentric_column"
+FOOTING_MOMENTS = [-600e3 + 100e3 * i for i in range(7)]  # lin:-600e3:0:7, issue 10
+PIPELINE = "pipeline_500m_uplift"
+
+
+class Failures:
+    def __init__(self):
+        self.items = []
+
+    def check(self, ok, where, message):
+        if not ok:
+            self.items.append(f"{where}: {message}")
+            print(f"    FAIL {message}")
+        return ok
+
+
+# ---------------------------------------------------------------------------------------------
+# Running liftoff
+
+def run(command):
+    p = subprocess.run(command, capture_output=True, text=True)
+    try:
+        obj = json.loads(p.stdout) if p.stdout.strip() else None
+    except json.JSONDecodeError:
+        obj = None
+    return p.returncode, obj, p.stderr.strip()
+
+
+def solve(liftoff, scene, method, elements):
+    return run([liftoff, "solve", scene, "--method", method, "--elements", str(elements), "--json"])
+
+
+def limits(result):
+    return [x for region in result["contact_regions"] for x in region]
+
+
+def is_fe(result):
+    return "elements" in result and "modes" not in result
+
+
+# ---------------------------------------------------------------------------------------------
+# Scenes
+
+def toml_value(v):
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, (int, float)):
+        return repr(v)
+    if isinstance(v, str):
+        return json.dumps(v)
+    if isinstance(v, list):
+        return "[" + ", ".join(toml_value(x) for x in v) + "]"
+    raise TypeError(f"cannot write {v!r} as TOML")
+
+
+def toml_text(doc):
+    """The scene's tables back as TOML (scenes hold tables, arrays of tables and plain values)."""
+    out = []
+    for name, value in doc.items():
+        blocks = [(f"[[{name}]]", t) for t in value] if isinstance(value, list) else [(f"[{name}]", value)]
+        for header, table in blocks:
+            out.append(header)
+            out += [f"{k} = {toml_value(v)}" for k, v in table.items()]
+            out.append("")
+    return "\n".join(out)
+
+
+def held_by_foundation_alone(doc):
+    """True when the supports leave a rigid motion free (the stiffness matrix is singular)."""
+    supports = doc["supports"]
+    ends = [supports["left"], supports["right"]]
+    if doc["structure"]["kind"] == "arch":
+        return all(e == "free" for e in ends) or sorted(ends) in (["free", "roller"], ["free", "pinned"])
+    if "clamped" in ends:
+        return False
+    return ends.count("pinned") + len(supports.get("interior", [])) < 2
+
+
+def scale_of(doc):
+    s = doc["structure"]
+    return 2 * s["half_angle_deg"] if s["kind"] == "arch" else s["length"]
+
+
+def closed_form_applies(doc):
+    f = doc["foundation"]
+    return (doc["structure"]["kind"] == "beam" and "from" not in f and "to" not in f
+            and not doc["supports"].get("interior"))
+
+
+# ---------------------------------------------------------------------------------------------
+# Hand calculation: the rigid footing and its first-order flexibility correction
+
+def rigid_footing(doc):
+    """Pressure of a rigid free-free footing under its point forces and moments (no uniform
+    loads): the resultant's eccentricity gives a trapezoid (e <= B/6) or a triangle. Returns
+    (contact begin, contact end, pressure at begin, pressure at end)."""
+    B = doc["structure"]["length"]
+    N = sum(l["value"] for l in doc["loads"] if l["kind"] == "force")
+    # Moment about x = 0 of the downward forces, clockwise positive; a moment value is ccw.
+    m0 = sum(l["value"] * l["at"] for l in doc["loads"] if l["kind"] == "force") \
+        - sum(l["value"] for l in doc["loads"] if l["kind"] == "moment")
+    xr = m0 / N
+    e = xr - B / 2
+    if abs(e) <= B / 6:
+        return 0.0, B, N / B * (1 - 6 * e / B), N / B * (1 + 6 * e / B)
+    c = 3 * (B - xr) if e > 0 else 3 * xr
+    return (B - c, B, 0.0, 2 * N / c) if e > 0 else (0.0, c, 2 * N / c, 0.0)
+
+
+def footing_first_order(doc, samples=60001):
+    """First-order flexibility correction of the rigid footing: the footing's bending under the
+    column and the rigid pressure (a free-free beam under a self-equilibrated load) plus the
+    rigid motion that keeps the pressure's change in equilibrium; the change of the contact
+    limit (if inside) and of the pressure at its peak. Returns (rigid, d_limit, d_peak, ratio):
+    ratio = the bending deflection against the rigid settlement range (must be small)."""
+    B, EI, K = doc["structure"]["length"], doc["structure"]["EI"], doc["foundation"]["modulus"]
+    a, b, pa, pb = rigid_footing(doc)
+    x = np.linspace(0.0, B, samples)
+    inside = (x >= a) & (x <= b)
+    p = np.where(inside, pa + (pb - pa) * (x - a) / (b - a), 0.0)
+
+    def integral(f):  # cumulative trapezoid from 0
+        return np.concatenate([[0.0], np.cumsum((f[1:] + f[:-1]) / 2 * np.diff(x))])
+
+    # Sagging bending moment: the pressure pushes up (-w), forces push down, a ccw moment M at
+    # x0 makes the bending moment jump by -M.
+    shear = integral(p)
+    bending = integral(shear)
+    for l in doc["loads"]:
+        if l["kind"] == "force":
+            bending -= l["value"] * np.maximum(x - l["at"], 0.0)
+        elif l["kind"] == "moment":
+            bending -= l["value"] * (x >= l["at"])
+    w_bend = integral(integral(-bending / EI))  # w'' = -M/EI, up to a rigid motion
+    basis = np.vstack([np.ones_like(x), x])
+    gram = np.array([[np.trapz(inside * u * v, x) for v in basis] for u in basis])
+    rhs = -np.array([np.trapz(inside * w_bend * u, x) for u in basis])
+    r0, r1 = np.linalg.solve(gram, rhs)
+    d = w_bend + r0 + r1 * x  # the change of w, with K d self-equilibrated over the contact
+    w_rigid = p / K
+    ratio = (d[inside].max() - d[inside].min()) / max(w_rigid.max(), 1e-300)
+    d_limit = 0.0
+    if 0 < a:  # heel limit inside: w_rigid + d = 0 moves it by -d(a) / w_rigid'(a)
+        d_limit = -np.interp(a, x, d) / ((pb - pa) / (b - a) / K)
+    elif b < B:
+        d_limit = -np.interp(b, x, d) / ((pb - pa) / (b - a) / K)
+    peak_at = a if pa > pb else b
+    d_peak = K * np.interp(peak_at, x, d)
+    return (a, b, pa, pb), d_limit, d_peak, ratio
+
+
+# ---------------------------------------------------------------------------------------------
+# One case
+
+def agree(a, ea, b, eb, scale):
+    return abs(a - b) <= 3 * (ea + eb) + 1e-12 * scale
+
+
+def run_case(args, name, path, doc, fails):
+    n = args.elements or doc.get("solve", {}).get("elements", 200)
+    print(f"\n== {name} ({n} elements)")
+    scale = scale_of(doc)
+    expected_refusal = {"dual"} if held_by_foundation_alone(doc) else set()
+    answers = {}
+    for method in METHODS:
+        rc, obj, err = solve(args.liftoff, path, method, n)
+        where = f"{name} {method}"
+        if rc == 0 and obj is not None:
+            cert = obj.get("certificate")
+            status = "passed" if cert and cert.get("passed") else ("FAILED" if cert else "missing")
+            print(f"  {method:7} -> {obj.get('method', '?'):6} {obj['termination']:10} certificate {status:7}"
+                  f" limits {[round(v, 6) for v in limits(obj)]} w_max {obj['w_max']:.6e}"
+                  f" ({obj['time_s']:.2f} s)")
+            fails.check(cert is not None, where, "no certificate in the JSON (CERTIFICATE.md)")
+            if cert is not None:
+                fails.check(cert.get("passed") is True, where,
+                            f"certificate failed: {cert.get('message')}")
+            fails.check(obj.get("method_requested") == method, where,
+                        f"method_requested is {obj.get('method_requested')!r}, not {method!r}")
+            answers[method] = obj
+        elif rc == 3:
+            message = (obj or {}).get("message") or err
+            expected = method in expected_refusal
+            print(f"  {method:7} -> refused ({'expected' if expected else 'UNEXPECTED'}): {message}")
+            fails.check(obj is not None and obj.get("termination") and obj.get("message") and obj.get("exit_code") == 3,
+                        where, "exit 3 without one JSON object holding termination, message and exit_code on stdout")
+            fails.check(method not in MUST_ANSWER, where, f"{method} must answer every scene")
+            fails.check(expected, where, "refused where no refusal is expected")
+        else:
+            print(f"  {method:7} -> exit {rc}: {err or (obj or {}).get('message')}")
+            fails.check(False, where, f"exit {rc}")
+
+    # Error estimates: FE from the change between meshes n/2 and n (fast).
+    estimates = {}
+    rc, coarse, err = solve(args.liftoff, path, "fast", max(n // 2, 1))
+    fine = answers.get("fast")
+    if fails.check(rc == 0 and fine is not None and len(limits(coarse)) == len(limits(fine)), f"{name} mesh",
+                   f"no FE estimate: fast on {n // 2} elements gives {len(limits(coarse)) if coarse else rc}"
+                   f" limits, on {n} {len(limits(fine)) if fine else 'nothing'}"):
+        fe = {"limits": [abs(f - c) for f, c in zip(limits(fine), limits(coarse))]}
+        for key in ("w_max", "w_min", "max_reaction"):
+            fe[key] = abs(fine[key] - coarse[key])
+        estimates["fe"] = fe
+
+    entries = []  # (label, result limits, their estimates, values with estimates or None)
+    for method, obj in answers.items():
+        if is_fe(obj):
+            if "fe" in estimates:
+                e = estimates["fe"]
+                entries.append((method, limits(obj), e["limits"],
+                                {k: (obj[k], e[k]) for k in ("w_max", "w_min", "max_reaction")}))
+        else:
+            e = obj.get("estimated_limit_error")
+            if fails.check(e is not None, f"{name} {method}", "Ritz answer without estimated_limit_error"):
+                entries.append((method, limits(obj), [e] * len(limits(obj)), None))
+    if closed_form_applies(doc):
+        rc, cf, err = run([args.closed_form, path])
+        if fails.check(rc == 0, f"{name} closed form", f"exit {rc}: {err}"):
+            entries.append(("closed form", limits(cf), [1e-10 * scale] * len(limits(cf)),
+                            {"w_max": (cf["w_max"], 1e-10 * abs(cf["w_max"])),
+                             "w_min": (cf["w_min"], 1e-10 * abs(cf["w_min"]))}))
+
+    # Agreement, every pair.
+    for i, (la, va, ea, wa) in enumerate(entries):
+        for lb, vb, eb, wb in entries[i + 1:]:
+            where = f"{name} {la} vs {lb}"
+            if not fails.check(len(va) == len(vb), where, f"{len(va) // 2} against {len(vb) // 2} contact regions"):
+                continue
+            for k, (a, b, xa, xb) in enumerate(zip(va, vb, ea, eb)):
+                fails.check(agree(a, xa, b, xb, scale), where,
+                            f"limit {k}: {a:.9g} against {b:.9g}, differ by {abs(a - b):.2e},"
+                            f" allowed {3 * (xa + xb) + 1e-12 * scale:.2e}")
+            for key in set(wa or {}) & set(wb or {}):
+                (a, xa), (b, xb) = wa[key], wb[key]
+                fails.check(agree(a, xa, b, xb, max(abs(a), abs(b))), where,
+                            f"{key}: {a:.9g} against {b:.9g}, differ by {abs(a - b):.2e},"
+                            f" allowed {3 * (xa + xb) + 1e-12 * max(abs(a), abs(b)):.2e}")
+    if "ritz" in answers and "fast" in answers:
+        r, f = answers["ritz"], answers["fast"]
+        print(f"  (Ritz w_max {r['w_max']:.6e} against fast {f['w_max']:.6e}: relative"
+              f" {abs(r['w_max'] - f['w_max']) / abs(f['w_max']):.1e}, not estimated by Ritz)")
+
+    if name.startswith(FOOTING):
+        hand_footing(name, doc, answers, estimates, fails)
+    if name == PIPELINE:
+        hand_pipeline(args, name, path, doc, n, fails)
+
+
+def hand_footing(name, doc, answers, estimates, fails):
+    (a, b, pa, pb), d_limit, d_peak, ratio = footing_first_order(doc)
+    peak = max(pa, pb)
+    print(f"  hand: rigid contact [{a:.6g}, {b:.6g}], peak {peak:.6g}; first order: limit {d_limit:+.3e},"
+          f" peak {d_peak:+.4g} (bending / rigid settlement {ratio:.2e})")
+    # The series in the flexibility converges fast only for a nearly rigid footing.
+    fails.check(ratio < 0.1, f"{name} hand", f"the footing is not nearly rigid (ratio {ratio:.2f})")
+    B = doc["structure"]["length"]
+    for method, obj in answers.items():
+        where = f"{name} {method} vs rigid footing"
+        e_lim = estimates["fe"]["limits"] if is_fe(obj) and "fe" in estimates else \
+            [obj.get("estimated_limit_error", 0.0)] * len(limits(obj))
+        got = limits(obj)
+        if not fails.check(len(got) == 2, where, f"{len(got) // 2} contact regions, expected one"):
+            continue
+        hand = [a + (d_limit if a > 0 else 0.0), b + (d_limit if b < B else 0.0)]
+        for k in range(2):
+            fails.check(abs(got[k] - hand[k]) <= abs(d_limit) + 3 * e_lim[k] + 1e-12 * B, where,
+                        f"limit {got[k]:.9g} against rigid + first order {hand[k]:.9g}"
+                        f" (allowed {abs(d_limit) + 3 * e_lim[k]:.2e})")
+        if is_fe(obj) and "fe" in estimates:
+            e_p = estimates["fe"]["max_reaction"]
+            fails.check(abs(obj["max_reaction"] - (peak + d_peak)) <= abs(d_peak) + 3 * e_p, where,
+                        f"peak pressure {obj['max_reaction']:.7g} against rigid + first order"
+                        f" {peak + d_peak:.7g} (allowed {abs(d_peak) + 3 * e_p:.2e})")
+
+
+def hand_pipeline(args, name, path, doc, n, fails):
+    EI, K = doc["structure"]["EI"], doc["foundation"]["modulus"]
+    q = sum(l["value"] for l in doc["loads"] if l["kind"] == "uniform" and l.get("case") == "dead")
+    F = -sum(l["value"] for l in doc["loads"] if l["kind"] == "force" and l.get("case", "live") == "live")
+    beta = (K / (4 * EI)) ** 0.25
+    hand = 2 * q / (F * beta)
+    first = []
+    for elements in (n // 2, n):
+        rc, obj, err = run([args.liftoff, "trace", path, "--method", "fast", "--elements", str(elements), "--json"])
+        events = (obj or {}).get("events") or [{}]
+        if not fails.check(rc == 0 and events[0].get("kind") == "lift_off_opens", f"{name} trace",
+                           f"{elements} elements: exit {rc}, first event {events[0].get('kind')}: {err}"):
+            return
+        first.append(events[0]["lambda"])
+    estimate = abs(first[1] - first[0])
+    print(f"  hand: first lift-off at lambda = 2 q / (F beta) = {hand:.8f}; FE trace {first[1]:.8f}"
+          f" ({n} el.), {first[0]:.8f} ({n // 2} el.)")
+    fails.check(abs(first[1] - hand) <= 3 * estimate + math.exp(-beta * doc["structure"]["length"] / 2),
+                f"{name} trace vs Hetenyi", f"first lift-off at {first[1]:.8f}, hand {hand:.8f},"
+                f" allowed {3 * estimate:.2e}")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--liftoff", required=True)
+    parser.add_argument("--closed-form", required=True)
+    parser.add_argument("--scenes", default=os.path.join(HERE, "scenes", "engineering"))
+    parser.add_argument("--elements", type=int, default=None, help="every scene on this mesh (default: its own)")
+    parser.add_argument("--only", nargs="*", default=None, help="scene names (file names without .toml)")
+    args = parser.parse_args()
+
+    fails = Failures()
+    with tempfile.TemporaryDirectory() as tmp:
+        for path in sorted(glob.glob(os.path.join(args.scenes, "*.toml"))):
+            name = os.path.basename(path)[:-5]
+            if args.only is not None and name not in args.only:
+                continue
+            with open(path, "rb") as f:
+                doc = tomllib.load(f)
+            run_case(args, name, path, doc, fails)
+            if name == FOOTING:
+                # The moments of issue 10's sweep, each as a scene of its own.
+                moment = next(l for l in doc["loads"] if l["kind"] == "moment")
+                own = moment["value"]
+                for value in FOOTING_MOMENTS:
+                    if value == own:
+                        continue
+                    moment["value"] = value
+                    case = os.path.join(tmp, f"{name}_M{value:+.0f}.toml")
+                    with open(case, "w") as f:
+                        f.write(toml_text(doc))
+                    run_case(args, f"{name}[M = {value:+.0f}]", case, doc, fails)
+
+    print()
+    for item in fails.items:
+        print("FAILED", item)
+    print(f"{len(fails.items)} failures")
+    sys.exit(1 if fails.items else 0)
+
+
+if __name__ == "__main__":
+    main()
