@@ -149,6 +149,32 @@ Residuals residuals(const MatrixXd& Ms, const VectorXd& qs, const VectorXd& D, c
   return r;
 }
 
+// Why a ray is not a proof of infeasibility, or "" if it is one. The proof (Farkas): dz >= 0 with
+// M^T dz <= 0 and q^T dz < 0 leaves no z >= 0 with w = q + M z >= 0, since then
+// 0 <= dz^T w = q^T dz + (M^T dz)^T z < 0. Lemke's secondary ray of a copositive-plus M has
+// dz0 = 0 and M^T dz = -M dz <= 0 in exact arithmetic; in floating point each condition is
+// checked against the round-off of its own terms, in the scaled units (y = D^-1 dz). Entering
+// columns computed from an ill-conditioned basis can show "no blocking row" where exact
+// arithmetic has one: such false rays (seen on the primal LCP of a floating footing, issue 10)
+// violate M^T dz <= 0 by the full size of its terms, where a true ray is at ~1e-12.
+std::string ray_defect(const MatrixXd& Ms, const VectorXd& qs, const VectorXd& D, const VectorXd& ray) {
+  const Eigen::Index n = qs.size();
+  const VectorXd y = ray.head(n).cwiseQuotient(D);
+  const double y_norm = y.cwiseAbs().maxCoeff();
+  if (!(y_norm > 0.0)) return "its z part is zero";
+  if (std::abs(ray(n)) > acceptable_residual * ray.cwiseAbs().maxCoeff())
+    return fmt::format("the artificial variable moves along it, dz0 = {:.1e}", ray(n));
+  const VectorXd transposed = Ms.transpose() * y, magnitude = Ms.cwiseAbs().transpose() * y.cwiseAbs();
+  const double floor = eps * magnitude.maxCoeff();
+  double worst = 0.0;
+  for (Eigen::Index i = 0; i < n; ++i) worst = std::max(worst, transposed(i) / (magnitude(i) + floor));
+  if (worst > acceptable_residual) return fmt::format("M^T dz <= 0 fails by {:.1e} of its terms", worst);
+  const double q_dot = qs.dot(y), q_magnitude = qs.cwiseAbs().dot(y.cwiseAbs());
+  if (!(q_dot < -acceptable_residual * q_magnitude))
+    return fmt::format("q^T dz = {:.1e} is not clearly negative (terms {:.1e})", q_dot, q_magnitude);
+  return "";
+}
+
 std::string variable_name(int v, int n) {
   if (v == 2 * n) return "z0";
   return fmt::format("{}_{}", v < n ? 'w' : 'z', v < n ? v : v - n);
@@ -287,6 +313,15 @@ LemkeResult solve_lemke(const MatrixXd& M, const VectorXd& q, const LemkeOptions
       add(entering, 1.0);
       for (int i = 0; i < n; ++i) add(basis.variable(i), std::max(0.0, -a(i)));
       if (const double largest = result.ray.cwiseAbs().maxCoeff(); largest > 0.0) result.ray /= largest;
+      // A ray is a claim that no solution exists: it is returned only as a checked proof.
+      if (const std::string defect = ray_defect(M_scaled, q_scaled, D_exact, result.ray); !defect.empty()) {
+        result.ray.resize(0);
+        return finish(LemkeTermination::numerical_failure,
+                      fmt::format("the entering variable {} had no blocking row after {} pivots, but the ray is no "
+                                  "proof that the LCP has no solution ({}): the pivoting lost accuracy",
+                                  variable_name(entering, n), pivots, defect),
+                      pivots);
+      }
       return finish(LemkeTermination::ray,
                     fmt::format("ray termination after {} pivots: the LCP has no solution (for "
                                 "copositive-plus M); entering variable {} has no blocking row",
@@ -306,10 +341,12 @@ LemkeResult solve_lemke(const MatrixXd& M, const VectorXd& q, const LemkeOptions
     entering = basis.complement(leaving);
   }
 
-  // z0 left: the basis is complementary. Polish: solve M_aa z_a = -q_a afresh, so the answer
-  // does not carry the round-off of the pivots. The LU is of the exactly scaled block
+  // z0 left: the basis is complementary (right or wrong: the caller may check its set).
+  // Polish: solve M_aa z_a = -q_a afresh, so the answer does not carry the round-off of the
+  // pivots. The LU is of the exactly scaled block
   // (D M D)_aa, i.e. of the original data, balanced so that rcond means something.
   set_vertex();
+  result.complementary = true;
   const Residuals pivoted = residuals(M_scaled, q_scaled, D_exact, result.z, result.w);
   const std::vector<int>& alpha = result.basic_z;
   std::string polish_note = "polished by a fresh LU of M on the final basic set";
