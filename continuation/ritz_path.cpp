@@ -19,14 +19,24 @@
 //    piece: its length (limit_at_end, or limit_at_support at a supported end);
 //  - per limit and load point: t - a (limit_at_load; recorded, no switch).
 // The residual accepts crossed limits (the Ritz integrals continue analytically, a piece of
-// negative length counting negatively), so that a length event is bracketed like any other.
+// negative length counting negatively), so that a length event is bracketed like any other;
+// but a piece between two limits vanishes at a singular point of the regularised equations
+// (see follow), which is approached from below instead.
 //
 // Switching: a vanishing piece is removed at the event itself (its two limits, or the end
 // piece's one limit): the same amplitudes solve the new topology there. An opening needs a
 // zone of nonzero width: the old topology is continued a little past the event (its solution
 // there is the local expansion of the new one, w dipping through zero around the event point),
 // the roots of w around the event point give the new limits, and the new topology is solved at
-// that lambda.
+// that lambda; shorter, if the zone so found is not local (it covers another extreme of w).
+//
+// What is accepted (issue 10: the path once ended `completed` with a reaction of -8426 N/m and
+// printed events that skipped back and forth in lambda): every state recorded as a step, the
+// start, each event's state and each switch's first state, satisfies the contact inequalities
+// on ritz::check_inequalities' grid (as solve_ritz's answers), with lambda growing along the
+// path (the linear tensionless problem has one equilibrium per lambda) and no event stepped
+// over. A step that fails is retried shorter; at min_step the path stops with solver_failure,
+// its message saying which inequality failed where and by how much, and the steps before stay.
 //
 // Units: the path works in fe::MemberModel's nondimensional s and w; steps are reported in the
 // user's units through fe::Scales.
@@ -205,6 +215,7 @@ class RitzTracer {
   TraceResult result_;
   int modes_ = 0;
   Resolution resolution_;
+  bool foundation_only_ = false;  // only the foundation holds the member (it can lift off entirely)
   double amplitude_scale_ = 0.0;  // the follower's, see make_follower
   std::string rejection_;         // why the observer last rejected a step
   // The load-point enrichment (ritz/basis.hpp) where the foundation leaves a point force's
@@ -721,7 +732,8 @@ std::optional<PathPoint> RitzTracer::approach_vanishing(const RitzModel& model, 
     if (gap <= options_.event_tolerance) return p;
     // Aim short of the estimate (its error is of the order of gap^2 over the model's scale);
     // past lambda* there is no solution of this topology, and a miss shortens the aim.
-    for (double fraction = 0.9; fraction > 1e-6; fraction *= 0.5) {
+    bool moved = false;
+    for (double fraction = 0.9; fraction > 1e-3 && !moved; fraction *= 0.25) {
       const double lambda = p.lambda + fraction * gap;
       const VectorXd guess = p.x + (lambda - p.lambda) / p.tangent_lambda * p.tangent_x;
       StepOutcome next = follower.step_to_lambda(from, lambda, &guess);
@@ -729,9 +741,9 @@ std::optional<PathPoint> RitzTracer::approach_vanishing(const RitzModel& model, 
           !(event_value(model, next.point->x, spec).value > 0))
         continue;
       p = std::move(*next.point);
-      break;
+      moved = true;
     }
-    if (p.lambda == from.lambda && iteration > 0) return std::nullopt;
+    if (!moved) return std::nullopt;
   }
   return std::nullopt;
 }
@@ -799,6 +811,9 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
         const bool crossed = previous[i] > 0 && event_value(model, to.x, specs[i]).value <= 0;
         if (!crossed && !turned) continue;
         const double gap = vanishing_gap(model, from, specs[i]);
+        // A step that turned back for another reason (an event of another kind, handled below)
+        // is no vanishing: only a piece predicted to vanish within the step's reach is.
+        if (!crossed && !(gap <= std::abs(ds))) continue;
         if (gap < earliest) earliest = gap, shrinking = i;
       }
       if (shrinking) {
@@ -827,6 +842,22 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
       if (interior_length(model, specs[i]) && previous[i] > 0 && now[i] > 0 &&
           vanishing_gap(model, to, specs[i]) <= tolerance)
         vanishing.push_back(i);
+    // The linear tensionless problem has one equilibrium per lambda (its energy is convex and,
+    // where it has one at all, strictly so), so the path of contact solutions never turns back
+    // in lambda; a step that did has left it, and events cannot be located on it (their
+    // functions are not monotone along it): it is retried shorter. But for an end piece
+    // vanishing where a member that only the foundation holds lifts off entirely (the last
+    // lambda with any equilibrium: a fold), located like any event.
+    const bool turned = !(to.lambda > from.lambda) || !(to.tangent_lambda > 0);
+    if (turned && !(foundation_only_ && std::any_of(changed.begin(), changed.end(), [&](std::size_t i) {
+                      return specs[i].function == EventFunction::length && !interior_length(model, specs[i]);
+                    })))
+      return reject(fmt::format(
+          "the path turned back in lambda ({}), which no path of tensionless equilibria does: "
+          "the topology {} has left it",
+          to.lambda > from.lambda ? fmt::format("its tangent at lambda = {:.10g} points to falling lambda", to.lambda)
+                                  : fmt::format("from {:.10g} to {:.10g}", from.lambda, to.lambda),
+          to_string(model.topology())));
     if (!changed.empty() || !vanishing.empty()) {
       // Locate each; the earliest wins, and those at the same lambda come along.
       std::optional<PathPoint> first;
@@ -900,16 +931,7 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
       }
     }
     // No event located: the step's end must be a contact solution reached without stepping over
-    // one (else it is retried shorter; at min_step the path stops and says why). The linear
-    // tensionless problem has one equilibrium per lambda (its energy is convex and, where it has
-    // one at all, strictly so), so the path of contact solutions never turns back in lambda. The
-    // regularised equations of one topology do, at a piece vanishing (its two limits meet where
-    // lambda is largest, w'(t) = 0 there): that is a length event, located above.
-    if (!(to.lambda > from.lambda) || !(to.tangent_lambda > 0))
-      return reject(
-          fmt::format("the path turned back in lambda (from {:.10g} to {:.10g}), which no path of "
-                      "tensionless equilibria does: the topology {} has left it",
-                      from.lambda, to.lambda, to_string(model.topology())));
+    // one (else it is retried shorter; at min_step the path stops and says why).
     if (auto why = state_failure(model, to.x)) return reject(fmt::format("at lambda = {:.10g}: {}", to.lambda, *why));
     if (auto why = stepped_over(model, from.x, to.x)) return reject(*why);
     // Deflections that grow much faster than where the topology started (a lifted span
@@ -1122,6 +1144,7 @@ TraceResult RitzTracer::run() {
   validate();
   enrichment_ = choose_enrichment();
   resolution_ = resolution();
+  foundation_only_ = !fe::discretise(member_, options_.elements).structure_is_stable();
   const auto finish = [&](TraceTermination termination, std::string message) {
     result_.summary.termination = termination;
     result_.summary.message = std::move(message);
