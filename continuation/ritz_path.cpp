@@ -1204,42 +1204,52 @@ TraceResult RitzTracer::run() {
     }
   }
   double step = state.next_step;
+  // The run's own figures (not the last topology's follower's), for every outcome.
+  const auto figures = [&] {
+    const auto count = [](std::size_t n, const char* what) {
+      return fmt::format("{} {}{}", n, what, n == 1 ? "" : "s");
+    };
+    return fmt::format(
+        "{} ({} rejected), {}, {} modes{}", count(static_cast<std::size_t>(result_.summary.steps), "step"),
+        result_.summary.rejected_steps, count(result_.events.size(), "event"), modes_,
+        options_.resume_from
+            ? fmt::format(" after the resumed step at lambda = {:.10g}", options_.resume_from->load_factor)
+            : "");
+  };
   const auto step_limit = [&] {
     return finish(TraceTermination::step_limit,
-                  fmt::format("step limit: max_steps = {} steps recorded, lambda = {:.10g}; {} events, {} modes",
-                              options_.max_steps, result_.summary.final_load_factor, result_.events.size(), modes_));
+                  fmt::format("step limit: max_steps = {} steps recorded, lambda = {:.10g}; {}", options_.max_steps,
+                              result_.summary.final_load_factor, figures()));
   };
   while (true) {
     if (result_.summary.steps >= options_.max_steps) return step_limit();
     const PathFollower follower = make_follower(*model_);
     const ArcLengthResult path = follow(*model_, follower, *start, step);
     result_.summary.rejected_steps += path.rejected_steps;
-    if (pending_ && !switch_topology(follower)) return finish(result_.summary.termination, result_.summary.message);
+    if (pending_ && !switch_topology(follower))
+      return finish(result_.summary.termination, fmt::format("{}; {}", result_.summary.message, figures()));
     if (restart_ && path.termination == ArcLengthTermination::stopped_by_observer) {
       start = restart_;
       step = restart_step_;
       restart_.reset();
       continue;
     }
-    // The run's own figures, not the last topology's follower's.
-    const std::string figures = fmt::format("{} steps ({} rejected), {} events, {} modes", result_.summary.steps,
-                                            result_.summary.rejected_steps, result_.events.size(), modes_);
     switch (path.termination) {
       case ArcLengthTermination::completed:
         return finish(TraceTermination::completed,
-                      fmt::format("lambda = {:.10g} reached: {}{}", result_.summary.final_load_factor, figures,
+                      fmt::format("lambda = {:.10g} reached: {}{}", result_.summary.final_load_factor, figures(),
                                   resolution_note()));
       case ArcLengthTermination::step_rejected:
         return finish(TraceTermination::solver_failure,
                       fmt::format("no contact solution beyond lambda = {:.10g} (the step was refined down to min_step "
                                   "= {:.3g}): {}; {}",
-                                  result_.summary.final_load_factor, options_.min_step, rejection_, figures));
+                                  result_.summary.final_load_factor, options_.min_step, rejection_, figures()));
       case ArcLengthTermination::step_too_small:
-        return finish(TraceTermination::step_too_small, fmt::format("{}; {}", path.message, figures));
+        return finish(TraceTermination::step_too_small, fmt::format("{}; {}", path.message, figures()));
       case ArcLengthTermination::step_limit:
         return step_limit();
       default:
-        return finish(TraceTermination::solver_failure, fmt::format("{}; {}", path.message, figures));
+        return finish(TraceTermination::solver_failure, fmt::format("{}; {}", path.message, figures()));
     }
   }
 }

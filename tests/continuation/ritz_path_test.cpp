@@ -552,10 +552,22 @@ TEST_CASE("ritz path: a state of the wrong topology is refused, naming the inequ
 
 TEST_CASE("ritz path: the summary counts what the result holds", "[ritz_path][issue10]") {
   // The message once said "5156 steps ... after 24 steps" (the last topology's count).
-  const TraceResult r = trace_ritz(lift_off_beam(), options_for(16));
+  const TraceOptions options = options_for(16);
+  const TraceResult r = trace_ritz(lift_off_beam(), options);
   INFO(r.summary.message);
   REQUIRE(r.summary.termination == TraceTermination::completed);
   CHECK(r.summary.steps == static_cast<int>(r.steps.size()));
-  CHECK(r.summary.message.find(fmt::format("{} steps ({} rejected), {} events, 16 modes", r.steps.size(),
-                                           r.summary.rejected_steps, r.events.size())) != std::string::npos);
+  const auto figures = [](const TraceResult& t) {
+    return fmt::format("{} steps ({} rejected), {} event{}, 16 modes", t.steps.size(), t.summary.rejected_steps,
+                       t.events.size(), t.events.size() == 1 ? "" : "s");
+  };
+  CHECK(r.summary.message.find(figures(r)) != std::string::npos);
+  // A resumed run counts its own steps and says from where.
+  TraceOptions resumed = options;
+  resumed.resume_from = r.steps[r.steps.size() / 2];
+  const TraceResult rest = trace_ritz(lift_off_beam(), resumed);
+  INFO(rest.summary.message);
+  REQUIRE(rest.summary.termination == TraceTermination::completed);
+  CHECK(rest.summary.message.find(figures(rest) + fmt::format(" after the resumed step at lambda = {:.10g}",
+                                                              resumed.resume_from->load_factor)) != std::string::npos);
 }
