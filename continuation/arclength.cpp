@@ -285,7 +285,7 @@ StepOutcome PathFollower::step_to_lambda(const PathPoint& from, double lambda, c
 
 std::optional<PathPoint> PathFollower::locate(const PathPoint& from, const PathPoint& to,
                                               const std::function<double(const PathPoint&)>& event,
-                                              double lambda_tolerance, double value_tolerance) const {
+                                              double lambda_tolerance) const {
   double sa = 0.0, sb = to.arclength - from.arclength;
   double fa = event(from), fb = event(to);
   if (!(fa * fb <= 0.0)) return std::nullopt;
@@ -304,9 +304,8 @@ std::optional<PathPoint> PathFollower::locate(const PathPoint& from, const PathP
     const double lambda_c = c.point->lambda;
     best = c.point;
     if (fc == 0.0) break;
-    const bool converged = (value_tolerance > 0 ? std::abs(fc) <= value_tolerance
-                                                : std::abs(lambda_c - previous_lambda) <= lambda_tolerance ||
-                                                      std::abs(a.lambda - b.lambda) <= lambda_tolerance) ||
+    const bool converged = std::abs(lambda_c - previous_lambda) <= lambda_tolerance ||
+                           std::abs(a.lambda - b.lambda) <= lambda_tolerance ||
                            std::abs(sb - sa) <= 1e-14 * std::abs(to.arclength - from.arclength);
     previous_lambda = lambda_c;
     if ((fc > 0) == (fb > 0)) {  // c replaces b

@@ -145,12 +145,9 @@ class PathFollower {
   // The point between `from` and `to` (to = step(from, ds)) where event(point) changes sign,
   // by secant (Illinois) on sigma in (0, ds), until the bracket is below lambda_tolerance in
   // lambda (or 1e-14 relative in sigma). nullopt if event does not change sign or a corrector
-  // solve fails. With value_tolerance > 0 the bracket in lambda does not count, only
-  // |event| <= value_tolerance (or the bracket in sigma): for an event at a fold, where lambda
-  // is flat in sigma and the points either side of it have the same lambda.
+  // solve fails.
   std::optional<PathPoint> locate(const PathPoint& from, const PathPoint& to,
-                                  const std::function<double(const PathPoint&)>& event, double lambda_tolerance,
-                                  double value_tolerance = 0.0) const;
+                                  const std::function<double(const PathPoint&)>& event, double lambda_tolerance) const;
   // Adaptive steps from `start` until lambda leaves [lambda_min, lambda_max] (landed on its
   // end), the observer stops, or a limit ends the run. `first_step` overrides initial_step.
   ArcLengthResult follow(const PathPoint& start, const StepObserver& observer = {},
