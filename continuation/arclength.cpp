@@ -11,13 +11,13 @@
 //  - Folds are located by Illinois on t_lambda(sigma). At a fold lambda is flat in sigma, so a
 //    bracket of width tol in lambda means an error of about tol in the fold's lambda.
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <utility>
-
-#include <fmt/format.h>
 
 namespace liftoff::continuation {
 
@@ -26,21 +26,30 @@ using Eigen::VectorXd;
 
 std::string_view to_string(ArcLengthTermination t) {
   switch (t) {
-    case ArcLengthTermination::completed: return "completed";
-    case ArcLengthTermination::stopped_by_observer: return "stopped_by_observer";
-    case ArcLengthTermination::step_too_small: return "step_too_small";
-    case ArcLengthTermination::step_limit: return "step_limit";
-    case ArcLengthTermination::start_failed: return "start_failed";
-    case ArcLengthTermination::singular_tangent: return "singular_tangent";
+    case ArcLengthTermination::completed:
+      return "completed";
+    case ArcLengthTermination::stopped_by_observer:
+      return "stopped_by_observer";
+    case ArcLengthTermination::step_too_small:
+      return "step_too_small";
+    case ArcLengthTermination::step_limit:
+      return "step_limit";
+    case ArcLengthTermination::step_rejected:
+      return "step_rejected";
+    case ArcLengthTermination::start_failed:
+      return "start_failed";
+    case ArcLengthTermination::singular_tangent:
+      return "singular_tangent";
   }
   return "unknown";
 }
 
 std::string ArcLengthResult::brief_report() const {
-  return fmt::format("arclength: {} after {} points ({} rejected steps, {} corrector iterations), {} folds; lambda "
-                     "{:.10g}",
-                     to_string(termination), points.size(), rejected_steps, corrector_iterations, folds.size(),
-                     points.empty() ? std::nan("") : points.back().lambda);
+  return fmt::format(
+      "arclength: {} after {} points ({} rejected steps, {} corrector iterations), {} folds; lambda "
+      "{:.10g}",
+      to_string(termination), points.size(), rejected_steps, corrector_iterations, folds.size(),
+      points.empty() ? std::nan("") : points.back().lambda);
 }
 
 void PathProblem::validate() const {
@@ -52,13 +61,14 @@ void PathProblem::validate() const {
           fmt::format("PathProblem.{}: expected empty or size {} (unknowns), got size {}", field, unknowns, v.size()));
     for (Eigen::Index i = 0; i < v.size(); ++i)
       if (!(std::isfinite(v(i)) && v(i) > 0))
-        throw std::invalid_argument(fmt::format("PathProblem.{}({}): expected a finite number > 0, got {}", field, i, v(i)));
+        throw std::invalid_argument(
+            fmt::format("PathProblem.{}({}): expected a finite number > 0, got {}", field, i, v(i)));
   };
   check("unknown_scale", unknown_scale);
   check("residual_scale", residual_scale);
   if (constraints.size() != 0 && constraints.size() != unknowns)
-    throw std::invalid_argument(fmt::format("PathProblem.constraints: expected empty or size {} (unknowns), got size {}",
-                                            unknowns, constraints.size()));
+    throw std::invalid_argument(fmt::format(
+        "PathProblem.constraints: expected empty or size {} (unknowns), got size {}", unknowns, constraints.size()));
 }
 
 void ArcLengthOptions::validate() const {
@@ -77,9 +87,9 @@ void ArcLengthOptions::validate() const {
   positive("max_step", max_step);
   positive("fold_tolerance", fold_tolerance);
   if (!(min_step <= initial_step && initial_step <= max_step))
-    throw std::invalid_argument(fmt::format(
-        "ArcLengthOptions.initial_step: expected min_step <= initial_step <= max_step, got {} <= {} <= {}", min_step,
-        initial_step, max_step));
+    throw std::invalid_argument(
+        fmt::format("ArcLengthOptions.initial_step: expected min_step <= initial_step <= max_step, got {} <= {} <= {}",
+                    min_step, initial_step, max_step));
   if (target_iterations < 1)
     throw std::invalid_argument(
         fmt::format("ArcLengthOptions.target_iterations: expected >= 1, got {}", target_iterations));
@@ -259,16 +269,16 @@ StepOutcome PathFollower::step(const PathPoint& from, double ds) const {
   return outcome;
 }
 
-StepOutcome PathFollower::step_to_lambda(const PathPoint& from, double lambda) const {
+StepOutcome PathFollower::step_to_lambda(const PathPoint& from, double lambda, const VectorXd* guess) const {
   StepOutcome outcome;
   nonlinear::NewtonSummary summary;
   const PathPoint reference = from;
-  std::optional<PathPoint> p = start(from.x, lambda, &summary, reference);
+  std::optional<PathPoint> p = start(guess ? *guess : from.x, lambda, &summary, reference);
   outcome.corrector = summary;
   if (!p) return outcome;
   // The arclength coordinate of the point, measured as the bordered constraint measures it.
-  p->arclength = from.arclength + scaled_dot(from.tangent_x, p->x - from.x) +
-                 from.tangent_lambda * (lambda - from.lambda);
+  p->arclength =
+      from.arclength + scaled_dot(from.tangent_x, p->x - from.x) + from.tangent_lambda * (lambda - from.lambda);
   outcome.point = std::move(p);
   return outcome;
 }
@@ -335,23 +345,25 @@ ArcLengthResult PathFollower::follow(const PathPoint& start_point, const StepObs
     }
     const PathPoint from = result.points.back();
     StepOutcome outcome = step(from, ds);
-    const bool turned = outcome.point && arc &&
-                        scaled_dot(from.tangent_x, outcome.point->tangent_x) +
-                                from.tangent_lambda * outcome.point->tangent_lambda <
-                            0.5;
+    const bool turned =
+        outcome.point && arc &&
+        scaled_dot(from.tangent_x, outcome.point->tangent_x) + from.tangent_lambda * outcome.point->tangent_lambda <
+            0.5;
     if (!outcome.point || turned) {
       ++result.rejected_steps;
       if (!outcome.point) result.last_failure = outcome.corrector;
       if (ds <= o.min_step) {
         result.termination = ArcLengthTermination::step_too_small;
         result.message =
-            arc ? fmt::format("step too small: the corrector failed at the minimum step {:.3g} from lambda = {:.10g} "
-                              "({})",
-                              o.min_step, from.lambda, outcome.corrector.message)
-                : fmt::format("step too small: no equilibrium found beyond lambda = {:.10g} within the minimum step "
-                              "{:.3g}; load control cannot pass a limit point (a fold in lambda): use arc-length "
-                              "control ({})",
-                              from.lambda, o.min_step, outcome.corrector.message);
+            arc ? fmt::format(
+                      "step too small: the corrector failed at the minimum step {:.3g} from lambda = {:.10g} "
+                      "({})",
+                      o.min_step, from.lambda, outcome.corrector.message)
+                : fmt::format(
+                      "step too small: no equilibrium found beyond lambda = {:.10g} within the minimum step "
+                      "{:.3g}; load control cannot pass a limit point (a fold in lambda): use arc-length "
+                      "control ({})",
+                      from.lambda, o.min_step, outcome.corrector.message);
         return result;
       }
       ds = std::max(0.5 * ds, o.min_step);
@@ -363,27 +375,40 @@ ArcLengthResult PathFollower::follow(const PathPoint& start_point, const StepObs
     // 1. The end of the lambda range, landed on exactly.
     bool at_end = false;
     for (double end : {o.lambda_max, o.lambda_min}) {
-      const bool crossed = (end == o.lambda_max) ? (to.lambda >= end && from.lambda < end)
-                                                 : (to.lambda <= end && from.lambda > end);
+      const bool crossed =
+          (end == o.lambda_max) ? (to.lambda >= end && from.lambda < end) : (to.lambda <= end && from.lambda > end);
       if (!crossed) continue;
       StepOutcome landed = step_to_lambda(from, end);
       const bool between = landed.point && landed.point->arclength > from.arclength &&
                            landed.point->arclength <= to.arclength * (1 + 1e-12) + 1e-300;
       if (between) {
         to = std::move(*landed.point);
-      } else if (auto located = locate(from, to, [end](const PathPoint& p) { return p.lambda - end; },
-                                       o.fold_tolerance)) {
+      } else if (auto located = locate(
+                     from, to, [end](const PathPoint& p) { return p.lambda - end; }, o.fold_tolerance)) {
         to = std::move(*located);
       }
       at_end = true;
       break;
     }
 
-    // 2. The observer (events of the model); it may cut the step short.
+    // 2. The observer (events of the model); it may cut the step short, or reject it.
     bool stop = false;
     if (observer) {
       const double before = to.arclength;
-      stop = observer(from, to) == ObserverVerdict::stop;
+      const ObserverVerdict verdict = observer(from, to);
+      if (verdict == ObserverVerdict::reject) {
+        ++result.rejected_steps;
+        if (ds <= o.min_step) {
+          result.termination = ArcLengthTermination::step_rejected;
+          result.message =
+              fmt::format("the observer rejected the step from lambda = {:.10g} at the minimum step {:.3g}",
+                          from.lambda, o.min_step);
+          return result;
+        }
+        ds = std::max(0.5 * ds, o.min_step);
+        continue;
+      }
+      stop = verdict == ObserverVerdict::stop;
       if (to.arclength < before) at_end = false;
     }
 
@@ -403,8 +428,8 @@ ArcLengthResult PathFollower::follow(const PathPoint& start_point, const StepObs
     }
     if (at_end) {
       result.termination = ArcLengthTermination::completed;
-      result.message = fmt::format("completed: lambda = {:.10g} reached after {} steps", result.points.back().lambda,
-                                   accepted);
+      result.message =
+          fmt::format("completed: lambda = {:.10g} reached after {} steps", result.points.back().lambda, accepted);
       return result;
     }
     // 4. The next step length from the corrector's effort.

@@ -23,13 +23,12 @@
 // whose unknowns change at events (the Ritz path's topology switches) runs `follow` once per
 // topology, with an observer that locates its events between steps and stops at them.
 
+#include <Eigen/Dense>
 #include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <Eigen/Dense>
 
 #include "continuation/trace.hpp"
 #include "nonlinear/newton.hpp"
@@ -52,14 +51,14 @@ struct PathProblem {
 
 struct ArcLengthOptions {
   PathControl control = PathControl::arc_length;
-  double lambda_min = 0.0;      // the run ends (completed) on reaching either end of the range;
-  double lambda_max = 1.0;      // the end point is landed on exactly (a fixed-lambda correction)
-  int direction = +1;           // initial sense of lambda: +1 increasing, -1 decreasing
-  double initial_step = 0.05;   // ds
+  double lambda_min = 0.0;     // the run ends (completed) on reaching either end of the range;
+  double lambda_max = 1.0;     // the end point is landed on exactly (a fixed-lambda correction)
+  int direction = +1;          // initial sense of lambda: +1 increasing, -1 decreasing
+  double initial_step = 0.05;  // ds
   double min_step = 1e-8;
   double max_step = 0.25;
-  int target_iterations = 4;    // corrector iterations the step length aims at
-  int max_steps = 10000;        // accepted steps
+  int target_iterations = 4;      // corrector iterations the step length aims at
+  int max_steps = 10000;          // accepted steps
   double fold_tolerance = 1e-10;  // folds located until the bracket in lambda is below this
   bool locate_folds = true;
   nonlinear::NewtonOptions corrector = default_corrector();
@@ -79,15 +78,15 @@ struct PathPoint {
   double lambda = 0.0;
   Eigen::VectorXd tangent_x;
   double tangent_lambda = 0.0;
-  double arclength = 0.0;   // from the start of the run
-  int iterations = 0;       // corrector iterations that produced it
+  double arclength = 0.0;  // from the start of the run
+  int iterations = 0;      // corrector iterations that produced it
 };
 
 struct Fold {
   double lambda = 0.0;
   Eigen::VectorXd x;
   double arclength = 0.0;
-  bool is_maximum = true;   // lambda reaches a maximum (t_lambda goes + to -) or a minimum
+  bool is_maximum = true;  // lambda reaches a maximum (t_lambda goes + to -) or a minimum
 };
 
 enum class ArcLengthTermination {
@@ -95,6 +94,7 @@ enum class ArcLengthTermination {
   stopped_by_observer,  // the observer asked to stop after the last accepted point
   step_too_small,       // the corrector failed at min_step (load control: a limit point)
   step_limit,           // max_steps accepted steps done
+  step_rejected,        // the observer rejected the step even at min_step (see ObserverVerdict)
   start_failed,         // no equilibrium could be found at the starting lambda
   singular_tangent,     // the bordered tangent system is singular (a bifurcation point)
 };
@@ -116,6 +116,8 @@ struct ArcLengthResult {
 enum class ObserverVerdict {
   proceed,  // keep the point, go on
   stop,     // keep the point (which the observer may have replaced, e.g. by a located event) and stop
+  reject,   // discard the point: the step is retried at half the length, like a corrector failure;
+            // at min_step the run ends (step_rejected). The observer must not have kept anything.
 };
 // Called for every accepted point after the start, with the point before it. It may replace
 // `accepted` by a point between the two (one from PathFollower::step from `previous`).
@@ -137,15 +139,15 @@ class PathFollower {
   // One predictor-corrector step of length ds from `from` (arc length or load control as the
   // options say; ds may be negative only for load control).
   StepOutcome step(const PathPoint& from, double ds) const;
-  // The point on the path at lambda (x guessed from `from`; a fixed-lambda correction).
-  StepOutcome step_to_lambda(const PathPoint& from, double lambda) const;
+  // The point on the path at lambda (x guessed from `from`, or `guess` if given; a fixed-lambda
+  // correction), its arclength measured from `from`.
+  StepOutcome step_to_lambda(const PathPoint& from, double lambda, const Eigen::VectorXd* guess = nullptr) const;
   // The point between `from` and `to` (to = step(from, ds)) where event(point) changes sign,
   // by secant (Illinois) on sigma in (0, ds), until the bracket is below lambda_tolerance in
   // lambda (or 1e-14 relative in sigma). nullopt if event does not change sign or a corrector
   // solve fails.
   std::optional<PathPoint> locate(const PathPoint& from, const PathPoint& to,
-                                  const std::function<double(const PathPoint&)>& event,
-                                  double lambda_tolerance) const;
+                                  const std::function<double(const PathPoint&)>& event, double lambda_tolerance) const;
   // Adaptive steps from `start` until lambda leaves [lambda_min, lambda_max] (landed on its
   // end), the observer stops, or a limit ends the run. `first_step` overrides initial_step.
   ArcLengthResult follow(const PathPoint& start, const StepObserver& observer = {},
@@ -160,7 +162,7 @@ class PathFollower {
   // The unit tangent at (x, lambda) with the sense of `reference` (if null: lambda grows in
   // options.direction). nullopt if the bordered system is singular.
   std::optional<std::pair<Eigen::VectorXd, double>> tangent(const Eigen::VectorXd& x, double lambda,
-                                                             const PathPoint* reference) const;
+                                                            const PathPoint* reference) const;
 
  private:
   bool evaluate_jacobian(const Eigen::VectorXd& x, double lambda, Eigen::MatrixXd& g_x) const;

@@ -19,17 +19,29 @@
 //    piece: its length (limit_at_end, or limit_at_support at a supported end);
 //  - per limit and load point: t - a (limit_at_load; recorded, no switch).
 // The residual accepts crossed limits (the Ritz integrals continue analytically, a piece of
-// negative length counting negatively), so that a length event is bracketed like any other.
+// negative length counting negatively), so that a length event is bracketed like any other;
+// but a piece between two limits vanishes at a singular point of the regularised equations
+// (see follow), which is approached from below instead.
 //
 // Switching: a vanishing piece is removed at the event itself (its two limits, or the end
 // piece's one limit): the same amplitudes solve the new topology there. An opening needs a
 // zone of nonzero width: the old topology is continued a little past the event (its solution
 // there is the local expansion of the new one, w dipping through zero around the event point),
 // the roots of w around the event point give the new limits, and the new topology is solved at
-// that lambda.
+// that lambda; shorter, if the zone so found is not local (it covers another extreme of w).
+//
+// What is accepted (issue 10: the path once ended `completed` with a reaction of -8426 N/m and
+// printed events that skipped back and forth in lambda): every state recorded as a step, the
+// start, each event's state and each switch's first state, satisfies the contact inequalities
+// on ritz::check_inequalities' grid (as solve_ritz's answers), with lambda growing along the
+// path (the linear tensionless problem has one equilibrium per lambda) and no event stepped
+// over. A step that fails is retried shorter; at min_step the path stops with solver_failure,
+// its message saying which inequality failed where and by how much, and the steps before stay.
 //
 // Units: the path works in fe::MemberModel's nondimensional s and w; steps are reported in the
 // user's units through fe::Scales.
+
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <chrono>
@@ -39,16 +51,14 @@
 #include <sstream>
 #include <stdexcept>
 
-#include <fmt/format.h>
-
 #include "contact/contact_solver.hpp"
 #include "continuation/arclength.hpp"
 #include "fe/discretisation.hpp"
 #include "fe/member_model.hpp"
 #include "post/contact_regions.hpp"
-#include "ritz/starting_point.hpp"
 #include "ritz/ritz_model.hpp"
 #include "ritz/ritz_solver.hpp"
+#include "ritz/starting_point.hpp"
 
 namespace liftoff::continuation {
 
@@ -60,6 +70,7 @@ using ritz::RitzModel;
 using ritz::Topology;
 
 constexpr double infinity = std::numeric_limits<double>::infinity();
+constexpr double kPi = 3.14159265358979323846;
 
 // No equilibrium to start from: an outcome (solver_failure in the summary), not misuse.
 struct StartFailure : std::runtime_error {
@@ -96,8 +107,35 @@ struct ResumeState {
   Topology topology;
   PathPoint point;
   double next_step = 0.0;
+  double amplitude_scale = 0.0;  // 0: not stored (a file of an older liftoff), from the loads
   std::optional<Opening> at_event;
 };
+
+// How well the smooth modes resolve the response to a point force where the member rests on
+// the foundation. That response is local, of wavenumber beta = (k/4)^(1/4), and w at the force
+// converges like the tail of its modal sum, sum over wavenumbers kappa > N pi / length of
+// 1/(kappa^4 + 4 beta^4): relative to the whole sum (the infinite beam's, pi/(8 beta^3)) that is
+//     e(N) = 8/(3 pi) (beta length / (pi N))^3      (for N pi > beta length),
+// which the relative error of the first lift-off load follows closely (pipeline, beta L = 100:
+// e = 0.104, 0.0131 at N = 64, 128; measured 0.096, 0.0126). Without such a force, or with the
+// load-point enrichment (N^-8, beta L <= 10), there is nothing to estimate (applies = false).
+struct Resolution {
+  bool applies = false;
+  double beta_length = 0.0;  // beta times the member's length
+  double at = 0.0;           // s of the (first) point force it concerns
+  double error(int modes) const {
+    const double ratio = beta_length / (kPi * modes);
+    return ratio >= 1.0 ? 1.0 : 8.0 / (3.0 * kPi) * ratio * ratio * ratio;
+  }
+  int modes_for(double target) const {
+    return static_cast<int>(std::ceil(beta_length / kPi * std::cbrt(8.0 / (3.0 * kPi * target))));
+  }
+};
+// Automatic modes aim at resolution_target; any N whose e(N) exceeds resolution_limit is refused.
+constexpr double resolution_target = 1e-3;
+constexpr double resolution_limit = 1e-2;
+// The contact inequalities' tolerance on the check grid, relative to max |w| (as solve_ritz).
+constexpr double inequality_tolerance = 1e-9;
 
 class RitzTracer {
  public:
@@ -110,12 +148,18 @@ class RitzTracer {
   ritz::Enrichment choose_enrichment() const {
     const double beta_l = std::pow(member_.foundation_modulus / 4.0, 0.25) * member_.length();
     return member_.kind == fe::StructureKind::beam && beta_l <= 10.0 ? ritz::Enrichment::load_points
-                                                                      : ritz::Enrichment::none;
+                                                                     : ritz::Enrichment::none;
   }
   // Verbs, in the order run() calls them.
   void validate() const;
+  Resolution resolution() const;
   ResumeState starting_state();
   PathFollower make_follower(const RitzModel& model) const;
+  double lambda_size() const { return std::max({std::abs(options_.lambda_min), std::abs(options_.lambda_max), 1.0}); }
+  double force_scale(const RitzModel& model) const;
+  // The follower's amplitude scale for a topology that starts at p (see make_follower), and p's
+  // tangent in the metric of that scale.
+  void rescale(const RitzModel& model, PathPoint& p);
   ArcLengthResult follow(const RitzModel& model, const PathFollower& follower, const PathPoint& start,
                          double first_step);
   bool switch_topology(const PathFollower& follower);
@@ -132,10 +176,35 @@ class RitzTracer {
   std::vector<EventSpec> without_degenerate_openings(const RitzModel& model, const VectorXd& x,
                                                      std::vector<EventSpec> events) const;
   void record_event(double lambda, EventKind kind, double s, std::string description);
+  // Why a state may not be accepted: limits out of order, or the contact inequalities failing
+  // on ritz::check_inequalities' grid by more than inequality_tolerance + allowance (relative to
+  // max |w|), in words and user units. nullopt: the state is a contact solution.
+  std::optional<std::string> state_failure(const RitzModel& model, const VectorXd& x, double allowance = 0.0) const;
+  double event_allowance(const RitzModel& model, const VectorXd& x, const std::vector<EventSpec>& events) const;
+  // A piece between two limits (their length event); how far in lambda it is from vanishing,
+  // estimated at p (infinity if it is not shrinking); and the point within event_tolerance of
+  // that, approached from `from` by fixed-lambda steps (nullopt if that fails).
+  bool interior_length(const RitzModel& model, const EventSpec& spec) const;
+  double vanishing_gap(const RitzModel& model, const PathPoint& p, const EventSpec& spec) const;
+  std::optional<PathPoint> approach_vanishing(const RitzModel& model, const PathFollower& follower,
+                                              const PathPoint& from, const EventSpec& spec) const;
+  // Events stepped over between two states of one topology: a limit that passed a local
+  // minimum of w in the contact piece it advanced into (or a maximum in a lift-off piece),
+  // where a zone must have opened first. nullopt if none.
+  std::optional<std::string> stepped_over(const RitzModel& model, const VectorXd& from, const VectorXd& to) const;
   std::string topology_text(const Topology& t) const {
     return fmt::format("{} {} {}", t.first_in_contact ? 1 : 0, t.limits, modes_);
   }
   int modes_for_trace(const ritz::RitzSolution& start) const;
+  void check_resolution(int modes) const;
+  // ", point forces resolved to about e(N) (estimated)" where that applies, else "".
+  std::string resolution_note() const {
+    return resolution_.applies ? fmt::format(
+                                     ", the point force's local response resolved to about {:.1e} "
+                                     "(estimated from beta length = {:.3g})",
+                                     resolution_.error(modes_), resolution_.beta_length)
+                               : "";
+  }
   bool end_supported(bool left) const;
   double user(double s) const { return member_.user_from_s(s); }
 
@@ -145,6 +214,10 @@ class RitzTracer {
   fe::MemberModel member_;
   TraceResult result_;
   int modes_ = 0;
+  Resolution resolution_;
+  bool foundation_only_ = false;  // only the foundation holds the member (it can lift off entirely)
+  double amplitude_scale_ = 0.0;  // the follower's, see make_follower
+  std::string rejection_;         // why the observer last rejected a step
   // The load-point enrichment (ritz/basis.hpp) where the foundation leaves a point force's
   // response global (beta L <= 10, beta = (k/4)^(1/4)); on a stiffer one the response is local,
   // the kinked functions' far field must be cancelled by the smooth modes, and Newton stalls.
@@ -155,7 +228,7 @@ class RitzTracer {
     std::vector<EventSpec> events;  // located together
     PathPoint point;                // at the event
     Opening opening;
-    double step = 0.0;              // the step length in use
+    double step = 0.0;  // the step length in use
   };
   std::optional<Pending> pending_;
   std::optional<PathPoint> restart_;  // a non-switching event: go on from here
@@ -186,8 +259,41 @@ int RitzTracer::modes_for_trace(const ritz::RitzSolution& start) const {
   if (options_.modes > 0) return options_.modes;
   if (scene_.ritz.modes > 0) return scene_.ritz.modes;
   // Automatic: what solve_ritz settled on at lambda_min, but at least 32, since limits that do
-  // not exist yet at lambda_min (full contact) say nothing about the N they will need.
-  return std::max(start.summary.modes, 32);
+  // not exist yet at lambda_min (full contact) say nothing about the N they will need; and
+  // what a point force on the foundation needs (resolution_target), up to max_modes.
+  int modes = std::max(start.summary.modes, 32);
+  if (resolution_.applies)
+    modes = std::max(modes, std::min(resolution_.modes_for(resolution_target), scene_.ritz.max_modes));
+  return modes;
+}
+
+Resolution RitzTracer::resolution() const {
+  Resolution r;
+  if (enrichment_ == ritz::Enrichment::load_points || !member_.tensionless) return r;
+  r.beta_length = std::pow(member_.foundation_modulus / 4.0, 0.25) * member_.length();
+  for (const fe::MemberLoad& load : member_.loads)
+    if (load.kind == fe::LoadKind::force && load.value != 0.0 && load.at > member_.foundation_begin &&
+        load.at < member_.foundation_end) {
+      r.applies = true;
+      r.at = load.at;
+      break;
+    }
+  return r;
+}
+
+// Refuses (StartFailure) N modes that cannot resolve a point force's local response.
+void RitzTracer::check_resolution(int modes) const {
+  if (!resolution_.applies || resolution_.error(modes) <= resolution_limit) return;
+  const bool automatic = options_.modes == 0 && scene_.ritz.modes == 0;
+  throw StartFailure(fmt::format(
+      "refused: {} modes resolve the local response to the point force at {} = {:.6g} on this foundation (beta times "
+      "the member's length = {:.3g}) only to about {:.0f} % (the smooth modes converge there like (beta length / (pi "
+      "N))^3); {} modes are needed for {:.0f} % and {} for {:.1f} %{}: set [ritz] modes{} or use an FE method",
+      modes, member_.kind == fe::StructureKind::arch ? "theta" : "x", user(resolution_.at), resolution_.beta_length,
+      100.0 * resolution_.error(modes), resolution_.modes_for(resolution_limit), 100.0 * resolution_limit,
+      resolution_.modes_for(resolution_target), 100.0 * resolution_target,
+      automatic ? fmt::format(" (automatic modes stop at [ritz] max_modes = {})", scene_.ritz.max_modes) : "",
+      automatic ? " and max_modes" : ""));
 }
 
 bool RitzTracer::end_supported(bool left) const {
@@ -208,16 +314,21 @@ ResumeState RitzTracer::starting_state() {
     std::string word;
     Opening opening;
     if (text >> word) {
-      if (word == "event" && text >> opening.direction >> opening.delta) state.at_event = opening;
-      else text.setstate(std::ios::failbit);
+      if (word == "event" && text >> opening.direction >> opening.delta)
+        state.at_event = opening;
+      else
+        text.setstate(std::ios::failbit);
     } else if (text.eof()) {
       text.clear();
     }
-    const int n2 = static_cast<int>(step.state.size()) - 2;
+    // 2 n + 3 values (x, tangent, next step, amplitude scale), or 2 n + 2 as liftoff wrote them
+    // before the scale was stored.
+    const bool scaled = step.state.size() % 2 == 1;
+    const int n2 = static_cast<int>(step.state.size()) - (scaled ? 3 : 2);
     if (!text || (first != 0 && first != 1) || limits < 0 || modes < 1 || n2 <= 0 || n2 % 2 != 0)
       throw std::invalid_argument(fmt::format(
           "TraceOptions.resume_from: expected a Ritz step's state (topology \"first_in_contact limits modes\" and "
-          "2 n + 2 values), got topology \"{}\" and {} values",
+          "2 n + 3 values), got topology \"{}\" and {} values",
           step.state_topology, step.state.size()));
     const int n = n2 / 2;
     state.topology = {first == 1, limits};
@@ -232,6 +343,11 @@ ResumeState RitzTracer::starting_state() {
     state.point.tangent_lambda = values(2 * n);
     state.point.lambda = step.load_factor;
     state.next_step = values(2 * n + 1);
+    if (scaled) state.amplitude_scale = values(2 * n + 2);
+    if (!(std::isfinite(state.amplitude_scale) && state.amplitude_scale >= 0))
+      throw std::invalid_argument(
+          fmt::format("TraceOptions.resume_from: expected an amplitude scale >= 0, got {}", state.amplitude_scale));
+    check_resolution(modes_);
     return state;
   }
   // The topology at lambda_min: from the scene, or from the FE + LCP solution there. Without
@@ -241,13 +357,17 @@ ResumeState RitzTracer::starting_state() {
                         std::all_of(member_.loads.begin(), member_.loads.end(),
                                     [](const fe::MemberLoad& l) { return l.load_case != fe::LoadCase::dead; });
   const double lambda_start = unloaded ? options_.initial_step : options_.lambda_min;
+  // Refuse before any work: the given N, or the most automatic modes could take.
+  check_resolution(options_.modes > 0      ? options_.modes
+                   : scene_.ritz.modes > 0 ? scene_.ritz.modes
+                                           : std::max(scene_.ritz.max_modes, 32));
   ritz::StartingPoint initial;
   if (!scene_.ritz.topology.empty()) {
     initial = ritz::starting_point_from_scene(scene_.ritz, member_);
   } else {
     const fe::Discretisation d = fe::discretise(member_, options_.elements);
     contact::ContactOptions contact_options;
-    contact_options.method = scene::Method::automatic;
+    contact_options.method = scene::Method::fast;
     contact_options.load_factor = lambda_start;
     const contact::ContactSolution fe = contact::solve_contact(d, contact_options);
     if (!fe.summary.is_usable())
@@ -265,6 +385,7 @@ ResumeState RitzTracer::starting_state() {
   ritz_options.enrichment = enrichment_;
   ritz::RitzSolution start = ritz::solve_ritz(member_, state.topology, limits, ritz_options);
   modes_ = modes_for_trace(start);
+  check_resolution(modes_);
   if (start.summary.modes != modes_) {
     ritz_options.modes = modes_;
     std::vector<double> settled(start.unknowns.data() + start.unknowns.size() - state.topology.limits,
@@ -280,15 +401,40 @@ ResumeState RitzTracer::starting_state() {
   return state;
 }
 
+// Typical sizes: forces over the range of lambda from the loads; deflections those forces make
+// against the foundation (or against the unit bending stiffness where the foundation is softer).
+double RitzTracer::force_scale(const RitzModel& model) const {
+  return std::max(
+      model.dead_load().lpNorm<Eigen::Infinity>() + lambda_size() * model.live_load().lpNorm<Eigen::Infinity>(),
+      1e-300);
+}
+
+// The amplitudes' scale for the topology that starts at p: at least what the loads make
+// against the foundation, and what lambda_size units of lambda make at p (dx/dlambda from p's
+// tangent), so that a step ds moves lambda by about ds where the topology starts. Scaled by the
+// loads alone, a pipeline whose lifted span deflects 200 times q/K took steps of 7e-4 in lambda
+// (10000 steps to lambda = 2.2). The scale is stored with each step, so a resumed trace takes
+// the same steps.
+void RitzTracer::rescale(const RitzModel& model, PathPoint& p) {
+  const int a = model.amplitudes();
+  double scale = force_scale(model) / std::max(member_.foundation_modulus, 1.0);
+  if (p.tangent_lambda > 0)
+    scale = std::max(scale, lambda_size() * p.tangent_x.head(a).lpNorm<Eigen::Infinity>() / p.tangent_lambda);
+  if (!std::isfinite(scale)) return;  // keep the scale in use
+  amplitude_scale_ = scale;
+  const PathFollower follower = make_follower(model);
+  PathPoint reference = p;
+  if (auto t = follower.tangent(p.x, p.lambda, &reference)) {
+    p.tangent_x = t->first;
+    p.tangent_lambda = t->second;
+  }
+}
+
 PathFollower RitzTracer::make_follower(const RitzModel& model) const {
   const int n = model.unknowns(), a = model.amplitudes();
-  // Typical sizes, from the loads alone (not from x: a resumed trace must take the same steps):
-  // forces over the range of lambda, deflections those forces make against the foundation (or
-  // against the unit bending stiffness where the foundation is softer).
-  const double lambda_size = std::max({std::abs(options_.lambda_min), std::abs(options_.lambda_max), 1.0});
-  const double force_scale = std::max(
-      model.dead_load().lpNorm<Eigen::Infinity>() + lambda_size * model.live_load().lpNorm<Eigen::Infinity>(), 1e-300);
-  const double amplitude_scale = force_scale / std::max(member_.foundation_modulus, 1.0);
+  const double force_scale = this->force_scale(model);
+  const double amplitude_scale =
+      amplitude_scale_ > 0 ? amplitude_scale_ : force_scale / std::max(member_.foundation_modulus, 1.0);
 
   PathProblem problem;
   problem.unknowns = n;
@@ -317,7 +463,7 @@ PathFollower RitzTracer::make_follower(const RitzModel& model) const {
   o.initial_step = options_.initial_step;
   o.min_step = options_.min_step;
   o.max_step = options_.max_step;
-  o.max_steps = options_.max_steps;
+  o.max_steps = std::max(options_.max_steps - result_.summary.steps, 1);  // what the whole path has left
   o.fold_tolerance = options_.event_tolerance;
   o.locate_folds = false;  // the observer does it, so that fold events reach the sink in order
   return PathFollower(std::move(problem), o);
@@ -331,8 +477,8 @@ std::vector<EventSpec> RitzTracer::event_specs(const RitzModel& model) const {
   const int pieces = model.limits() + 1;
   bool contact = model.topology().first_in_contact;
   for (int p = 0; p < pieces; ++p, contact = !contact) {
-    specs.push_back({EventFunction::interior_extreme,
-                     contact ? EventKind::lift_off_opens : EventKind::contact_opens, p, false, 0, 0});
+    specs.push_back({EventFunction::interior_extreme, contact ? EventKind::lift_off_opens : EventKind::contact_opens, p,
+                     false, 0, 0});
     if (pieces > 1) {
       EventKind kind = contact ? EventKind::region_vanishes : EventKind::lift_off_vanishes;
       if (p == 0 || p == pieces - 1)
@@ -434,9 +580,9 @@ EventValue RitzTracer::event_value(const RitzModel& model, const VectorXd& x, co
     case EventFunction::length: {
       const ritz::Piece& p = pieces[spec.piece];
       // Where it vanishes: at the member's end for an end piece, else between its limits.
-      const double at = spec.piece == 0                               ? member_.foundation_begin
+      const double at = spec.piece == 0                                     ? member_.foundation_begin
                         : spec.piece == static_cast<int>(pieces.size()) - 1 ? member_.foundation_end
-                                                                       : 0.5 * (p.begin + p.end);
+                                                                            : 0.5 * (p.begin + p.end);
       return {p.end - p.begin, at};
     }
     case EventFunction::limit_at_load: {
@@ -461,12 +607,18 @@ double RitzTracer::w_scale(const RitzModel& model, const VectorXd& x) const {
 // reaching zero while the end piece is all but gone (shorter than 1e-5 of the member, far
 // below what N modes resolve) is that piece vanishing, seen a little early through round-off
 // (region_split at 40 modes: w(0) = 0 with the limit 4e-7 L from it, and a contact zone was
-// opened at x = 0 instead of the limit removed): its length event replaces the opening.
+// opened at x = 0 instead of the limit removed): its length event replaces the opening. So
+// does an interior extreme reaching zero in a piece between two limits that is all but gone
+// (culvert: the minimum of w in a contact region 6e-6 of the arch wide, w of the order of its
+// width squared, reached zero through round-off just before the region vanished).
 std::vector<EventSpec> RitzTracer::without_degenerate_openings(const RitzModel& model, const VectorXd& x,
                                                                std::vector<EventSpec> events) const {
   const std::vector<ritz::Piece> pieces = model.pieces(x);
   for (EventSpec& spec : events) {
-    if (spec.function != EventFunction::end_value || pieces.size() < 2) continue;
+    const bool degenerate =
+        spec.function == EventFunction::end_value ||
+        (spec.function == EventFunction::interior_extreme && spec.piece > 0 && spec.piece < model.limits());
+    if (!degenerate || pieces.size() < 2) continue;
     const ritz::Piece& piece = pieces[spec.piece];
     if (piece.end - piece.begin > 1e-5 * member_.length()) continue;
     for (const EventSpec& length : event_specs(model))
@@ -506,17 +658,116 @@ void RitzTracer::record_step(const RitzModel& model, const PathPoint& point, int
   step.state_topology = topology_text(model.topology());
   if (at_event) step.state_topology += fmt::format(" event {} {}", at_event->direction, at_event->delta);
   const int n = static_cast<int>(point.x.size());
-  step.state.resize(2 * n + 2);
-  Eigen::Map<VectorXd> state(step.state.data(), 2 * n + 2);
+  step.state.resize(2 * n + 3);
+  Eigen::Map<VectorXd> state(step.state.data(), 2 * n + 3);
   state.head(n) = point.x;
   state.segment(n, n) = point.tangent_x;
   state(2 * n) = point.tangent_lambda;
   state(2 * n + 1) = next_step;
+  state(2 * n + 2) = amplitude_scale_;
   if (sink_.on_step) sink_.on_step(step);
   result_.steps.push_back(std::move(step));
   ++result_.summary.steps;
   result_.summary.corrector_iterations += iterations;
   result_.summary.final_load_factor = point.lambda;
+}
+
+// The state at an event is a contact solution but for the event itself: w touching zero where
+// a zone opens, by what locating it to event_tolerance leaves. That much violation (relative to
+// max |w|) is allowed there.
+double RitzTracer::event_allowance(const RitzModel& model, const VectorXd& x,
+                                   const std::vector<EventSpec>& events) const {
+  const double scale = std::max(w_scale(model, x), 1e-300);
+  double allowance = 0.0;
+  for (const EventSpec& spec : events) {
+    if (spec.function != EventFunction::interior_extreme && spec.function != EventFunction::end_value) continue;
+    // The value is w, or at a supported end w' (pinned) or w'' length (clamped): w within a
+    // length of the end is at most that times the length.
+    const bool slope = spec.function == EventFunction::end_value && end_supported(!spec.far_end);
+    allowance += std::abs(event_value(model, x, spec).value) * (slope ? member_.length() : 1.0) / scale;
+  }
+  return allowance;
+}
+
+std::optional<std::string> RitzTracer::state_failure(const RitzModel& model, const VectorXd& x,
+                                                     double allowance) const {
+  if (!model.admissible(x)) return "its contact limits are out of order or outside the foundation";
+  const ritz::InequalityCheck check = ritz::check_inequalities(model, x);
+  if (check.violation <= inequality_tolerance + allowance) return std::nullopt;
+  const fe::Scales& scales = member_.scales;
+  const std::string where =
+      fmt::format("{} = {:.6g}", member_.kind == fe::StructureKind::arch ? "theta" : "x", user(check.at));
+  if (check.in_contact)
+    return fmt::format(
+        "w = {:.3e} at {} inside a contact piece: the foundation would pull (reaction {:.3e} force per length), {:.1e} "
+        "of max |w|",
+        check.w * scales.displacement(), where, member_.foundation_modulus * check.w * scales.force_per_length(),
+        check.violation);
+  return fmt::format(
+      "w = {:.3e} at {} inside a lift-off piece: the member would penetrate the foundation without "
+      "reaction, {:.1e} of max |w|",
+      check.w * scales.displacement(), where, check.violation);
+}
+
+bool RitzTracer::interior_length(const RitzModel& model, const EventSpec& spec) const {
+  return spec.function == EventFunction::length && spec.piece > 0 && spec.piece < model.limits();
+}
+
+// Piece p lies between limits p - 1 and p; its width w goes like sqrt(c (lambda* - lambda)) as
+// it vanishes, so lambda* - lambda = -w / (2 dw/dlambda), dw/dlambda from p's tangent.
+double RitzTracer::vanishing_gap(const RitzModel& model, const PathPoint& p, const EventSpec& spec) const {
+  const int first = model.limit_offset() + spec.piece - 1;
+  const double width = p.x[first + 1] - p.x[first];
+  const double rate = (p.tangent_x[first + 1] - p.tangent_x[first]) / p.tangent_lambda;
+  if (!(width > 0 && p.tangent_lambda > 0 && rate < 0)) return infinity;
+  return -width / (2.0 * rate);
+}
+
+std::optional<PathPoint> RitzTracer::approach_vanishing(const RitzModel& model, const PathFollower& follower,
+                                                        const PathPoint& from, const EventSpec& spec) const {
+  PathPoint p = from;
+  for (int iteration = 0; iteration < 200; ++iteration) {
+    const double gap = vanishing_gap(model, p, spec);
+    if (!std::isfinite(gap)) return std::nullopt;
+    if (gap <= options_.event_tolerance) return p;
+    // Aim short of the estimate (its error is of the order of gap^2 over the model's scale);
+    // past lambda* there is no solution of this topology, and a miss shortens the aim.
+    bool moved = false;
+    for (double fraction = 0.9; fraction > 1e-3 && !moved; fraction *= 0.25) {
+      const double lambda = p.lambda + fraction * gap;
+      const VectorXd guess = p.x + (lambda - p.lambda) / p.tangent_lambda * p.tangent_x;
+      StepOutcome next = follower.step_to_lambda(from, lambda, &guess);
+      if (!next.point || !model.admissible(next.point->x) || !(next.point->tangent_lambda > 0) ||
+          !(event_value(model, next.point->x, spec).value > 0))
+        continue;
+      p = std::move(*next.point);
+      moved = true;
+    }
+    if (!moved) return std::nullopt;
+  }
+  return std::nullopt;
+}
+
+std::optional<std::string> RitzTracer::stepped_over(const RitzModel& model, const VectorXd& from,
+                                                    const VectorXd& to) const {
+  const std::vector<ritz::Piece> pieces = model.pieces(from);
+  const int offset = model.limit_offset();
+  for (int m = 0; m < model.limits(); ++m) {
+    const double t0 = from[offset + m], t1 = to[offset + m];
+    if (t1 == t0) continue;
+    // The limit ends piece m and begins piece m + 1; moving right it advances into piece m + 1.
+    const ritz::Piece& piece = pieces[t1 > t0 ? m + 1 : m];
+    const double lo = std::min(t0, t1), hi = std::max(t0, t1);
+    for (const EventValue& e : local_minima(model, from, piece.begin, piece.end, piece.in_contact))
+      if (e.at > lo && e.at < hi)
+        return fmt::format(
+            "the contact limit at {} = {:.6g} moved past a local {} of w at {:.6g} ({} = {:.3e}) in one "
+            "step, where a zone must have {} first",
+            member_.kind == fe::StructureKind::arch ? "theta" : "x", user(t0), piece.in_contact ? "minimum" : "maximum",
+            user(e.at), "w", model.w(from, e.at) * member_.scales.displacement(),
+            piece.in_contact ? "lifted off" : "come into contact");
+  }
+  return std::nullopt;
 }
 
 void RitzTracer::record_event(double lambda, EventKind kind, double s, std::string description) {
@@ -538,9 +789,41 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
   };
   std::vector<double> previous = values_at(start.x);
   double previous_scale = w_scale(model, start.x);
+  const auto reject = [&](std::string why) {
+    rejection_ = std::move(why);
+    return ObserverVerdict::reject;
+  };
 
   const auto observer = [&](const PathPoint& from, PathPoint& to) {
     const double ds = to.arclength - from.arclength;
+    // A piece between two limits vanishing: its limits meet where lambda is largest, a singular
+    // point of the regularised equations (w'(t) -> 0 at both, their rows alike) past which only
+    // the mirror image continues (limits swapped, lambda falling). A step across it cannot be
+    // trusted (the corrector may land anywhere near it), nor bisected; so a step whose width
+    // changed sign, or that turned back in lambda, is replaced by the approach from below
+    // (approach_vanishing) and the events are then taken between `from` and that point.
+    {
+      std::optional<std::size_t> shrinking;
+      double earliest = infinity;
+      const bool turned = !(to.lambda > from.lambda) || !(to.tangent_lambda > 0);
+      for (std::size_t i = 0; i < specs.size(); ++i) {
+        if (!interior_length(model, specs[i])) continue;
+        const bool crossed = previous[i] > 0 && event_value(model, to.x, specs[i]).value <= 0;
+        if (!crossed && !turned) continue;
+        const double gap = vanishing_gap(model, from, specs[i]);
+        // A step that turned back for another reason (an event of another kind, handled below)
+        // is no vanishing: only a piece predicted to vanish within the step's reach is.
+        if (!crossed && !(gap <= std::abs(ds))) continue;
+        if (gap < earliest) earliest = gap, shrinking = i;
+      }
+      if (shrinking) {
+        auto near = approach_vanishing(model, follower, from, specs[*shrinking]);
+        if (!near)
+          return reject(
+              fmt::format("a piece vanishing near lambda = {:.10g} could not be approached", from.lambda + earliest));
+        to = std::move(*near);
+      }
+    }
     const std::vector<double> now = values_at(to.x);
     // Which events changed sign (a value that starts at zero, as right after a switch, does not
     // count: it is the event just handled).
@@ -553,15 +836,40 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
       if (specs[i].function == EventFunction::limit_at_load && previous[i] < -zero && now[i] >= 0.0)
         changed.push_back(i);
     }
-    if (!changed.empty()) {
+    // A piece between two limits within event_tolerance of vanishing (see above) vanishes here.
+    std::vector<std::size_t> vanishing;
+    for (std::size_t i = 0; i < specs.size(); ++i)
+      if (interior_length(model, specs[i]) && previous[i] > 0 && now[i] > 0 &&
+          vanishing_gap(model, to, specs[i]) <= tolerance)
+        vanishing.push_back(i);
+    // The linear tensionless problem has one equilibrium per lambda (its energy is convex and,
+    // where it has one at all, strictly so), so the path of contact solutions never turns back
+    // in lambda; a step that did has left it, and events cannot be located on it (their
+    // functions are not monotone along it): it is retried shorter. But for an end piece
+    // vanishing where a member that only the foundation holds lifts off entirely (the last
+    // lambda with any equilibrium: a fold), located like any event.
+    const bool turned = !(to.lambda > from.lambda) || !(to.tangent_lambda > 0);
+    if (turned && !(foundation_only_ && std::any_of(changed.begin(), changed.end(), [&](std::size_t i) {
+                      return specs[i].function == EventFunction::length && !interior_length(model, specs[i]);
+                    })))
+      return reject(fmt::format(
+          "the path turned back in lambda ({}), which no path of tensionless equilibria does: "
+          "the topology {} has left it",
+          to.lambda > from.lambda ? fmt::format("its tangent at lambda = {:.10g} points to falling lambda", to.lambda)
+                                  : fmt::format("from {:.10g} to {:.10g}", from.lambda, to.lambda),
+          to_string(model.topology())));
+    if (!changed.empty() || !vanishing.empty()) {
       // Locate each; the earliest wins, and those at the same lambda come along.
       std::optional<PathPoint> first;
       std::vector<std::pair<double, std::size_t>> located;
+      for (std::size_t i : vanishing) {
+        located.emplace_back(to.arclength, i);
+        first = to;
+      }
       for (std::size_t i : changed) {
         const EventSpec spec = specs[i];
-        auto point = follower.locate(from, to,
-                                     [&](const PathPoint& p) { return event_value(model, p.x, spec).value; },
-                                     tolerance);
+        auto point = follower.locate(
+            from, to, [&](const PathPoint& p) { return event_value(model, p.x, spec).value; }, tolerance);
         if (!point) continue;
         located.emplace_back(point->arclength, i);
         if (!first || point->arclength < first->arclength) first = std::move(point);
@@ -578,6 +886,19 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
                   1e-7 * (specs[i].function == EventFunction::length ? member_.length() : previous_scale))
             pending.events.push_back(specs[i]);
         pending.events = without_degenerate_openings(model, first->x, std::move(pending.events));
+        // (An event at `from` itself: a piece found within event_tolerance of vanishing there.)
+        if (!(first->lambda >= from.lambda))
+          return reject(fmt::format("the event located at lambda = {:.10g} lies behind the step's start {:.10g}",
+                                    first->lambda, from.lambda));
+        // The state at the event must be a contact solution but for the event itself. A piece
+        // vanishing leaves its limits out of order or its w of the wrong sign by what locating
+        // it leaves: the state after the switch is checked instead (switch_topology).
+        const bool removes = std::any_of(pending.events.begin(), pending.events.end(),
+                                         [](const EventSpec& e) { return e.function == EventFunction::length; });
+        if (!removes)
+          if (auto why = state_failure(model, first->x, event_allowance(model, first->x, pending.events)))
+            return reject(fmt::format("at the event located at lambda = {:.10g}: {}", first->lambda, *why));
+        if (auto why = stepped_over(model, from.x, first->x)) return reject(*why);
         to = *first;
         bool switches = false;
         for (const EventSpec& spec : pending.events)
@@ -609,14 +930,24 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
         return ObserverVerdict::stop;
       }
     }
-    // A fold of the path (a limit point) between from and to.
-    if (options_.control == PathControl::arc_length && (from.tangent_lambda > 0) != (to.tangent_lambda > 0) &&
-        from.tangent_lambda != 0.0)
-      if (auto fold = follower.locate(from, to, [](const PathPoint& p) { return p.tangent_lambda; }, tolerance))
-        record_event(fold->lambda, EventKind::limit_point, member_.s_from_user(options_.monitor),
-                     fmt::format("limit point: lambda reaches a {} of {:.10g}",
-                                 from.tangent_lambda > 0 ? "maximum" : "minimum", fold->lambda));
-    record_step(model, to, to.iterations, follower.next_step(ds, to.iterations));
+    // No event located: the step's end must be a contact solution reached without stepping over
+    // one (else it is retried shorter; at min_step the path stops and says why).
+    if (auto why = state_failure(model, to.x)) return reject(fmt::format("at lambda = {:.10g}: {}", to.lambda, *why));
+    if (auto why = stepped_over(model, from.x, to.x)) return reject(*why);
+    // Deflections that grow much faster than where the topology started (a lifted span
+    // lengthening) would shrink the steps in lambda: the metric is rescaled (see rescale) and
+    // the follow restarted from here.
+    const double next = follower.next_step(ds, to.iterations);
+    if (to.lambda < options_.lambda_max && to.tangent_lambda > 0 &&
+        lambda_size() * to.tangent_x.head(model.amplitudes()).lpNorm<Eigen::Infinity>() / to.tangent_lambda >
+            4.0 * amplitude_scale_) {
+      rescale(model, to);
+      record_step(model, to, to.iterations, next);
+      restart_ = to;
+      restart_step_ = next;
+      return ObserverVerdict::stop;
+    }
+    record_step(model, to, to.iterations, next);
     previous = now;
     previous_scale = w_scale(model, to.x);
     return ObserverVerdict::proceed;
@@ -659,7 +990,8 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
         openings.emplace_back(event_value(old, at.x, spec).at, spec.far_end ? 2 : 0);
         if (!spec.far_end) flip_first = !flip_first;
         break;
-      case EventFunction::limit_at_load: break;
+      case EventFunction::limit_at_load:
+        break;
     }
   }
   std::vector<double> kept;
@@ -684,6 +1016,21 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
   //    own amplitudes. An opening continues the old topology a little past the event (first a
   //    tenth of the step in use, in lambda); the roots of w around each opening point there
   //    are the new zone's limits. Should Newton fail from there, the opening step shrinks.
+  // A removed piece leaves what w had over it, of the wrong sign for the merged piece (and as
+  // small as locating the event left it): that much violation is allowed at the switch.
+  double removal_allowance = 0.0;
+  {
+    const std::vector<ritz::Piece> pieces = old.pieces(at.x);
+    const double scale = std::max(w_scale(old, at.x), 1e-300);
+    for (const EventSpec& spec : pending.events) {
+      if (spec.function != EventFunction::length) continue;
+      const ritz::Piece& p = pieces[spec.piece];
+      const double lo = std::min(p.begin, p.end), hi = std::max(p.begin, p.end);
+      constexpr int samples = 64;
+      for (int i = 0; i <= samples; ++i)
+        removal_allowance = std::max(removal_allowance, std::abs(old.w(at.x, lo + (hi - lo) * i / samples)) / scale);
+    }
+  }
   std::string failure;
   double delta = pending.opening.delta;
   for (int attempt = 0; attempt < 8; ++attempt, delta *= 0.1) {
@@ -697,6 +1044,7 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
       }
       base = *past.point;
       const std::vector<ritz::Piece> pieces = old.pieces(base.x);
+      std::vector<std::array<double, 2>> zones;  // each new zone, for the locality check below
       for (auto [s, where] : openings) {
         // The new zone's sign: w's at an interior opening point; at an end, the opposite of the
         // end piece's state (w there is 0 at a supported end, and its sign noise: a scan keyed
@@ -707,7 +1055,10 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
           double a = from, b = to, fa = old.w(base.x, a);
           for (int k = 0; k < 200 && std::abs(b - a) > 1e-15 * member_.length(); ++k) {
             const double m = 0.5 * (a + b), fm = old.w(base.x, m);
-            if ((fm > 0) == (fa > 0)) a = m, fa = fm; else b = m;
+            if ((fm > 0) == (fa > 0))
+              a = m, fa = fm;
+            else
+              b = m;
           }
           return 0.5 * (a + b);
         };
@@ -728,11 +1079,32 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
             if (s >= p.begin && s <= p.end) lo = p.begin, hi = p.end;
           guess.push_back(scan(lo));
           guess.push_back(scan(hi));
+          zones.push_back({guess.end()[-2], guess.back()});
         } else {
           guess.push_back(scan(where == 0 ? pieces.front().end : pieces.back().begin));
+          zones.push_back(where == 0 ? std::array{member_.foundation_begin, guess.back()}
+                                     : std::array{guess.back(), member_.foundation_end});
         }
       }
       std::sort(guess.begin(), guess.end());
+      // The zones must open locally: one that already covers another local extreme of w at
+      // the event (a minimum in a contact piece, a maximum in a lift-off one) has swallowed the
+      // events between (culvert: a zone opened at a pinned end reached past a minimum of w
+      // that lifted off first), so the opening step is too long.
+      const double zero = 1e-6 * w_scale(old, at.x);
+      std::optional<double> swallowed;
+      for (const ritz::Piece& piece : old.pieces(at.x))
+        for (const EventValue& e : local_minima(old, at.x, piece.begin, piece.end, piece.in_contact))
+          if (e.value > zero)  // not an opening point itself
+            for (const auto& zone : zones)
+              if (e.at > zone[0] && e.at < zone[1]) swallowed = e.at;
+      if (swallowed) {
+        failure = fmt::format(
+            "the zone opened {:.3g} past the event in lambda covers another local extreme of w at {} "
+            "= {:.6g}",
+            delta, member_.kind == fe::StructureKind::arch ? "theta" : "x", user(*swallowed));
+        continue;
+      }
     }
     RitzModel candidate(member_, modes_, topology, enrichment_);
     VectorXd x(candidate.unknowns());
@@ -740,28 +1112,29 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
     for (int m = 0; m < topology.limits; ++m) x[candidate.limit_offset() + m] = guess[m];
     const PathFollower follower = make_follower(candidate);
     nonlinear::NewtonSummary newton;
-    // The new tangent keeps the old one's sense: its amplitude and lambda parts as the reference.
-    PathPoint orientation;
-    orientation.tangent_x = VectorXd::Zero(candidate.unknowns());
-    orientation.tangent_x.head(candidate.amplitudes()) = at.tangent_x.head(candidate.amplitudes());
-    orientation.tangent_lambda = at.tangent_lambda;
-    const std::optional<PathPoint> start = follower.start(x, base.lambda, &newton, orientation);
+    // The new tangent has lambda growing, as every path of contact solutions (see follow). The
+    // old tangent cannot tell: at a piece vanishing it is that of a fold (t_lambda = 0), its
+    // amplitude part of either sense.
+    const std::optional<PathPoint> start = follower.start(x, base.lambda, &newton);
     if (!start) {
       failure = "Newton: " + newton.message;
-    } else if (!candidate.admissible(start->x)) {
-      failure = "the solution has limits out of order or outside the foundation";
+    } else if (auto why = state_failure(candidate, start->x, removal_allowance)) {
+      failure = fmt::format("at lambda = {:.10g}: {}", start->lambda, *why);
     } else {
+      PathPoint point = *start;
+      rescale(candidate, point);
       model_.emplace(std::move(candidate));
-      if (base.lambda != at.lambda) record_step(*model_, *start, newton.iterations, pending.step);
-      restart_ = *start;
+      if (base.lambda != at.lambda) record_step(*model_, point, newton.iterations, pending.step);
+      restart_ = point;
       restart_step_ = pending.step;
       return true;
     }
     if (openings.empty()) break;  // nothing to vary
   }
   result_.summary.termination = TraceTermination::solver_failure;
-  result_.summary.message = fmt::format("no equilibrium found in the topology {} after the event at lambda = {:.10g}: {}",
-                                        to_string(topology), at.lambda, failure);
+  result_.summary.message =
+      fmt::format("no equilibrium found in the topology {} after the event at lambda = {:.10g}: {}",
+                  to_string(topology), at.lambda, failure);
   return false;
 }
 
@@ -770,15 +1143,22 @@ TraceResult RitzTracer::run() {
   result_.summary.path = "ritz";
   validate();
   enrichment_ = choose_enrichment();
+  resolution_ = resolution();
+  foundation_only_ = !fe::discretise(member_, options_.elements).structure_is_stable();
+  const auto finish = [&](TraceTermination termination, std::string message) {
+    result_.summary.termination = termination;
+    result_.summary.message = std::move(message);
+    result_.summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
+    return result_;
+  };
   ResumeState state;
   try {
     state = starting_state();
   } catch (const StartFailure& failure) {
-    result_.summary.termination = TraceTermination::solver_failure;
-    result_.summary.message = failure.what();
-    return result_;
+    return finish(TraceTermination::solver_failure, failure.what());
   }
   model_.emplace(member_, modes_, state.topology, enrichment_);
+  amplitude_scale_ = state.amplitude_scale;
   std::optional<PathPoint> start;
   {
     const PathFollower follower = make_follower(*model_);
@@ -798,39 +1178,56 @@ TraceResult RitzTracer::run() {
             pending.events.push_back(spec);
         }
         pending.events = without_degenerate_openings(*model_, start->x, std::move(pending.events));
+        if (auto why = state_failure(*model_, start->x, event_allowance(*model_, start->x, pending.events)))
+          return finish(
+              TraceTermination::solver_failure,
+              fmt::format("the resumed state at lambda = {:.10g} is no contact solution: {}", start->lambda, *why));
         pending_ = std::move(pending);
-        if (!switch_topology(follower)) {
-          result_.summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
-          return result_;
-        }
+        if (!switch_topology(follower)) return finish(result_.summary.termination, result_.summary.message);
         start = restart_;
         state.next_step = restart_step_;
         restart_.reset();
+      } else if (auto why = state_failure(*model_, start->x)) {
+        return finish(
+            TraceTermination::solver_failure,
+            fmt::format("the resumed state at lambda = {:.10g} is no contact solution: {}", start->lambda, *why));
       }
     } else {
       nonlinear::NewtonSummary newton;
       start = follower.start(state.point.x, state.point.lambda, &newton);
-      if (!start) {
-        result_.summary.termination = TraceTermination::solver_failure;
-        result_.summary.message = "no equilibrium at lambda_min: " + newton.message;
-        return result_;
-      }
+      if (!start) return finish(TraceTermination::solver_failure, "no equilibrium at lambda_min: " + newton.message);
+      if (auto why = state_failure(*model_, start->x))
+        return finish(TraceTermination::solver_failure,
+                      fmt::format("the start at lambda = {:.10g} is no contact solution: {}", start->lambda, *why));
+      rescale(*model_, *start);
       record_step(*model_, *start, newton.iterations, state.next_step);
     }
   }
   double step = state.next_step;
+  // The run's own figures (not the last topology's follower's), for every outcome.
+  const auto figures = [&] {
+    const auto count = [](std::size_t n, const char* what) {
+      return fmt::format("{} {}{}", n, what, n == 1 ? "" : "s");
+    };
+    return fmt::format(
+        "{} ({} rejected), {}, {} modes{}", count(static_cast<std::size_t>(result_.summary.steps), "step"),
+        result_.summary.rejected_steps, count(result_.events.size(), "event"), modes_,
+        options_.resume_from
+            ? fmt::format(" after the resumed step at lambda = {:.10g}", options_.resume_from->load_factor)
+            : "");
+  };
+  const auto step_limit = [&] {
+    return finish(TraceTermination::step_limit,
+                  fmt::format("step limit: max_steps = {} steps recorded, lambda = {:.10g}; {}", options_.max_steps,
+                              result_.summary.final_load_factor, figures()));
+  };
   while (true) {
-    if (result_.summary.steps >= options_.max_steps) {
-      result_.summary.termination = TraceTermination::step_limit;
-      result_.summary.message = fmt::format("step limit: max_steps = {} steps recorded", options_.max_steps);
-      break;
-    }
+    if (result_.summary.steps >= options_.max_steps) return step_limit();
     const PathFollower follower = make_follower(*model_);
     const ArcLengthResult path = follow(*model_, follower, *start, step);
     result_.summary.rejected_steps += path.rejected_steps;
-    if (pending_) {
-      if (!switch_topology(follower)) break;
-    }
+    if (pending_ && !switch_topology(follower))
+      return finish(result_.summary.termination, fmt::format("{}; {}", result_.summary.message, figures()));
     if (restart_ && path.termination == ArcLengthTermination::stopped_by_observer) {
       start = restart_;
       step = restart_step_;
@@ -838,16 +1235,23 @@ TraceResult RitzTracer::run() {
       continue;
     }
     switch (path.termination) {
-      case ArcLengthTermination::completed: result_.summary.termination = TraceTermination::completed; break;
-      case ArcLengthTermination::step_too_small: result_.summary.termination = TraceTermination::step_too_small; break;
-      case ArcLengthTermination::step_limit: result_.summary.termination = TraceTermination::step_limit; break;
-      default: result_.summary.termination = TraceTermination::solver_failure; break;
+      case ArcLengthTermination::completed:
+        return finish(TraceTermination::completed,
+                      fmt::format("lambda = {:.10g} reached: {}{}", result_.summary.final_load_factor, figures(),
+                                  resolution_note()));
+      case ArcLengthTermination::step_rejected:
+        return finish(TraceTermination::solver_failure,
+                      fmt::format("no contact solution beyond lambda = {:.10g} (the step was refined down to min_step "
+                                  "= {:.3g}): {}; {}",
+                                  result_.summary.final_load_factor, options_.min_step, rejection_, figures()));
+      case ArcLengthTermination::step_too_small:
+        return finish(TraceTermination::step_too_small, fmt::format("{}; {}", path.message, figures()));
+      case ArcLengthTermination::step_limit:
+        return step_limit();
+      default:
+        return finish(TraceTermination::solver_failure, fmt::format("{}; {}", path.message, figures()));
     }
-    result_.summary.message = path.message;
-    break;
   }
-  result_.summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
-  return result_;
 }
 
 }  // namespace

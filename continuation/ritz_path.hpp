@@ -4,25 +4,43 @@
 // and the topology switched.
 //
 // - Start: the topology and limits at lambda_min from the scene's [ritz] topology, or from an
-//   FE + LCP solution there (options.elements), as `liftoff solve --method ritz` takes them;
-//   solved by ritz::solve_ritz. Modes: options.modes, else [ritz] modes, else what automatic
-//   modes settle on at lambda_min but at least 32 (limits that do not exist yet at lambda_min
-//   say nothing about the N they will need). Beams use the load-point enrichment
-//   (ritz::Enrichment::load_points), so w at point forces is accurate to ~N^-8.
+//   FE + LCP solution there (options.elements, method auto: the sparse `fast` solver wherever it
+//   applies), as `liftoff solve --method ritz` takes them; solved by ritz::solve_ritz. Modes:
+//   options.modes, else [ritz] modes, else what automatic modes settle on at lambda_min but at
+//   least 32 (limits that do not exist yet at lambda_min say nothing about the N they will
+//   need) and, for a point force on a tensionless foundation (no load-point enrichment), what
+//   its local response needs: the relative error of w there is estimated as
+//   e(N) = 8/(3 pi) (beta length / (pi N))^3 (beta = (k/4)^(1/4)), and automatic modes aim at
+//   e <= 1e-3, up to [ritz] max_modes. N with e(N) > 1e-2 is refused before any work
+//   (solver_failure, "refused: ...", with the N needed for 1 % and 0.1 %). Beams with
+//   beta L <= 10 use the load-point enrichment (ritz::Enrichment::load_points) instead, so w at
+//   point forces is accurate to ~N^-8.
 // - Between accepted steps the event functions of the current topology (ritz_path.cpp lists
 //   them) are checked; the first that changed sign is located to options.event_tolerance in
 //   lambda, recorded (with the step at it) and the topology switched: a vanishing piece is
 //   removed at the event, a new zone is opened slightly past it with the width the old
-//   topology's local expansion gives. Folds of the path are recorded as limit_point events.
+//   topology's local expansion gives.
+// - Every state recorded (start, steps, events, each switch's first state) is a contact solution
+//   of the Ritz model: w >= 0 in contact pieces (reaction >= 0), w <= 0 in lift-off pieces on
+//   ritz::check_inequalities' grid, to 1e-9 of max |w| (an event's state: but for the event
+//   itself), with lambda growing along the path and no event stepped over. A step that is not
+//   is retried shorter; at min_step the path stops (solver_failure) and its message says which
+//   inequality failed where and by how much. The steps before stay valid. The path never turns
+//   back in lambda, so it reports no limit_point.
 // - Steps carry a resumable state: state_topology "first_in_contact limits modes" (plus
 //   " event direction delta" at a switching event, whose switch a resumed trace redoes) and
-//   state = (x, tangent_x, tangent_lambda, next step length), so a resumed trace takes exactly
-//   the steps the original took.
+//   state = (x, tangent_x, tangent_lambda, next step length, amplitude scale of the metric),
+//   so a resumed trace takes exactly the steps the original took. A resumed state that is no
+//   contact solution is refused (solver_failure).
+// - summary.message: "lambda = ... reached: S steps (R rejected), E events, N modes" and the
+//   estimated resolution of point forces where it applies; a failure's reason otherwise, with
+//   the same figures.
 // Outcomes are in summary.termination: no_equilibrium when the member has lifted off entirely
 // and nothing else holds it, solver_failure when no equilibrium is found at lambda_min or after
-// a switch. Misuse throws std::invalid_argument naming the TraceOptions field (a bad range,
-// sample points off the member, a resume_from that is no Ritz state); a scene the Ritz model
-// cannot take throws as ritz::RitzModel does (std::invalid_argument, liftoff::MechanismError).
+// a switch, when no step satisfies the checks above, or for a refused number of modes. Misuse
+// throws std::invalid_argument naming the TraceOptions field (a bad range, sample points off
+// the member, a resume_from that is no Ritz state); a scene the Ritz model cannot take throws
+// as ritz::RitzModel does (std::invalid_argument, liftoff::MechanismError).
 
 #include "continuation/trace.hpp"
 #include "scene/scene.hpp"

@@ -1,11 +1,11 @@
 #include "ritz/ritz_solver.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
-
-#include <fmt/format.h>
 
 namespace liftoff::ritz {
 
@@ -13,11 +13,16 @@ using Eigen::VectorXd;
 
 std::string_view to_string(RitzTermination t) {
   switch (t) {
-    case RitzTermination::converged: return "converged";
-    case RitzTermination::newton_failed: return "newton_failed";
-    case RitzTermination::inequalities_violated: return "inequalities_violated";
-    case RitzTermination::modes_not_converged: return "modes_not_converged";
-    case RitzTermination::no_starting_point: return "no_starting_point";
+    case RitzTermination::converged:
+      return "converged";
+    case RitzTermination::newton_failed:
+      return "newton_failed";
+    case RitzTermination::inequalities_violated:
+      return "inequalities_violated";
+    case RitzTermination::modes_not_converged:
+      return "modes_not_converged";
+    case RitzTermination::no_starting_point:
+      return "no_starting_point";
   }
   return "unknown";
 }
@@ -35,6 +40,32 @@ std::string RitzSummary::brief_report() const {
                      modes, newton_iterations, residual_history.empty() ? -1.0 : residual_history.back(), time_s);
 }
 
+InequalityCheck check_inequalities(const RitzModel& model, const VectorXd& x) {
+  InequalityCheck check;
+  double worst = 0.0;
+  std::vector<double> w;
+  const std::vector<Piece> pieces = model.pieces(x);
+  const double length = pieces.empty() ? 0.0 : pieces.back().end - pieces.front().begin;
+  for (const Piece& piece : pieces) {
+    const double share = length > 0 ? std::max(piece.end - piece.begin, 0.0) / length : 1.0;
+    const int intervals = std::max(400, static_cast<int>(std::ceil(16.0 * model.modes() * share)));
+    // Open pieces: the ends are the limits, where w = 0 by construction.
+    model.w_on_grid(x, piece.begin, piece.end, intervals, w);
+    for (std::size_t i = 0; i < w.size(); ++i) {
+      check.w_scale = std::max(check.w_scale, std::abs(w[i]));
+      const double wrong = piece.in_contact ? -w[i] : w[i];
+      if (wrong > worst) {
+        worst = wrong;
+        check.at = piece.begin + (piece.end - piece.begin) * static_cast<double>(i + 1) / intervals;
+        check.w = w[i];
+        check.in_contact = piece.in_contact;
+      }
+    }
+  }
+  check.violation = check.w_scale == 0.0 ? 0.0 : worst / check.w_scale;
+  return check;
+}
+
 namespace {
 
 struct Attempt {
@@ -44,22 +75,6 @@ struct Attempt {
   std::string message;
   double max_violation = -1;
 };
-
-// Worst wrong-sign deflection on a grid fine enough to see every piece (relative to max |w|).
-double inequality_violation(const RitzModel& model, const VectorXd& x) {
-  double w_scale = 0.0, violation = 0.0;
-  std::vector<double> w;
-  for (const Piece& piece : model.pieces(x)) {
-    constexpr int per_piece = 400;
-    // Open pieces: the ends are the limits, where w = 0 by construction.
-    model.w_on_grid(x, piece.begin, piece.end, per_piece, w);
-    for (double value : w) {
-      w_scale = std::max(w_scale, std::abs(value));
-      violation = std::max(violation, piece.in_contact ? -value : value);
-    }
-  }
-  return w_scale == 0.0 ? 0.0 : std::max(0.0, violation) / w_scale;
-}
 
 Attempt solve_once(const RitzModel& model, const VectorXd& limits, const RitzOptions& options) {
   Attempt attempt;
@@ -99,7 +114,7 @@ Attempt solve_once(const RitzModel& model, const VectorXd& limits, const RitzOpt
     attempt.message = "Newton did not converge: " + attempt.newton.message;
     return attempt;
   }
-  attempt.max_violation = inequality_violation(model, attempt.x);
+  attempt.max_violation = check_inequalities(model, attempt.x).violation;
   if (attempt.max_violation > options.inequality_tolerance) {
     attempt.termination = RitzTermination::inequalities_violated;
     attempt.message = fmt::format(

@@ -9,11 +9,10 @@
 // converged N; the last change is reported as the estimated error of the limits. An N too small
 // for the topology (Newton fails or the inequalities do not hold) is passed over.
 
+#include <Eigen/Dense>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <Eigen/Dense>
 
 #include "fe/member_model.hpp"
 #include "nonlinear/newton.hpp"
@@ -22,16 +21,16 @@
 namespace liftoff::ritz {
 
 struct RitzOptions {
-  int modes = 0;                  // N; 0 means automatic
-  int max_modes = 256;            // automatic: the largest N tried
-  double mode_tolerance = 1e-5;   // automatic: limits converged when they move less than this (s)
-  double load_factor = 1.0;       // lambda
+  int modes = 0;                 // N; 0 means automatic
+  int max_modes = 256;           // automatic: the largest N tried
+  double mode_tolerance = 1e-5;  // automatic: limits converged when they move less than this (s)
+  double load_factor = 1.0;      // lambda
   // Contact inequalities on a fine grid after convergence: w >= -tol in contact pieces, w <= tol
   // in lift-off pieces, tol = inequality_tolerance * max |w|.
   double inequality_tolerance = 1e-9;
   Enrichment enrichment = Enrichment::none;  // load-point enrichment of beam bases (basis.hpp)
-  nonlinear::NewtonOptions newton;  // residual_tolerance applies to the scaled residual
-  void validate() const;            // throws std::invalid_argument naming the field
+  nonlinear::NewtonOptions newton;           // residual_tolerance applies to the scaled residual
+  void validate() const;                     // throws std::invalid_argument naming the field
 };
 
 enum class RitzTermination {
@@ -55,10 +54,10 @@ struct RitzSummary {
   RitzTermination termination = RitzTermination::newton_failed;
   std::string message;
   int modes = -1;
-  int newton_iterations = -1;          // of the final solve
+  int newton_iterations = -1;            // of the final solve
   std::vector<double> residual_history;  // of the final solve (scaled max-norm per iterate)
-  double estimated_limit_error = -1;   // automatic modes: last change of the limits (s); -1 otherwise
-  double max_violation = -1;           // worst wrong-sign |w| / max|w| on the check grid
+  double estimated_limit_error = -1;     // automatic modes: last change of the limits (s); -1 otherwise
+  double max_violation = -1;             // worst wrong-sign |w| / max|w| on the check grid
   std::vector<ModeStep> mode_history;
   double time_s = -1;
   bool is_usable() const { return termination == RitzTermination::converged; }
@@ -70,6 +69,21 @@ struct RitzSolution {
   Eigen::VectorXd unknowns;        // amplitudes then limits
   RitzSummary summary;
 };
+
+// The contact inequalities of a Ritz state on a grid that sees every piece: w >= 0 in contact
+// pieces (there the reaction k w is >= 0), w <= 0 in lift-off pieces. solve_ritz checks every
+// answer so before it returns it, and the Ritz load path every state it accepts. The grid has
+// max(400, 16 N length/L) intervals per piece (N modes; 16 points per shortest half-wave of the
+// basis, whose highest wavenumber is about N pi / L), the limits themselves excluded: w = 0
+// there by construction.
+struct InequalityCheck {
+  double violation = 0.0;   // worst wrong-sign |w| / max |w| (0 when none)
+  double at = 0.0;          // s of the worst point (meaningful when violation > 0)
+  double w = 0.0;           // w there
+  bool in_contact = false;  // whether that point is in a contact piece
+  double w_scale = 0.0;     // max |w| on the grid
+};
+InequalityCheck check_inequalities(const RitzModel& model, const Eigen::VectorXd& x);
 
 // initial_limits: one guess per limit of `topology`, increasing, inside the foundation.
 RitzSolution solve_ritz(const fe::MemberModel& member, const Topology& topology,

@@ -8,11 +8,10 @@
 // 1/(3 sqrt(3)), a minimum at w = 1 + 1/sqrt(3), lambda = -1/(3 sqrt(3)), then lambda grows
 // again. Load control cannot pass the maximum.
 
-#include <catch2/catch.hpp>
-
-#include <cmath>
-
 #include "continuation/arclength.hpp"
+
+#include <catch2/catch.hpp>
+#include <cmath>
 
 using namespace liftoff::continuation;
 using Eigen::MatrixXd;
@@ -163,4 +162,34 @@ TEST_CASE("arc-length options are validated", "[arclength]") {
   PathProblem bad = shallow_truss(true);
   bad.residual = nullptr;
   CHECK_THROWS_WITH(PathFollower(bad, ArcLengthOptions{}), Catch::Contains("residual"));
+}
+
+TEST_CASE("a step the observer rejects is retried shorter, and the run ends at min_step keeping the points before",
+          "[arclength]") {
+  // The observer rejects any step that reaches past lambda = 0.1 (as the Ritz path rejects a
+  // state that is no contact solution): the steps shrink by halves toward it, every accepted
+  // point stays below it, and once min_step is rejected too the run ends (step_rejected).
+  ArcLengthOptions options;
+  options.lambda_min = 0.0;
+  options.lambda_max = 0.3;
+  options.initial_step = 0.05;
+  options.min_step = 1e-6;
+  const PathFollower follower(shallow_truss(true), options);
+  const auto start = follower.start(VectorXd::Zero(2), 0.0);
+  REQUIRE(start);
+  constexpr double barrier = 0.1;
+  int rejections = 0;
+  const ArcLengthResult r = follower.follow(*start, [&](const PathPoint&, PathPoint& to) {
+    if (to.lambda <= barrier) return ObserverVerdict::proceed;
+    ++rejections;
+    return ObserverVerdict::reject;
+  });
+  INFO(r.message);
+  CHECK(r.termination == ArcLengthTermination::step_rejected);
+  CHECK(r.rejected_steps == rejections);
+  REQUIRE(r.points.size() >= 2);
+  for (const PathPoint& p : r.points) CHECK(p.lambda <= barrier);
+  // Each rejection halves the step, so the last accepted point is within a few min_step (in the
+  // scaled arc length, here about lambda) of the barrier.
+  CHECK(r.points.back().lambda > barrier - 4 * options.min_step / std::abs(r.points.back().tangent_lambda));
 }
