@@ -247,7 +247,7 @@ ResumeState RitzTracer::starting_state() {
   } else {
     const fe::Discretisation d = fe::discretise(member_, options_.elements);
     contact::ContactOptions contact_options;
-    contact_options.method = scene::Method::automatic;
+    contact_options.method = scene::Method::fast;
     contact_options.load_factor = lambda_start;
     const contact::ContactSolution fe = contact::solve_contact(d, contact_options);
     if (!fe.summary.is_usable())

@@ -80,9 +80,9 @@ inline constexpr std::string_view round_off = "round_off";
 
 struct Check {
   std::string name;
-  double value = 0.0;      // dimensionless, relative to the scale of the terms checked
-  double tolerance = 0.0;  // dimensionless
-  bool passed = false;     // value <= tolerance (and both finite)
+  double value = 0.0;        // dimensionless, relative to the scale of the terms checked
+  double tolerance = 0.0;    // dimensionless
+  bool passed = false;       // value <= tolerance (and both finite)
   std::optional<double> at;  // s where the worst value is, if it has a place
 };
 
@@ -112,6 +112,10 @@ struct Certificate {
   // FE: the largest pointwise sign defect inside limit elements (relative to max |w|),
   // reported, not gated: the mixed model's O(h) there. -1 when there is none to report.
   double limit_element_defect = -1.0;
+  // The answer's round-off, measured (relative, the larger of w and r; -1 if it could not be),
+  // and the round_off check in words ("round-off 2e-10 of max |w| against ...").
+  double round_off_estimate = -1.0;
+  std::string round_off_note;
 
   const Check* find(std::string_view name) const;
   const Check* first_failure() const;
