@@ -108,7 +108,12 @@ io::SolveReport fe_report(const scene::Scene& scene, Method method, const SolveR
     certificate = certify::certify(model, d, fe.solution);
     if (!certificate->passed) {
       const std::string first_failure = check_failure(fe.solution.summary, *certificate);
-      const std::optional<Method> fallback = fallback_for(fe.solution.summary.method, method, d);
+      // Round-off alone: another formulation on the same assembled data would not help.
+      bool round_off_only = true;
+      for (const certify::Check& check : certificate->checks)
+        round_off_only &= check.passed || check.name == certify::check_name::round_off;
+      const std::optional<Method> fallback =
+          round_off_only ? std::nullopt : fallback_for(fe.solution.summary.method, method, d);
       std::string outcome;
       if (fallback) {
         try {
@@ -220,7 +225,6 @@ io::SolveReport ritz_report(const scene::Scene& scene, const SolveRequest& reque
   report.method_requested = "ritz";
   report.method_reason = starting_point.how;
   if (solution.summary.is_usable()) {
-    options.load_factor = 1.0;
     const certify::Certificate certificate = certify::certify(model, solution, options);
     io::attach_certificate(report, certificate, model);
     if (!certificate.passed) {
