@@ -80,7 +80,7 @@ std::vector<SupportReaction> support_reactions(const fe::MemberModel& model, con
     auto at = [&](int dof) { return is_supported[dof] ? g[dof] : 0.0; };
     const double g_w = at(d.deflection_dof(node)), g_slope = at(d.slope_dof(node));
     const double g_u = arch ? at(d.tangential_dof(node)) : 0.0;
-    out.push_back({d.mesh.nodes[node], -g_w, -g_slope, arch ? g_u - g_slope : 0.0});
+    out.push_back({d.mesh.nodes[node], 0.0 - g_w, 0.0 - g_slope, arch ? g_u - g_slope : 0.0});  // no -0
   }
   return out;
 }

@@ -161,7 +161,7 @@ Balance balance_terms(const MemberModel& member, const RitzModel& ritz, const Ve
       }
       g[c] = energy + foundation_work - load_work;
     }
-    b.reactions.push_back({end, -g[0], -g[1], arch ? g[2] - g[1] : 0.0});
+    b.reactions.push_back({end, 0.0 - g[0], 0.0 - g[1], arch ? g[2] - g[1] : 0.0});  // no -0
     for (int j = 0; j < modes; ++j) {
       const Eigen::Vector3d m = detail::balance_mode_at(member, j, end);  // (u, w, w')
       b.supports[j] += m[1] * g[0] + m[2] * g[1] + m[0] * g[2];

@@ -90,3 +90,26 @@ TEST_CASE("sweep: the command writes the CSV and an HDF5 file with every case", 
   CHECK(fs::file_size(dir / "fig_reaction.png") > 10000);
   fs::remove_all(dir);
 }
+
+TEST_CASE("sweep: --method all keys the HDF5 groups by the method asked for, even after a fallback", "[app][sweep]") {
+  // Issue 10: fast falling back to dual Lemke on this beam labelled its answer dual, so the sweep
+  // created the group "dual" twice and failed with exit 4.
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("liftoff_sweep_fallback_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path scene = dir / "pinned.toml";
+  std::ofstream(scene) << "[structure]\nkind = \"beam\"\nlength = 1.0\nEI = 1.0\n[supports]\nleft = \"pinned\"\n"
+                          "right = \"pinned\"\n[foundation]\nk = 1e8\n[[loads]]\nkind = \"moment\"\nat = 0.27\n"
+                          "value = 1.0\n[solve]\nelements = 150\n";
+  const std::string h5 = (dir / "s.h5").string(), csv = (dir / "s.csv").string(), path = scene.string();
+  const char* argv[] = {"liftoff", "sweep",    path.c_str(), "--set",     "loads[0].value=1", "--method", "all",
+                        "-o",      h5.c_str(), "--csv",      csv.c_str(), "--modes",          "8"};
+  std::ostringstream out, err;
+  CHECK(app::run_cli(static_cast<int>(std::size(argv)), argv, out, err) == 0);
+  const std::string script =
+      "import h5py,sys; f=h5py.File(sys.argv[1]); "
+      "assert sorted(f['cases']['0000'].keys())==['dual','fast','primal','ritz']; "
+      "assert f['cases/0000/fast'].attrs['method_requested']=='fast'";
+  CHECK(std::system(("/usr/bin/python3 -c \"" + script + "\" " + h5).c_str()) == 0);
+  fs::remove_all(dir);
+}
