@@ -123,13 +123,13 @@ void fill_resultants(Certificate& c, const fe::MemberModel& model, const std::ve
   if (model.kind == StructureKind::beam) {
     c.applied_force = applied[0];
     c.foundation_resultant = foundation[0];
-    c.applied_moment = -applied[1];
+    c.applied_moment = 0.0 - applied[1];  // (no -0)
   } else {  // "toward the foundation at the crown" is minus mode 1 (w = -cos theta)
-    c.applied_force = -applied[1];
-    c.foundation_resultant = -foundation[1];
+    c.applied_force = 0.0 - applied[1];
+    c.foundation_resultant = 0.0 - foundation[1];
     c.applied_force_x = applied[0];
     c.foundation_resultant_x = foundation[0];
-    c.applied_moment = -applied[2];
+    c.applied_moment = 0.0 - applied[2];
   }
   c.foundation_centroid = centroid;
 }

@@ -189,8 +189,9 @@ void check_dense_size(const Discretisation& d, Method method) {
 
 MethodChoice choose_fe_method(const Discretisation& d) {
   if (!d.tensionless) return {Method::fast, "bilateral foundation: one sparse solve, no LCP"};
-  return {Method::fast, "fast: the sparse active-set solver, O(n), for every FE scene; dense Lemke (dual, primal) "
-                       "only when asked for by name"};
+  return {Method::fast,
+          "fast: the sparse active-set solver, O(n), for every FE scene; dense Lemke (dual, primal) "
+          "only when asked for by name"};
 }
 
 ContactSolution solve_contact(const Discretisation& d, const ContactOptions& options) {
