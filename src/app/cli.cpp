@@ -43,10 +43,11 @@ void add_problem_options(CLI::App* command, ProblemArguments& args) {
   command->add_option("scene", args.scene_path, fmt::format("Scene file (TOML); default: {}", default_scene_name))
       ->check(CLI::ExistingFile);
   command
-      ->add_option("--method", args.method,
-                   "dual | primal (FE + LCP by Lemke), fast (FE, sparse active set), auto (chosen from the scene), "
-                   "ritz (moving contact limits), all (side by side); "
-                   "overrides [solve] method")
+      ->add_option(
+          "--method", args.method,
+          "auto (the default: fast for FE scenes, ritz when [ritz] topology is given) | fast (FE, sparse active set) | "
+          "dual | primal (FE + LCP by dense Lemke) | ritz (moving contact limits) | all (side by side); "
+          "overrides [solve] method")
       ->check(CLI::IsMember({"dual", "primal", "fast", "auto", "ritz", "all"}));
   command->add_option("--elements", args.elements, "Number of finite elements (overrides [solve] elements)")
       ->check(CLI::Range(1, 10'000'000));

@@ -24,16 +24,27 @@ inline constexpr int max_field_samples = 2'000'000;
 
 // method = auto: Ritz when the scene's [ritz] table gives the contact topology (the user has
 // described the contact pattern, and the moving-limit model resolves the limits exactly);
-// otherwise an FE method chosen by contact::choose_fe_method (dual Lemke for small stable
-// members, primal Lemke for small members only the foundation holds, fast for the rest).
+// otherwise fast (contact::choose_fe_method: the sparse solver for every FE scene; dense Lemke
+// only when asked for by name). The Ritz topology, when the scene does not give it, comes from
+// fast too.
+//
+// Every answer is certified (certify/certificate.hpp) before it is reported solved. A member the
+// foundation alone must hold gets the resultant check first (certify/resultant_check.hpp): loads
+// that compressive reactions cannot balance are answered no_equilibrium at once. An FE answer that
+// fails its certificate falls back once (fast -> Lemke, dual where the structure is stable else
+// primal, if the dense LCP fits; dual or primal -> fast) and the fallback's answer is certified;
+// if that fails too, termination is "certificate_failed" and the message names the check and by
+// how much. A Ritz answer that fails has no fallback. report.method is what produced the answer,
+// report.method_requested what was asked for.
 //
 // One method (dual, primal, fast, auto or ritz). Throws InputError (a mechanism the loads drive; a
 // scene the Ritz model cannot take: the message names the scene) and SolverFailure (a
 // formulation refused). The solvers' outcomes are in report.usable / termination / message.
 io::SolveReport solve_scene(const scene::Scene& scene, const SolveRequest& request);
 
-// Primal, dual, fast and Ritz on one scene (`--method all`). A method refused for this scene appears
-// with termination "refused" and the reason as its message.
+// Primal, dual, fast and Ritz on one scene (`--method all`), one report per method asked for (a
+// fallback's answer appears under the method that was asked for). A method refused for this
+// scene appears with termination "refused" and the reason as its message.
 std::vector<io::SolveReport> solve_all_methods(const scene::Scene& scene, const SolveRequest& request);
 
 }  // namespace liftoff::app

@@ -6,7 +6,7 @@
 //    q = (-F, F, 0). Works for every structure, stable or not; 2n + m unknowns.
 //  - dual (3.18): the LCP in r alone, M = P = C K^-1 C^T + T, q = -C K^-1 F, then
 //    u = K^-1 (F - C^T r). Needs K positive definite: refused for structures that only the
-//    foundation holds in place (SolverFailure pointing to the primal form).
+//    foundation holds in place (SolverFailure pointing to auto and fast).
 //  - fast: the sparse active-set solver (active_set_solver.hpp) on [K C_A^T; C_A -T_AA], O(n);
 //    when it ends without an answer, Lemke (dual where the structure is stable, else primal)
 //    takes over and the message says so.
@@ -60,7 +60,8 @@ struct ContactSummary {
   int factorisations = -1;  // fast and bilateral: numeric sparse factorisations
   // fast and bilateral (-1 for Lemke): the relative error in u and r that iterative refinement
   // leaves (above 1e-6 the answer is a numerical_failure), and a worst-case bound on what the
-  // rounding of the system's data can do (Skeel's condition; reported in the message above 1e-6).
+  // rounding of the system's data can do (Skeel's condition, pessimistic by 1e2-1e4; the answer
+  // certificate, certify/certificate.hpp, measures the round-off instead).
   double error_estimate = -1.0;
   double round_off_bound = -1.0;
   // max of the relative equilibrium residual |K u + C^T r - F| / | |K||u| + |C^T||r| + |F| |, the
@@ -83,15 +84,11 @@ struct ContactSolution {
 // Unknowns of the largest LCP handed to (dense) Lemke: 8000^2 doubles are 512 MB.
 inline constexpr int max_dense_lcp = 8000;
 
-// What method = auto means for an FE solve, with the reason in words:
-//  - a bilateral foundation: fast (one sparse solve, no LCP);
-//  - a stable structure whose dual LCP has at most auto_dual_limit reaction unknowns: dual
-//    Lemke, the reference (exact pivoting; milliseconds at this size);
-//  - a structure only the foundation holds, with a primal LCP of at most auto_primal_limit
-//    unknowns: primal Lemke;
-//  - anything larger: fast, O(n) where Lemke is O(n^2) in memory and up to O(n^3) in time.
-inline constexpr int auto_dual_limit = 500;
-inline constexpr int auto_primal_limit = 1500;
+// What method = auto means for an FE solve, with the reason in words: fast, for every scene
+// (a bilateral foundation: one sparse solve, no LCP; a tensionless one: the sparse active-set
+// solver, O(n), which falls back to Lemke itself when it finds no contact set). Dense Lemke is
+// O(n^2) in memory and up to O(n^3) in time, and the primal form is fragile (issue 10): it runs
+// only when asked for by name.
 struct MethodChoice {
   Method method = Method::fast;
   std::string reason;

@@ -49,12 +49,45 @@ void write_array(hid_t group, const char* name, const std::vector<double>& value
 
 void write_table(hid_t file, const char* group_name, const FieldTable& t) {
   Handle group(H5Gcreate2(file, group_name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, group_name);
-  const std::pair<const char*, const std::vector<double>*> columns[] = {
-      {"coordinate", &t.coordinate}, {"w", &t.w}, {"u", &t.u}, {"rotation", &t.rotation},
-      {"bending_moment", &t.bending_moment}, {"shear_force", &t.shear_force},
-      {"normal_force", &t.normal_force}, {"reaction", &t.reaction}};
+  const std::pair<const char*, const std::vector<double>*> columns[] = {{"coordinate", &t.coordinate},
+                                                                        {"w", &t.w},
+                                                                        {"u", &t.u},
+                                                                        {"rotation", &t.rotation},
+                                                                        {"bending_moment", &t.bending_moment},
+                                                                        {"shear_force", &t.shear_force},
+                                                                        {"normal_force", &t.normal_force},
+                                                                        {"reaction", &t.reaction}};
   for (const auto& [name, values] : columns)
     if (!values->empty()) write_array(group, name, *values);
+}
+
+// /certificate (attributes: passed, message, the resultants, <check> and <check>_tolerance per
+// check) and /support_reactions (rows at, force, moment; arches also tangential).
+void write_certificate(hid_t file, const SolveReport& r) {
+  const certify::Certificate& c = *r.certificate;
+  const certify::UserFigures& u = r.certificate_figures;
+  Handle group(H5Gcreate2(file, "certificate", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "certificate");
+  write_number_attribute(group, "passed", static_cast<int>(c.passed));
+  write_string_attribute(group, "message", c.message);
+  write_number_attribute(group, "foundation_resultant", u.foundation_resultant);
+  write_number_attribute(group, "foundation_centroid", u.foundation_centroid);
+  write_number_attribute(group, "applied_force", u.applied_force);
+  write_number_attribute(group, "applied_moment", u.applied_moment);
+  if (r.kind == scene::StructureKind::arch) {
+    write_number_attribute(group, "foundation_resultant_x", u.foundation_resultant_x);
+    write_number_attribute(group, "applied_force_x", u.applied_force_x);
+  }
+  for (const certify::Check& check : c.checks) {
+    write_number_attribute(group, check.name.c_str(), check.value);
+    write_number_attribute(group, (check.name + "_tolerance").c_str(), check.tolerance);
+  }
+  const bool arch = r.kind == scene::StructureKind::arch;
+  std::vector<double> rows;
+  for (const certify::SupportReaction& s : u.support_reactions) {
+    rows.insert(rows.end(), {s.at, s.force, s.moment});
+    if (arch) rows.push_back(s.tangential);
+  }
+  write_array(file, "support_reactions", rows, arch ? 4 : 3);
 }
 
 // One report under `file` (the file's root, or a group of a sweep).
@@ -62,6 +95,7 @@ void write_report(hid_t file, const SolveReport& r) {
   write_string_attribute(file, "scene_name", r.scene_name);
   write_string_attribute(file, "structure", std::string(scene::to_string(r.kind)));
   write_string_attribute(file, "method", r.method);
+  write_string_attribute(file, "method_requested", r.method_requested);
   write_string_attribute(file, "termination", r.termination);
   write_string_attribute(file, "message", r.message);
   write_string_attribute(file, "coordinate", r.coordinate_name);
@@ -84,6 +118,8 @@ void write_report(hid_t file, const SolveReport& r) {
   write_table(file, "fields", r.fields);
 
   if (!r.nodes.coordinate.empty()) write_table(file, "nodes", r.nodes);
+
+  if (r.certificate) write_certificate(file, r);
 
   Handle solver(H5Gcreate2(file, "solver", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "solver");
   write_number_attribute(solver, "residual", r.residual);
@@ -126,7 +162,9 @@ void write_sweep_file(const std::vector<std::string>& keys, const std::vector<Sw
     Handle group(H5Gcreate2(all, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, name);
     if (!cases[i].error.empty()) write_string_attribute(group, "error", cases[i].error);
     for (const SolveReport& r : cases[i].reports) {
-      Handle method(H5Gcreate2(group, r.method.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, r.method);
+      // Keyed by the method asked for: a fallback's answer stays under its own request's name.
+      const std::string& name = r.method_requested.empty() ? r.method : r.method_requested;
+      Handle method(H5Gcreate2(group, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, name);
       write_report(method, r);
     }
   }

@@ -3,13 +3,17 @@
 // renamed when complete, so a failed run never leaves a half-written file (OutputError).
 //
 // Layout (README, "Output"):
-//   /                 attributes: liftoff_version, scene_name, structure, method, termination,
-//                     message, coordinate, sign_convention, tensionless, k
+//   /                 attributes: liftoff_version, scene_name, structure, method, method_requested,
+//                     termination, message, coordinate, sign_convention, tensionless, k
 //   /scene            the scene's TOML text
 //   /contact_regions  n x 2, [begin, end] in the user's coordinate
 //   /fields/*         coordinate, w, rotation, bending_moment, shear_force, reaction
 //                     (+ u, normal_force for arches), sampled inside every element
 //   /nodes/*          coordinate, w, rotation, reaction (+ u) at the mesh nodes (FE only)
+//   /certificate      attributes: passed, message, foundation_resultant, foundation_centroid,
+//                     applied_force, applied_moment (arches also the _x components), and per check
+//                     <name> and <name>_tolerance (certify/certificate.hpp)
+//   /support_reactions  n x 3: at, force, moment (arches n x 4: + tangential), the user's units
 //   /solver           attributes: residual, time_s, method_reason; FE: elements, pivots,
 //                     lcp_size; Ritz: modes, newton_iterations, estimated_limit_error, topology,
 //                     and datasets amplitudes, residual_history
@@ -27,7 +31,7 @@ std::filesystem::path temporary_path(const std::filesystem::path& path);
 void write_hdf5(const SolveReport& report, const std::filesystem::path& path, const std::string& version);
 
 // A sweep: root attributes liftoff_version, keys (the swept scene keys, comma-separated);
-// /values (cases x keys); /cases/NNNN/METHOD/ with the layout above for every case and method
+// /values (cases x keys); /cases/NNNN/METHOD/ (METHOD as requested) with the layout above for every case and method
 // (and an attribute `error` on /cases/NNNN when the case failed).
 void write_sweep_hdf5(const std::vector<std::string>& keys, const std::vector<SweepCase>& cases,
                       const std::filesystem::path& path, const std::string& version);

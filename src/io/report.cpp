@@ -1,8 +1,9 @@
 #include "io/report.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 
 namespace liftoff::io {
 
@@ -81,7 +82,8 @@ SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model,
   FieldTable& n = r.nodes;
   n.coordinate = to_user(model, d.mesh.nodes);
   n.reaction.assign(d.mesh.nodes.size(), 0.0);
-  for (int i = 0; i < d.reactions(); ++i) n.reaction[d.reaction_nodes[i]] = solution.reaction[i] * scales.force_per_length();
+  for (int i = 0; i < d.reactions(); ++i)
+    n.reaction[d.reaction_nodes[i]] = solution.reaction[i] * scales.force_per_length();
   for (int node = 0; node < static_cast<int>(d.mesh.nodes.size()); ++node) {
     const double w = solution.displacement[d.deflection_dof(node)], slope = solution.displacement[d.slope_dof(node)];
     const double u = model.kind == StructureKind::arch ? solution.displacement[d.tangential_dof(node)] : 0.0;
@@ -155,11 +157,63 @@ SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model,
   return r;
 }
 
+void attach_certificate(SolveReport& report, const certify::Certificate& certificate, const fe::MemberModel& model) {
+  certify::Certificate c = certificate;
+  for (certify::Check& check : c.checks)
+    if (check.at) check.at = model.user_from_s(*check.at);
+  report.certificate_figures = certify::user_figures(certificate, model);
+  report.certificate = std::move(c);
+}
+
+namespace {
+
+nlohmann::json number_or_null(double value) { return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(); }
+
+nlohmann::json support_reactions_json(const SolveReport& r) {
+  nlohmann::json all = nlohmann::json::array();
+  for (const certify::SupportReaction& s : r.certificate_figures.support_reactions) {
+    nlohmann::json one{{"at", s.at}, {"force", s.force}, {"moment", s.moment}};
+    if (r.kind == StructureKind::arch) one["tangential"] = s.tangential;
+    all.push_back(one);
+  }
+  return all;
+}
+
+nlohmann::json certificate_json(const SolveReport& r) {
+  const certify::Certificate& c = *r.certificate;
+  const certify::UserFigures& u = r.certificate_figures;
+  nlohmann::json j;
+  j["passed"] = c.passed;
+  j["message"] = c.message;
+  j["checks"] = nlohmann::json::array();
+  for (const certify::Check& check : c.checks)
+    j["checks"].push_back({{"name", check.name},
+                           {"value", number_or_null(check.value)},
+                           {"tolerance", number_or_null(check.tolerance)},
+                           {"passed", check.passed},
+                           {"at", check.at ? nlohmann::json(*check.at) : nlohmann::json()}});
+  j["foundation_resultant"] = u.foundation_resultant;
+  j["foundation_centroid"] = u.foundation_centroid;
+  j["applied_force"] = u.applied_force;
+  j["applied_moment"] = u.applied_moment;
+  if (r.kind == StructureKind::arch) {
+    j["foundation_resultant_x"] = u.foundation_resultant_x;
+    j["applied_force_x"] = u.applied_force_x;
+  }
+  if (c.limit_element_defect >= 0) j["limit_element_defect"] = c.limit_element_defect;
+  if (c.round_off_estimate >= 0) j["round_off_estimate"] = c.round_off_estimate;
+  if (!c.round_off_note.empty()) j["round_off_note"] = c.round_off_note;
+  return j;
+}
+
+}  // namespace
+
 nlohmann::json to_json(const SolveReport& r) {
   nlohmann::json j;
   j["scene"] = r.scene_name;
   j["structure"] = scene::to_string(r.kind);
   j["method"] = r.method;
+  j["method_requested"] = r.method_requested;
   if (!r.method_reason.empty()) j["method_reason"] = r.method_reason;
   j["termination"] = r.termination;
   j["message"] = r.message;
@@ -188,6 +242,10 @@ nlohmann::json to_json(const SolveReport& r) {
     j["amplitudes"] = r.amplitudes;
     j["residual_history"] = r.residual_history;
     if (r.estimated_limit_error >= 0) j["estimated_limit_error"] = r.estimated_limit_error;
+  }
+  if (r.certificate) {
+    j["support_reactions"] = support_reactions_json(r);
+    j["certificate"] = certificate_json(r);
   }
   j["sign_convention"] = sign_convention;
   if (!r.gauge_note.empty()) j["gauge"] = r.gauge_note;
@@ -220,24 +278,75 @@ std::string comparison_line(const SolveReport& r) {
 }
 }  // namespace
 
+namespace {
+
+// The certificate in two or three lines: the verdict with its largest figures, the resultants,
+// the support reactions.
+std::string certificate_lines(const SolveReport& r) {
+  const certify::Certificate& c = *r.certificate;
+  const certify::UserFigures& u = r.certificate_figures;
+  const bool arch = r.kind == StructureKind::arch;
+  std::string out;
+  if (c.passed) {
+    double balance = 0, contact = 0;
+    for (const certify::Check& check : c.checks) {
+      if (check.name.find("balance") != std::string::npos) balance = std::max(balance, check.value);
+      if (check.name == "reaction_sign" || check.name == "penetration" || check.name == "separation" ||
+          check.name == "complementarity")
+        contact = std::max(contact, check.value);
+    }
+    const certify::Check* round_off = c.find(certify::check_name::round_off);
+    out += fmt::format(
+        "  certificate   passed, {} checks: balance {:.1e} and contact {:.1e} of their terms{}\n", c.checks.size(),
+        balance, contact,
+        round_off ? fmt::format(", round-off {:.1e} < discretisation {:.1e}", round_off->value, round_off->tolerance)
+                  : std::string());
+  } else {
+    out += "  certificate   FAILED: " + c.message + "\n";
+  }
+  const char* unit = arch ? " deg" : "";
+  out += fmt::format("  resultants    applied {:.6g}, moment {:.6g} about {}; foundation {:.6g} at {} = {:.6g}{}\n",
+                     u.applied_force, u.applied_moment, arch ? "the centre" : "the begin", u.foundation_resultant,
+                     arch ? "theta" : "x", u.foundation_centroid, unit);
+  if (!u.support_reactions.empty()) {
+    std::string supports;
+    for (const certify::SupportReaction& s : u.support_reactions) {
+      supports += fmt::format("{}{} = {:.6g}{}: force {:.6g}", supports.empty() ? "" : "; ", arch ? "theta" : "x", s.at,
+                              unit, s.force);
+      if (s.moment != 0.0) supports += fmt::format(", moment {:.6g}", s.moment);
+      if (arch && s.tangential != 0.0) supports += fmt::format(", tangential {:.6g}", s.tangential);
+    }
+    out += "  supports      " + supports + "\n";
+  }
+  return out;
+}
+
+}  // namespace
+
 std::string text_summary(const SolveReport& r) {
   const bool arch = r.kind == StructureKind::arch;
   const char* unit = arch ? " deg" : "";
-  std::string out = fmt::format("liftoff: {} ({}) on a {} foundation, k = {:.6g}\n", r.scene_name,
-                                scene::to_string(r.kind), r.tensionless ? "tensionless" : "bilateral",
-                                r.foundation_parameter);
-  out += fmt::format("  method        {}{}\n", r.method, r.method_reason.empty() ? "" : " (" + r.method_reason + ")");
+  std::string out =
+      fmt::format("liftoff: {} ({}) on a {} foundation, k = {:.6g}\n", r.scene_name, scene::to_string(r.kind),
+                  r.tensionless ? "tensionless" : "bilateral", r.foundation_parameter);
+  std::string why = r.method_reason;
+  if (!r.method_requested.empty() && r.method_requested != r.method)
+    why = "asked for " + r.method_requested + (why.empty() ? "" : "; " + why);
+  out += fmt::format("  method        {}{}\n", r.method, why.empty() ? "" : " (" + why + ")");
   out += fmt::format("  result        {}: {}\n", r.termination, r.message);
   if (r.contact_regions.empty()) out += "  contact       none\n";
   for (const auto& region : r.contact_regions)
-    out += fmt::format("  contact       {} = {:.8g}{} .. {:.8g}{}\n", arch ? "theta" : "x", region[0], unit, region[1], unit);
+    out += fmt::format("  contact       {} = {:.8g}{} .. {:.8g}{}\n", arch ? "theta" : "x", region[0], unit, region[1],
+                       unit);
   if (r.comparison && r.usable && arch) out += comparison_line(r);
   out += fmt::format("  w max         {:.6e} at {:.6g}{}\n", r.w_max, r.at_w_max, unit);
   out += fmt::format("  w min         {:.6e} at {:.6g}{}\n", r.w_min, r.at_w_min, unit);
   out += fmt::format("  max reaction  {:.6e} (force per unit length)\n", r.max_reaction);
   out += fmt::format("  solver        {}\n", solver_line(r));
   if (r.estimated_limit_error >= 0)
-    out += fmt::format("  modes         limits settled to {:.1e}{} (change from the previous N)\n", r.estimated_limit_error, unit);
+    out += fmt::format("  modes         limits settled to {:.1e}{} (change from the previous N)\n",
+                       r.estimated_limit_error, unit);
+  if (r.certificate) out += certificate_lines(r);
   if (!r.gauge_note.empty()) out += "  note          " + r.gauge_note + "\n";
   out += "  sign          w > 0 into the foundation\n";
   return out;
@@ -263,8 +372,12 @@ std::string side_by_side(const std::vector<SolveReport>& reports) {
   const auto counted = [](int n, const char* unit) {
     return n >= 0 ? fmt::format("{} {}", n, unit) : std::string("-");
   };
-  row("method", [](const SolveReport& r) { return r.method; });
+  row("method", [](const SolveReport& r) { return r.method_requested.empty() ? r.method : r.method_requested; });
+  row("answer from", [](const SolveReport& r) { return r.termination == "refused" ? std::string("-") : r.method; });
   row("result", [](const SolveReport& r) { return r.termination; });
+  row("certified", [](const SolveReport& r) {
+    return r.certificate ? std::string(r.certificate->passed ? "yes" : "no") : std::string("-");
+  });
   std::size_t regions = 0;
   for (const auto& r : reports) regions = std::max(regions, r.contact_regions.size());
   for (std::size_t i = 0; i < regions; ++i) {
@@ -295,23 +408,27 @@ std::string side_by_side(const std::vector<SolveReport>& reports) {
 std::string sweep_csv(const std::vector<std::string>& keys, const std::vector<SweepCase>& cases) {
   std::string out;
   for (const auto& key : keys) out += key + ",";
-  out += "method,termination,contact_regions,w_max,w_min,max_reaction,iterations,time_s\n";
+  out += "method,termination,certified,contact_regions,w_max,w_min,max_reaction,iterations,time_s\n";
   for (const SweepCase& c : cases) {
     std::string prefix;
     for (double v : c.values) prefix += fmt::format("{:.17g},", v);
     if (!c.error.empty()) {
       std::string error = c.error;
       std::replace(error.begin(), error.end(), '"', '\'');
-      out += prefix + fmt::format(",\"error: {}\",,,,,,\n", error);
+      out += prefix + fmt::format(",\"error: {}\",,,,,,,\n", error);
       continue;
     }
     for (const SolveReport& r : c.reports) {
       std::string regions;
       for (const auto& region : r.contact_regions)
         regions += fmt::format("{}{:.12g}..{:.12g}", regions.empty() ? "" : ";", region[0], region[1]);
-      const int iterations = r.modes >= 0 ? r.newton_iterations : r.active_set_iterations >= 0 ? r.active_set_iterations : r.pivots;
-      out += prefix + fmt::format("{},{},{},{:.12g},{:.12g},{:.12g},{},{:.6f}\n", r.method, r.termination, regions,
-                                  r.w_max, r.w_min, r.max_reaction, iterations, r.time_s);
+      const int iterations = r.modes >= 0                   ? r.newton_iterations
+                             : r.active_set_iterations >= 0 ? r.active_set_iterations
+                                                            : r.pivots;
+      out += prefix + fmt::format("{},{},{},{},{:.12g},{:.12g},{:.12g},{},{:.6f}\n",
+                                  r.method_requested.empty() ? r.method : r.method_requested, r.termination,
+                                  r.certified() ? "true" : "false", regions, r.w_max, r.w_min, r.max_reaction,
+                                  iterations, r.time_s);
     }
   }
   return out;

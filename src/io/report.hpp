@@ -7,18 +7,18 @@
 // length) compression positive.
 
 #include <array>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
+#include "certify/certificate.hpp"
 #include "contact/contact_solver.hpp"
-#include "ritz/ritz_solver.hpp"
 #include "fe/discretisation.hpp"
 #include "fe/member_model.hpp"
 #include "post/contact_regions.hpp"
 #include "post/fields.hpp"
+#include "ritz/ritz_solver.hpp"
 #include "scene/scene.hpp"
 
 namespace liftoff::io {
@@ -36,16 +36,17 @@ struct SolveReport {
   std::string scene_name;
   std::string scene_text;
   scene::StructureKind kind = scene::StructureKind::beam;
-  std::string coordinate_name;   // "x" or "theta_deg"
+  std::string coordinate_name;  // "x" or "theta_deg"
   bool tensionless = true;
   double foundation_parameter = 0.0;  // k = K l^4 / EI
 
-  std::string method;             // "dual", "primal" or "ritz"
-  std::string method_reason;      // why (auto), or how the Ritz topology was found
-  std::string termination;        // the solver's own termination name
-  std::string message;            // in words
+  std::string method;            // the formulation that produced the answer: "dual", "primal", "fast", "ritz"
+  std::string method_requested;  // what the user asked for: "auto", "dual", ... (keys --method all, sweeps)
+  std::string method_reason;     // why (auto, a fallback), or how the Ritz topology was found
+  std::string termination;       // the solver's own termination name
+  std::string message;           // in words
   bool usable = false;
-  double residual = -1.0;         // FE: see contact_solver.hpp; Ritz: final scaled Newton residual
+  double residual = -1.0;  // FE: see contact_solver.hpp; Ritz: final scaled Newton residual
   // FE + LCP (-1 otherwise)
   int elements = -1;
   int pivots = -1;
@@ -65,11 +66,20 @@ struct SolveReport {
   std::vector<std::array<double, 2>> contact_regions;
   double w_max = 0, at_w_max = 0, w_min = 0, at_w_min = 0;
   double max_reaction = 0;
-  double time_s = 0;    // the whole solve: set-up, solver, post-processing
-  FieldTable fields;    // FE: sampled inside every element; Ritz: on a uniform grid (empty when
-                        // nothing asked for fields: SolveRequest::fields)
-  FieldTable nodes;     // FE only: at the mesh nodes (w, u, rotation, reaction)
+  double time_s = 0;  // the whole solve: set-up, solver, post-processing
+  FieldTable fields;  // FE: sampled inside every element; Ritz: on a uniform grid (empty when
+                      // nothing asked for fields: SolveRequest::fields)
+  FieldTable nodes;   // FE only: at the mesh nodes (w, u, rotation, reaction)
+
+  // The answer certificate (certify/certificate.hpp), in the user's units: check positions in the
+  // user's coordinate, figures and support reactions converted. Absent when there was no answer.
+  std::optional<certify::Certificate> certificate;
+  certify::UserFigures certificate_figures;
+  bool certified() const { return certificate && certificate->passed; }
 };
+
+// Stores the certificate in the report, converted to the user's units.
+void attach_certificate(SolveReport& report, const certify::Certificate& certificate, const fe::MemberModel& model);
 
 SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model, const fe::Discretisation& d,
                         const contact::ContactSolution& solution, const post::Fields& fields,
@@ -92,8 +102,9 @@ struct SweepCase {
   std::vector<SolveReport> reports;
   std::string error;
 };
-// One CSV row per case and method: the swept keys, method, termination, contact regions
-// ("a..b;c..d"), w_max, w_min, max_reaction, iterations (pivots or Newton), time_s.
+// One CSV row per case and method: the swept keys, method (as requested), termination, certified
+// (true/false), contact regions ("a..b;c..d"), w_max, w_min, max_reaction, iterations (pivots,
+// contact sets or Newton), time_s.
 std::string sweep_csv(const std::vector<std::string>& keys, const std::vector<SweepCase>& cases);
 
 }  // namespace liftoff::io

@@ -78,7 +78,7 @@ struct Load {
 };
 
 struct SolveSettings {
-  Method method = Method::dual;
+  Method method = Method::automatic;  // auto: fast for every FE scene (contact_solver.hpp)
   int elements = 200;
 };
 

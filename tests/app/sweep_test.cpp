@@ -24,7 +24,8 @@ TEST_CASE("sweep: lists, linear and logarithmic ranges", "[app][sweep]") {
   const app::SweepParameter log = app::parse_sweep_parameter("foundation.k=log:10:1e4:4");
   REQUIRE(log.values.size() == 4);
   for (int i = 0; i < 4; ++i) CHECK(log.values[i] == Approx(std::pow(10.0, i + 1)).epsilon(1e-14));
-  for (const char* bad : {"foundation.k", "=1,2", "foundation.k=1,x", "foundation.k=log:0:1:3", "foundation.k=lin:0:1:1"})
+  for (const char* bad :
+       {"foundation.k", "=1,2", "foundation.k=1,x", "foundation.k=log:0:1:3", "foundation.k=lin:0:1:1"})
     CHECK_THROWS_AS(app::parse_sweep_parameter(bad), InputError);
 }
 
@@ -58,27 +59,35 @@ TEST_CASE("sweep: the command writes the CSV and an HDF5 file with every case", 
   fs::create_directories(dir);
   const std::string scene = std::string(LIFTOFF_SOURCE_DIR) + "/verification/scenes/seed_beam_end_moments.toml";
   const std::string h5 = (dir / "sweep.h5").string(), csv = (dir / "sweep.csv").string();
-  const char* argv[] = {"liftoff", "sweep",      scene.c_str(), "--set",    "foundation.k=1e2,1e4", "--method",
-                        "all",     "--elements", "30",          "--modes", "16",                   "-o",
-                        h5.c_str(), "--csv",     csv.c_str()};
+  const char* argv[] = {"liftoff",  "sweep", scene.c_str(), "--set", "foundation.k=1e2,1e4",
+                        "--method", "all",   "--elements",  "30",    "--modes",
+                        "16",       "-o",    h5.c_str(),    "--csv", csv.c_str()};
   std::ostringstream out, err;
   REQUIRE(app::run_cli(static_cast<int>(std::size(argv)), argv, out, err) == 0);
   CHECK_THAT(err.str(), Catch::Matchers::Contains("2/2"));
   std::ifstream in(csv);
   std::string header, line;
   std::getline(in, header);
-  CHECK(header == "foundation.k,method,termination,contact_regions,w_max,w_min,max_reaction,iterations,time_s");
+  CHECK(header ==
+        "foundation.k,method,termination,certified,contact_regions,w_max,w_min,max_reaction,iterations,time_s");
   int rows = 0;
-  while (std::getline(in, line)) ++rows;
+  while (std::getline(in, line)) {
+    ++rows;
+    CHECK_THAT(line, Catch::Matchers::Contains(",solved,true,") || Catch::Matchers::Contains(",converged,true,"));
+  }
   CHECK(rows == 8);  // two cases, four methods each
-  const std::string script = "import h5py,sys; f=h5py.File(sys.argv[1]); "
-                             "assert sorted(f['cases']['0001'].keys())==['dual','fast','primal','ritz']; "
-                             "assert f['cases/0001/ritz/fields/w'].shape[0] > 100; "
-                             "assert f.attrs['keys']=='foundation.k'";
+  const std::string script =
+      "import h5py,sys; f=h5py.File(sys.argv[1]); "
+      "assert sorted(f['cases']['0001'].keys())==['dual','fast','primal','ritz']; "
+      "assert f['cases/0001/ritz/fields/w'].shape[0] > 100; "
+      "assert f['cases/0001/fast/certificate'].attrs['passed'] == 1; "
+      "assert f['cases/0001/fast/support_reactions'].shape == (2, 3); "
+      "assert f.attrs['keys']=='foundation.k'";
   CHECK(std::system(("/usr/bin/python3 -c \"" + script + "\" " + h5).c_str()) == 0);
   // The figures of the sweep, as a user draws them.
-  const std::string plot = std::string("/usr/bin/python3 ") + LIFTOFF_SOURCE_DIR + "/verification/plots/plot_sweep.py " +
-                           h5 + " --out " + (dir / "fig").string() + " > /dev/null";
+  const std::string plot = std::string("/usr/bin/python3 ") + LIFTOFF_SOURCE_DIR +
+                           "/verification/plots/plot_sweep.py " + h5 + " --out " + (dir / "fig").string() +
+                           " > /dev/null";
   CHECK(std::system(plot.c_str()) == 0);
   CHECK(fs::file_size(dir / "fig_deflection.png") > 10000);
   CHECK(fs::file_size(dir / "fig_reaction.png") > 10000);
@@ -154,5 +163,28 @@ TEST_CASE("sweep CLI: bad keys, huge grids and clashing outputs exit 2 and write
   std::ifstream copy(scene_copy), original(scene);
   CHECK(std::string(std::istreambuf_iterator<char>(copy), {}) ==
         std::string(std::istreambuf_iterator<char>(original), {}));
+  fs::remove_all(dir);
+}
+
+TEST_CASE("sweep: --method all keys the HDF5 groups by the method asked for, even after a fallback", "[app][sweep]") {
+  // Issue 10: fast falling back to dual Lemke on this beam labelled its answer dual, so the sweep
+  // created the group "dual" twice and failed with exit 4.
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("liftoff_sweep_fallback_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path scene = dir / "pinned.toml";
+  std::ofstream(scene) << "[structure]\nkind = \"beam\"\nlength = 1.0\nEI = 1.0\n[supports]\nleft = \"pinned\"\n"
+                          "right = \"pinned\"\n[foundation]\nk = 1e8\n[[loads]]\nkind = \"moment\"\nat = 0.27\n"
+                          "value = 1.0\n[solve]\nelements = 150\n";
+  const std::string h5 = (dir / "s.h5").string(), csv = (dir / "s.csv").string(), path = scene.string();
+  const char* argv[] = {"liftoff", "sweep",    path.c_str(), "--set",     "loads[0].value=1", "--method", "all",
+                        "-o",      h5.c_str(), "--csv",      csv.c_str(), "--modes",          "8"};
+  std::ostringstream out, err;
+  CHECK(app::run_cli(static_cast<int>(std::size(argv)), argv, out, err) == 0);
+  const std::string script =
+      "import h5py,sys; f=h5py.File(sys.argv[1]); "
+      "assert sorted(f['cases']['0000'].keys())==['dual','fast','primal','ritz']; "
+      "assert f['cases/0000/fast'].attrs['method_requested']=='fast'";
+  CHECK(std::system(("/usr/bin/python3 -c \"" + script + "\" " + h5).c_str()) == 0);
   fs::remove_all(dir);
 }

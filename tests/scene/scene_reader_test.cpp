@@ -210,7 +210,7 @@ value = 2.0
   CHECK(scene.loads[0].to == 2.0);
   CHECK(scene.loads[0].load_case == LoadCase::live);
   CHECK(scene.loads[1].load_case == LoadCase::live);
-  CHECK(scene.solve.method == Method::dual);
+  CHECK(scene.solve.method == Method::automatic);
   CHECK(scene.solve.elements == 200);
 }
 

@@ -1,0 +1,40 @@
+#include "certify/certificate.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace liftoff::certify {
+
+const Check* Certificate::find(std::string_view name) const {
+  for (const Check& check : checks)
+    if (check.name == name) return &check;
+  return nullptr;
+}
+
+const Check* Certificate::first_failure() const {
+  for (const Check& check : checks)
+    if (!check.passed) return &check;
+  return nullptr;
+}
+
+void CertifyOptions::validate() const {
+  if (!std::isfinite(load_factor)) throw std::invalid_argument("CertifyOptions::load_factor must be finite");
+  if (samples_per_element < 1) throw std::invalid_argument("CertifyOptions::samples_per_element must be >= 1");
+}
+
+UserFigures user_figures(const Certificate& c, const fe::MemberModel& model) {
+  const fe::Scales& scales = model.scales;
+  UserFigures u;
+  for (const SupportReaction& r : c.support_reactions)
+    u.support_reactions.push_back(
+        {model.user_from_s(r.at), r.force * scales.force(), r.moment * scales.moment(), r.tangential * scales.force()});
+  u.foundation_resultant = c.foundation_resultant * scales.force();
+  u.foundation_centroid = model.user_from_s(c.foundation_centroid);
+  u.applied_force = c.applied_force * scales.force();
+  u.applied_moment = c.applied_moment * scales.moment();
+  u.foundation_resultant_x = c.foundation_resultant_x * scales.force();
+  u.applied_force_x = c.applied_force_x * scales.force();
+  return u;
+}
+
+}  // namespace liftoff::certify

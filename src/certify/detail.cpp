@@ -1,0 +1,177 @@
+#include "certify/detail.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "fe/shape_functions.hpp"
+
+namespace liftoff::certify::detail {
+
+using Eigen::VectorXd;
+using fe::EndSupport;
+using fe::StructureKind;
+
+std::vector<int> reaction_of_node(const fe::Discretisation& d) {
+  std::vector<int> out(d.mesh.nodes.size(), -1);
+  for (int i = 0; i < d.reactions(); ++i) out[d.reaction_nodes[i]] = i;
+  return out;
+}
+
+std::vector<int> supported_dofs(const fe::MemberModel& model, const fe::Discretisation& d) {
+  std::vector<int> fixed;
+  const bool arch = model.kind == StructureKind::arch;
+  auto fix_end = [&](int node, EndSupport support) {
+    if (support == EndSupport::free) return;
+    fixed.push_back(d.deflection_dof(node));
+    if (support == EndSupport::clamped) fixed.push_back(d.slope_dof(node));
+    if (arch && (support == EndSupport::pinned || support == EndSupport::clamped))
+      fixed.push_back(d.tangential_dof(node));
+  };
+  fix_end(0, model.left);
+  fix_end(d.mesh.elements(), model.right);
+  for (double s : model.point_supports) {
+    const int node = d.mesh.node_at(s);
+    if (node >= 0) fixed.push_back(d.deflection_dof(node));
+  }
+  std::sort(fixed.begin(), fixed.end());
+  fixed.erase(std::unique(fixed.begin(), fixed.end()), fixed.end());
+  return fixed;
+}
+
+VectorXd applied_nodal_loads(const fe::MemberModel& model, const fe::Discretisation& d, double load_factor) {
+  VectorXd f = VectorXd::Zero(d.dofs());
+  for (const fe::MemberLoad& load : model.loads) {
+    const double value = load.value * (load.load_case == fe::LoadCase::dead ? 1.0 : load_factor);
+    if (load.kind == fe::LoadKind::uniform) {
+      for (int e = 0; e < d.mesh.elements(); ++e) {
+        const double h = d.mesh.element_size(e), middle = d.mesh.nodes[e] + 0.5 * h;
+        if (middle < load.from || middle > load.to) continue;
+        const std::vector<int> dofs = d.element_dofs(e);
+        for (const fe::GaussPoint& g : fe::gauss5) {
+          const Eigen::Vector4d shape = fe::hermite_cubic(g.xi, h).value;
+          for (int j = 0; j < 4; ++j) f[dofs[j]] += g.weight * h * value * shape[j];
+        }
+      }
+      continue;
+    }
+    const int node = d.mesh.node_at(load.at);
+    if (node < 0) continue;  // the mesh has a node at every load (mesh.hpp)
+    if (load.kind == fe::LoadKind::force) {
+      f[d.deflection_dof(node)] += value;
+    } else {  // a counterclockwise moment works on the rotation -w' (arches -(u + w'))
+      f[d.slope_dof(node)] -= value;
+      if (model.kind == StructureKind::arch) f[d.tangential_dof(node)] -= value;
+    }
+  }
+  return f;
+}
+
+std::vector<SupportReaction> support_reactions(const fe::MemberModel& model, const fe::Discretisation& d,
+                                               const VectorXd& g, const std::vector<bool>& is_supported) {
+  std::vector<int> nodes;
+  if (model.left != EndSupport::free) nodes.push_back(0);
+  for (double s : model.point_supports)
+    if (d.mesh.node_at(s) >= 0) nodes.push_back(d.mesh.node_at(s));
+  if (model.right != EndSupport::free) nodes.push_back(d.mesh.elements());
+  const bool arch = model.kind == StructureKind::arch;
+  std::vector<SupportReaction> out;
+  for (int node : nodes) {
+    auto at = [&](int dof) { return is_supported[dof] ? g[dof] : 0.0; };
+    const double g_w = at(d.deflection_dof(node)), g_slope = at(d.slope_dof(node));
+    const double g_u = arch ? at(d.tangential_dof(node)) : 0.0;
+    out.push_back({d.mesh.nodes[node], 0.0 - g_w, 0.0 - g_slope, arch ? g_u - g_slope : 0.0});  // no -0
+  }
+  return out;
+}
+
+int balance_mode_count(StructureKind kind) { return kind == StructureKind::beam ? 2 : 3; }
+
+Eigen::MatrixXd balance_modes(const fe::MemberModel& model, const fe::Discretisation& d) {
+  if (model.kind == StructureKind::arch) return fe::rigid_motions(model, d);
+  Eigen::MatrixXd modes(d.dofs(), 2);
+  for (int dof = 0; dof < d.dofs(); ++dof) {
+    const bool slope = d.role_of_dof(dof) == fe::DofRole::slope;
+    modes(dof, 0) = slope ? 0.0 : 1.0;
+    modes(dof, 1) = slope ? 1.0 : d.position_of_dof(dof) - model.s_begin;
+  }
+  return modes;
+}
+
+Eigen::Vector3d balance_mode_at(const fe::MemberModel& model, int mode, double s) {
+  if (model.kind == StructureKind::beam)
+    return mode == 0 ? Eigen::Vector3d(0, 1, 0) : Eigen::Vector3d(0, s - model.s_begin, 1);
+  const double c = std::cos(s), sn = std::sin(s);  // as fe::rigid_motions
+  switch (mode) {
+    case 0:
+      return {c, -sn, -c};
+    case 1:
+      return {-sn, -c, sn};
+    default:
+      return {1, 0, 0};
+  }
+}
+
+std::string_view balance_name(StructureKind kind, int mode) {
+  if (mode == balance_mode_count(kind) - 1) return check_name::moment_balance;
+  if (kind == StructureKind::beam) return check_name::force_balance;
+  return mode == 0 ? check_name::force_balance_x : check_name::force_balance_y;
+}
+
+void fill_resultants(Certificate& c, const fe::MemberModel& model, const std::vector<double>& applied,
+                     const std::vector<double>& foundation, double centroid) {
+  if (model.kind == StructureKind::beam) {
+    c.applied_force = applied[0];
+    c.foundation_resultant = foundation[0];
+    c.applied_moment = 0.0 - applied[1];  // (no -0)
+  } else {  // "toward the foundation at the crown" is minus mode 1 (w = -cos theta)
+    c.applied_force = 0.0 - applied[1];
+    c.foundation_resultant = 0.0 - foundation[1];
+    c.applied_force_x = applied[0];
+    c.foundation_resultant_x = foundation[0];
+    c.applied_moment = 0.0 - applied[2];
+  }
+  c.foundation_centroid = centroid;
+}
+
+void conclude(Certificate& c, const fe::MemberModel& model) {
+  // One order for every certificate: balance, contact, backward error, round-off (the first
+  // failure is the one the message names; an imbalance says most to an engineer).
+  auto rank = [](const Check& check) {
+    if (check.name.find("balance") != std::string::npos) return 0;
+    if (check.name == check_name::backward_error) return 2;
+    if (check.name == check_name::round_off) return 3;
+    return 1;
+  };
+  std::stable_sort(c.checks.begin(), c.checks.end(), [&](const Check& a, const Check& b) { return rank(a) < rank(b); });
+  for (Check& check : c.checks)
+    check.passed = std::isfinite(check.value) && std::isfinite(check.tolerance) && check.value <= check.tolerance;
+  const Check* failed = c.first_failure();
+  c.passed = !c.checks.empty() && failed == nullptr && c.message.empty();
+  if (!c.message.empty()) return;  // already says why there is nothing to certify
+  if (!failed) {
+    c.message = "all checks passed";
+    return;
+  }
+  const bool arch = model.kind == StructureKind::arch;
+  const std::string where = failed->at ? fmt::format(" at {} = {:.6g}{}", arch ? "theta" : "x",
+                                                     model.user_from_s(*failed->at), arch ? " deg" : "")
+                                       : std::string();
+  int others = 0;
+  for (const Check& check : c.checks) others += !check.passed && &check != failed;
+  c.message = fmt::format("{} failed: {:.2e} against a tolerance of {:.2e}{}{}", failed->name, failed->value,
+                          failed->tolerance, where, others > 0 ? fmt::format(" (and {} more checks)", others) : "");
+  if (failed->name == check_name::round_off && !c.round_off_note.empty()) c.message += " (" + c.round_off_note + ")";
+  if (failed->name.find("balance") != std::string::npos) {
+    const UserFigures u = user_figures(c, model);
+    c.message += arch
+                     ? fmt::format(" (applied {:.6g} and {:.6g} along, foundation {:.6g} and {:.6g}; moment {:.6g})",
+                                   u.applied_force, u.applied_force_x, u.foundation_resultant, u.foundation_resultant_x,
+                                   u.applied_moment)
+                     : fmt::format(" (applied {:.6g}, moment {:.6g} about x = {:.6g}; foundation {:.6g} at x = {:.6g})",
+                                   u.applied_force, u.applied_moment, model.user_from_s(model.s_begin),
+                                   u.foundation_resultant, u.foundation_centroid);
+  }
+}
+
+}  // namespace liftoff::certify::detail

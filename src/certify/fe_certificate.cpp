@@ -1,0 +1,559 @@
+// The certificate of an FE + LCP answer (certificate.hpp says what each check means).
+
+#include <fmt/format.h>
+
+#include <Eigen/SparseLU>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "certify/certificate.hpp"
+#include "certify/detail.hpp"
+#include "fe/arch_element.hpp"
+#include "fe/beam_element.hpp"
+#include "fe/shape_functions.hpp"
+
+namespace liftoff::certify {
+
+using Eigen::VectorXd;
+using fe::Discretisation;
+using fe::MemberModel;
+using fe::StructureKind;
+
+namespace {
+
+using detail::eps;
+
+// ---- the answer's nodal forces, from the element equations ------------------------------------
+
+bool on_foundation(const MemberModel& model, const fe::Mesh& mesh, int element) {
+  const double middle = mesh.nodes[element] + 0.5 * mesh.element_size(element);
+  return middle >= model.foundation_begin && middle <= model.foundation_end;  // as the assembly decides
+}
+
+// Per dof: the element forces K_e u_e summed, the foundation's nodal forces (integral of N_w
+// times the P1 reaction), the applied nodal loads, and the magnitude of the terms each row sums
+// (|K||u| + |C^T||r| + |F|). Per reaction node: the weighted gap integral of phi_i (r/k - w),
+// and the magnitude of its terms.
+struct NodalForces {
+  VectorXd internal, foundation, applied, magnitude;
+  VectorXd gap, gap_terms;
+  // Per dof on the equations: the assembled K u minus the element-wise sum of K_e u_e, both
+  // compensated: what the rounding of the assembled entries does to this u (0 on fixed dofs).
+  VectorXd assembly_defect;
+};
+
+NodalForces nodal_forces(const MemberModel& model, const Discretisation& d, const VectorXd& u, const VectorXd& r,
+                         double load_factor) {
+  const int n = d.dofs(), elements = d.mesh.elements();
+  NodalForces f;
+  f.internal = f.foundation = f.magnitude = VectorXd::Zero(n);
+  f.gap = f.gap_terms = VectorXd::Zero(d.reactions());
+  f.applied = detail::applied_nodal_loads(model, d, load_factor);
+  f.magnitude = f.applied.cwiseAbs();
+  const std::vector<int> reaction_of_node = detail::reaction_of_node(d);
+  const double k = d.foundation_modulus;
+  const bool arch = d.kind == StructureKind::arch;
+  std::vector<detail::Compensated> defect(n);
+  std::vector<int> dof_of_equation(d.equations);
+  for (int dof = 0; dof < n; ++dof)
+    if (d.equation_of_dof[dof] >= 0) dof_of_equation[d.equation_of_dof[dof]] = dof;
+  for (int col = 0; col < d.equations; ++col)
+    for (fe::SparseMatrix::InnerIterator it(d.stiffness, col); it; ++it)
+      defect[dof_of_equation[it.row()]].add_product(it.value(), u[dof_of_equation[col]]);
+  for (int e = 0; e < elements; ++e) {
+    const double h = d.mesh.element_size(e);
+    const std::vector<int> dofs = d.element_dofs(e);
+    VectorXd ue(dofs.size());
+    for (std::size_t j = 0; j < dofs.size(); ++j) ue[j] = u[dofs[j]];
+    const Eigen::MatrixXd ke = arch ? Eigen::MatrixXd(fe::arch_element::stiffness(h, model.membrane_stiffness))
+                                    : Eigen::MatrixXd(fe::beam_element::stiffness(h));
+    const VectorXd fe_forces = ke * ue, fe_magnitude = ke.cwiseAbs() * ue.cwiseAbs();
+    for (std::size_t j = 0; j < dofs.size(); ++j) {
+      f.internal[dofs[j]] += fe_forces[j];
+      f.magnitude[dofs[j]] += fe_magnitude[j];
+      if (d.equation_of_dof[dofs[j]] >= 0)
+        for (std::size_t i = 0; i < dofs.size(); ++i)
+          if (d.equation_of_dof[dofs[i]] >= 0) defect[dofs[j]].add_product(-ke(j, i), ue[i]);
+    }
+    if (!on_foundation(model, d.mesh, e)) continue;
+    const int ra = reaction_of_node[e], rb = reaction_of_node[e + 1];
+    if (ra < 0 || rb < 0) continue;
+    for (const fe::GaussPoint& g : fe::gauss5) {  // exact: cubic x linear, linear x linear
+      const fe::HermiteCubic shape = fe::hermite_cubic(g.xi, h);
+      const Eigen::Vector2d phi = fe::reaction_shape(g.xi);
+      const double weight = g.weight * h, r_here = phi[0] * r[ra] + phi[1] * r[rb];
+      const double abs_r = phi[0] * std::abs(r[ra]) + phi[1] * std::abs(r[rb]);
+      double w_here = 0.0, abs_w = 0.0;
+      for (int j = 0; j < 4; ++j) {
+        w_here += shape.value[j] * ue[j];
+        abs_w += std::abs(shape.value[j] * ue[j]);
+        f.foundation[dofs[j]] += weight * shape.value[j] * r_here;
+        f.magnitude[dofs[j]] += weight * std::abs(shape.value[j]) * abs_r;
+      }
+      for (int a = 0; a < 2; ++a) {
+        const int i = a == 0 ? ra : rb;
+        f.gap[i] += weight * phi[a] * (r_here / k - w_here);
+        f.gap_terms[i] += weight * phi[a] * (abs_r / k + abs_w);
+      }
+    }
+  }
+  f.assembly_defect = VectorXd::Zero(n);
+  for (int dof = 0; dof < n; ++dof) f.assembly_defect[dof] = defect[dof].value();
+  return f;
+}
+
+// ---- round-off, measured ----------------------------------------------------------------------
+
+// The error round-off left in (u, r), measured: one correction A^-1 (b - A x) on the answer's
+// own contact-set system  A (u, r_A) = (F, 0),  A = [K C_A^T; C_A -T_AA]  (A: the nodes with
+// r > 0; bilateral: all), with the residual computed in twice the working precision
+// (compensated) and K u summed element by element (K_e u_e). So it measures the answer against
+// the exactly assembled system: the solver's error and the rounding of the assembled K, whose
+// entries are rounded sums of two elements' entries and so annihilate the rigid motions only to
+// round-off. The latter dominates on fine meshes: on seed_beam_end_moments at 3200 elements it
+// is the whole error against the closed form (1.6e-4 of max |w|; the solver's refinement, on the
+// assembled K, claimed 1e-8), and on issue 10's footing it moves the reactions' integral by
+// 6.5e-8 of the load. Not measured: the rounding of each element's own entries, which is the
+// same for every element of one size (a smooth perturbation; a float128 solve with exact
+// element entries agrees to three digits of that 1.6e-4). The correction is solved once
+// (SparseLU, partial pivoting, on the symmetrically equilibrated A): one digit of it is enough.
+// Both shares are returned apart: the data's (the correction for the difference between the
+// element-wise and the assembled K u alone) is what any solver would leave, the solver's (the
+// rest) grows with its backward error, so a spoilt answer cannot excuse itself (see certify()).
+struct RoundOff {
+  bool measured = false;
+  double w = 0.0, r = 0.0;                // the whole correction, relative to max |w| (deflection dofs) and max |r|
+  double data_w = 0.0, data_r = 0.0;      // the assembled data's share
+  double solver_w = 0.0, solver_r = 0.0;  // the rest
+  VectorXd correction_u;                  // the whole correction, every dof
+  VectorXd correction_r;
+  std::string why_not;
+};
+
+RoundOff measure_round_off(const Discretisation& d, double membrane_stiffness, const VectorXd& u_all, const VectorXd& r,
+                           const VectorXd& load) {
+  RoundOff out;
+  const int n = d.equations, m = d.reactions();
+  std::vector<int> slot_of_reaction(m, -1);
+  int size = n;
+  for (int i = 0; i < m; ++i)
+    if (!d.tensionless || r[i] > 0) slot_of_reaction[i] = size++;
+  VectorXd x = VectorXd::Zero(size), b = VectorXd::Zero(size);
+  for (int dof = 0; dof < d.dofs(); ++dof)
+    if (d.equation_of_dof[dof] >= 0) x[d.equation_of_dof[dof]] = u_all[dof];
+  for (int i = 0; i < m; ++i)
+    if (slot_of_reaction[i] >= 0) x[slot_of_reaction[i]] = r[i];
+  b.head(n) = load;
+
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(d.stiffness.nonZeros() + 2 * d.coupling.nonZeros() + d.flexibility.nonZeros());
+  for (int col = 0; col < n; ++col)
+    for (fe::SparseMatrix::InnerIterator it(d.stiffness, col); it; ++it)
+      triplets.emplace_back(it.row(), col, it.value());
+  for (int col = 0; col < n; ++col)
+    for (fe::SparseMatrix::InnerIterator it(d.coupling, col); it; ++it) {
+      const int slot = slot_of_reaction[it.row()];
+      if (slot < 0) continue;
+      triplets.emplace_back(slot, col, it.value());
+      triplets.emplace_back(col, slot, it.value());
+    }
+  for (int col = 0; col < m; ++col)
+    for (fe::SparseMatrix::InnerIterator it(d.flexibility, col); it; ++it) {
+      const int i = slot_of_reaction[it.row()], j = slot_of_reaction[col];
+      if (i >= 0 && j >= 0) triplets.emplace_back(i, j, -it.value());
+    }
+  fe::SparseMatrix a(size, size);
+  a.setFromTriplets(triplets.begin(), triplets.end());
+  a.makeCompressed();
+
+  // The residual b - A x, compensated, with K u summed element by element (K_e u_e) rather than
+  // through the assembled K, whose entries are rounded sums; the reactions of lifted nodes
+  // (r_i != 0 off A is part of the answer) enter the equilibrium rows through C^T r.
+  std::vector<detail::Compensated> sums(size), element(n), assembled(n);  // b - A x; K u both ways
+  for (int row = 0; row < size; ++row) sums[row].add(b[row]);
+  for (int col = 0; col < n; ++col)
+    for (fe::SparseMatrix::InnerIterator it(d.stiffness, col); it; ++it)
+      assembled[it.row()].add_product(it.value(), x[col]);
+  for (int e = 0; e < d.mesh.elements(); ++e) {
+    const double h = d.mesh.element_size(e);
+    const std::vector<int> dofs = d.element_dofs(e);
+    const Eigen::MatrixXd ke = d.kind == StructureKind::arch
+                                   ? Eigen::MatrixXd(fe::arch_element::stiffness(h, membrane_stiffness))
+                                   : Eigen::MatrixXd(fe::beam_element::stiffness(h));
+    for (std::size_t i = 0; i < dofs.size(); ++i) {
+      const int row = d.equation_of_dof[dofs[i]];
+      if (row < 0) continue;
+      for (std::size_t j = 0; j < dofs.size(); ++j) element[row].add_product(ke(i, j), u_all[dofs[j]]);
+    }
+  }
+  for (int col = 0; col < n; ++col)
+    for (fe::SparseMatrix::InnerIterator it(d.coupling, col); it; ++it) {
+      const int slot = slot_of_reaction[it.row()];
+      sums[col].add_product(-it.value(), r[it.row()]);
+      if (slot >= 0) sums[slot].add_product(-it.value(), x[col]);
+    }
+  for (int col = 0; col < m; ++col)
+    for (fe::SparseMatrix::InnerIterator it(d.flexibility, col); it; ++it) {
+      const int slot = slot_of_reaction[it.row()];
+      if (slot >= 0) sums[slot].add_product(it.value(), r[col]);
+    }
+  VectorXd rhs(size), data_rhs = VectorXd::Zero(size);
+  for (int row = 0; row < n; ++row) {
+    sums[row].add(-element[row].sum);
+    sums[row].add(-element[row].error);
+    detail::Compensated difference = assembled[row];  // K u - sum K_e u_e
+    difference.add(-element[row].sum);
+    difference.add(-element[row].error);
+    data_rhs[row] = difference.value();
+  }
+  for (int row = 0; row < size; ++row) rhs[row] = sums[row].value();
+
+  VectorXd scaling(size);
+  for (int i = 0; i < size; ++i) {
+    const double diagonal = std::abs(a.coeff(i, i));
+    scaling[i] = diagonal > 0 ? 1.0 / std::sqrt(diagonal) : 1.0;
+  }
+  const fe::SparseMatrix scaled = scaling.asDiagonal() * a * scaling.asDiagonal();
+  Eigen::SparseLU<fe::SparseMatrix, Eigen::COLAMDOrdering<int>> lu;
+  lu.compute(scaled);
+  if (lu.info() != Eigen::Success) {
+    out.why_not = "the answer's contact set leaves the member free to move (its system is singular)";
+    return out;
+  }
+  const VectorXd solver = scaling.cwiseProduct(lu.solve(scaling.cwiseProduct(rhs)));
+  const VectorXd data = scaling.cwiseProduct(lu.solve(scaling.cwiseProduct(data_rhs)));
+  if (!solver.allFinite() || !data.allFinite()) {
+    out.why_not = "the answer's contact-set system could not be solved";
+    return out;
+  }
+  out.correction_u = d.expand(solver.head(n));
+  out.correction_r = VectorXd::Zero(m);
+  const VectorXd data_u = d.expand(data.head(n));
+  double r_change = 0.0, r_data = 0.0, r_solver = 0.0;
+  for (int i = 0; i < m; ++i)
+    if (slot_of_reaction[i] >= 0) {
+      const double total = solver[slot_of_reaction[i]], by_data = data[slot_of_reaction[i]];
+      out.correction_r[i] = total;
+      r_change = std::max(r_change, std::abs(total));
+      r_data = std::max(r_data, std::abs(by_data));
+      r_solver = std::max(r_solver, std::abs(total - by_data));
+    }
+  double w_scale = 0.0, w_change = 0.0, w_data = 0.0, w_solver = 0.0;
+  for (int node = 0; node < static_cast<int>(d.mesh.nodes.size()); ++node) {
+    const int dof = d.deflection_dof(node);
+    w_scale = std::max(w_scale, std::abs(u_all[dof]));
+    w_change = std::max(w_change, std::abs(out.correction_u[dof]));
+    w_data = std::max(w_data, std::abs(data_u[dof]));
+    w_solver = std::max(w_solver, std::abs(out.correction_u[dof] - data_u[dof]));
+  }
+  const double r_scale = m > 0 ? r.cwiseAbs().maxCoeff() : 0.0;
+  auto relative = [](double value, double scale) { return scale > 0 ? value / scale : 0.0; };
+  out.w = relative(w_change, w_scale);
+  out.r = relative(r_change, r_scale);
+  out.data_w = relative(w_data, w_scale);
+  out.data_r = relative(r_data, r_scale);
+  out.solver_w = relative(w_solver, w_scale);
+  out.solver_r = relative(r_solver, r_scale);
+  out.measured = true;
+  return out;
+}
+
+// ---- pointwise fields -------------------------------------------------------------------------
+
+double w_in(const Discretisation& d, const VectorXd& u, int e, double xi) {
+  const std::vector<int> dofs = d.element_dofs(e);
+  const Eigen::Vector4d w_dofs(u[dofs[0]], u[dofs[1]], u[dofs[2]], u[dofs[3]]);
+  return fe::hermite_cubic(xi, d.mesh.element_size(e)).value.dot(w_dofs);
+}
+
+double r_in(const MemberModel& model, const Discretisation& d, const std::vector<int>& reaction_of_node,
+            const VectorXd& r, int e, double xi) {
+  if (!on_foundation(model, d.mesh, e)) return 0.0;
+  const int ra = reaction_of_node[e], rb = reaction_of_node[e + 1];
+  if (ra < 0 || rb < 0) return 0.0;
+  const Eigen::Vector2d phi = fe::reaction_shape(xi);
+  return phi[0] * r[ra] + phi[1] * r[rb];
+}
+
+// The discretisation error of (w, r), estimated by the change from a solve on half the elements
+// (fast, corrected for its round-off like the answer): max over the answer's sample points,
+// relative to max |w| and max |r|. Empty when that solve fails.
+struct DiscretisationError {
+  bool estimated = false;
+  double w = 0.0, r = 0.0;
+  int elements = 0;
+  std::string why_not;
+};
+
+DiscretisationError estimate_discretisation_error(const MemberModel& model, const Discretisation& d, const VectorXd& u,
+                                                  const VectorXd& r, double load_factor, int samples) {
+  DiscretisationError out;
+  const int coarse_elements = std::max(1, d.mesh.elements() / 2);
+  Discretisation coarse;
+  contact::ContactSolution reference;
+  try {
+    coarse = fe::discretise(model, coarse_elements);
+    contact::ContactOptions options;
+    options.method = scene::Method::fast;
+    options.load_factor = load_factor;
+    reference = contact::solve_contact(coarse, options);
+  } catch (const std::exception& e) {
+    out.why_not = e.what();
+    return out;
+  }
+  out.elements = coarse.mesh.elements();
+  if (!reference.summary.is_usable()) {
+    out.why_not = "the half-mesh reference solve failed: " + reference.summary.message;
+    return out;
+  }
+  VectorXd u2 = reference.displacement, r2 = reference.reaction;
+  const RoundOff polish = measure_round_off(coarse, model.membrane_stiffness, u2, r2, coarse.load(load_factor));
+  if (polish.measured) {
+    u2 += polish.correction_u;
+    r2 += polish.correction_r;
+  }
+  const std::vector<int> reactions_fine = detail::reaction_of_node(d),
+                         reactions_coarse = detail::reaction_of_node(coarse);
+  double w_scale = 0.0, r_scale = 0.0, w_change = 0.0, r_change = 0.0;
+  for (int e = 0; e < d.mesh.elements(); ++e)
+    for (int i = 0; i <= samples; ++i) {
+      const double xi = static_cast<double>(i) / samples, s = d.mesh.nodes[e] + xi * d.mesh.element_size(e);
+      const int ec = coarse.mesh.element_containing(s);
+      const double xc = std::clamp((s - coarse.mesh.nodes[ec]) / coarse.mesh.element_size(ec), 0.0, 1.0);
+      const double w = w_in(d, u, e, xi), rf = r_in(model, d, reactions_fine, r, e, xi);
+      w_scale = std::max(w_scale, std::abs(w));
+      r_scale = std::max(r_scale, std::abs(rf));
+      w_change = std::max(w_change, std::abs(w - w_in(coarse, u2, ec, xc)));
+      r_change = std::max(r_change, std::abs(rf - r_in(model, coarse, reactions_coarse, r2, ec, xc)));
+    }
+  out.w = w_scale > 0 ? w_change / w_scale : 0.0;
+  out.r = r_scale > 0 ? r_change / r_scale : 0.0;
+  out.estimated = true;
+  return out;
+}
+
+}  // namespace
+
+Certificate certify(const MemberModel& model, const Discretisation& d, const contact::ContactSolution& solution,
+                    const CertifyOptions& options) {
+  options.validate();
+  Certificate c;
+  const VectorXd& u_given = solution.displacement;
+  const VectorXd& r_given = solution.reaction;
+  if (u_given.size() != d.dofs() || r_given.size() != d.reactions() || !u_given.allFinite() || !r_given.allFinite()) {
+    c.message = "no answer to certify: the displacements or reactions are missing or not finite";
+    return c;
+  }
+  const double lambda = options.load_factor;
+  const NodalForces f = nodal_forces(model, d, u_given, r_given, lambda);
+  const VectorXd residual = f.internal + f.foundation - f.applied;
+  const std::vector<int> supported = detail::supported_dofs(model, d);
+  std::vector<bool> is_supported(d.dofs(), false);
+  for (int dof : supported) is_supported[dof] = true;
+
+  // The backward error a sound answer may have: a backward-stable solve leaves a few eps (64 eps,
+  // detail.hpp): fast and the bilateral solve refine, dual Lemke takes u from a sparse LDL^T solve
+  // with its final reactions. Primal Lemke takes u and r from a dense LU of its final basis, of
+  // the LCP's size n_L = 2 n + m: Wilkinson's bound n_L eps times the growth factor, 8 allowed.
+  // (Primal's answers on the seed arches: 1.3e-12 at n_L = 2600; its wrong footing: 2.2e-8.)
+  const int lcp_unknowns = 2 * d.equations + d.reactions();
+  const double backward_tolerance =
+      std::max(detail::backward_tolerance,
+               solution.summary.method == scene::Method::primal ? 8.0 * lcp_unknowns * detail::eps : 0.0);
+
+  // backward_error: every row of the equations. (A gauge's row, like a support's, carries the
+  // rigid-weighted sum of the others' residuals; the balance checks it.)
+  {
+    Check check = detail::make_check(check_name::backward_error, 0.0, backward_tolerance);
+    for (int dof = 0; dof < d.dofs(); ++dof) {
+      if (d.equation_of_dof[dof] < 0 || f.magnitude[dof] == 0.0) continue;
+      const double value = std::abs(residual[dof]) / f.magnitude[dof];
+      if (value > check.value) {
+        check.value = value;
+        check.at = d.position_of_dof(dof);
+      }
+    }
+    c.checks.push_back(check);
+  }
+
+  // Support reactions: the residual at the dofs the supports fix (g, in the dofs' own sense).
+  c.support_reactions = detail::support_reactions(model, d, residual, is_supported);
+
+  // Balance on each rigid motion.
+  const Eigen::MatrixXd modes = detail::balance_modes(model, d);
+  std::vector<double> applied(modes.cols()), foundation(modes.cols());
+  for (int j = 0; j < modes.cols(); ++j) {
+    const VectorXd m = modes.col(j);
+    double a = 0, a_abs = 0, phi = 0, phi_abs = 0, g = 0, g_abs = 0, internal = 0, bound = 0, assembly = 0;
+    for (int dof = 0; dof < d.dofs(); ++dof) {
+      assembly += m[dof] * f.assembly_defect[dof];
+      a += m[dof] * f.applied[dof];
+      a_abs += std::abs(m[dof] * f.applied[dof]);
+      phi += m[dof] * f.foundation[dof];
+      phi_abs += std::abs(m[dof] * f.foundation[dof]);
+      internal += m[dof] * f.internal[dof];
+      bound += m[dof] * m[dof] * f.magnitude[dof] * f.magnitude[dof];
+      if (is_supported[dof]) {
+        g += m[dof] * residual[dof];
+        g_abs += std::abs(m[dof] * residual[dof]);
+      }
+    }
+    applied[j] = a;
+    foundation[j] = phi;
+    // a + g - phi = internal - (the free rows' residuals, rigid-weighted); internal is zero in
+    // exact arithmetic for beams (K_e annihilates the exact rigid motions), O(h^4) for arches.
+    // An answer that solves the assembled equations exactly still leaves the assembly's
+    // rounding, m.(K u - sum K_e u_e), computed above for this u (x 2). A backward-stable solver
+    // adds its rows' residuals at a few eps each (64 eps, detail.hpp, whatever the method: the
+    // balance is physics, and primal's looser Wilkinson bound would allow a 0.6 % imbalance on
+    // the footing); of random sign, they add up like a random walk: 4 times their 2-norm (the
+    // probabilistic round-off bound, Higham and Mary, SIAM J. Sci. Comput. 41, 2019), not their
+    // sum, which on a fine mesh is 1e10 times the load and would hide a 3.5 % imbalance. (A
+    // motion no term works on, like an arch's rotation on rollers, balances trivially.)
+    const double scale = a_abs + g_abs + phi_abs;
+    const double consistency = d.kind == StructureKind::arch ? std::abs(internal) : 0.0;
+    const double tolerance = 2 * std::abs(assembly) + 4 * detail::backward_tolerance * std::sqrt(bound) +
+                             detail::backward_tolerance * scale + consistency;
+    Check check = scale > 0 ? detail::make_check(detail::balance_name(d.kind, j), std::abs(a + g - phi) / scale,
+                                                 tolerance / scale)
+                            : detail::make_check(detail::balance_name(d.kind, j), 0.0, detail::backward_tolerance);
+    c.checks.push_back(check);
+  }
+  {
+    double integral = 0.0, moment = 0.0;  // of the P1 reaction: integral of r and of r s
+    const std::vector<int> reactions = detail::reaction_of_node(d);
+    for (int e = 0; e < d.mesh.elements(); ++e) {
+      const int ra = reactions[e], rb = reactions[e + 1];
+      if (!on_foundation(model, d.mesh, e) || ra < 0 || rb < 0) continue;
+      const double h = d.mesh.element_size(e), sa = d.mesh.nodes[e], sb = d.mesh.nodes[e + 1];
+      integral += 0.5 * h * (r_given[ra] + r_given[rb]);
+      moment += h / 6.0 * (r_given[ra] * (2 * sa + sb) + r_given[rb] * (sa + 2 * sb));
+    }
+    detail::fill_resultants(c, model, applied, foundation, integral != 0.0 ? moment / integral : 0.0);
+  }
+
+  // Round-off of the answer, measured (needed by the sign tolerances too).
+  // The sign conditions allow the round-off a sound answer may carry: the data's share, and the
+  // solver's share as far as its backward error passes (scaled down by how far it does not: an
+  // answer spoilt beyond round-off cannot excuse its own sign errors).
+  const RoundOff round_off = measure_round_off(d, model.membrane_stiffness, u_given, r_given, d.load(lambda));
+  const double backward = c.find(check_name::backward_error)->value;
+  const double sound = std::min(1.0, backward_tolerance / std::max(backward, 1e-300));
+  const double answer_error = round_off.measured
+                                  ? std::max({round_off.data_w + sound * round_off.solver_w,
+                                              round_off.data_r + sound * round_off.solver_r, detail::minimum_round_off})
+                                  : detail::minimum_round_off;
+  const double sign_tolerance = detail::sign_safety * answer_error;
+
+  // Contact conditions: discrete (nodal, weighted) and pointwise.
+  const std::vector<int> reaction_of_node = detail::reaction_of_node(d);
+  const int m = d.reactions();
+  const double r_scale = m > 0 ? r_given.cwiseAbs().maxCoeff() : 0.0;
+  if (d.tensionless) {
+    Check sign = detail::make_check(check_name::reaction_sign, 0.0, sign_tolerance);
+    Check penetration = detail::make_check(check_name::penetration, 0.0, sign_tolerance);
+    Check separation = detail::make_check(check_name::separation, 0.0, sign_tolerance);
+    Check complementarity = detail::make_check(check_name::complementarity, 0.0, sign_tolerance);
+    auto worse = [](Check& check, double value, double s) {
+      if (value > check.value) {
+        check.value = value;
+        check.at = s;
+      }
+    };
+    for (int i = 0; i < m; ++i) {
+      const double s = d.mesh.nodes[d.reaction_nodes[i]];
+      const double relative_r = r_scale > 0 ? r_given[i] / r_scale : 0.0;
+      const double relative_gap = f.gap_terms[i] > 0 ? f.gap[i] / f.gap_terms[i] : 0.0;
+      worse(sign, -relative_r, s);
+      worse(penetration, -relative_gap, s);
+      worse(complementarity, std::min(std::abs(relative_r), std::abs(relative_gap)), s);
+    }
+    // Pointwise, every element on the foundation. Limit elements: w changes sign in the element
+    // or in a neighbour, or its nodes differ in contact.
+    const int elements = d.mesh.elements(), samples = options.samples_per_element;
+    std::vector<char> sign_change(elements, 0), limit(elements, 0);
+    double w_scale = 0.0;
+    std::vector<double> w_samples(static_cast<std::size_t>(elements) * (samples + 1));
+    for (int e = 0; e < elements; ++e) {
+      bool positive = false, negative = false;
+      for (int i = 0; i <= samples; ++i) {
+        const double w = w_in(d, u_given, e, static_cast<double>(i) / samples);
+        w_samples[static_cast<std::size_t>(e) * (samples + 1) + i] = w;
+        w_scale = std::max(w_scale, std::abs(w));
+        positive |= w > 0;
+        negative |= w < 0;
+      }
+      sign_change[e] = positive && negative;
+    }
+    for (int e = 0; e < elements; ++e) {
+      const int ra = reaction_of_node[e], rb = reaction_of_node[e + 1];
+      const bool mixed = ra >= 0 && rb >= 0 && ((r_given[ra] > 0) != (r_given[rb] > 0));
+      limit[e] = sign_change[e] || mixed || (e > 0 && sign_change[e - 1]) || (e + 1 < elements && sign_change[e + 1]);
+    }
+    double inside_limits = -1.0;
+    for (int e = 0; e < elements; ++e) {
+      if (!on_foundation(model, d.mesh, e) || w_scale == 0.0) continue;
+      for (int i = 0; i <= samples; ++i) {
+        const double xi = static_cast<double>(i) / samples, s = d.mesh.nodes[e] + xi * d.mesh.element_size(e);
+        const double w = w_samples[static_cast<std::size_t>(e) * (samples + 1) + i] / w_scale;
+        const double r = r_in(model, d, reaction_of_node, r_given, e, xi);
+        const double into = r > 0 ? std::max(0.0, -w) : std::max(0.0, w);  // separation : penetration
+        if (limit[e]) {
+          inside_limits = std::max(inside_limits, into);
+          continue;
+        }
+        worse(r > 0 ? separation : penetration, into, s);
+      }
+    }
+    c.limit_element_defect = inside_limits;
+    for (Check* check : {&sign, &penetration, &separation, &complementarity}) c.checks.push_back(*check);
+  } else {
+    // Bilateral: the weighted gap vanishes at every node.
+    Check gap = detail::make_check(check_name::complementarity, 0.0, sign_tolerance);
+    for (int i = 0; i < m; ++i) {
+      const double value = f.gap_terms[i] > 0 ? std::abs(f.gap[i]) / f.gap_terms[i] : 0.0;
+      if (value > gap.value) {
+        gap.value = value;
+        gap.at = d.mesh.nodes[d.reaction_nodes[i]];
+      }
+    }
+    c.checks.push_back(gap);
+  }
+
+  // round_off against the discretisation error.
+  if (options.round_off) {
+    Check check = detail::make_check(check_name::round_off, NAN, NAN);
+    if (!round_off.measured) {
+      check.value = INFINITY;
+      check.tolerance = 0.0;
+      c.checks.push_back(check);
+      c.round_off_note = "round-off could not be measured: " + round_off.why_not;
+    } else {
+      // Both answers corrected for their round-off: the change is the discretisation's alone.
+      const DiscretisationError disc =
+          estimate_discretisation_error(model, d, u_given + round_off.correction_u, r_given + round_off.correction_r,
+                                        lambda, options.samples_per_element);
+      // Without the reference, the a priori O(h^2) of the contact limits stands in for it.
+      const double h = 1.0 / d.mesh.elements();
+      const double disc_w = disc.estimated ? disc.w : h * h, disc_r = disc.estimated ? disc.r : h * h;
+      const double floor = detail::negligible_error;
+      const double ratio_w = round_off.w / std::max(disc_w, floor), ratio_r = round_off.r / std::max(disc_r, floor);
+      const bool by_w = ratio_w >= ratio_r || r_scale == 0.0;
+      check.value = by_w ? round_off.w : round_off.r;
+      check.tolerance = std::max(by_w ? disc_w : disc_r, floor);
+      c.round_off_note = fmt::format(
+          "round-off {:.1e} of max |{}| against a discretisation error of {:.1e} ({})", check.value, by_w ? "w" : "r",
+          check.tolerance,
+          disc.estimated ? fmt::format("change from {} elements", disc.elements) : "a priori h^2: " + disc.why_not);
+      if (check.value > check.tolerance) c.round_off_note += "; fewer elements would be more accurate";
+      c.checks.push_back(check);
+    }
+  }
+  c.round_off_estimate = round_off.measured ? std::max(round_off.w, round_off.r) : -1.0;
+
+  detail::conclude(c, model);
+  return c;
+}
+
+}  // namespace liftoff::certify
