@@ -198,6 +198,7 @@ Certificate certify(const MemberModel& member, const ritz::RitzSolution& solutio
   const double amplitude_scale = std::max(x.head(amplitudes).lpNorm<Eigen::Infinity>(), 1e-300);
 
   // backward_error: the amplitude rows of the Ritz equations against their terms.
+  double amplitude_residual = 0.0;  // largest amplitude row of the Ritz equations, in force units
   {
     VectorXd f;
     ritz.residual(x, lambda, f);
@@ -207,6 +208,7 @@ Certificate certify(const MemberModel& member, const ritz::RitzSolution& solutio
     VectorXd magnitude = ritz.stiffness().cwiseAbs() * a.cwiseAbs() + load.cwiseAbs();
     magnitude.head(ritz.modes()) += member.foundation_modulus * gram.cwiseAbs() * a.head(ritz.modes()).cwiseAbs();
     const double scale = std::max(magnitude.maxCoeff(), 1e-300);
+    amplitude_residual = f.head(amplitudes).lpNorm<Eigen::Infinity>();
     Check check = detail::make_check(check_name::backward_error, f.head(amplitudes).lpNorm<Eigen::Infinity>() / scale,
                                      std::max(ritz_options.newton.residual_tolerance, detail::backward_tolerance));
     c.checks.push_back(check);
@@ -240,8 +242,15 @@ Certificate certify(const MemberModel& member, const ritz::RitzSolution& solutio
     if (b_half)
       truncation =
           4.0 * (std::abs(b.supports[j] - b_half->supports[j]) + std::abs(b.foundation[j] - b_half->foundation[j]));
-    Check check = detail::make_check(detail::balance_name(member.kind, j), value,
-                                     (std::isnan(truncation) ? 0.0 : truncation) / scale + detail::backward_tolerance);
+    // Newton's residual: Galerkin makes the balance exact only for the exact root, so the balance
+    // carries the residual rows along the balance mode's expansion in the basis; bounded by the
+    // largest row x sqrt(amplitudes) x the mode's largest value (1, or the lever L for a moment).
+    const double lever = member.kind == StructureKind::beam && j == 1 ? std::max(1.0, member.s_end - member.s_begin)
+                                                                      : 1.0;
+    const double newton_term = amplitude_residual * std::sqrt(double(amplitudes)) * lever;
+    Check check = detail::make_check(
+        detail::balance_name(member.kind, j), value,
+        ((std::isnan(truncation) ? 0.0 : truncation) + newton_term) / scale + detail::backward_tolerance);
     c.checks.push_back(check);
   }
   detail::fill_resultants(c, member, b.applied, b.foundation, b.centroid);

@@ -71,6 +71,8 @@ void set_plateau(test::Solved& s, int i, double value) {
 TEST_CASE("the certificate passes on every shipped scene with every FE method", "[certify]") {
   for (const auto& entry :
        std::filesystem::directory_iterator(std::string(LIFTOFF_SOURCE_DIR) + "/verification/scenes")) {
+    // The engineering corpus (a subfolder) has its own test, with the refusals it expects.
+    if (!entry.is_regular_file() || entry.path().extension() != ".toml") continue;
     const scene::Scene s = scene::read_scene_file(entry.path());
     for (Method method : {Method::fast, Method::dual, Method::primal}) {
       // Primal Lemke is dense and slow (50 s for an arch at 200 elements): a coarser mesh.

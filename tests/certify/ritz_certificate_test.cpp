@@ -43,6 +43,8 @@ const certify::Check& check(const certify::Certificate& c, std::string_view name
 TEST_CASE("the Ritz certificate passes on every shipped scene", "[certify][ritz]") {
   for (const auto& entry :
        std::filesystem::directory_iterator(std::string(LIFTOFF_SOURCE_DIR) + "/verification/scenes")) {
+    // The engineering corpus (a subfolder) has its own test, with the refusals it expects.
+    if (!entry.is_regular_file() || entry.path().extension() != ".toml") continue;
     const scene::Scene s = scene::read_scene_file(entry.path());
     CAPTURE(entry.path().filename().string());
     const RitzAnswer a = solve_ritz(s);
