@@ -1,13 +1,13 @@
 #include "continuation/fe_path.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
-
-#include <fmt/format.h>
 
 #include "contact/active_set_system.hpp"
 #include "contact/contact_solver.hpp"
@@ -40,10 +40,10 @@ constexpr double zero_tolerance = 1e-10;
 constexpr double tie_tolerance = 1e-9;
 // A fixed-set solve whose relative residual exceeds this is not trusted (as contact_solver).
 constexpr double acceptable_residual = 1e-8;
-// Degenerate breakpoints: Lemke is asked for the contact set this far (times the load range)
+// Degenerate breakpoints: the contact solver is asked for the set this far (times the load range)
 // beyond the breakpoint, then 100 times closer, at most this many times.
-constexpr double lemke_offset = 1e-6;
-constexpr int lemke_attempts = 4;
+constexpr double beyond_offset = 1e-6;
+constexpr int beyond_attempts = 4;
 constexpr const char* contact_set_tag = "fe contact set";
 
 // The state along one segment of the path: affine in lambda for a fixed contact set.
@@ -70,8 +70,12 @@ class FePath {
  private:
   // One factorisation of the fixed-set system for `set`, and the dead and live solves.
   bool load_set(const ContactSet& set);
-  // The contact set Lemke finds at lambda; empty on failure (termination_ and message_ set).
-  std::optional<ContactSet> lemke_set(double lambda);
+  // The contact set the contact solver finds at lambda: the sparse active-set solver (fast),
+  // with Lemke as its own fallback. Dense Lemke first, as method auto would pick for a member
+  // only the foundation holds, fails numerically at some meshes (region_split at 195 to 199,
+  // 269 to 271 and 295 to 299 elements: "z0 left the basis ... residual 4.7e-06"), and the set
+  // is all the path takes from it. Empty on failure (termination_ and message_ set).
+  std::optional<ContactSet> solved_set(double lambda);
   bool establish_start(double lambda);
   // Reaction of a node in the set, gap of one out of it, at lambda; and its rate along the path.
   double value(int node, double lambda) const;
@@ -82,7 +86,7 @@ class FePath {
   // None of `nodes` (all nodes if empty) is at zero and falling.
   bool carries_on(double lambda, const std::vector<int>& nodes = {}) const;
   bool feasible_at(double lambda) const;
-  bool resolve_by_lemke(double lambda);
+  bool resolve_by_solve(double lambda);
   // A degenerate breakpoint resolved on the nodes at zero there (`at_zero`, the rest keeping
   // their status in `before`): the LCP of their reaction and gap rates.
   bool resolve_by_rates(double lambda, const ContactSet& before, const std::vector<int>& at_zero);
@@ -121,7 +125,7 @@ class FePath {
   AffineState state_;
   double reaction_scale_ = 0.0, gap_scale_ = 0.0;
   int pivots_since_step_ = 0;
-  int lemke_resolutions_ = 0;
+  int solve_resolutions_ = 0;
   int rate_resolutions_ = 0;
   Eigen::MatrixXd free_motions_;  // rigid motions only the foundation resists (on the equations)
   bool free_motions_failed_ = false;
@@ -147,9 +151,9 @@ bool FePath::load_set(const ContactSet& set) {
   return true;
 }
 
-std::optional<ContactSet> FePath::lemke_set(double lambda) {
+std::optional<ContactSet> FePath::solved_set(double lambda) {
   contact::ContactOptions options;
-  options.method = scene::Method::automatic;
+  options.method = scene::Method::fast;
   options.load_factor = lambda;
   const contact::ContactSolution solution = contact::solve_contact(d_, options);
   result_.summary.pivots += std::max(solution.summary.pivots, 0);
@@ -161,7 +165,7 @@ std::optional<ContactSet> FePath::lemke_set(double lambda) {
   }
   if (!solution.summary.is_usable()) {
     termination_ = TraceTermination::solver_failure;
-    message_ = fmt::format("Lemke at lambda = {:.10g}: {}", lambda, solution.summary.message);
+    message_ = fmt::format("the contact solver at lambda = {:.10g}: {}", lambda, solution.summary.message);
     return std::nullopt;
   }
   // In contact where the reaction, not the gap, is the basic (non-zero) one, each relative to
@@ -247,17 +251,18 @@ bool FePath::resolve_by_rates(double lambda, const ContactSet& before, const std
 }
 
 // A degenerate breakpoint (or a set that no longer holds the member): the set just beyond it
-// from Lemke, accepted only if it is feasible at the breakpoint and carries the path on.
-bool FePath::resolve_by_lemke(double lambda) {
-  ++lemke_resolutions_;
-  double offset = lemke_offset * span_;
-  for (int attempt = 0; attempt < lemke_attempts; ++attempt, offset *= 1e-2) {
+// from the contact solver, accepted only if it is feasible at the breakpoint and carries the
+// path on.
+bool FePath::resolve_by_solve(double lambda) {
+  ++solve_resolutions_;
+  double offset = beyond_offset * span_;
+  for (int attempt = 0; attempt < beyond_attempts; ++attempt, offset *= 1e-2) {
     if (!rigid_motions_balanced(lambda + direction_ * offset)) {
       termination_ = TraceTermination::no_equilibrium;
       message_ = lift_off_message(lambda);
       return false;
     }
-    const auto set = lemke_set(lambda + direction_ * offset);
+    const auto set = solved_set(lambda + direction_ * offset);
     if (!set) {
       if (termination_ == TraceTermination::no_equilibrium)
         message_ = fmt::format(
@@ -271,9 +276,10 @@ bool FePath::resolve_by_lemke(double lambda) {
     if (feasible_at(lambda) && carries_on(lambda)) return true;
   }
   termination_ = TraceTermination::solver_failure;
-  message_ = fmt::format("the degenerate breakpoint at lambda = {:.10g} could not be resolved: no contact set from "
-                         "Lemke just beyond it is feasible there",
-                         lambda);
+  message_ = fmt::format(
+      "the degenerate breakpoint at lambda = {:.10g} could not be resolved: no contact set from "
+      "the contact solver just beyond it is feasible there",
+      lambda);
   return false;
 }
 
@@ -301,7 +307,8 @@ const Eigen::MatrixXd& FePath::free_motions() {
   for (int dof = 0; dof < d_.dofs(); ++dof)
     if (d_.equation_of_dof[dof] >= 0) z.row(d_.equation_of_dof[dof]) = free.row(dof);
   const double largest = std::max(1.0, d_.stiffness.diagonal().cwiseAbs().maxCoeff());
-  if (z.cols() != k || !((d_.stiffness * z).lpNorm<Eigen::Infinity>() <= 1e-8 * largest * z.lpNorm<Eigen::Infinity>())) {
+  if (z.cols() != k ||
+      !((d_.stiffness * z).lpNorm<Eigen::Infinity>() <= 1e-8 * largest * z.lpNorm<Eigen::Infinity>())) {
     free_motions_failed_ = true;
     free_motions_.resize(n, 0);
   } else {
@@ -411,15 +418,24 @@ bool FePath::establish_start(double lambda) {
     }
   }
   // Unloaded at the start, F(lambda_min + t) = t F_live: the set along that ray.
-  const auto set = lemke_set(unloaded ? lambda + direction_ : lambda);
+  const auto set = solved_set(unloaded ? lambda + direction_ : lambda);
   if (!set) {
     if (termination_ == TraceTermination::no_equilibrium)
       message_ = fmt::format("no equilibrium at lambda = {:.10g}: {}", lambda, message_);
     return false;
   }
-  if (load_set(*set)) return true;
+  if (load_set(*set)) {
+    // The solver's set is used only if the exact fixed-set state agrees with it.
+    update_scales(lambda);
+    if (feasible_at(lambda)) return true;
+    termination_ = TraceTermination::solver_failure;
+    message_ =
+        fmt::format("the contact set the contact solver found at lambda = {:.10g} is not feasible there", lambda);
+    return false;
+  }
   termination_ = TraceTermination::solver_failure;
-  message_ = fmt::format("the contact set Lemke found at lambda = {:.10g} does not hold the member", lambda);
+  message_ =
+      fmt::format("the contact set the contact solver found at lambda = {:.10g} does not hold the member", lambda);
   return false;
 }
 
@@ -513,12 +529,13 @@ TraceResult FePath::run() {
   auto done = [&]() {
     summary.factorisations = system_.factorisations();
     if (rate_resolutions_ > 0 && summary.termination == TraceTermination::completed)
-      summary.message += fmt::format("; {} degenerate breakpoint(s) resolved by the LCP of the rates of the nodes at "
-                                     "zero there",
-                                     rate_resolutions_);
-    if (lemke_resolutions_ > 0 && summary.termination == TraceTermination::completed)
-      summary.message += fmt::format("; {} degenerate breakpoint(s) resolved by Lemke just beyond them",
-                                     lemke_resolutions_);
+      summary.message += fmt::format(
+          "; {} degenerate breakpoint(s) resolved by the LCP of the rates of the nodes at "
+          "zero there",
+          rate_resolutions_);
+    if (solve_resolutions_ > 0 && summary.termination == TraceTermination::completed)
+      summary.message +=
+          fmt::format("; {} degenerate breakpoint(s) resolved by a contact solve just beyond them", solve_resolutions_);
     summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return std::move(result_);
   };
@@ -625,7 +642,7 @@ TraceResult FePath::run() {
       carried = true;
       ++rate_resolutions_;
     }
-    if (!carried && !resolve_by_lemke(breakpoint)) {
+    if (!carried && !resolve_by_solve(breakpoint)) {
       emit_step(std::move(step));
       finish(termination_, message_, breakpoint);
       return done();
