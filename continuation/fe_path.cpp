@@ -111,6 +111,11 @@ class FePath {
   // Events between a and b (same contact set, so the path is affine there).
   void locate_events(double a, double b, ContactTopology& topology_a);
   void finish(TraceTermination termination, std::string message, double lambda);
+  // The state is continuous at a breakpoint: the sets on either side give it alike, up to
+  // round-off. A jump (the new set's state at the breakpoint against the old one's) larger than
+  // the path's own motion over the last segment of nonzero length means round-off decides the
+  // order of breakpoints and events from here: a message saying so, or none if it is smaller.
+  std::optional<std::string> state_jump(double lambda, const VectorXd& u_before, const VectorXd& r_before) const;
 
   TraceOptions options_;
   TraceSink sink_;
@@ -129,6 +134,9 @@ class FePath {
   int rate_resolutions_ = 0;
   Eigen::MatrixXd free_motions_;  // rigid motions only the foundation resists (on the equations)
   bool free_motions_failed_ = false;
+  // |du| and |dr| over the last segment of nonzero length; none yet: nothing to compare with.
+  std::pair<double, double> segment_motion_{std::numeric_limits<double>::infinity(),
+                                            std::numeric_limits<double>::infinity()};
   std::vector<bool> held_;               // nodes kept in the set through a split final tie
   std::optional<double> floating_load_;  // the load beyond which nothing balances the loads
   TraceTermination termination_ = TraceTermination::solver_failure;
@@ -524,6 +532,27 @@ void FePath::locate_events(double a, double b, ContactTopology& topology_a) {
   topology_a = topology_b;
 }
 
+std::optional<std::string> FePath::state_jump(double lambda, const VectorXd& u_before, const VectorXd& r_before) const {
+  const double jump_u = (state_.displacement(lambda) - u_before).lpNorm<Eigen::Infinity>();
+  const double jump_r = (state_.reaction(lambda) - r_before).lpNorm<Eigen::Infinity>();
+  const auto [moved_u, moved_r] = segment_motion_;
+  if (!(jump_u > moved_u) && !(jump_r > moved_r)) return std::nullopt;
+  int in_contact = 0;
+  for (bool in : set_) in_contact += in;
+  const bool displacement = jump_u > moved_u;
+  return fmt::format(
+      "round-off: at the breakpoint lambda = {:.10g} the contact sets on either side give states that differ by "
+      "{:.2g} (relative, {}), more than the path moved over the segment before it ({:.2g}): the system of the "
+      "{} node(s) in contact is too ill-conditioned at {} elements for the path to go on; fewer elements are safer",
+      lambda,
+      (displacement ? jump_u / std::max(u_before.lpNorm<Eigen::Infinity>(), 1e-300)
+                    : jump_r / std::max(r_before.lpNorm<Eigen::Infinity>(), 1e-300)),
+      displacement ? "deflection" : "reaction",
+      (displacement ? moved_u / std::max(u_before.lpNorm<Eigen::Infinity>(), 1e-300)
+                    : moved_r / std::max(r_before.lpNorm<Eigen::Infinity>(), 1e-300)),
+      in_contact, d_.mesh.elements());
+}
+
 void FePath::finish(TraceTermination termination, std::string message, double lambda) {
   result_.summary.termination = termination;
   result_.summary.message = std::move(message);
@@ -608,6 +637,11 @@ TraceResult FePath::run() {
 
     // Every node at zero there and falling switches, ties together.
     TraceStep step = step_at(breakpoint);  // the state is continuous: either set gives it
+    const VectorXd u_before = state_.displacement(breakpoint), r_before = state_.reaction(breakpoint);
+    const double moved_u = (u_before - state_.displacement(lambda)).lpNorm<Eigen::Infinity>(),
+                 moved_r = (r_before - state_.reaction(lambda)).lpNorm<Eigen::Infinity>();
+    if (moved_u > 0.0) segment_motion_.first = moved_u;
+    if (moved_r > 0.0) segment_motion_.second = moved_r;
     const ContactSet before = set_;
     ContactSet switched = set_;
     std::vector<int> pivoted, at_zero;
@@ -661,6 +695,11 @@ TraceResult FePath::run() {
     if (!carried && !resolve_by_solve(breakpoint)) {
       emit_step(std::move(step));
       finish(termination_, message_, breakpoint);
+      return done();
+    }
+    if (const auto jump = state_jump(breakpoint, u_before, r_before)) {
+      emit_step(std::move(step));
+      finish(TraceTermination::solver_failure, *jump, breakpoint);
       return done();
     }
     step.state.assign(set_.begin(), set_.end());

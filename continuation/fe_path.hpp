@@ -15,6 +15,13 @@
 // fast: the sparse active-set solver, Lemke its own fallback), checked feasible by the exact
 // fixed-set state.
 //
+// The state is continuous at a breakpoint, so the sets on either side give it alike up to
+// round-off, and their difference there measures it: when it exceeds the path's own motion
+// over the last segment, round-off decides the order of what follows, and the trace stops
+// (solver_failure, "round-off: ..."), the steps before it valid. (A member about to tip over,
+// held by the last nodes of its foundation by a lever of one element: the condition of that
+// system grows like N^5.)
+//
 // A member only the foundation holds (free-free beam) is held only while compressive
 // reactions can balance the loads on its free rigid motions; the load beyond which they cannot
 // (the lift-off load) is found once, exactly, and the trace stops there with

@@ -33,6 +33,7 @@
 #include "fe/discretisation.hpp"
 #include "fe/member_model.hpp"
 #include "scene/scene_reader.hpp"
+#include "support/scenes.hpp"
 
 using namespace liftoff;
 using continuation::EventKind;
@@ -260,5 +261,45 @@ TEST_CASE("region_split: no mesh adds an event at the load or fails to start", "
     REQUIRE(r.steps.front().contact_regions.size() == 1);
     CHECK(r.steps.front().contact_regions[0][0] == Approx(1.88).margin(0.01));
     CHECK(r.steps.front().contact_regions[0][1] == Approx(8.12).margin(0.01));
+  }
+}
+
+TEST_CASE("a member about to tip over: the path stops where round-off decides its states, not after reporting them",
+          "[continuation][mesh]") {
+  // Free-free beam L = 10, EI = 1e4, k = 1000 on a foundation over [2, 10] only; dead uniform
+  // load 1 over the whole beam, live upward force at the free tip x = 0 of the overhang. The
+  // heel x = 2 lifts off first (limit_at_end at 2, lambda 2.257); the contact region then
+  // shrinks toward x = 10 and the member tips over where the reactions can no longer balance
+  // the loads' moment (rigid: lambda = 5; FE 4.9917 at 200 elements). The last contact sets,
+  // two or three nodes at x = 10, hold the member by a lever of one element: their system's
+  // condition grows like N^5, and at 340, 362 and 393 elements its states were round-off (w(2)
+  // from -19 to +60 across one breakpoint at which the state is continuous), reported as steps,
+  // and as events once events at breakpoints were no longer dropped.
+  auto s = test::beam_scene(10.0, 1e4, scene::EndSupport::free, scene::EndSupport::free, 1000.0);
+  s.foundation.from = 2.0;
+  s.loads.push_back(test::uniform_load(0.0, 10.0, 1.0, scene::LoadCase::dead));
+  s.loads.push_back(test::point_force(0.0, -1.0, scene::LoadCase::live));
+  for (int n : {200, 340, 362, 393}) {
+    CAPTURE(n);
+    TraceOptions o;
+    o.lambda_max = 6.0;
+    o.elements = n;
+    const TraceResult r = continuation::trace_fe(s, o);
+    INFO(r.summary.message);
+    REQUIRE(r.events.size() == 1);
+    CHECK(r.events[0].kind == EventKind::limit_at_end);
+    CHECK(r.events[0].at == 2.0);
+    if (r.summary.termination == continuation::TraceTermination::solver_failure) {
+      CHECK(r.summary.message.find("round-off") != std::string::npos);
+    } else {
+      REQUIRE(r.summary.termination == continuation::TraceTermination::no_equilibrium);
+      CHECK(r.summary.final_load_factor == Approx(5.0).margin(0.01));
+    }
+    // Every step reported has its contact where the physics puts it: one region ending at x = 10.
+    for (const auto& step : r.steps) {
+      CAPTURE(step.load_factor);
+      REQUIRE(step.contact_regions.size() == 1);
+      CHECK(step.contact_regions[0][1] == Approx(10.0).margin(1e-9));
+    }
   }
 }
