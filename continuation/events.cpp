@@ -1,10 +1,10 @@
 #include "continuation/events.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <optional>
-
-#include <fmt/format.h>
 
 #include "fe/shape_functions.hpp"
 
@@ -126,7 +126,8 @@ ContactTopology contact_topology(const fe::MemberModel& model, const fe::Discret
     if (s0 + 0.5 * h < points.begin || s0 + 0.5 * h > points.end) continue;
     element_dofs[e] = deflection_dofs(d, displacement, e);
     samples.push_back({s0, cubic_at(element_dofs[e], h, 0.0), e, 0.0});
-    for (double xi : extrema(element_dofs[e], h)) samples.push_back({s0 + xi * h, cubic_at(element_dofs[e], h, xi), e, xi});
+    for (double xi : extrema(element_dofs[e], h))
+      samples.push_back({s0 + xi * h, cubic_at(element_dofs[e], h, xi), e, xi});
     last = e;
   }
   if (last < 0) return topology;
@@ -199,6 +200,20 @@ ContactTopology contact_topology(const fe::MemberModel& model, const fe::Discret
     contact = !contact;
   }
   topology.pieces.push_back({begin, points.end, contact});
+
+  // A piece between two limits inside the elements next to a point load straddles it (header).
+  for (std::size_t p = 1; p + 1 < topology.pieces.size(); ++p) {
+    Piece& piece = topology.pieces[p];
+    for (std::size_t i = 0; i < points.interior.size(); ++i) {
+      const int node = points.is_support[i] ? -1 : d.mesh.node_at(points.interior[i]);
+      if (node <= 0 || node >= d.mesh.elements()) continue;
+      if (piece.begin < d.mesh.nodes[node - 1] || piece.end > d.mesh.nodes[node + 1]) continue;
+      piece.at_load = static_cast<int>(i);
+      topology.limit_slots[p - 1] = static_cast<int>(i);
+      topology.limit_slots[p] = static_cast<int>(i) + 1;
+      break;
+    }
+  }
   return topology;
 }
 
@@ -245,7 +260,11 @@ std::vector<TraceEvent> classify_events(const fe::MemberModel& model, const Spec
       at_end(p, p.contact ? "a contact region forms" : "a lift-off zone opens");
     else if (const auto support = support_at_end(p))
       add(EventKind::limit_at_support, *support,
-          p.contact ? "a contact region forms against a point support" : "a lift-off zone opens against a point support");
+          p.contact ? "a contact region forms against a point support"
+                    : "a lift-off zone opens against a point support");
+    else if (p.at_load >= 0)
+      add(p.contact ? EventKind::contact_opens : EventKind::lift_off_opens, points.interior[p.at_load],
+          p.contact ? "a contact region opens at a point load" : "a lift-off zone opens at a point load");
     else if (p.contact)
       add(EventKind::contact_opens, mid, "a contact region opens inside a lift-off zone");
     else
@@ -261,7 +280,12 @@ std::vector<TraceEvent> classify_events(const fe::MemberModel& model, const Spec
       at_end(p, p.contact ? "a contact region vanishes" : "a lift-off zone closes");
     else if (const auto support = support_at_end(p))
       add(EventKind::limit_at_support, *support,
-          p.contact ? "a contact region vanishes against a point support" : "a lift-off zone closes against a point support");
+          p.contact ? "a contact region vanishes against a point support"
+                    : "a lift-off zone closes against a point support");
+    else if (p.at_load >= 0)
+      add(p.contact ? EventKind::region_vanishes : EventKind::lift_off_vanishes, points.interior[p.at_load],
+          p.contact ? "a contact region vanishes at a point load"
+                    : "a lift-off zone closes at a point load: two contact regions merge");
     else if (p.contact)
       add(EventKind::region_vanishes, mid, "a contact region vanishes");
     else

@@ -7,15 +7,21 @@
 // A limit moving from one element to the next changes nothing here; a piece opening or
 // vanishing, or a limit crossing a special point or reaching an end, does.
 //
+// The model places a contact limit to within an element, and no finer where a piece opens or
+// vanishes: a piece that lies inside the two elements next to a point load opens (or vanishes)
+// at that load, and counts as straddling it. Where the exact piece opens at the load (the
+// load's side of a symmetric member), the discrete one opens a discretisation error away from
+// it, on the side where the mesh is coarser, and its limit crosses the load at once: that is no
+// event of its own (region_split at an odd number of elements).
+//
 // Contact is decided on the element cubics, exactly: w is sampled at the nodes and at the
 // interior extrema of every element's cubic, between which w is monotone, so a lift-off zone
 // opening inside an element is seen as soon as w dips below zero (post::contact_regions, which
 // looks for sign changes on a fixed grid of brackets, sees it only once the zone spans a
 // bracket point; its limits are what steps report).
 
-#include <vector>
-
 #include <Eigen/Dense>
+#include <vector>
 
 #include "continuation/trace.hpp"
 #include "fe/discretisation.hpp"
@@ -27,6 +33,7 @@ struct Piece {
   double begin = 0.0;  // s
   double end = 0.0;
   bool contact = false;
+  int at_load = -1;  // index in SpecialPoints::interior of the point load it lies next to, or -1
 };
 
 // Points of the foundation's extent at which a contact limit arriving is an event.
@@ -34,8 +41,8 @@ struct SpecialPoints {
   double begin = 0.0, end = 0.0;  // the foundation's extent (s)
   bool begin_supported = false;   // a support holds w = 0 at that end of the foundation
   bool end_supported = false;
-  std::vector<double> interior;   // point supports and point loads strictly inside, sorted
-  std::vector<bool> is_support;   // per interior point: support (true) or point load
+  std::vector<double> interior;  // point supports and point loads strictly inside, sorted
+  std::vector<bool> is_support;  // per interior point: support (true) or point load
 };
 SpecialPoints special_points(const fe::MemberModel& model);
 

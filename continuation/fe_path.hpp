@@ -9,9 +9,18 @@
 // which a reaction in A or a gap outside A reaches zero; the node(s) there change status (ties
 // together) and the new set is factorised once. A breakpoint at which the new set would not
 // carry the path on (a degenerate one) is resolved by the LCP of the reaction and gap rates of
-// the nodes at zero there (Lemke on a problem of their size), failing that by Lemke on the
-// full problem just beyond it; the summary's message says so. The start is the full contact
-// set when it is feasible, Lemke (solve_contact, auto) otherwise.
+// the nodes at zero there (Lemke on a problem of their size), failing that by the contact
+// solver on the full problem just beyond it; the summary's message says so. The start is the
+// full contact set when it is feasible, otherwise the set of the contact solver (solve_contact,
+// fast: the sparse active-set solver, Lemke its own fallback), checked feasible by the exact
+// fixed-set state.
+//
+// The state is continuous at a breakpoint, so the sets on either side give it alike up to
+// round-off, and their difference there measures it: when it exceeds the path's own motion
+// over the last segment, round-off decides the order of what follows, and the trace stops
+// (solver_failure, "round-off: ..."), the steps before it valid. (A member about to tip over,
+// held by the last nodes of its foundation by a lever of one element: the condition of that
+// system grows like N^5.)
 //
 // A member only the foundation holds (free-free beam) is held only while compressive
 // reactions can balance the loads on its free rigid motions; the load beyond which they cannot
@@ -23,7 +32,7 @@
 // breakpoints, where the path is affine, by bisection on lambda to options.event_tolerance
 // with no further solve. TraceStep::state of an FE step holds the contact set that carries
 // the path on from it (1 = in contact, one per reaction node; state_topology "fe contact
-// set"), so that a resumed trace restarts without Lemke.
+// set"), so that a resumed trace restarts without a contact solve.
 
 #include <optional>
 #include <vector>
@@ -39,9 +48,9 @@ TraceResult trace_fe(const scene::Scene& scene, const TraceOptions& options, con
 // elements: per event of `base` (a trace_fe of the same scene and options), the refined run's
 // event of the same kind nearest to it, and the difference of their loads.
 struct EventErrorEstimate {
-  TraceEvent event;                           // from `base`
-  std::optional<TraceEvent> refined;          // its match in the refined run, if any
-  double load_factor_error = -1.0;            // |lambda - lambda_refined|; -1 without a match
+  TraceEvent event;                   // from `base`
+  std::optional<TraceEvent> refined;  // its match in the refined run, if any
+  double load_factor_error = -1.0;    // |lambda - lambda_refined|; -1 without a match
 };
 struct EventErrors {
   int elements = 0;          // of the base run
