@@ -474,6 +474,7 @@ PathFollower RitzTracer::make_follower(const RitzModel& model) const {
 
 std::vector<EventSpec> RitzTracer::event_specs(const RitzModel& model) const {
   std::vector<EventSpec> specs;
+  if (!model.tensionless()) return specs;  // a bilateral foundation never lifts off: no events
   const int pieces = model.limits() + 1;
   bool contact = model.topology().first_in_contact;
   for (int p = 0; p < pieces; ++p, contact = !contact) {

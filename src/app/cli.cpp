@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <mutex>
 #include <optional>
 #include <string_view>
@@ -273,12 +274,29 @@ int run_sweep_command(const SweepArguments& args, std::ostream& out, std::ostrea
     }
   }
   bool failed = false;
+  int unsolved = 0, answers = 0;
+  std::map<std::string, int> terminations;
   for (const auto& c : cases) {
     if (!c.error.empty()) {
       err << "liftoff: " << c.error << "\n";
       failed = true;
     }
-    for (const auto& r : c.reports) failed |= !r.usable && r.termination != "refused";
+    for (const auto& r : c.reports) {
+      ++answers;
+      if (r.usable || r.termination == "refused") continue;
+      failed = true;
+      ++unsolved;
+      ++terminations[r.termination];
+    }
+  }
+  // One line saying why the exit code is 3, when the cases' own errors have not (a case without
+  // an answer is a row of the CSV, its termination in its column).
+  if (unsolved > 0) {
+    std::string counts;
+    for (const auto& [termination, count] : terminations)
+      counts += fmt::format("{}{} x {}", counts.empty() ? "" : ", ", count, termination);
+    err << fmt::format("liftoff: {}: sweep: {} of {} answers not solved ({}); see the termination column\n",
+                       args.problem.scene_path.empty() ? std::string(default_scene_name) : args.problem.scene_path, unsolved, answers, counts);
   }
   return code(failed ? ExitCode::solver_failure : ExitCode::success);
 }

@@ -145,7 +145,8 @@ void conclude(Certificate& c, const fe::MemberModel& model) {
   };
   std::stable_sort(c.checks.begin(), c.checks.end(), [&](const Check& a, const Check& b) { return rank(a) < rank(b); });
   for (Check& check : c.checks)
-    check.passed = std::isfinite(check.value) && std::isfinite(check.tolerance) && check.value <= check.tolerance;
+    check.passed = std::isfinite(check.value) && std::isfinite(check.tolerance) && check.value <= check.tolerance &&
+                   check.value <= largest_certifiable_error;
   const Check* failed = c.first_failure();
   c.passed = !c.checks.empty() && failed == nullptr && c.message.empty();
   if (!c.message.empty()) return;  // already says why there is nothing to certify
@@ -159,8 +160,14 @@ void conclude(Certificate& c, const fe::MemberModel& model) {
                                        : std::string();
   int others = 0;
   for (const Check& check : c.checks) others += !check.passed && &check != failed;
-  c.message = fmt::format("{} failed: {:.2e} against a tolerance of {:.2e}{}{}", failed->name, failed->value,
-                          failed->tolerance, where, others > 0 ? fmt::format(" (and {} more checks)", others) : "");
+  const std::string against =
+      failed->value <= failed->tolerance
+          ? fmt::format("above {:.0e}, the most any certified answer may carry (its own round-off or truncation "
+                        "bound, {:.2e}, is no certificate)",
+                        largest_certifiable_error, failed->tolerance)
+          : fmt::format("against a tolerance of {:.2e}", failed->tolerance);
+  c.message = fmt::format("{} failed: {:.2e} {}{}{}", failed->name, failed->value, against, where,
+                          others > 0 ? fmt::format(" (and {} more checks)", others) : "");
   if (failed->name == check_name::round_off && !c.round_off_note.empty()) c.message += " (" + c.round_off_note + ")";
   if (failed->name.find("balance") != std::string::npos) {
     const UserFigures u = user_figures(c, model);

@@ -33,6 +33,11 @@ inline constexpr double meaningless_error = 1024 * eps;
 // and refinement error are 1e-6 too). Above it, round-off that exceeds the discretisation error
 // means the mesh is finer than double precision can use.
 inline constexpr double negligible_error = 1e-6;
+// No check passes with a value above this fraction of its terms, whatever its own tolerance: a
+// round-off or truncation estimate that large says the answer (and the estimate, made from an
+// answer as bad) is noise. The fuzzer's arch with k = 6e16 had an "equilibrium" whose assembly
+// rounding was as large as the load, and an imbalance of 100 % within that tolerance.
+inline constexpr double largest_certifiable_error = 1e-3;
 
 // Twice-the-working-precision accumulation: Ogita, Rump & Oishi's Dot2 (TwoSum and an FMA
 // TwoProduct), so a residual that cancels terms ~N^4 larger than itself keeps its digits.

@@ -76,6 +76,8 @@ class RitzModel {
   const Topology& topology() const { return topology_; }
   const Basis& basis() const { return basis_; }
   bool is_arch() const { return arch_; }
+  // False for a bilateral foundation: it resists both ways, so w < 0 in contact is no violation.
+  bool tensionless() const { return tensionless_; }
 
   // Limit-independent parts: the stiffness K (amplitudes x amplitudes) and load vectors.
   const Eigen::MatrixXd& stiffness() const { return stiffness_; }
@@ -132,6 +134,7 @@ class RitzModel {
   Eigen::VectorXd load(double lambda) const { return dead_load_ + lambda * live_load_; }
 
   bool arch_ = false;
+  bool tensionless_ = true;
   int modes_ = 0;
   int amplitudes_ = 0;
   Topology topology_;

@@ -53,7 +53,8 @@ InequalityCheck check_inequalities(const RitzModel& model, const VectorXd& x) {
     model.w_on_grid(x, piece.begin, piece.end, intervals, w);
     for (std::size_t i = 0; i < w.size(); ++i) {
       check.w_scale = std::max(check.w_scale, std::abs(w[i]));
-      const double wrong = piece.in_contact ? -w[i] : w[i];
+      // A bilateral foundation (one piece, in contact) resists both ways: no sign is wrong.
+      const double wrong = !model.tensionless() ? 0.0 : piece.in_contact ? -w[i] : w[i];
       if (wrong > worst) {
         worst = wrong;
         check.at = piece.begin + (piece.end - piece.begin) * static_cast<double>(i + 1) / intervals;
