@@ -200,17 +200,20 @@ Assembly assemble(const MemberModel& model, const Discretisation& d, const std::
   return a;
 }
 
-SparseMatrix to_sparse(int rows, int cols, const Triplets& triplets, const std::vector<int>* row_map,
+// The triplets are renumbered in place (and dropped where a map gives -1): no second list.
+SparseMatrix to_sparse(int rows, int cols, Triplets triplets, const std::vector<int>* row_map,
                        const std::vector<int>* col_map) {
-  Triplets mapped;
-  mapped.reserve(triplets.size());
-  for (const auto& t : triplets) {
-    const int i = row_map ? (*row_map)[t.row()] : t.row();
-    const int j = col_map ? (*col_map)[t.col()] : t.col();
-    if (i >= 0 && j >= 0) mapped.emplace_back(i, j, t.value());
+  if (row_map || col_map) {
+    std::size_t kept = 0;
+    for (const auto& t : triplets) {
+      const int i = row_map ? (*row_map)[t.row()] : t.row();
+      const int j = col_map ? (*col_map)[t.col()] : t.col();
+      if (i >= 0 && j >= 0) triplets[kept++] = Eigen::Triplet<double>(i, j, t.value());
+    }
+    triplets.resize(kept);
   }
   SparseMatrix m(rows, cols);
-  m.setFromTriplets(mapped.begin(), mapped.end());
+  m.setFromTriplets(triplets.begin(), triplets.end());
   m.makeCompressed();
   return m;
 }
@@ -314,11 +317,11 @@ Discretisation discretise(const MemberModel& model, Mesh mesh, std::vector<bool>
   for (int dof = 0; dof < n; ++dof)
     if (d.equation_of_dof[dof] >= 0) d.equation_of_dof[dof] = d.equations++;
 
-  d.stiffness = to_sparse(d.equations, d.equations, a.stiffness, &d.equation_of_dof, &d.equation_of_dof);
-  d.coupling = to_sparse(d.reactions(), d.equations, a.coupling, nullptr, &d.equation_of_dof);
-  d.flexibility = to_sparse(d.reactions(), d.reactions(), a.flexibility, nullptr, nullptr);
-  d.stress_coupling =
-      to_sparse(static_cast<int>(a.compliance.size()), d.equations, a.stress_coupling, nullptr, &d.equation_of_dof);
+  d.stiffness = to_sparse(d.equations, d.equations, std::move(a.stiffness), &d.equation_of_dof, &d.equation_of_dof);
+  d.coupling = to_sparse(d.reactions(), d.equations, std::move(a.coupling), nullptr, &d.equation_of_dof);
+  d.flexibility = to_sparse(d.reactions(), d.reactions(), std::move(a.flexibility), nullptr, nullptr);
+  d.stress_coupling = to_sparse(static_cast<int>(a.compliance.size()), d.equations, std::move(a.stress_coupling),
+                                nullptr, &d.equation_of_dof);
   d.compliance = std::move(a.compliance);
   Eigen::MatrixXd on_equations(d.equations, d.unstable_rigid_motions);
   for (int dof = 0; dof < n && d.unstable_rigid_motions > 0; ++dof)
