@@ -89,17 +89,32 @@ std::vector<ContactInterval> contact_intervals(const fe::Discretisation& d, cons
     const int node = d.reaction_nodes[i];
     const bool starts = i == 0 || !in_contact[i - 1] || d.reaction_nodes[i - 1] != node - 1;
     const bool ends = i == m - 1 || !in_contact[i + 1] || d.reaction_nodes[i + 1] != node + 1;
+    // A lifted-off neighbour on the foundation: the limit is in the element between them, unless
+    // that neighbour's w is not negative (a support holds it at 0, or it touches): then the
+    // region reaches it (a limit at a support, or at the foundation's end, which is no limit).
+    const auto w_of = [&](int at) { return all[d.deflection_dof(at)]; };
     if (starts) {
-      // Lifted-off neighbour on the foundation: the limit is in the element between them.
-      const bool limit = i > 0 && d.reaction_nodes[i - 1] == node - 1;
-      regions.push_back({limit ? zero_near_element(d, all, node - 1) : d.mesh.nodes[node], 0.0});
+      const bool neighbour = i > 0 && d.reaction_nodes[i - 1] == node - 1;
+      double begin = d.mesh.nodes[node];
+      if (neighbour) begin = w_of(node - 1) >= 0.0 ? d.mesh.nodes[node - 1] : zero_near_element(d, all, node - 1);
+      regions.push_back({begin, 0.0});
     }
     if (ends) {
-      const bool limit = i < m - 1 && d.reaction_nodes[i + 1] == node + 1;
-      regions.back().end = limit ? zero_near_element(d, all, node) : d.mesh.nodes[node];
+      const bool neighbour = i < m - 1 && d.reaction_nodes[i + 1] == node + 1;
+      double end = d.mesh.nodes[node];
+      if (neighbour) end = w_of(node + 1) >= 0.0 ? d.mesh.nodes[node + 1] : zero_near_element(d, all, node);
+      regions.back().end = end;
     }
   }
-  return regions;
+  // Regions that now touch (one lifted node between them, at w >= 0) are one region.
+  std::vector<ContactInterval> merged;
+  for (const auto& r : regions) {
+    if (!merged.empty() && r.begin <= merged.back().end)
+      merged.back().end = std::max(merged.back().end, r.end);
+    else
+      merged.push_back(r);
+  }
+  return merged;
 }
 
 FittedResult solve_fitted_limits(const fe::MemberModel& model, double load_factor,
