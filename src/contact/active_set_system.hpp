@@ -16,8 +16,8 @@
 // of K can be refined to an answer beyond ~1e4 elements; the mixed matrix's grows like N^2, and
 // its entries (integers and +-2/h for beams, identical in every element of a segment) are exact
 // data of a nearby mesh. The bilateral seed beam's nodal error against the closed form, with the
-// K form and with this one: 1.5e-8 and 1.5e-15 at 1e4 elements, 0.75 and 4e-14 at 1e5
-// (verification/bench/round_off_bench.cpp).
+// K form and with this one: 2.7e-9 and 1.2e-15 at 1e4 elements, 0.75 and 1.2e-15 at 1e5, and
+// 1.2e-15 still at 1e6 (verification/bench/accuracy_bench.cpp roundoff; arches: README).
 //
 // The mixed matrix is indefinite with a zero block, so it is factorised by LU with partial
 // pivoting (linalg/banded_lu.hpp) after symmetric equilibration, with the unknowns numbered
