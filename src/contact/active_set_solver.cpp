@@ -1,5 +1,7 @@
 #include "contact/active_set_solver.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -7,7 +9,7 @@
 #include <stdexcept>
 #include <unordered_set>
 
-#include <fmt/format.h>
+#include "fe/shape_functions.hpp"
 
 namespace liftoff::contact {
 
@@ -15,19 +17,26 @@ using Eigen::VectorXd;
 
 std::string_view to_string(ActiveSetTermination t) {
   switch (t) {
-    case ActiveSetTermination::solved: return "solved";
-    case ActiveSetTermination::iteration_limit: return "iteration_limit";
-    case ActiveSetTermination::cycling: return "cycling";
-    case ActiveSetTermination::singular_system: return "singular_system";
+    case ActiveSetTermination::solved:
+      return "solved";
+    case ActiveSetTermination::iteration_limit:
+      return "iteration_limit";
+    case ActiveSetTermination::cycling:
+      return "cycling";
+    case ActiveSetTermination::singular_system:
+      return "singular_system";
   }
   return "unknown";
 }
 
 void ActiveSetOptions::validate() const {
   if (max_iterations < 1) throw std::invalid_argument("ActiveSetOptions::max_iterations must be at least 1");
-  if (block_retries < -1) throw std::invalid_argument("ActiveSetOptions::block_retries must be -1 (no safeguard) or >= 0");
+  if (block_retries < -1)
+    throw std::invalid_argument("ActiveSetOptions::block_retries must be -1 (no safeguard) or >= 0");
   if (!(sign_tolerance >= 0.0 && sign_tolerance < 1e-3))
     throw std::invalid_argument("ActiveSetOptions::sign_tolerance must be in [0, 1e-3)");
+  if (!(intermediate_error >= 0.0 && intermediate_error <= 1e-6))
+    throw std::invalid_argument("ActiveSetOptions::intermediate_error must be in [0, 1e-6]");
 }
 
 namespace {
@@ -46,8 +55,8 @@ std::vector<int> infeasible_nodes(const fe::Discretisation& d, const ContactStat
   const double gap_scale = std::max(coupled.lpNorm<Eigen::Infinity>(), (state.gap).lpNorm<Eigen::Infinity>());
   std::vector<int> nodes;
   for (int i = 0; i < static_cast<int>(in_contact.size()); ++i) {
-    const bool wrong = in_contact[i] ? state.reaction[i] < -tolerance * reaction_scale
-                                     : state.gap[i] < -tolerance * gap_scale;
+    const bool wrong =
+        in_contact[i] ? state.reaction[i] < -tolerance * reaction_scale : state.gap[i] < -tolerance * gap_scale;
     if (wrong) nodes.push_back(i);
   }
   return nodes;
@@ -90,15 +99,19 @@ ActiveSetResult solve_active_set(const fe::Discretisation& d, const VectorXd& lo
     // A set that leaves a rigid motion free (or nearly: refinement cannot solve it) gives no
     // signs to trust: go back and take one single step instead.
     const bool factorised = system.factorise(in_contact);
-    if (factorised) result.state = system.solve(load);
+    RefinementOptions refinement;
+    refinement.target_error = options.intermediate_error;
+    refinement.residual = false;
+    if (factorised) result.state = system.solve(load, refinement);
     if (!factorised || !(result.state.error_estimate <= max_solve_error)) {
       if (last_good.empty() || singular_retry) {
         summary.termination = ActiveSetTermination::singular_system;
-        summary.message =
-            factorised ? fmt::format("refinement could not solve a contact set's system (relative error {:.1e}): the "
-                                     "set leaves a rigid motion nearly free, or round-off owns this mesh",
-                                     result.state.error_estimate)
-                       : "a contact set left a rigid motion free (singular system) and no single step helped";
+        summary.message = factorised
+                              ? fmt::format(
+                                    "refinement could not solve a contact set's system (relative error {:.1e}): the "
+                                    "set leaves a rigid motion nearly free, or round-off owns this mesh",
+                                    result.state.error_estimate)
+                              : "a contact set left a rigid motion free (singular system) and no single step helped";
         break;
       }
       singular_retry = true;
@@ -110,11 +123,20 @@ ActiveSetResult solve_active_set(const fe::Discretisation& d, const VectorXd& lo
     singular_retry = false;
     // A sign below the solver's round-off is no evidence: such a node touches (r = gap = 0).
     // (The data's round-off, data_error(), is a worst-case bound, far too wide for this.)
-    const double tolerance = std::max(options.sign_tolerance, round_off_margin * result.state.error_estimate);
-    const std::vector<int> infeasible = infeasible_nodes(d, result.state, in_contact, tolerance);
+    double tolerance = std::max(options.sign_tolerance, round_off_margin * result.state.error_estimate);
+    std::vector<int> infeasible = infeasible_nodes(d, result.state, in_contact, tolerance);
+    if (infeasible.empty() && result.state.error_estimate > 1e-13) {
+      // The set found: its answer to round-off (unless refinement already got there), and its
+      // signs checked again at that accuracy.
+      result.state = system.solve(load);
+    } else if (infeasible.empty()) {
+      result.state.residual = system.residual_of_last_solve();  // converged already
+      tolerance = std::max(options.sign_tolerance, round_off_margin * result.state.error_estimate);
+      infeasible = infeasible_nodes(d, result.state, in_contact, tolerance);
+    }
     summary.infeasible_history.push_back(static_cast<int>(infeasible.size()));
     if (infeasible.empty()) {
-      result.round_off_bound = system.data_error(result.state, load);
+      if (options.estimate_round_off) result.round_off_bound = system.data_error(result.state, load);
       summary.termination = ActiveSetTermination::solved;
       summary.message = fmt::format("contact set found after {} sets ({} block, {} single steps)", summary.iterations,
                                     summary.block_steps, summary.single_steps);
@@ -148,6 +170,61 @@ ActiveSetResult solve_active_set(const fe::Discretisation& d, const VectorXd& lo
   result.in_contact = system.in_contact();
   summary.factorisations = system.factorisations();
   return result;
+}
+
+void NestedOptions::validate() const {
+  if (coarsening < 2) throw std::invalid_argument("NestedOptions::coarsening must be at least 2");
+  if (min_elements < 1) throw std::invalid_argument("NestedOptions::min_elements must be at least 1");
+  if (!(elements_per_decay_length > 0.0))
+    throw std::invalid_argument("NestedOptions::elements_per_decay_length must be positive");
+}
+
+namespace {
+
+// The contact set on `fine` that a coarse answer suggests: a reaction node is in contact where the
+// coarse deflection (its Hermite cubic, the first four local dofs of both element kinds) is > 0.
+std::vector<bool> carried_contact_set(const fe::Discretisation& coarse, const VectorXd& coarse_displacement,
+                                      const fe::Discretisation& fine) {
+  const VectorXd all = coarse.expand(coarse_displacement);
+  std::vector<bool> in_contact(fine.reactions());
+  int e = 0;  // the fine reaction nodes are in order along the member: walk the coarse elements once
+  std::vector<int> dofs = coarse.element_dofs(e);
+  for (int i = 0; i < fine.reactions(); ++i) {
+    const double s = fine.mesh.nodes[fine.reaction_nodes[i]];
+    const int containing = coarse.mesh.element_containing(s);
+    if (containing != e) {
+      e = containing;
+      dofs = coarse.element_dofs(e);
+    }
+    const double h = coarse.mesh.element_size(e);
+    const Eigen::Vector4d w_dofs(all[dofs[0]], all[dofs[1]], all[dofs[2]], all[dofs[3]]);
+    const double xi = std::clamp((s - coarse.mesh.nodes[e]) / h, 0.0, 1.0);
+    in_contact[i] = fe::hermite_cubic(xi, h).value.dot(w_dofs) > 0.0;
+  }
+  return in_contact;
+}
+
+}  // namespace
+
+NestedResult solve_active_set_nested(const fe::MemberModel& model, const fe::Discretisation& d, double load_factor,
+                                     const ActiveSetOptions& options, const NestedOptions& nested) {
+  nested.validate();
+  NestedResult out;
+  // The coarse mesh still resolves the foundation's decay length 1/beta (beta^4 = k/4).
+  const double decay_lengths = std::pow(std::max(model.foundation_modulus, 0.0) / 4.0, 0.25) * model.length();
+  const int coarse_elements = std::max({d.mesh.elements() / nested.coarsening, nested.min_elements,
+                                        static_cast<int>(std::ceil(nested.elements_per_decay_length * decay_lengths))});
+  std::vector<bool> initial;
+  if (3 * coarse_elements <= d.mesh.elements()) {
+    const fe::Discretisation coarse = fe::discretise(model, coarse_elements);
+    const NestedResult below = solve_active_set_nested(model, coarse, load_factor, options, nested);
+    out.coarse_sets = below.coarse_sets + below.result.summary.iterations;
+    out.levels = below.levels + 1;
+    // A coarse failure only costs the better start: this mesh starts from every node in contact.
+    if (below.result.summary.is_usable()) initial = carried_contact_set(coarse, below.result.state.displacement, d);
+  }
+  out.result = solve_active_set(d, d.load(load_factor), options, std::move(initial));
+  return out;
 }
 
 }  // namespace liftoff::contact

@@ -24,17 +24,20 @@
 // Start: every node in contact, i.e. the bilateral solution, whose sign pattern is already the
 // answer away from the contact limits; a block step then moves the limits, and the number of
 // steps does not grow with the mesh (the limits move by a fraction of the member, not of an
-// element). Each step is one numeric factorisation of a fixed pattern (symbolic analysis once).
+// element). Each step is one numeric factorisation of a fixed pattern. The sets on the way are
+// solved only as accurately as their signs need (intermediate_error); the set found is refined
+// to round-off and its signs checked again. The limits creep by about a node per step once the
+// set is close, so on large meshes solve_active_set_nested below starts from a coarser mesh's
+// answer instead (2 sets on the fine mesh instead of 11-12 on a long member).
 //
 // What it does not do: it returns no ray when there is no equilibrium; the caller
 // (contact_solver.hpp) falls back to Lemke, with a note, whenever this solver does not end in
 // `solved`.
 
+#include <Eigen/Dense>
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <Eigen/Dense>
 
 #include "contact/active_set_system.hpp"
 #include "fe/discretisation.hpp"
@@ -42,13 +45,19 @@
 namespace liftoff::contact {
 
 struct ActiveSetOptions {
-  int max_iterations = 100;   // factorised contact sets, at most
-  int block_retries = 3;      // block steps allowed without a new best count; -1: never fall
-                              // back to single steps (plain primal-dual active set, no safeguard)
+  int max_iterations = 100;  // factorised contact sets, at most
+  int block_retries = 3;     // block steps allowed without a new best count; -1: never fall
+                             // back to single steps (plain primal-dual active set, no safeguard)
   // A reaction or gap counts as negative below -tolerance times the largest reaction or
   // structural gap term (round-off must not flip a node that touches with r = gap = 0); the
   // tolerance grows to 10x the solve's own error estimate on meshes where that is larger.
   double sign_tolerance = 1e-11;
+  // Sets on the way are solved only as accurately as their signs need (refinement until the
+  // estimated relative error is below this); the set found is then refined to round-off and its
+  // signs checked again.
+  double intermediate_error = 1e-9;
+  // Also compute ActiveSetResult::round_off_bound (Hager's estimate, up to 12 more solves).
+  bool estimate_round_off = false;
   void validate() const;  // throws std::invalid_argument naming the field
 };
 
@@ -64,8 +73,8 @@ std::string_view to_string(ActiveSetTermination);
 struct ActiveSetSummary {
   ActiveSetTermination termination = ActiveSetTermination::iteration_limit;
   std::string message;
-  int iterations = -1;       // contact sets tried
-  int factorisations = -1;   // numeric factorisations (one per set; the symbolic analysis once)
+  int iterations = -1;      // contact sets tried
+  int factorisations = -1;  // numeric factorisations (one per set; the symbolic analysis once)
   int block_steps = -1;
   int single_steps = -1;
   std::vector<int> infeasible_history;  // infeasible nodes after each set
@@ -75,7 +84,8 @@ struct ActiveSetSummary {
 struct ActiveSetResult {
   ContactState state;
   std::vector<bool> in_contact;
-  double round_off_bound = -1.0;  // solved only: ActiveSetSystem::data_error of the answer
+  // solved and options.estimate_round_off only: ActiveSetSystem::data_error of the answer
+  double round_off_bound = -1.0;
   ActiveSetSummary summary;
 };
 
@@ -83,5 +93,29 @@ struct ActiveSetResult {
 // (empty: every node in contact).
 ActiveSetResult solve_active_set(const fe::Discretisation& discretisation, const Eigen::VectorXd& load,
                                  const ActiveSetOptions& options, std::vector<bool> initial = {});
+
+// Nested iteration, for large meshes: the same problem (F = F_dead + load_factor F_live) is
+// first solved on a mesh `coarsening` times coarser (recursively; a coarse mesh has at least
+// min_elements and elements_per_decay_length per foundation decay length 1/beta, and is used
+// only if at most a third of this mesh), and the contact set found there (w > 0 of the coarse
+// answer at each node) is the first set here.
+// The limits then start within a coarse element of their place, so this mesh needs two or
+// three sets instead of ten or more from the bilateral start (each a factorisation of the
+// largest system). `discretisation` must be discretise(model, ...) of this model.
+// The summary counts this mesh's sets; coarse_sets counts the coarser meshes'.
+struct NestedOptions {
+  int coarsening = 10;
+  int min_elements = 500;
+  double elements_per_decay_length = 1.0;
+  void validate() const;
+};
+struct NestedResult {
+  ActiveSetResult result;
+  int coarse_sets = 0;
+  int levels = 1;  // meshes solved, this one included
+};
+NestedResult solve_active_set_nested(const fe::MemberModel& model, const fe::Discretisation& discretisation,
+                                     double load_factor, const ActiveSetOptions& options,
+                                     const NestedOptions& nested = {});
 
 }  // namespace liftoff::contact

@@ -30,4 +30,31 @@ Matrix9d stiffness(double h, double membrane_stiffness) {
   return k;
 }
 
+namespace {
+// Legendre polynomials P0..P3 shifted to [0, 1].
+Eigen::Vector4d legendre(double xi) {
+  const double t = 2.0 * xi - 1.0;
+  return {1.0, t, 0.5 * (3.0 * t * t - 1.0), 0.5 * t * (5.0 * t * t - 3.0)};
+}
+}  // namespace
+
+Matrix89d stress_coupling(double h) {
+  Matrix89d g = Matrix89d::Zero();
+  for (const GaussPoint& q : gauss5) {  // degree 3 + 3: exact
+    const Eigen::Vector4d p = legendre(q.xi) * (q.weight * h);
+    g.topRows<4>() += p * membrane_strain_row(q.xi, h);
+    g.bottomRows<4>() += p * bending_strain_row(q.xi, h);
+  }
+  return g;
+}
+
+Vector8d compliance(double h, double membrane_stiffness) {
+  Vector8d c;
+  for (int i = 0; i < 4; ++i) {
+    c[i] = h / ((2 * i + 1) * membrane_stiffness);
+    c[4 + i] = h / (2 * i + 1);
+  }
+  return c;
+}
+
 }  // namespace liftoff::fe::arch_element

@@ -25,4 +25,15 @@ Row9d bending_strain_row(double xi, double h);
 // Integral of membrane_stiffness * eps^2 + chi^2 (5-point Gauss, exact).
 Matrix9d stiffness(double h, double membrane_stiffness);
 
+// The same stiffness in mixed (Hellinger-Reissner) form, stiffness = G^T H^-1 G exactly: eps and
+// chi are cubics on the element, so their Legendre coefficients (P0..P3 on xi in [0, 1]) carry
+// them whole. Rows 0-3 of G are the integrals of P_i eps ds, rows 4-7 those of P_i chi ds; H is
+// diagonal, h / ((2i + 1) membrane_stiffness) for eps and h / (2i + 1) for chi. A stiff membrane
+// (EA R^2 / EI up to 1e7) becomes a small compliance instead of a large stiffness.
+inline constexpr int stresses = 8;
+using Matrix89d = Eigen::Matrix<double, 8, 9>;
+using Vector8d = Eigen::Matrix<double, 8, 1>;
+Matrix89d stress_coupling(double h);
+Vector8d compliance(double h, double membrane_stiffness);
+
 }  // namespace liftoff::fe::arch_element

@@ -1,8 +1,10 @@
 #include "fe/discretisation.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
+#include <stdexcept>
 
 #include "core/error.hpp"
 #include "fe/arch_element.hpp"
@@ -28,9 +30,12 @@ std::vector<int> Discretisation::element_dofs(int e) const {
 DofRole Discretisation::role_of_dof(int dof) const {
   if (kind == StructureKind::beam) return dof % 2 == 0 ? DofRole::deflection : DofRole::slope;
   switch (dof % 6) {
-    case 1: return DofRole::deflection;
-    case 2: return DofRole::slope;
-    default: return DofRole::tangential;
+    case 1:
+      return DofRole::deflection;
+    case 2:
+      return DofRole::slope;
+    default:
+      return DofRole::tangential;
   }
 }
 
@@ -51,7 +56,9 @@ Eigen::VectorXd Discretisation::expand(const Eigen::VectorXd& on_equations) cons
 
 namespace {
 
-int dof_count(StructureKind kind, int elements) { return kind == StructureKind::beam ? 2 * (elements + 1) : 6 * elements + 3; }
+int dof_count(StructureKind kind, int elements) {
+  return kind == StructureKind::beam ? 2 * (elements + 1) : 6 * elements + 3;
+}
 
 // Dofs fixed by the end and point supports.
 std::vector<int> supported_dofs(const MemberModel& model, const Discretisation& d) {
@@ -59,8 +66,11 @@ std::vector<int> supported_dofs(const MemberModel& model, const Discretisation& 
   auto fix_end = [&](int node, EndSupport support) {
     const bool arch = model.kind == StructureKind::arch;
     switch (support) {
-      case EndSupport::free: break;
-      case EndSupport::roller: fixed.push_back(d.deflection_dof(node)); break;
+      case EndSupport::free:
+        break;
+      case EndSupport::roller:
+        fixed.push_back(d.deflection_dof(node));
+        break;
       case EndSupport::pinned:
         fixed.push_back(d.deflection_dof(node));
         if (arch) fixed.push_back(d.tangential_dof(node));
@@ -88,8 +98,8 @@ Eigen::MatrixXd rigid_motions(const MemberModel& model, const Discretisation& d)
     for (int dof = 0; dof < n; ++dof) {
       const double s = d.position_of_dof(dof);
       const bool slope = d.role_of_dof(dof) == DofRole::slope;
-      modes(dof, 0) = slope ? 0.0 : 1.0;          // translation
-      modes(dof, 1) = slope ? 1.0 : s - middle;   // rotation about the middle
+      modes(dof, 0) = slope ? 0.0 : 1.0;         // translation
+      modes(dof, 1) = slope ? 1.0 : s - middle;  // rotation about the middle
     }
     return modes;
   }
@@ -98,9 +108,15 @@ Eigen::MatrixXd rigid_motions(const MemberModel& model, const Discretisation& d)
   for (int dof = 0; dof < n; ++dof) {
     const double t = d.position_of_dof(dof), c = std::cos(t), s = std::sin(t);
     switch (d.role_of_dof(dof)) {
-      case DofRole::tangential: modes.row(dof) << c, -s, 1.0; break;
-      case DofRole::deflection: modes.row(dof) << -s, -c, 0.0; break;
-      case DofRole::slope: modes.row(dof) << -c, s, 0.0; break;
+      case DofRole::tangential:
+        modes.row(dof) << c, -s, 1.0;
+        break;
+      case DofRole::deflection:
+        modes.row(dof) << -s, -c, 0.0;
+        break;
+      case DofRole::slope:
+        modes.row(dof) << -c, s, 0.0;
+        break;
     }
   }
   return modes;
@@ -117,7 +133,8 @@ Eigen::MatrixXd kernel(const Eigen::MatrixXd& a, int columns) {
 }
 
 struct Assembly {
-  Triplets stiffness, coupling, flexibility;
+  Triplets stiffness, coupling, flexibility, stress_coupling;
+  Eigen::VectorXd compliance;
   Eigen::VectorXd dead_load, live_load;  // on every dof
 };
 
@@ -127,19 +144,29 @@ Assembly assemble(const MemberModel& model, const Discretisation& d, const std::
   a.dead_load = Eigen::VectorXd::Zero(n);
   a.live_load = Eigen::VectorXd::Zero(n);
   const Mesh& mesh = d.mesh;
+  const bool beam = model.kind == StructureKind::beam;
+  const int spe = d.stresses_per_element;
+  a.compliance.resize(static_cast<Eigen::Index>(spe) * mesh.elements());
 
   for (int e = 0; e < mesh.elements(); ++e) {
     const double h = mesh.element_size(e);
     const double middle = mesh.nodes[e] + 0.5 * h;
     const std::vector<int> dofs = d.element_dofs(e);
-    Eigen::MatrixXd k = model.kind == StructureKind::beam
-                            ? Eigen::MatrixXd(beam_element::stiffness(h))
-                            : Eigen::MatrixXd(arch_element::stiffness(h, model.membrane_stiffness));
+    const Eigen::MatrixXd k = beam ? Eigen::MatrixXd(beam_element::stiffness(h))
+                                   : Eigen::MatrixXd(arch_element::stiffness(h, model.membrane_stiffness));
     for (int i = 0; i < k.rows(); ++i)
       for (int j = 0; j < k.cols(); ++j) a.stiffness.emplace_back(dofs[i], dofs[j], k(i, j));
+    const Eigen::MatrixXd g =
+        beam ? Eigen::MatrixXd(beam_element::stress_coupling(h)) : Eigen::MatrixXd(arch_element::stress_coupling(h));
+    a.compliance.segment(static_cast<Eigen::Index>(spe) * e, spe) =
+        beam ? Eigen::VectorXd(beam_element::compliance(h))
+             : Eigen::VectorXd(arch_element::compliance(h, model.membrane_stiffness));
+    for (int i = 0; i < g.rows(); ++i)
+      for (int j = 0; j < g.cols(); ++j)
+        if (g(i, j) != 0.0) a.stress_coupling.emplace_back(spe * e + i, dofs[j], g(i, j));
 
     // The first four local dofs are the Hermite dofs of w for both element kinds.
-    if (middle >= model.foundation_begin && middle <= model.foundation_end) {
+    if (d.foundation_on_element[e]) {
       const auto c = foundation_element::coupling(h);
       const auto t = foundation_element::flexibility(h, model.foundation_modulus);
       const int r[2] = {reaction_of_node[e], reaction_of_node[e + 1]};
@@ -173,17 +200,20 @@ Assembly assemble(const MemberModel& model, const Discretisation& d, const std::
   return a;
 }
 
-SparseMatrix to_sparse(int rows, int cols, const Triplets& triplets, const std::vector<int>* row_map,
+// The triplets are renumbered in place (and dropped where a map gives -1): no second list.
+SparseMatrix to_sparse(int rows, int cols, Triplets triplets, const std::vector<int>* row_map,
                        const std::vector<int>* col_map) {
-  Triplets mapped;
-  mapped.reserve(triplets.size());
-  for (const auto& t : triplets) {
-    const int i = row_map ? (*row_map)[t.row()] : t.row();
-    const int j = col_map ? (*col_map)[t.col()] : t.col();
-    if (i >= 0 && j >= 0) mapped.emplace_back(i, j, t.value());
+  if (row_map || col_map) {
+    std::size_t kept = 0;
+    for (const auto& t : triplets) {
+      const int i = row_map ? (*row_map)[t.row()] : t.row();
+      const int j = col_map ? (*col_map)[t.col()] : t.col();
+      if (i >= 0 && j >= 0) triplets[kept++] = Eigen::Triplet<double>(i, j, t.value());
+    }
+    triplets.resize(kept);
   }
   SparseMatrix m(rows, cols);
-  m.setFromTriplets(mapped.begin(), mapped.end());
+  m.setFromTriplets(triplets.begin(), triplets.end());
   m.makeCompressed();
   return m;
 }
@@ -197,19 +227,37 @@ std::string describe_rigid_motions(StructureKind kind, int count) {
 }  // namespace
 
 Discretisation discretise(const MemberModel& model, int elements) {
+  return discretise(model, make_mesh(model, elements));
+}
+
+Discretisation discretise(const MemberModel& model, Mesh mesh, std::vector<bool> foundation_on_element) {
   Discretisation d;
   d.kind = model.kind;
-  d.mesh = make_mesh(model, elements);
+  d.mesh = std::move(mesh);
   d.foundation_modulus = model.foundation_modulus;
   d.tensionless = model.tensionless;
-  const int n = dof_count(model.kind, d.mesh.elements());
+  d.stresses_per_element = model.kind == StructureKind::beam ? beam_element::stresses : arch_element::stresses;
+  const int elements = d.mesh.elements();
+  const int n = dof_count(model.kind, elements);
   d.equation_of_dof.assign(n, 0);
+  for (double s : mesh_breakpoints(model))
+    if (d.mesh.node_at(s) < 0) throw std::invalid_argument("discretise: the mesh lacks a node at a breakpoint");
 
+  if (foundation_on_element.empty()) {
+    foundation_on_element.resize(elements);
+    for (int e = 0; e < elements; ++e) {
+      const double middle = d.mesh.nodes[e] + 0.5 * d.mesh.element_size(e);
+      foundation_on_element[e] = middle >= model.foundation_begin && middle <= model.foundation_end;
+    }
+  }
+  if (static_cast<int>(foundation_on_element.size()) != elements)
+    throw std::invalid_argument("discretise: one foundation flag per element expected");
+  d.foundation_on_element = std::move(foundation_on_element);
   std::vector<int> reaction_of_node(d.mesh.nodes.size(), -1);
-  for (int node = 0; node < static_cast<int>(d.mesh.nodes.size()); ++node) {
-    const double s = d.mesh.nodes[node];
-    const double tol = 1e-12 * model.length();
-    if (s >= model.foundation_begin - tol && s <= model.foundation_end + tol) {
+  for (int node = 0; node <= elements; ++node) {
+    const bool touches =
+        (node > 0 && d.foundation_on_element[node - 1]) || (node < elements && d.foundation_on_element[node]);
+    if (touches) {
       reaction_of_node[node] = static_cast<int>(d.reaction_nodes.size());
       d.reaction_nodes.push_back(node);
     }
@@ -230,8 +278,8 @@ Discretisation discretise(const MemberModel& model, int elements) {
   const Eigen::MatrixXd motions = free_motions(fixed);
   if (motions.cols() > 0) {
     const Eigen::MatrixXd seen = coupling_all * motions;
-    const Eigen::MatrixXd unseen = motions * kernel(seen / std::max(1e-300, seen.cwiseAbs().maxCoeff()),
-                                                    static_cast<int>(motions.cols()));
+    const Eigen::MatrixXd unseen =
+        motions * kernel(seen / std::max(1e-300, seen.cwiseAbs().maxCoeff()), static_cast<int>(motions.cols()));
     const double middle = 0.5 * (model.s_begin + model.s_end);
     for (int m = 0; m < unseen.cols(); ++m) {
       const Eigen::VectorXd mode = unseen.col(m) / unseen.col(m).cwiseAbs().maxCoeff();
@@ -257,7 +305,9 @@ Discretisation discretise(const MemberModel& model, int elements) {
           arch ? "the arch is" : "the member is", arch ? "rotate rigidly about its centre" : "move rigidly",
           arch ? "theta" : "x", model.user_from_s(d.position_of_dof(gauge)), arch ? " deg" : "");
     }
-    d.unstable_rigid_motions = static_cast<int>(free_motions(fixed).cols());
+    const Eigen::MatrixXd left_free = free_motions(fixed);
+    d.unstable_rigid_motions = static_cast<int>(left_free.cols());
+    d.free_rigid_motions = left_free;  // on every dof here; restricted to the equations below
     if (!d.structure_is_stable())
       d.stability_note = fmt::format("the supports leave {} that only the foundation resists",
                                      describe_rigid_motions(model.kind, d.unstable_rigid_motions));
@@ -267,9 +317,16 @@ Discretisation discretise(const MemberModel& model, int elements) {
   for (int dof = 0; dof < n; ++dof)
     if (d.equation_of_dof[dof] >= 0) d.equation_of_dof[dof] = d.equations++;
 
-  d.stiffness = to_sparse(d.equations, d.equations, a.stiffness, &d.equation_of_dof, &d.equation_of_dof);
-  d.coupling = to_sparse(d.reactions(), d.equations, a.coupling, nullptr, &d.equation_of_dof);
-  d.flexibility = to_sparse(d.reactions(), d.reactions(), a.flexibility, nullptr, nullptr);
+  d.stiffness = to_sparse(d.equations, d.equations, std::move(a.stiffness), &d.equation_of_dof, &d.equation_of_dof);
+  d.coupling = to_sparse(d.reactions(), d.equations, std::move(a.coupling), nullptr, &d.equation_of_dof);
+  d.flexibility = to_sparse(d.reactions(), d.reactions(), std::move(a.flexibility), nullptr, nullptr);
+  d.stress_coupling = to_sparse(static_cast<int>(a.compliance.size()), d.equations, std::move(a.stress_coupling),
+                                nullptr, &d.equation_of_dof);
+  d.compliance = std::move(a.compliance);
+  Eigen::MatrixXd on_equations(d.equations, d.unstable_rigid_motions);
+  for (int dof = 0; dof < n && d.unstable_rigid_motions > 0; ++dof)
+    if (d.equation_of_dof[dof] >= 0) on_equations.row(d.equation_of_dof[dof]) = d.free_rigid_motions.row(dof);
+  d.free_rigid_motions = std::move(on_equations);
   d.dead_load = Eigen::VectorXd::Zero(d.equations);
   d.live_load = Eigen::VectorXd::Zero(d.equations);
   for (int dof = 0; dof < n; ++dof) {

@@ -13,11 +13,10 @@
 //  - a motion only the foundation resists (a free-free beam) leaves K singular: the primal LCP
 //    handles it, the dual form is refused (structure_is_stable() == false).
 
-#include <string>
-#include <vector>
-
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
+#include <string>
+#include <vector>
 
 #include "fe/member_model.hpp"
 #include "fe/mesh.hpp"
@@ -34,21 +33,34 @@ class Discretisation {
   Mesh mesh;
   std::vector<int> equation_of_dof;  // -1: fixed by a support or the gauge
   int equations = 0;
-  std::vector<int> reaction_nodes;   // mesh node of each reaction unknown
-  SparseMatrix stiffness;            // K: equations x equations
-  SparseMatrix coupling;             // C: reactions x equations
-  SparseMatrix flexibility;          // T: reactions x reactions
-  Eigen::VectorXd dead_load;         // equations
+  std::vector<int> reaction_nodes;  // mesh node of each reaction unknown
+  SparseMatrix stiffness;           // K: equations x equations
+  SparseMatrix coupling;            // C: reactions x equations
+  SparseMatrix flexibility;         // T: reactions x reactions
+  // The same stiffness in mixed (Hellinger-Reissner) form, K = G^T H^-1 G exactly, with element
+  // stress resultants as extra unknowns (beam_element.hpp, arch_element.hpp): the saddle-point
+  // system built on G and H has a condition number growing like N^2 where K's grows like N^4,
+  // which is what lets contact::ActiveSetSystem solve meshes of 1e6 elements to round-off.
+  SparseMatrix stress_coupling;  // G: stresses x equations (stresses_per_element per element)
+  Eigen::VectorXd compliance;    // H, diagonal: one per stress unknown
+  int stresses_per_element = 0;
+  // Which elements the foundation acts on (the member's extent, or the contact elements of a
+  // limit-fitted solve), and the rigid motions the supports leave free, on the equations
+  // (columns; the kernel of K, empty when the structure is stable).
+  std::vector<bool> foundation_on_element;
+  Eigen::MatrixXd free_rigid_motions;
+  Eigen::VectorXd dead_load;  // equations
   Eigen::VectorXd live_load;
   double foundation_modulus = 0.0;
   bool tensionless = true;
   // Rigid motions only the foundation resists; non-empty means K is singular.
   int unstable_rigid_motions = 0;
-  std::string stability_note;        // in words, for messages
-  std::string gauge_note;            // what gauge was fixed, if any
+  std::string stability_note;  // in words, for messages
+  std::string gauge_note;      // what gauge was fixed, if any
 
   int dofs() const { return static_cast<int>(equation_of_dof.size()); }
   int reactions() const { return static_cast<int>(reaction_nodes.size()); }
+  int stresses() const { return static_cast<int>(compliance.size()); }
   bool structure_is_stable() const { return unstable_rigid_motions == 0; }
   Eigen::VectorXd load(double load_factor) const { return dead_load + load_factor * live_load; }
   // Values on the equations -> values on every dof (fixed dofs 0).
@@ -67,6 +79,11 @@ class Discretisation {
 
 // Throws InputError for a mechanism the loads drive (see above).
 Discretisation discretise(const MemberModel& model, int elements);
+// The same on a given mesh (it must have a node at every mesh_breakpoints(model) point), with the
+// foundation on the flagged elements only (empty: on the member's foundation extent); reaction
+// nodes are the nodes of those elements. Limit-fitted solves put the foundation on whole contact
+// elements this way.
+Discretisation discretise(const MemberModel& model, Mesh mesh, std::vector<bool> foundation_on_element = {});
 
 // The in-plane rigid motions of the member, on every dof (columns), whatever the supports:
 // beams translation and rotation, arches two translations and the rotation about the centre.

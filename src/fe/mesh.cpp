@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <stdexcept>
 
 namespace liftoff::fe {
 
@@ -49,33 +50,48 @@ std::vector<double> mesh_breakpoints(const MemberModel& model) {
   return unique;
 }
 
-Mesh make_mesh(const MemberModel& model, int requested_elements) {
-  const std::vector<double> points = mesh_breakpoints(model);
+std::vector<int> apportion_elements(const std::vector<double>& points, int requested) {
   const int segments = static_cast<int>(points.size()) - 1;
-  const int total = std::max(requested_elements, segments);
-
+  const int total = std::max(requested, segments);
+  const double length = points.back() - points.front();
   // Largest-remainder apportionment with at least one element per segment.
   std::vector<double> share(segments);
   std::vector<int> count(segments);
   for (int i = 0; i < segments; ++i) {
-    share[i] = total * (points[i + 1] - points[i]) / model.length();
+    share[i] = total * (points[i + 1] - points[i]) / length;
     count[i] = std::max(1, static_cast<int>(std::floor(share[i])));
   }
   int assigned = std::accumulate(count.begin(), count.end(), 0);
   std::vector<int> order(segments);
   std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(),
-            [&](int a, int b) { return share[a] - count[a] > share[b] - count[b]; });
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return share[a] - count[a] > share[b] - count[b]; });
   for (int i = 0; assigned < total; i = (i + 1) % segments, ++assigned) ++count[order[i]];
+  return count;
+}
 
+Mesh make_mesh(const std::vector<double>& points, const std::vector<int>& counts) {
+  if (points.size() < 2 || counts.size() + 1 != points.size())
+    throw std::invalid_argument("make_mesh: one element count per segment between breakpoints expected");
   Mesh mesh;
+  const int total = std::accumulate(counts.begin(), counts.end(), 0);
   mesh.nodes.reserve(static_cast<std::size_t>(total) + 1);
-  for (int i = 0; i < segments; ++i) {
+  mesh.sizes.reserve(static_cast<std::size_t>(total));
+  for (std::size_t i = 0; i + 1 < points.size(); ++i) {
     const double a = points[i], b = points[i + 1];
-    for (int j = 0; j < count[i]; ++j) mesh.nodes.push_back(a + (b - a) * j / count[i]);
+    if (!(b > a) || counts[i] < 1) throw std::invalid_argument("make_mesh: breakpoints must increase, counts be >= 1");
+    const double h = (b - a) / counts[i];
+    for (int j = 0; j < counts[i]; ++j) {
+      mesh.nodes.push_back(a + (b - a) * j / counts[i]);
+      mesh.sizes.push_back(h);
+    }
   }
-  mesh.nodes.push_back(model.s_end);
+  mesh.nodes.push_back(points.back());
   return mesh;
+}
+
+Mesh make_mesh(const MemberModel& model, int requested_elements) {
+  const std::vector<double> points = mesh_breakpoints(model);
+  return make_mesh(points, apportion_elements(points, requested_elements));
 }
 
 }  // namespace liftoff::fe

@@ -1,9 +1,11 @@
 // The fixed-contact-set system: with the contact set Lemke found, one sparse solve reproduces
 // Lemke's answer; with every node in contact it is the bilateral foundation.
 
+#include "contact/active_set_system.hpp"
+
 #include <catch2/catch.hpp>
 
-#include "contact/active_set_system.hpp"
+#include "closed_form/beam_on_foundation.hpp"
 #include "support/scenes.hpp"
 #include "support/solve.hpp"
 
@@ -28,8 +30,8 @@ TEST_CASE("the contact set found by Lemke gives Lemke's answer in one sparse sol
     REQUIRE(system.factorise(contact_set_of(lemke.solution)));
     const auto state = system.solve(lemke.discretisation.load(1.0));
     CHECK(state.residual < 1e-12);
-    CHECK(test::relative_difference(lemke.discretisation.expand(state.displacement), lemke.solution.displacement)
-              < 1e-8);
+    CHECK(test::relative_difference(lemke.discretisation.expand(state.displacement), lemke.solution.displacement) <
+          1e-8);
     // The complement of the contact set has a non-negative gap: the answer is a contact solution.
     CHECK(state.gap.minCoeff() > -1e-10 * state.gap.cwiseAbs().maxCoeff());
   }
@@ -51,4 +53,41 @@ TEST_CASE("a free-free beam is held by its contact set, and left floating withou
   one_node[d.reactions() / 2] = true;  // one spring cannot hold a beam against rotation
   CHECK_FALSE(system.factorise(one_node));
   CHECK_FALSE(system.factorise(std::vector<bool>(d.reactions(), false)));
+}
+
+TEST_CASE("the mixed form solves fine meshes to round-off: bilateral seed beam against Hetenyi's closed form",
+          "[contact][round-off]") {
+  auto s = test::shipped_scene("seed_beam_end_moments");
+  s.foundation.tensionless = false;
+  const fe::MemberModel model = fe::make_member_model(s);
+  closed_form::BeamProblem p;
+  p.foundation_modulus = model.foundation_modulus;
+  p.left = p.right = closed_form::EndCondition::pinned;
+  for (const auto& l : model.loads) p.moments.push_back({l.at, l.value});
+  const auto exact = closed_form::solve_bilateral(p);
+  auto nodal_error = [&](int n) {
+    const fe::Discretisation d = fe::discretise(model, n);
+    contact::ActiveSetSystem system(d);
+    REQUIRE(system.factorise(std::vector<bool>(d.reactions(), true)));
+    const auto state = system.solve(d.load(1.0));
+    const Eigen::VectorXd all = d.expand(state.displacement);
+    double error = 0.0, scale = 0.0;
+    for (int node = 0; node <= n; ++node) {
+      error = std::max(error, std::abs(all[d.deflection_dof(node)] - exact.deflection(d.mesh.nodes[node])));
+      scale = std::max(scale, std::abs(exact.deflection(d.mesh.nodes[node])));
+    }
+    return std::pair{error / scale, system.data_error(state, d.load(1.0))};
+  };
+  // Discretisation error ~ C h^4, C from 100 elements (8.7e-8 there); the rest is round-off,
+  // bounded by the mixed system's own Skeel estimate (data_error, a worst case). The K form of
+  // the same equations was off by 2.7e-9 at 1e4 and 8e-8 at 3e4 elements (eps cond(K) ~ N^4),
+  // this one by 1.2e-15 at both (verification/bench/accuracy_bench.cpp roundoff).
+  const double c = nodal_error(100).first * std::pow(100.0, 4);
+  for (int n : {10000, 30000}) {
+    const auto [error, round_off] = nodal_error(n);
+    CAPTURE(n, error, round_off);
+    CHECK(error <= c * std::pow(n, -4.0) + 10.0 * round_off);
+    CHECK(round_off < 1e-11);  // eps N^2 would be 2e-7 at 3e4: the bound is far below it
+    CHECK(error < 1e-13);
+  }
 }

@@ -1,9 +1,9 @@
 // The beam and foundation element matrices against closed forms.
-#include <catch2/catch.hpp>
+#include "fe/beam_element.hpp"
 
 #include <Eigen/Dense>
+#include <catch2/catch.hpp>
 
-#include "fe/beam_element.hpp"
 #include "fe/foundation_element.hpp"
 #include "fe/shape_functions.hpp"
 
@@ -59,4 +59,19 @@ TEST_CASE("Hermite shape functions interpolate and differentiate a cubic exactly
     CHECK(n.d2.dot(dofs) == Approx(6 - 30 * s).margin(1e-12));
     CHECK(n.d3.dot(dofs) == Approx(-30).margin(1e-11));
   }
+}
+
+TEST_CASE("the mixed form of the beam element gives its stiffness exactly", "[fe][beam][mixed]") {
+  const double h = GENERATE(1.0, 0.37, 1e-3, 1e-6);
+  CAPTURE(h);
+  const Eigen::Matrix<double, 2, 4> g = beam_element::stress_coupling(h);
+  const Eigen::Vector2d c = beam_element::compliance(h);
+  const Eigen::Matrix4d from_mixed = g.transpose() * c.cwiseInverse().asDiagonal() * g;
+  const Eigen::Matrix4d k = beam_element::stiffness(h);
+  // Both sides are a few products of entries up to |K|: round-off only.
+  CHECK((from_mixed - k).norm() <= roundoff(k.norm()));
+  // The rounded G keeps the rigid motions in its kernel exactly: its entries are integers and
+  // +-2/h, and rotation (h, 1) gives -2/h * h + ... with 2/h * h = 2 to the last bit or so.
+  CHECK((g * Eigen::Vector4d(1, 0, 1, 0)).norm() == 0.0);
+  CHECK((g * Eigen::Vector4d(0, 1, h, 1)).norm() <= 4 * std::numeric_limits<double>::epsilon());
 }

@@ -1,0 +1,290 @@
+#include "contact/fitted_limits.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "fe/mesh.hpp"
+#include "fe/shape_functions.hpp"
+
+namespace liftoff::contact {
+
+using Eigen::VectorXd;
+
+std::string_view to_string(FittedTermination t) {
+  switch (t) {
+    case FittedTermination::solved:
+      return "solved";
+    case FittedTermination::no_convergence:
+      return "no_convergence";
+    case FittedTermination::topology_changed:
+      return "topology_changed";
+    case FittedTermination::inequalities_violated:
+      return "inequalities_violated";
+    case FittedTermination::singular_system:
+      return "singular_system";
+  }
+  return "unknown";
+}
+
+void FittedOptions::validate() const {
+  if (elements < 1) throw std::invalid_argument("FittedOptions::elements must be at least 1");
+  if (max_iterations < 1) throw std::invalid_argument("FittedOptions::max_iterations must be at least 1");
+  if (!(step_tolerance > 0.0 && step_tolerance < 1e-3))
+    throw std::invalid_argument("FittedOptions::step_tolerance must be in (0, 1e-3)");
+  if (!(inequality_tolerance >= 0.0 && inequality_tolerance < 1e-2))
+    throw std::invalid_argument("FittedOptions::inequality_tolerance must be in [0, 1e-2)");
+  if (samples_per_element < 1) throw std::invalid_argument("FittedOptions::samples_per_element must be at least 1");
+}
+
+namespace {
+
+// w's Hermite dofs of element e (the first four local dofs of both element kinds).
+Eigen::Vector4d w_dofs(const fe::Discretisation& d, const VectorXd& all, int e) {
+  const std::vector<int> dofs = d.element_dofs(e);
+  return {all[dofs[0]], all[dofs[1]], all[dofs[2]], all[dofs[3]]};
+}
+
+double w_at(const fe::Discretisation& d, const VectorXd& all, int e, double xi) {
+  return fe::hermite_cubic(xi, d.mesh.element_size(e)).value.dot(w_dofs(d, all, e));
+}
+
+// The zero of w nearest element e: in e if w changes sign there, else in the nearest element
+// (up to three away) where it does; else the middle of e. The discrete contact set follows the
+// weighted gaps, not w itself, so w's zero may lie an element or two beside the set's change.
+double zero_near_element(const fe::Discretisation& d, const VectorXd& all, int e) {
+  for (int distance = 0; distance <= 3; ++distance) {
+    for (int candidate : {e - distance, e + distance}) {
+      if (candidate < 0 || candidate >= d.mesh.elements()) continue;
+      double lo = 0.0, hi = 1.0, w_lo = w_at(d, all, candidate, lo);
+      if (!(w_lo * w_at(d, all, candidate, hi) < 0.0)) continue;
+      for (int i = 0; i < 60; ++i) {
+        const double mid = 0.5 * (lo + hi), w_mid = w_at(d, all, candidate, mid);
+        if ((w_mid > 0.0) == (w_lo > 0.0)) {
+          lo = mid;
+          w_lo = w_mid;
+        } else {
+          hi = mid;
+        }
+      }
+      return d.mesh.nodes[candidate] + 0.5 * (lo + hi) * d.mesh.element_size(candidate);
+    }
+  }
+  return d.mesh.nodes[e] + 0.5 * d.mesh.element_size(e);
+}
+
+}  // namespace
+
+std::vector<ContactInterval> contact_intervals(const fe::Discretisation& d, const VectorXd& displacement,
+                                               const std::vector<bool>& in_contact) {
+  if (static_cast<int>(in_contact.size()) != d.reactions())
+    throw std::invalid_argument("contact_intervals: one contact flag per reaction node expected");
+  const VectorXd all = d.expand(displacement);
+  std::vector<ContactInterval> regions;
+  const int m = d.reactions();
+  for (int i = 0; i < m; ++i) {
+    if (!in_contact[i]) continue;
+    const int node = d.reaction_nodes[i];
+    const bool starts = i == 0 || !in_contact[i - 1] || d.reaction_nodes[i - 1] != node - 1;
+    const bool ends = i == m - 1 || !in_contact[i + 1] || d.reaction_nodes[i + 1] != node + 1;
+    // A lifted-off neighbour on the foundation: the limit is in the element between them, unless
+    // that neighbour's w is not negative (a support holds it at 0, or it touches): then the
+    // region reaches it (a limit at a support, or at the foundation's end, which is no limit).
+    const auto w_of = [&](int at) { return all[d.deflection_dof(at)]; };
+    if (starts) {
+      const bool neighbour = i > 0 && d.reaction_nodes[i - 1] == node - 1;
+      double begin = d.mesh.nodes[node];
+      if (neighbour) begin = w_of(node - 1) >= 0.0 ? d.mesh.nodes[node - 1] : zero_near_element(d, all, node - 1);
+      regions.push_back({begin, 0.0});
+    }
+    if (ends) {
+      const bool neighbour = i < m - 1 && d.reaction_nodes[i + 1] == node + 1;
+      double end = d.mesh.nodes[node];
+      if (neighbour) end = w_of(node + 1) >= 0.0 ? d.mesh.nodes[node + 1] : zero_near_element(d, all, node);
+      regions.back().end = end;
+    }
+  }
+  // Regions that now touch (one lifted node between them, at w >= 0) are one region.
+  std::vector<ContactInterval> merged;
+  for (const auto& r : regions) {
+    if (!merged.empty() && r.begin <= merged.back().end)
+      merged.back().end = std::max(merged.back().end, r.end);
+    else
+      merged.push_back(r);
+  }
+  return merged;
+}
+
+FittedResult solve_fitted_limits(const fe::MemberModel& model, double load_factor,
+                                 const std::vector<ContactInterval>& initial, const FittedOptions& options) {
+  options.validate();
+  const double length = model.length(), tol = 1e-12 * length;
+  std::vector<ContactInterval> regions = initial;
+  for (std::size_t i = 0; i < regions.size(); ++i) {
+    const auto& r = regions[i];
+    if (!(r.begin < r.end) || r.begin < model.foundation_begin - tol || r.end > model.foundation_end + tol ||
+        (i > 0 && !(regions[i - 1].end < r.begin)))
+      throw std::invalid_argument(
+          "solve_fitted_limits: contact regions must be disjoint, increasing and inside the foundation's extent");
+  }
+  // The interior limits: every region end that is not a foundation end. limit_of[k] points at it.
+  struct LimitRef {
+    std::size_t region;
+    bool is_begin;
+  };
+  std::vector<LimitRef> refs;
+  for (std::size_t i = 0; i < regions.size(); ++i) {
+    if (regions[i].begin > model.foundation_begin + tol) refs.push_back({i, true});
+    if (regions[i].end < model.foundation_end - tol) refs.push_back({i, false});
+  }
+  auto limit = [&](std::size_t k) -> double& {
+    return refs[k].is_begin ? regions[refs[k].region].begin : regions[refs[k].region].end;
+  };
+
+  FittedResult result;
+  FittedSummary& summary = result.summary;
+  summary.iterations = 0;
+  const std::vector<double> fixed_points = fe::mesh_breakpoints(model);
+  std::vector<bool> layout;  // which mesh points are limits, in order: counts are kept while it holds
+  std::vector<int> counts;
+  double previous_step = INFINITY;
+  summary.termination = FittedTermination::no_convergence;
+
+  for (int iteration = 0;; ++iteration) {
+    // Mesh: the breakpoints and the limits, merged within round-off; the element counts are
+    // kept from one iteration to the next while the points keep their order, so the discrete
+    // problem changes smoothly with the limits.
+    std::vector<std::pair<double, bool>> merged;
+    for (double s : fixed_points) merged.emplace_back(s, false);
+    for (std::size_t k = 0; k < refs.size(); ++k) merged.emplace_back(limit(k), true);
+    std::sort(merged.begin(), merged.end());
+    std::vector<double> points;
+    std::vector<bool> is_limit;
+    for (const auto& [s, from_limit] : merged) {
+      if (!points.empty() && s - points.back() <= tol) {
+        is_limit.back() = is_limit.back() || from_limit;
+        continue;
+      }
+      points.push_back(s);
+      is_limit.push_back(from_limit);
+    }
+    points.back() = model.s_end;
+    if (is_limit != layout) counts = fe::apportion_elements(points, options.elements);
+    layout = is_limit;
+    fe::Mesh mesh = fe::make_mesh(points, counts);
+    std::vector<bool> foundation(mesh.elements(), false);
+    for (int e = 0; e < mesh.elements(); ++e) {
+      const double middle = mesh.nodes[e] + 0.5 * mesh.element_size(e);
+      for (const auto& r : regions)
+        if (middle > r.begin && middle < r.end) foundation[e] = true;
+    }
+    result.discretisation = fe::discretise(model, std::move(mesh), std::move(foundation));
+    const fe::Discretisation& d = result.discretisation;
+    ActiveSetSystem system(d);
+    if (!system.factorise(std::vector<bool>(d.reactions(), true))) {
+      summary.termination = FittedTermination::singular_system;
+      summary.message = "the contact regions leave a rigid motion free (singular system)";
+      break;
+    }
+    result.state = system.solve(d.load(load_factor));
+    const VectorXd all = d.expand(result.state.displacement);
+    double w_scale = 0.0;
+    for (int node = 0; node <= d.mesh.elements(); ++node)
+      w_scale = std::max(w_scale, std::abs(all[d.deflection_dof(node)]));
+
+    // Newton on w(t_k) = 0 with dF_k/dt_k = w'(t_k).
+    std::vector<double> step(refs.size(), 0.0);
+    double residual = 0.0, largest = 0.0;
+    bool flat = false;
+    for (std::size_t k = 0; k < refs.size(); ++k) {
+      const int node = d.mesh.node_at(limit(k));
+      const double w = all[d.deflection_dof(node)], slope = all[d.slope_dof(node)];
+      residual = std::max(residual, std::abs(w));
+      if (!(std::abs(slope) > 0.0)) {
+        flat = true;
+        continue;
+      }
+      step[k] = -w / slope;
+      largest = std::max(largest, std::abs(step[k]));
+    }
+    summary.limit_residual = w_scale > 0 ? residual / w_scale : 0.0;
+    summary.last_step = largest / length;
+    if (flat) {
+      summary.termination = FittedTermination::no_convergence;
+      summary.message = "w' vanishes at a contact limit (a touching limit): Newton has no direction";
+      break;
+    }
+    // Converged: steps below the tolerance, or stagnating at round-off (no longer halving once
+    // below 1e-10 of the length).
+    if (largest <= options.step_tolerance * length || (largest <= 1e-10 * length && largest > 0.5 * previous_step)) {
+      summary.termination = FittedTermination::solved;
+      break;
+    }
+    if (iteration >= options.max_iterations) {
+      summary.message = fmt::format("no convergence in {} Newton steps on the limits (last step {:.1e} of the length)",
+                                    options.max_iterations, largest / length);
+      break;
+    }
+    previous_step = largest;
+    // Keep each limit within half the distance to its neighbours (limits or foundation ends).
+    std::vector<double> bound_lo(refs.size()), bound_hi(refs.size());
+    for (std::size_t k = 0; k < refs.size(); ++k) {
+      bound_lo[k] = k > 0 ? limit(k - 1) : model.foundation_begin;
+      bound_hi[k] = k + 1 < refs.size() ? limit(k + 1) : model.foundation_end;
+    }
+    double shrink = 1.0;
+    for (std::size_t k = 0; k < refs.size(); ++k) {
+      const double room = step[k] > 0 ? 0.5 * (bound_hi[k] - limit(k)) : 0.5 * (limit(k) - bound_lo[k]);
+      if (std::abs(step[k]) > room) shrink = std::min(shrink, room / std::abs(step[k]));
+    }
+    for (std::size_t k = 0; k < refs.size(); ++k) limit(k) += shrink * step[k];
+    ++summary.iterations;
+    bool collapsed = false;
+    for (const auto& r : regions) collapsed = collapsed || r.end - r.begin < 1e-9 * length;
+    for (std::size_t k = 1; k < refs.size(); ++k) collapsed = collapsed || limit(k) - limit(k - 1) < 1e-9 * length;
+    if (collapsed) {
+      summary.termination = FittedTermination::topology_changed;
+      summary.message = "a contact region or a lift-off zone shrank to nothing: the topology is not the answer's";
+      break;
+    }
+  }
+
+  result.contact = regions;
+  for (std::size_t k = 0; k < refs.size(); ++k) result.limits.push_back(limit(k));
+  if (summary.termination != FittedTermination::solved) return result;
+
+  // The contact inequalities on the answer.
+  const fe::Discretisation& d = result.discretisation;
+  const VectorXd all = d.expand(result.state.displacement);
+  double w_scale = 0.0, r_scale = result.state.reaction.cwiseAbs().maxCoeff();
+  for (int e = 0; e < d.mesh.elements(); ++e)
+    for (int j = 0; j <= options.samples_per_element; ++j)
+      w_scale = std::max(w_scale, std::abs(w_at(d, all, e, static_cast<double>(j) / options.samples_per_element)));
+  double worst_w = 0.0, worst_r = 0.0;
+  for (int e = 0; e < d.mesh.elements(); ++e) {
+    const double sign = d.foundation_on_element[e] ? 1.0 : -1.0;  // w >= 0 in contact, <= 0 off it
+    for (int j = 1; j < options.samples_per_element; ++j)
+      worst_w = std::max(worst_w, -sign * w_at(d, all, e, static_cast<double>(j) / options.samples_per_element));
+  }
+  for (int i = 0; i < d.reactions(); ++i) worst_r = std::max(worst_r, -result.state.reaction[i]);
+  worst_w = w_scale > 0 ? worst_w / w_scale : 0.0;
+  worst_r = r_scale > 0 ? worst_r / r_scale : 0.0;
+  summary.worst_violation = std::max(worst_w, worst_r);
+  if (worst_w > options.inequality_tolerance) {
+    summary.termination = FittedTermination::inequalities_violated;
+    summary.message = fmt::format(
+        "the limits solve w = 0, but w has the wrong sign inside an element by {:.1e} of max |w|: the contact "
+        "topology is not the answer's",
+        worst_w);
+    return result;
+  }
+  summary.message = fmt::format(
+      "{} limits fitted in {} Newton steps (last step {:.1e} of the length, w at the limits "
+      "{:.1e} of max |w|)",
+      refs.size(), summary.iterations, summary.last_step, summary.limit_residual);
+  return result;
+}
+
+}  // namespace liftoff::contact

@@ -1,0 +1,96 @@
+#pragma once
+// Limit-fitted solve: the contact limits become mesh nodes, and unknowns.
+//
+// A node-based contact set (fast, Lemke) puts each contact limit inside an element, where neither
+// the cubic w nor the linear reaction can follow the kink of the solution there (the foundation
+// force k max(w, 0) has a kink at the limit): the FE limits converge erratically, at orders
+// between 0.7 and 2.7. Here the contact topology is taken as given (from such a solve) and
+//  - the member is meshed with a node at every breakpoint (mesh_breakpoints) and at every limit,
+//    each segment between them uniform, with the requested total shared in proportion to length;
+//  - the foundation acts, bilaterally, on the whole elements of the contact regions and not at
+//    all on the lift-off elements (fe::discretise with a foundation mask);
+//  - the limits t_k solve w(t_k) = 0 by Newton's method with the diagonal Jacobian
+//    dF_k/dt_k = w'(t_k): moving a limit adds or removes foundation of intensity k w(t_k), which
+//    vanishes at the solution, so the off-diagonal terms and the rest of the diagonal are O(w(t))
+//    there and the iteration converges quadratically. Steps are kept inside the neighbouring
+//    limits and foundation ends (a limit never passes another);
+//  - then the contact inequalities are checked on the answer: w >= 0 on contact elements and
+//    w <= 0 on lift-off elements (each element's cubic sampled), r >= 0 at contact nodes.
+// With no kink inside any element, Hermite elements converge at their full order: the limit
+// error falls like h^4 (measured: contact/fitted_limits_test.cpp,
+// verification/bench/accuracy_bench.cpp limits), against ~h^2 and erratic with the node-based set.
+//
+// The number of contact regions is kept: a region that shrinks to nothing, or limits that
+// would cross, end the iteration (topology_changed); so does a violated inequality
+// (inequalities_violated). Either way the caller keeps its node-based answer.
+
+#include <Eigen/Dense>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "contact/active_set_system.hpp"
+#include "fe/discretisation.hpp"
+#include "fe/member_model.hpp"
+
+namespace liftoff::contact {
+
+struct ContactInterval {
+  double begin = 0.0;  // s
+  double end = 0.0;
+};
+
+struct FittedOptions {
+  int elements = 200;       // total, shared among the segments between breakpoints and limits
+  int max_iterations = 30;  // Newton steps on the limits
+  // Converged when every limit step is below step_tolerance times the member's length (the
+  // limits are then known to round-off: ~1e-15 relative, times |w| / (|w'| length)).
+  double step_tolerance = 1e-14;
+  // Wrong-signed w allowed by the inequality check, relative to max |w| (round-off of w).
+  double inequality_tolerance = 1e-10;
+  int samples_per_element = 8;  // of each element's cubic, for the inequality check
+  void validate() const;        // throws std::invalid_argument naming the field
+};
+
+enum class FittedTermination {
+  solved,                 // the limits solve w(t_k) = 0 to round-off and the inequalities hold
+  no_convergence,         // max_iterations steps without the step tolerance
+  topology_changed,       // a region shrank to nothing or limits would cross
+  inequalities_violated,  // converged, but w or r has the wrong sign somewhere: wrong topology
+  singular_system,        // the contact regions leave a rigid motion free
+};
+std::string_view to_string(FittedTermination);
+
+struct FittedSummary {
+  FittedTermination termination = FittedTermination::no_convergence;
+  std::string message;
+  int iterations = -1;            // Newton steps (one factorisation and solve each)
+  double limit_residual = -1.0;   // max |w(t_k)| / max |w| at the end
+  double last_step = -1.0;        // max |t_k step| / length of the last step: the limits' round-off
+  double worst_violation = -1.0;  // largest wrong-signed w (relative to max |w|) or r (to max r)
+  bool is_usable() const { return termination == FittedTermination::solved; }
+};
+
+struct FittedResult {
+  fe::Discretisation discretisation;     // on the fitted mesh, foundation on the contact elements
+  ContactState state;                    // u on its equations, r at its reaction nodes
+  std::vector<ContactInterval> contact;  // the contact regions, ends at the limits (s)
+  std::vector<double> limits;            // the interior limits t_k (s), increasing
+  FittedSummary summary;
+};
+
+// The contact regions of a node-based answer (fast, Lemke) on `d`: runs of reaction nodes in
+// contact, each limit placed at the zero of w's cubic in the element between a contact node and
+// a lifted-off one (or within three elements of it; its middle if w changes sign in none). A
+// lifted-off neighbour with w >= 0 (held at 0 by a support, or touching) belongs to the region:
+// a clamped end under weight is in contact up to the end, not a limit one element from it.
+// `displacement` on the equations.
+std::vector<ContactInterval> contact_intervals(const fe::Discretisation& d, const Eigen::VectorXd& displacement,
+                                               const std::vector<bool>& in_contact);
+
+// The limit-fitted answer for F = F_dead + load_factor F_live, starting from `initial` (disjoint,
+// increasing, inside the foundation's extent; a region end at a foundation end is not a limit).
+FittedResult solve_fitted_limits(const fe::MemberModel& model, double load_factor,
+                                 const std::vector<ContactInterval>& initial, const FittedOptions& options);
+
+}  // namespace liftoff::contact

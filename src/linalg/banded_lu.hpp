@@ -1,0 +1,49 @@
+#pragma once
+// LU factorisation with partial pivoting of a banded matrix (LAPACK dgbtrf / dgbtrs), the one
+// place liftoff calls LAPACK.
+//
+// Why partial pivoting: the mixed (Hellinger-Reissner) systems of contact::ActiveSetSystem have
+// a zero block (no K) and are indefinite, so an LDL^T without pivoting would have to eliminate
+// the stresses first, i.e. form K again with its N^4 condition. Row interchanges keep the
+// factorisation backward stable on the mixed matrix itself (condition ~N^2). A member is a
+// one-dimensional chain, so with its unknowns numbered along it the bandwidth is a small
+// constant (7 for beams): storage and work are O(n), (2 kl + ku + 1) doubles per unknown.
+//
+// Use: set_structure once, then per matrix: clear(), set(i, j, value) for the entries inside the
+// band, factorise(), and any number of solve() calls. Nothing allocates after set_structure.
+
+#include <vector>
+
+namespace liftoff::linalg {
+
+class BandedLu {
+ public:
+  // An n x n matrix with kl sub- and ku superdiagonals.
+  void set_structure(int n, int lower, int upper);
+  int size() const { return n_; }
+  int lower() const { return kl_; }
+  int upper() const { return ku_; }
+
+  void clear();  // every entry (and the factor's fill) to zero
+  void set(int row, int col, double value) { ab_[index(row, col)] = value; }
+
+  // False when a pivot is exactly zero (the matrix is singular); the factors are then unusable.
+  bool factorise();
+  bool factorised() const { return factorised_; }
+  // Overwrites b (length n) with A^-1 b.
+  void solve(double* b) const;
+  // Smallest and largest |pivot| of U (after factorise).
+  double smallest_pivot() const;
+  double largest_pivot() const;
+
+ private:
+  std::size_t index(int row, int col) const {
+    return static_cast<std::size_t>(col) * ldab_ + static_cast<std::size_t>(kl_ + ku_ + row - col);
+  }
+  int n_ = 0, kl_ = 0, ku_ = 0, ldab_ = 1;
+  std::vector<double> ab_;  // LAPACK band storage, column-major, ldab = 2 kl + ku + 1 rows
+  std::vector<int> pivots_;
+  bool factorised_ = false;
+};
+
+}  // namespace liftoff::linalg
