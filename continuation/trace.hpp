@@ -38,18 +38,18 @@ std::string_view to_string(EventKind);
 struct TraceEvent {
   double load_factor = 0.0;  // lambda at the event
   EventKind kind = EventKind::lift_off_opens;
-  double at = 0.0;           // position along the member, user coordinate
-  std::string description;   // one line, in words
+  double at = 0.0;          // position along the member, user coordinate
+  std::string description;  // one line, in words
 };
 
 // One recorded point of the path.
 struct TraceStep {
   double load_factor = 0.0;
   std::vector<std::array<double, 2>> contact_regions;  // user coordinate
-  double monitor_deflection = 0.0;   // w at TraceOptions::monitor (user length units)
-  std::vector<double> deflection;    // w at TraceOptions::sample_points (user length units)
-  std::vector<double> reaction;      // foundation reaction there (force per length, compression > 0)
-  int iterations = 0;                // corrector iterations (Ritz) or pivots (FE) since the last step
+  double monitor_deflection = 0.0;                     // w at TraceOptions::monitor (user length units)
+  std::vector<double> deflection;                      // w at TraceOptions::sample_points (user length units)
+  std::vector<double> reaction;                        // foundation reaction there (force per length, compression > 0)
+  int iterations = 0;                                  // corrector iterations (Ritz) or pivots (FE) since the last step
   // What a resumed trace needs to continue from this step without redoing anything, opaque to
   // everything but the path that wrote it. Ritz: the topology ("first_in_contact limits modes",
   // plus " event dir delta" at a switching event) and (unknowns, tangent, next step length), so
@@ -65,14 +65,14 @@ struct TraceOptions {
   double lambda_min = 0.0;
   double lambda_max = 1.0;
   PathControl control = PathControl::arc_length;
-  double initial_step = 0.05;   // in lambda (Ritz path; the FE path has no step length)
+  double initial_step = 0.05;  // in lambda (Ritz path; the FE path has no step length)
   double min_step = 1e-8;
   double max_step = 0.25;
   int max_steps = 10000;
-  double event_tolerance = 1e-10;  // events located to this in lambda
-  int elements = 200;              // FE path
-  int modes = 0;                   // Ritz path: 0 = automatic as in [ritz]
-  double monitor = 0.0;            // user coordinate of the load-displacement curve's w
+  double event_tolerance = 1e-10;     // events located to this in lambda
+  int elements = 200;                 // FE path
+  int modes = 0;                      // Ritz path: 0 = automatic as in [ritz]
+  double monitor = 0.0;               // user coordinate of the load-displacement curve's w
   std::vector<double> sample_points;  // user coordinates at which w and r are recorded
   // Resume after this step (read back from an interrupted trace's file): the path restarts
   // from its lambda and state. It reports neither that step nor any event at or below its
@@ -81,18 +81,18 @@ struct TraceOptions {
 };
 
 enum class TraceTermination {
-  completed,        // lambda_max (or lambda_min going down) reached
-  no_equilibrium,   // beyond some lambda no equilibrium exists (the loads lift the member off)
-  step_too_small,   // the Ritz corrector failed at the minimum step
-  step_limit,       // max_steps reached
-  solver_failure,   // a solve failed outright; message says how
+  completed,       // lambda_max (or lambda_min going down) reached
+  no_equilibrium,  // beyond some lambda no equilibrium exists (the loads lift the member off)
+  step_too_small,  // the Ritz corrector failed at the minimum step
+  step_limit,      // max_steps reached
+  solver_failure,  // a solve failed outright; message says how
 };
 std::string_view to_string(TraceTermination);
 
 struct TraceSummary {
   TraceTermination termination = TraceTermination::solver_failure;
   std::string message;
-  std::string path;          // "fe" or "ritz"
+  std::string path;  // "fe" or "ritz"
   int steps = 0;
   int rejected_steps = 0;
   int corrector_iterations = 0;  // Ritz

@@ -296,7 +296,8 @@ int run_sweep_command(const SweepArguments& args, std::ostream& out, std::ostrea
     for (const auto& [termination, count] : terminations)
       counts += fmt::format("{}{} x {}", counts.empty() ? "" : ", ", count, termination);
     err << fmt::format("liftoff: {}: sweep: {} of {} answers not solved ({}); see the termination column\n",
-                       args.problem.scene_path.empty() ? std::string(default_scene_name) : args.problem.scene_path, unsolved, answers, counts);
+                       args.problem.scene_path.empty() ? std::string(default_scene_name) : args.problem.scene_path,
+                       unsolved, answers, counts);
   }
   return code(failed ? ExitCode::solver_failure : ExitCode::success);
 }

@@ -124,7 +124,7 @@ void fill_resultants(Certificate& c, const fe::MemberModel& model, const std::ve
     c.applied_force = applied[0];
     c.foundation_resultant = foundation[0];
     c.applied_moment = 0.0 - applied[1];  // (no -0)
-  } else {  // "toward the foundation at the crown" is minus mode 1 (w = -cos theta)
+  } else {                                // "toward the foundation at the crown" is minus mode 1 (w = -cos theta)
     c.applied_force = 0.0 - applied[1];
     c.foundation_resultant = 0.0 - foundation[1];
     c.applied_force_x = applied[0];
@@ -162,9 +162,10 @@ void conclude(Certificate& c, const fe::MemberModel& model) {
   for (const Check& check : c.checks) others += !check.passed && &check != failed;
   const std::string against =
       failed->value <= failed->tolerance
-          ? fmt::format("above {:.0e}, the most any certified answer may carry (its own round-off or truncation "
-                        "bound, {:.2e}, is no certificate)",
-                        largest_certifiable_error, failed->tolerance)
+          ? fmt::format(
+                "above {:.0e}, the most any certified answer may carry (its own round-off or truncation "
+                "bound, {:.2e}, is no certificate)",
+                largest_certifiable_error, failed->tolerance)
           : fmt::format("against a tolerance of {:.2e}", failed->tolerance);
   c.message = fmt::format("{} failed: {:.2e} {}{}{}", failed->name, failed->value, against, where,
                           others > 0 ? fmt::format(" (and {} more checks)", others) : "");

@@ -245,8 +245,8 @@ Certificate certify(const MemberModel& member, const ritz::RitzSolution& solutio
     // Newton's residual: Galerkin makes the balance exact only for the exact root, so the balance
     // carries the residual rows along the balance mode's expansion in the basis; bounded by the
     // largest row x sqrt(amplitudes) x the mode's largest value (1, or the lever L for a moment).
-    const double lever = member.kind == StructureKind::beam && j == 1 ? std::max(1.0, member.s_end - member.s_begin)
-                                                                      : 1.0;
+    const double lever =
+        member.kind == StructureKind::beam && j == 1 ? std::max(1.0, member.s_end - member.s_begin) : 1.0;
     const double newton_term = amplitude_residual * std::sqrt(double(amplitudes)) * lever;
     Check check = detail::make_check(
         detail::balance_name(member.kind, j), value,

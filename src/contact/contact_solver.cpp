@@ -1,11 +1,11 @@
 #include "contact/contact_solver.hpp"
 
+#include <fmt/format.h>
+
+#include <Eigen/SparseCholesky>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
-
-#include <Eigen/SparseCholesky>
-#include <fmt/format.h>
 
 #include "core/error.hpp"
 
@@ -17,11 +17,16 @@ using fe::Discretisation;
 
 std::string_view to_string(ContactTermination t) {
   switch (t) {
-    case ContactTermination::solved: return "solved";
-    case ContactTermination::no_equilibrium: return "no_equilibrium";
-    case ContactTermination::pivot_limit: return "pivot_limit";
-    case ContactTermination::iteration_limit: return "iteration_limit";
-    case ContactTermination::numerical_failure: return "numerical_failure";
+    case ContactTermination::solved:
+      return "solved";
+    case ContactTermination::no_equilibrium:
+      return "no_equilibrium";
+    case ContactTermination::pivot_limit:
+      return "pivot_limit";
+    case ContactTermination::iteration_limit:
+      return "iteration_limit";
+    case ContactTermination::numerical_failure:
+      return "numerical_failure";
   }
   return "unknown";
 }
@@ -38,8 +43,8 @@ std::string ContactSummary::brief_report() const {
   if (iterations >= 0)
     return fmt::format("{} ({}): {} contact sets, {} factorisations, residual {:.2e}, {:.3f} s", to_string(termination),
                        scene::to_string(method), iterations, factorisations, residual, time_s);
-  return fmt::format("{} ({}): {} pivots, residual {:.2e}, {:.3f} s", to_string(termination),
-                     scene::to_string(method), pivots, residual, time_s);
+  return fmt::format("{} ({}): {} pivots, residual {:.2e}, {:.3f} s", to_string(termination), scene::to_string(method),
+                     pivots, residual, time_s);
 }
 
 namespace {
@@ -114,8 +119,7 @@ double relative_residual(const Discretisation& d, const Unknowns& x, const Vecto
   if (d.reactions() == 0) return residual;
 
   const VectorXd gap = d.flexibility * x.reaction - d.coupling * x.displacement;
-  const VectorXd gap_terms =
-      absolute_product(d.flexibility, x.reaction) + absolute_product(d.coupling, x.displacement);
+  const VectorXd gap_terms = absolute_product(d.flexibility, x.reaction) + absolute_product(d.coupling, x.displacement);
   const double gap_scale = std::max(gap_terms.maxCoeff(), 1e-300);
   if (!tensionless) return std::max(residual, gap.lpNorm<Eigen::Infinity>() / gap_scale);
 
@@ -128,25 +132,33 @@ double relative_residual(const Discretisation& d, const Unknowns& x, const Vecto
 
 ContactTermination termination_of(const lcp::LemkeSummary& summary) {
   switch (summary.termination) {
-    case lcp::LemkeTermination::solution: return ContactTermination::solved;
-    case lcp::LemkeTermination::ray: return ContactTermination::no_equilibrium;
-    case lcp::LemkeTermination::pivot_limit: return ContactTermination::pivot_limit;
-    case lcp::LemkeTermination::numerical_failure: return ContactTermination::numerical_failure;
+    case lcp::LemkeTermination::solution:
+      return ContactTermination::solved;
+    case lcp::LemkeTermination::ray:
+      return ContactTermination::no_equilibrium;
+    case lcp::LemkeTermination::pivot_limit:
+      return ContactTermination::pivot_limit;
+    case lcp::LemkeTermination::numerical_failure:
+      return ContactTermination::numerical_failure;
   }
   return ContactTermination::numerical_failure;
 }
 
 std::string explain(ContactTermination termination, const lcp::LemkeSummary& lemke) {
   switch (termination) {
-    case ContactTermination::solved: return "equilibrium found";
+    case ContactTermination::solved:
+      return "equilibrium found";
     case ContactTermination::no_equilibrium:
       return "no equilibrium exists: the loads would lift the member off the foundation and the supports "
              "cannot hold it, so it is a mechanism (Lemke ray termination after " +
              std::to_string(lemke.pivots) + " pivots)";
     case ContactTermination::pivot_limit:
-      return "Lemke's algorithm reached its pivot limit (" + std::to_string(lemke.pivots) + " pivots) without a solution";
-    case ContactTermination::numerical_failure: return "Lemke's algorithm failed numerically: " + lemke.message;
-    case ContactTermination::iteration_limit: break;  // not a Lemke outcome
+      return "Lemke's algorithm reached its pivot limit (" + std::to_string(lemke.pivots) +
+             " pivots) without a solution";
+    case ContactTermination::numerical_failure:
+      return "Lemke's algorithm failed numerically: " + lemke.message;
+    case ContactTermination::iteration_limit:
+      break;  // not a Lemke outcome
   }
   return lemke.message;
 }
@@ -235,7 +247,7 @@ LcpOutcome solve_dual(const Discretisation& d, const VectorXd& load, const lcp::
     throw SolverFailure("the dual form could not factorise the stiffness matrix K; use method = \"primal\"");
   const MatrixXd flexibility_of_structure = stiffness.solve(MatrixXd(d.coupling.transpose()));  // K^-1 C^T
   const MatrixXd p = d.coupling * flexibility_of_structure + MatrixXd(d.flexibility);
-  const VectorXd free_displacement = stiffness.solve(load);                                      // K^-1 F
+  const VectorXd free_displacement = stiffness.solve(load);  // K^-1 F
   const VectorXd q = -(d.coupling * free_displacement);
 
   const lcp::LemkeResult result = lcp::solve_lemke(p, q, options);
@@ -300,9 +312,10 @@ int lcp_size_of(const Discretisation& d, Method method) {
 void check_dense_size(const Discretisation& d, Method method) {
   const int size = lcp_size_of(d, method);
   if (size > max_dense_lcp)
-    throw SolverFailure(fmt::format("the {} LCP would have {} unknowns, a dense matrix of {:.1f} GB for Lemke (limit {} "
-                                    "unknowns); use method = \"fast\" (or \"auto\"), which is O(n)",
-                                    scene::to_string(method), size, 8.0 * size * size / 1e9, max_dense_lcp));
+    throw SolverFailure(
+        fmt::format("the {} LCP would have {} unknowns, a dense matrix of {:.1f} GB for Lemke (limit {} "
+                    "unknowns); use method = \"fast\" (or \"auto\"), which is O(n)",
+                    scene::to_string(method), size, 8.0 * size * size / 1e9, max_dense_lcp));
 }
 
 }  // namespace
@@ -373,8 +386,8 @@ ContactSolution solve_contact(const Discretisation& d, const ContactOptions& opt
     } else {
       // Lemke takes over: dual where the structure is stable, else primal, if its dense LCP fits.
       const Method fallback = d.structure_is_stable() ? Method::dual : Method::primal;
-      const std::string why = fmt::format("the fast solver stopped ({}: {})",
-                                          to_string(fast.summary.termination), fast.summary.message);
+      const std::string why =
+          fmt::format("the fast solver stopped ({}: {})", to_string(fast.summary.termination), fast.summary.message);
       if (lcp_size_of(d, fallback) > max_dense_lcp) {
         summary.termination = fast.summary.termination == ActiveSetTermination::singular_system
                                   ? ContactTermination::numerical_failure

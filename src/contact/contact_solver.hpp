@@ -16,9 +16,8 @@
 // positively homogeneous in F, so the scale is undone exactly afterwards. Lemke's LCPs are
 // dense: one larger than max_dense_lcp unknowns is refused (SolverFailure pointing to fast).
 
-#include <string>
-
 #include <Eigen/Dense>
+#include <string>
 
 #include "contact/active_set_solver.hpp"
 #include "fe/discretisation.hpp"
@@ -34,7 +33,7 @@ struct ContactOptions {
   double load_factor = 1.0;  // lambda: F = F_dead + lambda F_live
   lcp::LemkeOptions lemke;
   ActiveSetOptions active_set;  // method = fast
-  void validate() const;  // throws std::invalid_argument naming the field
+  void validate() const;        // throws std::invalid_argument naming the field
 };
 
 enum class ContactTermination {
@@ -51,10 +50,10 @@ std::string_view to_string(ContactTermination);
 
 struct ContactSummary {
   ContactTermination termination = ContactTermination::numerical_failure;
-  Method method = Method::dual;    // the formulation actually used
-  std::string method_reason;       // why (for method = auto, or the bilateral shortcut)
-  std::string message;             // in words
-  int pivots = -1;          // Lemke
+  Method method = Method::dual;  // the formulation actually used
+  std::string method_reason;     // why (for method = auto, or the bilateral shortcut)
+  std::string message;           // in words
+  int pivots = -1;               // Lemke
   int lcp_size = -1;
   int iterations = -1;      // fast: contact sets tried
   int factorisations = -1;  // fast and bilateral: numeric sparse factorisations

@@ -30,8 +30,8 @@ MemberModel make_member_model(const scene::Scene& scene) {
     model.scales.length = structure.radius;
     model.s_begin = -structure.half_angle_deg * degrees;
     model.s_end = structure.half_angle_deg * degrees;
-    model.membrane_stiffness = structure.axial_stiffness.value_or(0.0) * structure.radius *
-                               structure.radius / structure.bending_stiffness;
+    model.membrane_stiffness =
+        structure.axial_stiffness.value_or(0.0) * structure.radius * structure.radius / structure.bending_stiffness;
   }
   const Scales& scales = model.scales;
 
@@ -55,9 +55,15 @@ MemberModel make_member_model(const scene::Scene& scene) {
     member_load.from = model.s_from_user(load.from);
     member_load.to = model.s_from_user(load.to);
     switch (load.kind) {
-      case LoadKind::force: member_load.value = load.value / scales.force(); break;
-      case LoadKind::moment: member_load.value = load.value / scales.moment(); break;
-      case LoadKind::uniform: member_load.value = load.value / scales.force_per_length(); break;
+      case LoadKind::force:
+        member_load.value = load.value / scales.force();
+        break;
+      case LoadKind::moment:
+        member_load.value = load.value / scales.moment();
+        break;
+      case LoadKind::uniform:
+        member_load.value = load.value / scales.force_per_length();
+        break;
     }
     model.loads.push_back(member_load);
   }

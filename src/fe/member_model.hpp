@@ -46,7 +46,7 @@ struct MemberModel {
   std::vector<double> point_supports;  // s
   double foundation_modulus = 0.0;     // k
   bool tensionless = true;
-  double foundation_begin = 0.0;       // s
+  double foundation_begin = 0.0;  // s
   double foundation_end = 1.0;
   std::vector<MemberLoad> loads;
   Scales scales;

@@ -27,11 +27,10 @@
 // largest-pivot tie-breaking: the noise is in the bases, not in the updates. Hence the check of
 // rays, `complementary`, and the contact solver's check of the final contact set.
 
+#include <Eigen/Dense>
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <Eigen/Dense>
 
 namespace liftoff::lcp {
 
@@ -64,8 +63,8 @@ std::string_view to_string(LemkeTermination);
 
 struct LemkeSummary {
   LemkeTermination termination = LemkeTermination::numerical_failure;
-  std::string message;                  // what happened, in words
-  int pivots = -1;                      // complementary pivots taken (the first z0 pivot counts)
+  std::string message;  // what happened, in words
+  int pivots = -1;      // complementary pivots taken (the first z0 pivot counts)
   // Residuals of the returned (z, w), evaluated with the original M and q but in diagonally
   // scaled units, so that a stiff row cannot hide the error of a flexible one: with D as for
   // LemkeOptions::equilibrate (computed whether or not pivoting used it),
@@ -81,12 +80,12 @@ struct LemkeSummary {
   // |M||z| ~ 1e7 |q| for the footing of issue 10, so a violation of 3.5 % of the loads showed as
   // 2.7e-11.) A caller that knows what the rows mean must check the answer in those terms:
   // contact_solver.cpp re-solves the final contact set and checks its signs.
-  double feasibility_residual = -1.0;   // max(0, max_i(-y_i) / sy, max_i(-v_i) / s)
+  double feasibility_residual = -1.0;      // max(0, max_i(-y_i) / sy, max_i(-v_i) / s)
   double complementarity_residual = -1.0;  // max_i |y_i v_i| / (s sy)   (y_i v_i = z_i w_i)
-  double equation_residual = -1.0;      // |v - qs - Ms y|_inf / s
+  double equation_residual = -1.0;         // |v - qs - Ms y|_inf / s
   double time_s = -1.0;
   bool is_usable() const { return termination == LemkeTermination::solution; }
-  std::string brief_report() const;     // one line
+  std::string brief_report() const;  // one line
 };
 
 struct LemkeResult {
@@ -110,7 +109,6 @@ struct LemkeResult {
 
 // Solves the LCP. M must be square with the size of q; NaN or Inf input is misuse and throws
 // std::invalid_argument. Never throws for an outcome: see summary.termination.
-LemkeResult solve_lemke(const Eigen::MatrixXd& M, const Eigen::VectorXd& q,
-                        const LemkeOptions& options = {});
+LemkeResult solve_lemke(const Eigen::MatrixXd& M, const Eigen::VectorXd& q, const LemkeOptions& options = {});
 
 }  // namespace liftoff::lcp

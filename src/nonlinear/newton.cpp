@@ -21,6 +21,14 @@
 //    members declared in creation order, so they are freed in reverse order on every path.
 //  - KINSOL's error messages go to a handler that collects them for the summary, not to stderr.
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>  // fmt::join
+#include <kinsol/kinsol.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -31,14 +39,6 @@
 #include <stdexcept>
 #include <type_traits>
 #include <utility>
-
-#include <fmt/format.h>
-#include <fmt/ranges.h>  // fmt::join
-#include <kinsol/kinsol.h>
-#include <nvector/nvector_serial.h>
-#include <sundials/sundials_context.h>
-#include <sunlinsol/sunlinsol_dense.h>
-#include <sunmatrix/sunmatrix_dense.h>
 
 namespace liftoff::nonlinear {
 
@@ -55,29 +55,42 @@ constexpr std::size_t max_kinsol_messages = 4;  // KINSOL reports each failure o
 // knows neither the system-function codes nor the vector-op and context errors.
 std::string flag_name(int flag) {
   switch (flag) {
-    case KIN_SYSFUNC_FAIL: return "KIN_SYSFUNC_FAIL";
-    case KIN_FIRST_SYSFUNC_ERR: return "KIN_FIRST_SYSFUNC_ERR";
-    case KIN_REPTD_SYSFUNC_ERR: return "KIN_REPTD_SYSFUNC_ERR";
-    case KIN_VECTOROP_ERR: return "KIN_VECTOROP_ERR";
-    case KIN_CONTEXT_ERR: return "KIN_CONTEXT_ERR";
-    default: break;
+    case KIN_SYSFUNC_FAIL:
+      return "KIN_SYSFUNC_FAIL";
+    case KIN_FIRST_SYSFUNC_ERR:
+      return "KIN_FIRST_SYSFUNC_ERR";
+    case KIN_REPTD_SYSFUNC_ERR:
+      return "KIN_REPTD_SYSFUNC_ERR";
+    case KIN_VECTOROP_ERR:
+      return "KIN_VECTOROP_ERR";
+    case KIN_CONTEXT_ERR:
+      return "KIN_CONTEXT_ERR";
+    default:
+      break;
   }
   const std::unique_ptr<char, decltype(&std::free)> name(KINGetReturnFlagName(flag), &std::free);
   if (!name || std::string_view(name.get()) == "NONE") return fmt::format("KINSOL flag {}", flag);
   return name.get();
 }
 
-bool same_point(const VectorXd& a, const double* b) {
-  return (a.array() == ConstVectorMap(b, a.size()).array()).all();
-}
+bool same_point(const VectorXd& a, const double* b) { return (a.array() == ConstVectorMap(b, a.size()).array()).all(); }
 
 // What the C callbacks reach through KINSOL's user_data: the user's functions, work space (so
 // the iteration allocates nothing), the residual history and everything a summary needs.
 class Problem {
  public:
   Problem(const Residual& residual, const Jacobian& jacobian, int n, VectorXd residual_scale)
-      : residual_(residual), jacobian_(jacobian), n_(n), residual_scale_(std::move(residual_scale)),
-        x_(n), f_(n), f_given_(n), jacobian_matrix_(n, n), last_x_(n), last_f_(n), recorded_x_(n) {}
+      : residual_(residual),
+        jacobian_(jacobian),
+        n_(n),
+        residual_scale_(std::move(residual_scale)),
+        x_(n),
+        f_(n),
+        f_given_(n),
+        jacobian_matrix_(n, n),
+        last_x_(n),
+        last_f_(n),
+        recorded_x_(n) {}
 
   int n() const { return n_; }
 
@@ -239,8 +252,7 @@ class Kinsol {
   Kinsol(Problem& problem, const NewtonOptions& options) {
     const int n = problem.n();
     SUNContext context = nullptr;
-    if (SUNContext_Create(nullptr, &context) != 0 || context == nullptr)
-      throw SetupFailure("SUNContext_Create failed");
+    if (SUNContext_Create(nullptr, &context) != 0 || context == nullptr) throw SetupFailure("SUNContext_Create failed");
     context_.reset(context);
 
     u_.reset(new_vector(n, "the unknowns"));
@@ -269,8 +281,7 @@ class Kinsol {
     check(KINSetScaledStepTol(kin, options.step_tolerance), "KINSetScaledStepTol");
     check(KINSetNumMaxIters(kin, options.max_iterations), "KINSetNumMaxIters");
     check(KINSetMaxSetupCalls(kin, 1), "KINSetMaxSetupCalls");  // a fresh Jacobian at every iterate
-    if (options.max_newton_step > 0.0)
-      check(KINSetMaxNewtonStep(kin, options.max_newton_step), "KINSetMaxNewtonStep");
+    if (options.max_newton_step > 0.0) check(KINSetMaxNewtonStep(kin, options.max_newton_step), "KINSetMaxNewtonStep");
     if (constraints_) check(KINSetConstraints(kin, constraints_.get()), "KINSetConstraints");
     strategy_ = options.globalisation == Globalisation::line_search ? KIN_LINESEARCH : KIN_NONE;
   }
@@ -316,8 +327,10 @@ class Kinsol {
   }
   static void fill(N_Vector v, const VectorXd& values) {
     auto data = Eigen::Map<VectorXd>(N_VGetArrayPointer(v), N_VGetLength(v));
-    if (values.size() == 0) data.setOnes();
-    else data = values;
+    if (values.size() == 0)
+      data.setOnes();
+    else
+      data = values;
   }
   static void check(int flag, const char* call) {
     if (flag != KIN_SUCCESS) throw SetupFailure(fmt::format("{} returned {}", call, flag_name(flag)));
@@ -409,8 +422,9 @@ Outcome interpret(int flag, const NewtonSummary& s, const NewtonOptions& o, cons
                           "max_newton_step",
                           problem.rejections())};
     case KIN_FIRST_SYSFUNC_ERR:
-      return {T::residual_failed, "residual failed: the residual callback rejected the initial guess; start from an "
-                                  "admissible point"};
+      return {T::residual_failed,
+              "residual failed: the residual callback rejected the initial guess; start from an "
+              "admissible point"};
     case KIN_REPTD_SYSFUNC_ERR:
       return {T::residual_failed,
               fmt::format("residual failed: the residual callback rejected five successive trial points of a Newton "
@@ -440,8 +454,8 @@ void check_initial_guess(const VectorXd& x, const NewtonOptions& options) {
   for (Eigen::Index i = 0; i < options.constraints.size(); ++i) {
     const int c = options.constraints(i);
     const double xi = x(i);
-    const bool ok = c == 0 || (c == 1 && xi >= 0.0) || (c == 2 && xi > 0.0) || (c == -1 && xi <= 0.0) ||
-                    (c == -2 && xi < 0.0);
+    const bool ok =
+        c == 0 || (c == 1 && xi >= 0.0) || (c == 2 && xi > 0.0) || (c == -1 && xi <= 0.0) || (c == -2 && xi < 0.0);
     if (!ok) {
       static constexpr std::string_view meaning[] = {"x < 0", "x <= 0", "free", "x >= 0", "x > 0"};
       throw std::invalid_argument(
@@ -461,8 +475,7 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 void NewtonOptions::validate(int n) const {
   const auto positive = [](const char* field, double value) {
     if (!(std::isfinite(value) && value > 0.0))
-      throw std::invalid_argument(
-          fmt::format("NewtonOptions.{}: expected a finite number > 0, got {}", field, value));
+      throw std::invalid_argument(fmt::format("NewtonOptions.{}: expected a finite number > 0, got {}", field, value));
   };
   positive("residual_tolerance", residual_tolerance);
   positive("step_tolerance", step_tolerance);
@@ -493,29 +506,39 @@ void NewtonOptions::validate(int n) const {
                     constraints.size()));
   for (Eigen::Index i = 0; i < n; ++i)
     if (constraints(i) < -2 || constraints(i) > 2)
-      throw std::invalid_argument(fmt::format(
-          "NewtonOptions.constraints({}): expected one of -2, -1, 0, 1, 2 (KINSOL's codes), got {}", i,
-          constraints(i)));
+      throw std::invalid_argument(
+          fmt::format("NewtonOptions.constraints({}): expected one of -2, -1, 0, 1, 2 (KINSOL's codes), got {}", i,
+                      constraints(i)));
 }
 
 std::string_view to_string(Globalisation g) {
   switch (g) {
-    case Globalisation::line_search: return "line_search";
-    case Globalisation::none: return "none";
+    case Globalisation::line_search:
+      return "line_search";
+    case Globalisation::none:
+      return "none";
   }
   return "unknown";
 }
 
 std::string_view to_string(NewtonTermination t) {
   switch (t) {
-    case NewtonTermination::converged: return "converged";
-    case NewtonTermination::step_below_tolerance: return "step_below_tolerance";
-    case NewtonTermination::line_search_failed: return "line_search_failed";
-    case NewtonTermination::iteration_limit: return "iteration_limit";
-    case NewtonTermination::linear_solver_failed: return "linear_solver_failed";
-    case NewtonTermination::residual_failed: return "residual_failed";
-    case NewtonTermination::setup_failed: return "setup_failed";
-    case NewtonTermination::other_failure: return "other_failure";
+    case NewtonTermination::converged:
+      return "converged";
+    case NewtonTermination::step_below_tolerance:
+      return "step_below_tolerance";
+    case NewtonTermination::line_search_failed:
+      return "line_search_failed";
+    case NewtonTermination::iteration_limit:
+      return "iteration_limit";
+    case NewtonTermination::linear_solver_failed:
+      return "linear_solver_failed";
+    case NewtonTermination::residual_failed:
+      return "residual_failed";
+    case NewtonTermination::setup_failed:
+      return "setup_failed";
+    case NewtonTermination::other_failure:
+      return "other_failure";
   }
   return "unknown";
 }
@@ -595,8 +618,7 @@ NewtonSummary solve_newton(const Residual& residual, const Jacobian& jacobian, V
     summary.final_residual = problem.scaled_norm(last_f->data());
   } else {
     VectorXd f(n);
-    summary.final_residual =
-        problem.residual(x_final.data(), f.data()) == 0 ? problem.scaled_norm(f.data()) : infinity;
+    summary.final_residual = problem.residual(x_final.data(), f.data()) == 0 ? problem.scaled_norm(f.data()) : infinity;
   }
   if (std::isfinite(summary.final_residual)) problem.record(x_final.data(), summary.final_residual);
   x = x_final;

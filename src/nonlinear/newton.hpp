@@ -19,12 +19,11 @@
 //
 // Convergence is measured as  r(x) = max_i |F_i(x)| * residual_scale_i  (KINSOL's stopping test).
 
+#include <Eigen/Dense>
 #include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <Eigen/Dense>
 
 namespace liftoff::nonlinear {
 
@@ -72,12 +71,12 @@ std::string_view to_string(NewtonTermination);
 
 struct NewtonSummary {
   NewtonTermination termination = NewtonTermination::other_failure;
-  std::string message;  // what happened and what to try, in words, ending with KINSOL's flag name
+  std::string message;            // what happened and what to try, in words, ending with KINSOL's flag name
   int iterations = -1;            // Newton iterations started (KINGetNumNonlinSolvIters)
   int residual_evaluations = -1;  // calls of the Residual callback, including rejected points
   int jacobian_evaluations = -1;  // calls of the Jacobian callback
-  int backtracks = -1;  // line-search backtracking steps (KINGetNumBacktrackOps: KINSOL counts
-                        // those of successful line searches only; rejected points not at all)
+  int backtracks = -1;            // line-search backtracking steps (KINGetNumBacktrackOps: KINSOL counts
+                                  // those of successful line searches only; rejected points not at all)
   // r at each distinct iterate, in order: r(x0) first, then one entry per Newton iteration that
   // moved x, the returned x last (so on convergence its size is iterations + 1 and the last entry
   // equals final_residual). Evidence of the rate: quadratic near a regular root, linear at a

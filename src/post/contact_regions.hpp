@@ -4,9 +4,8 @@
 // element's cubic deflection, not snapped to nodes. A bilateral foundation is in contact
 // over its whole extent.
 
-#include <vector>
-
 #include <Eigen/Dense>
+#include <vector>
 
 #include "fe/discretisation.hpp"
 #include "fe/member_model.hpp"

@@ -6,9 +6,8 @@
 // normal force N = EA R^2/EI (u' - w) (tension positive). The reaction is the seed's linear
 // interpolation of the nodal reactions (compression positive), zero off the foundation.
 
-#include <vector>
-
 #include <Eigen/Dense>
+#include <vector>
 
 #include "contact/contact_solver.hpp"
 #include "fe/discretisation.hpp"

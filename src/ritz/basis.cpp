@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <Eigen/Dense>
-
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -204,9 +203,12 @@ namespace {
 TrigPolynomial end_curvature_cubic(DeflectionEnd other) {
   const auto eta = [](int p) { return TrigPolynomial::monomial(p); };
   switch (other) {
-    case DeflectionEnd::hinge: return 2.0 * eta(1) - 3.0 * eta(2) + eta(3);      // w(1) = w''(1) = 0
-    case DeflectionEnd::clamp: return eta(1) - 2.0 * eta(2) + eta(3);           // w(1) = w'(1) = 0
-    case DeflectionEnd::free: return eta(2);
+    case DeflectionEnd::hinge:
+      return 2.0 * eta(1) - 3.0 * eta(2) + eta(3);  // w(1) = w''(1) = 0
+    case DeflectionEnd::clamp:
+      return eta(1) - 2.0 * eta(2) + eta(3);  // w(1) = w'(1) = 0
+    case DeflectionEnd::free:
+      return eta(2);
   }
   return eta(2);
 }
@@ -223,8 +225,8 @@ Basis beam_basis(fe::EndSupport left, fe::EndSupport right, double s_begin, doub
   const int cubics = (left_end == DeflectionEnd::hinge) + (right_end == DeflectionEnd::hinge);
   const bool enriched = modes >= cubics + 3;
   Basis basis;
-  basis.w = deflection_family(left_end, right_end, s_begin, s_end, enriched ? modes - cubics : modes,
-                              basis.description);
+  basis.w =
+      deflection_family(left_end, right_end, s_begin, s_end, enriched ? modes - cubics : modes, basis.description);
   if (enriched) {
     const double length = s_end - s_begin;
     if (left_end == DeflectionEnd::hinge)  // eta = xi
@@ -335,10 +337,14 @@ KinkedFunction kinked_function(const fe::MemberModel& model, double a) {
   const auto kink_derivative = [alpha](double xi, int order) {
     const double d = xi - alpha, sign = d < 0 ? -1.0 : 1.0;
     switch (order) {
-      case 0: return std::abs(d) * d * d;
-      case 1: return 3.0 * d * std::abs(d);
-      case 2: return 6.0 * std::abs(d);
-      default: return 6.0 * sign;
+      case 0:
+        return std::abs(d) * d * d;
+      case 1:
+        return 3.0 * d * std::abs(d);
+      case 2:
+        return 6.0 * std::abs(d);
+      default:
+        return 6.0 * sign;
     }
   };
   const auto monomial_derivative = [](double xi, int p, int order) {
@@ -350,9 +356,15 @@ KinkedFunction kinked_function(const fe::MemberModel& model, double a) {
   std::vector<std::pair<double, int>> conditions;  // (xi, derivative order) where e^(order) = 0
   for (const auto& [xi, support] : {std::pair{0.0, model.left}, std::pair{1.0, model.right}}) {
     switch (deflection_end(support)) {
-      case DeflectionEnd::hinge: conditions.insert(conditions.end(), {{xi, 0}, {xi, 2}}); break;
-      case DeflectionEnd::clamp: conditions.insert(conditions.end(), {{xi, 0}, {xi, 1}}); break;
-      case DeflectionEnd::free: conditions.insert(conditions.end(), {{xi, 2}, {xi, 3}}); break;
+      case DeflectionEnd::hinge:
+        conditions.insert(conditions.end(), {{xi, 0}, {xi, 2}});
+        break;
+      case DeflectionEnd::clamp:
+        conditions.insert(conditions.end(), {{xi, 0}, {xi, 1}});
+        break;
+      case DeflectionEnd::free:
+        conditions.insert(conditions.end(), {{xi, 2}, {xi, 3}});
+        break;
     }
   }
   Eigen::MatrixXd m(conditions.size(), degree + 1);
@@ -378,7 +390,8 @@ KinkedFunction kinked_function(const fe::MemberModel& model, double a) {
     const double xi = static_cast<double>(i) / samples;
     largest = std::max(largest, std::abs(e.halves[xi < alpha ? 0 : 1](xi)));
   }
-  for (TrigPolynomial& half : e.halves) half = (half * (1.0 / largest)).composed_affine(1.0 / length, -model.s_begin / length);
+  for (TrigPolynomial& half : e.halves)
+    half = (half * (1.0 / largest)).composed_affine(1.0 / length, -model.s_begin / length);
   return e;
 }
 
@@ -398,8 +411,8 @@ Basis make_basis(const fe::MemberModel& model, int modes, Enrichment enrichment)
   kinks.erase(std::unique(kinks.begin(), kinks.end()), kinks.end());
   for (double a : kinks) basis.kinked_w.push_back(kinked_function(model, a));
   if (!kinks.empty())
-    basis.description += fmt::format(", enriched with |s - a|^3 at {} point force{}", kinks.size(),
-                                     kinks.size() == 1 ? "" : "s");
+    basis.description +=
+        fmt::format(", enriched with |s - a|^3 at {} point force{}", kinks.size(), kinks.size() == 1 ? "" : "s");
   return basis;
 }
 

@@ -72,15 +72,15 @@ enum class Enrichment {
 };
 
 struct KinkedFunction {
-  double kink = 0.0;                       // a (s)
-  std::array<TrigPolynomial, 2> halves;    // the expression for s < a and for s >= a
+  double kink = 0.0;                     // a (s)
+  std::array<TrigPolynomial, 2> halves;  // the expression for s < a and for s >= a
 };
 
 struct Basis {
-  std::vector<TrigPolynomial> w;  // N functions of s
-  std::vector<TrigPolynomial> u;  // arches: N functions of s; empty for beams
+  std::vector<TrigPolynomial> w;         // N functions of s
+  std::vector<TrigPolynomial> u;         // arches: N functions of s; empty for beams
   std::vector<KinkedFunction> kinked_w;  // beams: the load-point enrichment, after the N (see above)
-  std::string description;        // the family in words, for reports
+  std::string description;               // the family in words, for reports
 };
 
 // Throws std::invalid_argument for modes < 1, or s_begin >= s_end.

@@ -41,7 +41,10 @@ MatrixXd gram(const std::vector<TrigPolynomial>& f, double a, double b) {
 }  // namespace
 
 RitzModel::RitzModel(const fe::MemberModel& model, int modes, Topology topology, Enrichment enrichment)
-    : arch_(model.kind == fe::StructureKind::arch), tensionless_(model.tensionless), modes_(modes), topology_(topology) {
+    : arch_(model.kind == fe::StructureKind::arch),
+      tensionless_(model.tensionless),
+      modes_(modes),
+      topology_(topology) {
   if (!model.point_supports.empty())
     throw std::invalid_argument("the Ritz model does not take interior point supports; use an FE method");
   topology_.validate();

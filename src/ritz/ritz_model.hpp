@@ -66,7 +66,7 @@ class RitzModel {
   RitzModel(const fe::MemberModel& model, int modes, Topology topology, Enrichment enrichment = Enrichment::none);
 
   // Layout of x.
-  int modes() const { return modes_; }  // w functions: the N requested plus the load-point enrichment
+  int modes() const { return modes_; }            // w functions: the N requested plus the load-point enrichment
   int amplitudes() const { return amplitudes_; }  // N (beam) or 2N (arch)
   int limits() const { return topology_.limits; }
   int unknowns() const { return amplitudes_ + topology_.limits; }
@@ -144,10 +144,10 @@ class RitzModel {
   Basis basis_;
   std::vector<double> breakpoints_;
   std::vector<std::vector<std::vector<TrigPolynomial>>> w_derivatives_;  // [region][order 0..3][i]
-  std::vector<std::vector<TrigPolynomial>> u_derivatives_;  // arches
-  std::vector<std::vector<TrigTerm>> w_terms_;    // [region]: every term of every w function
-  std::vector<std::vector<int>> w_term_function_;  // [region]: the function each term is of
-  std::vector<ProductTable> w_products_;           // [region]: phi_i phi_j, i <= j
+  std::vector<std::vector<TrigPolynomial>> u_derivatives_;               // arches
+  std::vector<std::vector<TrigTerm>> w_terms_;                           // [region]: every term of every w function
+  std::vector<std::vector<int>> w_term_function_;                        // [region]: the function each term is of
+  std::vector<ProductTable> w_products_;                                 // [region]: phi_i phi_j, i <= j
   Eigen::MatrixXd stiffness_;
   Eigen::VectorXd dead_load_;
   Eigen::VectorXd live_load_;

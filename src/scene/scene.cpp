@@ -74,9 +74,7 @@ std::optional<LoadCase> parse_load_case(std::string_view s) { return value_of(lo
 std::optional<Method> parse_method(std::string_view s) { return value_of(methods, s); }
 std::optional<TraceControl> parse_trace_control(std::string_view s) { return value_of(trace_controls, s); }
 
-double Scene::begin() const {
-  return structure.kind == StructureKind::beam ? 0.0 : -structure.half_angle_deg;
-}
+double Scene::begin() const { return structure.kind == StructureKind::beam ? 0.0 : -structure.half_angle_deg; }
 
 double Scene::end() const {
   return structure.kind == StructureKind::beam ? structure.length : structure.half_angle_deg;

@@ -70,9 +70,9 @@ struct Foundation {
 
 struct Load {
   LoadKind kind = LoadKind::force;
-  double at = 0.0;      // force and moment: position
-  double value = 0.0;   // force, moment, or force per unit length (uniform)
-  double from = 0.0;    // uniform: extent; the reader fills the member's ends by default
+  double at = 0.0;     // force and moment: position
+  double value = 0.0;  // force, moment, or force per unit length (uniform)
+  double from = 0.0;   // uniform: extent; the reader fills the member's ends by default
   double to = 0.0;
   LoadCase load_case = LoadCase::live;
 };
@@ -90,26 +90,26 @@ struct RitzSettings {
   // The pieces of the foundation's extent, in order, true = contact; empty means "auto": taken
   // from an FE + LCP solution of the same scene, which also gives the initial limits.
   std::vector<bool> topology;
-  std::vector<double> limits;    // initial guesses (user coordinate), one per change of piece
+  std::vector<double> limits;  // initial guesses (user coordinate), one per change of piece
 };
 
 // [trace]: the load history F = F_dead + lambda F_live of `liftoff trace` (`solve` ignores it).
 struct TraceSettings {
   std::optional<double> lambda_max;  // required by `liftoff trace` (the reader checks > lambda_min)
   double lambda_min = 0.0;
-  std::optional<Method> method;      // ritz: the Ritz path; dual/primal/auto: the FE path; all:
-                                     // both, events side by side. Absent: [solve] method
+  std::optional<Method> method;  // ritz: the Ritz path; dual/primal/auto: the FE path; all:
+                                 // both, events side by side. Absent: [solve] method
   TraceControl control = TraceControl::arc_length;
-  double initial_step = 0.05;        // in lambda (Ritz path); min_step <= initial_step <= max_step
+  double initial_step = 0.05;  // in lambda (Ritz path); min_step <= initial_step <= max_step
   double min_step = 1e-8;
   double max_step = 0.25;
   int max_steps = 10000;
-  std::optional<double> monitor;     // w of the load-displacement curve; absent: the first live
-                                     // point force, else mid-member
-  int samples = 101;                 // uniformly spaced points along the member recorded per step
-  bool refine = false;               // FE path: also trace with twice the elements and report
-                                     // the events' differences as the discretisation error
-  int line = 0;                      // line of the [trace] header, for messages (0: unknown)
+  std::optional<double> monitor;  // w of the load-displacement curve; absent: the first live
+                                  // point force, else mid-member
+  int samples = 101;              // uniformly spaced points along the member recorded per step
+  bool refine = false;            // FE path: also trace with twice the elements and report
+                                  // the events' differences as the discretisation error
+  int line = 0;                   // line of the [trace] header, for messages (0: unknown)
 };
 
 // [compare]: a published result the summary sets the answer beside (the default scene: the seed

@@ -1,5 +1,8 @@
 #include "scene/scene_reader.hpp"
 
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -14,9 +17,6 @@
 #include <tuple>
 #include <utility>
 #include <vector>
-
-#include <fmt/format.h>
-#include <toml++/toml.h>
 
 #include "core/error.hpp"
 
@@ -43,8 +43,10 @@ const std::vector<TableSpec>& schema() {
       {"loads", true, {"kind", "at", "value", "from", "to", "case"}},
       {"solve", false, {"method", "elements"}},
       {"ritz", false, {"modes", "max_modes", "mode_tolerance", "topology", "limits"}},
-      {"trace", false, {"lambda_max", "lambda_min", "method", "control", "initial_step", "min_step", "max_step",
-                        "max_steps", "monitor", "samples", "refine"}},
+      {"trace",
+       false,
+       {"lambda_max", "lambda_min", "method", "control", "initial_step", "min_step", "max_step", "max_steps", "monitor",
+        "samples", "refine"}},
       {"compare", false, {"source", "contact_half_angle_deg"}},
   };
   return tables;
@@ -61,12 +63,18 @@ std::string escaped(std::string_view s) {
   std::string out;
   for (const char c : s) {
     const auto u = static_cast<unsigned char>(c);
-    if (c == '"' || c == '\\') out += {'\\', c};
-    else if (c == '\n') out += "\\n";
-    else if (c == '\r') out += "\\r";
-    else if (c == '\t') out += "\\t";
-    else if (u < 0x20 || u == 0x7f) out += fmt::format("\\x{:02x}", u);
-    else out += c;
+    if (c == '"' || c == '\\')
+      out += {'\\', c};
+    else if (c == '\n')
+      out += "\\n";
+    else if (c == '\r')
+      out += "\\r";
+    else if (c == '\t')
+      out += "\\t";
+    else if (u < 0x20 || u == 0x7f)
+      out += fmt::format("\\x{:02x}", u);
+    else
+      out += c;
   }
   return out;
 }
@@ -83,16 +91,26 @@ std::string toml_float(double x) {
 // A value as the user wrote it, for "got ...".
 std::string describe(const toml::node& node) {
   switch (node.type()) {
-    case toml::node_type::string: return in_quotes(node.as_string()->get());
-    case toml::node_type::integer: return std::to_string(node.as_integer()->get());
-    case toml::node_type::floating_point: return toml_float(node.as_floating_point()->get());
-    case toml::node_type::boolean: return node.as_boolean()->get() ? "true" : "false";
-    case toml::node_type::table: return "a table";
-    case toml::node_type::array: return "an array";
-    case toml::node_type::date: return "a date";
-    case toml::node_type::time: return "a time";
-    case toml::node_type::date_time: return "a date-time";
-    default: return "nothing";
+    case toml::node_type::string:
+      return in_quotes(node.as_string()->get());
+    case toml::node_type::integer:
+      return std::to_string(node.as_integer()->get());
+    case toml::node_type::floating_point:
+      return toml_float(node.as_floating_point()->get());
+    case toml::node_type::boolean:
+      return node.as_boolean()->get() ? "true" : "false";
+    case toml::node_type::table:
+      return "a table";
+    case toml::node_type::array:
+      return "an array";
+    case toml::node_type::date:
+      return "a date";
+    case toml::node_type::time:
+      return "a time";
+    case toml::node_type::date_time:
+      return "a date-time";
+    default:
+      return "nothing";
   }
 }
 
@@ -106,9 +124,7 @@ std::string one_of(const std::vector<std::string>& items) {
   return out;
 }
 
-std::string joined(const std::vector<std::string_view>& items) {
-  return fmt::format("{}", fmt::join(items, ", "));
-}
+std::string joined(const std::vector<std::string_view>& items) { return fmt::format("{}", fmt::join(items, ", ")); }
 
 // Case-insensitive edit distance, to suggest the key a typo meant.
 std::size_t edit_distance(std::string_view a, std::string_view b) {
@@ -118,8 +134,8 @@ std::size_t edit_distance(std::string_view a, std::string_view b) {
     std::size_t diagonal = row[0];
     row[0] = i;
     for (std::size_t j = 1; j <= b.size(); ++j) {
-      const bool same = std::tolower(static_cast<unsigned char>(a[i - 1])) ==
-                        std::tolower(static_cast<unsigned char>(b[j - 1]));
+      const bool same =
+          std::tolower(static_cast<unsigned char>(a[i - 1])) == std::tolower(static_cast<unsigned char>(b[j - 1]));
       const std::size_t next = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (same ? 0 : 1)});
       diagonal = row[j];
       row[j] = next;
@@ -142,11 +158,10 @@ std::string suggestion(std::string_view name, const std::vector<std::string_view
 }
 
 // The one way a scene is refused: "FILE:LINE: key 'PATH': PROBLEM" (LINE where it is known).
-[[noreturn]] void fail(std::string_view source, const toml::source_region* where,
-                       std::string_view path, std::string_view problem) {
-  const std::string location = where != nullptr && where->begin.line > 0
-                                   ? fmt::format("{}:{}", source, where->begin.line)
-                                   : std::string(source);
+[[noreturn]] void fail(std::string_view source, const toml::source_region* where, std::string_view path,
+                       std::string_view problem) {
+  const std::string location =
+      where != nullptr && where->begin.line > 0 ? fmt::format("{}:{}", source, where->begin.line) : std::string(source);
   throw InputError(fmt::format("{}: key '{}': {}", location, escaped(path), problem));
 }
 
@@ -188,8 +203,7 @@ struct Member {
     return {fmt::format("{} in {}", noun(), interval(false)), begin, end, false, false, tolerance()};
   }
   Range inside() const {  // interior supports: ends excluded
-    return {fmt::format("{} strictly inside {}", noun(), interval(true)), begin, end, true, true,
-            tolerance()};
+    return {fmt::format("{} strictly inside {}", noun(), interval(true)), begin, end, true, true, tolerance()};
   }
 };
 
@@ -217,12 +231,10 @@ class Section {
   // At the key's value if present, else at the table (the root table has no useful line).
   [[noreturn]] void fail(std::string_view key, std::string_view problem) const {
     const toml::node* node = find(key);
-    const toml::source_region* where =
-        node != nullptr ? &node->source() : path_.empty() ? nullptr : &table_.source();
+    const toml::source_region* where = node != nullptr ? &node->source() : path_.empty() ? nullptr : &table_.source();
     scene::fail(source_, where, path(key), problem);
   }
-  [[noreturn]] void wrong(std::string_view key, std::string_view expected,
-                          std::string_view hint = {}) const {
+  [[noreturn]] void wrong(std::string_view key, std::string_view expected, std::string_view hint = {}) const {
     fail(key, fmt::format("expected {}, got {}{}", expected, describe(*find(key)),
                           hint.empty() ? "" : fmt::format(" ({})", hint)));
   }
@@ -294,8 +306,7 @@ class Section {
 
   // A string naming one of `allowed` (spelt by to_string).
   template <class Enum>
-  std::optional<Enum> choice(std::string_view key, std::initializer_list<Enum> allowed,
-                             Hint hint = {}) const {
+  std::optional<Enum> choice(std::string_view key, std::initializer_list<Enum> allowed, Hint hint = {}) const {
     const toml::node* node = find(key);
     if (node == nullptr) return std::nullopt;
     if (const toml::value<std::string>* text = node->as_string()) {
@@ -316,8 +327,8 @@ class Section {
     for (const auto& [key, node] : table_) {
       if (std::find(spec.keys.begin(), spec.keys.end(), key.str()) == spec.keys.end()) {
         scene::fail(source_, &key.source(), path(key.str()),
-                    fmt::format("unknown key{}; the keys of {} are {}",
-                                suggestion(key.str(), spec.keys), header(spec), joined(spec.keys)));
+                    fmt::format("unknown key{}; the keys of {} are {}", suggestion(key.str(), spec.keys), header(spec),
+                                joined(spec.keys)));
       }
     }
   }
@@ -378,13 +389,12 @@ void check_schema(const Section& root, const std::string& source) {
     headers.push_back(header(spec));
   }
   for (const auto& [key, node] : root.table()) {
-    const auto spec = std::find_if(schema().begin(), schema().end(),
-                                   [&](const TableSpec& s) { return s.name == key.str(); });
+    const auto spec =
+        std::find_if(schema().begin(), schema().end(), [&](const TableSpec& s) { return s.name == key.str(); });
     if (spec == schema().end()) {
       fail(source, &key.source(), key.str(),
-           fmt::format("unknown {}{}; the tables of a scene are {}",
-                       node.is_table() ? "table" : "key", suggestion(key.str(), table_names),
-                       fmt::join(headers, ", ")));
+           fmt::format("unknown {}{}; the tables of a scene are {}", node.is_table() ? "table" : "key",
+                       suggestion(key.str(), table_names), fmt::join(headers, ", ")));
     }
     if (!spec->array_of_tables) {
       if (!node.is_table()) root.wrong(key.str(), fmt::format("a table {}", header(*spec)));
@@ -419,8 +429,7 @@ Structure read_structure(const Section& s) {
   } else {
     s.refuse("length", "for an arch (beams only; an arch has radius and half_angle_deg)");
     st.radius = s.required_number("radius", positive());
-    st.half_angle_deg =
-        s.required_number("half_angle_deg", {"an angle in degrees in (0, 180)", 0, 180, true, true});
+    st.half_angle_deg = s.required_number("half_angle_deg", {"an angle in degrees in (0, 180)", 0, 180, true, true});
     st.axial_stiffness = s.required_number("EA", positive());
   }
   return st;
@@ -430,14 +439,11 @@ Supports read_supports(const Section& s, const Member& member) {
   Supports sp;
   for (const auto& [key, end] : {std::pair{"left", &sp.left}, std::pair{"right", &sp.right}}) {
     const auto support =
-        member.arch
-            ? s.choice(key, {EndSupport::pinned, EndSupport::roller, EndSupport::clamped,
-                             EndSupport::free})
-            : s.choice(key, {EndSupport::pinned, EndSupport::clamped, EndSupport::free},
-                       {"roller", "for a beam, roller is the same as pinned"});
+        member.arch ? s.choice(key, {EndSupport::pinned, EndSupport::roller, EndSupport::clamped, EndSupport::free})
+                    : s.choice(key, {EndSupport::pinned, EndSupport::clamped, EndSupport::free},
+                               {"roller", "for a beam, roller is the same as pinned"});
     if (!support) {
-      s.missing(key, member.arch ? R"("pinned", "roller", "clamped" or "free")"
-                                 : R"("pinned", "clamped" or "free")");
+      s.missing(key, member.arch ? R"("pinned", "roller", "clamped" or "free")" : R"("pinned", "clamped" or "free")");
     }
     *end = *support;
   }
@@ -490,8 +496,9 @@ Load read_load(const Section& s, const Member& member) {
 
 SolveSettings read_solve(const Section& s) {
   SolveSettings solve;
-  solve.method = s.choice("method", {Method::dual, Method::primal, Method::fast, Method::automatic, Method::ritz, Method::all})
-                     .value_or(solve.method);
+  solve.method =
+      s.choice("method", {Method::dual, Method::primal, Method::fast, Method::automatic, Method::ritz, Method::all})
+          .value_or(solve.method);
   solve.elements = s.integer("elements", 1, 10'000'000).value_or(solve.elements);
   return solve;
 }
@@ -520,19 +527,23 @@ RitzSettings read_ritz(const Section& s, const Foundation& foundation, const Mem
       if (array == nullptr || array->empty()) s.wrong("topology", expected);
       for (std::size_t i = 0; i < array->size(); ++i) {
         const auto* piece = array->get(i)->as_string();
-        if (piece == nullptr || (piece->get() != "contact" && piece->get() != "lift_off")) s.wrong("topology", expected);
+        if (piece == nullptr || (piece->get() != "contact" && piece->get() != "lift_off"))
+          s.wrong("topology", expected);
         const bool contact = piece->get() == "contact";
         if (i > 0 && contact == ritz.topology.back()) s.wrong("topology", expected);
         ritz.topology.push_back(contact);
       }
-      const Range inside{fmt::format("{} strictly inside the foundation ({}, {})", member.noun(), foundation.from,
-                                     foundation.to),
-                         foundation.from, foundation.to, true, true, member.tolerance()};
+      const Range inside{
+          fmt::format("{} strictly inside the foundation ({}, {})", member.noun(), foundation.from, foundation.to),
+          foundation.from,
+          foundation.to,
+          true,
+          true,
+          member.tolerance()};
       ritz.limits = s.numbers("limits", inside);
       if (!ritz.limits.empty() && ritz.limits.size() + 1 != ritz.topology.size())
         s.wrong("limits", fmt::format("{} increasing positions, one per change of piece", ritz.topology.size() - 1));
-      if (!std::is_sorted(ritz.limits.begin(), ritz.limits.end()))
-        s.wrong("limits", "increasing positions");
+      if (!std::is_sorted(ritz.limits.begin(), ritz.limits.end())) s.wrong("limits", "increasing positions");
     }
   } else {
     s.refuse("limits", "without a topology");
@@ -548,7 +559,8 @@ TraceSettings read_trace(const Section& s, const Member& member) {
   trace.lambda_min = s.number("lambda_min", any_number()).value_or(trace.lambda_min);
   const Range above_min{fmt::format("a number > lambda_min = {}", trace.lambda_min), trace.lambda_min, inf, true};
   trace.lambda_max = s.number("lambda_max", above_min);
-  trace.method = s.choice("method", {Method::dual, Method::primal, Method::fast, Method::automatic, Method::ritz, Method::all});
+  trace.method =
+      s.choice("method", {Method::dual, Method::primal, Method::fast, Method::automatic, Method::ritz, Method::all});
   trace.control = s.choice("control", {TraceControl::arc_length, TraceControl::load}).value_or(trace.control);
   trace.max_step = s.number("max_step", positive()).value_or(trace.max_step);
   const Range up_to_max{fmt::format("a number in (0, max_step = {}]", trace.max_step), 0.0, trace.max_step, true};
@@ -625,8 +637,7 @@ Scene read_scene_file(const std::filesystem::path& path) {
   const auto cannot_read = [&] {
     return InputError(fmt::format("{}: cannot read the scene file ({})", name, std::strerror(errno)));
   };
-  const std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"),
-                                                             &std::fclose);
+  const std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"), &std::fclose);
   if (!file) throw cannot_read();
   std::string text;
   char buffer[1 << 16];

@@ -2,11 +2,11 @@
 // output file after a failure, JSON on stdout, and an HDF5 file that describes itself.
 #include "app/cli.hpp"
 
+#include <fmt/format.h>
 #include <sys/stat.h>
 
 #include <catch2/catch.hpp>
 #include <filesystem>
-#include <fmt/format.h>
 #include <fstream>
 #include <iterator>
 #include <nlohmann/json.hpp>
@@ -70,8 +70,8 @@ elements = 40
 // A free-free unit beam on a foundation k with a central force.
 std::string free_beam(double k, double force) {
   return "[structure]\nkind = \"beam\"\nlength = 1.0\nEI = 1.0\n[supports]\nleft = \"free\"\nright = \"free\"\n"
-         "[foundation]\nk = " + std::to_string(k) + "\n[[loads]]\nkind = \"force\"\nat = 0.5\nvalue = " +
-         std::to_string(force) + "\n";
+         "[foundation]\nk = " +
+         std::to_string(k) + "\n[[loads]]\nkind = \"force\"\nat = 0.5\nvalue = " + std::to_string(force) + "\n";
 }
 
 }  // namespace
@@ -123,7 +123,8 @@ TEST_CASE("cli: bad command-line values exit 2", "[app]") {
 TEST_CASE("cli: a solver failure has its own exit code and a reason, no output", "[app]") {
   Scratch scratch;
   // A free beam pulled away from the foundation: no equilibrium.
-  const fs::path scene = scratch.write("lift.toml", free_beam(100.0, -1.0) + "[solve]\nmethod = \"primal\"\nelements = 10\n");
+  const fs::path scene =
+      scratch.write("lift.toml", free_beam(100.0, -1.0) + "[solve]\nmethod = \"primal\"\nelements = 10\n");
   const fs::path output = scratch.dir / "out.h5";
   const Run r = run({"solve", scene.string(), "--output", output.string()});
   CHECK(r.status == 3);
@@ -171,7 +172,8 @@ for name in ["rotation", "bending_moment", "shear_force", "reaction"]:
 print(regions.shape[0], repr(float(regions[0][0])), repr(float(w.max())), f.attrs["method"], f.attrs["sign_convention"].startswith("w > 0 into the foundation"))
 )");
   const fs::path printed = scratch.dir / "h5py.txt";
-  REQUIRE(std::system(("/usr/bin/python3 " + script.string() + " " + output.string() + " > " + printed.string()).c_str()) == 0);
+  REQUIRE(std::system(
+              ("/usr/bin/python3 " + script.string() + " " + output.string() + " > " + printed.string()).c_str()) == 0);
   std::ifstream in(printed);
   int regions = 0;
   std::string first_limit, w_max, method, sign;

@@ -1,7 +1,6 @@
 // The contact problem: primal and dual LCPs against each other and against closed forms,
 // refusals and outcomes that must be reported, and invariance under units and load scale.
 #include <catch2/catch.hpp>
-
 #include <cstdio>
 
 #include "closed_form/beam_on_foundation.hpp"
@@ -18,9 +17,12 @@ namespace {
 
 closed_form::EndCondition end_condition(EndSupport s) {
   switch (s) {
-    case EndSupport::clamped: return closed_form::EndCondition::clamped;
-    case EndSupport::free: return closed_form::EndCondition::free;
-    default: return closed_form::EndCondition::pinned;
+    case EndSupport::clamped:
+      return closed_form::EndCondition::clamped;
+    case EndSupport::free:
+      return closed_form::EndCondition::free;
+    default:
+      return closed_form::EndCondition::pinned;
   }
 }
 
@@ -113,10 +115,10 @@ TEST_CASE("tensionless seed beams: contact limits converge to the closed form", 
 
 TEST_CASE("primal and dual LCPs give the same answer on the same mesh", "[contact][lcp]") {
   const auto [name, elements] = GENERATE(table<std::string, int>({{"seed_beam_end_moments", 100},
-                                                                 {"seed_beam_end_moments_central_load", 100},
-                                                                 {"seed_arch_pinned", 40},
-                                                                 {"seed_arch_roller", 40},
-                                                                 {"seed_arch_clamped", 40}}));
+                                                                  {"seed_beam_end_moments_central_load", 100},
+                                                                  {"seed_arch_pinned", 40},
+                                                                  {"seed_arch_roller", 40},
+                                                                  {"seed_arch_clamped", 40}}));
   const scene::Scene s = test::shipped_scene(name);
   const test::Solved dual = test::solve(s, Method::dual, elements);
   const test::Solved primal = test::solve(s, Method::primal, elements);
@@ -221,8 +223,8 @@ TEST_CASE("dead plus lambda times live loads", "[contact][loads]") {
 TEST_CASE("an LCP answer that round-off has spoilt is reported, not returned", "[contact][lcp][slow]") {
   // A free-free beam needs the primal LCP, whose 2n + m unknowns at 400 elements lose the answer
   // to round-off (relative residual ~1e-2): it must come back as a numerical failure.
-  const scene::Scene s =
-      scene::read_scene_file(std::string(LIFTOFF_SOURCE_DIR) + "/verification/dolfinx/scenes/free_free_two_contacts.toml");
+  const scene::Scene s = scene::read_scene_file(std::string(LIFTOFF_SOURCE_DIR) +
+                                                "/verification/dolfinx/scenes/free_free_two_contacts.toml");
   const test::Solved r = test::solve(s, Method::primal, 400);
   CAPTURE(r.solution.summary.residual, r.solution.summary.message);
   CHECK(r.solution.summary.termination == contact::ContactTermination::numerical_failure);

@@ -2,7 +2,6 @@
 // clamped ends: one central contact region, and its half-angle converges with the mesh at the
 // order of the reaction interpolation (h^2), which also shows the element does not lock.
 #include <catch2/catch.hpp>
-
 #include <cstdio>
 
 #include "support/scenes.hpp"

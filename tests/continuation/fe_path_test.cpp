@@ -3,15 +3,15 @@
 // events where independent solves say the topology changes, and event loads converging to the
 // closed form as the mesh is refined.
 
-#include <catch2/catch.hpp>
+#include "continuation/fe_path.hpp"
 
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
 #include <set>
 
 #include "closed_form/beam_on_foundation.hpp"
 #include "continuation/events.hpp"
-#include "continuation/fe_path.hpp"
 #include "support/scenes.hpp"
 #include "support/solve.hpp"
 
@@ -217,7 +217,8 @@ TEST_CASE("between breakpoints the path is exact, and no breakpoint is missed") 
       CHECK(max_relative_difference(w, exact.w) < 1e-9);
       CHECK(max_relative_difference(r, exact.r) < 1e-9);
       // The contact set there is the one the path holds over the whole interval.
-      const auto midpoint = test::solve(c.scene, scene::Method::automatic, c.elements, 0.5 * (a.load_factor + b.load_factor));
+      const auto midpoint =
+          test::solve(c.scene, scene::Method::automatic, c.elements, 0.5 * (a.load_factor + b.load_factor));
       CHECK(lemke_contact_set(midpoint) == set_of(a));
       ++compared;
     }
@@ -243,7 +244,6 @@ TEST_CASE("one factorisation per contact set: none while the set is unchanged") 
   }
 }
 
-
 namespace {
 
 // The contact topology of an independent Lemke solve at lambda.
@@ -267,7 +267,8 @@ void check_events_against_lemke(const scene::Scene& scene, const TraceOptions& o
     // tolerance it was located to.
     double room = std::min(event.load_factor - options.lambda_min, options.lambda_max - event.load_factor);
     for (const auto& other : result.events)
-      if (other.load_factor != event.load_factor) room = std::min(room, std::abs(other.load_factor - event.load_factor));
+      if (other.load_factor != event.load_factor)
+        room = std::min(room, std::abs(other.load_factor - event.load_factor));
     const double offset = std::min(1e-5 * (options.lambda_max - options.lambda_min), 0.25 * room);
     REQUIRE(offset > 1e3 * options.event_tolerance);
     const auto before = lemke_topology(scene, options.elements, event.load_factor - offset);
@@ -378,9 +379,9 @@ TEST_CASE("a resumed trace reproduces the rest of the path and its events") {
   options.resume_from = full.steps[from];
   std::vector<TraceStep> written;
   std::vector<continuation::TraceEvent> events;
-  const TraceResult resumed = continuation::trace_fe(
-      central_region_split(), options,
-      {[&](const TraceStep& s) { written.push_back(s); }, [&](const continuation::TraceEvent& e) { events.push_back(e); }});
+  const TraceResult resumed = continuation::trace_fe(central_region_split(), options,
+                                                     {[&](const TraceStep& s) { written.push_back(s); },
+                                                      [&](const continuation::TraceEvent& e) { events.push_back(e); }});
   REQUIRE(resumed.summary.termination == continuation::TraceTermination::completed);
   REQUIRE(written.size() == full.steps.size() - from - 1);
   for (std::size_t k = 0; k < written.size(); ++k) {
@@ -446,9 +447,9 @@ TEST_CASE("a shipped arch traced from no load to lambda = 1 ends where solve doe
   }
   const int crown = solved.discretisation.mesh.node_at(0.0);
   REQUIRE(crown >= 0);
-  CHECK(end.monitor_deflection ==
-        Approx(solved.solution.displacement[solved.discretisation.deflection_dof(crown)] * solved.model.scales.displacement())
-            .epsilon(1e-9));
+  CHECK(end.monitor_deflection == Approx(solved.solution.displacement[solved.discretisation.deflection_dof(crown)] *
+                                         solved.model.scales.displacement())
+                                      .epsilon(1e-9));
 }
 
 TEST_CASE("limits reaching a point support and point loads are events, as Lemke confirms") {

@@ -1,12 +1,12 @@
 #include "nonlinear/newton.hpp"
 
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <vector>
 
-#include <catch2/catch.hpp>
-
+using Catch::Matchers::Contains;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 using liftoff::nonlinear::Globalisation;
@@ -16,7 +16,6 @@ using liftoff::nonlinear::NewtonSummary;
 using liftoff::nonlinear::NewtonTermination;
 using liftoff::nonlinear::Residual;
 using liftoff::nonlinear::solve_newton;
-using Catch::Matchers::Contains;
 
 namespace {
 
@@ -33,9 +32,8 @@ const Jacobian circle_jacobian = [](const VectorXd& u, const VectorXd&, MatrixXd
   J << 2.0 * u(0), 2.0 * u(1), u(1), u(0);
   return true;
 };
-const VectorXd circle_root = (VectorXd(2) << (std::sqrt(6.0) + std::sqrt(2.0)) / 2.0,
-                              (std::sqrt(6.0) - std::sqrt(2.0)) / 2.0)
-                                 .finished();
+const VectorXd circle_root =
+    (VectorXd(2) << (std::sqrt(6.0) + std::sqrt(2.0)) / 2.0, (std::sqrt(6.0) - std::sqrt(2.0)) / 2.0).finished();
 
 VectorXd vec(std::initializer_list<double> values) {
   VectorXd v(static_cast<Eigen::Index>(values.size()));

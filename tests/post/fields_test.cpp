@@ -1,12 +1,12 @@
 // Fields along the member against the closed-form beam, and contact limits located inside
 // elements rather than at nodes.
-#include <catch2/catch.hpp>
+#include "post/fields.hpp"
 
+#include <catch2/catch.hpp>
 #include <cstdio>
 
 #include "closed_form/beam_on_foundation.hpp"
 #include "post/contact_regions.hpp"
-#include "post/fields.hpp"
 #include "support/scenes.hpp"
 #include "support/solve.hpp"
 
@@ -46,7 +46,11 @@ TEST_CASE("moment, shear, rotation and reaction converge to the closed-form beam
     return e;
   };
   const Errors coarse = errors_at(20), fine = errors_at(80);
-  std::printf("field errors 20 -> 80 elements: moment %.1e -> %.1e, shear %.1e -> %.1e, rotation %.1e -> %.1e, reaction %.1e -> %.1e\n", coarse.moment, fine.moment, coarse.shear, fine.shear, coarse.rotation, fine.rotation, coarse.reaction, fine.reaction);
+  std::printf(
+      "field errors 20 -> 80 elements: moment %.1e -> %.1e, shear %.1e -> %.1e, rotation %.1e -> %.1e, reaction %.1e "
+      "-> %.1e\n",
+      coarse.moment, fine.moment, coarse.shear, fine.shear, coarse.rotation, fine.rotation, coarse.reaction,
+      fine.reaction);
   // Expected orders for cubic elements: rotation h^3, moment h^2, shear h^1, and h^2 for the
   // linear reaction. Four times finer must gain at least 4^order / 2 on each.
   CAPTURE(coarse.moment, fine.moment, coarse.shear, fine.shear, coarse.rotation, fine.rotation, coarse.reaction,

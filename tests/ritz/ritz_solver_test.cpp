@@ -1,13 +1,13 @@
 // The Ritz solver end to end: quadratic Newton convergence on the regularised system (and only
 // linear on the raw gradient), agreement with fine-mesh FE + LCP on the seed scenes, modal
 // convergence, and wrong topologies reported rather than returned.
-#include <catch2/catch.hpp>
+#include "ritz/ritz_solver.hpp"
 
+#include <catch2/catch.hpp>
 #include <cstdio>
 
 #include "app/solve_command.hpp"
 #include "nonlinear/newton.hpp"
-#include "ritz/ritz_solver.hpp"
 #include "support/scenes.hpp"
 
 using namespace liftoff;

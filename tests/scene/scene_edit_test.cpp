@@ -1,9 +1,10 @@
 // Editing one value of a scene's TOML text (for sweeps): the edited scene reads back with the
 // new value, integers stay integers, and a path that does not exist is refused by name.
+#include "scene/scene_edit.hpp"
+
 #include <catch2/catch.hpp>
 
 #include "core/error.hpp"
-#include "scene/scene_edit.hpp"
 #include "scene/scene_reader.hpp"
 
 using namespace liftoff;
@@ -44,8 +45,9 @@ TEST_CASE("scene edit: values at table keys, array-of-table keys, integers", "[s
 }
 
 TEST_CASE("scene edit: a path that does not exist is refused by name", "[scene][edit]") {
-  CHECK_THROWS_WITH(scene::with_value(text, "loads[2].value", 1.0, "s.toml"),
-                    Catch::Matchers::Contains("key 'loads[2].value'") && Catch::Matchers::Contains("no [[loads]] number 2"));
+  CHECK_THROWS_WITH(
+      scene::with_value(text, "loads[2].value", 1.0, "s.toml"),
+      Catch::Matchers::Contains("key 'loads[2].value'") && Catch::Matchers::Contains("no [[loads]] number 2"));
   CHECK_THROWS_WITH(scene::with_value(text, "ritz.modes", 8, "s.toml"), Catch::Matchers::Contains("no [ritz] table"));
   CHECK_THROWS_AS(scene::with_value(text, "foundation", 1.0, "s.toml"), InputError);
   // An index too large for any integer type is a missing table like any other (was std::stoi's

@@ -4,7 +4,6 @@
 #include "scene/scene_reader.hpp"
 
 #include <catch2/catch.hpp>
-
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -331,15 +330,15 @@ TEST_CASE("an unknown table is refused", "[scene][errors]") {
   CHECK(error_of(beam_scene + "\n[solver]\nmethod = \"dual\"\n") ==
         "scene.toml:18: key 'solver': unknown table (did you mean 'solve'?); the tables of a scene "
         "are [structure], [supports], [foundation], [[loads]], [solve], [ritz], [trace], [compare]");
-  CHECK_THAT(error_of("title = \"x\"\n" + beam_scene),
-             StartsWith("scene.toml:1: key 'title': unknown key;"));
+  CHECK_THAT(error_of("title = \"x\"\n" + beam_scene), StartsWith("scene.toml:1: key 'title': unknown key;"));
 }
 
 TEST_CASE("an unknown value of a choice is refused", "[scene][errors]") {
   CHECK(error_of(edited(beam_scene, "kind = \"beam\"", "kind = \"plate\"")) ==
         R"(scene.toml:2: key 'structure.kind': expected "beam" or "arch", got "plate")");
-  CHECK(error_of(beam_scene + "[solve]\nmethod = \"fastest\"\n") ==
-        R"(scene.toml:18: key 'solve.method': expected "dual", "primal", "fast", "auto", "ritz" or "all", got "fastest")");
+  CHECK(
+      error_of(beam_scene + "[solve]\nmethod = \"fastest\"\n") ==
+      R"(scene.toml:18: key 'solve.method': expected "dual", "primal", "fast", "auto", "ritz" or "all", got "fastest")");
   CHECK(error_of(edited(beam_scene, "kind = \"force\"", "kind = \"torque\"")) ==
         R"(scene.toml:14: key 'loads[0].kind': expected "force", "moment" or "uniform", got "torque")");
   CHECK(error_of(edited(beam_scene, "value = 1.0", "value = 1.0\ncase = \"permanent\"")) ==
@@ -485,8 +484,7 @@ TEST_CASE("a roller is refused for a beam, with a hint", "[scene][errors]") {
 TEST_CASE("a TOML syntax error is one line with line and column", "[scene][errors]") {
   const std::string message = error_of(edited(beam_scene, "EI = 1.0", "EI = = 1.0"));
   CHECK_THAT(message, StartsWith("scene.toml:4:6: TOML syntax error: "));
-  CHECK_THAT(error_of(edited(beam_scene, "EI = 1.0", "EI = 1.0\nEI = 2.0")),
-             StartsWith("scene.toml:5:"));
+  CHECK_THAT(error_of(edited(beam_scene, "EI = 1.0", "EI = 1.0\nEI = 2.0")), StartsWith("scene.toml:5:"));
   CHECK_THAT(error_of(edited(beam_scene, "kind = \"beam\"", "kind = \"beam")),
              StartsWith("scene.toml:2:") && Contains("TOML syntax error"));
 }
@@ -508,15 +506,13 @@ TEST_CASE("read_scene_file reads a file and reports one it cannot read", "[scene
   CHECK(scene.structure.length == 2.0);
 
   std::ofstream(path) << edited(beam_scene, "EI = 1.0", "EI = -1");
-  REQUIRE_THROWS_WITH(read_scene_file(path),
-                      path.string() + ":4: key 'structure.EI': expected a number > 0, got -1");
+  REQUIRE_THROWS_WITH(read_scene_file(path), path.string() + ":4: key 'structure.EI': expected a number > 0, got -1");
 
   const auto absent = directory / "no_such_scene.toml";
   REQUIRE_THROWS_WITH(read_scene_file(absent),
                       absent.string() + ": cannot read the scene file (No such file or directory)");
   REQUIRE_THROWS_AS(read_scene_file(absent), liftoff::InputError);
-  REQUIRE_THROWS_WITH(read_scene_file(directory),
-                      StartsWith(directory.string() + ": cannot read the scene file ("));
+  REQUIRE_THROWS_WITH(read_scene_file(directory), StartsWith(directory.string() + ": cannot read the scene file ("));
   // A file name with a newline: the message stays on one line.
   const auto odd = directory / "two\nlines.toml";
   std::ofstream(odd) << edited(beam_scene, "EI = 1.0", "EI = -1");
@@ -530,18 +526,21 @@ TEST_CASE("the [ritz] table: modes, topology and initial limits", "[scene][ritz]
   CHECK(defaults.ritz.modes == 0);  // "auto"
   CHECK(defaults.ritz.topology.empty());
 
-  const Scene given = parse_scene(beam_scene + "[ritz]\nmodes = 24\ntopology = [\"lift_off\", \"contact\"]\n"
-                                               "limits = [0.7]\n",
+  const Scene given = parse_scene(beam_scene +
+                                      "[ritz]\nmodes = 24\ntopology = [\"lift_off\", \"contact\"]\n"
+                                      "limits = [0.7]\n",
                                   "scene.toml");
   CHECK(given.ritz.modes == 24);
   CHECK(given.ritz.topology == std::vector<bool>{false, true});
   CHECK(given.ritz.limits == std::vector<double>{0.7});
 
-  CHECK(error_of(beam_scene + "[ritz]\ntopology = [\"contact\", \"contact\"]\n") ==
-        R"(scene.toml:18: key 'ritz.topology': expected "auto" or an array of alternating "contact" and "lift_off", got an array)");
+  CHECK(
+      error_of(beam_scene + "[ritz]\ntopology = [\"contact\", \"contact\"]\n") ==
+      R"(scene.toml:18: key 'ritz.topology': expected "auto" or an array of alternating "contact" and "lift_off", got an array)");
   CHECK_THAT(error_of(beam_scene + "[ritz]\ntopology = [\"contact\", \"lift_off\"]\nlimits = [0.5, 0.7]\n"),
              StartsWith("scene.toml:19: key 'ritz.limits': expected 1 increasing positions"));
-  CHECK_THAT(error_of(beam_scene + "[ritz]\nlimits = [0.5]\n"), Contains("key 'ritz.limits': not allowed without a topology"));
+  CHECK_THAT(error_of(beam_scene + "[ritz]\nlimits = [0.5]\n"),
+             Contains("key 'ritz.limits': not allowed without a topology"));
   CHECK_THAT(error_of(beam_scene + "[ritz]\nmodes = \"many\"\n"), Contains("key 'ritz.modes'"));
   CHECK_THAT(error_of(beam_scene + "[ritz]\ntopology = [\"contact\", \"lift_off\"]\nlimits = [2.5]\n"),
              Contains("strictly inside the foundation"));
@@ -577,7 +576,8 @@ max_steps = 500
 monitor = 1.25
 samples = 51
 refine = true
-)", "scene.toml");
+)",
+                                 "scene.toml");
   const TraceSettings& t = *full.trace;
   CHECK(t.lambda_min == -1.5);
   CHECK(t.lambda_max == 2.5);
@@ -605,8 +605,9 @@ TEST_CASE("a bad [trace] value is refused with file, line and key", "[scene][tra
         "scene.toml:19: key 'trace.lambda_max': expected a number > lambda_min = 2, got 1.0");
   CHECK(error_of(trace("lambda_max = \"big\"\n")) ==
         R"(scene.toml:18: key 'trace.lambda_max': expected a number > lambda_min = 0, got "big")");
-  CHECK(error_of(trace("lambda_max = 1\nmethod = \"fastest\"\n")) ==
-        R"(scene.toml:19: key 'trace.method': expected "dual", "primal", "fast", "auto", "ritz" or "all", got "fastest")");
+  CHECK(
+      error_of(trace("lambda_max = 1\nmethod = \"fastest\"\n")) ==
+      R"(scene.toml:19: key 'trace.method': expected "dual", "primal", "fast", "auto", "ritz" or "all", got "fastest")");
   CHECK(error_of(trace("lambda_max = 1\ncontrol = \"arclength\"\n")) ==
         R"(scene.toml:19: key 'trace.control': expected "arc_length" or "load", got "arclength")");
   CHECK(error_of(trace("lambda_max = 1\nmax_step = 0.1\ninitial_step = 0.2\n")) ==

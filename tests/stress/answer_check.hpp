@@ -9,17 +9,17 @@
 // from the problem, not a number chosen to pass. Condition estimates (dense, for the small
 // meshes of the quick set) say why accuracy is lost where it is.
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <Eigen/Dense>
+#include <Eigen/Sparse>
+#include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
 #include <vector>
-
-#include <Eigen/Dense>
-#include <Eigen/Sparse>
-#include <Eigen/SparseCholesky>
-#include <fmt/format.h>
-#include <fmt/ranges.h>
 
 #include "contact/contact_solver.hpp"
 #include "fe/discretisation.hpp"
@@ -118,16 +118,18 @@ inline AnswerCheck check_answer(const fe::Discretisation& d, const contact::Cont
   // of the largest row's, so that exact zeros are not divided by zero.
   const double eq_floor_scale = gamma * eq_magnitude.lpNorm<Eigen::Infinity>();
   c.equilibrium_floor = eq_floor_scale / force_scale;
-  c.backward_equilibrium = eq.lpNorm<Eigen::Infinity>() / std::max(eq_magnitude.lpNorm<Eigen::Infinity>(),
-                                                                   std::numeric_limits<double>::min());
+  c.backward_equilibrium = eq.lpNorm<Eigen::Infinity>() /
+                           std::max(eq_magnitude.lpNorm<Eigen::Infinity>(), std::numeric_limits<double>::min());
   for (int i = 0; i < eq.size(); ++i)
-    c.equilibrium_ratio = std::max(c.equilibrium_ratio, ratio(std::abs(eq[i]), gamma * eq_magnitude[i] + 1e-3 * eq_floor_scale));
+    c.equilibrium_ratio =
+        std::max(c.equilibrium_ratio, ratio(std::abs(eq[i]), gamma * eq_magnitude[i] + 1e-3 * eq_floor_scale));
   if (d.reactions() == 0) return c;
 
   const Eigen::VectorXd tr = d.flexibility * r, cu = d.coupling * u;
   const Eigen::VectorXd gap = tr - cu;
   const Eigen::VectorXd gap_magnitude = absolute(d.flexibility) * r.cwiseAbs() + absolute(d.coupling) * u.cwiseAbs();
-  const double gap_scale = std::max({tr.lpNorm<Eigen::Infinity>(), cu.lpNorm<Eigen::Infinity>(), std::numeric_limits<double>::min()});
+  const double gap_scale =
+      std::max({tr.lpNorm<Eigen::Infinity>(), cu.lpNorm<Eigen::Infinity>(), std::numeric_limits<double>::min()});
   const double reaction_scale = std::max(r.lpNorm<Eigen::Infinity>(), std::numeric_limits<double>::min());
   if (!d.tensionless) {
     c.negative_gap = gap.lpNorm<Eigen::Infinity>() / gap_scale;
@@ -145,8 +147,8 @@ inline AnswerCheck check_answer(const fe::Discretisation& d, const contact::Cont
     // r_i gap_i = 0: where r_i > 0 the gap must vanish to its floor (and vice versa).
     const double product = std::abs(r[i] * gap[i]);
     c.complementarity = std::max(c.complementarity, product / (reaction_scale * gap_scale));
-    c.complementarity_ratio =
-        std::max(c.complementarity_ratio, ratio(product, std::abs(r[i]) * floor + std::abs(gap[i]) * gamma * reaction_scale));
+    c.complementarity_ratio = std::max(
+        c.complementarity_ratio, ratio(product, std::abs(r[i]) * floor + std::abs(gap[i]) * gamma * reaction_scale));
   }
   return c;
 }
@@ -164,7 +166,8 @@ inline double dual_cancellation(const fe::Discretisation& d, const contact::Cont
 
 // 2-norm condition number of a symmetric matrix (dense eigenvalues: small meshes only).
 inline double symmetric_condition(const Eigen::MatrixXd& a) {
-  const Eigen::VectorXd ev = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(a, Eigen::EigenvaluesOnly).eigenvalues().cwiseAbs();
+  const Eigen::VectorXd ev =
+      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(a, Eigen::EigenvaluesOnly).eigenvalues().cwiseAbs();
   return ev.minCoeff() > 0.0 ? ev.maxCoeff() / ev.minCoeff() : INFINITY;
 }
 

@@ -4,7 +4,6 @@
 // one scene, and loads that lift a free beam off entirely (a clear "no equilibrium", exit 3).
 // Every answer is checked from the discretisation (answer_check.hpp).
 #include <catch2/catch.hpp>
-
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -12,8 +11,8 @@
 
 #include "answer_check.hpp"
 #include "app/cli.hpp"
-#include "certify/certificate.hpp"
 #include "app/solve_command.hpp"
+#include "certify/certificate.hpp"
 #include "closed_form/beam_on_foundation.hpp"
 #include "support/scenes.hpp"
 #include "support/solve.hpp"
@@ -95,11 +94,12 @@ TEST_CASE("stress: contact limits exactly on nodes (free-free beam, beta L = 2 p
       REQUIRE(node >= 0);
       double worst = std::max(std::abs(fe.regions[0].begin - 0.25), std::abs(fe.regions[0].end - 0.75));
       // Foundation over the whole beam: reaction index = node index.
-      std::printf("limit on a node, %s, %d elements: limits [%.10f, %.10f], error %.2e; at the node r %.1e, gap %.1e "
-                  "(of their maxima)\n",
-                  scene::to_string(method).data(), elements, fe.regions[0].begin, fe.regions[0].end, worst,
-                  fe.solution.reaction[node] / fe.solution.reaction.lpNorm<Eigen::Infinity>(),
-                  fe.solution.gap[node] / fe.solution.gap.lpNorm<Eigen::Infinity>());
+      std::printf(
+          "limit on a node, %s, %d elements: limits [%.10f, %.10f], error %.2e; at the node r %.1e, gap %.1e "
+          "(of their maxima)\n",
+          scene::to_string(method).data(), elements, fe.regions[0].begin, fe.regions[0].end, worst,
+          fe.solution.reaction[node] / fe.solution.reaction.lpNorm<Eigen::Infinity>(),
+          fe.solution.gap[node] / fe.solution.gap.lpNorm<Eigen::Infinity>());
       h.push_back(1.0 / elements);
       error.push_back(worst);
     }
@@ -161,9 +161,9 @@ TEST_CASE("stress: loads balanced to 1e-12 on a free-free beam", "[stress][degen
       for (bool rotation : {false, true}) {
         const Eigen::VectorXd motion = rigid_motion(d, rotation);
         const double imbalance = std::abs(motion.dot(support) - motion.dot(load));
-        const double floor = d.equations * test::eps *
-                             motion.cwiseAbs().dot(support.cwiseAbs() + load.cwiseAbs() +
-                                                   test::absolute(d.stiffness) * u.cwiseAbs());
+        const double floor =
+            d.equations * test::eps *
+            motion.cwiseAbs().dot(support.cwiseAbs() + load.cwiseAbs() + test::absolute(d.stiffness) * u.cwiseAbs());
         if (!rotation && resultant_floor < 0.0) resultant_floor = floor;
         CAPTURE(rotation, imbalance, floor);
         CHECK(imbalance <= floor);
@@ -215,7 +215,8 @@ TEST_CASE("stress: loads from 1e-12 to 1e12 in one scene", "[stress][loads]") {
       check_physics(other);
       CAPTURE(factor);
       // Both answers are the same computation on loads that differ by one rounding each.
-      CHECK(test::relative_difference(other.solution.displacement / factor, fe.solution.displacement) <= 64 * test::eps);
+      CHECK(test::relative_difference(other.solution.displacement / factor, fe.solution.displacement) <=
+            64 * test::eps);
       REQUIRE(other.regions.size() == fe.regions.size());
     }
   }
@@ -232,7 +233,8 @@ TEST_CASE("stress: a load that lifts a free beam off entirely has no equilibrium
   }
   // The command line says so in words, with exit code 3 and nothing on stdout.
   namespace fs = std::filesystem;
-  const fs::path scene_file = fs::temp_directory_path() / ("liftoff_stress_lift_off_" + std::to_string(::getpid()) + ".toml");
+  const fs::path scene_file =
+      fs::temp_directory_path() / ("liftoff_stress_lift_off_" + std::to_string(::getpid()) + ".toml");
   std::ofstream(scene_file) << R"([structure]
 kind = "beam"
 length = 1.0

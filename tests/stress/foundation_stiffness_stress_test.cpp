@@ -4,7 +4,6 @@
 // discretisation (answer_check.hpp); condition estimates are printed beside it, and where the
 // dual form's accuracy is lost they say why.
 #include <catch2/catch.hpp>
-
 #include <cstdio>
 
 #include "answer_check.hpp"
@@ -35,12 +34,15 @@ void check_sweep(scene::Scene s, const std::vector<Method>& methods, int element
     for (Method method : methods) {
       const test::Solved fe = test::solve(s, method, elements);
       const auto& summary = fe.solution.summary;
-      const double cancellation = method == Method::dual ? test::dual_cancellation(fe.discretisation, fe.solution, 1.0) : 1.0;
+      const double cancellation =
+          method == Method::dual ? test::dual_cancellation(fe.discretisation, fe.solution, 1.0) : 1.0;
       const test::AnswerCheck check = test::check_answer(fe.discretisation, fe.solution, 1.0, cancellation);
       const double cond_k = fe.discretisation.structure_is_stable()
                                 ? test::symmetric_condition(Eigen::MatrixXd(fe.discretisation.stiffness))
                                 : INFINITY;
-      const double cond_p = fe.discretisation.structure_is_stable() ? test::symmetric_condition(test::dual_matrix(fe.discretisation)) : INFINITY;
+      const double cond_p = fe.discretisation.structure_is_stable()
+                                ? test::symmetric_condition(test::dual_matrix(fe.discretisation))
+                                : INFINITY;
       std::printf("  k %7.0e %-7s %-17s %s | cond(K) %.1e cond(P) %.1e cancel %.1e\n", k,
                   scene::to_string(method).data(), std::string(contact::to_string(summary.termination)).c_str(),
                   check.report().c_str(), cond_k, cond_p, cancellation);

@@ -7,17 +7,16 @@
 // limits against the FE-informed start and, for beams, the exact closed form), or in a refusal
 // whose reason the test confirms on the returned iterate. Which starts converge is printed: the
 // basin of the right root is narrower than one might hope (see the report).
-#include <catch2/catch.hpp>
-
-#include <cstdio>
-
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <catch2/catch.hpp>
+#include <cstdio>
+
 #include "app/solve_command.hpp"
-#include "seed_beams.hpp"
 #include "closed_form/beam_on_foundation.hpp"
 #include "ritz/ritz_solver.hpp"
+#include "seed_beams.hpp"
 #include "support/scenes.hpp"
 
 using namespace liftoff;
@@ -52,8 +51,7 @@ TEST_CASE("stress: Ritz from poor initial limits reaches the contact solution", 
       PoorStart{"seed_beam_end_moments_central_load", {true, 2}, {0.98, 0.99}},
       PoorStart{"seed_beam_end_moments_central_load", {true, 2}, {0.49, 0.51}},
       PoorStart{"seed_arch_roller", {false, 2}, {-9.9, -9.8}}, PoorStart{"seed_arch_roller", {false, 2}, {-0.1, 0.1}},
-      PoorStart{"seed_arch_roller", {false, 2}, {-8.0, 8.0}},
-      PoorStart{"seed_arch_pinned", {false, 2}, {9.0, 9.5}});
+      PoorStart{"seed_arch_roller", {false, 2}, {-8.0, 8.0}}, PoorStart{"seed_arch_pinned", {false, 2}, {9.0, 9.5}});
   const scene::Scene s = test::shipped_scene(start.scene);
   const fe::MemberModel member = fe::make_member_model(s);
   std::vector<double> limits;
@@ -99,7 +97,8 @@ TEST_CASE("stress: Ritz from poor initial limits reaches the contact solution", 
         std::max(worst_limit_residual, std::abs(model.w(x, x[model.limit_offset() + m])) / amplitude_scale);
   CAPTURE(gradient.lpNorm<Eigen::Infinity>() / load.lpNorm<Eigen::Infinity>(), worst_limit_residual, worst_violation);
   std::printf("  checks: dPi/dA %.1e of |F|, w(t) %.1e of |W|, worst wrong-sign w %.1e of max |w|\n",
-              gradient.lpNorm<Eigen::Infinity>() / load.lpNorm<Eigen::Infinity>(), worst_limit_residual, worst_violation);
+              gradient.lpNorm<Eigen::Infinity>() / load.lpNorm<Eigen::Infinity>(), worst_limit_residual,
+              worst_violation);
 
   if (!poor.summary.is_usable()) {
     // A refusal must be justified by the iterate it refused.

@@ -3,7 +3,6 @@
 // round-off. The two scenes differ in their numbers by factors up to 1e13, so only the
 // nondimensionalisation (fe::MemberModel) makes them the same problem.
 #include <catch2/catch.hpp>
-
 #include <cstdio>
 #include <cstdlib>
 
@@ -29,7 +28,8 @@ scene::Scene beam_in_units(double length_unit, double force_unit) {
   s.source_name = length_unit == 1.0 ? "<beam in kN and m>" : "<beam in N and mm>";
   s.foundation.stiffness_parameter.reset();
   s.foundation.modulus = k * EI / std::pow(L, 4) * force_unit / (length_unit * length_unit);  // kN/m^2
-  s.loads = {test::point_moment(0.0, -M * force_unit * length_unit), test::point_moment(L * length_unit, M * force_unit * length_unit),
+  s.loads = {test::point_moment(0.0, -M * force_unit * length_unit),
+             test::point_moment(L * length_unit, M * force_unit * length_unit),
              test::point_force(0.5 * L * length_unit, -P * force_unit)};
   return s;
 }
@@ -63,8 +63,8 @@ TEST_CASE("stress: the same scene in kN-m and in N-mm gives the same nondimensio
   double data_difference = relative(a.foundation_modulus, b.foundation_modulus);
   REQUIRE(a.loads.size() == b.loads.size());
   for (std::size_t i = 0; i < a.loads.size(); ++i)
-    data_difference = std::max({data_difference, relative(a.loads[i].value, b.loads[i].value),
-                                std::abs(a.loads[i].at - b.loads[i].at)});
+    data_difference = std::max(
+        {data_difference, relative(a.loads[i].value, b.loads[i].value), std::abs(a.loads[i].at - b.loads[i].at)});
   std::printf("units: nondimensional data differ by %.1e\n", data_difference);
   CHECK(data_difference <= 8 * test::eps);
 
@@ -108,9 +108,11 @@ TEST_CASE("stress: the same scene in kN-m and in N-mm gives the same nondimensio
       CAPTURE(name, value_of(na), value_of(nb), tol);
       CHECK(difference <= tol);
       worst_ratio = std::max(worst_ratio, difference / tol);
-      if (std::getenv("LIFTOFF_STRESS_VERBOSE")) std::printf("    %s: %.17g vs %.17g, tolerance %.1e\n", name, value_of(na), value_of(nb), tol);
+      if (std::getenv("LIFTOFF_STRESS_VERBOSE"))
+        std::printf("    %s: %.17g vs %.17g, tolerance %.1e\n", name, value_of(na), value_of(nb), tol);
     };
-    for (std::size_t i = 0; i < na.limits.size(); ++i) compare("limit", [i](const Nondimensional& n) { return n.limits[i]; });
+    for (std::size_t i = 0; i < na.limits.size(); ++i)
+      compare("limit", [i](const Nondimensional& n) { return n.limits[i]; });
     compare("w_max", [](const Nondimensional& n) { return n.w_max; });
     compare("w_min", [](const Nondimensional& n) { return n.w_min; });
     compare("max_reaction", [](const Nondimensional& n) { return n.max_reaction; });

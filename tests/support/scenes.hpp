@@ -13,8 +13,8 @@ inline scene::Scene shipped_scene(const std::string& name) {
 }
 
 // A beam of length L with EI, the given supports and foundation parameter k, no loads.
-inline scene::Scene beam_scene(double length, double bending_stiffness, scene::EndSupport left,
-                               scene::EndSupport right, double k, bool tensionless = true) {
+inline scene::Scene beam_scene(double length, double bending_stiffness, scene::EndSupport left, scene::EndSupport right,
+                               double k, bool tensionless = true) {
   scene::Scene s;
   s.source_name = "<test beam>";
   s.structure.kind = scene::StructureKind::beam;

@@ -1,7 +1,6 @@
 // liftoff against the classical results for beams on a tensionless foundation
 // (beta = (K/4EI)^(1/4)), with tolerances from each method's own error estimate.
 #include <catch2/catch.hpp>
-
 #include <cstdio>
 
 #include "app/solve_command.hpp"
@@ -16,7 +15,9 @@ namespace {
 constexpr double pi = 3.14159265358979323846;
 
 // A free-free unit beam (EI = 1) with beta L given: k = K L^4/EI = 4 (beta L)^4.
-scene::Scene free_beam(double beta_l) { return test::beam_scene(1.0, 1.0, EndSupport::free, EndSupport::free, 4 * std::pow(beta_l, 4)); }
+scene::Scene free_beam(double beta_l) {
+  return test::beam_scene(1.0, 1.0, EndSupport::free, EndSupport::free, 4 * std::pow(beta_l, 4));
+}
 
 io::SolveReport solve(const scene::Scene& s, Method method, int elements, std::optional<int> modes = {}) {
   app::SolveRequest request;
@@ -66,9 +67,10 @@ TEST_CASE("classical: a free-free beam under a central load stays in full contac
       const Estimate fe = fe_estimate(s, 100, contact_length);
       const io::SolveReport ritz = solve(s, Method::ritz, 100);
       const double exact = pi / beta_l;
-      std::printf("free-free beta L = %4.1f, P = %5.1f: contact length FE %.8f (+- %.1e), Ritz %.8f (%d modes), "
-                  "exact pi/beta %.8f\n",
-                  beta_l, load, fe.value, fe.error, contact_length(ritz), ritz.modes, exact);
+      std::printf(
+          "free-free beta L = %4.1f, P = %5.1f: contact length FE %.8f (+- %.1e), Ritz %.8f (%d modes), "
+          "exact pi/beta %.8f\n",
+          beta_l, load, fe.value, fe.error, contact_length(ritz), ritz.modes, exact);
       CAPTURE(beta_l, load);
       CHECK(std::abs(fe.value - exact) <= 3 * fe.error + 1e-12);
       CHECK(std::abs(contact_length(ritz) - exact) <= 3 * ritz.estimated_limit_error + 1e-9);

@@ -45,8 +45,7 @@ double integrate(const cf::BeamSolution& s, const std::function<double(double)>&
   static const Gauss g(12);
   double total = 0.0;
   const auto& bp = s.breakpoints();
-  const double piece =
-      s.beta() > 0.0 ? std::min(0.25 / s.beta(), s.length() / 64.0) : s.length() / 64.0;
+  const double piece = s.beta() > 0.0 ? std::min(0.25 / s.beta(), s.length() / 64.0) : s.length() / 64.0;
   for (std::size_t i = 0; i + 1 < bp.size(); ++i) {
     const double h = bp[i + 1] - bp[i];
     const int n = std::max(1, static_cast<int>(std::ceil(h / piece)));
@@ -153,8 +152,8 @@ TEST_CASE("simply supported beam, central force: P L^3 / (48 EI), positive", "[c
     // First-order correction: relative -k * (31/630)/(1/48)... bounded by k.
     CHECK(std::abs(s.deflection(1.0) / exact - 1.0) < 1e-8);
     CHECK(s.deflection(1.0) < exact);
-    std::printf("[ss K->0] w(L/2)/(PL^3/48EI) - 1 = %.3e, cond = %.2e\n",
-                s.deflection(1.0) / exact - 1.0, s.condition_estimate());
+    std::printf("[ss K->0] w(L/2)/(PL^3/48EI) - 1 = %.3e, cond = %.2e\n", s.deflection(1.0) / exact - 1.0,
+                s.condition_estimate());
   }
   SECTION("first-order foundation correction, k = 1e-4: -k (17/35)/48") {
     // delta w(L/2) = -K/P int w0^2 dx = -(17/35) K P L^7 / (2304 EI^2).
@@ -194,8 +193,7 @@ TEST_CASE("textbook beams: uniform load, cantilever tip force and moment", "[clo
     pr.moments = {{0.0, 0.9}};
     const auto s = cf::solve_bilateral(pr);
     const double x = 1.1, L = 3.0;
-    CHECK(s.deflection(x) ==
-          Approx(-0.9 * x * (L - x) * (2 * L - x) / (6 * 2.0 * L)).epsilon(1e-13));
+    CHECK(s.deflection(x) == Approx(-0.9 * x * (L - x) * (2 * L - x) / (6 * 2.0 * L)).epsilon(1e-13));
   }
 }
 
@@ -217,11 +215,9 @@ TEST_CASE("Maxwell reciprocity checks the sign of the moment jump", "[closed_for
   const auto sf = cf::solve_with_contact(pf, regions);
   CHECK(sm.deflection(x1) == Approx(-sf.slope(x0)).epsilon(1e-12));
   // Jumps at the moment: EI [w''] = M; at a force: EI [w'''] = P.
-  CHECK(pm.bending_stiffness *
-            (sm.derivative(x0, 2, cf::Side::right) - sm.derivative(x0, 2, cf::Side::left)) ==
+  CHECK(pm.bending_stiffness * (sm.derivative(x0, 2, cf::Side::right) - sm.derivative(x0, 2, cf::Side::left)) ==
         Approx(1.0).epsilon(1e-12));
-  CHECK(pf.bending_stiffness *
-            (sf.derivative(x1, 3, cf::Side::right) - sf.derivative(x1, 3, cf::Side::left)) ==
+  CHECK(pf.bending_stiffness * (sf.derivative(x1, 3, cf::Side::right) - sf.derivative(x1, 3, cf::Side::left)) ==
         Approx(1.0).epsilon(1e-12));
 }
 
@@ -277,10 +273,8 @@ TEST_CASE("bilateral: Hetenyi finite free-free beam under a central force", "[cl
     const auto pr = free_free_central(bL, P, beta, 2.0);
     const double K = pr.foundation_modulus;
     const auto s = cf::solve_bilateral(pr);
-    const double wc =
-        P * beta / (2 * K) * (std::cosh(bL) + std::cos(bL) + 2) / (std::sinh(bL) + std::sin(bL));
-    const double we =
-        2 * P * beta / K * std::cosh(bL / 2) * std::cos(bL / 2) / (std::sinh(bL) + std::sin(bL));
+    const double wc = P * beta / (2 * K) * (std::cosh(bL) + std::cos(bL) + 2) / (std::sinh(bL) + std::sin(bL));
+    const double we = 2 * P * beta / K * std::cosh(bL / 2) * std::cos(bL / 2) / (std::sinh(bL) + std::sin(bL));
     INFO("beta L = " << bL);
     CHECK(s.deflection(pr.length / 2) == Approx(wc).epsilon(1e-11));
     CHECK(std::abs(s.deflection(0.0) - we) < 1e-11 * wc);
@@ -300,15 +294,13 @@ TEST_CASE("bilateral: equilibrium of forces and moments with every load kind", "
   pr.uniform_loads = {{0.5, 3.5, 0.8}};
   const auto s = cf::solve_bilateral(pr);
   const double F = 2.0 - 0.7 + 0.3 + 0.8 * 3.0;
-  const double Mx =
-      1.2 * 2.0 - 4.4 * 0.7 + 6.0 * 0.3 + 0.8 * (3.5 * 3.5 - 0.25) / 2.0 - (1.1 - 0.4);
+  const double Mx = 1.2 * 2.0 - 4.4 * 0.7 + 6.0 * 0.3 + 0.8 * (3.5 * 3.5 - 0.25) / 2.0 - (1.1 - 0.4);
   CHECK(reaction_integral(s) == Approx(F).epsilon(1e-11));
   CHECK(reaction_moment(s) == Approx(Mx).epsilon(1e-11));
   CHECK(s.relative_residual() < 1e-14);
 }
 
-TEST_CASE("bilateral: the end deflection of a free-free beam changes sign at beta L = pi",
-          "[closed_form]") {
+TEST_CASE("bilateral: the end deflection of a free-free beam changes sign at beta L = pi", "[closed_form]") {
   auto w_end = [](double bL) {
     const auto pr = free_free_central(bL, 1.0);
     return cf::solve_bilateral(pr).deflection(0.0);
@@ -322,8 +314,7 @@ TEST_CASE("bilateral: the end deflection of a free-free beam changes sign at bet
     (w_end(m) > 0.0 ? a : b) = m;
   }
   const double root = 0.5 * (a + b);
-  std::printf("[free-free end sign change] beta L = %.15f, pi = %.15f, diff = %.1e\n", root, kPi,
-              root - kPi);
+  std::printf("[free-free end sign change] beta L = %.15f, pi = %.15f, diff = %.1e\n", root, kPi, root - kPi);
   CHECK(std::abs(root - kPi) < 1e-10);
   // Below pi the bilateral solution is a valid tensionless one (full contact).
   const auto s = cf::solve_bilateral(free_free_central(3.0, 1.0));
@@ -392,8 +383,7 @@ TEST_CASE("tensionless: free-free beam, central force, contact length pi / beta"
   }
 }
 
-TEST_CASE("tensionless: long free beam (beta L = 40), central force: beta a = pi / 2",
-          "[closed_form]") {
+TEST_CASE("tensionless: long free beam (beta L = 40), central force: beta a = pi / 2", "[closed_form]") {
   const double beta = 0.8, P = 7.0;
   const auto pr = free_free_central(40.0, P, beta, 1.1);
   const double x0 = pr.length / 2;
@@ -423,8 +413,7 @@ TEST_CASE("tensionless: long free beam (beta L = 40), central force: beta a = pi
     // Closed form of the contact part (free-free beam of length pi/beta, zero end deflection):
     //   w(x0) = P beta/(2K) (cosh pi + cos pi + 2)/(sinh pi + sin pi) = P beta/(2K) coth(pi/2).
     const double K = pr.foundation_modulus;
-    CHECK(r->solution.deflection(x0) ==
-          Approx(P * beta / (2 * K) / std::tanh(kPi / 2)).epsilon(1e-11));
+    CHECK(r->solution.deflection(x0) == Approx(P * beta / (2 * K) / std::tanh(kPi / 2)).epsilon(1e-11));
     CHECK(reaction_integral(r->solution) == Approx(P).epsilon(1e-11));
   }
 }
@@ -439,8 +428,7 @@ TEST_CASE("tensionless: very long free beam (beta L = 1000), automatic topology"
   std::printf("[beta L = 1000 auto] contact length - pi = %.1e, %d rounds, lifted end w = %.6e\n",
               r.limits[1] - r.limits[0] - kPi, r.rounds, r.solution.deflection(0.0));
   // The lifted ends are straight: w(0) = w(t1) + w'(t1)(0 - t1) with w(t1) = 0.
-  CHECK(r.solution.deflection(0.0) ==
-        Approx(-r.solution.slope(r.limits[0]) * r.limits[0]).epsilon(1e-12));
+  CHECK(r.solution.deflection(0.0) == Approx(-r.solution.slope(r.limits[0]) * r.limits[0]).epsilon(1e-12));
 }
 
 TEST_CASE("bilateral: separation under self-weight plus a central force", "[closed_form]") {
@@ -455,9 +443,7 @@ TEST_CASE("bilateral: separation under self-weight plus a central force", "[clos
   };
   const double x0 = bL / beta / 2;
   for (double sgn : {-1.0, 1.0}) {
-    auto separated = [&](double P) {
-      return min_deflection(cf::solve_bilateral(problem(P))).second <= 0.0;
-    };
+    auto separated = [&](double P) { return min_deflection(cf::solve_bilateral(problem(P))).second <= 0.0; };
     double lo = 0.0, hi = 100.0 * q / beta;
     REQUIRE(!separated(sgn * lo));
     REQUIRE(separated(sgn * hi));
@@ -473,15 +459,13 @@ TEST_CASE("bilateral: separation under self-weight plus a central force", "[clos
     std::printf(
         "[weight + %s central force] critical |P| beta / q = %.12f (expected %.12f, "
         "rel %+.1e), first separation at beta|x - x0| = %.9f\n",
-        sgn < 0 ? "upward" : "downward", ratio, expected, ratio / expected - 1.0,
-        beta * std::abs(where.first - x0));
+        sgn < 0 ? "upward" : "downward", ratio, expected, ratio / expected - 1.0, beta * std::abs(where.first - x0));
     CHECK(ratio == Approx(expected).epsilon(1e-9));
     CHECK(beta * std::abs(where.first - x0) == Approx(sgn < 0 ? 0.0 : kPi).margin(1e-5));
   }
 }
 
-TEST_CASE("tensionless: weight plus a large downward force lifts a window on each side",
-          "[closed_form]") {
+TEST_CASE("tensionless: weight plus a large downward force lifts a window on each side", "[closed_form]") {
   const double beta = 1.0, q = 1.0, bL = 40.0;
   auto pr = free_free_central(bL, 80.0 * q / beta, beta, 1.0);  // 80 > 2 e^pi = 46.3
   pr.uniform_loads = {{0.0, pr.length, q}};
@@ -500,8 +484,7 @@ TEST_CASE("tensionless: weight plus a large downward force lifts a window on eac
   CHECK(reaction_integral(r.solution) == Approx(80.0 + q * pr.length).epsilon(1e-11));
 }
 
-TEST_CASE("tensionless: eccentric force near a free end, contact region touching the end",
-          "[closed_form]") {
+TEST_CASE("tensionless: eccentric force near a free end, contact region touching the end", "[closed_form]") {
   cf::BeamProblem pr = free_free_central(10.0, 2.0);
   pr.forces = {{0.4, 2.0}};
   const auto seed = cf::contact_regions(cf::solve_bilateral(pr));
@@ -534,8 +517,8 @@ TEST_CASE("tensionless: automatic topology, mixed loads, four contact regions", 
     const auto r = cf::solve_tensionless_auto(pr);
     INFO(r.message);
     REQUIRE(r.status == cf::TensionlessStatus::converged);
-    std::printf("[mixed loads, %s left end] %s; contact:",
-                left == cf::EndCondition::free ? "free" : "clamped", r.message.c_str());
+    std::printf("[mixed loads, %s left end] %s; contact:", left == cf::EndCondition::free ? "free" : "clamped",
+                r.message.c_str());
     for (const auto& i : r.contact) std::printf(" [%.9f, %.9f]", i.start, i.end);
     std::printf("\n");
     CHECK(r.max_violation < 1e-12);
@@ -552,8 +535,7 @@ TEST_CASE("tensionless: automatic topology, mixed loads, four contact regions", 
   }
 }
 
-TEST_CASE("tensionless: simply supported beam under opposite end moments, k = 1e4",
-          "[closed_form]") {
+TEST_CASE("tensionless: simply supported beam under opposite end moments, k = 1e4", "[closed_form]") {
   // EI = L = 1, K = 1e4 (beta L = 7.07). Opposite senses give symmetric bending.
   cf::BeamProblem pr;
   pr.length = 1.0;
@@ -581,8 +563,8 @@ TEST_CASE("tensionless: simply supported beam under opposite end moments, k = 1e
     // Seeded with the bilateral central region, the fixed topology cannot work.
     REQUIRE(seed.size() == 1);
     const auto bad = cf::solve_tensionless(pr, seed);
-    std::printf("[ss hogging] seeded with the bilateral central region: %s (%s)\n",
-                cf::to_string(bad.status).c_str(), bad.message.c_str());
+    std::printf("[ss hogging] seeded with the bilateral central region: %s (%s)\n", cf::to_string(bad.status).c_str(),
+                bad.message.c_str());
     CHECK(bad.status != cf::TensionlessStatus::converged);
   }
 
@@ -598,8 +580,7 @@ TEST_CASE("tensionless: simply supported beam under opposite end moments, k = 1e
     REQUIRE(r.status == cf::TensionlessStatus::converged);
     std::printf("[ss sagging] tensionless contact:");
     for (const auto& i : r.contact) std::printf(" [%.12f, %.12f]", i.start, i.end);
-    std::printf(" (%d Newton steps, residual %.1e, violation %.1e)\n", r.iterations, r.residual,
-                r.max_violation);
+    std::printf(" (%d Newton steps, residual %.1e, violation %.1e)\n", r.iterations, r.residual, r.max_violation);
     REQUIRE(r.limits.size() == 2);
     CHECK(std::abs(r.limits[0] + r.limits[1] - 1.0) < 1e-10);
     // Equilibrium with the pin forces S0 = EI w'''(0+), SL = -EI w'''(L-) (in +w):
@@ -618,8 +599,7 @@ TEST_CASE("tensionless: simply supported beam under opposite end moments, k = 1e
 
 TEST_CASE("tensionless: status reporting", "[closed_form]") {
   const auto pr = free_free_central(6.0, 1.0);
-  CHECK(cf::solve_tensionless(pr, {{1.0, 3.0}, {2.0, 4.0}}).status ==
-        cf::TensionlessStatus::invalid_input);
+  CHECK(cf::solve_tensionless(pr, {{1.0, 3.0}, {2.0, 4.0}}).status == cf::TensionlessStatus::invalid_input);
   CHECK(cf::solve_tensionless(pr, {}).status == cf::TensionlessStatus::singular_system);
   // Full contact is not admissible for beta L = 6 > pi: the ends would pull.
   const auto full = cf::solve_tensionless(pr, {{0.0, 6.0}});

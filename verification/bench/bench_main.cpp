@@ -21,19 +21,19 @@
 //
 // The fast contact solver (method "fast") is developed on another branch: it is benchmarked
 // wherever scene::parse_method("fast") knows it, and skipped with a note otherwise.
+#include <fmt/format.h>
+
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include "closed_form/beam_on_foundation.hpp"
 #include "contact/active_set_system.hpp"
@@ -255,9 +255,10 @@ Point measure_ritz(const Options& o, const std::string& name, const scene::Scene
       std::vector<double> found;
       for (int m = 0; m < model.limits(); ++m) found.push_back(r.model.user_from_s(x[model.limit_offset() + m]));
       p.limit_error = limit_error(found, ref) / s.structure.length;
-      const double w_max = maximum_of([&](double t) { return model.w(x, t); }, [&](double t) { return model.w(x, t, 1); },
-                                      r.model.s_begin, r.model.s_end, 4000) *
-                           r.model.scales.length;
+      const double w_max =
+          maximum_of([&](double t) { return model.w(x, t); }, [&](double t) { return model.w(x, t, 1); },
+                     r.model.s_begin, r.model.s_end, 4000) *
+          r.model.scales.length;
       p.w_max_error = std::abs(w_max - ref.w_max) / std::abs(ref.w_max);
     }
     p.timing = bench::time_median([&] { run_ritz(s, modes); }, o.repeats);
@@ -267,14 +268,13 @@ Point measure_ritz(const Options& o, const std::string& name, const scene::Scene
   return p;
 }
 
-Point measure_dolfinx(const Options& o, const std::string& name, const scene::Scene& s, const Reference& ref, int elements,
-                      const fs::path& scratch) {
+Point measure_dolfinx(const Options& o, const std::string& name, const scene::Scene& s, const Reference& ref,
+                      int elements, const fs::path& scratch) {
   Point p = make_point(name, "dolfinx", "elements", elements);
   const fs::path json = scratch / fmt::format("dolfinx_{}_{}.json", name, elements);
-  const bench::ProcessRun run =
-      bench::run_process({o.python, o.source_dir + "/verification/dolfinx/penalty_reference.py", scene_path(o, name),
-                          "--elements", std::to_string(elements), "--repeat", std::to_string(o.repeats), "--json",
-                          json.string()});
+  const bench::ProcessRun run = bench::run_process(
+      {o.python, o.source_dir + "/verification/dolfinx/penalty_reference.py", scene_path(o, name), "--elements",
+       std::to_string(elements), "--repeat", std::to_string(o.repeats), "--json", json.string()});
   if (run.exit_code != 0) {
     p.termination = fmt::format("exit {}", run.exit_code);
     return p;
@@ -302,14 +302,16 @@ void print_point(const Point& p) {
 
 std::vector<Point> accuracy_section(const Options& o, const fs::path& scratch) {
   std::vector<Point> points;
-  const std::vector<int> dual_sizes = o.full ? std::vector<int>{25, 50, 100, 200, 400, 800, 1600}
-                                             : std::vector<int>{25, 50, 100, 200, 400, 800};
+  const std::vector<int> dual_sizes =
+      o.full ? std::vector<int>{25, 50, 100, 200, 400, 800, 1600} : std::vector<int>{25, 50, 100, 200, 400, 800};
   const std::vector<int> primal_sizes = o.full ? std::vector<int>{25, 50, 100, 200} : std::vector<int>{25, 50, 100};
-  const std::vector<int> fast_sizes = o.full ? std::vector<int>{25, 50, 100, 200, 400, 800, 1600, 3200, 6400, 12800, 25600, 51200, 102400}
-                                             : std::vector<int>{25, 50, 100, 200, 400, 800, 1600, 3200, 6400, 12800};
-  const std::vector<int> modes = o.full ? std::vector<int>{4, 8, 16, 32, 64, 128, 256} : std::vector<int>{4, 8, 16, 32, 64, 128};
-  const std::vector<int> dolfinx_sizes = o.full ? std::vector<int>{50, 100, 200, 400, 800, 1600, 3200}
-                                                : std::vector<int>{50, 100, 200, 400, 800};
+  const std::vector<int> fast_sizes =
+      o.full ? std::vector<int>{25, 50, 100, 200, 400, 800, 1600, 3200, 6400, 12800, 25600, 51200, 102400}
+             : std::vector<int>{25, 50, 100, 200, 400, 800, 1600, 3200, 6400, 12800};
+  const std::vector<int> modes =
+      o.full ? std::vector<int>{4, 8, 16, 32, 64, 128, 256} : std::vector<int>{4, 8, 16, 32, 64, 128};
+  const std::vector<int> dolfinx_sizes =
+      o.full ? std::vector<int>{50, 100, 200, 400, 800, 1600, 3200} : std::vector<int>{50, 100, 200, 400, 800};
   for (const std::string& name : seed_beams) {
     const scene::Scene s = scene::read_scene_file(scene_path(o, name));
     const Reference ref = exact_reference(s, run_fe(s, Method::dual, 100).regions);
@@ -337,8 +339,8 @@ std::vector<Point> accuracy_section(const Options& o, const fs::path& scratch) {
 
 // Time for a method to reach a contact-limit error (log-log interpolation between its points,
 // in order of size). NaN if never reached.
-double time_to_error(const std::vector<Point>& points, const std::string& scene, const std::string& method, double target,
-                     bool bracketed_only = false) {
+double time_to_error(const std::vector<Point>& points, const std::string& scene, const std::string& method,
+                     double target, bool bracketed_only = false) {
   std::vector<double> errors, times;
   for (const Point& p : points)
     if (p.scene == scene && p.method == method && std::isfinite(p.limit_error) && p.timing.median_s > 0) {
@@ -361,8 +363,8 @@ struct ScalingRow {
 };
 
 // `liftoff solve SCENE --method M --elements N --json`, median wall time of `repeats` runs.
-ScalingRow spawn_solve(const Options& o, const std::string& scene_file, const std::string& method, const std::string& label,
-                       int elements, int repeats) {
+ScalingRow spawn_solve(const Options& o, const std::string& scene_file, const std::string& method,
+                       const std::string& label, int elements, int repeats) {
   ScalingRow row;
   row.method = label;
   row.elements = elements;
@@ -440,8 +442,9 @@ void scaling_section(const Options& o, const fs::path& scratch) {
   }
   // Fitted on the larger half of each method's sizes (at least two): the small ones measure
   // the process start-up more than the method.
-  std::printf("\n  fitted exponents (least squares on log-log over the larger half of the sizes; whole-process wall "
-              "time, peak memory):\n");
+  std::printf(
+      "\n  fitted exponents (least squares on log-log over the larger half of the sizes; whole-process wall "
+      "time, peak memory):\n");
   for (const Series& s : series) {
     std::vector<const ScalingRow*> mine;
     for (const ScalingRow& r : rows)
@@ -488,7 +491,8 @@ void ratios_section(const Options& o, const fs::path& scratch, const std::vector
       const auto f = bench::run_process({o.liftoff, "solve", bilateral, "--elements", std::to_string(n), "--json"});
       floor_wall.push_back(f.wall_s), floor_exit = f.exit_code;
       if (fast) {
-        const auto r = bench::run_process({o.liftoff, "solve", tensionless, "--method", "fast", "--elements", std::to_string(n), "--json"});
+        const auto r = bench::run_process(
+            {o.liftoff, "solve", tensionless, "--method", "fast", "--elements", std::to_string(n), "--json"});
         fast_wall.push_back(r.wall_s), fast_exit = r.exit_code;
       }
     }
@@ -504,14 +508,16 @@ void ratios_section(const Options& o, const fs::path& scratch, const std::vector
           system.solve(d.load(1.0));
         },
         o.repeats);
-    std::printf("  bilateral floor at %d elements: whole process %.4f s (median of %zu, exit %d), in-process assembly + "
-                "factorisation + solve %.4f s\n",
-                n, bench::median(floor_wall), floor_wall.size(), floor_exit, in_process.median_s);
+    std::printf(
+        "  bilateral floor at %d elements: whole process %.4f s (median of %zu, exit %d), in-process assembly + "
+        "factorisation + solve %.4f s\n",
+        n, bench::median(floor_wall), floor_wall.size(), floor_exit, in_process.median_s);
     if (floor_exit != 0)
-      std::printf("    (exit %d: `liftoff solve` refuses the bilateral answer at this size: round-off in the "
-                  "assembled stiffness (cond ~ N^4) leaves iterative refinement unsettled; the time is still one "
-                  "factorisation and solve)\n",
-                  floor_exit);
+      std::printf(
+          "    (exit %d: `liftoff solve` refuses the bilateral answer at this size: round-off in the "
+          "assembled stiffness (cond ~ N^4) leaves iterative refinement unsettled; the time is still one "
+          "factorisation and solve)\n",
+          floor_exit);
     if (fast) {
       ratios.push_back({"fast / bilateral floor, 1e5 elements, whole process", bench::median(fast_wall),
                         bench::median(floor_wall), fmt::format("target <= 3; fast exit {}", fast_exit)});
@@ -550,8 +556,8 @@ void ratios_section(const Options& o, const fs::path& scratch, const std::vector
       for (const std::string fe_method : {"dual", "fast"}) {
         const double t_fe = time_to_error(accuracy, name, fe_method, p.limit_error, /*bracketed_only=*/true);
         if (!std::isfinite(t_fe)) continue;
-        ratios.push_back({fmt::format("{} / Ritz at equal limit error {:.1e} L ({}, {} modes)", fe_method, p.limit_error,
-                                      name, p.size),
+        ratios.push_back({fmt::format("{} / Ritz at equal limit error {:.1e} L ({}, {} modes)", fe_method,
+                                      p.limit_error, name, p.size),
                           t_fe, p.timing.median_s, "FE time interpolated (log-log) at the Ritz error"});
       }
     }
@@ -565,11 +571,12 @@ void ratios_section(const Options& o, const fs::path& scratch, const std::vector
       if (std::isfinite(t) && t < best) best = t, best_method = method;
     }
     const double t_dolfinx = time_to_error(accuracy, name, "dolfinx", target);
-    std::printf("  %s: time to a contact-limit error of 1e-6 L, dolfinx %s\n", name.c_str(),
-                std::isfinite(t_dolfinx) ? fmt::format("{:.3e} s (solve only)", t_dolfinx).c_str() : "not reached / not run");
+    std::printf(
+        "  %s: time to a contact-limit error of 1e-6 L, dolfinx %s\n", name.c_str(),
+        std::isfinite(t_dolfinx) ? fmt::format("{:.3e} s (solve only)", t_dolfinx).c_str() : "not reached / not run");
     if (std::isfinite(best) && std::isfinite(t_dolfinx))
-      ratios.push_back({fmt::format("dolfinx / best ({}) at limit error 1e-6 L, {}", best_method, name), t_dolfinx, best,
-                        "target >= 1000"});
+      ratios.push_back({fmt::format("dolfinx / best ({}) at limit error 1e-6 L, {}", best_method, name), t_dolfinx,
+                        best, "target >= 1000"});
   }
 
   std::printf("\n  %-96s %11s %11s %9s  %s\n", "ratio", "numer. s", "denom. s", "ratio", "note");
@@ -579,7 +586,8 @@ void ratios_section(const Options& o, const fs::path& scratch, const std::vector
   std::ofstream csv(fs::path(o.out) / "ratios.csv");
   csv << "ratio,numerator_s,denominator_s,value,note\n";
   for (const Ratio& r : ratios)
-    csv << fmt::format("\"{}\",{:.6e},{:.6e},{:.6e},\"{}\"\n", r.name, r.numerator_s, r.denominator_s, r.value(), r.note);
+    csv << fmt::format("\"{}\",{:.6e},{:.6e},{:.6e},\"{}\"\n", r.name, r.numerator_s, r.denominator_s, r.value(),
+                       r.note);
 }
 
 }  // namespace

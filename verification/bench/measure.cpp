@@ -1,12 +1,13 @@
 #include "measure.hpp"
 
-#include <algorithm>
-#include <chrono>
-#include <cmath>
 #include <fcntl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
 
 namespace liftoff::bench {
 
@@ -50,7 +51,8 @@ ProcessRun run_process(const std::vector<std::string>& argv) {
   }
   ::close(pipe_fds[1]);
   char buffer[65536];
-  for (ssize_t got; (got = ::read(pipe_fds[0], buffer, sizeof buffer)) > 0;) run.out.append(buffer, static_cast<std::size_t>(got));
+  for (ssize_t got; (got = ::read(pipe_fds[0], buffer, sizeof buffer)) > 0;)
+    run.out.append(buffer, static_cast<std::size_t>(got));
   ::close(pipe_fds[0]);
   int status = 0;
   struct rusage usage {};

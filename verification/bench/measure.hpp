@@ -21,10 +21,10 @@ Timing time_median(const std::function<void()>& work, int repeats);
 double median(std::vector<double> values);
 
 struct ProcessRun {
-  int exit_code = -1;     // the child's exit status; -1 if it could not run or was killed
-  double wall_s = -1.0;   // fork to reap
+  int exit_code = -1;         // the child's exit status; -1 if it could not run or was killed
+  double wall_s = -1.0;       // fork to reap
   double peak_rss_mb = -1.0;  // ru_maxrss of the child (MiB)
-  std::string out;        // its stdout
+  std::string out;            // its stdout
 };
 
 // Spawns argv[0] with the arguments (no shell), captures stdout (stderr is discarded), waits

@@ -16,9 +16,8 @@ namespace detail {
 
 // Builds BeamSolution objects from the internals below.
 struct SolutionAccess {
-  static BeamSolution make(double length, double ei, double k, double beta, double lambda,
-                           std::vector<double> x, std::vector<Segment> segs,
-                           std::vector<double> coef, double condition, double residual) {
+  static BeamSolution make(double length, double ei, double k, double beta, double lambda, std::vector<double> x,
+                           std::vector<Segment> segs, std::vector<double> coef, double condition, double residual) {
     BeamSolution s;
     s.length_ = length;
     s.ei_ = ei;
@@ -178,8 +177,7 @@ struct Model {
   std::vector<double> force, moment;  // per breakpoint (0 and L: end loads)
 };
 
-Model build_model(const BeamProblem& pr, const std::vector<double>& x,
-                  const std::vector<bool>& contact) {
+Model build_model(const BeamProblem& pr, const std::vector<double>& x, const std::vector<bool>& contact) {
   validate(pr);
   Model m;
   m.p = params_of(pr);
@@ -206,8 +204,7 @@ Model build_model(const BeamProblem& pr, const std::vector<double>& x,
         dist = std::abs(m.x[i] - at);
         best = i;
       }
-    if (dist > kLoadTolerance * L)
-      throw std::invalid_argument("closed_form: a load point is not a breakpoint");
+    if (dist > kLoadTolerance * L) throw std::invalid_argument("closed_form: a load point is not a breakpoint");
     return best;
   };
   for (const auto& f : pr.forces) m.force[locate(f.at)] += f.value;
@@ -298,8 +295,8 @@ MatrixXd assemble_matrix(const Model& m) {
 
 // Right-hand side. with_particular: include the uniform-load particular solutions; the point
 // loads are taken from `force` and `moment` (per breakpoint).
-VectorXd assemble_rhs(const Model& m, const std::vector<double>& force,
-                      const std::vector<double>& moment, bool with_particular) {
+VectorXd assemble_rhs(const Model& m, const std::vector<double>& force, const std::vector<double>& moment,
+                      bool with_particular) {
   const int ns = static_cast<int>(m.segs.size());
   VectorXd b = VectorXd::Zero(4 * ns);
   const double lam = m.p.lambda, EI = m.p.EI;
@@ -377,12 +374,11 @@ struct Factorization {
     const MatrixXd S = r.asDiagonal() * A * c.asDiagonal();
     lu.compute(S);
     if (!lu.isInvertible())
-      throw SingularSystem("closed_form: singular segment system (rank " +
-                           std::to_string(lu.rank()) + " of " + std::to_string(n) + ")");
+      throw SingularSystem("closed_form: singular segment system (rank " + std::to_string(lu.rank()) + " of " +
+                           std::to_string(n) + ")");
     const double rc = lu.rcond();
     if (!(rc > 1e-15))
-      throw SingularSystem("closed_form: numerically singular segment system (rcond " +
-                           std::to_string(rc) + ")");
+      throw SingularSystem("closed_form: numerically singular segment system (rcond " + std::to_string(rc) + ")");
     condition = 1.0 / rc;
   }
 
@@ -406,14 +402,13 @@ BeamSolution make_solution(const Model& m, const VectorXd& coef, double conditio
   std::vector<Segment> segs = m.segs;
   if (!with_loads)
     for (auto& s : segs) s.q = 0.0;
-  return detail::SolutionAccess::make(
-      m.p.L, m.p.EI, m.p.K, m.p.beta, m.p.lambda, m.x, std::move(segs),
-      std::vector<double>(coef.data(), coef.data() + coef.size()), condition, residual);
+  return detail::SolutionAccess::make(m.p.L, m.p.EI, m.p.K, m.p.beta, m.p.lambda, m.x, std::move(segs),
+                                      std::vector<double>(coef.data(), coef.data() + coef.size()), condition, residual);
 }
 
 // Breakpoints and contact flags for the given regions (assumed clean: sorted, disjoint).
-void layout_for_regions(const BeamProblem& pr, const std::vector<Interval>& regions,
-                        std::vector<double>& x, std::vector<bool>& contact) {
+void layout_for_regions(const BeamProblem& pr, const std::vector<Interval>& regions, std::vector<double>& x,
+                        std::vector<bool>& contact) {
   std::vector<double> pts = load_points(pr);
   for (const auto& r : regions) {
     pts.push_back(r.start);
@@ -434,8 +429,7 @@ struct FullSolve {
   BeamSolution solution;
 };
 
-FullSolve full_solve(const BeamProblem& pr, const std::vector<double>& x,
-                     const std::vector<bool>& contact) {
+FullSolve full_solve(const BeamProblem& pr, const std::vector<double>& x, const std::vector<bool>& contact) {
   FullSolve fs;
   fs.model = build_model(pr, x, contact);
   fs.factor = std::make_unique<Factorization>(assemble_matrix(fs.model));
@@ -483,11 +477,9 @@ std::string make_topology(const BeamProblem& pr, std::vector<Interval> regions, 
     if (r.end >= L - snap) r.end = L;
     if (!(r.end - r.start > snap)) return "empty or reversed contact region";
   }
-  std::sort(regions.begin(), regions.end(),
-            [](const Interval& a, const Interval& b) { return a.start < b.start; });
+  std::sort(regions.begin(), regions.end(), [](const Interval& a, const Interval& b) { return a.start < b.start; });
   for (std::size_t i = 1; i < regions.size(); ++i)
-    if (!(regions[i].start > regions[i - 1].end + snap))
-      return "overlapping or touching contact regions (merge them)";
+    if (!(regions[i].start > regions[i - 1].end + snap)) return "overlapping or touching contact regions (merge them)";
   topo = Topology{};
   topo.fixed = regions;
   for (const auto& r : regions) {
@@ -522,8 +514,7 @@ struct LimitState {
   double scale = 0.0;
 };
 
-LimitState evaluate_limits(const BeamProblem& pr, const Topology& topo,
-                           const std::vector<double>& t) {
+LimitState evaluate_limits(const BeamProblem& pr, const Topology& topo, const std::vector<double>& t) {
   LimitState s;
   std::vector<double> x;
   std::vector<bool> contact;
@@ -581,8 +572,7 @@ double inequality_violation(const BeamSolution& sol, double scale, int samples) 
 // ---------------------------------------------------------------------------------------------
 
 double BeamProblem::beta() const {
-  return foundation_modulus > 0.0 ? std::pow(foundation_modulus / (4.0 * bending_stiffness), 0.25)
-                                  : 0.0;
+  return foundation_modulus > 0.0 ? std::pow(foundation_modulus / (4.0 * bending_stiffness), 0.25) : 0.0;
 }
 
 std::size_t BeamSolution::segment_index(double x, Side side) const {
@@ -616,13 +606,9 @@ double BeamSolution::derivative(double x, int order, Side side) const {
   return v / std::pow(lambda_, order);
 }
 
-double BeamSolution::bending_moment(double x, Side side) const {
-  return -ei_ * derivative(x, 2, side);
-}
+double BeamSolution::bending_moment(double x, Side side) const { return -ei_ * derivative(x, 2, side); }
 
-double BeamSolution::shear_force(double x, Side side) const {
-  return -ei_ * derivative(x, 3, side);
-}
+double BeamSolution::shear_force(double x, Side side) const { return -ei_ * derivative(x, 3, side); }
 
 double BeamSolution::reaction(double x, Side side) const {
   const std::size_t i = segment_index(x, side);
@@ -636,8 +622,7 @@ double BeamSolution::max_abs_deflection(int samples_per_segment) const {
     const Segment& s = segments_[i];
     for (int k = 0; k <= samples_per_segment; ++k) {
       const double x = s.a + (s.b - s.a) * k / samples_per_segment;
-      m = std::max(m,
-                   std::abs(derivative(x, 0, k == samples_per_segment ? Side::left : Side::right)));
+      m = std::max(m, std::abs(derivative(x, 0, k == samples_per_segment ? Side::left : Side::right)));
     }
   }
   return m;
@@ -675,8 +660,7 @@ BeamSolution solve_bilateral(const BeamProblem& problem) {
   return solve_with_contact(problem, {Interval{0.0, problem.length}});
 }
 
-std::vector<Interval> contact_regions(const BeamSolution& sol, int samples_per_segment,
-                                      double zero_tolerance) {
+std::vector<Interval> contact_regions(const BeamSolution& sol, int samples_per_segment, double zero_tolerance) {
   std::vector<Interval> out;
   if (sol.empty()) return out;
   const double eps = zero_tolerance * sol.max_abs_deflection(samples_per_segment / 4 + 1);
@@ -763,8 +747,7 @@ LimitEquations limit_equations(const BeamProblem& problem, const std::vector<Int
   return out;
 }
 
-TensionlessResult solve_tensionless(const BeamProblem& problem,
-                                    const std::vector<Interval>& initial_contact_regions,
+TensionlessResult solve_tensionless(const BeamProblem& problem, const std::vector<Interval>& initial_contact_regions,
                                     const TensionlessOptions& opt) {
   TensionlessResult res;
   try {
@@ -855,8 +838,7 @@ TensionlessResult solve_tensionless(const BeamProblem& problem,
       }
       if (!feasible(trial)) {
         res.iterations = it;
-        return finish(TensionlessStatus::no_convergence,
-                      "a contact region collapsed (limits cannot stay ordered)", s);
+        return finish(TensionlessStatus::no_convergence, "a contact region collapsed (limits cannot stay ordered)", s);
       }
       const double f0 = max_abs(s.F);
       bool accepted = false;
@@ -917,8 +899,7 @@ TensionlessResult solve_tensionless(const BeamProblem& problem,
   }
 }
 
-TensionlessResult solve_tensionless_auto(const BeamProblem& problem,
-                                         const TensionlessOptions& opt) {
+TensionlessResult solve_tensionless_auto(const BeamProblem& problem, const TensionlessOptions& opt) {
   TensionlessResult last;
   try {
     validate(problem);
@@ -943,9 +924,7 @@ TensionlessResult solve_tensionless_auto(const BeamProblem& problem,
   auto same = [&](const std::vector<Interval>& a, const std::vector<Interval>& b) {
     if (a.size() != b.size()) return false;
     for (std::size_t i = 0; i < a.size(); ++i)
-      if (std::abs(a[i].start - b[i].start) > 1e-12 * L ||
-          std::abs(a[i].end - b[i].end) > 1e-12 * L)
-        return false;
+      if (std::abs(a[i].start - b[i].start) > 1e-12 * L || std::abs(a[i].end - b[i].end) > 1e-12 * L) return false;
     return true;
   };
   auto intersect = [&](const std::vector<Interval>& x, const std::vector<Interval>& y) {
@@ -955,8 +934,7 @@ TensionlessResult solve_tensionless_auto(const BeamProblem& problem,
         const double s0 = std::max(p.start, q.start), e0 = std::min(p.end, q.end);
         if (e0 > s0) out.push_back({s0, e0});
       }
-    std::sort(out.begin(), out.end(),
-              [](const Interval& u, const Interval& v) { return u.start < v.start; });
+    std::sort(out.begin(), out.end(), [](const Interval& u, const Interval& v) { return u.start < v.start; });
     return clean(out);
   };
   // Newton polish attempts: a good topology converges in a handful of steps.
@@ -993,8 +971,7 @@ TensionlessResult solve_tensionless_auto(const BeamProblem& problem,
         }
         last = std::move(r);
         last.message = "contact-set iteration stuck: " + last.message;
-        if (last.status == TensionlessStatus::converged)
-          last.status = TensionlessStatus::no_convergence;
+        if (last.status == TensionlessStatus::converged) last.status = TensionlessStatus::no_convergence;
         return last;
       }
     }

@@ -229,8 +229,7 @@ struct TensionlessResult {
 // Newton on the contact limits starting from `initial_contact_regions` (disjoint intervals in
 // [0, L]; an end at 0 or L is a beam end, not a limit). The number of regions (the topology) is
 // kept fixed; an empty list means the beam is entirely lifted off.
-TensionlessResult solve_tensionless(const BeamProblem& problem,
-                                    const std::vector<Interval>& initial_contact_regions,
+TensionlessResult solve_tensionless(const BeamProblem& problem, const std::vector<Interval>& initial_contact_regions,
                                     const TensionlessOptions& options = {});
 
 // Without a topology guess: a contact-set iteration (the semismooth Newton map of
@@ -241,8 +240,7 @@ TensionlessResult solve_tensionless(const BeamProblem& problem,
 // that passes the checks is returned. (The plain map cycles on long beams: the bilateral
 // solution's far, tiny positive lobes keep reappearing.) A heuristic driver: a failure is
 // reported, never hidden.
-TensionlessResult solve_tensionless_auto(const BeamProblem& problem,
-                                         const TensionlessOptions& options = {});
+TensionlessResult solve_tensionless_auto(const BeamProblem& problem, const TensionlessOptions& options = {});
 
 // The limit equations at given regions (for tests): F_k = w(t_k) and the exact Jacobian
 // dF_k/dt_j described above.

@@ -3,12 +3,12 @@
 // "at_w_max", "w_min", "at_w_min"}. It reads the scene with toml++ itself and shares no code
 // with liftoff. Exit 2 (one line on stderr) for a scene it does not cover: arches, interior
 // point supports, a foundation on part of the member; exit 3 if the solve fails.
+#include <toml++/toml.h>
+
 #include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <string>
-
-#include <toml++/toml.h>
 
 #include "closed_form/beam_on_foundation.hpp"
 
@@ -63,7 +63,8 @@ int main(int argc, char** argv) {
       const double value = load["value"].value_or(0.0);
       if (kind == "force") p.forces.push_back({load["at"].value_or(0.0), value});
       if (kind == "moment") p.moments.push_back({load["at"].value_or(0.0), value});
-      if (kind == "uniform") p.uniform_loads.push_back({load["from"].value_or(0.0), load["to"].value_or(p.length), value});
+      if (kind == "uniform")
+        p.uniform_loads.push_back({load["from"].value_or(0.0), load["to"].value_or(p.length), value});
     }
   }
 
@@ -91,7 +92,7 @@ int main(int argc, char** argv) {
   const auto regions = tensionless ? contact_regions(solution) : std::vector<Interval>{{0.0, p.length}};
   for (std::size_t i = 0; i < regions.size(); ++i)
     std::printf("%s[%.17g, %.17g]", i ? ", " : "", regions[i].start, regions[i].end);
-  std::printf("], \"w_max\": %.17g, \"at_w_max\": %.17g, \"w_min\": %.17g, \"at_w_min\": %.17g}\n", w_max, at_max, w_min,
-              at_min);
+  std::printf("], \"w_max\": %.17g, \"at_w_max\": %.17g, \"w_min\": %.17g, \"at_w_min\": %.17g}\n", w_max, at_max,
+              w_min, at_min);
   return 0;
 }
