@@ -425,10 +425,13 @@ std::string sweep_csv(const std::vector<std::string>& keys, const std::vector<Sw
       const int iterations = r.modes >= 0                   ? r.newton_iterations
                              : r.active_set_iterations >= 0 ? r.active_set_iterations
                                                             : r.pivots;
-      out += prefix + fmt::format("{},{},{},{},{:.12g},{:.12g},{:.12g},{},{:.6f}\n",
-                                  r.method_requested.empty() ? r.method : r.method_requested, r.termination,
-                                  r.certified() ? "true" : "false", regions, r.w_max, r.w_min, r.max_reaction,
-                                  iterations, r.time_s);
+      // A case without an answer leaves the answer's columns empty: a refused solver's last
+      // iterate (Lemke's wrong contact set) is not a result.
+      const std::string answer =
+          r.usable ? fmt::format("{},{:.12g},{:.12g},{:.12g}", regions, r.w_max, r.w_min, r.max_reaction)
+                   : std::string(",,,");
+      out += prefix + fmt::format("{},{},{},{},{},{:.6f}\n", r.method_requested.empty() ? r.method : r.method_requested,
+                                  r.termination, r.certified() ? "true" : "false", answer, iterations, r.time_s);
     }
   }
   return out;
