@@ -9,6 +9,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "certify/certificate.hpp"
 #include "contact/active_set_system.hpp"
 #include "contact/contact_solver.hpp"
 #include "continuation/events.hpp"
@@ -45,6 +46,12 @@ constexpr double acceptable_residual = 1e-8;
 constexpr double beyond_offset = 1e-6;
 constexpr int beyond_attempts = 4;
 constexpr const char* contact_set_tag = "fe contact set";
+
+// A state whose certificate fails: the path stops before reporting it.
+struct StepNotCertified {
+  double lambda;
+  std::string message;
+};
 
 // The state along one segment of the path: affine in lambda for a fixed contact set.
 struct AffineState {
@@ -477,6 +484,24 @@ TraceStep FePath::step_at(double lambda) {
 }
 
 void FePath::emit_step(TraceStep step) {
+  // Every state is certified from its own fields (src/certify: balance with the support
+  // reactions, the contact inequalities, backward error) before it is reported; round-off
+  // against the discretisation is left to the solve of the same mesh (it costs a second solve).
+  // A state that fails ends the path there, the steps before it valid.
+  contact::ContactSolution answer;
+  answer.displacement = d_.expand(state_.displacement(step.load_factor));
+  answer.reaction = state_.reaction(step.load_factor);
+  certify::CertifyOptions certify_options;
+  certify_options.load_factor = step.load_factor;
+  certify_options.round_off = false;
+  certify_options.backward_tolerance = acceptable_residual;  // the path's own acceptance
+  certify_options.pointwise = false;           // at the nodes (the discrete conditions), see CertifyOptions
+  certify_options.sign_floor = tie_tolerance;  // nodes within it of zero switch together
+  certify_options.global_scale = true;         // as the path's own scales
+  const certify::Certificate certificate = certify::certify(model_, d_, answer, certify_options);
+  if (!certificate.passed)
+    throw StepNotCertified{step.load_factor, fmt::format("the state at lambda = {:.10g} failed its certificate: {}",
+                                                         step.load_factor, certificate.message)};
   step.iterations = pivots_since_step_;
   pivots_since_step_ = 0;
   if (sink_.on_step) sink_.on_step(step);
@@ -584,132 +609,136 @@ TraceResult FePath::run() {
     summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return std::move(result_);
   };
-
-  if (options_.resume_from && !(direction_ * (lambda_end_ - lambda) > 0.0)) {
-    finish(TraceTermination::completed, "the resumed step is already at the end of the load range", lambda);
-    return done();
-  }
-  if (!establish_start(lambda)) {
-    finish(termination_, message_, lambda);
-    return done();
-  }
-  if (!options_.resume_from) emit_step(step_at(lambda));
-  // A member only the foundation holds can be held only while compressive reactions can
-  // balance the loads on its free rigid motions: up to the lift-off load, found once here (the
-  // loads' work on those motions is affine in lambda and the reactions' span a convex cone, so
-  // the loads are balanced on one interval of lambda).
-  if (!d_.structure_is_stable() && d_.tensionless) floating_load_ = lift_off_load(lambda);
-  // Unloaded at the start, the member touches nothing, but along the first segment the state
-  // is (lambda - lambda_min) times the live one: its topology is that of the live state.
-  ContactTopology topology =
-      state_.displacement(lambda).lpNorm<Eigen::Infinity>() == 0.0
-          ? contact_topology(model_, d_, d_.expand(direction_ * state_.live.displacement), points_)
-          : topology_at(lambda);
-  int breakpoints = 0, breakpoints_here = 0;
-
-  while (true) {
-    // The next breakpoint: the first reaction in the set or gap outside it to reach zero.
-    update_scales(lambda);
-    double next = std::numeric_limits<double>::infinity();  // distance in lambda
-    if (d_.tensionless)
-      for (int i = 0; i < m; ++i) {
-        const double v = value(i, lambda), rho = rate(i);
-        if (!held_[i] && rho * span_ < -zero_tolerance * scale(i)) next = std::min(next, std::max(v, 0.0) / -rho);
-      }
-    const double breakpoint = lambda + direction_ * next;
-    if (floating_load_ && !(direction_ * (breakpoint - *floating_load_) < 0.0)) {
-      // The held nodes' reactions vanish together here and nothing balances the loads beyond.
-      locate_events(lambda, *floating_load_, topology);
-      emit_step(step_at(*floating_load_));
-      finish(TraceTermination::no_equilibrium, lift_off_message(*floating_load_), *floating_load_);
+  try {
+    if (options_.resume_from && !(direction_ * (lambda_end_ - lambda) > 0.0)) {
+      finish(TraceTermination::completed, "the resumed step is already at the end of the load range", lambda);
       return done();
     }
-    if (!(direction_ * (breakpoint - lambda_end_) < 0.0)) {
-      locate_events(lambda, lambda_end_, topology);
-      if (result_.steps.empty() || result_.steps.back().load_factor != lambda_end_) emit_step(step_at(lambda_end_));
-      finish(TraceTermination::completed,
-             fmt::format("lambda = {:.10g} reached: {} breakpoint(s), {} event(s)", lambda_end_, breakpoints,
-                         result_.events.size()),
-             lambda_end_);
+    if (!establish_start(lambda)) {
+      finish(termination_, message_, lambda);
       return done();
     }
-    locate_events(lambda, breakpoint, topology);
+    if (!options_.resume_from) emit_step(step_at(lambda));
+    // A member only the foundation holds can be held only while compressive reactions can
+    // balance the loads on its free rigid motions: up to the lift-off load, found once here (the
+    // loads' work on those motions is affine in lambda and the reactions' span a convex cone, so
+    // the loads are balanced on one interval of lambda).
+    if (!d_.structure_is_stable() && d_.tensionless) floating_load_ = lift_off_load(lambda);
+    // Unloaded at the start, the member touches nothing, but along the first segment the state
+    // is (lambda - lambda_min) times the live one: its topology is that of the live state.
+    ContactTopology topology =
+        state_.displacement(lambda).lpNorm<Eigen::Infinity>() == 0.0
+            ? contact_topology(model_, d_, d_.expand(direction_ * state_.live.displacement), points_)
+            : topology_at(lambda);
+    int breakpoints = 0, breakpoints_here = 0;
 
-    // Every node at zero there and falling switches, ties together.
-    TraceStep step = step_at(breakpoint);  // the state is continuous: either set gives it
-    const VectorXd u_before = state_.displacement(breakpoint), r_before = state_.reaction(breakpoint);
-    const double moved_u = (u_before - state_.displacement(lambda)).lpNorm<Eigen::Infinity>(),
-                 moved_r = (r_before - state_.reaction(lambda)).lpNorm<Eigen::Infinity>();
-    if (moved_u > 0.0) segment_motion_.first = moved_u;
-    if (moved_r > 0.0) segment_motion_.second = moved_r;
-    const ContactSet before = set_;
-    ContactSet switched = set_;
-    std::vector<int> pivoted, at_zero;
-    for (int i = 0; i < m; ++i) {
-      if (std::abs(value(i, breakpoint)) <= tie_tolerance * scale(i)) at_zero.push_back(i);
-      if (value(i, breakpoint) <= tie_tolerance * scale(i) && rate(i) * span_ < -zero_tolerance * scale(i)) {
-        switched[i] = !switched[i];
-        pivoted.push_back(i);
-      }
-    }
-    if (!holds_member(switched) && (!floating_load_ || direction_ * (*floating_load_ - breakpoint) > 0.0)) {
-      // The nodes leaving would leave the member floating while the loads can still be
-      // balanced: round-off has split the final tie, in which every remaining reaction vanishes
-      // together at the load beyond which the loads cannot be balanced (the lift-off load).
-      // Those nodes are held in the set, the path goes on with it, and it stops at that load.
-      for (int i : pivoted)
-        if (set_[i]) {
-          switched[i] = true;
-          held_[i] = true;
+    while (true) {
+      // The next breakpoint: the first reaction in the set or gap outside it to reach zero.
+      update_scales(lambda);
+      double next = std::numeric_limits<double>::infinity();  // distance in lambda
+      if (d_.tensionless)
+        for (int i = 0; i < m; ++i) {
+          const double v = value(i, lambda), rho = rate(i);
+          if (!held_[i] && rho * span_ < -zero_tolerance * scale(i)) next = std::min(next, std::max(v, 0.0) / -rho);
         }
-      pivoted.erase(std::remove_if(pivoted.begin(), pivoted.end(), [&](int i) { return held_[i]; }), pivoted.end());
-    }
-    const int pivots = static_cast<int>(pivoted.size());
-    summary.pivots += pivots;
-    pivots_since_step_ += pivots;
-    ++breakpoints;
-    breakpoints_here = next == 0.0 ? breakpoints_here + 1 : 0;
-    if (breakpoints_here > m + 1) {
-      emit_step(std::move(step));
-      finish(TraceTermination::solver_failure,
-             fmt::format("the pivoting cycles at lambda = {:.10g} (degenerate breakpoint)", breakpoint), breakpoint);
-      return done();
-    }
-    if (pivoted.empty()) {  // only held nodes: nothing switches, nothing to refactorise
+      const double breakpoint = lambda + direction_ * next;
+      if (floating_load_ && !(direction_ * (breakpoint - *floating_load_) < 0.0)) {
+        // The held nodes' reactions vanish together here and nothing balances the loads beyond.
+        locate_events(lambda, *floating_load_, topology);
+        emit_step(step_at(*floating_load_));
+        finish(TraceTermination::no_equilibrium, lift_off_message(*floating_load_), *floating_load_);
+        return done();
+      }
+      if (!(direction_ * (breakpoint - lambda_end_) < 0.0)) {
+        locate_events(lambda, lambda_end_, topology);
+        if (result_.steps.empty() || result_.steps.back().load_factor != lambda_end_) emit_step(step_at(lambda_end_));
+        finish(TraceTermination::completed,
+               fmt::format("lambda = {:.10g} reached: {} breakpoint(s), {} event(s)", lambda_end_, breakpoints,
+                           result_.events.size()),
+               lambda_end_);
+        return done();
+      }
+      locate_events(lambda, breakpoint, topology);
+
+      // Every node at zero there and falling switches, ties together.
+      TraceStep step = step_at(breakpoint);  // the state is continuous: either set gives it
+      const VectorXd u_before = state_.displacement(breakpoint), r_before = state_.reaction(breakpoint);
+      const double moved_u = (u_before - state_.displacement(lambda)).lpNorm<Eigen::Infinity>(),
+                   moved_r = (r_before - state_.reaction(lambda)).lpNorm<Eigen::Infinity>();
+      if (moved_u > 0.0) segment_motion_.first = moved_u;
+      if (moved_r > 0.0) segment_motion_.second = moved_r;
+      const ContactSet before = set_;
+      ContactSet switched = set_;
+      std::vector<int> pivoted, at_zero;
+      for (int i = 0; i < m; ++i) {
+        if (std::abs(value(i, breakpoint)) <= tie_tolerance * scale(i)) at_zero.push_back(i);
+        if (value(i, breakpoint) <= tie_tolerance * scale(i) && rate(i) * span_ < -zero_tolerance * scale(i)) {
+          switched[i] = !switched[i];
+          pivoted.push_back(i);
+        }
+      }
+      if (!holds_member(switched) && (!floating_load_ || direction_ * (*floating_load_ - breakpoint) > 0.0)) {
+        // The nodes leaving would leave the member floating while the loads can still be
+        // balanced: round-off has split the final tie, in which every remaining reaction vanishes
+        // together at the load beyond which the loads cannot be balanced (the lift-off load).
+        // Those nodes are held in the set, the path goes on with it, and it stops at that load.
+        for (int i : pivoted)
+          if (set_[i]) {
+            switched[i] = true;
+            held_[i] = true;
+          }
+        pivoted.erase(std::remove_if(pivoted.begin(), pivoted.end(), [&](int i) { return held_[i]; }), pivoted.end());
+      }
+      const int pivots = static_cast<int>(pivoted.size());
+      summary.pivots += pivots;
+      pivots_since_step_ += pivots;
+      ++breakpoints;
+      breakpoints_here = next == 0.0 ? breakpoints_here + 1 : 0;
+      if (breakpoints_here > m + 1) {
+        emit_step(std::move(step));
+        finish(TraceTermination::solver_failure,
+               fmt::format("the pivoting cycles at lambda = {:.10g} (degenerate breakpoint)", breakpoint), breakpoint);
+        return done();
+      }
+      if (pivoted.empty()) {  // only held nodes: nothing switches, nothing to refactorise
+        step.state.assign(set_.begin(), set_.end());
+        emit_step(std::move(step));
+        lambda = breakpoint;
+        continue;
+      }
+      bool carried = load_set(switched);
+      if (carried) {
+        // Degenerate if a node just switched would switch straight back. Another node found at
+        // zero and falling (a tie that round-off split) is simply the next breakpoint, at once.
+        update_scales(breakpoint);
+        carried = carries_on(breakpoint, pivoted);
+      }
+      if (!carried && resolve_by_rates(breakpoint, before, at_zero)) {
+        carried = true;
+        ++rate_resolutions_;
+      }
+      if (!carried && !resolve_by_solve(breakpoint)) {
+        emit_step(std::move(step));
+        finish(termination_, message_, breakpoint);
+        return done();
+      }
+      if (const auto jump = state_jump(breakpoint, u_before, r_before)) {
+        emit_step(std::move(step));
+        finish(TraceTermination::solver_failure, *jump, breakpoint);
+        return done();
+      }
       step.state.assign(set_.begin(), set_.end());
       emit_step(std::move(step));
       lambda = breakpoint;
-      continue;
+      if (result_.summary.steps >= options_.max_steps) {
+        finish(TraceTermination::step_limit,
+               fmt::format("max_steps = {} reached at lambda = {:.10g}", options_.max_steps, lambda), lambda);
+        return done();
+      }
     }
-    bool carried = load_set(switched);
-    if (carried) {
-      // Degenerate if a node just switched would switch straight back. Another node found at
-      // zero and falling (a tie that round-off split) is simply the next breakpoint, at once.
-      update_scales(breakpoint);
-      carried = carries_on(breakpoint, pivoted);
-    }
-    if (!carried && resolve_by_rates(breakpoint, before, at_zero)) {
-      carried = true;
-      ++rate_resolutions_;
-    }
-    if (!carried && !resolve_by_solve(breakpoint)) {
-      emit_step(std::move(step));
-      finish(termination_, message_, breakpoint);
-      return done();
-    }
-    if (const auto jump = state_jump(breakpoint, u_before, r_before)) {
-      emit_step(std::move(step));
-      finish(TraceTermination::solver_failure, *jump, breakpoint);
-      return done();
-    }
-    step.state.assign(set_.begin(), set_.end());
-    emit_step(std::move(step));
-    lambda = breakpoint;
-    if (result_.summary.steps >= options_.max_steps) {
-      finish(TraceTermination::step_limit,
-             fmt::format("max_steps = {} reached at lambda = {:.10g}", options_.max_steps, lambda), lambda);
-      return done();
-    }
+  } catch (const StepNotCertified& failure) {
+    finish(TraceTermination::solver_failure, failure.message, failure.lambda);
+    return done();
   }
 }
 

@@ -20,6 +20,10 @@ const Check* Certificate::first_failure() const {
 void CertifyOptions::validate() const {
   if (!std::isfinite(load_factor)) throw std::invalid_argument("CertifyOptions::load_factor must be finite");
   if (samples_per_element < 1) throw std::invalid_argument("CertifyOptions::samples_per_element must be >= 1");
+  if (!(sign_floor >= 0.0 && sign_floor < 1e-3))
+    throw std::invalid_argument("CertifyOptions::sign_floor must be in [0, 1e-3)");
+  if (!(backward_tolerance >= 0.0 && backward_tolerance < 1.0))
+    throw std::invalid_argument("CertifyOptions::backward_tolerance must be in [0, 1)");
 }
 
 UserFigures user_figures(const Certificate& c, const fe::MemberModel& model) {

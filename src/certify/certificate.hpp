@@ -143,6 +143,25 @@ struct CertifyOptions {
   // The round_off check costs a second, coarser solve (FE: half the elements by the fast
   // solver; Ritz: half the modes). Trace steps may skip it (the check is then absent).
   bool round_off = true;
+  // The backward error the answer's producer accepts, where it is not one solve of the answer's
+  // own equations (the FE load path combines u_dead + lambda u_live of fixed-set solves updated
+  // from set to set, and accepts a relative residual of 1e-8). 0: derived from the solve (64 eps;
+  // primal Lemke's dense LU bound). Balance and the contact checks keep their own tolerances.
+  double backward_tolerance = 0.0;
+  // FE: the sign conditions also pointwise inside the elements (samples_per_element), besides
+  // the discrete ones at the nodes. The load path checks its breakpoint states at the nodes only:
+  // there a node's gap or reaction is zero by construction and its elements' cubics may cross
+  // zero by the path's own accuracy (the culvert's closing lift-off zone: 1.2e-9 of max |w|).
+  bool pointwise = true;
+  // The least error the sign conditions allow (times the certificate's sign safety factor 8),
+  // for a producer that decides signs to a tolerance of its own: the load path switches a node
+  // whose gap or reaction is within 1e-9 of its scale of zero, so its breakpoint states carry
+  // sign defects of that size by construction. 0: the answer's measured round-off alone.
+  double sign_floor = 0.0;
+  // The nodal gaps relative to the largest node's gap terms instead of each node's own: the
+  // load path decides its switches on that scale, where a closing lift-off zone's nodes have
+  // terms far below the member's.
+  bool global_scale = false;
   void validate() const;  // throws std::invalid_argument naming the field
 };
 

@@ -359,8 +359,10 @@ Certificate certify(const MemberModel& model, const Discretisation& d, const con
   // (Primal's answers on the seed arches: 1.3e-12 at n_L = 2600; its wrong footing: 2.2e-8.)
   const int lcp_unknowns = 2 * d.equations + d.reactions();
   const double backward_tolerance =
-      std::max(detail::backward_tolerance,
-               solution.summary.method == scene::Method::primal ? 8.0 * lcp_unknowns * detail::eps : 0.0);
+      options.backward_tolerance > 0.0
+          ? options.backward_tolerance
+          : std::max(detail::backward_tolerance,
+                     solution.summary.method == scene::Method::primal ? 8.0 * lcp_unknowns * detail::eps : 0.0);
 
   // backward_error: every row of the equations. (A gauge's row, like a support's, carries the
   // rigid-weighted sum of the others' residuals; the balance checks it.)
@@ -444,7 +446,7 @@ Certificate certify(const MemberModel& model, const Discretisation& d, const con
                                   ? std::max({round_off.data_w + sound * round_off.solver_w,
                                               round_off.data_r + sound * round_off.solver_r, detail::minimum_round_off})
                                   : detail::minimum_round_off;
-  const double sign_tolerance = detail::sign_safety * answer_error;
+  const double sign_tolerance = detail::sign_safety * std::max(answer_error, options.sign_floor);
 
   // Contact conditions: discrete (nodal, weighted) and pointwise.
   const std::vector<int> reaction_of_node = detail::reaction_of_node(d);
@@ -461,10 +463,13 @@ Certificate certify(const MemberModel& model, const Discretisation& d, const con
         check.at = s;
       }
     };
+    // Each node's gap against its own terms; or (global_scale) against the largest node's.
+    const double gap_floor = options.global_scale && m > 0 ? f.gap_terms.maxCoeff() : 0.0;
     for (int i = 0; i < m; ++i) {
       const double s = d.mesh.nodes[d.reaction_nodes[i]];
       const double relative_r = r_scale > 0 ? r_given[i] / r_scale : 0.0;
-      const double relative_gap = f.gap_terms[i] > 0 ? f.gap[i] / f.gap_terms[i] : 0.0;
+      const double gap_terms = std::max(f.gap_terms[i], gap_floor);
+      const double relative_gap = gap_terms > 0 ? f.gap[i] / gap_terms : 0.0;
       worse(sign, -relative_r, s);
       worse(penetration, -relative_gap, s);
       worse(complementarity, std::min(std::abs(relative_r), std::abs(relative_gap)), s);
@@ -493,7 +498,7 @@ Certificate certify(const MemberModel& model, const Discretisation& d, const con
     }
     double inside_limits = -1.0;
     for (int e = 0; e < elements; ++e) {
-      if (!on_foundation(model, d.mesh, e) || w_scale == 0.0) continue;
+      if (!options.pointwise || !on_foundation(model, d.mesh, e) || w_scale == 0.0) continue;
       for (int i = 0; i <= samples; ++i) {
         const double xi = static_cast<double>(i) / samples, s = d.mesh.nodes[e] + xi * d.mesh.element_size(e);
         const double w = w_samples[static_cast<std::size_t>(e) * (samples + 1) + i] / w_scale;

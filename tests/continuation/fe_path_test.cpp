@@ -10,8 +10,14 @@
 #include <random>
 #include <set>
 
+#include "app/trace_command.hpp"
+#include "certify/certificate.hpp"
 #include "closed_form/beam_on_foundation.hpp"
+#include "contact/active_set_system.hpp"
 #include "continuation/events.hpp"
+#include "fe/discretisation.hpp"
+#include "fe/member_model.hpp"
+#include "scene/scene_reader.hpp"
 #include "support/scenes.hpp"
 #include "support/solve.hpp"
 
@@ -493,5 +499,70 @@ TEST_CASE("the refined run's estimate of the event loads' discretisation error f
     REQUIRE(fine.events[k].refined.has_value());
     CHECK(fine.events[k].event.kind == coarse.events[k].event.kind);
     CHECK(fine.events[k].load_factor_error < 0.5 * coarse.events[k].load_factor_error);
+  }
+}
+
+TEST_CASE("FE path: every reported state passes the certificate, and a wrong contact set there does not",
+          "[continuation][certify]") {
+  // The culvert (a closing lift-off zone) and the footing: each step's state is rebuilt from the
+  // contact set it records and certified with the path's options (nodal checks, backward error to
+  // the path's 1e-8, signs to its 1e-9 tie on the member's scale); the same state with one contact
+  // node dropped from the set must fail (a reaction forced to zero where the member presses in).
+  for (const char* name : {"arch_culvert", "footing_trace"}) {
+    const scene::Scene s =
+        scene::read_scene_file(std::string(LIFTOFF_SOURCE_DIR) + "/continuation/scenes/" + name + ".toml");
+    TraceOptions o = app::trace_options(s, {});
+    o.elements = 60;
+    const TraceResult r = continuation::trace_fe(s, o);
+    CAPTURE(name, r.summary.message);
+    REQUIRE(r.summary.termination == continuation::TraceTermination::completed);
+    const auto model = fe::make_member_model(s);
+    const auto d = fe::discretise(model, o.elements);
+    certify::CertifyOptions c;
+    c.round_off = false;
+    c.pointwise = false;
+    c.backward_tolerance = 1e-8;
+    c.sign_floor = 1e-9;
+    c.global_scale = true;
+    int wrong_caught = 0, wrong_tried = 0;
+    for (const TraceStep& step : r.steps) {
+      std::vector<bool> set;
+      for (double f : step.state) set.push_back(f > 0.5);
+      auto certify_set = [&](const std::vector<bool>& with) {
+        contact::ActiveSetSystem system(d);
+        REQUIRE(system.factorise(with));
+        const contact::ContactState state = system.solve(d.load(step.load_factor));
+        contact::ContactSolution answer;
+        answer.displacement = d.expand(state.displacement);
+        answer.reaction = state.reaction;
+        c.load_factor = step.load_factor;
+        return certify::certify(model, d, answer, c);
+      };
+      const certify::Certificate good = certify_set(set);
+      CAPTURE(step.load_factor, good.message);
+      CHECK(good.passed);
+      // Drop the contact node with the largest reaction (clearly pressed, not at a tie).
+      int strongest = -1;
+      {
+        contact::ActiveSetSystem system(d);
+        REQUIRE(system.factorise(set));
+        const contact::ContactState state = system.solve(d.load(step.load_factor));
+        double largest = 0.0;
+        for (int i = 0; i < d.reactions(); ++i)
+          if (set[i] && state.reaction[i] > largest) {
+            largest = state.reaction[i];
+            strongest = i;
+          }
+      }
+      if (strongest < 0) continue;
+      std::vector<bool> wrong = set;
+      wrong[strongest] = false;
+      contact::ActiveSetSystem probe(d);
+      if (!probe.factorise(wrong)) continue;  // the set would leave the member floating
+      ++wrong_tried;
+      wrong_caught += !certify_set(wrong).passed;
+    }
+    CHECK(wrong_tried > 0);
+    CHECK(wrong_caught == wrong_tried);
   }
 }
