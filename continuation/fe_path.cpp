@@ -495,9 +495,9 @@ void FePath::emit_step(TraceStep step) {
   certify_options.load_factor = step.load_factor;
   certify_options.round_off = false;
   certify_options.backward_tolerance = acceptable_residual;  // the path's own acceptance
-  certify_options.pointwise = false;           // at the nodes (the discrete conditions), see CertifyOptions
-  certify_options.sign_floor = tie_tolerance;  // nodes within it of zero switch together
-  certify_options.global_scale = true;         // as the path's own scales
+  certify_options.pointwise = false;                 // at the nodes (the discrete conditions), see CertifyOptions
+  certify_options.sign_floor = acceptable_residual;  // its states' accuracy decides signs no finer
+  certify_options.global_scale = true;               // as the path's own scales
   const certify::Certificate certificate = certify::certify(model_, d_, answer, certify_options);
   if (!certificate.passed)
     throw StepNotCertified{step.load_factor, fmt::format("the state at lambda = {:.10g} failed its certificate: {}",

@@ -154,9 +154,11 @@ struct CertifyOptions {
   // zero by the path's own accuracy (the culvert's closing lift-off zone: 1.2e-9 of max |w|).
   bool pointwise = true;
   // The least error the sign conditions allow (times the certificate's sign safety factor 8),
-  // for a producer that decides signs to a tolerance of its own: the load path switches a node
-  // whose gap or reaction is within 1e-9 of its scale of zero, so its breakpoint states carry
-  // sign defects of that size by construction. 0: the answer's measured round-off alone.
+  // for a producer whose states are accurate to a tolerance of its own: the load path's states
+  // (updated from contact set to contact set, accepted at a relative residual of 1e-8) carry
+  // reactions and gaps of about that relative size where they should be zero (region_split at
+  // 101 elements: -1.7e-8 of the largest reaction at a node about to leave). 0: the answer's
+  // measured round-off alone.
   double sign_floor = 0.0;
   // The nodal gaps relative to the largest node's gap terms instead of each node's own: the
   // load path decides its switches on that scale, where a closing lift-off zone's nodes have
