@@ -20,6 +20,8 @@ const Check* Certificate::first_failure() const {
 void CertifyOptions::validate() const {
   if (!std::isfinite(load_factor)) throw std::invalid_argument("CertifyOptions::load_factor must be finite");
   if (samples_per_element < 1) throw std::invalid_argument("CertifyOptions::samples_per_element must be >= 1");
+  if (std::isnan(discretisation_error))
+    throw std::invalid_argument("CertifyOptions::discretisation_error must be a number (negative: none)");
 }
 
 UserFigures user_figures(const Certificate& c, const fe::MemberModel& model) {
