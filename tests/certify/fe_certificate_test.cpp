@@ -297,8 +297,8 @@ TEST_CASE("a limit-fitted answer is certified on its own mesh, and one whose lim
     CHECK(c.passed);
     // No limit elements on a fitted mesh: every point is checked.
     CHECK(c.limit_element_defect < 0);
-    // One Newton step from the node-based limits: w at the limit nodes is the node-based
-    // answer's limit error (~1e-4 of max |w|), far above round-off: refused.
+    // One Newton step from the node-based limits: w at the limit nodes is what that step left
+    // of the node-based limits' error, far above round-off: refused.
     const Fitted early = fitted_answer(s, 160, 1);
     REQUIRE_FALSE(early.result.summary.is_usable());
     const certify::Certificate bad =
