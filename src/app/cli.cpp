@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <charconv>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -38,6 +39,7 @@ struct ProblemArguments {
   std::string method;
   int elements = 0;
   std::string modes;
+  std::string tolerance;
 };
 
 void add_problem_options(CLI::App* command, ProblemArguments& args) {
@@ -54,6 +56,11 @@ void add_problem_options(CLI::App* command, ProblemArguments& args) {
       ->check(CLI::Range(1, 10'000'000));
   command->add_option("--modes", args.modes, "Ritz modes: a number, or auto (overrides [ritz] modes)")
       ->check(CLI::IsMember({"auto"}) | CLI::Range(1, 1000));
+  command->add_option(
+      "--tolerance", args.tolerance,
+      "Accuracy wanted for the contact limits, relative to the length (arches: the angular span), in "
+      "[1e-13, 0.1]: liftoff chooses the mesh (or Ritz modes) itself (overrides [solve] tolerance; wins "
+      "over --elements)");
 }
 
 // What a --json failure object says about the run, filled in as it becomes known.
@@ -229,6 +236,18 @@ SolveRequest make_request(const ProblemArguments& args) {
   } else if (args.modes == "auto") {
     request.modes = 0;
   }
+  if (!args.tolerance.empty()) {
+    double tolerance = NAN;
+    const auto [end, error] =
+        std::from_chars(args.tolerance.data(), args.tolerance.data() + args.tolerance.size(), tolerance);
+    if (error != std::errc() || end != args.tolerance.data() + args.tolerance.size() || !std::isfinite(tolerance) ||
+        !(tolerance >= scene::min_tolerance && tolerance <= scene::max_tolerance))
+      throw InputError(fmt::format(
+          "--tolerance: expected a number in [{:g}, {:g}] (the contact limits' accuracy relative to the length; below "
+          "{:g} double precision cannot honour it), got '{}'",
+          scene::min_tolerance, scene::max_tolerance, scene::min_tolerance, args.tolerance));
+    request.tolerance = tolerance;
+  }
   return request;
 }
 
@@ -348,6 +367,10 @@ int run_trace_command(const TraceArguments& args, RunContext& context, std::ostr
   if (!context.method_requested && scene.trace)
     context.method_requested = scene::to_string(scene.trace->method.value_or(scene.solve.method));
   const SolveRequest solve = make_request(args.problem);
+  if (solve.tolerance)
+    throw InputError(
+        "--tolerance: not taken by trace (it follows the load path on the mesh of --elements, or Ritz's modes); "
+        "expected it with solve or sweep");
   TraceRequest request;
   request.method = solve.method;
   request.elements = solve.elements;

@@ -4,15 +4,18 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <optional>
 #include <stdexcept>
 
 #include "certify/certificate.hpp"
 #include "certify/resultant_check.hpp"
 #include "contact/contact_solver.hpp"
+#include "contact/fitted_refinement.hpp"
 #include "core/error.hpp"
 #include "fe/discretisation.hpp"
 #include "fe/member_model.hpp"
+#include "fe/shape_functions.hpp"
 #include "post/contact_regions.hpp"
 #include "post/fields.hpp"
 #include "ritz/ritz_solver.hpp"
@@ -181,6 +184,199 @@ io::SolveReport fe_report(const scene::Scene& scene, Method method, const SolveR
   return report;
 }
 
+// The extremes of w (and of the reaction k w on the contact elements) of a fitted answer, each
+// element's cubic maximised exactly (the zeros of w' located by bisection): a sampled maximum
+// is off by O(h_sample^2), far above a tolerance of 1e-10.
+struct FittedExtremes {
+  double w_max = -INFINITY, s_at_w_max = 0.0, w_min = INFINITY, s_at_w_min = 0.0, contact_w_max = 0.0;
+};
+
+FittedExtremes fitted_extremes(const fe::Discretisation& d, const Eigen::VectorXd& all) {
+  FittedExtremes x;
+  for (int e = 0; e < d.mesh.elements(); ++e) {
+    const double h = d.mesh.element_size(e);
+    const std::vector<int> dofs = d.element_dofs(e);
+    const Eigen::Vector4d w_dofs(all[dofs[0]], all[dofs[1]], all[dofs[2]], all[dofs[3]]);
+    auto w = [&](double xi) { return fe::hermite_cubic(xi, h).value.dot(w_dofs); };
+    auto dw = [&](double xi) { return fe::hermite_cubic(xi, h).d1.dot(w_dofs); };
+    std::vector<double> candidates{0.0, 1.0};
+    constexpr int pieces = 8;  // w' is a quadratic: at most two zeros, separated by these pieces
+    for (int i = 0; i < pieces; ++i) {
+      double lo = static_cast<double>(i) / pieces, hi = static_cast<double>(i + 1) / pieces;
+      double f_lo = dw(lo);
+      if (!(f_lo * dw(hi) < 0.0)) continue;
+      for (int k = 0; k < 60; ++k) {
+        const double mid = 0.5 * (lo + hi), f_mid = dw(mid);
+        if ((f_mid > 0.0) == (f_lo > 0.0)) {
+          lo = mid;
+          f_lo = f_mid;
+        } else {
+          hi = mid;
+        }
+      }
+      candidates.push_back(0.5 * (lo + hi));
+    }
+    for (double xi : candidates) {
+      const double value = w(xi), s = d.mesh.nodes[e] + xi * h;
+      if (value > x.w_max) x.w_max = value, x.s_at_w_max = s;
+      if (value < x.w_min) x.w_min = value, x.s_at_w_min = s;
+      if (d.foundation_on_element[e]) x.contact_w_max = std::max(x.contact_w_max, value);
+    }
+  }
+  return x;
+}
+
+// A report with no answer (usable false), for a refusal of the tolerance.
+io::SolveReport refused_report(const scene::Scene& scene, const fe::MemberModel& model, Method method,
+                               const std::string& termination, const std::string& message) {
+  io::SolveReport r;
+  r.scene_name = scene.source_name;
+  r.scene_text = scene.text;
+  r.kind = model.kind;
+  r.coordinate_name = model.kind == scene::StructureKind::beam ? "x" : "theta_deg";
+  r.tensionless = model.tensionless;
+  r.foundation_parameter = model.foundation_modulus;
+  r.method = scene::to_string(method == Method::automatic ? Method::fast : method);
+  r.method_requested = scene::to_string(method);
+  r.termination = termination;
+  r.message = message;
+  r.usable = false;
+  return r;
+}
+
+// An FE answer to a tolerance: the node-based solve of `method` on the scene's mesh gives the
+// contact topology, then limit-fitted solves on meshes n, 2n, ... until the estimated errors are
+// below it (contact/fitted_refinement.hpp); the finest answer is certified like any other (its
+// round-off against the sequence's own estimate) and its round-off must be below the tolerance.
+io::SolveReport fitted_report(const scene::Scene& scene, Method method, const SolveRequest& request, double tolerance) {
+  const auto start = std::chrono::steady_clock::now();
+  const fe::MemberModel model = fe::make_member_model(scene);
+  const int elements = request.elements.value_or(scene.solve.elements);
+  FeResult node_based = solve_fe(scene, model, method, elements);
+  const fe::Discretisation& d0 = node_based.discretisation;
+  const contact::ContactSummary& first = node_based.solution.summary;
+  if (!first.is_usable()) {
+    io::SolveReport r = io::make_report(scene, model, d0, node_based.solution, post::Fields{}, node_based.regions);
+    r.method_requested = std::string(scene::to_string(method));
+    r.tolerance = tolerance;
+    r.message = fmt::format("the node-based {} solve on {} elements that gives the contact topology failed: {}",
+                            scene::to_string(first.method), d0.mesh.elements(), first.message);
+    r.time_s = seconds_since(start);
+    return r;
+  }
+  // The contact regions of the node-based answer (a bilateral foundation: its whole extent).
+  std::vector<contact::ContactInterval> regions;
+  if (!d0.tensionless) {
+    regions.push_back({model.foundation_begin, model.foundation_end});
+  } else {
+    Eigen::VectorXd on_equations(d0.equations);
+    for (int dof = 0; dof < d0.dofs(); ++dof)
+      if (d0.equation_of_dof[dof] >= 0) on_equations[d0.equation_of_dof[dof]] = node_based.solution.displacement[dof];
+    std::vector<bool> in_contact(d0.reactions());
+    for (int i = 0; i < d0.reactions(); ++i) in_contact[i] = node_based.solution.reaction[i] > 0.0;
+    regions = contact::contact_intervals(d0, on_equations, in_contact);
+  }
+  contact::ToleranceOptions options;
+  options.tolerance = tolerance;
+  const contact::ToleranceResult refined = contact::refine_to_tolerance(model, 1.0, regions, options);
+  std::vector<int> levels;
+  for (const auto& level : refined.summary.levels) levels.push_back(level.elements);
+  const double user_length = std::abs(model.user_from_s(model.s_end) - model.user_from_s(model.s_begin));
+  auto add_accuracy = [&](io::SolveReport& r) {
+    r.tolerance = tolerance;
+    r.refinement_elements = levels;
+    r.limit_fitted = true;
+    // The limits' error in the user's coordinate (tolerance and estimates are relative).
+    r.estimated_limit_error =
+        refined.summary.estimated_limit_error >= 0 ? refined.summary.estimated_limit_error * user_length : -1.0;
+    r.estimated_w_error = refined.summary.estimated_w_error;
+    r.estimated_reaction_error = refined.summary.estimated_reaction_error;
+    r.observed_order = refined.summary.observed_order;
+  };
+  const std::string how =
+      fmt::format("limit-fitted to tolerance {:.1e}: contact topology from {} on {} elements, then limit-fitted meshes",
+                  tolerance, scene::to_string(first.method), d0.mesh.elements());
+  if (!refined.summary.is_usable()) {
+    io::SolveReport r =
+        refused_report(scene, model, first.method, "tolerance_not_reached", "refused: " + refined.summary.message);
+    r.method_requested = std::string(scene::to_string(method));
+    r.method_reason = how;
+    add_accuracy(r);
+    r.time_s = seconds_since(start);
+    return r;
+  }
+
+  // The answer on the fitted discretisation, as a contact solution.
+  const contact::FittedResult& answer = refined.answer;
+  const fe::Discretisation& d = answer.discretisation;
+  contact::ContactSolution solution;
+  solution.displacement = d.expand(answer.state.displacement);
+  solution.reaction = answer.state.reaction;
+  solution.gap = d.flexibility * solution.reaction - d.coupling * answer.state.displacement;
+  contact::ContactSummary& summary = solution.summary;
+  summary.termination = contact::ContactTermination::solved;
+  summary.method = first.method;
+  summary.method_reason = how;
+  summary.message = "equilibrium found: " + refined.summary.message;
+
+  summary.time_s = seconds_since(start);
+
+  certify::CertifyOptions certify_options;
+  certify_options.discretisation_error =
+      std::max(refined.summary.estimated_w_error, refined.summary.estimated_reaction_error);
+  const certify::Certificate certificate = certify::certify(model, d, solution, certify_options);
+  if (const certify::Check* backward = certificate.find(certify::check_name::backward_error))
+    summary.residual = backward->value;
+
+  // Displayed: w from the answer, the reaction as k max(w, 0) on the contact elements (the
+  // continuum's law on the converged w: h^4 like w, where the P1 reaction the certificate checks
+  // is an L2 projection, h^2).
+  const Eigen::VectorXd& all = solution.displacement;
+  const bool certified = certificate.passed;
+  const int samples = std::max(1, std::min(request.samples_per_element, max_field_samples / d.mesh.elements()));
+  post::Fields fields = request.fields && certified ? post::sample_fields(model, d, solution, samples) : post::Fields{};
+  for (std::size_t i = 0; i < fields.reaction.size(); ++i) {
+    const int e = std::min(static_cast<int>(i) / samples, d.mesh.elements() - 1);
+    fields.reaction[i] = d.foundation_on_element[e] ? model.foundation_modulus * std::max(fields.w[i], 0.0) : 0.0;
+  }
+  std::vector<post::Interval> contact_regions;
+  for (const auto& c : answer.contact) contact_regions.push_back({c.begin, c.end});
+  io::SolveReport report = io::make_report(scene, model, d, solution, fields, contact_regions);
+  report.method_requested = std::string(scene::to_string(method));
+  add_accuracy(report);
+  io::attach_certificate(report, certificate, model);
+  // Nodal reactions and the extremes as displayed (above).
+  const FittedExtremes x = fitted_extremes(d, all);
+  const fe::Scales& scales = model.scales;
+  for (int node = 0; node <= d.mesh.elements(); ++node) {
+    const bool pressed =
+        (node > 0 && d.foundation_on_element[node - 1]) || (node < d.mesh.elements() && d.foundation_on_element[node]);
+    report.nodes.reaction[node] =
+        pressed ? model.foundation_modulus * std::max(all[d.deflection_dof(node)], 0.0) * scales.force_per_length()
+                : 0.0;
+  }
+  report.w_max = x.w_max * scales.displacement();
+  report.at_w_max = model.user_from_s(x.s_at_w_max);
+  report.w_min = x.w_min * scales.displacement();
+  report.at_w_min = model.user_from_s(x.s_at_w_min);
+  report.max_reaction = model.foundation_modulus * x.contact_w_max * scales.force_per_length();
+  if (!certified) {
+    report.termination = "certificate_failed";
+    report.usable = false;
+    report.message = fmt::format("the limit-fitted {} answer failed its certificate: {}",
+                                 scene::to_string(first.method), certificate.message);
+  } else if (certificate.round_off_estimate > tolerance) {
+    report.termination = "tolerance_not_reached";
+    report.usable = false;
+    report.message = fmt::format(
+        "refused: round-off {:.1e} (of max |w| or |r|, measured by the certificate) is above "
+        "the tolerance {:.1e}",
+        certificate.round_off_estimate, tolerance);
+  }
+  report.time_s = seconds_since(start);
+  return report;
+}
+
 // The Ritz topology and initial limits: from the scene, or from an FE + LCP solution.
 struct RitzStart {
   ritz::StartingPoint point;
@@ -210,6 +406,12 @@ io::SolveReport ritz_report(const scene::Scene& scene, const SolveRequest& reque
   options.modes = request.modes.value_or(scene.ritz.modes);
   options.max_modes = scene.ritz.max_modes;
   options.mode_tolerance = scene.ritz.mode_tolerance * model.length();
+  // A tolerance: automatic modes, settled to it (the change from the previous N, its estimate).
+  const std::optional<double> tolerance = request.tolerance ? request.tolerance : scene.solve.tolerance;
+  if (tolerance) {
+    options.modes = 0;
+    options.mode_tolerance = *tolerance * model.length();
+  }
   ritz::RitzSolution solution;
   try {
     solution = ritz::solve_ritz(model, starting_point.point.topology, starting_point.point.limits, options);
@@ -224,6 +426,16 @@ io::SolveReport ritz_report(const scene::Scene& scene, const SolveRequest& reque
   io::SolveReport report = io::make_report(scene, model, solution, request.samples_per_element * elements + 1);
   report.method_requested = "ritz";
   report.method_reason = starting_point.how;
+  if (tolerance) {
+    report.tolerance = *tolerance;
+    if (!solution.summary.is_usable() && solution.summary.termination == ritz::RitzTermination::modes_not_converged) {
+      report.termination = "tolerance_not_reached";
+      report.message = fmt::format(
+          "refused: the tolerance {:.1e} is not reached by the Ritz model within {} modes "
+          "([ritz] max_modes): {}",
+          *tolerance, options.max_modes, solution.summary.message);
+    }
+  }
   if (solution.summary.is_usable()) {
     const certify::Certificate certificate = certify::certify(model, solution, options);
     io::attach_certificate(report, certificate, model);
@@ -251,7 +463,10 @@ io::SolveReport solve_scene(const scene::Scene& scene, const SolveRequest& reque
         report.method_reason + ")";
     return report;
   }
-  return method == Method::ritz ? ritz_report(scene, request) : fe_report(scene, method, request);
+  if (method == Method::ritz) return ritz_report(scene, request);
+  const std::optional<double> tolerance = request.tolerance ? request.tolerance : scene.solve.tolerance;
+  if (tolerance) return fitted_report(scene, method, request, *tolerance);
+  return fe_report(scene, method, request);
 }
 
 std::vector<io::SolveReport> solve_all_methods(const scene::Scene& scene, const SolveRequest& request) {

@@ -14,6 +14,7 @@ struct SolveRequest {
   std::optional<scene::Method> method;  // overrides [solve] method
   std::optional<int> elements;          // overrides [solve] elements
   std::optional<int> modes;             // overrides [ritz] modes (0: auto)
+  std::optional<double> tolerance;      // overrides [solve] tolerance
   int samples_per_element = 16;         // field samples inside each element (Ritz: as many in all)
   bool fields = true;                   // sample the fields (false: only the extremes they give)
 };

@@ -24,6 +24,8 @@ void CertifyOptions::validate() const {
     throw std::invalid_argument("CertifyOptions::sign_floor must be in [0, 1e-3)");
   if (!(backward_tolerance >= 0.0 && backward_tolerance < 1.0))
     throw std::invalid_argument("CertifyOptions::backward_tolerance must be in [0, 1)");
+  if (std::isnan(discretisation_error))
+    throw std::invalid_argument("CertifyOptions::discretisation_error must be a number (negative: none)");
 }
 
 UserFigures user_figures(const Certificate& c, const fe::MemberModel& model) {

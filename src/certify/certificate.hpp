@@ -59,6 +59,13 @@
 //      Ritz: eps times the condition of the final (scaled) Jacobian against the change of w
 //      from half the modes.
 //
+// Limit-fitted answers (contact/fitted_limits.hpp: the foundation acts on the contact elements
+// only, each limit a node): every element of the foundation's extent is checked pointwise, with
+// no limit elements: contact elements must press (w >= 0), lift-off elements must not (w <= 0),
+// and complementarity includes |w| at the limit nodes. reaction_sign skips the limit nodes, where
+// the P1 reaction (an L2 projection of k w, which vanishes there) is an O(h^2) artefact of either
+// sign. round_off is checked against CertifyOptions::discretisation_error when given.
+//
 // Trace steps: certify() with CertifyOptions::load_factor and round_off = false (the half-mesh
 // or half-modes solve costs as much as the step; the round-off is still measured for the sign
 // tolerances and reported in round_off_estimate). Ritz: RitzOptions::load_factor as solved.
@@ -164,6 +171,12 @@ struct CertifyOptions {
   // load path decides its switches on that scale, where a closing lift-off zone's nodes have
   // terms far below the member's.
   bool global_scale = false;
+  // FE: the answer's discretisation error (relative to max |w| and max |r|) when its solver
+  // estimated it (a limit-fitted sequence, contact/fitted_refinement.hpp): round_off is checked
+  // against it instead of the change from a half-mesh fast solve, which solves another discrete
+  // model (node-based limits, O(h^2)) and would allow far more round-off than the answer's
+  // accuracy. Negative: the half-mesh solve.
+  double discretisation_error = -1.0;
   void validate() const;  // throws std::invalid_argument naming the field
 };
 

@@ -26,9 +26,22 @@ using detail::eps;
 
 // ---- the answer's nodal forces, from the element equations ------------------------------------
 
-bool on_foundation(const MemberModel& model, const fe::Mesh& mesh, int element) {
+// Whether the element lies on the foundation's extent (as the assembly decides by default).
+bool in_foundation_extent(const MemberModel& model, const fe::Mesh& mesh, int element) {
   const double middle = mesh.nodes[element] + 0.5 * mesh.element_size(element);
-  return middle >= model.foundation_begin && middle <= model.foundation_end;  // as the assembly decides
+  return middle >= model.foundation_begin && middle <= model.foundation_end;
+}
+
+// Whether the foundation acts on the element in this discretisation: its extent, or, for a
+// limit-fitted answer (contact/fitted_limits.hpp), the contact elements only.
+bool on_foundation(const Discretisation& d, int element) { return d.foundation_on_element[element]; }
+
+// A limit-fitted discretisation: an element of the foundation's extent without foundation (a
+// lift-off element); its contact limits are nodes.
+bool is_limit_fitted(const MemberModel& model, const Discretisation& d) {
+  for (int e = 0; e < d.mesh.elements(); ++e)
+    if (in_foundation_extent(model, d.mesh, e) && !on_foundation(d, e)) return true;
+  return false;
 }
 
 // Per dof: the element forces K_e u_e summed, the foundation's nodal forces (integral of N_w
@@ -76,7 +89,7 @@ NodalForces nodal_forces(const MemberModel& model, const Discretisation& d, cons
         for (std::size_t i = 0; i < dofs.size(); ++i)
           if (d.equation_of_dof[dofs[i]] >= 0) defect[dofs[j]].add_product(-ke(j, i), ue[i]);
     }
-    if (!on_foundation(model, d.mesh, e)) continue;
+    if (!on_foundation(d, e)) continue;
     const int ra = reaction_of_node[e], rb = reaction_of_node[e + 1];
     if (ra < 0 || rb < 0) continue;
     for (const fe::GaussPoint& g : fe::gauss5) {  // exact: cubic x linear, linear x linear
@@ -267,9 +280,9 @@ double w_in(const Discretisation& d, const VectorXd& u, int e, double xi) {
   return fe::hermite_cubic(xi, d.mesh.element_size(e)).value.dot(w_dofs);
 }
 
-double r_in(const MemberModel& model, const Discretisation& d, const std::vector<int>& reaction_of_node,
+double r_in(const MemberModel& /*model*/, const Discretisation& d, const std::vector<int>& reaction_of_node,
             const VectorXd& r, int e, double xi) {
-  if (!on_foundation(model, d.mesh, e)) return 0.0;
+  if (!on_foundation(d, e)) return 0.0;
   const int ra = reaction_of_node[e], rb = reaction_of_node[e + 1];
   if (ra < 0 || rb < 0) return 0.0;
   const Eigen::Vector2d phi = fe::reaction_shape(xi);
@@ -427,7 +440,7 @@ Certificate certify(const MemberModel& model, const Discretisation& d, const con
     const std::vector<int> reactions = detail::reaction_of_node(d);
     for (int e = 0; e < d.mesh.elements(); ++e) {
       const int ra = reactions[e], rb = reactions[e + 1];
-      if (!on_foundation(model, d.mesh, e) || ra < 0 || rb < 0) continue;
+      if (!on_foundation(d, e) || ra < 0 || rb < 0) continue;
       const double h = d.mesh.element_size(e), sa = d.mesh.nodes[e], sb = d.mesh.nodes[e + 1];
       integral += 0.5 * h * (r_given[ra] + r_given[rb]);
       moment += h / 6.0 * (r_given[ra] * (2 * sa + sb) + r_given[rb] * (sa + 2 * sb));
@@ -463,6 +476,18 @@ Certificate certify(const MemberModel& model, const Discretisation& d, const con
         check.at = s;
       }
     };
+    // A limit-fitted answer's limits are nodes: w = 0 there (complementarity, below), and its P1
+    // reaction there, the L2 projection of k w onto the contact elements' P1 functions, is an
+    // O(h^2) artefact of either sign (the continuum reaction k w vanishes at the limit): the
+    // sign of the reaction is checked pointwise by separation instead (w >= 0 on contact
+    // elements).
+    const bool fitted = is_limit_fitted(model, d);
+    std::vector<char> limit_node(d.mesh.nodes.size(), 0);
+    if (fitted)
+      for (int e = 0; e + 1 < d.mesh.elements(); ++e)
+        if (on_foundation(d, e) != on_foundation(d, e + 1) && in_foundation_extent(model, d.mesh, e) &&
+            in_foundation_extent(model, d.mesh, e + 1))
+          limit_node[e + 1] = 1;
     // Each node's gap against its own terms; or (global_scale) against the largest node's.
     const double gap_floor = options.global_scale && m > 0 ? f.gap_terms.maxCoeff() : 0.0;
     for (int i = 0; i < m; ++i) {
@@ -470,7 +495,7 @@ Certificate certify(const MemberModel& model, const Discretisation& d, const con
       const double relative_r = r_scale > 0 ? r_given[i] / r_scale : 0.0;
       const double gap_terms = std::max(f.gap_terms[i], gap_floor);
       const double relative_gap = gap_terms > 0 ? f.gap[i] / gap_terms : 0.0;
-      worse(sign, -relative_r, s);
+      if (!limit_node[d.reaction_nodes[i]]) worse(sign, -relative_r, s);
       worse(penetration, -relative_gap, s);
       worse(complementarity, std::min(std::abs(relative_r), std::abs(relative_gap)), s);
     }
@@ -491,24 +516,30 @@ Certificate certify(const MemberModel& model, const Discretisation& d, const con
       }
       sign_change[e] = positive && negative;
     }
-    for (int e = 0; e < elements; ++e) {
+    for (int e = 0; e < elements && !fitted; ++e) {  // a fitted answer has no limit elements
       const int ra = reaction_of_node[e], rb = reaction_of_node[e + 1];
       const bool mixed = ra >= 0 && rb >= 0 && ((r_given[ra] > 0) != (r_given[rb] > 0));
       limit[e] = sign_change[e] || mixed || (e > 0 && sign_change[e - 1]) || (e + 1 < elements && sign_change[e + 1]);
     }
     double inside_limits = -1.0;
     for (int e = 0; e < elements; ++e) {
-      if (!options.pointwise || !on_foundation(model, d.mesh, e) || w_scale == 0.0) continue;
+      if (!options.pointwise || !in_foundation_extent(model, d.mesh, e) || w_scale == 0.0) continue;
+      if (!fitted && !on_foundation(d, e)) continue;
       for (int i = 0; i <= samples; ++i) {
         const double xi = static_cast<double>(i) / samples, s = d.mesh.nodes[e] + xi * d.mesh.element_size(e);
         const double w = w_samples[static_cast<std::size_t>(e) * (samples + 1) + i] / w_scale;
-        const double r = r_in(model, d, reaction_of_node, r_given, e, xi);
-        const double into = r > 0 ? std::max(0.0, -w) : std::max(0.0, w);  // separation : penetration
+        // Fitted: contact elements press (w >= 0), lift-off elements do not (w <= 0).
+        const bool pressed = fitted ? on_foundation(d, e) : r_in(model, d, reaction_of_node, r_given, e, xi) > 0;
+        const double into = pressed ? std::max(0.0, -w) : std::max(0.0, w);  // separation : penetration
+        if (fitted && limit_node[e + (i == samples ? 1 : 0)] && (i == 0 || i == samples)) {
+          worse(complementarity, std::abs(w), s);  // w = 0 at a fitted limit
+          continue;
+        }
         if (limit[e]) {
           inside_limits = std::max(inside_limits, into);
           continue;
         }
-        worse(r > 0 ? separation : penetration, into, s);
+        worse(pressed ? separation : penetration, into, s);
       }
     }
     c.limit_element_defect = inside_limits;
@@ -536,9 +567,14 @@ Certificate certify(const MemberModel& model, const Discretisation& d, const con
       c.round_off_note = "round-off could not be measured: " + round_off.why_not;
     } else {
       // Both answers corrected for their round-off: the change is the discretisation's alone.
-      const DiscretisationError disc =
-          estimate_discretisation_error(model, d, u_given + round_off.correction_u, r_given + round_off.correction_r,
-                                        lambda, options.samples_per_element);
+      DiscretisationError disc;
+      if (options.discretisation_error >= 0.0) {
+        disc.estimated = true;
+        disc.w = disc.r = options.discretisation_error;
+      } else {
+        disc = estimate_discretisation_error(model, d, u_given + round_off.correction_u,
+                                             r_given + round_off.correction_r, lambda, options.samples_per_element);
+      }
       // Without the reference, the a priori O(h^2) of the contact limits stands in for it.
       const double h = 1.0 / d.mesh.elements();
       const double disc_w = disc.estimated ? disc.w : h * h, disc_r = disc.estimated ? disc.r : h * h;
@@ -547,10 +583,12 @@ Certificate certify(const MemberModel& model, const Discretisation& d, const con
       const bool by_w = ratio_w >= ratio_r || r_scale == 0.0;
       check.value = by_w ? round_off.w : round_off.r;
       check.tolerance = std::max(by_w ? disc_w : disc_r, floor);
-      c.round_off_note = fmt::format(
-          "round-off {:.1e} of max |{}| against a discretisation error of {:.1e} ({})", check.value, by_w ? "w" : "r",
-          check.tolerance,
-          disc.estimated ? fmt::format("change from {} elements", disc.elements) : "a priori h^2: " + disc.why_not);
+      c.round_off_note =
+          fmt::format("round-off {:.1e} of max |{}| against a discretisation error of {:.1e} ({})", check.value,
+                      by_w ? "w" : "r", check.tolerance,
+                      !disc.estimated                       ? "a priori h^2: " + disc.why_not
+                      : options.discretisation_error >= 0.0 ? std::string("the solver's estimate")
+                                                            : fmt::format("change from {} elements", disc.elements));
       if (check.value > check.tolerance) c.round_off_note += "; fewer elements would be more accurate";
       c.checks.push_back(check);
     }

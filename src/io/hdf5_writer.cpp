@@ -138,6 +138,18 @@ void write_report(hid_t file, const SolveReport& r) {
     write_array(solver, "amplitudes", r.amplitudes);
     write_array(solver, "residual_history", r.residual_history);
   }
+  if (r.tolerance >= 0) {
+    write_number_attribute(solver, "tolerance", r.tolerance);
+    if (r.elements >= 0) {
+      write_number_attribute(solver, "estimated_limit_error", r.estimated_limit_error);
+      write_number_attribute(solver, "estimated_w_error", r.estimated_w_error);
+      write_number_attribute(solver, "estimated_reaction_error", r.estimated_reaction_error);
+      write_number_attribute(solver, "observed_order", r.observed_order);
+      write_number_attribute(solver, "limit_fitted", r.limit_fitted ? 1 : 0);
+      write_array(solver, "elements_used",
+                  std::vector<double>(r.refinement_elements.begin(), r.refinement_elements.end()));
+    }
+  }
 }
 
 void write_file(const SolveReport& r, const std::filesystem::path& path, const std::string& version) {

@@ -234,6 +234,18 @@ nlohmann::json to_json(const SolveReport& r) {
     j["lcp_size"] = r.lcp_size;
     if (r.active_set_iterations >= 0) j["active_set_iterations"] = r.active_set_iterations;
     if (r.factorisations >= 0) j["factorisations"] = r.factorisations;
+    if (r.limit_fitted) j["limit_fitted"] = true;
+  }
+  if (r.tolerance >= 0) {
+    j["tolerance"] = r.tolerance;
+    if (r.elements >= 0) {  // FE: the limit-fitted sequence's estimates
+      j["estimated_limit_error"] = r.estimated_limit_error >= 0 ? nlohmann::json(r.estimated_limit_error) : nullptr;
+      j["estimated_w_error"] = r.estimated_w_error >= 0 ? nlohmann::json(r.estimated_w_error) : nullptr;
+      j["estimated_reaction_error"] =
+          r.estimated_reaction_error >= 0 ? nlohmann::json(r.estimated_reaction_error) : nullptr;
+      j["observed_order"] = r.observed_order >= 0 ? nlohmann::json(r.observed_order) : nullptr;
+      j["elements_used"] = r.refinement_elements;
+    }
   }
   if (r.modes >= 0) {
     j["modes"] = r.modes;
@@ -256,6 +268,9 @@ namespace {
 std::string solver_line(const SolveReport& r) {
   if (r.modes >= 0)
     return fmt::format("{} modes, {} Newton iterations, residual {:.1e}, {:.3f} s", r.modes, r.newton_iterations,
+                       r.residual, r.time_s);
+  if (r.limit_fitted)
+    return fmt::format("{} elements (limit-fitted: every contact limit a node), residual {:.1e}, {:.3f} s", r.elements,
                        r.residual, r.time_s);
   if (r.active_set_iterations >= 0)
     return fmt::format("{} elements, {} contact sets, {} factorisations, residual {:.1e}, {:.3f} s", r.elements,
@@ -335,17 +350,28 @@ std::string text_summary(const SolveReport& r) {
   out += fmt::format("  method        {}{}\n", r.method, why.empty() ? "" : " (" + why + ")");
   out += fmt::format("  result        {}: {}\n", r.termination, r.message);
   if (r.contact_regions.empty()) out += "  contact       none\n";
+  // Digits enough for the tolerance asked for (8 significant by default).
+  const int digits = r.tolerance > 0 ? std::max(8, static_cast<int>(std::ceil(-std::log10(r.tolerance))) + 2) : 8;
   for (const auto& region : r.contact_regions)
-    out += fmt::format("  contact       {} = {:.8g}{} .. {:.8g}{}\n", arch ? "theta" : "x", region[0], unit, region[1],
-                       unit);
+    out += fmt::format("  contact       {} = {:.{}g}{} .. {:.{}g}{}\n", arch ? "theta" : "x", region[0], digits, unit,
+                       region[1], digits, unit);
   if (r.comparison && r.usable && arch) out += comparison_line(r);
   out += fmt::format("  w max         {:.6e} at {:.6g}{}\n", r.w_max, r.at_w_max, unit);
   out += fmt::format("  w min         {:.6e} at {:.6g}{}\n", r.w_min, r.at_w_min, unit);
   out += fmt::format("  max reaction  {:.6e} (force per unit length)\n", r.max_reaction);
   out += fmt::format("  solver        {}\n", solver_line(r));
-  if (r.estimated_limit_error >= 0)
+  if (r.estimated_limit_error >= 0 && r.modes >= 0)
     out += fmt::format("  modes         limits settled to {:.1e}{} (change from the previous N)\n",
                        r.estimated_limit_error, unit);
+  if (r.tolerance >= 0 && r.elements >= 0 && r.estimated_limit_error >= 0) {
+    std::string meshes;
+    for (int n : r.refinement_elements) meshes += fmt::format("{}{}", meshes.empty() ? "" : ", ", n);
+    out += fmt::format(
+        "  accuracy      tolerance {:.1e}: estimated errors: limits {:.1e}{}, w {:.1e} of max |w|, reaction {:.1e} of "
+        "its largest (limit-fitted meshes {}; observed order {:.2f})\n",
+        r.tolerance, r.estimated_limit_error, unit, r.estimated_w_error, r.estimated_reaction_error, meshes,
+        r.observed_order);
+  }
   if (r.certificate) out += certificate_lines(r);
   if (!r.gauge_note.empty()) out += "  note          " + r.gauge_note + "\n";
   out += "  sign          w > 0 into the foundation\n";

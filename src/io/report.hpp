@@ -53,10 +53,20 @@ struct SolveReport {
   int lcp_size = -1;
   int active_set_iterations = -1;  // fast: contact sets tried
   int factorisations = -1;         // fast and bilateral: sparse numeric factorisations
+  // Accuracy on demand ([solve] tolerance, --tolerance; -1 / empty otherwise): the tolerance
+  // asked for (relative to the length or angular span), the estimates of the answer's errors
+  // (FE: the limit-fitted sequence's, contact/fitted_refinement.hpp: w relative to max |w|, the
+  // reaction k w relative to its largest) and the elements of each level of the sequence.
+  double tolerance = -1.0;
+  double estimated_w_error = -1.0;
+  double estimated_reaction_error = -1.0;
+  double observed_order = -1.0;
+  std::vector<int> refinement_elements;
+  bool limit_fitted = false;  // FE: the answer's contact limits are mesh nodes (a limit-fitted solve)
   // Ritz (-1 / empty otherwise)
   int modes = -1;
   int newton_iterations = -1;
-  double estimated_limit_error = -1.0;  // user coordinate
+  double estimated_limit_error = -1.0;  // user coordinate (also FE with a tolerance)
   std::string topology;
   std::vector<double> amplitudes;
   std::vector<double> residual_history;

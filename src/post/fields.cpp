@@ -41,12 +41,13 @@ LocalState evaluate(const fe::Discretisation& d, const Eigen::VectorXd& displace
 }
 
 double reaction_at(const fe::Discretisation& d, const Eigen::VectorXd& reaction, int element, double xi) {
-  // Reaction nodes are consecutive mesh nodes over the foundation's extent.
-  if (d.reactions() == 0) return 0.0;
-  const int first = d.reaction_nodes.front(), last = d.reaction_nodes.back();
-  if (element < first || element + 1 > last) return 0.0;
+  // Reaction nodes are the nodes of the elements the foundation acts on (increasing): its extent,
+  // or a limit-fitted solve's contact elements, in several runs.
+  if (d.reactions() == 0 || !d.foundation_on_element[element]) return 0.0;
+  const auto found = std::lower_bound(d.reaction_nodes.begin(), d.reaction_nodes.end(), element);
+  const auto first = static_cast<int>(found - d.reaction_nodes.begin());
   const Eigen::Vector2d shape = fe::reaction_shape(xi);
-  return shape[0] * reaction[element - first] + shape[1] * reaction[element + 1 - first];
+  return shape[0] * reaction[first] + shape[1] * reaction[first + 1];
 }
 
 Fields sample_fields(const fe::MemberModel& model, const fe::Discretisation& d,

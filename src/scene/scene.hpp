@@ -77,9 +77,16 @@ struct Load {
   LoadCase load_case = LoadCase::live;
 };
 
+// [solve] tolerance: the accuracy wanted for the contact limits, relative to the member's length
+// (arches: to the angular span); liftoff then chooses the discretisation (app/solve_command.hpp).
+// Below min_tolerance double precision cannot honour it (the limits' Newton round-off is ~1e-14).
+inline constexpr double min_tolerance = 1e-13;
+inline constexpr double max_tolerance = 0.1;
+
 struct SolveSettings {
   Method method = Method::automatic;  // auto: fast for every FE scene (contact_solver.hpp)
   int elements = 200;
+  std::optional<double> tolerance;  // absent: the mesh of `elements` (or Ritz's modes) as given
 };
 
 // [ritz]: the Ritz model with moving contact limits.

@@ -41,7 +41,7 @@ const std::vector<TableSpec>& schema() {
       {"supports", false, {"left", "right", "interior"}},
       {"foundation", false, {"k", "modulus", "tensionless", "from", "to"}},
       {"loads", true, {"kind", "at", "value", "from", "to", "case"}},
-      {"solve", false, {"method", "elements"}},
+      {"solve", false, {"method", "elements", "tolerance"}},
       {"ritz", false, {"modes", "max_modes", "mode_tolerance", "topology", "limits"}},
       {"trace",
        false,
@@ -187,6 +187,12 @@ struct Range {
 
 Range any_number() { return {"a finite number"}; }
 Range positive() { return {"a number > 0", 0.0, inf, true}; }
+Range tolerance_range() {
+  return {fmt::format("a number in [{:g}, {:g}] (the contact limits' accuracy relative to the length; below {:g} "
+                      "double precision cannot honour it)",
+                      min_tolerance, max_tolerance, min_tolerance),
+          min_tolerance, max_tolerance};
+}
 
 // The member in the user's coordinate: x in [0, L] (beam) or theta in [-gamma, gamma] degrees.
 struct Member {
@@ -500,6 +506,7 @@ SolveSettings read_solve(const Section& s) {
       s.choice("method", {Method::dual, Method::primal, Method::fast, Method::automatic, Method::ritz, Method::all})
           .value_or(solve.method);
   solve.elements = s.integer("elements", 1, 10'000'000).value_or(solve.elements);
+  solve.tolerance = s.number("tolerance", tolerance_range());
   return solve;
 }
 

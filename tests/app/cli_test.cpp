@@ -421,3 +421,78 @@ TEST_CASE("cli: trace needs a scene with [trace], and its help says so", "[app][
   CHECK(none.status == 2);
   CHECK(one_line(none.err));
 }
+
+// ---- accuracy on demand: [solve] tolerance, --tolerance -----------------------------------------
+
+TEST_CASE("cli: --tolerance gives limits within it, with the estimates and the meshes used", "[app][tolerance]") {
+  // The seed beam with end moments: one contact region [t, L], t = 0.802388873075 L exactly
+  // (verification/closed_form, 12 digits: well below the tolerances asked for here).
+  const double exact_limit = 0.802388873075;
+  // Dense Lemke gives the topology on a coarser mesh (primal takes seconds at 200 elements); the
+  // tolerance wins over --elements, which sets only that first mesh.
+  const std::pair<const char*, const char*> runs[] = {
+      {"auto", "200"}, {"fast", "200"}, {"dual", "60"}, {"primal", "40"}};
+  for (const auto& [method, elements] : runs) {
+    CAPTURE(method);
+    const Run r = run({"solve", scene_path("seed_beam_end_moments"), "--method", method, "--elements", elements,
+                       "--tolerance", "1e-8", "--json"});
+    CAPTURE(r.err);
+    REQUIRE(r.status == 0);
+    const auto j = nlohmann::json::parse(r.out);
+    CHECK(j["tolerance"].get<double>() == 1e-8);
+    CHECK(j["limit_fitted"].get<bool>());
+    CHECK(j["certificate"]["passed"].get<bool>());
+    REQUIRE(j["contact_regions"].size() == 1);
+    const double limit = j["contact_regions"][0][0].get<double>();
+    CHECK(std::abs(limit - exact_limit) <= 1e-8);
+    // The estimate is honest (at least a third of the true error) and below the tolerance.
+    const double estimate = j["estimated_limit_error"].get<double>();
+    CHECK(estimate <= 1e-8);
+    CHECK(estimate >= std::abs(limit - exact_limit) / 3);
+    CHECK(j["estimated_w_error"].get<double>() <= 1e-8);
+    CHECK(j["estimated_reaction_error"].get<double>() <= 1e-8);
+    const auto meshes = j["elements_used"].get<std::vector<int>>();
+    REQUIRE(meshes.size() >= 2);
+    CHECK(meshes.back() == j["elements"].get<int>());
+    for (std::size_t i = 1; i < meshes.size(); ++i) CHECK(meshes[i] > meshes[i - 1]);
+  }
+  // The summary says it too.
+  const Run text = run({"solve", scene_path("seed_beam_end_moments"), "--tolerance", "1e-8"});
+  CHECK(text.status == 0);
+  CHECK(text.out.find("accuracy      tolerance 1.0e-08") != std::string::npos);
+}
+
+TEST_CASE("cli: a bad tolerance is exit 2 naming the option or the key", "[app][tolerance][errors]") {
+  for (const char* bad : {"0", "-1e-8", "nan", "0.2", "1e-14", "tight"}) {
+    CAPTURE(bad);
+    const Run r = run({"solve", scene_path("seed_beam_end_moments"), "--tolerance", bad});
+    CHECK(r.status == 2);
+    CHECK(r.err.find("--tolerance") != std::string::npos);
+    CHECK(r.err.find("expected a number in [1e-13, 0.1]") != std::string::npos);
+  }
+  Scratch scratch;
+  std::ifstream in(scene_path("seed_beam_end_moments"));
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (const char* bad : {"0.0", "1e-20", "0.5", "\"fine\""}) {
+    CAPTURE(bad);
+    const fs::path scene = scratch.write("bad_tolerance.toml", text + "tolerance = " + bad + "\n");
+    const Run r = run({"solve", scene.string()});
+    CHECK(r.status == 2);
+    CHECK(one_line(r.err));
+    CHECK(r.err.find("solve.tolerance") != std::string::npos);
+  }
+  const Run trace = run({"trace", scene_path("seed_beam_end_moments"), "--tolerance", "1e-8"});
+  CHECK(trace.status == 2);
+}
+
+TEST_CASE("cli: a tolerance the Ritz modes cannot reach is refused, exit 3, with the reason", "[app][tolerance]") {
+  Scratch scratch;
+  std::ifstream in(scene_path("seed_beam_end_moments"));
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const fs::path scene = scratch.write("few_modes.toml", text + "tolerance = 1e-12\n[ritz]\nmax_modes = 16\n");
+  const Run r = run({"solve", scene.string(), "--method", "ritz", "--json"});
+  CHECK(r.status == 3);
+  const auto j = nlohmann::json::parse(r.out);
+  CHECK(j["termination"] == "tolerance_not_reached");
+  CHECK(j["message"].get<std::string>().find("16 modes") != std::string::npos);
+}

@@ -9,6 +9,8 @@
 #include <filesystem>
 
 #include "certify/certificate.hpp"
+#include "contact/active_set_solver.hpp"
+#include "contact/fitted_limits.hpp"
 #include "support/scenes.hpp"
 #include "support/solve.hpp"
 
@@ -249,5 +251,59 @@ TEST_CASE("the primal answer of the footing fails its certificate (issue 10)", "
   } else {
     CHECK_FALSE(c.passed);
     CHECK_FALSE(check(c, certify::check_name::force_balance).passed);
+  }
+}
+
+namespace {
+
+// A limit-fitted answer on n elements (Newton capped at `iterations` steps) as a contact solution.
+struct Fitted {
+  fe::MemberModel model;
+  contact::FittedResult result;
+  contact::ContactSolution solution;
+};
+
+Fitted fitted_answer(const scene::Scene& s, int n, int iterations) {
+  Fitted f;
+  f.model = fe::make_member_model(s);
+  const fe::Discretisation d = fe::discretise(f.model, n);
+  const auto fast = contact::solve_active_set(d, d.load(1.0), {});
+  REQUIRE(fast.summary.is_usable());
+  contact::FittedOptions options;
+  options.elements = n;
+  options.max_iterations = iterations;
+  f.result = contact::solve_fitted_limits(
+      f.model, 1.0, contact::contact_intervals(d, fast.state.displacement, fast.in_contact), options);
+  const fe::Discretisation& fd = f.result.discretisation;
+  f.solution.displacement = fd.expand(f.result.state.displacement);
+  f.solution.reaction = f.result.state.reaction;
+  f.solution.summary.method = Method::fast;
+  return f;
+}
+
+}  // namespace
+
+TEST_CASE("a limit-fitted answer is certified on its own mesh, and one whose limits are off is not",
+          "[certify][fitted]") {
+  for (const char* name : {"seed_beam_end_moments", "seed_beam_end_moments_central_load", "seed_arch_pinned"}) {
+    CAPTURE(name);
+    const scene::Scene s = test::shipped_scene(name);
+    const Fitted good = fitted_answer(s, 160, 30);
+    REQUIRE(good.result.summary.is_usable());
+    certify::CertifyOptions options;
+    options.discretisation_error = 1e-8;  // as a fitted sequence would estimate it
+    const certify::Certificate c = certify::certify(good.model, good.result.discretisation, good.solution, options);
+    CAPTURE(c.message);
+    CHECK(c.passed);
+    // No limit elements on a fitted mesh: every point is checked.
+    CHECK(c.limit_element_defect < 0);
+    // One Newton step from the node-based limits: w at the limit nodes is what that step left
+    // of the node-based limits' error, far above round-off: refused.
+    const Fitted early = fitted_answer(s, 160, 1);
+    REQUIRE_FALSE(early.result.summary.is_usable());
+    const certify::Certificate bad =
+        certify::certify(early.model, early.result.discretisation, early.solution, options);
+    CAPTURE(bad.message);
+    CHECK_FALSE(bad.passed);
   }
 }

@@ -1,0 +1,195 @@
+#include "contact/fitted_refinement.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "fe/shape_functions.hpp"
+
+namespace liftoff::contact {
+
+using Eigen::VectorXd;
+
+std::string_view to_string(ToleranceTermination t) {
+  switch (t) {
+    case ToleranceTermination::reached:
+      return "reached";
+    case ToleranceTermination::cap_reached:
+      return "cap_reached";
+    case ToleranceTermination::round_off:
+      return "round_off";
+    case ToleranceTermination::fitted_failed:
+      return "fitted_failed";
+  }
+  return "unknown";
+}
+
+void ToleranceOptions::validate() const {
+  if (!(tolerance >= 1e-13 && tolerance <= 0.1))
+    throw std::invalid_argument("ToleranceOptions::tolerance must be in [1e-13, 0.1]");
+  if (initial_elements < 0) throw std::invalid_argument("ToleranceOptions::initial_elements must be >= 0");
+  if (max_elements < 2) throw std::invalid_argument("ToleranceOptions::max_elements must be at least 2");
+  if (samples_per_element < 1) throw std::invalid_argument("ToleranceOptions::samples_per_element must be at least 1");
+  fitted.validate();
+}
+
+namespace {
+
+// A level's answer, ready to be evaluated anywhere.
+struct Level {
+  FittedResult fitted;
+  VectorXd all;  // displacement on every dof
+};
+
+double w_at(const fe::Discretisation& d, const VectorXd& all, int e, double xi) {
+  const std::vector<int> dofs = d.element_dofs(e);
+  const Eigen::Vector4d w(all[dofs[0]], all[dofs[1]], all[dofs[2]], all[dofs[3]]);
+  return fe::hermite_cubic(xi, d.mesh.element_size(e)).value.dot(w);
+}
+
+double w_at(const fe::Discretisation& d, const VectorXd& all, double s) {
+  const int e = d.mesh.element_containing(s);
+  const double xi = std::clamp((s - d.mesh.nodes[e]) / d.mesh.element_size(e), 0.0, 1.0);
+  return w_at(d, all, e, xi);
+}
+
+struct Changes {
+  double limits = 0.0, w = 0.0, reaction = 0.0;
+};
+
+// The changes of `fine` from `coarse` (see the header), relative.
+Changes changes(const Level& coarse, const Level& fine, double length, int samples) {
+  Changes c;
+  for (std::size_t k = 0; k < fine.fitted.limits.size(); ++k)
+    c.limits = std::max(c.limits, std::abs(fine.fitted.limits[k] - coarse.fitted.limits[k]) / length);
+  const fe::Discretisation& d = fine.fitted.discretisation;
+  double w_scale = 0.0, w_change = 0.0, contact_scale = 0.0, contact_change = 0.0;
+  for (int e = 0; e < d.mesh.elements(); ++e)
+    for (int i = 0; i <= samples; ++i) {
+      const double xi = static_cast<double>(i) / samples, s = d.mesh.nodes[e] + xi * d.mesh.element_size(e);
+      const double w = w_at(d, fine.all, e, xi),
+                   change = std::abs(w - w_at(coarse.fitted.discretisation, coarse.all, s));
+      w_scale = std::max(w_scale, std::abs(w));
+      w_change = std::max(w_change, change);
+      if (!d.foundation_on_element[e]) continue;
+      contact_scale = std::max(contact_scale, w);
+      contact_change = std::max(contact_change, change);
+    }
+  c.w = w_scale > 0 ? w_change / w_scale : 0.0;
+  c.reaction = contact_scale > 0 ? contact_change / contact_scale : 0.0;
+  return c;
+}
+
+// Richardson's estimate of the finer answer's error from its change d and the change before,
+// d_before (< 0: none), at the observed order clamped to [1, 4]; `order` gets the observed one.
+double estimate(double d, double d_before, double& order) {
+  double p = 1.0;
+  order = -1.0;
+  if (d_before > 0.0 && d > 0.0) {
+    order = std::log2(d_before / d);
+    p = std::clamp(order, 1.0, 4.0);
+  }
+  return d / (std::exp2(p) - 1.0);
+}
+
+}  // namespace
+
+ToleranceResult refine_to_tolerance(const fe::MemberModel& model, double load_factor,
+                                    const std::vector<ContactInterval>& initial, const ToleranceOptions& options) {
+  options.validate();
+  ToleranceResult result;
+  ToleranceSummary& summary = result.summary;
+  const double length = model.length();
+  // beta h <= 1/4 on the first mesh: the decay length of the foundation's response resolved.
+  const double beta_length = std::pow(std::max(model.foundation_modulus, 0.0) / 4.0, 0.25) * length;
+  int n = options.initial_elements > 0 ? options.initial_elements
+                                       : std::max(32, static_cast<int>(std::ceil(4.0 * beta_length)));
+  n = std::min(n, options.max_elements);
+
+  auto solve_level = [&](int elements, const std::vector<ContactInterval>& start, Level& level) {
+    FittedOptions fitted = options.fitted;
+    fitted.elements = elements;
+    level.fitted = solve_fitted_limits(model, load_factor, start, fitted);
+    if (!level.fitted.summary.is_usable()) {
+      summary.termination = ToleranceTermination::fitted_failed;
+      summary.message = fmt::format("the limit-fitted solve on {} elements failed ({}: {})", elements,
+                                    to_string(level.fitted.summary.termination), level.fitted.summary.message);
+      return false;
+    }
+    level.all = level.fitted.discretisation.expand(level.fitted.state.displacement);
+    summary.levels.push_back({level.fitted.discretisation.mesh.elements(), -1.0, -1.0, -1.0});
+    return true;
+  };
+
+  Level coarse, fine;
+  if (!solve_level(n, initial, coarse)) {
+    result.answer = std::move(coarse.fitted);
+    return result;
+  }
+  const bool has_limits = !coarse.fitted.limits.empty();
+  Changes before{-1.0, -1.0, -1.0};
+  int stalled = 0;
+  for (;;) {
+    if (2 * n > options.max_elements) {
+      summary.termination = ToleranceTermination::cap_reached;
+      summary.message = fmt::format(
+          "the tolerance {:.1e} is not reached within the cap of {} elements (estimated limit error {:.1e}, "
+          "deflection {:.1e}, reaction {:.1e})",
+          options.tolerance, options.max_elements, summary.estimated_limit_error, summary.estimated_w_error,
+          summary.estimated_reaction_error);
+      break;
+    }
+    n *= 2;
+    if (!solve_level(n, coarse.fitted.contact, fine)) break;
+    if (fine.fitted.limits.size() != coarse.fitted.limits.size()) {
+      summary.termination = ToleranceTermination::fitted_failed;
+      summary.message = fmt::format("the limit-fitted solves on {} and {} elements found {} and {} limits", n / 2, n,
+                                    coarse.fitted.limits.size(), fine.fitted.limits.size());
+      break;
+    }
+    const Changes now = changes(coarse, fine, length, options.samples_per_element);
+    ToleranceLevel& level = summary.levels.back();
+    level.limit_change = now.limits;
+    level.w_change = now.w;
+    level.reaction_change = now.reaction;
+    double order_limits = -1.0, order_w = -1.0, order_r = -1.0;
+    // Newton leaves the limits uncertain by its last step: no estimate below that.
+    const double limit_floor = std::max(fine.fitted.summary.last_step, coarse.fitted.summary.last_step);
+    summary.estimated_limit_error =
+        has_limits ? std::max(estimate(now.limits, before.limits, order_limits), limit_floor) : 0.0;
+    summary.estimated_w_error = estimate(now.w, before.w, order_w);
+    summary.estimated_reaction_error = estimate(now.reaction, before.reaction, order_r);
+    summary.observed_order = has_limits ? order_limits : order_w;
+    const double worst =
+        std::max({summary.estimated_limit_error, summary.estimated_w_error, summary.estimated_reaction_error});
+    coarse = std::move(fine);
+    if (worst <= options.tolerance) {
+      summary.termination = ToleranceTermination::reached;
+      summary.message = fmt::format(
+          "tolerance {:.1e} reached on {} elements: estimated limit error {:.1e} of the length, deflection {:.1e} "
+          "of max |w|, reaction {:.1e} of its largest (observed order {:.2f})",
+          options.tolerance, n, summary.estimated_limit_error, summary.estimated_w_error,
+          summary.estimated_reaction_error, summary.observed_order);
+      break;
+    }
+    // Round-off: the largest change did not halve twice in a row.
+    const double largest = std::max({now.limits, now.w, now.reaction});
+    const double largest_before = std::max({before.limits, before.w, before.reaction});
+    stalled = largest_before > 0.0 && largest > 0.5 * largest_before ? stalled + 1 : 0;
+    if (stalled >= 2) {
+      summary.termination = ToleranceTermination::round_off;
+      summary.message = fmt::format(
+          "the tolerance {:.1e} cannot be reached: the changes from doubling the mesh stopped decreasing at {} "
+          "elements (last change {:.1e}): round-off owns them",
+          options.tolerance, n, largest);
+      break;
+    }
+    before = now;
+  }
+  result.answer = std::move(coarse.fitted);
+  return result;
+}
+
+}  // namespace liftoff::contact
