@@ -168,11 +168,11 @@ bool ActiveSetSystem::factorise(const std::vector<bool>& in_contact) {
   if (!holds_rigid_motions(in_contact_)) return false;
 
   // A lifted-off node keeps a -1 diagonal and nothing else: r_i = 0.
-  lu_.clear();
   const double* values = full_.valuePtr();
   const int* rows = full_.innerIndexPtr();
   const int* starts = full_.outerIndexPtr();
   for (int col = 0; col < full_.outerSize(); ++col) {
+    lu_.clear_column(col);  // the last factors' values and fill
     const bool col_in = in_system(col);
     if (!col_in) lu_.set(col, col, -1.0);
     for (int p = starts[col]; p < starts[col + 1]; ++p) {
