@@ -125,12 +125,13 @@ ActiveSetResult solve_active_set(const fe::Discretisation& d, const VectorXd& lo
     // (The data's round-off, data_error(), is a worst-case bound, far too wide for this.)
     double tolerance = std::max(options.sign_tolerance, round_off_margin * result.state.error_estimate);
     std::vector<int> infeasible = infeasible_nodes(d, result.state, in_contact, tolerance);
-    if (infeasible.empty() && result.state.error_estimate > 1e-13) {
-      // The set found: its answer to round-off (unless refinement already got there), and its
-      // signs checked again at that accuracy.
-      result.state = system.solve(load);
-    } else if (infeasible.empty()) {
-      result.state.residual = system.residual_of_last_solve();  // converged already
+    if (infeasible.empty()) {
+      // The set found: its answer to round-off (refinement continued from where the set's own
+      // stopped, unless it is there already), and its signs checked again at that accuracy.
+      if (result.state.error_estimate > 1e-13)
+        result.state = system.refine_last_solve();
+      else
+        result.state.residual = system.residual_of_last_solve();
       tolerance = std::max(options.sign_tolerance, round_off_margin * result.state.error_estimate);
       infeasible = infeasible_nodes(d, result.state, in_contact, tolerance);
     }
@@ -206,24 +207,33 @@ std::vector<bool> carried_contact_set(const fe::Discretisation& coarse, const Ve
 
 }  // namespace
 
-NestedResult solve_active_set_nested(const fe::MemberModel& model, const fe::Discretisation& d, double load_factor,
-                                     const ActiveSetOptions& options, const NestedOptions& nested) {
+CoarseStart coarse_start(const fe::MemberModel& model, const fe::Discretisation& d, double load_factor,
+                         const ActiveSetOptions& options, const NestedOptions& nested) {
   nested.validate();
-  NestedResult out;
+  CoarseStart out;
   // The coarse mesh still resolves the foundation's decay length 1/beta (beta^4 = k/4).
   const double decay_lengths = std::pow(std::max(model.foundation_modulus, 0.0) / 4.0, 0.25) * model.length();
   const int coarse_elements = std::max({d.mesh.elements() / nested.coarsening, nested.min_elements,
                                         static_cast<int>(std::ceil(nested.elements_per_decay_length * decay_lengths))});
-  std::vector<bool> initial;
-  if (3 * coarse_elements <= d.mesh.elements()) {
-    const fe::Discretisation coarse = fe::discretise(model, coarse_elements);
-    const NestedResult below = solve_active_set_nested(model, coarse, load_factor, options, nested);
-    out.coarse_sets = below.coarse_sets + below.result.summary.iterations;
-    out.levels = below.levels + 1;
-    // A coarse failure only costs the better start: this mesh starts from every node in contact.
-    if (below.result.summary.is_usable()) initial = carried_contact_set(coarse, below.result.state.displacement, d);
-  }
-  out.result = solve_active_set(d, d.load(load_factor), options, std::move(initial));
+  if (3 * coarse_elements > d.mesh.elements()) return out;
+  ActiveSetOptions coarse_options = options;
+  coarse_options.estimate_round_off = false;  // only this mesh's answer is reported
+  const fe::Discretisation coarse = fe::discretise(model, coarse_elements);
+  const NestedResult below = solve_active_set_nested(model, coarse, load_factor, coarse_options, nested);
+  out.coarse_sets = below.coarse_sets + below.result.summary.iterations;
+  out.levels = below.levels + 1;
+  // A coarse failure only costs the better start: this mesh starts from every node in contact.
+  if (below.result.summary.is_usable()) out.initial = carried_contact_set(coarse, below.result.state.displacement, d);
+  return out;
+}
+
+NestedResult solve_active_set_nested(const fe::MemberModel& model, const fe::Discretisation& d, double load_factor,
+                                     const ActiveSetOptions& options, const NestedOptions& nested) {
+  CoarseStart start = coarse_start(model, d, load_factor, options, nested);
+  NestedResult out;
+  out.coarse_sets = start.coarse_sets;
+  out.levels = start.levels;
+  out.result = solve_active_set(d, d.load(load_factor), options, std::move(start.initial));
   return out;
 }
 

@@ -118,4 +118,16 @@ NestedResult solve_active_set_nested(const fe::MemberModel& model, const fe::Dis
                                      double load_factor, const ActiveSetOptions& options,
                                      const NestedOptions& nested = {});
 
+// The first contact set of solve_active_set_nested, for a caller that solves this mesh itself
+// (contact_solver.cpp, with its own load scaling): the set carried from the coarser meshes'
+// answer, or empty (every node in contact) when the mesh is too small to gain or a coarse solve
+// failed. The coarse meshes never estimate their round-off.
+struct CoarseStart {
+  std::vector<bool> initial;
+  int coarse_sets = 0;
+  int levels = 1;  // meshes solved, this one included
+};
+CoarseStart coarse_start(const fe::MemberModel& model, const fe::Discretisation& discretisation, double load_factor,
+                         const ActiveSetOptions& options, const NestedOptions& nested = {});
+
 }  // namespace liftoff::contact

@@ -164,14 +164,15 @@ bool ActiveSetSystem::factorise(const std::vector<bool>& in_contact) {
   if (factorised_ && in_contact == in_contact_) return true;
   in_contact_ = in_contact;
   factorised_ = false;
+  solved_ = false;
   if (!holds_rigid_motions(in_contact_)) return false;
 
   // A lifted-off node keeps a -1 diagonal and nothing else: r_i = 0.
-  lu_.clear();
   const double* values = full_.valuePtr();
   const int* rows = full_.innerIndexPtr();
   const int* starts = full_.outerIndexPtr();
   for (int col = 0; col < full_.outerSize(); ++col) {
+    lu_.clear_column(col);  // the last factors' values and fill
     const bool col_in = in_system(col);
     if (!col_in) lu_.set(col, col, -1.0);
     for (int p = starts[col]; p < starts[col + 1]; ++p) {
@@ -239,13 +240,24 @@ ContactState ActiveSetSystem::solve(const VectorXd& load) const { return solve(l
 
 ContactState ActiveSetSystem::solve(const VectorXd& load, const RefinementOptions& refinement) const {
   if (!factorised_) throw std::logic_error("ActiveSetSystem::solve before a successful factorise()");
-  const int n = d_.equations, ns = d_.stresses(), m = d_.reactions();
-  const Eigen::Index size = full_.rows();
+  const int n = d_.equations;
   if (load.size() != n) throw std::invalid_argument("ActiveSetSystem::solve: one load per equation expected");
   rhs_.setZero();
   for (int e = 0; e < n; ++e) rhs_[slot_[e]] = load[e];
   x_ = rhs_;
   solve_in_place(x_);
+  solved_ = true;
+  return refine(refinement);
+}
+
+ContactState ActiveSetSystem::refine_last_solve(const RefinementOptions& refinement) const {
+  if (!factorised_ || !solved_) throw std::logic_error("ActiveSetSystem::refine_last_solve before a solve");
+  return refine(refinement);
+}
+
+ContactState ActiveSetSystem::refine(const RefinementOptions& refinement) const {
+  const int n = d_.equations, ns = d_.stresses(), m = d_.reactions();
+  const Eigen::Index size = full_.rows();
 
   // Refinement: the defect b - A x on A as assembled, in extended precision. With the mixed
   // form's condition (~N^2) each step gains ~log10(1 / (eps cond)) digits: none are needed at

@@ -79,6 +79,10 @@ class ActiveSetSystem {
   ContactState solve(const Eigen::VectorXd& load) const;
   ContactState solve(const Eigen::VectorXd& load, const RefinementOptions& refinement) const;
 
+  // Refines the last solve's answer further (the same set and load), e.g. to round-off after a
+  // solve that stopped at a coarser target_error: no new first solve. Requires a solve().
+  ContactState refine_last_solve(const RefinementOptions& refinement = {}) const;
+
   // The relative residual (ContactState::residual) of the last solve's answer, for a solve that
   // skipped it (RefinementOptions::residual = false): one defect, no solve.
   double residual_of_last_solve() const;
@@ -106,6 +110,7 @@ class ActiveSetSystem {
   // defect = rhs - A x (extended precision), magnitude = |rhs| + |A| |x|, over the current set.
   void compute_defect(const Eigen::VectorXd& rhs, const Eigen::VectorXd& x) const;
   double relative_defect() const;
+  ContactState refine(const RefinementOptions& refinement) const;  // from x_ for rhs_
 
   const fe::Discretisation& d_;
   std::vector<bool> in_contact_;
@@ -121,6 +126,7 @@ class ActiveSetSystem {
   Eigen::MatrixXd coupled_motions_;  // C Q: the free rigid motions Q seen by every reaction node
   linalg::BandedLu lu_;
   bool factorised_ = false;
+  mutable bool solved_ = false;  // x_ holds a solve for the current factors
   int factorisations_ = 0;
   // Workspace of solve().
   mutable Eigen::VectorXd rhs_, x_, correction_, defect_, magnitude_;

@@ -60,7 +60,8 @@ struct ContactSummary {
   // fast and bilateral (-1 for Lemke): the relative error in u and r that iterative refinement
   // leaves (above 1e-6 the answer is a numerical_failure), and a worst-case bound on what the
   // rounding of the system's data can do (Skeel's condition, pessimistic by 1e2-1e4; the answer
-  // certificate, certify/certificate.hpp, measures the round-off instead).
+  // certificate, certify/certificate.hpp, measures the round-off instead); the bound only with
+  // ContactOptions::active_set.estimate_round_off, else -1.
   double error_estimate = -1.0;
   double round_off_bound = -1.0;
   // max of the relative equilibrium residual |K u + C^T r - F| / | |K||u| + |C^T||r| + |F| |, the

@@ -227,7 +227,9 @@ std::string describe_rigid_motions(StructureKind kind, int count) {
 }  // namespace
 
 Discretisation discretise(const MemberModel& model, int elements) {
-  return discretise(model, make_mesh(model, elements));
+  Discretisation d = discretise(model, make_mesh(model, elements));
+  d.uniform_member = std::make_shared<const MemberModel>(model);
+  return d;
 }
 
 Discretisation discretise(const MemberModel& model, Mesh mesh, std::vector<bool> foundation_on_element) {

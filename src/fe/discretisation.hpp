@@ -15,6 +15,7 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -57,6 +58,10 @@ class Discretisation {
   int unstable_rigid_motions = 0;
   std::string stability_note;  // in words, for messages
   std::string gauge_note;      // what gauge was fixed, if any
+  // The member of a uniform mesh made by discretise(model, elements), so that a solver can
+  // build coarser meshes of it (the fast solver's start, contact/active_set_solver.hpp); null on
+  // a given mesh or foundation.
+  std::shared_ptr<const MemberModel> uniform_member;
 
   int dofs() const { return static_cast<int>(equation_of_dof.size()); }
   int reactions() const { return static_cast<int>(reaction_nodes.size()); }

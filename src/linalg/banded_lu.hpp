@@ -12,6 +12,8 @@
 // Use: set_structure once, then per matrix: clear(), set(i, j, value) for the entries inside the
 // band, factorise(), and any number of solve() calls. Nothing allocates after set_structure.
 
+#include <algorithm>
+#include <cstddef>
 #include <vector>
 
 namespace liftoff::linalg {
@@ -25,6 +27,12 @@ class BandedLu {
   int upper() const { return ku_; }
 
   void clear();  // every entry (and the factor's fill) to zero
+  // Column col's entries and fill to zero: a caller that sets a matrix column by column clears
+  // each just before (one pass over the storage instead of two; at 1e6 elements it is 700 MB).
+  void clear_column(int col) {
+    std::fill_n(ab_.begin() + static_cast<std::ptrdiff_t>(col) * ldab_, ldab_, 0.0);
+    factorised_ = false;
+  }
   void set(int row, int col, double value) { ab_[index(row, col)] = value; }
 
   // False when a pivot is exactly zero (the matrix is singular); the factors are then unusable.

@@ -245,3 +245,30 @@ TEST_CASE("nested iteration: a coarser mesh's contact set starts this one, same 
   CHECK(nested.result.summary.iterations <= 3);
   CHECK(nested.result.summary.iterations < plain.summary.iterations);
 }
+
+TEST_CASE("fast through solve_contact: a large uniform mesh starts from a coarser mesh's set, same answer",
+          "[contact][fast][nested]") {
+  // The long member of the test above: discretise(model, N) keeps the member, so solve_contact
+  // (as `liftoff solve`) takes the nested start without being asked; a mesh it did not make
+  // (fitted limits, a given mesh) has no member and starts from the bilateral set.
+  const double beta = 1000.0;
+  auto s = test::beam_scene(1.0, 1.0, EndSupport::pinned, EndSupport::pinned, 4.0 * std::pow(beta, 4));
+  s.loads = {test::uniform_load(0.0, 1.0, 1.0, scene::LoadCase::dead)};
+  for (double x : {0.11, 0.23, 0.37, 0.5, 0.61, 0.77, 0.9}) s.loads.push_back(test::point_force(x, -10.0 / beta));
+  const auto model = fe::make_member_model(s);
+  const auto d = fe::discretise(model, 10000);
+  REQUIRE(d.uniform_member);
+  const auto fast = solve_with(d, Method::fast);
+  const auto plain = contact::solve_active_set(d, d.load(1.0), {});
+  REQUIRE(fast.summary.is_usable());
+  REQUIRE(plain.summary.is_usable());
+  CAPTURE(fast.summary.message, plain.summary.iterations);
+  CHECK_THAT(fast.summary.message, Catch::Contains("coarser mesh"));
+  CHECK(fast.summary.iterations <= 3);
+  CHECK(fast.summary.iterations < plain.summary.iterations);
+  // Both are the same contact set's answer refined to round-off (as the test above).
+  CHECK(test::relative_difference(fast.displacement, d.expand(plain.state.displacement)) < 1e-12);
+  CHECK(test::relative_difference(fast.reaction, plain.state.reaction) < 1e-12);
+  // A mesh not made by discretise(model, N) has no member to coarsen.
+  CHECK_FALSE(fe::discretise(model, fe::make_mesh(model, 100)).uniform_member);
+}

@@ -9,7 +9,8 @@
 //             moments) and the 500 m pipeline (beta L = 100), both with a bilateral foundation.
 //   ratio     fast / bilateral time on a long member with many lift-off zones (beta L = 1000,
 //             self-weight and seven uplift forces), N = 1e4, 1e5, 1e6.
-//   arch      time and peak memory of `fast` on the seed's pinned arch at 5e3 and 2e4 elements.
+//   arch      time and peak memory of `fast` on the seed's pinned arch at 1e4 to 1e5 elements, fitted
+//             exponents.
 //   limits    contact-limit error against the closed forms: node-based (fast) and limit-fitted
 //             (contact/fitted_limits.hpp), with observed orders and the time of both.
 //   pipeline  the tensionless 500 m pipeline at 1e3 .. 1e6 elements by fast (nested): its
@@ -38,6 +39,7 @@
 #include "closed_form/beam_on_foundation.hpp"
 #include "contact/active_set_solver.hpp"
 #include "contact/active_set_system.hpp"
+#include "contact/contact_solver.hpp"
 #include "contact/fitted_limits.hpp"
 #include "fe/discretisation.hpp"
 #include "fe/member_model.hpp"
@@ -262,26 +264,41 @@ void arch_roundoff(int max_elements) {
 // ---- ratio ----------------------------------------------------------------------------------
 
 void ratio_section(int max_elements) {
-  const fe::MemberModel model = fe::make_member_model(long_member());
+  const scene::Scene tensionless = long_member();
+  scene::Scene bilateral_scene = tensionless;
+  bilateral_scene.foundation.tensionless = false;
+  const fe::MemberModel model = fe::make_member_model(tensionless);
+  const fe::MemberModel bilateral_model = fe::make_member_model(bilateral_scene);
   std::printf(
       "\nratio: fast / bilateral on the long member (beta L = 1000, 7 uplift forces), in-process, medians.\n"
-      "  bilateral: ActiveSetSystem set-up, one factorisation, one solve refined to round-off;\n"
-      "  fast: solve_active_set from the bilateral start; nested: solve_active_set_nested (coarser meshes'\n"
-      "  discretisation and sets included); 'with discretise': the same plus discretise(model, N), as in a\n"
-      "  whole solve\n");
-  std::printf("  %8s %10s %10s %10s %10s | %7s %7s | %7s %7s | %s\n", "N", "discretise", "bilateral", "fast", "nested",
-              "fast", "nested", "fast", "nested", "sets: fast, nested (coarse)");
-  std::printf("  %8s %10s %10s %10s %10s | %15s | %15s |\n", "", "s", "s", "s", "s", "solver only", "with discretise");
+      "  kernel: ActiveSetSystem set-up, one factorisation, one solve refined to round-off (the floor);\n"
+      "  plain: solve_active_set from the bilateral start; nested: solve_active_set_nested (coarser meshes'\n"
+      "  discretisation and sets included); solve_contact: the library call of `liftoff solve` (method fast,\n"
+      "  nested start; bilateral: the same member with tensionless = false), residual and expansion included;\n"
+      "  'with discretise': plus discretise(model, N), as in a whole solve\n");
+  std::printf("  %8s %9s %9s %9s %9s %9s %9s | %6s %6s %6s | %6s %6s | %s\n", "N", "discretis", "kernel", "plain",
+              "nested", "contact", "contact", "plain", "nested", "contact", "nested", "contact",
+              "sets: plain, nested (coarse)");
+  std::printf("  %8s %9s %9s %9s %9s %9s %9s | %20s | %13s |\n", "", "s", "s", "s", "s", "fast s", "bilat. s",
+              "/ kernel", "with discretise");
   for (int n : {10000, 100000, 1000000}) {
     if (n > max_elements) break;
-    const int repeats = n <= 10000 ? 5 : n <= 100000 ? 3 : 1;
-    std::vector<double> discretise, bilateral, fast, nested;
+    const int repeats = n <= 10000 ? 7 : n <= 100000 ? 5 : 3;
+    std::vector<double> discretise, kernel, fast, nested, app_fast, app_bilateral;
     contact::ActiveSetResult plain;
     contact::NestedResult layered;
-    for (int r = 0; r < repeats; ++r) {
+    contact::ContactSolution app;
+    contact::ContactOptions fast_options;
+    fast_options.method = scene::Method::fast;
+    // The first round is a warm-up, not recorded: memory first touched costs page faults that
+    // would fall on whichever variant runs first.
+    for (int r = -1; r < repeats; ++r) {
+      if (r == 0)
+        discretise.clear(), kernel.clear(), fast.clear(), nested.clear(), app_fast.clear(), app_bilateral.clear();
       auto start = std::chrono::steady_clock::now();
       const fe::Discretisation d = fe::discretise(model, n);
       discretise.push_back(seconds_since(start));
+      const fe::Discretisation db = fe::discretise(bilateral_model, n);
       const VectorXd f = d.load(1.0);
       start = std::chrono::steady_clock::now();
       {
@@ -289,23 +306,33 @@ void ratio_section(int max_elements) {
         system.factorise(std::vector<bool>(d.reactions(), true));
         const contact::ContactState state = system.solve(f);
       }
-      bilateral.push_back(seconds_since(start));
+      kernel.push_back(seconds_since(start));
       start = std::chrono::steady_clock::now();
       plain = contact::solve_active_set(d, f, {});
       fast.push_back(seconds_since(start));
       start = std::chrono::steady_clock::now();
       layered = contact::solve_active_set_nested(model, d, 1.0, {});
       nested.push_back(seconds_since(start));
+      start = std::chrono::steady_clock::now();
+      app = contact::solve_contact(d, fast_options);
+      app_fast.push_back(seconds_since(start));
+      start = std::chrono::steady_clock::now();
+      const contact::ContactSolution app_b = contact::solve_contact(db, fast_options);
+      app_bilateral.push_back(seconds_since(start));
     }
     auto median = [](std::vector<double> v) {
       std::sort(v.begin(), v.end());
       return v[v.size() / 2];
     };
-    const double td = median(discretise), tb = median(bilateral), tf = median(fast), tn = median(nested);
-    std::printf("  %8d %10.3f %10.3f %10.3f %10.3f | %7.2f %7.2f | %7.2f %7.2f | %d, %d (%d on %d coarser meshes)%s\n",
-                n, td, tb, tf, tn, tf / tb, tn / tb, (td + tf) / (td + tb), (td + tn) / (td + tb),
-                plain.summary.iterations, layered.result.summary.iterations, layered.coarse_sets, layered.levels - 1,
-                plain.in_contact == layered.result.in_contact ? "" : " (the two contact sets differ!)");
+    const double td = median(discretise), tk = median(kernel), tf = median(fast), tn = median(nested),
+                 ta = median(app_fast), tb = median(app_bilateral);
+    std::printf(
+        "  %8d %9.4f %9.4f %9.4f %9.4f %9.4f %9.4f | %6.2f %6.2f %6.2f | %6.2f %6.2f | %d, %d (%d on %d coarser "
+        "meshes)%s%s\n",
+        n, td, tk, tf, tn, ta, tb, tf / tk, tn / tk, ta / tb, (td + tn) / (td + tk), (td + ta) / (td + tb),
+        plain.summary.iterations, layered.result.summary.iterations, layered.coarse_sets, layered.levels - 1,
+        plain.in_contact == layered.result.in_contact ? "" : " (the two contact sets differ!)",
+        app.summary.is_usable() ? "" : " (solve_contact: NOT SOLVED)");
     std::fflush(stdout);
   }
 }
@@ -329,7 +356,8 @@ std::pair<double, double> in_child(const std::function<void()>& work) {
 
 void arch_section(int max_elements) {
   std::printf("\narch: `fast` on seed_arch_pinned (child process: wall time, peak memory)\n");
-  for (int n : {5000, 20000}) {
+  std::vector<double> sizes, walls, peaks;
+  for (int n : {10000, 20000, 50000, 100000}) {
     if (n > max_elements) break;
     std::fflush(stdout);
     const auto [mb, wall] = in_child([n] {
@@ -346,7 +374,21 @@ void arch_section(int max_elements) {
                   result.state.error_estimate, contact::ActiveSetSystem(d).bandwidth());
     });
     std::printf("          child: %.2f s wall, peak %.0f MB\n", wall, mb);
+    sizes.push_back(n), walls.push_back(wall), peaks.push_back(mb);
   }
+  // Least squares on log-log (both figures include the child's fixed start, so the exponents
+  // are lower bounds of the asymptotic ones only when that start matters).
+  auto exponent = [&](const std::vector<double>& y) {
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    const double k = static_cast<double>(sizes.size());
+    for (std::size_t i = 0; i < sizes.size(); ++i) {
+      const double lx = std::log(sizes[i]), ly = std::log(y[i]);
+      sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly;
+    }
+    return (k * sxy - sx * sy) / (k * sxx - sx * sx);
+  };
+  if (sizes.size() >= 2)
+    std::printf("  fitted: wall time ~ N^%.2f, peak memory ~ N^%.2f\n", exponent(walls), exponent(peaks));
 }
 
 // ---- limits ---------------------------------------------------------------------------------
