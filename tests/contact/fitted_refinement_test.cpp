@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "closed_form/beam_on_foundation.hpp"
+#include "closed_form/member_problem.hpp"
 #include "contact/active_set_solver.hpp"
 #include "fe/shape_functions.hpp"
 #include "support/scenes.hpp"
@@ -17,24 +18,6 @@ using namespace liftoff;
 using scene::EndSupport;
 
 namespace {
-
-closed_form::BeamProblem closed_form_problem(const fe::MemberModel& model) {
-  closed_form::BeamProblem p;
-  p.foundation_modulus = model.foundation_modulus;
-  auto end = [](EndSupport e) {
-    return e == EndSupport::clamped ? closed_form::EndCondition::clamped
-           : e == EndSupport::free  ? closed_form::EndCondition::free
-                                    : closed_form::EndCondition::pinned;
-  };
-  p.left = end(model.left);
-  p.right = end(model.right);
-  for (const auto& l : model.loads) {
-    if (l.kind == scene::LoadKind::force) p.forces.push_back({l.at, l.value});
-    if (l.kind == scene::LoadKind::moment) p.moments.push_back({l.at, l.value});
-    if (l.kind == scene::LoadKind::uniform) p.uniform_loads.push_back({l.from, l.to, l.value});
-  }
-  return p;
-}
 
 // The node-based (fast) contact regions on n elements: where the sequence starts.
 std::vector<contact::ContactInterval> fast_intervals(const fe::MemberModel& model, int n) {
@@ -47,7 +30,7 @@ std::vector<contact::ContactInterval> fast_intervals(const fe::MemberModel& mode
 closed_form::TensionlessResult exact_answer(const fe::MemberModel& model) {
   std::vector<closed_form::Interval> guess;
   for (const auto& r : fast_intervals(model, 400)) guess.push_back({r.begin, r.end});
-  auto exact = closed_form::solve_tensionless(closed_form_problem(model), guess);
+  auto exact = closed_form::solve_tensionless(closed_form::problem_of(model), guess);
   REQUIRE(exact.status == closed_form::TensionlessStatus::converged);
   return exact;
 }

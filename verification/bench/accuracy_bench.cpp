@@ -37,6 +37,7 @@
 #include <vector>
 
 #include "closed_form/beam_on_foundation.hpp"
+#include "closed_form/member_problem.hpp"
 #include "contact/active_set_solver.hpp"
 #include "contact/active_set_system.hpp"
 #include "contact/contact_solver.hpp"
@@ -108,25 +109,6 @@ scene::Scene long_member() {
   return s;
 }
 
-// The member's closed-form problem (nondimensional, as the FE model sees it).
-closed_form::BeamProblem closed_form_problem(const fe::MemberModel& model) {
-  closed_form::BeamProblem p;
-  p.foundation_modulus = model.foundation_modulus;
-  auto end = [](scene::EndSupport e) {
-    return e == scene::EndSupport::clamped ? closed_form::EndCondition::clamped
-           : e == scene::EndSupport::free  ? closed_form::EndCondition::free
-                                           : closed_form::EndCondition::pinned;
-  };
-  p.left = end(model.left);
-  p.right = end(model.right);
-  for (const auto& l : model.loads) {
-    if (l.kind == scene::LoadKind::force) p.forces.push_back({l.at, l.value});
-    if (l.kind == scene::LoadKind::moment) p.moments.push_back({l.at, l.value});
-    if (l.kind == scene::LoadKind::uniform) p.uniform_loads.push_back({l.from, l.to, l.value});
-  }
-  return p;
-}
-
 double nodal_error(const fe::Discretisation& d, const VectorXd& u, const closed_form::BeamSolution& exact) {
   const VectorXd all = d.expand(u);
   double error = 0.0, scale = 0.0;
@@ -190,7 +172,7 @@ void roundoff_section(int max_elements) {
                                                          {"500 m pipeline (bilateral, beta L = 100)", pipeline(false)}};
   for (const auto& [name, s] : scenes) {
     const fe::MemberModel model = fe::make_member_model(s);
-    const closed_form::BeamSolution exact = closed_form::solve_bilateral(closed_form_problem(model));
+    const closed_form::BeamSolution exact = closed_form::solve_bilateral(closed_form::problem_of(model));
     std::printf("\nroundoff: %s: nodal error max|w - w_exact| / max|w_exact|, time (s)\n", name);
     std::printf("  %8s  %-26s %-26s %-26s\n", "N", "(a) rounded h, K, LDL^T", "(b) stored h, K, LDL^T",
                 "(c) stored h, mixed, LU");
@@ -400,7 +382,7 @@ std::vector<double> exact_limits(const fe::MemberModel& model) {
   std::vector<closed_form::Interval> guess;
   for (const auto& r : contact::contact_intervals(d, fast.state.displacement, fast.in_contact))
     guess.push_back({r.begin, r.end});
-  const auto exact = closed_form::solve_tensionless(closed_form_problem(model), guess);
+  const auto exact = closed_form::solve_tensionless(closed_form::problem_of(model), guess);
   if (exact.status != closed_form::TensionlessStatus::converged)
     throw std::runtime_error("the closed form did not converge: " + exact.message);
   return exact.limits;
@@ -496,7 +478,7 @@ VectorXd absolute_product(const fe::SparseMatrix& a, const VectorXd& x) {
 void pipeline_section(int max_elements) {
   const scene::Scene s = pipeline(true);
   const fe::MemberModel model = fe::make_member_model(s);
-  const closed_form::BeamProblem problem = closed_form_problem(model);
+  const closed_form::BeamProblem problem = closed_form::problem_of(model);
   const std::vector<double> exact = exact_limits(model);
   std::vector<closed_form::Interval> regions;
   {

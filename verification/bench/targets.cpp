@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "closed_form/beam_on_foundation.hpp"
+#include "closed_form/member_problem.hpp"
 #include "contact/active_set_solver.hpp"
 #include "contact/contact_solver.hpp"
 #include "contact/fitted_limits.hpp"
@@ -58,26 +59,6 @@ bool has_closed_form(const scene::Scene& s) {
          s.foundation.from <= s.begin() && s.foundation.to >= s.end() && s.foundation.tensionless;
 }
 
-closed_form::BeamProblem closed_form_problem(const fe::MemberModel& model) {
-  closed_form::BeamProblem p;
-  p.length = model.length();
-  p.foundation_modulus = model.foundation_modulus;
-  auto end = [](scene::EndSupport e) {
-    return e == scene::EndSupport::clamped ? closed_form::EndCondition::clamped
-           : e == scene::EndSupport::free  ? closed_form::EndCondition::free
-                                           : closed_form::EndCondition::pinned;
-  };
-  p.left = end(model.left);
-  p.right = end(model.right);
-  for (const auto& l : model.loads) {
-    if (l.kind == scene::LoadKind::force) p.forces.push_back({l.at - model.s_begin, l.value});
-    if (l.kind == scene::LoadKind::moment) p.moments.push_back({l.at - model.s_begin, l.value});
-    if (l.kind == scene::LoadKind::uniform)
-      p.uniform_loads.push_back({l.from - model.s_begin, l.to - model.s_begin, l.value});
-  }
-  return p;
-}
-
 // Exact limits: the closed form's Newton started from fast's regions at 4000 elements.
 std::vector<double> exact_limits(const fe::MemberModel& model) {
   const fe::Discretisation d = fe::discretise(model, 4000);
@@ -89,7 +70,7 @@ std::vector<double> exact_limits(const fe::MemberModel& model) {
   std::vector<closed_form::Interval> guess;
   for (const auto& r : post::contact_regions(model, d, fast.displacement))
     guess.push_back({r.begin - model.s_begin, r.end - model.s_begin});
-  const auto exact = closed_form::solve_tensionless(closed_form_problem(model), guess);
+  const auto exact = closed_form::solve_tensionless(closed_form::problem_of(model), guess);
   if (exact.status != closed_form::TensionlessStatus::converged)
     throw std::runtime_error("the closed form did not converge: " + exact.message);
   std::vector<double> limits = exact.limits;

@@ -1,0 +1,31 @@
+#pragma once
+// The closed-form problem of an FE member model (nondimensional, as the FE model sees it), for the
+// tests and benchmarks that compare liftoff's beams with the exact solution. Header-only, so that
+// liftoff_closed_form itself stays independent of liftoff's code.
+
+#include "closed_form/beam_on_foundation.hpp"
+#include "fe/member_model.hpp"
+
+namespace liftoff::closed_form {
+
+inline BeamProblem problem_of(const fe::MemberModel& model) {
+  BeamProblem p;
+  p.length = model.length();
+  p.foundation_modulus = model.foundation_modulus;
+  auto end = [](scene::EndSupport e) {
+    return e == scene::EndSupport::clamped ? EndCondition::clamped
+           : e == scene::EndSupport::free  ? EndCondition::free
+                                           : EndCondition::pinned;
+  };
+  p.left = end(model.left);
+  p.right = end(model.right);
+  for (const auto& l : model.loads) {  // positions from the member's begin
+    if (l.kind == scene::LoadKind::force) p.forces.push_back({l.at - model.s_begin, l.value});
+    if (l.kind == scene::LoadKind::moment) p.moments.push_back({l.at - model.s_begin, l.value});
+    if (l.kind == scene::LoadKind::uniform)
+      p.uniform_loads.push_back({l.from - model.s_begin, l.to - model.s_begin, l.value});
+  }
+  return p;
+}
+
+}  // namespace liftoff::closed_form
