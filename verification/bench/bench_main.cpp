@@ -18,6 +18,10 @@
 //     elements, whole process; dense dual Lemke against the fast solver at 2000 elements; Ritz
 //     against FE at equal contact-limit error; and the best method against dolfinx at a
 //     contact-limit error of 1e-6 L.
+//  4. targets (on request): time to contact-limit errors of 1e-6, 1e-8, 1e-10 L on every scene
+//     with a closed form (targets.hpp).
+//  5. tolerance (on request): the honesty of `liftoff solve --tolerance`'s error estimates, estimate
+//     / true error, on the same scenes for every method and tolerance (tolerance.hpp).
 //
 // The fast contact solver (method "fast") is developed on another branch: it is benchmarked
 // wherever scene::parse_method("fast") knows it, and skipped with a note otherwise.
@@ -47,6 +51,7 @@
 #include "ritz/ritz_solver.hpp"
 #include "scene/scene_reader.hpp"
 #include "targets.hpp"
+#include "tolerance.hpp"
 
 namespace fs = std::filesystem;
 using namespace liftoff;
@@ -597,15 +602,17 @@ void ratios_section(const Options& o, const fs::path& scratch, const std::vector
 int main(int argc, char** argv) {
   Options o;
   CLI::App app{"liftoff_bench: run time against error, scaling and speed ratios of liftoff's methods"};
-  app.add_option("--out", o.out, "Directory for accuracy.csv, scaling.csv, ratios.csv (created)");
+  app.add_option("--out", o.out,
+                 "Directory for accuracy.csv, scaling.csv, ratios.csv, targets.csv, tolerance.csv (created)");
   app.add_flag("--full", o.full, "Finer meshes, more modes, scaling to 1e6 elements (default: the quick set)");
   app.add_option("--repeats", o.repeats, "Runs per measurement (the median is reported)")->check(CLI::Range(1, 1000));
   app.add_option("--max-elements", o.max_elements, "Largest mesh of the scaling section (default 1e5 quick, 1e6 full)")
       ->check(CLI::Range(100, 10'000'000));
   app.add_option("--sections", o.sections,
                  "Comma-separated: accuracy, scaling, ratios (the default), targets (time to limit errors of 1e-6, "
-                 "1e-8, 1e-10 L on every closed-form scene, every method)");
-  app.add_option("--scenes", o.only, "targets: only these scenes (comma-separated names, default all)");
+                 "1e-8, 1e-10 L on every closed-form scene, every method), tolerance (the honesty of --tolerance's "
+                 "error estimates on the same scenes, every method)");
+  app.add_option("--scenes", o.only, "targets, tolerance: only these scenes (comma-separated names, default all)");
   app.add_flag("!--no-dolfinx", o.dolfinx, "Skip the dolfinx reference");
   app.add_option("--liftoff", o.liftoff, "The liftoff executable (whole-process runs)");
   app.add_option("--python", o.python, "Python with dolfinx (default /usr/bin/python3)");
@@ -623,6 +630,7 @@ int main(int argc, char** argv) {
     if (o.has("ratios")) ratios_section(o, scratch, accuracy);
     if (o.has("targets"))
       bench::run_targets({o.out, scratch.string(), o.source_dir, o.python, o.dolfinx, o.full, o.repeats, o.only});
+    if (o.has("tolerance")) bench::run_tolerance({o.out, scratch.string(), o.source_dir, o.full, o.repeats, o.only});
   } catch (const std::exception& e) {
     std::fprintf(stderr, "liftoff_bench: %s\n", e.what());
     return 1;

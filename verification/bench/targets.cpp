@@ -45,13 +45,6 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 
 // ---- scenes and their exact limits ----------------------------------------------------------
 
-struct TargetScene {
-  std::string name, file;
-  scene::Scene scene;
-  fe::MemberModel model;
-  std::vector<double> exact;  // interior contact limits, s
-};
-
 // The closed form covers a beam on a foundation along its whole length without interior
 // supports (verification/closed_form/main.cpp refuses the rest).
 bool has_closed_form(const scene::Scene& s) {
@@ -59,8 +52,8 @@ bool has_closed_form(const scene::Scene& s) {
          s.foundation.from <= s.begin() && s.foundation.to >= s.end() && s.foundation.tensionless;
 }
 
-// Exact limits: the closed form's Newton started from fast's regions at 4000 elements.
-std::vector<double> exact_limits(const fe::MemberModel& model) {
+// The exact solution: the closed form's Newton started from fast's regions at 4000 elements.
+closed_form::TensionlessResult exact_solution(const fe::MemberModel& model) {
   const fe::Discretisation d = fe::discretise(model, 4000);
   contact::ContactOptions options;
   options.method = scene::Method::fast;
@@ -70,12 +63,10 @@ std::vector<double> exact_limits(const fe::MemberModel& model) {
   std::vector<closed_form::Interval> guess;
   for (const auto& r : post::contact_regions(model, d, fast.displacement))
     guess.push_back({r.begin - model.s_begin, r.end - model.s_begin});
-  const auto exact = closed_form::solve_tensionless(closed_form::problem_of(model), guess);
+  closed_form::TensionlessResult exact = closed_form::solve_tensionless(closed_form::problem_of(model), guess);
   if (exact.status != closed_form::TensionlessStatus::converged)
     throw std::runtime_error("the closed form did not converge: " + exact.message);
-  std::vector<double> limits = exact.limits;
-  for (double& t : limits) t += model.s_begin;
-  return limits;
+  return exact;
 }
 
 // A weightless free-free beam under a central point load, beta L = 6 (k = 4 * 6^4): its ends
@@ -305,39 +296,45 @@ std::string cell(const Reached& r, const char* unit) {
 
 }  // namespace
 
-void run_targets(const TargetOptions& o) {
-  std::vector<TargetScene> scenes;
-  {
-    std::vector<std::pair<std::string, std::string>> files = {
-        {"seed_beam_end_moments", o.source_dir + "/verification/scenes/seed_beam_end_moments.toml"},
-        {"seed_beam_end_moments_central_load",
-         o.source_dir + "/verification/scenes/seed_beam_end_moments_central_load.toml"}};
-    std::vector<fs::path> engineering;
-    for (const auto& entry : fs::directory_iterator(o.source_dir + "/verification/scenes/engineering"))
-      if (entry.path().extension() == ".toml") engineering.push_back(entry.path());
-    std::sort(engineering.begin(), engineering.end());
-    for (const auto& p : engineering) files.push_back({p.stem().string(), p.string()});
-    const fs::path free_beam = fs::path(o.scratch) / "free_beam_central_load.toml";
-    std::ofstream(free_beam) << free_beam_toml;
-    files.push_back({"free_beam_central_load", free_beam.string()});
-    for (const auto& [name, file] : files) {
-      if (!o.only.empty() && ("," + o.only + ",").find("," + name + ",") == std::string::npos) continue;
-      TargetScene t;
-      t.name = name, t.file = file;
-      t.scene = scene::read_scene_file(file);
-      if (!has_closed_form(t.scene)) {
-        std::printf("  %s: no closed form (arch, partial foundation or interior support): skipped\n", name.c_str());
-        continue;
-      }
-      t.model = fe::make_member_model(t.scene);
-      t.exact = exact_limits(t.model);
-      if (t.exact.empty()) {
-        std::printf("  %s: in contact along its whole length (no contact limit to measure): skipped\n", name.c_str());
-        continue;
-      }
-      scenes.push_back(std::move(t));
+std::vector<ClosedFormScene> closed_form_scenes(const std::string& source_dir, const std::string& scratch,
+                                                const std::string& only) {
+  std::vector<std::pair<std::string, std::string>> files = {
+      {"seed_beam_end_moments", source_dir + "/verification/scenes/seed_beam_end_moments.toml"},
+      {"seed_beam_end_moments_central_load",
+       source_dir + "/verification/scenes/seed_beam_end_moments_central_load.toml"}};
+  std::vector<fs::path> engineering;
+  for (const auto& entry : fs::directory_iterator(source_dir + "/verification/scenes/engineering"))
+    if (entry.path().extension() == ".toml") engineering.push_back(entry.path());
+  std::sort(engineering.begin(), engineering.end());
+  for (const auto& p : engineering) files.push_back({p.stem().string(), p.string()});
+  const fs::path free_beam = fs::path(scratch) / "free_beam_central_load.toml";
+  std::ofstream(free_beam) << free_beam_toml;
+  files.push_back({"free_beam_central_load", free_beam.string()});
+  std::vector<ClosedFormScene> scenes;
+  for (const auto& [name, file] : files) {
+    if (!only.empty() && ("," + only + ",").find("," + name + ",") == std::string::npos) continue;
+    ClosedFormScene t;
+    t.name = name, t.file = file;
+    t.scene = scene::read_scene_file(file);
+    if (!has_closed_form(t.scene)) {
+      std::printf("  %s: no closed form (arch, partial foundation or interior support): skipped\n", name.c_str());
+      continue;
     }
+    t.model = fe::make_member_model(t.scene);
+    t.solution = exact_solution(t.model);
+    t.exact = t.solution.limits;
+    for (double& s : t.exact) s += t.model.s_begin;
+    if (t.exact.empty()) {
+      std::printf("  %s: in contact along its whole length (no contact limit to measure): skipped\n", name.c_str());
+      continue;
+    }
+    scenes.push_back(std::move(t));
   }
+  return scenes;
+}
+
+void run_targets(const TargetOptions& o) {
+  const std::vector<ClosedFormScene> scenes = closed_form_scenes(o.source_dir, o.scratch, o.only);
 
   auto doubling = [](int first, int last) {
     std::vector<int> sizes;
@@ -351,7 +348,7 @@ void run_targets(const TargetOptions& o) {
       "\ntargets: time to contact-limit errors of 1e-6, 1e-8, 1e-10 L against the closed form (child "
       "processes; their idle peak RSS is %.0f MB)\n",
       idle.peak_mb);
-  for (const TargetScene& t : scenes) {
+  for (const ClosedFormScene& t : scenes) {
     const fe::MemberModel& model = t.model;
     const double length = model.length();
     std::printf("\n%s: exact limits x =", t.name.c_str());
@@ -412,7 +409,7 @@ void run_targets(const TargetOptions& o) {
   std::printf(
       "\ntargets: first size of each doubling sequence whose contact-limit error is below the target: size, "
       "solve time (median), peak MB\n");
-  for (const TargetScene& t : scenes) {
+  for (const ClosedFormScene& t : scenes) {
     std::printf("\n%s\n  %-8s | %-30s | %-30s | %-30s | %s\n", t.name.c_str(), "method", "1e-6 L", "1e-8 L", "1e-10 L",
                 "time ~ n^a, error ~ n^-b");
     for (const std::string& m : methods) {
@@ -430,7 +427,7 @@ void run_targets(const TargetOptions& o) {
       "\ntargets: the best liftoff method per target, and dolfinx / best at 1e-8 L (target: 1e-8 L in <= 1 ms; "
       ">= 1000x faster than dolfinx)\n");
   std::printf("  %-36s | %-24s | %-24s | %-24s | %s\n", "scene", "1e-6 L", "1e-8 L", "1e-10 L", "dolfinx / best, 1e-8");
-  for (const TargetScene& t : scenes) {
+  for (const ClosedFormScene& t : scenes) {
     std::printf("  %-36s", t.name.c_str());
     double best8 = NAN;
     for (double target : targets) {

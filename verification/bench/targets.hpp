@@ -18,8 +18,29 @@
 // sizes whose error is above 1e-13 (round-off).
 
 #include <string>
+#include <vector>
+
+#include "closed_form/beam_on_foundation.hpp"
+#include "fe/member_model.hpp"
+#include "scene/scene.hpp"
 
 namespace liftoff::bench {
+
+// A scene with a closed form and its exact tensionless solution (the closed form's Newton started
+// from fast's regions at 4000 elements; throws if it does not converge).
+struct ClosedFormScene {
+  std::string name, file;
+  scene::Scene scene;
+  fe::MemberModel model;
+  std::vector<double> exact;                // interior contact limits, s
+  closed_form::TensionlessResult solution;  // from the member's begin (s - s_begin), nondimensional
+};
+
+// The scenes both sections measure, in order: the two seed beams, the engineering scenes with a
+// closed form (the others are named and skipped) and the free beam, written to `scratch`; scenes
+// without an interior contact limit are skipped too. `only`: comma-separated names (empty: all).
+std::vector<ClosedFormScene> closed_form_scenes(const std::string& source_dir, const std::string& scratch,
+                                                const std::string& only);
 
 struct TargetOptions {
   std::string out;         // folder for targets.csv
