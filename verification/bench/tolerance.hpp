@@ -15,8 +15,9 @@
 // A refusal (an exception, or an answer not usable) prints its termination and reason instead,
 // and, when the refused answer has limits and an estimate (a failed certificate), their figures.
 // Per method, the honesty floor (smallest estimate / true) and ceiling over every scene and
-// tolerance; every answer whose estimate is below a third of its true error, or whose true error
-// is above the tolerance, is listed. Rows go to tolerance.csv in `out`.
+// tolerance; every answer whose estimate (limits, w or r) is below a third of its true error, or
+// whose true error of the limits, w or r is above the tolerance, is listed with what is wrong.
+// Rows go to tolerance.csv in `out`.
 
 #include <string>
 
