@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -12,7 +13,6 @@
 #include <vector>
 
 #include "app/solve_command.hpp"
-#include "core/error.hpp"
 #include "measure.hpp"
 #include "targets.hpp"
 
