@@ -448,7 +448,44 @@ io::SolveReport ritz_report(const scene::Scene& scene, const SolveRequest& reque
   if (solution.summary.is_usable()) {
     const certify::Certificate certificate = certify::certify(model, solution, options);
     io::attach_certificate(report, certificate, model);
-    if (!certificate.passed) {
+    if (tolerance && certificate.round_off_estimate >= 0) report.round_off_floor = certificate.round_off_estimate;
+    // Round-off alone failed, above the tolerance: the modes the tolerance needs cost more
+    // round-off than it allows (eps times the Jacobian's condition grows with the modes), so the
+    // Ritz model cannot honour it. Refused as such, with what it can honour.
+    bool round_off_only = !certificate.passed;
+    for (const certify::Check& check : certificate.checks)
+      round_off_only &= check.passed || check.name == certify::check_name::round_off;
+    if (tolerance && round_off_only && certificate.round_off_estimate > *tolerance) {
+      // What it can honour: the round-off with half the modes (one more solve, certified for
+      // its round-off only), where the tolerance's own modes left too much.
+      const int modes = solution.summary.modes;
+      std::string reachable;
+      ritz::RitzOptions half = options;
+      half.modes = modes / 2;
+      if (half.modes >= 1) {
+        try {
+          const ritz::RitzSolution fewer =
+              ritz::solve_ritz(model, starting_point.point.topology, starting_point.point.limits, half);
+          certify::CertifyOptions no_half_modes;
+          no_half_modes.round_off = false;
+          const double floor =
+              fewer.summary.is_usable() ? certify::certify(model, fewer, half, no_half_modes).round_off_estimate : -1.0;
+          if (floor >= 0) {
+            report.round_off_floor = std::min(report.round_off_floor, floor);
+            reachable = fmt::format("; with {} modes its round-off is {:.1e}", half.modes, floor);
+          }
+        } catch (const std::exception&) {  // nothing more to say
+        }
+      }
+      report.termination = "tolerance_not_reached";
+      report.usable = false;
+      report.message = fmt::format(
+          "refused: the tolerance {:.1e} is below the Ritz model's round-off at the {} modes it needs: {}{} (the "
+          "round-off, eps times the Jacobian's condition, grows with the modes: the Ritz model honours only "
+          "tolerances above it; an FE method with a tolerance solves limit-fitted meshes, whose round-off floor is "
+          "far lower)",
+          *tolerance, modes, certificate.round_off_note, reachable);
+    } else if (!certificate.passed) {
       report.termination = "certificate_failed";
       report.usable = false;
       report.message = "the ritz answer failed its certificate: " + certificate.message;

@@ -197,7 +197,8 @@ ToleranceResult refine_to_tolerance(const fe::MemberModel& model, double load_fa
     double order_limits = -1.0, order_w = -1.0, order_r = -1.0;
     // No estimate below the round-off floor (Newton's last step among it).
     const double floor = summary.round_off_floor;
-    summary.estimated_limit_error = has_limits ? std::max(estimate(now.limits, before.limits, order_limits), floor) : 0.0;
+    summary.estimated_limit_error =
+        has_limits ? std::max(estimate(now.limits, before.limits, order_limits), floor) : 0.0;
     summary.estimated_w_error = std::max(estimate(now.w, before.w, order_w), floor);
     summary.estimated_reaction_error = std::max(estimate(now.reaction, before.reaction, order_r), floor);
     summary.observed_order = has_limits ? order_limits : order_w;
