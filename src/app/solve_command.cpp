@@ -292,6 +292,7 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
     r.estimated_w_error = refined.summary.estimated_w_error;
     r.estimated_reaction_error = refined.summary.estimated_reaction_error;
     r.observed_order = refined.summary.observed_order;
+    r.round_off_floor = refined.summary.round_off_floor;
   };
   const std::string how =
       fmt::format("limit-fitted to tolerance {:.1e}: contact topology from {} on {} elements, then limit-fitted meshes",
@@ -324,6 +325,11 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   certify::CertifyOptions certify_options;
   certify_options.discretisation_error =
       std::max(refined.summary.estimated_w_error, refined.summary.estimated_reaction_error);
+  // Newton on the limits stops at a step below 1e-14 of the length (fitted_limits.hpp), leaving
+  // |w| = |w' step| at the limit nodes: 4e-14 of max |w| on seed_beam_end_moments_central_load at
+  // 8192 elements, above 8 times the answer's round-off (2.8e-14). The sign conditions allow the
+  // residual the solve's stopping rule left (the certificate recomputes w there).
+  certify_options.sign_floor = std::max(answer.summary.limit_residual, 0.0);
   const certify::Certificate certificate = certify::certify(model, d, solution, certify_options);
   if (const certify::Check* backward = certificate.find(certify::check_name::backward_error))
     summary.residual = backward->value;
@@ -366,12 +372,15 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
     report.message = fmt::format("the limit-fitted {} answer failed its certificate: {}",
                                  scene::to_string(first.method), certificate.message);
   } else if (certificate.round_off_estimate > tolerance) {
+    // The certificate's measured round-off raises the floor (it is far below it on the seed
+    // beams: 1e-16 against 4e-14).
+    report.round_off_floor = std::max(report.round_off_floor, certificate.round_off_estimate);
     report.termination = "tolerance_not_reached";
     report.usable = false;
     report.message = fmt::format(
-        "refused: round-off {:.1e} (of max |w| or |r|, measured by the certificate) is above "
-        "the tolerance {:.1e}",
-        certificate.round_off_estimate, tolerance);
+        "refused: the tolerance {:.1e} is below the round-off floor {:.1e} of the answer on {} elements (its "
+        "round-off, of max |w| or |r|, measured by the certificate)",
+        tolerance, report.round_off_floor, d.mesh.elements());
   }
   report.time_s = seconds_since(start);
   return report;
@@ -439,7 +448,44 @@ io::SolveReport ritz_report(const scene::Scene& scene, const SolveRequest& reque
   if (solution.summary.is_usable()) {
     const certify::Certificate certificate = certify::certify(model, solution, options);
     io::attach_certificate(report, certificate, model);
-    if (!certificate.passed) {
+    if (tolerance && certificate.round_off_estimate >= 0) report.round_off_floor = certificate.round_off_estimate;
+    // Round-off alone failed, above the tolerance: the modes the tolerance needs cost more
+    // round-off than it allows (eps times the Jacobian's condition grows with the modes), so the
+    // Ritz model cannot honour it. Refused as such, with what it can honour.
+    bool round_off_only = !certificate.passed;
+    for (const certify::Check& check : certificate.checks)
+      round_off_only &= check.passed || check.name == certify::check_name::round_off;
+    if (tolerance && round_off_only && certificate.round_off_estimate > *tolerance) {
+      // What it can honour: the round-off with half the modes (one more solve, certified for
+      // its round-off only), where the tolerance's own modes left too much.
+      const int modes = solution.summary.modes;
+      std::string reachable;
+      ritz::RitzOptions half = options;
+      half.modes = modes / 2;
+      if (half.modes >= 1) {
+        try {
+          const ritz::RitzSolution fewer =
+              ritz::solve_ritz(model, starting_point.point.topology, starting_point.point.limits, half);
+          certify::CertifyOptions no_half_modes;
+          no_half_modes.round_off = false;
+          const double floor =
+              fewer.summary.is_usable() ? certify::certify(model, fewer, half, no_half_modes).round_off_estimate : -1.0;
+          if (floor >= 0) {
+            report.round_off_floor = std::min(report.round_off_floor, floor);
+            reachable = fmt::format("; with {} modes its round-off is {:.1e}", half.modes, floor);
+          }
+        } catch (const std::exception&) {  // nothing more to say
+        }
+      }
+      report.termination = "tolerance_not_reached";
+      report.usable = false;
+      report.message = fmt::format(
+          "refused: the tolerance {:.1e} is below the Ritz model's round-off at the {} modes it needs: {}{} (the "
+          "round-off, eps times the Jacobian's condition, grows with the modes: the Ritz model honours only "
+          "tolerances above it; an FE method with a tolerance solves limit-fitted meshes, whose round-off floor is "
+          "far lower)",
+          *tolerance, modes, certificate.round_off_note, reachable);
+    } else if (!certificate.passed) {
       report.termination = "certificate_failed";
       report.usable = false;
       report.message = "the ritz answer failed its certificate: " + certificate.message;

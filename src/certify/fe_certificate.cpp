@@ -119,51 +119,85 @@ NodalForces nodal_forces(const MemberModel& model, const Discretisation& d, cons
 // ---- round-off, measured ----------------------------------------------------------------------
 
 // The error round-off left in (u, r), measured: one correction A^-1 (b - A x) on the answer's
-// own contact-set system  A (u, r_A) = (F, 0),  A = [K C_A^T; C_A -T_AA]  (A: the nodes with
-// r > 0; bilateral: all), with the residual computed in twice the working precision
-// (compensated) and K u summed element by element (K_e u_e). So it measures the answer against
-// the exactly assembled system: the solver's error and the rounding of the assembled K, whose
-// entries are rounded sums of two elements' entries and so annihilate the rigid motions only to
-// round-off. The latter dominates on fine meshes: on seed_beam_end_moments at 3200 elements it
-// is the whole error against the closed form (1.6e-4 of max |w|; the solver's refinement, on the
-// assembled K, claimed 1e-8), and on issue 10's footing it moves the reactions' integral by
-// 6.5e-8 of the load. Not measured: the rounding of each element's own entries, which is the
-// same for every element of one size (a smooth perturbation; a float128 solve with exact
-// element entries agrees to three digits of that 1.6e-4). The correction is solved once
-// (SparseLU, partial pivoting, on the symmetrically equilibrated A): one digit of it is enough.
-// Both shares are returned apart: the data's (the correction for the difference between the
-// element-wise and the assembled K u alone) is what any solver would leave, the solver's (the
-// rest) grows with its backward error, so a spoilt answer cannot excuse itself (see certify()).
+// own contact-set system in the mixed (Hellinger-Reissner) form of the element equations, with
+// the element stress resultants m = H^-1 G u as extra unknowns (K = G^T H^-1 G exactly,
+// fe/discretisation.hpp; A: the nodes with r > 0, bilateral: all):
+//   [ 0    G^T  C_A^T ] [ u   ]   [ F ]
+//   [ G   -H    0     ] [ m   ] = [ 0 ]
+//   [ C_A  0   -T_AA  ] [ r_A ]   [ 0 ],
+// with m computed from the answer's u (each stress's G u in twice the working precision, over
+// H), the residual b - A x computed in twice the working precision (compensated), and the
+// correction solved once (SparseLU, partial pivoting, on the symmetrically equilibrated A): one
+// digit of it is enough. Why the mixed form: its data are exact data of a nearby mesh (G's
+// entries are integers and +-2/h, unassembled, H is diagonal: beam_element.hpp), and its
+// condition grows like N^2. The stiffness form's data are not: K_e's entries (12/h^3, 6/h^2,
+// ...) are rounded independently, so the rounded K_e annihilates the rigid motions only to
+// round-off, and the exact answer of the rounded K differs from that of the element by eps
+// times K's condition, N^4: measured against it, the mixed solve's limit-fitted answer of
+// seed_beam_end_moments at 2048 elements showed a "round-off" of 3.5e-10 of max |w| (2.5e-11 at
+// 1024) while its nodal error against the closed form is 1e-15. An answer solved in the
+// stiffness form carries exactly that error, and this measures it: seed_beam_end_moments at
+// 3200 elements solved by a sparse LU of the assembled K form, 1.6e-4 of max |w| from the
+// closed form, is measured at that (tests/certify/fe_certificate_test.cpp). Not measured: the
+// rounding of C and T (assembled sums of two elements' entries, benign: they are well
+// conditioned) and of G and H themselves (the nearby mesh).
 struct RoundOff {
   bool measured = false;
-  double w = 0.0, r = 0.0;                // the whole correction, relative to max |w| (deflection dofs) and max |r|
-  double data_w = 0.0, data_r = 0.0;      // the assembled data's share
-  double solver_w = 0.0, solver_r = 0.0;  // the rest
-  VectorXd correction_u;                  // the whole correction, every dof
+  double w = 0.0, r = 0.0;  // the correction, relative to max |w| (deflection dofs) and max |r|
+  VectorXd correction_u;    // every dof
   VectorXd correction_r;
   std::string why_not;
 };
 
-RoundOff measure_round_off(const Discretisation& d, double membrane_stiffness, const VectorXd& u_all, const VectorXd& r,
-                           const VectorXd& load) {
+// The symmetric equilibration of A: S with every row of S A S at most 1 in magnitude, near 1
+// (a few sweeps of Ruiz's scaling), so that pivoting compares like with like.
+VectorXd symmetric_scaling(const fe::SparseMatrix& a) {
+  const int size = static_cast<int>(a.rows());
+  VectorXd s = VectorXd::Ones(size), row_max(size);
+  for (int sweep = 0; sweep < 8; ++sweep) {
+    row_max.setZero();
+    for (int col = 0; col < a.outerSize(); ++col)
+      for (fe::SparseMatrix::InnerIterator it(a, col); it; ++it)
+        row_max[it.row()] = std::max(row_max[it.row()], std::abs(s[it.row()] * it.value() * s[col]));
+    for (int i = 0; i < size; ++i)
+      if (row_max[i] > 0) s[i] /= std::sqrt(row_max[i]);
+  }
+  return s;
+}
+
+RoundOff measure_round_off(const Discretisation& d, const VectorXd& u_all, const VectorXd& r, const VectorXd& load) {
   RoundOff out;
-  const int n = d.equations, m = d.reactions();
+  const int n = d.equations, ns = d.stresses(), m = d.reactions();
+  if (ns == 0 || d.stress_coupling.rows() != ns || d.stress_coupling.cols() != n) {
+    out.why_not = "the discretisation carries no mixed form of its stiffness";
+    return out;
+  }
   std::vector<int> slot_of_reaction(m, -1);
-  int size = n;
+  int size = n + ns;
   for (int i = 0; i < m; ++i)
     if (!d.tensionless || r[i] > 0) slot_of_reaction[i] = size++;
-  VectorXd x = VectorXd::Zero(size), b = VectorXd::Zero(size);
+  VectorXd u = VectorXd::Zero(n);
   for (int dof = 0; dof < d.dofs(); ++dof)
-    if (d.equation_of_dof[dof] >= 0) x[d.equation_of_dof[dof]] = u_all[dof];
-  for (int i = 0; i < m; ++i)
-    if (slot_of_reaction[i] >= 0) x[slot_of_reaction[i]] = r[i];
-  b.head(n) = load;
+    if (d.equation_of_dof[dof] >= 0) u[d.equation_of_dof[dof]] = u_all[dof];
+
+  // G as rows of stresses (row-major access through its transpose).
+  const fe::SparseMatrix g_t = d.stress_coupling.transpose();  // equations x stresses, columns = stresses
+  // The answer's stresses m = H^-1 G u, G u compensated.
+  VectorXd stress(ns);
+  for (int k = 0; k < ns; ++k) {
+    detail::Compensated gu;
+    for (fe::SparseMatrix::InnerIterator it(g_t, k); it; ++it) gu.add_product(it.value(), u[it.row()]);
+    stress[k] = gu.value() / d.compliance[k];
+  }
 
   std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(d.stiffness.nonZeros() + 2 * d.coupling.nonZeros() + d.flexibility.nonZeros());
+  triplets.reserve(2 * d.stress_coupling.nonZeros() + ns + 2 * d.coupling.nonZeros() + d.flexibility.nonZeros());
   for (int col = 0; col < n; ++col)
-    for (fe::SparseMatrix::InnerIterator it(d.stiffness, col); it; ++it)
-      triplets.emplace_back(it.row(), col, it.value());
+    for (fe::SparseMatrix::InnerIterator it(d.stress_coupling, col); it; ++it) {
+      triplets.emplace_back(n + it.row(), col, it.value());
+      triplets.emplace_back(col, n + it.row(), it.value());
+    }
+  for (int k = 0; k < ns; ++k) triplets.emplace_back(n + k, n + k, -d.compliance[k]);
   for (int col = 0; col < n; ++col)
     for (fe::SparseMatrix::InnerIterator it(d.coupling, col); it; ++it) {
       const int slot = slot_of_reaction[it.row()];
@@ -180,53 +214,31 @@ RoundOff measure_round_off(const Discretisation& d, double membrane_stiffness, c
   a.setFromTriplets(triplets.begin(), triplets.end());
   a.makeCompressed();
 
-  // The residual b - A x, compensated, with K u summed element by element (K_e u_e) rather than
-  // through the assembled K, whose entries are rounded sums; the reactions of lifted nodes
-  // (r_i != 0 off A is part of the answer) enter the equilibrium rows through C^T r.
-  std::vector<detail::Compensated> sums(size), element(n), assembled(n);  // b - A x; K u both ways
-  for (int row = 0; row < size; ++row) sums[row].add(b[row]);
+  // The residual b - A x, compensated; the reactions of lifted nodes (r_i != 0 off A is part of
+  // the answer) enter the equilibrium rows through C^T r.
+  std::vector<detail::Compensated> sums(size);
+  for (int row = 0; row < n; ++row) sums[row].add(load[row]);
   for (int col = 0; col < n; ++col)
-    for (fe::SparseMatrix::InnerIterator it(d.stiffness, col); it; ++it)
-      assembled[it.row()].add_product(it.value(), x[col]);
-  for (int e = 0; e < d.mesh.elements(); ++e) {
-    const double h = d.mesh.element_size(e);
-    const std::vector<int> dofs = d.element_dofs(e);
-    const Eigen::MatrixXd ke = d.kind == StructureKind::arch
-                                   ? Eigen::MatrixXd(fe::arch_element::stiffness(h, membrane_stiffness))
-                                   : Eigen::MatrixXd(fe::beam_element::stiffness(h));
-    for (std::size_t i = 0; i < dofs.size(); ++i) {
-      const int row = d.equation_of_dof[dofs[i]];
-      if (row < 0) continue;
-      for (std::size_t j = 0; j < dofs.size(); ++j) element[row].add_product(ke(i, j), u_all[dofs[j]]);
+    for (fe::SparseMatrix::InnerIterator it(d.stress_coupling, col); it; ++it) {
+      sums[col].add_product(-it.value(), stress[it.row()]);  // F - G^T m
+      sums[n + it.row()].add_product(-it.value(), u[col]);   // H m - G u
     }
-  }
+  for (int k = 0; k < ns; ++k) sums[n + k].add_product(d.compliance[k], stress[k]);
   for (int col = 0; col < n; ++col)
     for (fe::SparseMatrix::InnerIterator it(d.coupling, col); it; ++it) {
       const int slot = slot_of_reaction[it.row()];
       sums[col].add_product(-it.value(), r[it.row()]);
-      if (slot >= 0) sums[slot].add_product(-it.value(), x[col]);
+      if (slot >= 0) sums[slot].add_product(-it.value(), u[col]);
     }
   for (int col = 0; col < m; ++col)
     for (fe::SparseMatrix::InnerIterator it(d.flexibility, col); it; ++it) {
       const int slot = slot_of_reaction[it.row()];
       if (slot >= 0) sums[slot].add_product(it.value(), r[col]);
     }
-  VectorXd rhs(size), data_rhs = VectorXd::Zero(size);
-  for (int row = 0; row < n; ++row) {
-    sums[row].add(-element[row].sum);
-    sums[row].add(-element[row].error);
-    detail::Compensated difference = assembled[row];  // K u - sum K_e u_e
-    difference.add(-element[row].sum);
-    difference.add(-element[row].error);
-    data_rhs[row] = difference.value();
-  }
+  VectorXd rhs(size);
   for (int row = 0; row < size; ++row) rhs[row] = sums[row].value();
 
-  VectorXd scaling(size);
-  for (int i = 0; i < size; ++i) {
-    const double diagonal = std::abs(a.coeff(i, i));
-    scaling[i] = diagonal > 0 ? 1.0 / std::sqrt(diagonal) : 1.0;
-  }
+  const VectorXd scaling = symmetric_scaling(a);
   const fe::SparseMatrix scaled = scaling.asDiagonal() * a * scaling.asDiagonal();
   Eigen::SparseLU<fe::SparseMatrix, Eigen::COLAMDOrdering<int>> lu;
   lu.compute(scaled);
@@ -234,40 +246,29 @@ RoundOff measure_round_off(const Discretisation& d, double membrane_stiffness, c
     out.why_not = "the answer's contact set leaves the member free to move (its system is singular)";
     return out;
   }
-  const VectorXd solver = scaling.cwiseProduct(lu.solve(scaling.cwiseProduct(rhs)));
-  const VectorXd data = scaling.cwiseProduct(lu.solve(scaling.cwiseProduct(data_rhs)));
-  if (!solver.allFinite() || !data.allFinite()) {
+  const VectorXd correction = scaling.cwiseProduct(lu.solve(scaling.cwiseProduct(rhs)));
+  if (!correction.allFinite()) {
     out.why_not = "the answer's contact-set system could not be solved";
     return out;
   }
-  out.correction_u = d.expand(solver.head(n));
+  out.correction_u = d.expand(correction.head(n));
   out.correction_r = VectorXd::Zero(m);
-  const VectorXd data_u = d.expand(data.head(n));
-  double r_change = 0.0, r_data = 0.0, r_solver = 0.0;
+  double r_change = 0.0;
   for (int i = 0; i < m; ++i)
     if (slot_of_reaction[i] >= 0) {
-      const double total = solver[slot_of_reaction[i]], by_data = data[slot_of_reaction[i]];
-      out.correction_r[i] = total;
-      r_change = std::max(r_change, std::abs(total));
-      r_data = std::max(r_data, std::abs(by_data));
-      r_solver = std::max(r_solver, std::abs(total - by_data));
+      out.correction_r[i] = correction[slot_of_reaction[i]];
+      r_change = std::max(r_change, std::abs(out.correction_r[i]));
     }
-  double w_scale = 0.0, w_change = 0.0, w_data = 0.0, w_solver = 0.0;
+  double w_scale = 0.0, w_change = 0.0;
   for (int node = 0; node < static_cast<int>(d.mesh.nodes.size()); ++node) {
     const int dof = d.deflection_dof(node);
     w_scale = std::max(w_scale, std::abs(u_all[dof]));
     w_change = std::max(w_change, std::abs(out.correction_u[dof]));
-    w_data = std::max(w_data, std::abs(data_u[dof]));
-    w_solver = std::max(w_solver, std::abs(out.correction_u[dof] - data_u[dof]));
   }
   const double r_scale = m > 0 ? r.cwiseAbs().maxCoeff() : 0.0;
   auto relative = [](double value, double scale) { return scale > 0 ? value / scale : 0.0; };
   out.w = relative(w_change, w_scale);
   out.r = relative(r_change, r_scale);
-  out.data_w = relative(w_data, w_scale);
-  out.data_r = relative(r_data, r_scale);
-  out.solver_w = relative(w_solver, w_scale);
-  out.solver_r = relative(r_solver, r_scale);
   out.measured = true;
   return out;
 }
@@ -321,7 +322,7 @@ DiscretisationError estimate_discretisation_error(const MemberModel& model, cons
     return out;
   }
   VectorXd u2 = reference.displacement, r2 = reference.reaction;
-  const RoundOff polish = measure_round_off(coarse, model.membrane_stiffness, u2, r2, coarse.load(load_factor));
+  const RoundOff polish = measure_round_off(coarse, u2, r2, coarse.load(load_factor));
   if (polish.measured) {
     u2 += polish.correction_u;
     r2 += polish.correction_r;
@@ -449,15 +450,14 @@ Certificate certify(const MemberModel& model, const Discretisation& d, const con
   }
 
   // Round-off of the answer, measured (needed by the sign tolerances too).
-  // The sign conditions allow the round-off a sound answer may carry: the data's share, and the
-  // solver's share as far as its backward error passes (scaled down by how far it does not: an
-  // answer spoilt beyond round-off cannot excuse its own sign errors).
-  const RoundOff round_off = measure_round_off(d, model.membrane_stiffness, u_given, r_given, d.load(lambda));
+  // The sign conditions allow the round-off a sound answer may carry: the measured one as far as
+  // its backward error passes (scaled down by how far it does not: an answer spoilt beyond
+  // round-off cannot excuse its own sign errors).
+  const RoundOff round_off = measure_round_off(d, u_given, r_given, d.load(lambda));
   const double backward = c.find(check_name::backward_error)->value;
   const double sound = std::min(1.0, backward_tolerance / std::max(backward, 1e-300));
   const double answer_error = round_off.measured
-                                  ? std::max({round_off.data_w + sound * round_off.solver_w,
-                                              round_off.data_r + sound * round_off.solver_r, detail::minimum_round_off})
+                                  ? std::max({sound * round_off.w, sound * round_off.r, detail::minimum_round_off})
                                   : detail::minimum_round_off;
   const double sign_tolerance = detail::sign_safety * std::max(answer_error, options.sign_floor);
 

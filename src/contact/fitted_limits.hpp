@@ -80,10 +80,11 @@ struct FittedResult {
 };
 
 // The contact regions of a node-based answer (fast, Lemke) on `d`: runs of reaction nodes in
-// contact, each limit placed at the zero of w's cubic in the element between a contact node and
-// a lifted-off one (or within three elements of it; its middle if w changes sign in none). A
-// lifted-off neighbour with w >= 0 (held at 0 by a support, or touching) belongs to the region:
-// a clamped end under weight is in contact up to the end, not a limit one element from it.
+// contact, each limit placed at the zero of w's cubic in the element where w turns negative
+// beyond the run (or within three elements of it; its middle if w changes sign in none).
+// Lifted-off nodes with w > 0 (a weighted gap >= 0 allows it next to the limit) are walked past;
+// one with w = 0 (held by a support) or the foundation's end ends the region there: a clamped
+// end under weight is in contact up to the end, not a limit one element from it.
 // `displacement` on the equations.
 std::vector<ContactInterval> contact_intervals(const fe::Discretisation& d, const Eigen::VectorXd& displacement,
                                                const std::vector<bool>& in_contact);

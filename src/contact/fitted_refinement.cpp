@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "fe/shape_functions.hpp"
@@ -82,6 +83,30 @@ Changes changes(const Level& coarse, const Level& fine, double length, int sampl
   return c;
 }
 
+// The round-off floor of a level (see the header): the largest of the limits', w's and the
+// reaction's, relative like the estimates.
+double round_off_floor(const Level& level, double length) {
+  const fe::Discretisation& d = level.fitted.discretisation;
+  const double error = level.fitted.state.error_estimate;
+  const double eps_w = std::max(16 * std::numeric_limits<double>::epsilon(), std::isfinite(error) ? error : 0.0);
+  double w_scale = 0.0, contact_scale = 0.0;
+  for (int e = 0; e < d.mesh.elements(); ++e)
+    for (int node : {e, e + 1}) {
+      const double w = level.all[d.deflection_dof(node)];
+      w_scale = std::max(w_scale, std::abs(w));
+      if (d.foundation_on_element[e]) contact_scale = std::max(contact_scale, w);
+    }
+  double limits = std::max(level.fitted.summary.last_step, 0.0);
+  for (double t : level.fitted.limits) {
+    const int node = d.mesh.node_at(t);
+    if (node < 0) continue;
+    const double slope = std::abs(level.all[d.slope_dof(node)]);
+    limits = std::max(limits, slope > 0 ? eps_w * w_scale / (slope * length) : INFINITY);
+  }
+  const double reaction = contact_scale > 0 ? eps_w * w_scale / contact_scale : eps_w;
+  return std::max({limits, eps_w, reaction});
+}
+
 // Richardson's estimate of the finer answer's error from its change d and the change before,
 // d_before (< 0: none), at the observed order clamped to [1, 4]; `order` gets the observed one.
 double estimate(double d, double d_before, double& order) {
@@ -120,11 +145,22 @@ ToleranceResult refine_to_tolerance(const fe::MemberModel& model, double load_fa
     }
     level.all = level.fitted.discretisation.expand(level.fitted.state.displacement);
     summary.levels.push_back({level.fitted.discretisation.mesh.elements(), -1.0, -1.0, -1.0});
+    summary.round_off_floor = round_off_floor(level, length);
+    return true;
+  };
+  // A tolerance below the round-off floor: no mesh can reach it.
+  auto below_floor = [&](int elements) {
+    if (options.tolerance >= summary.round_off_floor) return false;
+    summary.termination = ToleranceTermination::round_off;
+    summary.message = fmt::format(
+        "the tolerance {:.1e} is below the round-off floor {:.1e} of the limit-fitted answer on {} elements (the "
+        "smallest tolerance it can honour: its limits, w and reaction are known to no better)",
+        options.tolerance, summary.round_off_floor, elements);
     return true;
   };
 
   Level coarse, fine;
-  if (!solve_level(n, initial, coarse)) {
+  if (!solve_level(n, initial, coarse) || below_floor(n)) {
     result.answer = std::move(coarse.fitted);
     return result;
   }
@@ -143,6 +179,10 @@ ToleranceResult refine_to_tolerance(const fe::MemberModel& model, double load_fa
     }
     n *= 2;
     if (!solve_level(n, coarse.fitted.contact, fine)) break;
+    if (below_floor(n)) {
+      coarse = std::move(fine);
+      break;
+    }
     if (fine.fitted.limits.size() != coarse.fitted.limits.size()) {
       summary.termination = ToleranceTermination::fitted_failed;
       summary.message = fmt::format("the limit-fitted solves on {} and {} elements found {} and {} limits", n / 2, n,
@@ -155,12 +195,12 @@ ToleranceResult refine_to_tolerance(const fe::MemberModel& model, double load_fa
     level.w_change = now.w;
     level.reaction_change = now.reaction;
     double order_limits = -1.0, order_w = -1.0, order_r = -1.0;
-    // Newton leaves the limits uncertain by its last step: no estimate below that.
-    const double limit_floor = std::max(fine.fitted.summary.last_step, coarse.fitted.summary.last_step);
+    // No estimate below the round-off floor (Newton's last step among it).
+    const double floor = summary.round_off_floor;
     summary.estimated_limit_error =
-        has_limits ? std::max(estimate(now.limits, before.limits, order_limits), limit_floor) : 0.0;
-    summary.estimated_w_error = estimate(now.w, before.w, order_w);
-    summary.estimated_reaction_error = estimate(now.reaction, before.reaction, order_r);
+        has_limits ? std::max(estimate(now.limits, before.limits, order_limits), floor) : 0.0;
+    summary.estimated_w_error = std::max(estimate(now.w, before.w, order_w), floor);
+    summary.estimated_reaction_error = std::max(estimate(now.reaction, before.reaction, order_r), floor);
     summary.observed_order = has_limits ? order_limits : order_w;
     const double worst =
         std::max({summary.estimated_limit_error, summary.estimated_w_error, summary.estimated_reaction_error});
@@ -179,11 +219,13 @@ ToleranceResult refine_to_tolerance(const fe::MemberModel& model, double load_fa
     const double largest_before = std::max({before.limits, before.w, before.reaction});
     stalled = largest_before > 0.0 && largest > 0.5 * largest_before ? stalled + 1 : 0;
     if (stalled >= 2) {
+      // The changes that stopped decreasing are round-off's: the floor is at least the last.
+      summary.round_off_floor = std::max(summary.round_off_floor, largest);
       summary.termination = ToleranceTermination::round_off;
       summary.message = fmt::format(
           "the tolerance {:.1e} cannot be reached: the changes from doubling the mesh stopped decreasing at {} "
-          "elements (last change {:.1e}): round-off owns them",
-          options.tolerance, n, largest);
+          "elements (last change {:.1e}): round-off owns them; the round-off floor is {:.1e}",
+          options.tolerance, n, largest, summary.round_off_floor);
       break;
     }
     before = now;

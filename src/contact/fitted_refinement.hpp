@@ -17,11 +17,21 @@
 // changes, clamped to [1, 4] (4: Hermite cubics with every kink at a node converge at h^4, the
 // order fitted_limits_test.cpp asserts; a lower observed order gives a larger, safer estimate;
 // with only one change p = 1, e = d, the change itself). Below the round-off of the fitted
-// solve a change says nothing: the estimate is never below the limits' Newton round-off.
+// solve a change says nothing: no estimate is below the round-off floor.
+//
+// The round-off floor of a level: the least error its answer can claim whatever the mesh. w is
+// known to eps_w = max(16 eps, the solve's own error estimate) of max |w| (the mixed solve's
+// nodal error against the closed form stays at 1e-15 up to 1e6 elements: active_set_system.hpp),
+// so a limit, the zero of w, to eps_w max |w| / |w'(t_k)| (and to Newton's last step), and the
+// reaction k w to eps_w max |w| / max w on the contact elements. The largest of the three
+// (relative, like the estimates) is the smallest tolerance the sequence can honour; on the seed
+// beams 4e-14 (the reaction's: max |w| is 10 times the largest contact w), and the limit error
+// against the closed form falls monotonically to 3e-15 L (fitted_refinement_test.cpp).
 // The sequence stops when every estimate is <= tolerance (reached), when the next mesh would
-// exceed max_elements (cap_reached), when the changes stop decreasing while still above the
-// tolerance (round_off: doubling no longer helps), or when a fitted solve fails (fitted_failed,
-// its message: a topology that the finer mesh does not confirm).
+// exceed max_elements (cap_reached), when the tolerance is below the round-off floor or the
+// changes stop decreasing while still above the tolerance (round_off: doubling no longer
+// helps), or when a fitted solve fails (fitted_failed, its message: a topology that the finer
+// mesh does not confirm).
 
 #include <string>
 #include <string_view>
@@ -44,7 +54,7 @@ struct ToleranceOptions {
 enum class ToleranceTermination {
   reached,        // every estimate <= tolerance
   cap_reached,    // the next mesh would exceed max_elements; estimates above the tolerance
-  round_off,      // the changes stopped decreasing above the tolerance: round-off owns them
+  round_off,      // the tolerance is below the round-off floor, or the changes stopped decreasing above it
   fitted_failed,  // a limit-fitted solve failed (its termination in the message)
 };
 std::string_view to_string(ToleranceTermination);
@@ -64,6 +74,9 @@ struct ToleranceSummary {
   double estimated_w_error = -1.0;         // relative to max |w|
   double estimated_reaction_error = -1.0;  // relative to the largest reaction k w
   double observed_order = -1.0;            // of the limits (or of w when there are none)
+  // The finest level's round-off floor (above): the smallest tolerance it can honour; -1 until
+  // a level is solved.
+  double round_off_floor = -1.0;
   bool is_usable() const { return termination == ToleranceTermination::reached; }
 };
 

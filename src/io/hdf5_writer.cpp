@@ -140,6 +140,7 @@ void write_report(hid_t file, const SolveReport& r) {
   }
   if (r.tolerance >= 0) {
     write_number_attribute(solver, "tolerance", r.tolerance);
+    write_number_attribute(solver, "round_off_floor", r.round_off_floor);
     if (r.elements >= 0) {
       write_number_attribute(solver, "estimated_limit_error", r.estimated_limit_error);
       write_number_attribute(solver, "estimated_w_error", r.estimated_w_error);

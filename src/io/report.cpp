@@ -238,6 +238,7 @@ nlohmann::json to_json(const SolveReport& r) {
   }
   if (r.tolerance >= 0) {
     j["tolerance"] = r.tolerance;
+    j["round_off_floor"] = r.round_off_floor >= 0 ? nlohmann::json(r.round_off_floor) : nullptr;
     if (r.elements >= 0) {  // FE: the limit-fitted sequence's estimates
       j["estimated_limit_error"] = r.estimated_limit_error >= 0 ? nlohmann::json(r.estimated_limit_error) : nullptr;
       j["estimated_w_error"] = r.estimated_w_error >= 0 ? nlohmann::json(r.estimated_w_error) : nullptr;
@@ -368,9 +369,9 @@ std::string text_summary(const SolveReport& r) {
     for (int n : r.refinement_elements) meshes += fmt::format("{}{}", meshes.empty() ? "" : ", ", n);
     out += fmt::format(
         "  accuracy      tolerance {:.1e}: estimated errors: limits {:.1e}{}, w {:.1e} of max |w|, reaction {:.1e} of "
-        "its largest (limit-fitted meshes {}; observed order {:.2f})\n",
+        "its largest (limit-fitted meshes {}; observed order {:.2f}); round-off floor {:.1e}\n",
         r.tolerance, r.estimated_limit_error, unit, r.estimated_w_error, r.estimated_reaction_error, meshes,
-        r.observed_order);
+        r.observed_order, r.round_off_floor);
   }
   if (r.certificate) out += certificate_lines(r);
   if (!r.gauge_note.empty()) out += "  note          " + r.gauge_note + "\n";

@@ -61,6 +61,9 @@ struct SolveReport {
   double estimated_w_error = -1.0;
   double estimated_reaction_error = -1.0;
   double observed_order = -1.0;
+  // The smallest tolerance the answer can honour (its round-off floor, relative like the
+  // tolerance; FE: contact/fitted_refinement.hpp; Ritz: its measured round-off).
+  double round_off_floor = -1.0;
   std::vector<int> refinement_elements;
   bool limit_fitted = false;  // FE: the answer's contact limits are mesh nodes (a limit-fitted solve)
   // Ritz (-1 / empty otherwise)

@@ -496,3 +496,54 @@ TEST_CASE("cli: a tolerance the Ritz modes cannot reach is refused, exit 3, with
   CHECK(j["termination"] == "tolerance_not_reached");
   CHECK(j["message"].get<std::string>().find("16 modes") != std::string::npos);
 }
+
+TEST_CASE("cli: tolerances below 1e-10 are reached on the seed beam, and the round-off floor is stated",
+          "[app][tolerance]") {
+  // The certificate measures the round-off of the mixed solve in the mixed form (~1e-16 of max
+  // |w|; measured in the stiffness form it read eps N^4, 3.5e-10 at 2048 elements, and refused
+  // 1e-11). The floor is the reaction's: 16 eps times max |w| over the largest contact w (10
+  // times smaller), 4e-14, far below 1e-11; the exact limit (closed form, 12 digits) is within it.
+  const double exact_limit = 0.802388873075;
+  const Run r = run({"solve", scene_path("seed_beam_end_moments"), "--tolerance", "1e-11", "--json"});
+  CAPTURE(r.err);
+  REQUIRE(r.status == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  CHECK(j["certificate"]["passed"].get<bool>());
+  const double floor = j["round_off_floor"].get<double>();
+  CHECK(floor > 0);
+  CHECK(floor < 1e-11);
+  CHECK(std::abs(j["contact_regions"][0][0].get<double>() - exact_limit) <= 1e-11);
+  const Run text = run({"solve", scene_path("seed_beam_end_moments"), "--tolerance", "1e-11"});
+  CHECK(text.status == 0);
+  CHECK(text.out.find("round-off floor") != std::string::npos);
+  // The pinned arch's changes stop decreasing near 1e-11 (at 16384 elements): 1e-13 is below its
+  // floor, refused with the floor in the message and the JSON.
+  const Run arch = run({"solve", scene_path("seed_arch_pinned"), "--tolerance", "1e-13", "--json"});
+  CHECK(arch.status == 3);
+  const auto a = nlohmann::json::parse(arch.out);
+  CHECK(a["termination"] == "tolerance_not_reached");
+  const double arch_floor = a["round_off_floor"].get<double>();
+  CHECK(arch_floor > 1e-13);
+  CHECK(a["message"].get<std::string>().find(fmt::format("the round-off floor is {:.1e}", arch_floor)) !=
+        std::string::npos);
+}
+
+TEST_CASE("cli: a tolerance below the Ritz model's round-off is refused as such, with what it can honour",
+          "[app][tolerance]") {
+  // 1e-8 needs 128 modes on the seed beam, whose round-off (eps times the Jacobian's condition)
+  // is 1.5e-5 there: not a failed answer but a tolerance the Ritz model cannot honour.
+  const Run r =
+      run({"solve", scene_path("seed_beam_end_moments"), "--method", "ritz", "--tolerance", "1e-8", "--json"});
+  CHECK(r.status == 3);
+  const auto j = nlohmann::json::parse(r.out);
+  CHECK(j["termination"] == "tolerance_not_reached");
+  const std::string message = j["message"].get<std::string>();
+  CAPTURE(message);
+  CHECK(message.find("below the Ritz model's round-off") != std::string::npos);
+  CHECK(message.find(fmt::format("with {} modes its round-off is", j["modes"].get<int>() / 2)) != std::string::npos);
+  // The floor: the smaller round-off of the two mode counts, above the tolerance; the certificate
+  // is attached, failing on round-off.
+  CHECK(j["round_off_floor"].get<double>() > 1e-8);
+  CHECK(j["round_off_floor"].get<double>() < j["certificate"]["round_off_estimate"].get<double>());
+  CHECK_FALSE(j["certificate"]["passed"].get<bool>());
+}

@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "closed_form/beam_on_foundation.hpp"
 #include "closed_form/member_problem.hpp"
@@ -153,5 +154,58 @@ TEST_CASE("tolerance options are validated", "[contact][tolerance]") {
   for (double bad : {0.0, -1e-8, 1e-14, 0.2, std::nan("")}) {
     options.tolerance = bad;
     CHECK_THROWS_AS(options.validate(), std::invalid_argument);
+  }
+}
+
+TEST_CASE("the seed beams' limit error falls monotonically with the mesh to 1e-10 L and below",
+          "[contact][tolerance]") {
+  // Limit-fitted solves on 10, 20, ..., 20480 elements, each started from the one before, against
+  // the closed form. The limit error falls like h^4 (fitted_limits_test.cpp) from ~1e-5 L at 10
+  // elements; doubling divides it by ~16 while it is above the limits' round-off. That floor,
+  // estimated: Newton stops when its step is below 1e-14 L (FittedOptions::step_tolerance), and a
+  // limit is known to |dw| / |w'(t)| with dw the round-off of w there (a few eps of max |w|, the
+  // mixed solve's: active_set_system.hpp), plus the closed form's own error (its Newton on the
+  // limits to a residual of ~1e-15 of max |w|, the same ratio). The floor asserted is the larger
+  // of 1e-14 L and 64 eps max |w| / |w'(t)|: below 1e-10 L by four orders, so the error must go
+  // under 1e-10 L while still halving, and from there stay under 1e-10 L.
+  for (const char* name : {"seed_beam_end_moments", "seed_beam_end_moments_central_load"}) {
+    CAPTURE(name);
+    const fe::MemberModel model = fe::make_member_model(test::shipped_scene(name));
+    const closed_form::TensionlessResult exact = exact_answer(model);
+    REQUIRE_FALSE(exact.limits.empty());
+    double w_max = 0.0, slope = INFINITY;
+    for (int i = 0; i <= 10000; ++i)
+      w_max = std::max(w_max, std::abs(exact.solution.deflection(model.length() * i / 10000.0)));
+    for (double t : exact.limits) slope = std::min(slope, std::abs(exact.solution.derivative(t, 1)));
+    const double floor = std::max(1e-14, 64 * std::numeric_limits<double>::epsilon() * w_max / slope / model.length());
+    std::printf("%s: limit round-off floor (estimated) %.1e L\n", name, floor);
+    std::vector<contact::ContactInterval> start = fast_intervals(model, 200);
+    double previous = INFINITY;
+    bool below = false;
+    for (int n = 10; n <= 20480; n *= 2) {
+      CAPTURE(n);
+      contact::FittedOptions options;
+      options.elements = n;
+      const contact::FittedResult answer = contact::solve_fitted_limits(model, 1.0, start, options);
+      REQUIRE(answer.summary.is_usable());
+      REQUIRE(answer.limits.size() == exact.limits.size());
+      double error = 0.0;
+      for (std::size_t k = 0; k < exact.limits.size(); ++k)
+        error = std::max(error, std::abs(answer.limits[k] - exact.limits[k]) / model.length());
+      std::printf("%s: %6d elements, limit error %.2e L (Newton's last step %.1e L)\n", name, n, error,
+                  answer.summary.last_step);
+      if (previous > floor) {
+        // Above the floor the error falls; asymptotically by 16 a doubling, here at least by 4
+        // (the coarsest meshes are pre-asymptotic: beta h up to 2.5 at 10 elements).
+        CHECK(error < std::max(previous / 4, floor));
+      } else {
+        CHECK(error <= floor);  // at the floor it stays there
+      }
+      below |= error <= 1e-10;
+      if (below) CHECK(error <= 1e-10);
+      previous = error;
+      start = answer.contact;
+    }
+    CHECK(below);
   }
 }
