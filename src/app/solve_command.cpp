@@ -420,6 +420,7 @@ io::SolveReport ritz_report(const scene::Scene& scene, const SolveRequest& reque
   if (tolerance) {
     options.modes = 0;
     options.mode_tolerance = *tolerance * model.length();
+    options.field_tolerance = *tolerance;
   }
   ritz::RitzSolution solution;
   try {
@@ -437,6 +438,8 @@ io::SolveReport ritz_report(const scene::Scene& scene, const SolveRequest& reque
   report.method_reason = starting_point.how;
   if (tolerance) {
     report.tolerance = *tolerance;
+    report.estimated_w_error = solution.summary.estimated_w_error;
+    report.estimated_reaction_error = solution.summary.estimated_reaction_error;
     if (!solution.summary.is_usable() && solution.summary.termination == ritz::RitzTermination::modes_not_converged) {
       report.termination = "tolerance_not_reached";
       report.message = fmt::format(

@@ -255,6 +255,11 @@ nlohmann::json to_json(const SolveReport& r) {
     j["amplitudes"] = r.amplitudes;
     j["residual_history"] = r.residual_history;
     if (r.estimated_limit_error >= 0) j["estimated_limit_error"] = r.estimated_limit_error;
+    if (r.tolerance >= 0) {  // a tolerance settles w and the reaction too
+      j["estimated_w_error"] = r.estimated_w_error >= 0 ? nlohmann::json(r.estimated_w_error) : nullptr;
+      j["estimated_reaction_error"] =
+          r.estimated_reaction_error >= 0 ? nlohmann::json(r.estimated_reaction_error) : nullptr;
+    }
   }
   if (r.certificate) {
     j["support_reactions"] = support_reactions_json(r);
@@ -362,8 +367,11 @@ std::string text_summary(const SolveReport& r) {
   out += fmt::format("  max reaction  {:.6e} (force per unit length)\n", r.max_reaction);
   out += fmt::format("  solver        {}\n", solver_line(r));
   if (r.estimated_limit_error >= 0 && r.modes >= 0)
-    out += fmt::format("  modes         limits settled to {:.1e}{} (change from the previous N)\n",
-                       r.estimated_limit_error, unit);
+    out += fmt::format("  modes         limits settled to {:.1e}{} (change from the previous N){}\n",
+                       r.estimated_limit_error, unit,
+                       r.estimated_w_error >= 0 ? fmt::format(", w to {:.1e} of max |w|, reaction to {:.1e}",
+                                                              r.estimated_w_error, r.estimated_reaction_error)
+                                                : std::string());
   if (r.tolerance >= 0 && r.elements >= 0 && r.estimated_limit_error >= 0) {
     std::string meshes;
     for (int n : r.refinement_elements) meshes += fmt::format("{}{}", meshes.empty() ? "" : ", ", n);

@@ -31,6 +31,7 @@ void RitzOptions::validate() const {
   if (modes < 0) throw std::invalid_argument("RitzOptions::modes must be >= 0 (0: automatic)");
   if (max_modes < 1) throw std::invalid_argument("RitzOptions::max_modes must be >= 1");
   if (!(mode_tolerance > 0)) throw std::invalid_argument("RitzOptions::mode_tolerance must be > 0");
+  if (!(field_tolerance >= 0)) throw std::invalid_argument("RitzOptions::field_tolerance must be >= 0");
   if (!std::isfinite(load_factor)) throw std::invalid_argument("RitzOptions::load_factor must be finite");
   if (!(inequality_tolerance > 0)) throw std::invalid_argument("RitzOptions::inequality_tolerance must be > 0");
 }
@@ -150,6 +151,9 @@ RitzSolution solve_ritz(const fe::MemberModel& member, const Topology& topology,
 
   VectorXd limits = Eigen::Map<const VectorXd>(initial_limits.data(), topology.limits);
   std::optional<VectorXd> previous_limits;
+  // w and the reaction of each converged N on a fixed grid, for their change from the previous N.
+  constexpr int field_intervals = 2048;
+  VectorXd w_now(field_intervals + 1), r_now(field_intervals + 1), w_before, r_before;
   for (int modes : sequence) {
     RitzModel model(member, modes, topology, options.enrichment);
     Attempt attempt = solve_once(model, limits, options);
@@ -173,17 +177,40 @@ RitzSolution solve_ritz(const fe::MemberModel& member, const Topology& topology,
     limits = attempt.x.tail(topology.limits);
     summary.mode_history.push_back({modes, {limits.data(), limits.data() + limits.size()}, attempt.newton.iterations});
     if (options.modes > 0) break;
+    const bool fields = options.field_tolerance > 0;
+    if (fields)
+      for (int i = 0; i <= field_intervals; ++i) {
+        const double s = member.s_begin + member.length() * i / field_intervals;
+        w_now[i] = solution.model->w(attempt.x, s);
+        r_now[i] = solution.model->reaction(attempt.x, s);
+      }
+    bool settled = false;
     if (previous_limits) {
       summary.estimated_limit_error =
           topology.limits == 0 ? 0.0 : (limits - *previous_limits).lpNorm<Eigen::Infinity>();
-      if (summary.estimated_limit_error < options.mode_tolerance) break;
+      settled = summary.estimated_limit_error < options.mode_tolerance;
+      if (fields) {
+        const double w_scale = w_now.cwiseAbs().maxCoeff(), r_scale = r_now.cwiseAbs().maxCoeff();
+        summary.estimated_w_error = w_scale > 0 ? (w_now - w_before).cwiseAbs().maxCoeff() / w_scale : 0.0;
+        summary.estimated_reaction_error = r_scale > 0 ? (r_now - r_before).cwiseAbs().maxCoeff() / r_scale : 0.0;
+        settled = settled && summary.estimated_w_error < options.field_tolerance &&
+                  summary.estimated_reaction_error < options.field_tolerance;
+      }
+      if (settled) break;
     }
     previous_limits = limits;
+    if (fields) {
+      w_before = w_now;
+      r_before = r_now;
+    }
     if (modes == sequence.back()) {
       summary.termination = RitzTermination::modes_not_converged;
       const int previous_modes = summary.mode_history.size() > 1 ? summary.mode_history.end()[-2].modes : modes;
       summary.message = fmt::format("the contact limits still moved by {:.1e} between {} and {} modes",
                                     summary.estimated_limit_error, previous_modes, modes);
+      if (fields)
+        summary.message += fmt::format(", w by {:.1e} of max |w| and the reaction by {:.1e} of its largest",
+                                       summary.estimated_w_error, summary.estimated_reaction_error);
     }
   }
   summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -24,7 +24,11 @@ struct RitzOptions {
   int modes = 0;                 // N; 0 means automatic
   int max_modes = 256;           // automatic: the largest N tried
   double mode_tolerance = 1e-5;  // automatic: limits converged when they move less than this (s)
-  double load_factor = 1.0;      // lambda
+  // Automatic, when > 0: w and the reaction k max(w, 0) must also have settled: their largest
+  // change from the previous N, relative to max |w| and to the largest reaction, below this.
+  // ([solve] tolerance sets it: a tolerance promises deflections and reactions too.)
+  double field_tolerance = 0.0;
+  double load_factor = 1.0;  // lambda
   // Contact inequalities on a fine grid after convergence: w >= -tol in contact pieces, w <= tol
   // in lift-off pieces, tol = inequality_tolerance * max |w|.
   double inequality_tolerance = 1e-9;
@@ -57,7 +61,11 @@ struct RitzSummary {
   int newton_iterations = -1;            // of the final solve
   std::vector<double> residual_history;  // of the final solve (scaled max-norm per iterate)
   double estimated_limit_error = -1;     // automatic modes: last change of the limits (s); -1 otherwise
-  double max_violation = -1;             // worst wrong-sign |w| / max|w| on the check grid
+  // Automatic modes: last change of w (relative to max |w|) and of the reaction (to its largest)
+  // from the previous N, on a grid of 2048 intervals; -1 otherwise.
+  double estimated_w_error = -1;
+  double estimated_reaction_error = -1;
+  double max_violation = -1;  // worst wrong-sign |w| / max|w| on the check grid
   std::vector<ModeStep> mode_history;
   double time_s = -1;
   bool is_usable() const { return termination == RitzTermination::converged; }
