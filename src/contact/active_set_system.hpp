@@ -122,6 +122,7 @@ class ActiveSetSystem {
   std::vector<int> block_of_slot_;   // 0 displacement, 1 stress, 2 reaction
   fe::SparseMatrix full_;            // the mixed matrix as assembled, every node in contact, in slots
   std::vector<double> masked_;       // its values for the current set (lifted-off couplings zeroed)
+  bool symmetric_ = false;           // full_ equals its transpose exactly (by construction it does)
   Eigen::VectorXd scaling_;          // S: S A S has entries of at most 1 in every row
   Eigen::MatrixXd coupled_motions_;  // C Q: the free rigid motions Q seen by every reaction node
   linalg::BandedLu lu_;
