@@ -27,7 +27,16 @@ std::vector<int> interior_dofs(const fe::Discretisation& d, int element) {
 
 }  // namespace
 
-ActiveSetSystem::ActiveSetSystem(const fe::Discretisation& discretisation) : d_(discretisation) {
+ActiveSetSystem::ActiveSetSystem(const fe::Discretisation& discretisation) : d_(discretisation) { assemble(); }
+
+void ActiveSetSystem::reassemble() {
+  in_contact_.clear();
+  factorised_ = false;
+  solved_ = false;
+  assemble();
+}
+
+void ActiveSetSystem::assemble() {
   const int n = d_.equations, ns = d_.stresses(), m = d_.reactions(), size = n + ns + m;
   const int elements = d_.mesh.elements(), spe = d_.stresses_per_element;
   if (ns != spe * elements || d_.stress_coupling.rows() != ns || d_.stress_coupling.cols() != n)

@@ -69,6 +69,11 @@ class ActiveSetSystem {
  public:
   explicit ActiveSetSystem(const fe::Discretisation& discretisation);
 
+  // The discretisation given to the constructor has changed (the same object, discretised again,
+  // e.g. on moved nodes): assembles it again, reusing this object's storage (a limit-fitted
+  // Newton step allocates nothing here when the sizes hold). Forgets the factorisation.
+  void reassemble();
+
   // Factorises for this contact set (one flag per reaction node). Returns false when the
   // system is singular: the contact set leaves a rigid motion free.
   // The set already factorised is not factorised again.
@@ -104,6 +109,7 @@ class ActiveSetSystem {
   int bandwidth() const { return lu_.lower(); }
 
  private:
+  void assemble();                 // everything that depends on d_ alone
   bool in_system(int slot) const;  // a displacement, a stress, or the reaction of a node in contact
   bool holds_rigid_motions(const std::vector<bool>& in_contact) const;
   void solve_in_place(Eigen::VectorXd& b) const;  // b <- A^-1 b, by S (S A S)^-1 S
