@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -15,14 +16,19 @@ namespace {
 constexpr double eps = std::numeric_limits<double>::epsilon();
 enum Block { displacement = 0, stress = 1, reaction = 2 };
 
-// The dofs of node j in the order they are numbered, and the element-interior dofs of element j.
-std::vector<int> node_dofs(const fe::Discretisation& d, int node) {
-  if (d.kind == fe::StructureKind::beam) return {d.deflection_dof(node), d.slope_dof(node)};
-  return {d.tangential_dof(node), d.deflection_dof(node), d.slope_dof(node)};
+// The dofs of node j in the order they are numbered, and the element-interior dofs of element j
+// (fixed-size: no allocation per node).
+struct Dofs {
+  std::array<int, 3> dof{};
+  int count = 0;
+};
+Dofs node_dofs(const fe::Discretisation& d, int node) {
+  if (d.kind == fe::StructureKind::beam) return {{d.deflection_dof(node), d.slope_dof(node), 0}, 2};
+  return {{d.tangential_dof(node), d.deflection_dof(node), d.slope_dof(node)}, 3};
 }
-std::vector<int> interior_dofs(const fe::Discretisation& d, int element) {
+Dofs interior_dofs(const fe::Discretisation& d, int element) {
   if (d.kind == fe::StructureKind::beam) return {};
-  return {6 * element + 3, 6 * element + 4, 6 * element + 5};
+  return {{6 * element + 3, 6 * element + 4, 6 * element + 5}, 3};
 }
 
 }  // namespace
@@ -51,9 +57,9 @@ void ActiveSetSystem::assemble() {
   reaction_of_slot_.assign(size, -1);
   block_of_slot_.assign(size, displacement);
   int next = 0;
-  auto place_dofs = [&](const std::vector<int>& dofs) {
-    for (int dof : dofs)
-      if (d_.equation_of_dof[dof] >= 0) slot_[d_.equation_of_dof[dof]] = next++;
+  auto place_dofs = [&](const Dofs& dofs) {
+    for (int k = 0; k < dofs.count; ++k)
+      if (d_.equation_of_dof[dofs.dof[k]] >= 0) slot_[d_.equation_of_dof[dofs.dof[k]]] = next++;
   };
   for (int node = 0; node <= elements; ++node) {
     place_dofs(node_dofs(d_, node));

@@ -6,9 +6,9 @@
 // Why not LAPACK: at the bands of a member (kl = ku = 7) dgbtf2 makes four BLAS calls per column
 // (idamax, dswap, dscal, dger) on vectors of at most 14 entries, and dgbtrs two more per column;
 // with the reference BLAS Debian installs by default the call overhead is most of the time. The
-// loops below factorise and solve a 160-element beam's system (673 unknowns) ~4x faster than
-// dgbtrf / dgbtrs with libblas3, and are as fast at 1e6 elements (measured with
-// verification/bench liftoff_bench --sections targets and liftoff_accuracy_bench ratio).
+// loops below factorise and solve a 160-element beam's system (673 unknowns) 1.3-2x faster than
+// dgbtrf / dgbtrs with libblas3 (the mixed systems' zeros inside the band skip whole updates),
+// and as fast at 1e6 elements, where memory traffic sets the pace (measured in-process).
 //
 // Why partial pivoting: the mixed (Hellinger-Reissner) systems of contact::ActiveSetSystem have
 // a zero block (no K) and are indefinite, so an LDL^T without pivoting would have to eliminate
