@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 packages=(
   cmake make g++ pkg-config        # toolchain
   libeigen3-dev                    # dense and sparse linear algebra
-  liblapack-dev                    # banded LU of the mixed contact systems (src/linalg)
+  liblapack-dev                    # reference of the banded LU (tests/linalg)
   libsundials-dev                  # KINSOL (Newton solver of the Ritz model)
   libhdf5-dev hdf5-tools           # result files; h5dump
   catch2                           # unit tests

@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -15,19 +16,33 @@ namespace {
 constexpr double eps = std::numeric_limits<double>::epsilon();
 enum Block { displacement = 0, stress = 1, reaction = 2 };
 
-// The dofs of node j in the order they are numbered, and the element-interior dofs of element j.
-std::vector<int> node_dofs(const fe::Discretisation& d, int node) {
-  if (d.kind == fe::StructureKind::beam) return {d.deflection_dof(node), d.slope_dof(node)};
-  return {d.tangential_dof(node), d.deflection_dof(node), d.slope_dof(node)};
+// The dofs of node j in the order they are numbered, and the element-interior dofs of element j
+// (fixed-size: no allocation per node).
+struct Dofs {
+  std::array<int, 3> dof{};
+  int count = 0;
+};
+Dofs node_dofs(const fe::Discretisation& d, int node) {
+  if (d.kind == fe::StructureKind::beam) return {{d.deflection_dof(node), d.slope_dof(node), 0}, 2};
+  return {{d.tangential_dof(node), d.deflection_dof(node), d.slope_dof(node)}, 3};
 }
-std::vector<int> interior_dofs(const fe::Discretisation& d, int element) {
+Dofs interior_dofs(const fe::Discretisation& d, int element) {
   if (d.kind == fe::StructureKind::beam) return {};
-  return {6 * element + 3, 6 * element + 4, 6 * element + 5};
+  return {{6 * element + 3, 6 * element + 4, 6 * element + 5}, 3};
 }
 
 }  // namespace
 
-ActiveSetSystem::ActiveSetSystem(const fe::Discretisation& discretisation) : d_(discretisation) {
+ActiveSetSystem::ActiveSetSystem(const fe::Discretisation& discretisation) : d_(discretisation) { assemble(); }
+
+void ActiveSetSystem::reassemble() {
+  in_contact_.clear();
+  factorised_ = false;
+  solved_ = false;
+  assemble();
+}
+
+void ActiveSetSystem::assemble() {
   const int n = d_.equations, ns = d_.stresses(), m = d_.reactions(), size = n + ns + m;
   const int elements = d_.mesh.elements(), spe = d_.stresses_per_element;
   if (ns != spe * elements || d_.stress_coupling.rows() != ns || d_.stress_coupling.cols() != n)
@@ -42,9 +57,9 @@ ActiveSetSystem::ActiveSetSystem(const fe::Discretisation& discretisation) : d_(
   reaction_of_slot_.assign(size, -1);
   block_of_slot_.assign(size, displacement);
   int next = 0;
-  auto place_dofs = [&](const std::vector<int>& dofs) {
-    for (int dof : dofs)
-      if (d_.equation_of_dof[dof] >= 0) slot_[d_.equation_of_dof[dof]] = next++;
+  auto place_dofs = [&](const Dofs& dofs) {
+    for (int k = 0; k < dofs.count; ++k)
+      if (d_.equation_of_dof[dofs.dof[k]] >= 0) slot_[d_.equation_of_dof[dofs.dof[k]]] = next++;
   };
   for (int node = 0; node <= elements; ++node) {
     place_dofs(node_dofs(d_, node));
@@ -112,6 +127,13 @@ ActiveSetSystem::ActiveSetSystem(const fe::Discretisation& discretisation) : d_(
         std::swap(values[q - 1], values[q]);
       }
   }
+
+  // The mixed matrix is symmetric when T is (the other blocks enter in pairs above): checked
+  // exactly, since compute_defect then reads rows as columns.
+  symmetric_ = true;
+  for (int k = 0; k < d_.flexibility.outerSize() && symmetric_; ++k)
+    for (fe::SparseMatrix::InnerIterator it(d_.flexibility, k); it; ++it)
+      if (d_.flexibility.coeff(it.col(), it.row()) != it.value()) symmetric_ = false;
 
   // Symmetric equilibration: S A S has a largest entry of 1 in every row (A is symmetric).
   scaling_ = VectorXd::Zero(size);
@@ -194,14 +216,30 @@ void ActiveSetSystem::solve_in_place(VectorXd& b) const {
 
 void ActiveSetSystem::compute_defect(const VectorXd& rhs, const VectorXd& x) const {
   const Eigen::Index size = full_.rows();
-  for (Eigen::Index i = 0; i < size; ++i) {
-    accumulator_[i] = rhs[i];
-    magnitude_[i] = std::abs(rhs[i]);
-  }
   // The matrix of the current set: entries of lifted-off reactions masked to zero.
   const double* values = masked_.data();
   const int* rows = full_.innerIndexPtr();
   const int* starts = full_.outerIndexPtr();
+  if (symmetric_) {
+    // Column i is row i: each row's sum in one extended-precision register, no scattered
+    // long-double stores (those were most of the defect's time).
+    for (int i = 0; i < size; ++i) {
+      long double sum = rhs[i];
+      double magnitude = std::abs(rhs[i]);
+      for (int p = starts[i]; p < starts[i + 1]; ++p) {
+        const double xr = x[rows[p]];
+        sum -= static_cast<long double>(values[p]) * static_cast<long double>(xr);
+        magnitude += std::abs(values[p]) * std::abs(xr);
+      }
+      defect_[i] = static_cast<double>(sum);
+      magnitude_[i] = magnitude;
+    }
+    return;
+  }
+  for (Eigen::Index i = 0; i < size; ++i) {
+    accumulator_[i] = rhs[i];
+    magnitude_[i] = std::abs(rhs[i]);
+  }
   for (int col = 0; col < size; ++col) {
     const long double xc = x[col];
     const double xd = std::abs(x[col]);

@@ -69,6 +69,11 @@ class ActiveSetSystem {
  public:
   explicit ActiveSetSystem(const fe::Discretisation& discretisation);
 
+  // The discretisation given to the constructor has changed (the same object, discretised again,
+  // e.g. on moved nodes): assembles it again, reusing this object's storage (a limit-fitted
+  // Newton step allocates nothing here when the sizes hold). Forgets the factorisation.
+  void reassemble();
+
   // Factorises for this contact set (one flag per reaction node). Returns false when the
   // system is singular: the contact set leaves a rigid motion free.
   // The set already factorised is not factorised again.
@@ -104,6 +109,7 @@ class ActiveSetSystem {
   int bandwidth() const { return lu_.lower(); }
 
  private:
+  void assemble();                 // everything that depends on d_ alone
   bool in_system(int slot) const;  // a displacement, a stress, or the reaction of a node in contact
   bool holds_rigid_motions(const std::vector<bool>& in_contact) const;
   void solve_in_place(Eigen::VectorXd& b) const;  // b <- A^-1 b, by S (S A S)^-1 S
@@ -122,6 +128,7 @@ class ActiveSetSystem {
   std::vector<int> block_of_slot_;   // 0 displacement, 1 stress, 2 reaction
   fe::SparseMatrix full_;            // the mixed matrix as assembled, every node in contact, in slots
   std::vector<double> masked_;       // its values for the current set (lifted-off couplings zeroed)
+  bool symmetric_ = false;           // full_ equals its transpose exactly (by construction it does)
   Eigen::VectorXd scaling_;          // S: S A S has entries of at most 1 in every row
   Eigen::MatrixXd coupled_motions_;  // C Q: the free rigid motions Q seen by every reaction node
   linalg::BandedLu lu_;

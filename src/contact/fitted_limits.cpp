@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include "fe/mesh.hpp"
@@ -157,6 +158,7 @@ FittedResult solve_fitted_limits(const fe::MemberModel& model, double load_facto
   std::vector<int> counts;
   double previous_step = INFINITY;
   summary.termination = FittedTermination::no_convergence;
+  std::optional<ActiveSetSystem> system;
 
   for (int iteration = 0;; ++iteration) {
     // Mesh: the breakpoints and the limits, merged within round-off; the element counts are
@@ -188,13 +190,23 @@ FittedResult solve_fitted_limits(const fe::MemberModel& model, double load_facto
     }
     result.discretisation = fe::discretise(model, std::move(mesh), std::move(foundation));
     const fe::Discretisation& d = result.discretisation;
-    ActiveSetSystem system(d);
-    if (!system.factorise(std::vector<bool>(d.reactions(), true))) {
+    // One system over the iterations, on result.discretisation as it changes: its storage is
+    // reused (allocating and freeing it per step cost more than the step on small meshes).
+    if (system)
+      system->reassemble();
+    else
+      system.emplace(d);
+    if (!system->factorise(std::vector<bool>(d.reactions(), true))) {
       summary.termination = FittedTermination::singular_system;
       summary.message = "the contact regions leave a rigid motion free (singular system)";
       break;
     }
-    result.state = system.solve(d.load(load_factor));
+    // Refined only as far as the Newton step needs (1e-13 of (u, r): one defect on small meshes,
+    // where the first solve is at round-off already); the answer is refined to round-off below.
+    RefinementOptions refinement;
+    refinement.target_error = 1e-13;
+    refinement.residual = false;
+    result.state = system->solve(d.load(load_factor), refinement);
     const VectorXd all = d.expand(result.state.displacement);
     double w_scale = 0.0;
     for (int node = 0; node <= d.mesh.elements(); ++node)
@@ -226,6 +238,7 @@ FittedResult solve_fitted_limits(const fe::MemberModel& model, double load_facto
     // below 1e-10 of the length).
     if (largest <= options.step_tolerance * length || (largest <= 1e-10 * length && largest > 0.5 * previous_step)) {
       summary.termination = FittedTermination::solved;
+      result.state = system->refine_last_solve();  // to round-off, with its residual
       break;
     }
     if (iteration >= options.max_iterations) {
