@@ -283,6 +283,9 @@ FittedResult solve_fitted_limits(const fe::MemberModel& model, double load_facto
       w_scale = std::max(w_scale, std::abs(w_at(d, all, e, static_cast<double>(j) / options.samples_per_element)));
   double worst_w = 0.0, worst_r = 0.0;
   for (int e = 0; e < d.mesh.elements(); ++e) {
+    // Beyond the foundation's extent nothing constrains w (an overhang, a void).
+    const double middle = d.mesh.nodes[e] + 0.5 * d.mesh.element_size(e);
+    if (middle < model.foundation_begin || middle > model.foundation_end) continue;
     const double sign = d.foundation_on_element[e] ? 1.0 : -1.0;  // w >= 0 in contact, <= 0 off it
     for (int j = 1; j < options.samples_per_element; ++j)
       worst_w = std::max(worst_w, -sign * w_at(d, all, e, static_cast<double>(j) / options.samples_per_element));
