@@ -137,7 +137,8 @@ Params params_of(const BeamProblem& pr) {
   p.L = pr.length;
   p.EI = pr.bending_stiffness;
   p.beta = pr.beta();
-  p.K = 4.0 * p.EI * std::pow(p.beta, 4);
+  p.K = pr.foundation_segments.empty() ? pr.foundation_modulus : 0.0;  // K_ref, as in beta()
+  for (const auto& f : pr.foundation_segments) p.K = std::max(p.K, f.modulus);
   p.lambda = (p.K > 0.0) ? std::min(p.L, 1.0 / p.beta) : p.L;
   return p;
 }
