@@ -883,3 +883,34 @@ TEST_CASE("ground: input checks", "[closed_form]") {
   bad.tension_modulus = -1.0;
   rejects(bad);
 }
+
+TEST_CASE("ground: limit Jacobian with a gap, two soils and K_t against finite differences", "[closed_form]") {
+  // d(w - g)(t_k)/dt_j = delta_kj (w' - g')(t_k) + s_j (K - K_t)(w - g)(t_j) G(t_k, t_j); central
+  // differences with h = 1e-6 carry an O(h^2) truncation and O(1e-16 / h) round-off: 1e-7 of J.
+  cf::BeamProblem pr = free_free_central(7.0, 1.0);
+  pr.forces.push_back({5.1, 0.4});
+  pr.distributed_loads = {{0.0, 7.0, 0.05, 0.12}};
+  pr.foundation_segments = {{0.0, 5.0, 4.0}, {5.0, 7.0, 9.0}};
+  pr.gap = {{0.0, 3.0, 7.0}, {0.02, -0.01, 0.03}};
+  pr.tension_modulus = 0.5;
+  const std::vector<cf::Interval> regions = {{1.3, 4.6}, {5.5, 6.4}};
+  const auto eq = cf::limit_equations(pr, regions);
+  REQUIRE(eq.limits.size() == 4);
+  const double h = 1e-6;
+  double worst = 0.0, scale = 0.0;
+  for (std::size_t j = 0; j < 4; ++j) {
+    auto shifted = [&](double d) {
+      std::vector<double> t = eq.limits;
+      t[j] += d;
+      return cf::limit_equations(pr, {{t[0], t[1]}, {t[2], t[3]}}).residuals;
+    };
+    const auto fp = shifted(h), fm = shifted(-h);
+    for (std::size_t k = 0; k < 4; ++k) {
+      const double fd = (fp[k] - fm[k]) / (2 * h);
+      worst = std::max(worst, std::abs(fd - eq.jacobian[k][j]));
+      scale = std::max(scale, std::abs(eq.jacobian[k][j]));
+    }
+  }
+  std::printf("[ground limit Jacobian] max |J - J_fd| / max|J| = %.2e\n", worst / scale);
+  CHECK(worst < 1e-7 * scale);
+}
