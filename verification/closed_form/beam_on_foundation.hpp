@@ -47,6 +47,7 @@
 //   * distributed loads q(x), linear between from and to (trapezoidal, triangular).
 //   * bilinear foundation: where the foundation exists but the beam has lifted off (w < g) the
 //     reaction is K_t (w - g) (tension_modulus K_t, default 0: tensionless).
+// The foundation term of Pi becomes int K/2 max(w - g, 0)^2 + K_t/2 min(w - g, 0)^2 dx.
 // On a segment with modulus k (K_i in contact, K_t or 0 off it, 0 over a void) the equation is
 //   EI w'''' + k w = q(x) + k g(x),   q and g linear on the segment,
 // whose particular solution is w_p = g + q/k for k > 0 (w_p'''' = 0) and the quartic plus
@@ -293,8 +294,8 @@ TensionlessResult solve_tensionless(const BeamProblem& problem, const std::vecto
                                     const TensionlessOptions& options = {});
 
 // Without a topology guess: a contact-set iteration (the semismooth Newton map of
-// EI w'''' + K max(w, 0) = q is C -> {w_C > 0}, w_C the solution with foundation on C), started
-// from the bilateral solution (C_0 = [0, L]). Each round takes the shrink-only step
+// EI w'''' + K max(w - g, 0) = q is C -> {w_C > g}, w_C the solution with foundation on C),
+// started from the bilateral solution (C_0 = [0, L]). Each round takes the shrink-only step
 // C_{n+1} = C_n & {w_n > 0}, or, when that step is stuck, the full step C_{n+1} = {w_n > 0};
 // after every round the limit Newton above polishes C_{n+1}, and the first polished solution
 // that passes the checks is returned. (The plain map cycles on long beams: the bilateral
