@@ -164,7 +164,20 @@ int main(int argc, char** argv) {
     if (w < w_min) w_min = w, at_min = x;
   }
   std::printf("{\"method\": \"closed-form\", \"status\": \"%s\", \"contact_regions\": [", status.c_str());
-  const auto regions = tensionless ? contact_regions(solution) : std::vector<Interval>{{0.0, p.length}};
+  // Bilateral: the foundation acts wherever it exists (the pieces, merged where they touch).
+  std::vector<Interval> regions;
+  if (tensionless) {
+    regions = contact_regions(solution);
+  } else {
+    const auto& x = solution.breakpoints();
+    for (std::size_t i = 0; i + 1 < x.size(); ++i) {
+      if (solution.ground_modulus(0.5 * (x[i] + x[i + 1])) == 0.0) continue;
+      if (!regions.empty() && regions.back().end == x[i])
+        regions.back().end = x[i + 1];
+      else
+        regions.push_back({x[i], x[i + 1]});
+    }
+  }
   for (std::size_t i = 0; i < regions.size(); ++i)
     std::printf("%s[%.17g, %.17g]", i ? ", " : "", regions[i].start, regions[i].end);
   std::printf("], \"w_max\": %.17g, \"at_w_max\": %.17g, \"w_min\": %.17g, \"at_w_min\": %.17g}\n", w_max, at_max,
