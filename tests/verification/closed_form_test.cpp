@@ -607,3 +607,310 @@ TEST_CASE("tensionless: status reporting", "[closed_form]") {
   std::printf("[status] full contact at beta L = 6: %s (%s)\n", cf::to_string(full.status).c_str(),
               full.message.c_str());
 }
+
+// ---------------------------------------------------------------------------------------------
+// Ground models of issue 12: foundation pieces and voids, an initial gap, linear loads, K_t.
+// Units beta = 1, q/K = 1 where a foundation acts: EI = 1, K = 4, q = 4.
+// ---------------------------------------------------------------------------------------------
+
+namespace {
+
+cf::BeamProblem heavy_free_beam(double length) {
+  cf::BeamProblem pr;
+  pr.length = length;
+  pr.bending_stiffness = 1.0;
+  pr.foundation_modulus = 4.0;
+  pr.left = pr.right = cf::EndCondition::free;
+  pr.uniform_loads = {{0.0, length, 4.0}};
+  return pr;
+}
+
+// Lead's trench solution (beta = 1, q/K = 1, X from the trench centre, half-width b): inside
+// w = X^4/6 + A X^2 + B, outside w = 1 + e^{-t}(C cos t + D sin t), t = |X| - b.
+struct Trench {
+  double b, A, B, C, D;
+  explicit Trench(double b_) : b(b_) {
+    A = -b * (b * b + 3 * b + 3) / (3 * (b + 1));
+    B = std::pow(b, 4) / 6 + 2 * std::pow(b, 3) / 3 + b * b + b + 1;
+    C = b * (2 * b * b + 6 * b + 3) / (3 * (b + 1));
+    D = b * (3 - 2 * b * b) / (3 * (b + 1));
+  }
+  double w(double X) const {
+    X = std::abs(X);
+    if (X <= b) return std::pow(X, 4) / 6 + A * X * X + B;
+    const double t = X - b;
+    return 1 + std::exp(-t) * (C * std::cos(t) + D * std::sin(t));
+  }
+  // Smallest w outside the trench: at a root of w' = e^{-t}((D - C) cos t - (C + D) sin t),
+  // t = atan2(D - C, C + D) + n pi; the first few n cover it (the humps decay like e^{-pi}).
+  double outside_min() const {
+    double m = 1.0;
+    const double t0 = std::atan2(D - C, C + D);
+    for (int n = -1; n < 6; ++n) {
+      const double t = t0 + n * kPi;
+      if (t > 0) m = std::min(m, 1 + std::exp(-t) * (C * std::cos(t) + D * std::sin(t)));
+    }
+    return m;
+  }
+};
+
+// The beam of the trench test: free ends 40 / beta beyond each trench edge (the end effects of
+// the trench's disturbance are e^{-40} ~ 4e-18 of it: below round-off), no foundation on |X| < b.
+cf::BeamProblem trench_beam(double b) {
+  const double reach = 40.0, L = 2 * (b + reach);
+  cf::BeamProblem pr = heavy_free_beam(L);
+  pr.foundation_segments = {{0.0, reach, 4.0}, {L - reach, L, 4.0}};
+  return pr;
+}
+
+// Bisection for the b at which f(b) changes sign from + to -, on [lo, hi].
+double bisect(const std::function<double(double)>& f, double lo, double hi) {
+  for (int it = 0; it < 200 && hi - lo > 1e-15 * hi; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (f(mid) > 0 ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+// Smallest w outside the trench of the solved beam (grid over the near humps, then golden section
+// via min_deflection's grid restricted by sampling).
+double solved_outside_min(const cf::BeamSolution& s, double b) {
+  const double xc = 0.5 * s.length();
+  double best = 1e300, xb = 0;
+  for (int i = 0; i <= 4000; ++i) {
+    const double x = xc + b + 8.0 * i / 4000;
+    if (s.deflection(x) < best) best = s.deflection(x), xb = x;
+  }
+  // Newton on w'(x) = 0 from the best sample.
+  for (int it = 0; it < 20; ++it) xb -= s.slope(xb) / s.derivative(xb, 2);
+  return std::min(best, s.deflection(xb));
+}
+
+}  // namespace
+
+TEST_CASE("ground: a linear load and a linear gap are exact particular solutions", "[closed_form]") {
+  // A free-free beam on a full foundation under q(x) linear and with g(x) linear: w = g + q/K
+  // satisfies the ODE and the free-end conditions (w'' = w''' = 0) exactly, so it is the
+  // solution; tensionless too, since w - g = q/K > 0. Round-off: the segment solve is
+  // backward stable, |error| ~ 1e-13 max|w|.
+  cf::BeamProblem pr = heavy_free_beam(20.0);
+  pr.uniform_loads.clear();
+  pr.distributed_loads = {{0.0, 20.0, 2.0, 6.0}};
+  pr.gap = {{0.0, 20.0}, {0.5, -0.5}};
+  const auto r = cf::solve_tensionless_auto(pr);
+  INFO(r.message);
+  REQUIRE(r.status == cf::TensionlessStatus::converged);
+  REQUIRE(r.contact.size() == 1);
+  for (double x : {0.0, 3.3, 10.0, 17.1, 20.0}) {
+    const double exact = (0.5 - x / 20.0) + (2.0 + 4.0 * x / 20.0) / 4.0;
+    CHECK(std::abs(r.solution.deflection(x) - exact) < 1e-12);
+    CHECK(std::abs(r.solution.reaction(x) - (2.0 + 4.0 * x / 20.0)) < 1e-11);
+  }
+}
+
+TEST_CASE("ground: triangular load on a simply supported beam, midspan 5 q L^4 / (768 EI)", "[closed_form]") {
+  // Half of the uniform load's 5 q L^4 / (384 EI) by symmetry (the triangle plus its mirror is
+  // the uniform load); the quintic particular solution of a lift-off segment carries it.
+  cf::BeamProblem pr;
+  pr.length = 3.0;
+  pr.bending_stiffness = 2.0;
+  pr.left = pr.right = cf::EndCondition::pinned;
+  pr.distributed_loads = {{0.0, 3.0, 0.0, 5.0}};
+  const auto s = cf::solve_bilateral(pr);
+  CHECK(s.deflection(1.5) == Approx(5 * 5.0 * std::pow(3.0, 4) / (768 * 2.0)).epsilon(1e-13));
+  // The support forces q L / 6 and q L / 3, pushing up (-w): EI w'''(0+) and -EI w'''(L-) in +w.
+  CHECK(s.derivative(0.0, 3) * 2.0 == Approx(-5.0 * 3.0 / 6).epsilon(1e-12));
+  CHECK(-s.derivative(3.0, 3, cf::Side::left) * 2.0 == Approx(-5.0 * 3.0 / 3).epsilon(1e-12));
+}
+
+TEST_CASE("ground: foundation pieces, equilibrium and the one-piece case", "[closed_form]") {
+  cf::BeamProblem one = free_free_central(12.0, 3.0);
+  cf::BeamProblem two = one;
+  two.foundation_segments = {{0.0, 5.0, one.foundation_modulus}, {5.0, 12.0, one.foundation_modulus}};
+  const auto a = cf::solve_tensionless_auto(one), b = cf::solve_tensionless_auto(two);
+  REQUIRE(a.status == cf::TensionlessStatus::converged);
+  REQUIRE(b.status == cf::TensionlessStatus::converged);
+  for (double x : {0.0, 2.0, 5.0, 6.0, 9.5, 12.0})
+    CHECK(std::abs(a.solution.deflection(x) - b.solution.deflection(x)) < 1e-12 * a.solution.max_abs_deflection());
+
+  // Two soils with a void between them, an eccentric force and a trapezoidal load; bilinear
+  // foundation (K_t = K / 10): the foundation carries the loads (free-free: no other support).
+  cf::BeamProblem pr;
+  pr.length = 10.0;
+  pr.bending_stiffness = 1.0;
+  pr.foundation_segments = {{0.0, 4.0, 4.0}, {5.0, 10.0, 1.0}};
+  pr.forces = {{7.0, 2.0}};
+  pr.distributed_loads = {{1.0, 9.0, 1.0, 0.2}};
+  pr.gap = {{0.0, 10.0}, {0.0, 0.1}};
+  for (double kt : {0.0, 0.4}) {
+    pr.tension_modulus = kt;
+    const auto r = cf::solve_tensionless_auto(pr);
+    INFO(r.message);
+    REQUIRE(r.status == cf::TensionlessStatus::converged);
+    const auto& s = r.solution;
+    const double load = 2.0 + 8.0 * 0.6, moment = 2.0 * 7.0 + (1.0 * 8 * (1 + 8.0 / 3) + 0.2 * 8 * (1 + 16.0 / 3)) / 2;
+    // Quadrature on pieces <= 0.25/beta with 12 Gauss points: exact to round-off.
+    CHECK(reaction_integral(s) == Approx(load).epsilon(1e-11));
+    CHECK(reaction_moment(s) == Approx(moment).epsilon(1e-11));
+    CHECK(s.reaction(4.5) == 0.0);  // the void
+    std::printf("[two soils, K_t = %.1f] contact:", kt);
+    for (const auto& i : r.contact) std::printf(" [%.9f, %.9f]", i.start, i.end);
+    std::printf(" (%s)\n", r.message.c_str());
+    // Interior limits sit where w = g.
+    for (double t : r.limits) CHECK(std::abs(s.deflection(t) - s.gap(t)) < 1e-12 * s.max_abs_deflection());
+  }
+  // K_t = K: the bilinear foundation is bilateral.
+  cf::BeamProblem bil = free_free_central(8.0, 1.0);
+  bil.tension_modulus = bil.foundation_modulus;
+  const auto full = cf::solve_bilateral(bil);
+  const auto r = cf::solve_tensionless(bil, {{2.0, 6.0}});
+  REQUIRE(r.status == cf::TensionlessStatus::converged);
+  CHECK(std::abs(r.solution.deflection(0.0) - full.deflection(0.0)) < 1e-12 * full.max_abs_deflection());
+}
+
+TEST_CASE("ground: heavy beam over a trench, bilateral = tensionless up to beta b = 2.98486", "[closed_form]") {
+  // The lead's closed form against the segment solver, at a few half-widths: round-off only
+  // (the finite beam's end effects are e^{-40} of the disturbance).
+  for (double b : {0.5, 1.7, 2.9}) {
+    const Trench exact(b);
+    const auto pr = trench_beam(b);
+    const auto s = cf::solve_bilateral(pr);
+    const double xc = 0.5 * pr.length;
+    for (double X : {0.0, 0.3 * b, b, b + 0.4, b + 2.0, b + 5.0})
+      for (double sign : {-1.0, 1.0}) CHECK(std::abs(s.deflection(xc + sign * X) - exact.w(X)) < 1e-11 * exact.w(0.0));
+  }
+  // The threshold from the hand formula and from the solver (bisection on the sign of the
+  // smallest w outside the trench; both to ~1e-14 relative in b, the slope d(min w)/db is O(1)).
+  const double hand = bisect([](double b) { return Trench(b).outside_min(); }, 2.0, 4.0);
+  const double solved =
+      bisect([](double b) { return solved_outside_min(cf::solve_bilateral(trench_beam(b)), b); }, 2.0, 4.0);
+  std::printf("[trench] threshold beta b: hand %.15f, solver %.15f, lead 2.984859899980781\n", hand, solved);
+  CHECK(std::abs(hand - 2.984859899980781) < 1e-12);
+  CHECK(std::abs(solved - hand) < 1e-9);
+  // Below it the tensionless solution is the bilateral one (full contact on both pieces); above
+  // it the bilateral one pulls (w < 0 outside) and the tensionless one lifts a window each side.
+  {
+    const auto pr = trench_beam(0.99 * hand);
+    const auto r = cf::solve_tensionless_auto(pr);
+    INFO(r.message);
+    REQUIRE(r.status == cf::TensionlessStatus::converged);
+    CHECK(r.contact.size() == 2);
+    CHECK(r.limits.empty());
+    const double xc = 0.5 * pr.length;
+    CHECK(std::abs(r.solution.deflection(xc) - Trench(0.99 * hand).w(0.0)) < 1e-11 * Trench(hand).w(0.0));
+  }
+  {
+    const auto pr = trench_beam(1.05 * hand);
+    CHECK(solved_outside_min(cf::solve_bilateral(pr), 1.05 * hand) < 0.0);
+    const auto r = cf::solve_tensionless_auto(pr);
+    INFO(r.message);
+    REQUIRE(r.status == cf::TensionlessStatus::converged);
+    CHECK(r.contact.size() == 4);
+    CHECK(r.limits.size() == 4);
+    std::printf("[trench] beta b = %.6f: contact", 1.05 * hand);
+    for (const auto& i : r.contact) std::printf(" [%.9f, %.9f]", i.start - 0.5 * pr.length, i.end - 0.5 * pr.length);
+    std::printf(" (from the centre)\n");
+    CHECK(reaction_integral(r.solution) == Approx(4.0 * pr.length).epsilon(1e-11));
+    // The same trench as a deep gap (g = 1e3 q/K over |X| < b) instead of a void.
+    cf::BeamProblem gap = heavy_free_beam(pr.length);
+    const double xc = 0.5 * pr.length, b = 1.05 * hand;
+    gap.gap = {{xc - b, xc - b, xc + b, xc + b}, {0.0, 1e3, 1e3, 0.0}};
+    const auto rg = cf::solve_tensionless_auto(gap);
+    INFO(rg.message);
+    REQUIRE(rg.status == cf::TensionlessStatus::converged);
+    for (double X : {0.0, 0.5 * b, b + 1.0, b + 3.0})
+      CHECK(std::abs(rg.solution.deflection(xc + X) - r.solution.deflection(xc + X)) < 1e-10 * Trench(b).w(0.0));
+  }
+}
+
+TEST_CASE("ground: curling strip, end moment M0: lift-off iff Lambda > 1, beta c = sqrt(Lambda) - 1", "[closed_form]") {
+  // Hand derivation (beta = 1, q/K = 1, so EI w'''' = 4 off contact): lifted [0, c] has
+  // w = x^4/6 - Lambda x^2 + b1 x + w0 (EI w''(0) = -M0, w'''(0) = 0); contact w = 1 +
+  // e^{-t}(C cos t + D sin t), t = x - c, w(c) = 0 gives C = -1; continuity of w''' gives
+  // D = 2c + 1, of w'' gives Lambda = (c + 1)^2, and of w, w' the edge w0 = -(Lambda^2 - 1)/2.
+  // Full contact (Lambda <= 1): w(0) = (q/K)(1 - Lambda) >= 0. The strip: beta L = 40 (the
+  // far end's effect e^{-40}), the moment -M0 (clockwise) at the free left end.
+  for (double lambda : {0.5, 0.9, 1.5, 2.0, 4.0, 9.0}) {
+    cf::BeamProblem pr = heavy_free_beam(40.0);
+    const double M0 = lambda * 4.0 / 2.0;  // Lambda = 2 beta^2 M0 / q
+    pr.moments = {{0.0, -M0}};
+    const auto r = cf::solve_tensionless_auto(pr);
+    INFO(r.message);
+    REQUIRE(r.status == cf::TensionlessStatus::converged);
+    REQUIRE(r.contact.size() == 1);
+    const double c = r.contact.front().start, edge = r.solution.deflection(0.0);
+    std::printf(
+        "[curling] Lambda = %.2f: beta c = %.12f (expected %.12f), edge w = %.12f q/K (expected %.12f; "
+        "Westergaard %.3f)\n",
+        lambda, c, std::max(0.0, std::sqrt(lambda) - 1), edge, lambda > 1 ? -(lambda * lambda - 1) / 2 : 1 - lambda,
+        1 - lambda);
+    // Newton stops at |w(c)| <= 1e-13 max|w|, |w'(c)| = O(1): c to ~1e-12; w0 to round-off.
+    if (lambda <= 1.0) {
+      CHECK(c == 0.0);
+      CHECK(std::abs(edge - (1 - lambda)) < 1e-11);
+    } else {
+      CHECK(std::abs(c - (std::sqrt(lambda) - 1)) < 1e-10);
+      CHECK(std::abs(edge + (lambda * lambda - 1) / 2) < 1e-10 * lambda * lambda);
+    }
+  }
+}
+
+TEST_CASE("ground: input checks", "[closed_form]") {
+  auto rejects = [](const cf::BeamProblem& pr) {
+    CHECK_THROWS_AS(cf::load_points(pr), std::invalid_argument);
+    CHECK(cf::solve_tensionless_auto(pr).status == cf::TensionlessStatus::invalid_input);
+  };
+  cf::BeamProblem pr = heavy_free_beam(10.0);
+  cf::BeamProblem bad = pr;
+  bad.foundation_segments = {{0.0, 6.0, 4.0}, {5.0, 10.0, 4.0}};  // overlapping
+  rejects(bad);
+  bad = pr;
+  bad.foundation_segments = {{2.0, 11.0, 4.0}};  // outside the beam
+  rejects(bad);
+  bad = pr;
+  bad.foundation_segments = {{2.0, 3.0, -1.0}};  // negative modulus
+  rejects(bad);
+  bad = pr;
+  bad.gap = {{0.0, 5.0, 4.0}, {0.0, 1.0, 0.0}};  // positions decrease
+  rejects(bad);
+  bad = pr;
+  bad.gap = {{0.0, 5.0}, {0.0}};  // sizes differ
+  rejects(bad);
+  bad = pr;
+  bad.distributed_loads = {{5.0, 5.0, 1.0, 1.0}};  // empty range
+  rejects(bad);
+  bad = pr;
+  bad.tension_modulus = -1.0;
+  rejects(bad);
+}
+
+TEST_CASE("ground: limit Jacobian with a gap, two soils and K_t against finite differences", "[closed_form]") {
+  // d(w - g)(t_k)/dt_j = delta_kj (w' - g')(t_k) + s_j (K - K_t)(w - g)(t_j) G(t_k, t_j); central
+  // differences with h = 1e-6 carry an O(h^2) truncation and O(1e-16 / h) round-off: 1e-7 of J.
+  cf::BeamProblem pr = free_free_central(7.0, 1.0);
+  pr.forces.push_back({5.1, 0.4});
+  pr.distributed_loads = {{0.0, 7.0, 0.05, 0.12}};
+  pr.foundation_segments = {{0.0, 5.0, 4.0}, {5.0, 7.0, 9.0}};
+  pr.gap = {{0.0, 3.0, 7.0}, {0.02, -0.01, 0.03}};
+  pr.tension_modulus = 0.5;
+  const std::vector<cf::Interval> regions = {{1.3, 4.6}, {5.5, 6.4}};
+  const auto eq = cf::limit_equations(pr, regions);
+  REQUIRE(eq.limits.size() == 4);
+  const double h = 1e-6;
+  double worst = 0.0, scale = 0.0;
+  for (std::size_t j = 0; j < 4; ++j) {
+    auto shifted = [&](double d) {
+      std::vector<double> t = eq.limits;
+      t[j] += d;
+      return cf::limit_equations(pr, {{t[0], t[1]}, {t[2], t[3]}}).residuals;
+    };
+    const auto fp = shifted(h), fm = shifted(-h);
+    for (std::size_t k = 0; k < 4; ++k) {
+      const double fd = (fp[k] - fm[k]) / (2 * h);
+      worst = std::max(worst, std::abs(fd - eq.jacobian[k][j]));
+      scale = std::max(scale, std::abs(eq.jacobian[k][j]));
+    }
+  }
+  std::printf("[ground limit Jacobian] max |J - J_fd| / max|J| = %.2e\n", worst / scale);
+  CHECK(worst < 1e-7 * scale);
+}

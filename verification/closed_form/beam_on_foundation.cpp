@@ -47,24 +47,26 @@ using Eigen::VectorXd;
 constexpr double kMergeTolerance = 1e-14;  // relative to L: coincident breakpoints
 constexpr double kLoadTolerance = 1e-12;   // relative to L: load matches a breakpoint
 
-// phi_k(u) = sum_n (-4 kappa)^n u^(4n+k) / (4n+k)!, k = 0..4.
-// d/du phi_k = phi_{k-1} (k >= 1), d/du phi_0 = -4 kappa phi_3; phi_0'''' + 4 kappa phi_0 = 0.
-void series(double u, double kappa, double out[5]) {
-  double term[5];
+// phi_k(u) = sum_n (-4 kappa)^n u^(4n+k) / (4n+k)!, k = 0..5.
+// d/du phi_k = phi_{k-1} (k >= 1), d/du phi_0 = -4 kappa phi_3; phi_0'''' + 4 kappa phi_0 = 0;
+// phi_4'''' + 4 kappa phi_4 = 1 and phi_5'''' + 4 kappa phi_5 = u (the particular solutions).
+constexpr int kSeries = 6;
+void series(double u, double kappa, double out[kSeries]) {
+  double term[kSeries];
   term[0] = 1.0;
-  for (int k = 1; k < 5; ++k) term[k] = term[k - 1] * u / k;
-  for (int k = 0; k < 5; ++k) out[k] = 0.0;
+  for (int k = 1; k < kSeries; ++k) term[k] = term[k - 1] * u / k;
+  for (int k = 0; k < kSeries; ++k) out[k] = 0.0;
   const double u4 = u * u * u * u;
   for (int n = 0; n < 60; ++n) {
     double biggest = 0.0, total = 0.0;
-    for (int k = 0; k < 5; ++k) {
+    for (int k = 0; k < kSeries; ++k) {
       out[k] += term[k];
       biggest = std::max(biggest, std::abs(term[k]));
       total = std::max(total, std::abs(out[k]));
     }
     if (kappa == 0.0 || u == 0.0) break;
     if (n > 0 && biggest <= 1e-19 * std::max(total, 1e-300)) break;
-    for (int k = 0; k < 5; ++k) {
+    for (int k = 0; k < kSeries; ++k) {
       const double m = 4.0 * n + k;
       term[k] *= -4.0 * kappa * u4 / ((m + 1) * (m + 2) * (m + 3) * (m + 4));
     }
@@ -72,7 +74,7 @@ void series(double u, double kappa, double out[5]) {
 }
 
 // d-th u-derivative of phi_k.
-double dphi(const double phi[5], int k, int d, double kappa) {
+double dphi(const double phi[kSeries], int k, int d, double kappa) {
   double factor = 1.0;
   int idx = k;
   for (int i = 0; i < d; ++i) {
@@ -94,9 +96,9 @@ struct Params {
 void evaluate_basis(const Params& p, const Segment& s, double x, double B[4][4], double P[4]) {
   if (s.basis == 1) {
     using C = std::complex<double>;
-    const double bl = p.beta * p.lambda;
-    const double z1 = p.beta * (x - s.a);  // >= 0
-    const double z2 = p.beta * (x - s.b);  // <= 0
+    const double bl = s.beta * p.lambda;
+    const double z1 = s.beta * (x - s.a);  // >= 0
+    const double z2 = s.beta * (x - s.b);  // <= 0
     const C e1 = std::exp(C(-z1, z1));     // e^{(-1+i) z1}
     const C e2 = std::exp(C(z2, z2));      // e^{(1+i) z2}
     C f1 = e1, f2 = e2;
@@ -111,18 +113,21 @@ void evaluate_basis(const Params& p, const Segment& s, double x, double B[4][4],
       scale *= bl;
       P[d] = 0.0;
     }
-    P[0] = s.q / p.K;
+    // Linear load (q + k g): w_p = (q0 + q1 (x - a)) / k.
+    P[0] = (s.q0 + s.q1 * (x - s.a)) / s.k;
+    P[1] = p.lambda * s.q1 / s.k;
     return;
   }
   const double u = (x - s.a) / s.ell;
-  double phi[5];
+  double phi[kSeries];
   series(u, s.kappa, phi);
   const double r = p.lambda / s.ell;
   double scale = 1.0;
-  const double pscale = s.q * s.ell * s.ell * s.ell * s.ell / p.EI;
+  const double ell4 = s.ell * s.ell * s.ell * s.ell;
+  const double p4 = s.q0 * ell4 / p.EI, p5 = s.q1 * ell4 * s.ell / p.EI;
   for (int d = 0; d < 4; ++d) {
     for (int j = 0; j < 4; ++j) B[d][j] = scale * dphi(phi, j, d, s.kappa);
-    P[d] = pscale * scale * dphi(phi, 4, d, s.kappa);
+    P[d] = scale * (p4 * dphi(phi, 4, d, s.kappa) + p5 * dphi(phi, 5, d, s.kappa));
     scale *= r;
   }
 }
@@ -131,8 +136,9 @@ Params params_of(const BeamProblem& pr) {
   Params p;
   p.L = pr.length;
   p.EI = pr.bending_stiffness;
-  p.K = pr.foundation_modulus;
   p.beta = pr.beta();
+  p.K = pr.foundation_segments.empty() ? pr.foundation_modulus : 0.0;  // K_ref, as in beta()
+  for (const auto& f : pr.foundation_segments) p.K = std::max(p.K, f.modulus);
   p.lambda = (p.K > 0.0) ? std::min(p.L, 1.0 / p.beta) : p.L;
   return p;
 }
@@ -153,6 +159,85 @@ void validate(const BeamProblem& pr) {
   for (const auto& u : pr.uniform_loads)
     if (!(u.from <= u.to) || !std::isfinite(u.from) || !std::isfinite(u.to))
       throw std::invalid_argument("closed_form: uniform load with from > to");
+  for (const auto& d : pr.distributed_loads) {
+    if (!(d.from < d.to) || !std::isfinite(d.from) || !std::isfinite(d.to))
+      throw std::invalid_argument("closed_form: distributed load needs from < to");
+    if (!std::isfinite(d.start_value) || !std::isfinite(d.end_value))
+      throw std::invalid_argument("closed_form: distributed load value not finite");
+  }
+  std::vector<FoundationSegment> pieces = pr.foundation_segments;
+  std::sort(pieces.begin(), pieces.end(), [](const auto& a, const auto& b) { return a.from < b.from; });
+  for (std::size_t i = 0; i < pieces.size(); ++i) {
+    const auto& f = pieces[i];
+    if (!inside(f.from) || !inside(f.to) || !(f.from < f.to))
+      throw std::invalid_argument("closed_form: foundation segment outside the beam or with from >= to");
+    if (!(f.modulus >= 0.0) || !std::isfinite(f.modulus))
+      throw std::invalid_argument("closed_form: foundation segment modulus must be >= 0");
+    if (i > 0 && f.from < pieces[i - 1].to - tol)
+      throw std::invalid_argument("closed_form: overlapping foundation segments");
+  }
+  if (pr.gap.at.size() != pr.gap.value.size())
+    throw std::invalid_argument("closed_form: gap table needs as many values as positions");
+  for (std::size_t i = 0; i < pr.gap.at.size(); ++i) {
+    if (!std::isfinite(pr.gap.at[i]) || !std::isfinite(pr.gap.value[i]))
+      throw std::invalid_argument("closed_form: gap table entry not finite");
+    if (i > 0 && pr.gap.at[i] < pr.gap.at[i - 1])
+      throw std::invalid_argument("closed_form: gap positions must not decrease");
+    if (i > 1 && pr.gap.at[i] == pr.gap.at[i - 2])
+      throw std::invalid_argument("closed_form: at most two gap values at one position");
+  }
+  if (!(pr.tension_modulus >= 0.0) || !std::isfinite(pr.tension_modulus))
+    throw std::invalid_argument("closed_form: tension modulus must be >= 0");
+}
+
+// Value and slope of the gap on the open interval (a, b) free of table positions: g = g0 + g1 (x - a).
+void gap_on(const GapProfile& gp, double a, double b, double& g0, double& g1) {
+  g0 = g1 = 0.0;
+  const std::size_t n = gp.at.size();
+  if (n == 0) return;
+  const double mid = 0.5 * (a + b);
+  if (mid <= gp.at.front()) {
+    g0 = gp.value.front();
+    return;
+  }
+  if (mid >= gp.at.back()) {
+    g0 = gp.value.back();
+    return;
+  }
+  std::size_t i = 0;
+  while (i + 1 < n && !(mid >= gp.at[i] && mid < gp.at[i + 1])) ++i;
+  g1 = (gp.value[i + 1] - gp.value[i]) / (gp.at[i + 1] - gp.at[i]);
+  g0 = gp.value[i] + g1 * (a - gp.at[i]);
+}
+
+// Sum of the linear loads on (a, b): q = q0 + q1 (x - a).
+void load_on(const BeamProblem& pr, double a, double b, double& q0, double& q1) {
+  const double mid = 0.5 * (a + b);
+  q0 = q1 = 0.0;
+  for (const auto& u : pr.uniform_loads)
+    if (mid >= u.from && mid <= u.to) q0 += u.value;
+  for (const auto& d : pr.distributed_loads)
+    if (mid >= d.from && mid <= d.to) {
+      const double slope = (d.end_value - d.start_value) / (d.to - d.from);
+      q0 += d.start_value + slope * (a - d.from);
+      q1 += slope;
+    }
+}
+
+// Points where the data jumps, so that a contact region may end there with w != g: void edges
+// (foundation on one side only) and gap steps.
+std::vector<double> jump_points(const BeamProblem& pr) {
+  std::vector<double> out;
+  const double L = pr.length, tol = kLoadTolerance * L;
+  for (const auto& f : pr.foundation_segments)
+    for (double e : {f.from, f.to}) {
+      if (e <= tol || e >= L - tol) continue;
+      const bool left = pr.modulus_at(e - 2 * tol) > 0.0, right = pr.modulus_at(e + 2 * tol) > 0.0;
+      if (left != right) out.push_back(e);
+    }
+  for (std::size_t i = 1; i < pr.gap.at.size(); ++i)
+    if (pr.gap.at[i] == pr.gap.at[i - 1] && pr.gap.value[i] != pr.gap.value[i - 1]) out.push_back(pr.gap.at[i]);
+  return out;
 }
 
 std::vector<double> merge_sorted(std::vector<double> pts, double L) {
@@ -224,19 +309,23 @@ Model build_model(const BeamProblem& pr, const std::vector<double>& x, const std
     s.b = m.x[i + 1];
     s.contact = contact[i];
     const double mid = 0.5 * (s.a + s.b);
-    s.q = 0.0;
-    for (const auto& u : pr.uniform_loads)
-      if (mid >= u.from && mid <= u.to) s.q += u.value;
+    s.ground = pr.modulus_at(mid);
+    s.k = s.ground > 0.0 ? (s.contact ? s.ground : pr.tension_modulus) : 0.0;
+    s.beta = s.k > 0.0 ? std::pow(s.k / (4.0 * m.p.EI), 0.25) : 0.0;
+    gap_on(pr.gap, s.a, s.b, s.g0, s.g1);
+    load_on(pr, s.a, s.b, s.q0, s.q1);
+    s.q0 += s.k * s.g0;  // EI w'''' + k w = q + k g
+    s.q1 += s.k * s.g1;
     const double h = s.b - s.a;
-    const bool foundation = s.contact && m.p.K > 0.0;
-    if (foundation && m.p.beta * h > 2.0) {
+    const bool foundation = s.k > 0.0;
+    if (foundation && s.beta * h > 2.0) {
       s.basis = 1;
       s.ell = m.p.lambda;
       s.kappa = 1.0;
     } else if (foundation) {
       s.basis = 0;
-      s.ell = m.p.lambda;
-      const double bl = m.p.beta * m.p.lambda;
+      s.ell = h <= 2.0 * m.p.lambda ? m.p.lambda : h;  // a soft piece (K_t << K) may be long
+      const double bl = s.beta * s.ell;
       s.kappa = bl * bl * bl * bl;
     } else {
       s.basis = 0;
@@ -401,7 +490,7 @@ BeamSolution make_solution(const Model& m, const VectorXd& coef, double conditio
                            bool with_loads = true) {
   std::vector<Segment> segs = m.segs;
   if (!with_loads)
-    for (auto& s : segs) s.q = 0.0;
+    for (auto& s : segs) s.q0 = s.q1 = 0.0;
   return detail::SolutionAccess::make(m.p.L, m.p.EI, m.p.K, m.p.beta, m.p.lambda, m.x, std::move(segs),
                                       std::vector<double>(coef.data(), coef.data() + coef.size()), condition, residual);
 }
@@ -482,15 +571,22 @@ std::string make_topology(const BeamProblem& pr, std::vector<Interval> regions, 
     if (!(regions[i].start > regions[i - 1].end + snap)) return "overlapping or touching contact regions (merge them)";
   topo = Topology{};
   topo.fixed = regions;
+  // An end at a jump of the data (void edge, gap step) is fixed, like a beam end.
+  const std::vector<double> jumps = jump_points(pr);
+  auto at_jump = [&](double e) {
+    for (double j : jumps)
+      if (std::abs(e - j) <= snap) return true;
+    return false;
+  };
   for (const auto& r : regions) {
-    if (r.start > 0.0) {
+    if (r.start > 0.0 && !at_jump(r.start)) {
       topo.start_limit.push_back(static_cast<int>(topo.initial.size()));
       topo.initial.push_back(r.start);
       topo.sign.push_back(+1.0);
     } else {
       topo.start_limit.push_back(-1);
     }
-    if (r.end < L) {
+    if (r.end < L && !at_jump(r.end)) {
       topo.end_limit.push_back(static_cast<int>(topo.initial.size()));
       topo.initial.push_back(r.end);
       topo.sign.push_back(-1.0);
@@ -521,8 +617,10 @@ LimitState evaluate_limits(const BeamProblem& pr, const Topology& topo, const st
   layout_for_regions(pr, topo.regions(t), x, contact);
   s.fs = full_solve(pr, x, contact);
   s.F.resize(t.size());
-  for (std::size_t k = 0; k < t.size(); ++k)
-    s.F[k] = s.fs.solution.deflection(s.fs.model.x[breakpoint_index(s.fs.model.x, t[k])]);
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    const double xk = s.fs.model.x[breakpoint_index(s.fs.model.x, t[k])];
+    s.F[k] = s.fs.solution.deflection(xk) - s.fs.solution.gap(xk);
+  }
   s.scale = s.fs.solution.max_abs_deflection(32);
   return s;
 }
@@ -536,10 +634,13 @@ MatrixXd limit_jacobian(const BeamProblem& pr, const Topology& topo, const std::
   for (std::size_t k = 0; k < n; ++k) tk[k] = x[breakpoint_index(x, t[k])];
   for (std::size_t j = 0; j < n; ++j) {
     const BeamSolution G = green(s.fs, breakpoint_index(x, t[j]));
-    const double strength = topo.sign[j] * pr.foundation_modulus * s.F[j];
+    // Moving the limit trades (K - K_t)(w - g) dt of reaction; K of the contact side.
+    const Side inside = topo.sign[j] > 0 ? Side::right : Side::left;
+    const double ground = s.fs.solution.ground_modulus(tk[j], inside);
+    const double strength = topo.sign[j] * (ground - pr.tension_modulus) * s.F[j];
     for (std::size_t k = 0; k < n; ++k) J(k, j) = strength * G.deflection(tk[k]);
   }
-  for (std::size_t k = 0; k < n; ++k) J(k, k) += s.fs.solution.slope(tk[k]);
+  for (std::size_t k = 0; k < n; ++k) J(k, k) += s.fs.solution.slope(tk[k]) - s.fs.solution.gap_slope(tk[k]);
   return J;
 }
 
@@ -557,9 +658,11 @@ double inequality_violation(const BeamSolution& sol, double scale, int samples) 
     const double h = x[i + 1] - x[i];
     const int n = std::max(samples, static_cast<int>(std::ceil(20.0 * sol.beta() * h)));
     const bool contact = sol.segment_in_contact(i);
+    if (sol.ground_modulus(0.5 * (x[i] + x[i + 1])) == 0.0) continue;  // a void: no condition
     for (int s = 0; s <= n; ++s) {
       const double xs = (s == n) ? x[i + 1] : x[i] + h * s / n;
-      const double w = sol.derivative(xs, 0, s == n ? Side::left : Side::right);
+      const Side side = s == n ? Side::left : Side::right;
+      const double w = sol.derivative(xs, 0, side) - sol.gap(xs, side);
       const double bad = contact ? std::max(0.0, -w) : std::max(0.0, w);
       worst = std::max(worst, scale > 0.0 ? bad / scale : bad);
     }
@@ -572,7 +675,30 @@ double inequality_violation(const BeamSolution& sol, double scale, int samples) 
 // ---------------------------------------------------------------------------------------------
 
 double BeamProblem::beta() const {
-  return foundation_modulus > 0.0 ? std::pow(foundation_modulus / (4.0 * bending_stiffness), 0.25) : 0.0;
+  double k = foundation_segments.empty() ? foundation_modulus : 0.0;
+  for (const auto& f : foundation_segments) k = std::max(k, f.modulus);
+  return k > 0.0 ? std::pow(k / (4.0 * bending_stiffness), 0.25) : 0.0;
+}
+
+double BeamProblem::modulus_at(double x) const {
+  if (foundation_segments.empty()) return foundation_modulus;
+  double k = 0.0;
+  for (const auto& f : foundation_segments)
+    if (x >= f.from && x < f.to) k = f.modulus;
+  if (x >= length)  // the right end belongs to the piece that reaches it
+    for (const auto& f : foundation_segments)
+      if (f.to >= length) k = f.modulus;
+  return k;
+}
+
+double BeamProblem::gap_at(double x) const {
+  const std::size_t n = gap.at.size();
+  if (n == 0) return 0.0;
+  if (x < gap.at.front()) return gap.value.front();
+  for (std::size_t i = n - 1; i-- > 0;)  // the last interval starting at or left of x
+    if (x >= gap.at[i] && gap.at[i + 1] > gap.at[i] && x < gap.at[i + 1])
+      return gap.value[i] + (gap.value[i + 1] - gap.value[i]) * (x - gap.at[i]) / (gap.at[i + 1] - gap.at[i]);
+  return gap.value.back();
 }
 
 std::size_t BeamSolution::segment_index(double x, Side side) const {
@@ -611,10 +737,21 @@ double BeamSolution::bending_moment(double x, Side side) const { return -ei_ * d
 double BeamSolution::shear_force(double x, Side side) const { return -ei_ * derivative(x, 3, side); }
 
 double BeamSolution::reaction(double x, Side side) const {
-  const std::size_t i = segment_index(x, side);
-  if (!segments_[i].contact || k_ == 0.0) return 0.0;
-  return k_ * derivative(x, 0, side);
+  const Segment& s = segments_[segment_index(x, side)];
+  if (s.k == 0.0) return 0.0;
+  return s.k * (derivative(x, 0, side) - gap(x, side));
 }
+
+double BeamSolution::gap(double x, Side side) const {
+  const Segment& s = segments_[segment_index(x, side)];
+  return s.g0 + s.g1 * (std::clamp(x, s.a, s.b) - s.a);
+}
+
+double BeamSolution::gap_slope(double x, Side side) const { return segments_[segment_index(x, side)].g1; }
+
+double BeamSolution::acting_modulus(double x, Side side) const { return segments_[segment_index(x, side)].k; }
+
+double BeamSolution::ground_modulus(double x, Side side) const { return segments_[segment_index(x, side)].ground; }
 
 double BeamSolution::max_abs_deflection(int samples_per_segment) const {
   double m = 0.0;
@@ -637,6 +774,15 @@ std::vector<double> load_points(const BeamProblem& pr) {
     pts.push_back(std::clamp(u.from, 0.0, pr.length));
     pts.push_back(std::clamp(u.to, 0.0, pr.length));
   }
+  for (const auto& d : pr.distributed_loads) {
+    pts.push_back(std::clamp(d.from, 0.0, pr.length));
+    pts.push_back(std::clamp(d.to, 0.0, pr.length));
+  }
+  for (const auto& f : pr.foundation_segments) {
+    pts.push_back(f.from);
+    pts.push_back(f.to);
+  }
+  for (double a : pr.gap.at) pts.push_back(std::clamp(a, 0.0, pr.length));
   return merge_sorted(pts, pr.length);
 }
 
@@ -664,6 +810,11 @@ std::vector<Interval> contact_regions(const BeamSolution& sol, int samples_per_s
   std::vector<Interval> out;
   if (sol.empty()) return out;
   const double eps = zero_tolerance * sol.max_abs_deflection(samples_per_segment / 4 + 1);
+  // w - g where a foundation exists; -inf over a void (never in contact).
+  auto excess = [&](double x, Side side) {
+    if (sol.ground_modulus(x, side) == 0.0) return -std::numeric_limits<double>::infinity();
+    return sol.derivative(x, 0, side) - sol.gap(x, side);
+  };
   struct Sample {
     double x, w;
   };
@@ -674,10 +825,11 @@ std::vector<Interval> contact_regions(const BeamSolution& sol, int samples_per_s
     const int n = std::max(samples_per_segment, static_cast<int>(std::ceil(16.0 * sol.beta() * h)));
     for (int k = 0; k < n; ++k) {
       const double x = bp[i] + h * k / n;
-      samples.push_back({x, sol.derivative(x, 0, Side::right)});
+      samples.push_back({x, excess(x, Side::right)});
     }
+    // The left limit at the segment's end too, so that a jump (void edge, gap step) is seen.
+    samples.push_back({bp[i + 1], excess(bp[i + 1], Side::left)});
   }
-  samples.push_back({bp.back(), sol.derivative(bp.back(), 0, Side::left)});
   auto positive = [&](double w) { return w > eps; };
   // Root of w between a (w <= eps side) and b, refined by bisection on the sign of w.
   auto root = [&](Sample lo, Sample hi) {
@@ -685,11 +837,12 @@ std::vector<Interval> contact_regions(const BeamSolution& sol, int samples_per_s
     if (std::abs(lo.w) <= eps) return lo.x;
     if (std::abs(hi.w) <= eps) return hi.x;
     double a = lo.x, b = hi.x;
+    if (b <= a) return a;  // the two sides of a jump
     const bool pa = lo.w > 0.0;
     for (int it = 0; it < 200; ++it) {
       const double m = 0.5 * (a + b);
       if (m <= std::min(a, b) || m >= std::max(a, b)) break;
-      const double wm = sol.deflection(m);
+      const double wm = excess(m, Side::right);
       if ((wm > 0.0) == pa)
         a = m;
       else
@@ -769,13 +922,21 @@ TensionlessResult solve_tensionless(const BeamProblem& problem, const std::vecto
   const double radius = beta > 0.0 ? std::min(L, opt.max_step / beta) : L;
   std::vector<double> t = topo.initial;
   const std::size_t n = t.size();
+  // Regions keep a positive length and their order; no limit strays onto a void.
   auto feasible = [&](const std::vector<double>& v) {
+    bool first = true;
     double prev = 0.0;
-    for (double e : v) {
-      if (!(e - prev > min_gap)) return false;
-      prev = e;
+    for (const auto& r : topo.regions(v)) {
+      if (!first && !(r.start - prev > min_gap)) return false;
+      if (!(r.end - r.start > min_gap)) return false;
+      prev = r.end;
+      first = false;
     }
-    return L - prev > min_gap || v.empty();
+    for (double e : v) {
+      if (!(e > min_gap && e < L - min_gap)) return false;
+      if (problem.modulus_at(e) == 0.0 && problem.modulus_at(e - min_gap) == 0.0) return false;
+    }
+    return true;
   };
   auto finish = [&](TensionlessStatus st, std::string msg, const LimitState& s) {
     res.status = st;

@@ -37,6 +37,23 @@
 // Support force on the beam (in +w) at a pinned/clamped left end: EI w'''(0+) (minus any P0);
 // at the right end: -EI w'''(L-) (minus any PL).
 //
+// Ground models (issue 12). Everything below keeps each segment's ODE linear with constant
+// coefficients and a polynomial right-hand side, so the solution stays exact:
+//   * foundation segments: pieces [from, to] each with its own modulus K_i; no foundation
+//     (a void, K = 0) between them. Without pieces, K acts on the whole beam (the classical case).
+//   * initial gap g(x): the foundation surface lies g below the unloaded axis (g > 0: a trench
+//     floor or a depression; g < 0: a hump). Contact where w > g, reaction K (w - g). g is
+//     piecewise linear (a table; a repeated position is a step, e.g. a trench wall).
+//   * distributed loads q(x), linear between from and to (trapezoidal, triangular).
+//   * bilinear foundation: where the foundation exists but the beam has lifted off (w < g) the
+//     reaction is K_t (w - g) (tension_modulus K_t, default 0: tensionless).
+// The foundation term of Pi becomes int K/2 max(w - g, 0)^2 + K_t/2 min(w - g, 0)^2 dx.
+// On a segment with modulus k (K_i in contact, K_t or 0 off it, 0 over a void) the equation is
+//   EI w'''' + k w = q(x) + k g(x),   q and g linear on the segment,
+// whose particular solution is w_p = g + q/k for k > 0 (w_p'''' = 0) and the quartic plus
+// quintic q0 s^4/(24 EI) + q1 s^5/(120 EI) (s = x - a) for k = 0. Breakpoints: every load
+// point, every foundation-piece end, every gap-table position.
+//
 // ---------------------------------------------------------------------------------------------
 // Numerics
 // ---------------------------------------------------------------------------------------------
@@ -56,15 +73,17 @@
 // scaling), factorised with Eigen's FullPivLU, and improved by one step of iterative
 // refinement. The reciprocal condition estimate and the relative residual are reported.
 //
-// Tensionless problem: the contact limits t_k (interior points where w changes sign) solve
-//   w(t_k) = 0  for all k,
+// Tensionless problem: the contact limits t_k (interior points where w - g changes sign) solve
+//   w(t_k) - g(t_k) = 0  for all k,
 // by Newton's method with the exact Jacobian at fixed topology:
-//   d w(t_k)/d t_j = delta_kj w'(t_k) + s_j K w(t_j) G(t_k, t_j),
+//   d (w - g)(t_k)/d t_j = delta_kj (w' - g')(t_k) + s_j (K - K_t) (w - g)(t_j) G(t_k, t_j),
 // where G(x, t) is the deflection at x under a unit force at t (same contact set), and
 // s_j = +1 when t_j starts a contact region (moving it right removes foundation, i.e. adds the
 // force K w(t_j) dt), -1 when it ends one. The steps are damped (limits stay ordered inside
-// (0, L), backtracking on max |w(t_k)|). The inequalities w >= 0 in contact and w <= 0 in
-// lift-off are then checked on a fine grid.
+// (0, L) and off voids, backtracking on max |w(t_k) - g(t_k)|). The inequalities w >= g in
+// contact and w <= g in lift-off (where a foundation exists) are then checked on a fine grid.
+// A contact region may also end where the data jumps (a void edge, a gap step) with w != g
+// there: such an end is fixed, not a limit.
 
 #include <stdexcept>
 #include <string>
@@ -90,17 +109,48 @@ struct UniformLoad {
   double value = 0.0;  // force per length, > 0 toward the foundation
 };
 
+// A load varying linearly from start_value at `from` to end_value at `to`.
+struct DistributedLoad {
+  double from = 0.0;
+  double to = 0.0;
+  double start_value = 0.0;  // force per length at `from`, > 0 toward the foundation
+  double end_value = 0.0;    // at `to`
+};
+
+// A piece of foundation with its own modulus; pieces must not overlap.
+struct FoundationSegment {
+  double from = 0.0;
+  double to = 0.0;
+  double modulus = 0.0;  // K_i >= 0
+};
+
+// Piecewise-linear initial gap g(x) through (at[i], value[i]); positions non-decreasing, a
+// repeated position is a step (value[i] left of it, value[i+1] right of it); constant beyond
+// the first and last positions. Empty: no gap.
+struct GapProfile {
+  std::vector<double> at;
+  std::vector<double> value;
+};
+
 struct BeamProblem {
   double length = 1.0;              // L
   double bending_stiffness = 1.0;   // EI
-  double foundation_modulus = 0.0;  // K (>= 0)
+  double foundation_modulus = 0.0;  // K (>= 0) on the whole beam, used when foundation_segments is empty
   EndCondition left = EndCondition::free;
   EndCondition right = EndCondition::free;
   std::vector<PointForce> forces;
   std::vector<PointMoment> moments;
   std::vector<UniformLoad> uniform_loads;
+  std::vector<DistributedLoad> distributed_loads;
+  std::vector<FoundationSegment> foundation_segments;  // non-empty: the foundation is these pieces only
+  GapProfile gap;
+  double tension_modulus = 0.0;  // K_t >= 0 where the foundation exists and w < g
 
-  double beta() const;  // (K / (4 EI))^(1/4)
+  // (K_ref / (4 EI))^(1/4), K_ref the largest modulus (foundation_modulus, or the largest piece).
+  double beta() const;
+  // The foundation's (compression) modulus at x (the piece on the right of x at a piece end).
+  double modulus_at(double x) const;
+  double gap_at(double x) const;  // g(x), right-continuous at a step
 };
 
 struct Interval {
@@ -122,10 +172,14 @@ namespace detail {
 struct Segment {
   double a = 0.0, b = 0.0;
   bool contact = false;
-  double q = 0.0;      // uniform load on the segment
-  int basis = 0;       // 0: Krylov/Taylor series in u = (x-a)/ell, 1: scaled exponentials
-  double ell = 1.0;    // length scale of u
-  double kappa = 0.0;  // (beta ell)^4 for contact series, 0 for lift-off
+  double ground = 0.0;        // compression modulus of the foundation here (0: void)
+  double k = 0.0;             // modulus acting in the ODE (ground, K_t or 0)
+  double beta = 0.0;          // (k / (4 EI))^(1/4)
+  double q0 = 0.0, q1 = 0.0;  // effective load q + k g = q0 + q1 (x - a)
+  double g0 = 0.0, g1 = 0.0;  // gap g = g0 + g1 (x - a)
+  int basis = 0;              // 0: Krylov/Taylor series in u = (x-a)/ell, 1: scaled exponentials
+  double ell = 1.0;           // length scale of u
+  double kappa = 0.0;         // (beta ell)^4 for the series, 0 when k = 0
 };
 struct SolutionAccess;
 }  // namespace detail
@@ -142,8 +196,13 @@ class BeamSolution {
   double slope(double x, Side side = Side::right) const { return derivative(x, 1, side); }
   double bending_moment(double x, Side side = Side::right) const;  // -EI w''
   double shear_force(double x, Side side = Side::right) const;     // -EI w'''
-  // Foundation reaction per length (acting in -w): K w in contact segments, 0 in lift-off.
+  // Foundation reaction per length (acting in -w): k (w - g), k the segment's acting modulus
+  // (K in contact, K_t or 0 in lift-off, 0 over a void).
   double reaction(double x, Side side = Side::right) const;
+  double gap(double x, Side side = Side::right) const;             // g(x)
+  double gap_slope(double x, Side side = Side::right) const;       // g'(x)
+  double acting_modulus(double x, Side side = Side::right) const;  // k on the segment at x
+  double ground_modulus(double x, Side side = Side::right) const;  // foundation K (0: void)
 
   const std::vector<double>& breakpoints() const { return breakpoints_; }
   std::size_t segment_count() const { return segments_.size(); }
@@ -152,7 +211,7 @@ class BeamSolution {
 
   double length() const { return length_; }
   double bending_stiffness() const { return ei_; }
-  double foundation_modulus() const { return k_; }
+  double foundation_modulus() const { return k_; }  // K_ref (see BeamProblem::beta)
   double beta() const { return beta_; }
 
   // 1 / (FullPivLU reciprocal condition estimate) of the equilibrated system.
@@ -171,7 +230,8 @@ class BeamSolution {
   double condition_ = 0.0, residual_ = 0.0;
 };
 
-// Sorted {0, L, every load position, every uniform-load end} (clipped to [0, L], merged).
+// Sorted {0, L, every load position, every uniform/distributed-load end, every foundation-piece
+// end, every gap position} (clipped to [0, L], merged): the points where the data changes.
 std::vector<double> load_points(const BeamProblem& problem);
 
 // Linear segment solver. `breakpoints` must be strictly increasing from 0 to L and contain
@@ -188,8 +248,9 @@ BeamSolution solve_with_contact(const BeamProblem& problem, const std::vector<In
 // Classical (bilateral) Hetenyi beam: foundation acts everywhere, tension included.
 BeamSolution solve_bilateral(const BeamProblem& problem);
 
-// The maximal intervals where w > 0 (roots refined by bisection to round-off). A sample with
-// |w| <= zero_tolerance * max|w| counts as a zero.
+// The maximal intervals where w > g and a foundation exists (roots refined by bisection to
+// round-off; a region may end at a void edge or a gap step). A sample with |w - g| <=
+// zero_tolerance * max|w| counts as a zero.
 std::vector<Interval> contact_regions(const BeamSolution& solution, int samples_per_segment = 256,
                                       double zero_tolerance = 1e-12);
 
@@ -233,8 +294,8 @@ TensionlessResult solve_tensionless(const BeamProblem& problem, const std::vecto
                                     const TensionlessOptions& options = {});
 
 // Without a topology guess: a contact-set iteration (the semismooth Newton map of
-// EI w'''' + K max(w, 0) = q is C -> {w_C > 0}, w_C the solution with foundation on C), started
-// from the bilateral solution (C_0 = [0, L]). Each round takes the shrink-only step
+// EI w'''' + K max(w - g, 0) = q is C -> {w_C > g}, w_C the solution with foundation on C),
+// started from the bilateral solution (C_0 = [0, L]). Each round takes the shrink-only step
 // C_{n+1} = C_n & {w_n > 0}, or, when that step is stuck, the full step C_{n+1} = {w_n > 0};
 // after every round the limit Newton above polishes C_{n+1}, and the first polished solution
 // that passes the checks is returned. (The plain map cycles on long beams: the bilateral

@@ -1,14 +1,21 @@
 // closed_form_reference SCENE.toml: the closed-form (segment-by-segment exact) solution of a beam
 // scene, as JSON on stdout: {"method": "closed-form", "status", "contact_regions", "w_max",
 // "at_w_max", "w_min", "at_w_min"}. It reads the scene with toml++ itself and shares no code
-// with liftoff. Exit 2 (one line on stderr) for a scene it does not cover: arches, interior
-// point supports, a foundation on part of the member; exit 3 if the solve fails.
+// with liftoff. It reads issue 12's ground keys too: [foundation] from/to, [[foundation.segments]]
+// (from, to, modulus or k), gap = {at, value} or gap_file (two-column CSV, relative to the scene),
+// tension_modulus, and loads of kind "distributed" (at, value tables). Exit 2 (one line on stderr)
+// for a scene it does not cover: arches, interior point supports, a modulus varying within a
+// piece; exit 3 if the solve fails.
 #include <toml++/toml.h>
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "closed_form/beam_on_foundation.hpp"
 
@@ -28,6 +35,39 @@ EndCondition end(const std::string& scene, const std::string& name) {
   refuse(scene, "end support '" + name + "' is not covered");
 }
 
+template <typename View>
+std::vector<double> numbers(const std::string& scene, const View& node, const std::string& key) {
+  std::vector<double> out;
+  const toml::array* a = node.as_array();
+  if (!a) refuse(scene, key + ": expected an array of numbers");
+  for (const toml::node& e : *a) {
+    const auto v = e.value<double>();
+    if (!v) refuse(scene, key + ": expected an array of numbers");
+    out.push_back(*v);
+  }
+  return out;
+}
+
+// A two-column CSV (position, gap); lines that do not start with a number are skipped (header).
+GapProfile read_gap_file(const std::string& scene, const std::string& file) {
+  const std::filesystem::path path = std::filesystem::path(scene).parent_path() / file;
+  std::ifstream in(path);
+  if (!in) refuse(scene, "foundation.gap_file: cannot read " + path.string());
+  GapProfile g;
+  std::string line;
+  while (std::getline(in, line)) {
+    for (char& c : line)
+      if (c == ',' || c == ';' || c == '\t') c = ' ';
+    std::istringstream ls(line);
+    double x, v;
+    if (ls >> x >> v) {
+      g.at.push_back(x);
+      g.value.push_back(v);
+    }
+  }
+  return g;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -44,7 +84,6 @@ int main(int argc, char** argv) {
   }
   if (scene["structure"]["kind"].value_or(std::string()) != "beam") refuse(path, "only beams have a closed form");
   if (scene["supports"]["interior"]) refuse(path, "interior point supports are not covered");
-  if (scene["foundation"]["from"] || scene["foundation"]["to"]) refuse(path, "a partial foundation is not covered");
 
   BeamProblem p;
   p.length = scene["structure"]["length"].value_or(0.0);
@@ -55,6 +94,31 @@ int main(int argc, char** argv) {
     p.foundation_modulus = *k * p.bending_stiffness / std::pow(p.length, 4);
   else
     p.foundation_modulus = scene["foundation"]["modulus"].value_or(0.0);
+  const double k_scale = p.bending_stiffness / std::pow(p.length, 4);  // K per unit of k
+  if (scene["foundation"]["from"] || scene["foundation"]["to"])
+    p.foundation_segments = {{scene["foundation"]["from"].value_or(0.0), scene["foundation"]["to"].value_or(p.length),
+                              p.foundation_modulus}};
+  if (const toml::array* pieces = scene["foundation"]["segments"].as_array()) {
+    p.foundation_segments.clear();
+    for (const toml::node& node : *pieces) {
+      const toml::table& piece = *node.as_table();
+      FoundationSegment f{piece["from"].value_or(0.0), piece["to"].value_or(p.length), 0.0};
+      if (piece["modulus"].as_array() || piece["k"].as_array())
+        refuse(path, "foundation.segments: a modulus varying within a piece is not covered");
+      if (auto k = piece["k"].value<double>())
+        f.modulus = *k * k_scale;
+      else
+        f.modulus = piece["modulus"].value_or(0.0);
+      p.foundation_segments.push_back(f);
+    }
+  }
+  if (scene["foundation"]["gap"]) {
+    p.gap.at = numbers(path, scene["foundation"]["gap"]["at"], "foundation.gap.at");
+    p.gap.value = numbers(path, scene["foundation"]["gap"]["value"], "foundation.gap.value");
+  } else if (auto file = scene["foundation"]["gap_file"].value<std::string>()) {
+    p.gap = read_gap_file(path, *file);
+  }
+  p.tension_modulus = scene["foundation"]["tension_modulus"].value_or(0.0);
   const bool tensionless = scene["foundation"]["tensionless"].value_or(true);
   if (const toml::array* loads = scene["loads"].as_array()) {
     for (const toml::node& node : *loads) {
@@ -65,9 +129,20 @@ int main(int argc, char** argv) {
       if (kind == "moment") p.moments.push_back({load["at"].value_or(0.0), value});
       if (kind == "uniform")
         p.uniform_loads.push_back({load["from"].value_or(0.0), load["to"].value_or(p.length), value});
+      if (kind == "distributed") {  // piecewise linear through (at[i], value[i])
+        const auto at = numbers(path, load["at"], "loads.at"), v = numbers(path, load["value"], "loads.value");
+        if (at.size() != v.size()) refuse(path, "loads.value: expected as many values as positions in loads.at");
+        for (std::size_t i = 0; i + 1 < at.size(); ++i)
+          if (at[i + 1] > at[i]) p.distributed_loads.push_back({at[i], at[i + 1], v[i], v[i + 1]});
+      }
     }
   }
 
+  try {
+    load_points(p);  // validates the problem
+  } catch (const std::invalid_argument& e) {
+    refuse(path, e.what());
+  }
   std::string status = "converged";
   BeamSolution solution;
   if (tensionless) {
@@ -89,7 +164,20 @@ int main(int argc, char** argv) {
     if (w < w_min) w_min = w, at_min = x;
   }
   std::printf("{\"method\": \"closed-form\", \"status\": \"%s\", \"contact_regions\": [", status.c_str());
-  const auto regions = tensionless ? contact_regions(solution) : std::vector<Interval>{{0.0, p.length}};
+  // Bilateral: the foundation acts wherever it exists (the pieces, merged where they touch).
+  std::vector<Interval> regions;
+  if (tensionless) {
+    regions = contact_regions(solution);
+  } else {
+    const auto& x = solution.breakpoints();
+    for (std::size_t i = 0; i + 1 < x.size(); ++i) {
+      if (solution.ground_modulus(0.5 * (x[i] + x[i + 1])) == 0.0) continue;
+      if (!regions.empty() && regions.back().end == x[i])
+        regions.back().end = x[i + 1];
+      else
+        regions.push_back({x[i], x[i + 1]});
+    }
+  }
   for (std::size_t i = 0; i < regions.size(); ++i)
     std::printf("%s[%.17g, %.17g]", i ? ", " : "", regions[i].start, regions[i].end);
   std::printf("], \"w_max\": %.17g, \"at_w_max\": %.17g, \"w_min\": %.17g, \"at_w_min\": %.17g}\n", w_max, at_max,
