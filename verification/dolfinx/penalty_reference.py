@@ -44,6 +44,7 @@ import argparse
 import json
 import logging
 import math
+import os
 import sys
 import time
 import tomllib
@@ -76,11 +77,242 @@ def _num(table, key, where, default=None, required=True):
     return float(v)
 
 
+def _numbers(table, key, where, min_len=1):
+    v = table.get(key)
+    if (not isinstance(v, list) or len(v) < min_len
+            or any(isinstance(e, bool) or not isinstance(e, (int, float)) or not math.isfinite(e) for e in v)):
+        raise SceneError(f"key '{where}.{key}': expected an array of at least {min_len} finite numbers")
+    return [float(e) for e in v]
+
+
+def _string(table, key, where, allowed, default):
+    v = table.get(key, default)
+    if v not in allowed:
+        raise SceneError(f"key '{where}.{key}': expected one of {', '.join(map(repr, allowed))}, got {v!r}")
+    return v
+
+
+def _table_positions(sc, at, where):
+    """A table's positions (user coordinate) -> internal, non-decreasing, inside the member."""
+    for a, b in zip(at[:-1], at[1:]):
+        if b < a:
+            raise SceneError(f"key '{where}': positions must be non-decreasing ({a} then {b})")
+    return [sc_pos(sc, p, where) for p in at]
+
+
+def _read_gap(sc, fd, scene_path):
+    """g(x): (positions internal, values) or None. Constant beyond the table's ends."""
+    if "gap" in fd and "gap_file" in fd:
+        raise SceneError("key 'foundation.gap_file': not allowed together with 'foundation.gap'")
+    if "gap" in fd:
+        g = fd["gap"]
+        if not isinstance(g, dict):
+            raise SceneError("key 'foundation.gap': expected a table { at = [...], value = [...] }")
+        at = _numbers(g, "at", "foundation.gap")
+        val = _numbers(g, "value", "foundation.gap")
+        if len(at) != len(val):
+            raise SceneError("key 'foundation.gap.value': expected as many values as positions in 'at'")
+        return _gap_positions(sc, at, "foundation.gap.at"), val
+    if "gap_file" in fd:
+        f = fd["gap_file"]
+        if not isinstance(f, str):
+            raise SceneError("key 'foundation.gap_file': expected a file name (string)")
+        path = os.path.join(os.path.dirname(os.path.abspath(scene_path)), f)
+        at, val = [], []
+        try:
+            with open(path) as fh:
+                for line in fh:
+                    parts = line.replace(",", " ").replace(";", " ").split()
+                    try:
+                        x, v = float(parts[0]), float(parts[1])
+                    except (ValueError, IndexError):
+                        continue      # a header or a blank line
+                    at.append(x)
+                    val.append(v)
+        except OSError as e:
+            raise SceneError(f"key 'foundation.gap_file': cannot read {path}: {e.strerror}")
+        if not at:
+            raise SceneError(f"key 'foundation.gap_file': no 'position, gap' rows in {path}")
+        return _gap_positions(sc, at, "foundation.gap_file"), val
+    return None
+
+
+def _gap_positions(sc, at, where):
+    """Gap positions may reach beyond the member (a survey); only the order is checked."""
+    for a, b in zip(at[:-1], at[1:]):
+        if b < a:
+            raise SceneError(f"key '{where}': positions must be non-decreasing ({a} then {b})")
+    return [p if sc["kind"] == "beam" else p * DEG for p in at]
+
+
+def _read_foundation(sc, fd, scene_path):
+    if fd is None:
+        raise SceneError("table [foundation] is required")
+    kscale = sc["EI"] / sc["ref_length"] ** 4          # K per unit of k
+    segments = []                                        # (s_a, s_b, K_a, K_b, user_a, user_b)
+    if "segments" in fd:
+        for key in ("k", "modulus", "from", "to"):
+            if key in fd:
+                raise SceneError(f"key 'foundation.{key}': not allowed together with [[foundation.segments]]")
+        if not isinstance(fd["segments"], list) or not fd["segments"]:
+            raise SceneError("key 'foundation.segments': expected one or more [[foundation.segments]] tables")
+        for i, seg in enumerate(fd["segments"]):
+            where = f"foundation.segments[{i}]"
+            if not isinstance(seg, dict):
+                raise SceneError(f"key '{where}': expected a table")
+            a_user = _num(seg, "from", where)
+            b_user = _num(seg, "to", where)
+            if not b_user > a_user:
+                raise SceneError(f"key '{where}.to': expected > from ({a_user}), got {b_user}")
+            if ("k" in seg) == ("modulus" in seg):
+                raise SceneError(f"key '{where}': exactly one of 'k' and 'modulus'")
+            key = "k" if "k" in seg else "modulus"
+            v = seg[key]
+            if isinstance(v, list):
+                vals = _numbers(seg, key, where, 2)
+                if len(vals) != 2:
+                    raise SceneError(f"key '{where}.{key}': expected a number or two numbers [at from, at to]")
+            else:
+                vals = [_num(seg, key, where)] * 2
+            if min(vals) < 0.0 or max(vals) <= 0.0:
+                raise SceneError(f"key '{where}.{key}': expected values >= 0, not both 0, got {v!r}")
+            fac = kscale if key == "k" else 1.0
+            segments.append((sc_pos(sc, a_user, where + ".from"), sc_pos(sc, b_user, where + ".to"),
+                             vals[0] * fac, vals[1] * fac, a_user, b_user))
+        segments.sort()
+        for p, q in zip(segments[:-1], segments[1:]):
+            if q[0] < p[1] - 1e-12 * (sc["s1"] - sc["s0"]):
+                raise SceneError(f"key 'foundation.segments': pieces [{p[4]}, {p[5]}] and [{q[4]}, {q[5]}] overlap")
+    else:
+        if ("k" in fd) == ("modulus" in fd):
+            raise SceneError("key 'foundation': exactly one of 'k' and 'modulus' (or [[foundation.segments]])")
+        K = _num(fd, "k", "foundation") * kscale if "k" in fd else _num(fd, "modulus", "foundation")
+        if not K > 0.0:
+            raise SceneError(f"key 'foundation.{'k' if 'k' in fd else 'modulus'}': expected > 0")
+        a_user = _num(fd, "from", "foundation", default=user_of(sc, sc["s0"]))
+        b_user = _num(fd, "to", "foundation", default=user_of(sc, sc["s1"]))
+        if not b_user > a_user:
+            raise SceneError(f"key 'foundation.to': expected > from ({a_user}), got {b_user}")
+        segments.append((sc_pos(sc, a_user, "foundation.from"), sc_pos(sc, b_user, "foundation.to"), K, K,
+                         a_user, b_user))
+    sc["segments"] = segments
+    # "the" modulus for the summary line: the largest
+    sc["K"] = max(max(s[2], s[3]) for s in segments)
+    sc["k"] = sc["K"] / kscale
+    if "tensionless" in fd and not isinstance(fd["tensionless"], bool):
+        raise SceneError("key 'foundation.tensionless': expected true or false")
+    sc["tensionless"] = bool(fd.get("tensionless", True))
+    if "tension_modulus" in fd and "tension_k" in fd:
+        raise SceneError("key 'foundation.tension_k': not allowed together with 'foundation.tension_modulus'")
+    Kt = 0.0
+    if "tension_modulus" in fd or "tension_k" in fd:
+        key = "tension_modulus" if "tension_modulus" in fd else "tension_k"
+        Kt = _num(fd, key, "foundation") * (kscale if key == "tension_k" else 1.0)
+        if not sc["tensionless"]:
+            raise SceneError(f"key 'foundation.{key}': only meaningful with tensionless = true")
+        if Kt < 0.0 or any(Kt > min(s[2], s[3]) * (1 + 1e-12) for s in segments):
+            raise SceneError(f"key 'foundation.{key}': expected >= 0 and <= the compression modulus everywhere")
+    sc["Kt"] = Kt
+    sc["gap"] = _read_gap(sc, fd, scene_path)
+    side = _string(fd, "side", "foundation", ("inside", "outside"), "inside")
+    if sc["kind"] == "beam" and "side" in fd:
+        raise SceneError("key 'foundation.side': only for arches")
+    sc["side"] = side
+    sc["sigma"] = -1.0 if side == "outside" else 1.0   # user w = sigma * (inward radial w)
+
+
+def _read_support(sc, v, where, interior=False):
+    """A support: a string (end supports) or a table. Returns a dict with kind, settlement,
+    stiffness, rotational_stiffness and (interior) at."""
+    arch = sc["kind"] == "arch"
+    if interior:
+        if isinstance(v, (int, float)) and not isinstance(v, bool):
+            v = {"at": v}
+        if not isinstance(v, dict):
+            raise SceneError(f"key '{where}': expected a position or a table {{ at = ..., kind = ... }}")
+        allowed = ("pinned", "spring")
+    else:
+        allowed = ("pinned", "clamped", "free", "spring") + (("roller",) if arch else ())
+        if isinstance(v, str):
+            v = {"kind": v}
+        if not isinstance(v, dict):
+            raise SceneError(f"key '{where}': expected a string or a table {{ kind = ... }}")
+    out = {"kind": _string(v, "kind", where, allowed, "pinned" if interior else None)}
+    if out["kind"] is None:
+        raise SceneError(f"key '{where}.kind': required")
+    out["settlement"] = _num(v, "settlement", where, default=0.0)
+    out["stiffness"] = _num(v, "stiffness", where, default=0.0)
+    out["rotational_stiffness"] = _num(v, "rotational_stiffness", where, default=0.0)
+    if out["kind"] == "free" and "settlement" in v:
+        raise SceneError(f"key '{where}.settlement': not allowed on a free end")
+    if out["kind"] == "spring":
+        if out["stiffness"] < 0 or out["rotational_stiffness"] < 0 or \
+                max(out["stiffness"], out["rotational_stiffness"]) <= 0:
+            raise SceneError(f"key '{where}.stiffness': a spring needs stiffness and/or rotational_stiffness "
+                             f">= 0, at least one > 0")
+    else:
+        for key in ("stiffness", "rotational_stiffness"):
+            if key in v:
+                raise SceneError(f"key '{where}.{key}': only for kind = \"spring\"")
+    if interior:
+        out["at"] = sc_pos(sc, _num(v, "at", where), where + ".at")
+        if out["at"] in (sc["s0"], sc["s1"]):
+            raise SceneError(f"key '{where}.at': expected strictly inside the member")
+    return out
+
+
+def _read_loads(sc, raw):
+    arch = sc["kind"] == "arch"
+    loads = []
+    for i, ld in enumerate(raw.get("loads", [])):
+        where = f"loads[{i}]"
+        lk = _string(ld, "kind", where, ("force", "moment", "uniform", "distributed", "curvature"), None)
+        case = _string(ld, "case", where, ("live", "dead"), "live")
+        item = {"kind": lk, "case": case}
+        if not arch:
+            for key in ("direction", "per"):
+                if key in ld:
+                    raise SceneError(f"key '{where}.{key}': not allowed on a beam (its loads are transverse)")
+        if lk in ("uniform", "distributed"):
+            item["direction"] = _string(ld, "direction", where, ("radial", "vertical"), "radial")
+            if "per" in ld and item["direction"] != "vertical":
+                raise SceneError(f"key '{where}.per': only with direction = \"vertical\"")
+            item["per"] = _string(ld, "per", where, ("arc", "projection"), "arc")
+        if lk == "uniform":
+            v = _num(ld, "value", where)
+            a = _num(ld, "from", where, default=user_of(sc, sc["s0"]))
+            b = _num(ld, "to", where, default=user_of(sc, sc["s1"]))
+            if not b > a:
+                raise SceneError(f"key '{where}.to': expected > from")
+            item.update(at=[sc_pos(sc, a, where + ".from"), sc_pos(sc, b, where + ".to")], values=[v, v])
+        elif lk == "distributed":
+            at = _numbers(ld, "at", where, 2)
+            vals = _numbers(ld, "value", where, 2)
+            if len(at) != len(vals):
+                raise SceneError(f"key '{where}.value': expected as many values as positions in 'at'")
+            item.update(at=_table_positions(sc, at, where + ".at"), values=vals)
+        elif lk == "curvature":
+            item["value"] = _num(ld, "value", where)
+            a = _num(ld, "from", where, default=user_of(sc, sc["s0"]))
+            b = _num(ld, "to", where, default=user_of(sc, sc["s1"]))
+            if not b > a:
+                raise SceneError(f"key '{where}.to': expected > from")
+            item.update(range=(sc_pos(sc, a, where + ".from"), sc_pos(sc, b, where + ".to")))
+        else:
+            item["value"] = _num(ld, "value", where)
+            item["at"] = sc_pos(sc, _num(ld, "at", where), where + ".at")
+            if lk == "force":
+                item["direction"] = _string(ld, "direction", where,
+                                            ("radial", "tangential", "vertical", "horizontal"), "radial")
+        loads.append(item)
+    return loads
+
+
 def read_scene(path):
     with open(path, "rb") as fh:
         raw = tomllib.load(fh)
     st = raw.get("structure")
-    if st is None:
+    if not isinstance(st, dict):
         raise SceneError("table [structure] is required")
     kind = st.get("kind")
     if kind not in ("beam", "arch"):
@@ -102,51 +334,27 @@ def read_scene(path):
         sc["J"] = sc["R"]      # ds_physical = R dtheta (s = theta)
         sc["ref_length"] = sc["R"]
         sc["user_span"] = 2.0 * gamma   # degrees
+    sc["user_keys"] = {}
 
     sup = raw.get("supports", {})
-    sc["left"] = sup.get("left", "free")
-    sc["right"] = sup.get("right", "free")
-    allowed = ("pinned", "clamped", "free") if kind == "beam" else ("pinned", "roller", "clamped", "free")
+    if not isinstance(sup, dict):
+        raise SceneError("key 'supports': expected a table")
     for end in ("left", "right"):
-        if sc[end] not in allowed:
-            raise SceneError(f"key 'supports.{end}': expected one of {allowed}, got {sc[end]!r}")
-    sc["interior"] = [sc_pos(sc, float(p)) for p in sup.get("interior", [])]
+        sc[end] = _read_support(sc, sup.get(end, "free"), f"supports.{end}")
+    interior = sup.get("interior", [])
+    if not isinstance(interior, list):
+        raise SceneError("key 'supports.interior': expected an array")
+    sc["interior"] = [_read_support(sc, v, f"supports.interior[{i}]", interior=True) for i, v in enumerate(interior)]
 
-    fd = raw.get("foundation")
-    if fd is None:
-        raise SceneError("table [foundation] is required")
-    if ("k" in fd) == ("modulus" in fd):
-        raise SceneError("[foundation]: exactly one of 'k' and 'modulus'")
-    if "k" in fd:
-        sc["k"] = _num(fd, "k", "foundation")
-        sc["K"] = sc["k"] * sc["EI"] / sc["ref_length"] ** 4
-    else:
-        sc["K"] = _num(fd, "modulus", "foundation")
-        sc["k"] = sc["K"] * sc["ref_length"] ** 4 / sc["EI"]
-    sc["tensionless"] = bool(fd.get("tensionless", True))
-    sc["f_from_user"] = _num(fd, "from", "foundation", default=user_of(sc, sc["s0"]))
-    sc["f_to_user"] = _num(fd, "to", "foundation", default=user_of(sc, sc["s1"]))
-    sc["f_from"] = sc_pos(sc, sc["f_from_user"])
-    sc["f_to"] = sc_pos(sc, sc["f_to_user"])
-
-    loads = []
-    for i, ld in enumerate(raw.get("loads", [])):
-        lk = ld.get("kind")
-        if lk not in ("force", "moment", "uniform"):
-            raise SceneError(f"key 'loads[{i}].kind': expected force, moment or uniform")
-        item = {"kind": lk, "value": _num(ld, "value", f"loads[{i}]"), "case": ld.get("case", "live")}
-        if lk == "uniform":
-            item["from"] = sc_pos(sc, _num(ld, "from", f"loads[{i}]", default=user_of(sc, sc["s0"])))
-            item["to"] = sc_pos(sc, _num(ld, "to", f"loads[{i}]", default=user_of(sc, sc["s1"])))
-        else:
-            item["at"] = sc_pos(sc, _num(ld, "at", f"loads[{i}]"))
-        loads.append(item)
-    sc["loads"] = loads
+    _read_foundation(sc, raw.get("foundation"), path)
+    sc["loads"] = _read_loads(sc, raw)
     sc["scene_elements"] = int(raw.get("solve", {}).get("elements", 200))
+    sc["plain"] = (len(sc["segments"]) == 1 and sc["segments"][0][2] == sc["segments"][0][3] and sc["gap"] is None
+                   and sc["Kt"] == 0.0 and sc["side"] == "inside")
     return sc
 
 
-def sc_pos(sc, user):
+def sc_pos(sc, user, where="position"):
     """User position (x, or theta in degrees) -> internal coordinate s (x, or theta in rad)."""
     s = user if sc["kind"] == "beam" else user * DEG
     span = sc["s1"] - sc["s0"]
@@ -155,7 +363,9 @@ def sc_pos(sc, user):
     if abs(s - sc["s1"]) <= 1e-12 * span:
         s = sc["s1"]
     if s < sc["s0"] or s > sc["s1"]:
-        raise SceneError(f"position {user} outside the member")
+        raise SceneError(f"key '{where}': position {user} outside the member")
+    if "user_keys" in sc:
+        sc["user_keys"][s] = user      # a limit here is reported as the scene's own number
     return s
 
 
@@ -163,14 +373,43 @@ def user_of(sc, s):
     return s if sc["kind"] == "beam" else s / DEG
 
 
+def table_value(at, values, x, outside):
+    """Piecewise-linear table at x (not at a step: callers sample inside cells); outside the
+    table: 'const' (its end values) or 'zero'."""
+    at = np.asarray(at, dtype=float)
+    values = np.asarray(values, dtype=float)
+    if outside == "zero":
+        return np.interp(x, at, values, left=0.0, right=0.0)
+    return np.interp(x, at, values)
+
+
+def cell_linear(fun, xa, xb):
+    """End values (at xa, xb) of a function that is linear on each cell, sampled at the quarter
+    points (never at a breakpoint or step, which are mesh vertices) and extrapolated."""
+    q1 = fun(0.75 * xa + 0.25 * xb)
+    q3 = fun(0.25 * xa + 0.75 * xb)
+    return 1.5 * q1 - 0.5 * q3, 1.5 * q3 - 0.5 * q1
+
+
 # --------------------------------------------------------------------------------------------
 # Mesh
 # --------------------------------------------------------------------------------------------
 
 def key_points(sc):
-    pts = [sc["s0"], sc["s1"], sc["f_from"], sc["f_to"]] + list(sc["interior"])
+    """Mesh vertices that every mesh has: the ends, supports, foundation piece ends, gap
+    breakpoints and steps (inside the member), load points and table breakpoints."""
+    pts = [sc["s0"], sc["s1"]] + [s["at"] for s in sc["interior"]]
+    for seg in sc["segments"]:
+        pts += [seg[0], seg[1]]
+    if sc["gap"] is not None:
+        pts += [p for p in sc["gap"][0] if sc["s0"] < p < sc["s1"]]
     for ld in sc["loads"]:
-        pts += [ld["from"], ld["to"]] if ld["kind"] == "uniform" else [ld["at"]]
+        if ld["kind"] in ("uniform", "distributed"):
+            pts += list(ld["at"])
+        elif ld["kind"] == "curvature":
+            pts += list(ld["range"])
+        else:
+            pts.append(ld["at"])
     pts = sorted(pts)
     span = sc["s1"] - sc["s0"]
     out = [pts[0]]
@@ -324,65 +563,135 @@ class Model:
         self.cw = cw
         self.cx = coord[cw]          # (nc, 3)
         self.cell_mid = mid
-        in_found = (mid > sc["f_from"]) & (mid < sc["f_to"])
-        self.found_cells = np.nonzero(in_found)[0]
+        sigma = sc["sigma"]
+        self.sigma = sigma
 
-        # ---- boundary conditions (all homogeneous) ----
+        # ---- per-cell foundation data: compression modulus at the cell ends (linear within a
+        # piece, 0 in a void), tension modulus, gap at the cell ends (linear on every cell: its
+        # breakpoints and steps are vertices) ----
+        xa, xb = self.cx[:, 0], self.cx[:, 2]
+
+        def modulus_at(x):
+            out = np.zeros_like(x)
+            for a, b, Ka, Kb, _, _ in sc["segments"]:
+                sel = (x > a) & (x < b)
+                out[sel] = Ka + (Kb - Ka) * (x[sel] - a) / (b - a)
+            return out
+        Kc_a, Kc_b = cell_linear(modulus_at, xa, xb)
+        on_piece = np.zeros(nc, dtype=bool)
+        for a, b, _, _, _, _ in sc["segments"]:
+            on_piece |= (mid > a) & (mid < b)
+        self.found_cells = np.nonzero(on_piece)[0]
+        self.Kc_ab = np.stack([Kc_a, Kc_b], axis=1)[self.found_cells]
+        self.Kt_cell = np.full(len(self.found_cells), sc["Kt"])
+        if sc["gap"] is not None:
+            g_a, g_b = cell_linear(lambda x: table_value(sc["gap"][0], sc["gap"][1], x, "const"), xa, xb)
+        else:
+            g_a, g_b = np.zeros(nc), np.zeros(nc)
+        self.g_ab = np.stack([g_a, g_b], axis=1)
+
+        # ---- boundary conditions: w (and u) held, with the settlements as values ----
         def vertex_at(s):
             v = dmesh.locate_entities(msh, 0, lambda x: np.abs(x[0] - s) < tol)
             if len(v) != 1:
                 raise RuntimeError(f"no unique mesh vertex at s = {s}")
             return v
 
-        bc_dofs = []
+        bc_dofs, bc_vals = [], []
+
+        def hold(dofs, value):
+            bc_dofs.append(np.asarray(dofs))
+            bc_vals.append(np.full(len(dofs), value))
         gauge = None
+        self.springs = []        # (vertex s, kind dict, cells side) for the spring terms
         for end, s in (("left", sc["s0"]), ("right", sc["s1"])):
-            kind = sc[end]
+            sup = sc[end]
+            kind = sup["kind"]
             v = vertex_at(s)
             if kind in ("pinned", "clamped", "roller"):
-                bc_dofs.append(fem.locate_dofs_topological(Ww, 0, v))
+                hold(fem.locate_dofs_topological(Ww, 0, v), sigma * sup["settlement"])
             if arch and kind in ("pinned", "clamped"):
-                bc_dofs.append(fem.locate_dofs_topological(Wu, 0, v))
-        for s in sc["interior"]:
-            bc_dofs.append(fem.locate_dofs_topological(Ww, 0, vertex_at(s)))
-        if arch and sc["left"] in ("roller", "free") and sc["right"] in ("roller", "free"):
+                hold(fem.locate_dofs_topological(Wu, 0, v), 0.0)
+            if kind == "spring":
+                self.springs.append((s, sup))
+        for sup in sc["interior"]:
+            if sup["kind"] == "pinned":
+                hold(fem.locate_dofs_topological(Ww, 0, vertex_at(sup["at"])), sigma * sup["settlement"])
+            else:
+                self.springs.append((sup["at"], sup))
+        ends = [sc["left"]["kind"], sc["right"]["kind"]]
+        u_held = any(k in ("pinned", "clamped") for k in ends) or any(
+            k == "spring" and sc[e]["stiffness"] > 0 for e, k in zip(("left", "right"), ends)) or any(
+            s["kind"] == "spring" and s["stiffness"] > 0 for s in sc["interior"])
+        if arch and not u_held:
             # rigid rotation about the centre (u = const, w = 0) is resisted by nothing:
             # fix u at the vertex nearest the crown (a gauge; changes no deflection or force)
             xv = msh.geometry.x[:, 0]
             vc = int(np.argmin(np.abs(xv - 0.5 * (sc["s0"] + sc["s1"]))))
             xg = xv[vc]
-            bc_dofs.append(fem.locate_dofs_topological(Wu, 0, vertex_at(xg)))
+            hold(fem.locate_dofs_topological(Wu, 0, vertex_at(xg)), 0.0)
             gauge = f"u = 0 at theta = {xg / DEG:.6g} deg (rigid rotation of the arch about its centre)"
         self.gauge = gauge
-        bc_dofs = np.unique(np.concatenate(bc_dofs)) if bc_dofs else np.zeros(0, dtype=np.int32)
-        self.bc_dofs = bc_dofs.astype(np.int32)
-        zero = fem.Function(W)       # all supports are homogeneous
-        bcs = [fem.dirichletbc(zero, self.bc_dofs)] if len(self.bc_dofs) else []
+        if bc_dofs:
+            allb = np.concatenate(bc_dofs).astype(np.int32)
+            allv = np.concatenate(bc_vals)
+            self.bc_dofs, first = np.unique(allb, return_index=True)
+            self.bc_values = allv[first]
+        else:
+            self.bc_dofs, self.bc_values = np.zeros(0, dtype=np.int32), np.zeros(0)
+        self.bc_dofs = self.bc_dofs.astype(np.int32)
+        held = fem.Function(W)
+        held.x.array[self.bc_dofs] = self.bc_values
+        self.held = held
+        bcs = [fem.dirichletbc(held, self.bc_dofs)] if len(self.bc_dofs) else []
         self.bcs = bcs
 
         # ---- clamped-end facet tags for Nitsche ----
         facet_idx, facet_val = [], []
         for tag, (end, s) in enumerate((("left", sc["s0"]), ("right", sc["s1"])), start=1):
-            if sc[end] == "clamped":
+            if sc[end]["kind"] == "clamped":
                 facet_idx.append(int(vertex_at(s)[0]))
                 facet_val.append(tag)
         order_f = np.argsort(facet_idx)
         ft = dmesh.meshtags(msh, 0, np.array(facet_idx, dtype=np.int32)[order_f],
                             np.array(facet_val, dtype=np.int32)[order_f])
 
-        # ---- DG0 cell data: foundation modulus and uniform load ----
+        # ---- cell data: line loads (DG1: piecewise linear, steps at vertices), imposed
+        # curvature (DG0), and the DG0 modulus of the quadrature cross-check ----
         V0 = fem.FunctionSpace(msh, ("DG", 0))
         c0 = np.array([V0.dofmap.cell_dofs(c)[0] for c in range(nc)])
         kf = fem.Function(V0)
-        kf.x.array[c0[in_found]] = sc["K"]
-        qf = fem.Function(V0)
-        lam = opts.load_factor
-        for ld in sc["loads"]:
-            if ld["kind"] == "uniform":
-                fac = lam if ld["case"] == "live" else 1.0
-                sel = (mid > ld["from"]) & (mid < ld["to"])
-                qf.x.array[c0[sel]] += fac * ld["value"]
+        kf.x.array[c0[self.found_cells]] = sc["K"]
         self.kf = kf
+        V1 = fem.FunctionSpace(msh, ("DG", 1))
+        c1 = np.array([V1.dofmap.cell_dofs(c) for c in range(nc)])
+        x1 = V1.tabulate_dof_coordinates()[:, 0]
+        lam = opts.load_factor
+        q_line = {key: np.zeros((nc, 2)) for key in ("radial", "arc", "projection")}
+        kT = fem.Function(V0)
+        for ld in sc["loads"]:
+            fac = lam if ld["case"] == "live" else 1.0
+            if ld["kind"] in ("uniform", "distributed"):
+                qa, qb = cell_linear(lambda x: table_value(ld["at"], ld["values"], x, "zero"), xa, xb)
+                key = "radial" if ld["direction"] == "radial" else ld["per"]
+                q_line[key] += fac * np.stack([qa, qb], axis=1)
+            elif ld["kind"] == "curvature":
+                a, b = ld["range"]
+                sel = (mid > a) & (mid < b)
+                # kap is the curvature change in the solver's variable (theta for arches:
+                # physical curvature kap / R^2) and of the inward w (sigma)
+                scale = sigma * (sc["R"] ** 2 if arch else 1.0)
+                kT.x.array[c0[sel]] += fac * ld["value"] * scale
+        self.has_curvature = bool(np.any(kT.x.array != 0.0))
+
+        def dg1(vals):
+            f = fem.Function(V1)
+            for c in range(nc):
+                d = c1[c]
+                left = x1[d] <= 0.5 * (xa[c] + xb[c])
+                f.x.array[d] = np.where(left, vals[c, 0], vals[c, 1])
+            return f
+        q_rad, q_arc, q_proj = (dg1(q_line[k]) for k in ("radial", "arc", "projection"))
 
         # ---- forms ----
         EI, J = sc["EI"], sc["J"]
@@ -421,16 +730,31 @@ class Model:
             a += nit * ds(1) + nit * ds(2)
         if arch:
             a += cm * (u.dx(0) - w) * (uh.dx(0) - wh) * dx
-        a_bil = kf * J * w * wh * dx          # bilateral foundation (linear)
-        Lq = qf * J * wh * dx                  # uniform loads
+        # line loads: radial ones (> 0 toward the foundation, i.e. along sigma * inward);
+        # vertical ones (> 0 downward) have the inward component cos(theta) and the
+        # tangential one sin(theta); per projection they carry |cos(theta)| more (dx = R cos dtheta)
+        if arch:
+            th = ufl.SpatialCoordinate(msh)[0]
+            qv = q_arc + q_proj * abs(ufl.cos(th))
+            dxq = ufl.dx(domain=msh, metadata={"quadrature_degree": 10})
+            Lq = J * (sigma * q_rad + qv * ufl.cos(th)) * wh * dxq + J * qv * ufl.sin(th) * uh * dxq
+        else:
+            Lq = J * q_rad * wh * dx
+        # imposed curvature: the bending energy is 1/2 EI (kap + kT)^2, so the residual gains
+        # int EI kT kap(v) and kT enters the moment of every consistency term
+        if self.has_curvature:
+            Lq = Lq - cb * kT * kaph * dx + cb * ufl.avg(kT) * ufl.jump(ufl.grad(wh), nrm) * dS
+            if facet_idx:
+                Lq = Lq + cb * kT * ufl.dot(ufl.grad(wh), nrm) * (ds(1) + ds(2))
         self.L_form = fem.form(Lq)
 
         # residual forms F(uh; v) and their Jacobians, for dolfinx's NonlinearProblem. The
-        # residual is assembled from the form (not as K @ x): see solve() for why.
+        # residual is assembled from the form (not as K @ x): see solve() for why. The
+        # foundation (and springs) are added by foundation_exact, bilateral or tensionless.
         self.uh = fem.Function(W)
         uh = self.uh
         F_lin = ufl.action(a, uh) - Lq
-        self.prob_bil = _Problem(self, F_lin + ufl.action(a_bil, uh), uh, bcs, a + a_bil, None)
+        self.prob_bil = _Problem(self, F_lin, uh, bcs, a, lambda x, want_jac: self.foundation_exact(x, want_jac, True))
         if sc["tensionless"]:
             if opts.foundation_integration == "exact":
                 self.prob_t = _Problem(self, F_lin, uh, bcs, a, self.foundation_exact)
@@ -438,7 +762,8 @@ class Model:
                 wcur = ufl.split(uh)[1] if arch else uh
                 dxq = ufl.dx(domain=msh, metadata={"quadrature_degree": opts.quadrature_degree})
                 Fq = kf * J * ufl.conditional(ufl.gt(wcur, 0.0), wcur, 0.0) * wh * dxq
-                self.prob_t = _Problem(self, F_lin + Fq, uh, bcs, a + ufl.derivative(Fq, uh, trial), None)
+                self.prob_t = _Problem(self, F_lin + Fq, uh, bcs, a + ufl.derivative(Fq, uh, trial),
+                                       lambda x, want_jac: self.springs_only(x, want_jac))
         if opts.krylov:      # compile the matrix-free Jacobian actions here, not in the solve
             for prob in [self.prob_bil] + ([self.prob_t] if sc["tensionless"] else []):
                 prob.action = _Action(self, prob)
@@ -447,57 +772,113 @@ class Model:
         # point loads need mesh connectivity: keep what is needed
         self._fem, self._fpetsc, self._PETSc, self._dmesh = fem, fpetsc, PETSc, dmesh
         self._vertex_at = vertex_at
+        self._spring_matrix()
 
     # ------------------------------------------------------------------
     def assemble_point_loads(self):
-        """Vector of the point forces and moments (uniform loads are in the UFL form)."""
+        """Vector of the point forces and moments (line loads and curvature are in the UFL form)."""
         sc, opts = self.sc, self.opts
         f = np.zeros(self.ndofs)
         msh = self.msh
-        v2c = msh.topology.connectivity(0, 1)
         lam = opts.load_factor
         for ld in sc["loads"]:
-            if ld["kind"] == "uniform":
+            if ld["kind"] not in ("force", "moment"):
                 continue
             fac = lam if ld["case"] == "live" else 1.0
             P = fac * ld["value"]
             v = self._vertex_at(ld["at"])
             if ld["kind"] == "force":
-                d = self._fem.locate_dofs_topological(self.Ww, 0, v)
-                f[d] += P
-            else:
-                # point moment: work = M * rotation. The C0 P2 test function's derivative
-                # jumps at a vertex; take it from the adjacent cell (at an end there is only
-                # one), averaging the two one-sided values at an interior vertex.
-                cells = v2c.links(int(v[0]))
-                g = np.zeros(self.ndofs)
-                for c in cells:
-                    dofs = np.asarray(self.Ww.dofmap.cell_dofs(int(c)))
-                    g[dofs] += lagrange_derivatives(self.coord[dofs], ld["at"]) / len(cells)
-                if self.arch:
+                dw = self._fem.locate_dofs_topological(self.Ww, 0, v)
+                direction = ld.get("direction", "radial")
+                if not self.arch or direction == "radial":
+                    f[dw] += self.sigma * P            # toward the foundation
+                else:
                     du = self._fem.locate_dofs_topological(self.Wu, 0, v)
-                    g[du] += 1.0
-                    g /= sc["R"]          # rotation = -(u + w')/R
-                f += -P * g               # rotation = -w' (beam)
+                    th = ld["at"]
+                    # unit vectors at theta (crown up): inward (-sin, -cos), tangential
+                    # (cos, -sin); vertical > 0 is (0, -1), horizontal > 0 is (1, 0)
+                    cw, cu = {"tangential": (0.0, 1.0),
+                              "vertical": (math.cos(th), math.sin(th)),
+                              "horizontal": (-math.sin(th), math.cos(th))}[direction]
+                    f[dw] += P * cw
+                    f[du] += P * cu
+            else:
+                # point moment: work = M * rotation
+                f += P * self._rotation_vector(ld["at"])
         f[self.bc_dofs] = 0.0
         self.f_point = f
         b = self._fpetsc.assemble_vector(self.L_form)
         self.load_norm = float(np.linalg.norm(b.array + f))
 
+    def _rotation_vector(self, s):
+        """g with rotation(s) = g . x: -w' (beam), -(u + w')/R (arch, w inward). The C0 P2
+        test function's derivative jumps at a vertex; take it from the adjacent cell (at an
+        end there is only one), averaging the two one-sided values at an interior vertex."""
+        v = self._vertex_at(s)
+        cells = self.msh.topology.connectivity(0, 1).links(int(v[0]))
+        g = np.zeros(self.ndofs)
+        for c in cells:
+            dofs = np.asarray(self.Ww.dofmap.cell_dofs(int(c)))
+            g[dofs] += lagrange_derivatives(self.coord[dofs], s) / len(cells)
+        if self.arch:
+            du = self._fem.locate_dofs_topological(self.Wu, 0, v)
+            g[du] += 1.0
+            g /= self.sc["R"]
+        return -g
+
+    def _spring_matrix(self):
+        """Springs: energy 1/2 k (w - sigma s)^2 (+ 1/2 k u^2 on arches) + 1/2 k_r rotation^2,
+        as a constant matrix S and vector fs: residual S x - fs."""
+        import scipy.sparse as sp
+        S = sp.lil_matrix((self.ndofs, self.ndofs))
+        fs = np.zeros(self.ndofs)
+        for s, sup in self.springs:
+            v = self._vertex_at(s)
+            k, kr = sup["stiffness"], sup["rotational_stiffness"]
+            if k > 0:
+                dw = int(self._fem.locate_dofs_topological(self.Ww, 0, v)[0])
+                S[dw, dw] += k
+                fs[dw] += k * self.sigma * sup["settlement"]
+                if self.arch:
+                    du = int(self._fem.locate_dofs_topological(self.Wu, 0, v)[0])
+                    S[du, du] += k
+            if kr > 0:
+                g = self._rotation_vector(s)
+                nz = np.nonzero(g)[0]
+                for i in nz:
+                    for j in nz:
+                        S[i, j] += kr * g[i] * g[j]
+        keep = np.ones(self.ndofs)
+        keep[self.bc_dofs] = 0.0
+        D = sp.diags(keep)
+        self.S = (D @ S.tocsr() @ D).tocsr()
+        fs[self.bc_dofs] = 0.0
+        self.fs = fs
+
+    def springs_only(self, x, want_jac=True):
+        return self.S @ x - self.fs, (self.S if want_jac else None)
+
     # ------------------------------------------------------------------
-    def foundation_exact(self, x, want_jac=True):
-        """Residual and Jacobian of int K max(w,0) v over the foundation, exact per cell."""
+    def foundation_exact(self, x, want_jac=True, bilateral=False):
+        """Residual and Jacobian of the foundation, int [K_c max(d, 0) + K_t min(d, 0)] v with
+        d = w - g (w in the user's sign: sigma * the inward w), exact per cell: d is quadratic
+        on a cell (P2 w, g linear: its breakpoints are vertices), split at its roots, each piece
+        integrated by 3-point Gauss (exact to degree 5: K linear x d quadratic x v quadratic).
+        bilateral: K_t = K_c (the bonded foundation, and the linear start). Springs added."""
         import scipy.sparse as sp
         cells = self.found_cells
+        sig = self.sigma
         dofs = self.cw[cells]            # (m, 3)
         xl = self.cx[cells, 0]
         hh = self.cx[cells, 2] - xl
-        wv = x[dofs]                     # values at t = 0, 1/2, 1
-        w0, wm, w1 = wv[:, 0], wv[:, 1], wv[:, 2]
-        # w(t) = A t^2 + B t + C
-        A = 2.0 * w1 - 4.0 * wm + 2.0 * w0
-        B = 4.0 * wm - w1 - 3.0 * w0
-        C = w0
+        ga, gb = self.g_ab[cells, 0], self.g_ab[cells, 1]
+        wv = sig * x[dofs]               # user w at t = 0, 1/2, 1
+        dv = wv - np.stack([ga, 0.5 * (ga + gb), gb], axis=1)
+        d0, dm, d1 = dv[:, 0], dv[:, 1], dv[:, 2]
+        # d(t) = A t^2 + B t + C
+        A = 2.0 * d1 - 4.0 * dm + 2.0 * d0
+        B = 4.0 * dm - d1 - 3.0 * d0
+        C = d0
         r1, r2 = quad_roots(A, B, C)
         r1 = np.where(np.isfinite(r1), np.clip(r1, 0.0, 1.0), 1.0)
         r2 = np.where(np.isfinite(r2), np.clip(r2, 0.0, 1.0), 1.0)
@@ -505,26 +886,31 @@ class Model:
         br = np.sort(br, axis=1)                      # pieces [br0,br1],[br1,br2],[br2,br3]
         gp = np.array([-math.sqrt(0.6), 0.0, math.sqrt(0.6)])
         gw = np.array([5.0, 8.0, 5.0]) / 9.0
-        coef = self.sc["K"] * self.sc["J"]
+        J = self.sc["J"]
+        Ka, Kb = self.Kc_ab[:, 0], self.Kc_ab[:, 1]
+        Kt = self.Kt_cell
         Rloc = np.zeros((len(cells), 3))
         Jloc = np.zeros((len(cells), 3, 3)) if want_jac else None
         for p in range(3):
             ta, tb = br[:, p], br[:, p + 1]
             L = tb - ta
             tm = 0.5 * (ta + tb)
-            wmid = (A * tm + B) * tm + C
-            active = (wmid > 0.0) & (L > 0.0)
+            dmid = (A * tm + B) * tm + C
+            compressed = dmid > 0.0
             for q in range(3):
                 t = tm + 0.5 * L * gp[q]
                 phi = np.stack([2.0 * (t - 0.5) * (t - 1.0), 4.0 * t * (1.0 - t), 2.0 * t * (t - 0.5)], axis=1)
-                wt = (A * t + B) * t + C
-                fac = np.where(active, coef * hh * 0.5 * L * gw[q], 0.0)
-                Rloc += (fac * wt)[:, None] * phi
+                dt = (A * t + B) * t + C
+                Kc = Ka + (Kb - Ka) * t
+                K = Kc if bilateral else np.where(compressed, Kc, Kt)
+                fac = np.where(L > 0.0, K * J * hh * 0.5 * L * gw[q], 0.0)
+                Rloc += (sig * fac * dt)[:, None] * phi
                 if want_jac:
                     Jloc += fac[:, None, None] * phi[:, :, None] * phi[:, None, :]
         r = np.zeros(self.ndofs)
         np.add.at(r, dofs.ravel(), Rloc.ravel())
         r[self.bc_dofs] = 0.0
+        r += self.S @ x - self.fs
         if not want_jac:
             return r, None
         rows = np.repeat(dofs, 3, axis=1).ravel()
@@ -533,7 +919,7 @@ class Model:
         keep = np.ones(self.ndofs)
         keep[self.bc_dofs] = 0.0
         D = sp.diags(keep)
-        Jm = (D @ Jm @ D).tocsr()
+        Jm = (D @ Jm @ D).tocsr() + self.S
         return r, Jm
 
     def _newton(self, problem, atol):
@@ -593,6 +979,7 @@ class Model:
         approximate inverse, converges to the discrete solution to ~1e-11 (iterative
         refinement). A plain direct solve is used nowhere."""
         self.uh.x.array[:] = 0.0
+        self.uh.x.array[self.bc_dofs] = self.bc_values     # the settlements
         n_bil, steps_bil = self._newton(self.prob_bil, atol=1e-300)
         xnorm = float(np.linalg.norm(self.uh.x.array))
         info = {"bilateral_iterations": n_bil}
@@ -619,7 +1006,7 @@ class Model:
     def postprocess(self, x):
         sc = self.sc
         cx, cw = self.cx, self.cw
-        wv = x[cw]
+        wv = self.sigma * x[cw]          # the user's w (> 0 into the foundation)
         w0, wm, w1 = wv[:, 0], wv[:, 1], wv[:, 2]
         A = 2.0 * w1 - 4.0 * wm + 2.0 * w0
         B = 4.0 * wm - w1 - 3.0 * w0
@@ -636,10 +1023,15 @@ class Model:
         cs = np.concatenate(cand_s)
         cwv = np.concatenate(cand_w)
         imax, imin = int(np.argmax(cwv)), int(np.argmin(cwv))
-        # contact regions inside the foundation extent
+        # contact regions: where d = w - g > 0 on the foundation's pieces
         fc = self.found_cells
-        r1, r2 = quad_roots(A[fc], B[fc], C[fc])
-        scale = max(np.max(np.abs(wv)), 1e-300)
+        ga, gb = self.g_ab[fc, 0], self.g_ab[fc, 1]
+        dv = wv[fc] - np.stack([ga, 0.5 * (ga + gb), gb], axis=1)
+        dA = 2.0 * dv[:, 2] - 4.0 * dv[:, 1] + 2.0 * dv[:, 0]
+        dB = 4.0 * dv[:, 1] - dv[:, 2] - 3.0 * dv[:, 0]
+        dC = dv[:, 0]
+        r1, r2 = quad_roots(dA, dB, dC)
+        scale = max(np.max(np.abs(wv)), np.max(np.abs(self.g_ab)), 1e-300)
         pieces = []
         for j, c in enumerate(fc):
             ts_ = sorted([0.0, 1.0] + [t for t in (r1[j], r2[j]) if 0.0 < t < 1.0])
@@ -647,10 +1039,10 @@ class Model:
                 if tb <= ta:
                     continue
                 tm = 0.5 * (ta + tb)
-                wmid = (A[c] * tm + B[c]) * tm + C[c]
+                dmid = (dA[j] * tm + dB[j]) * tm + dC[j]
                 sa = cx[c, 0] + ta * h[c] if ta > 0.0 else cx[c, 0]
                 sb = cx[c, 0] + tb * h[c] if tb < 1.0 else cx[c, 2]
-                pieces.append((sa, sb, wmid > 1e-13 * scale))
+                pieces.append((sa, sb, dmid > 1e-13 * scale))
         pieces.sort()
         regions = []
         for a, b, pos in pieces:
@@ -660,19 +1052,29 @@ class Model:
                 regions[-1][1] = b
             else:
                 regions.append([a, b])
-        wfound = np.concatenate([wv[fc].ravel(), np.where(inside[fc], (A[fc] * ts[fc] + B[fc]) * ts[fc] + C[fc], 0.0)])
-        max_reaction = float(sc["K"] * max(0.0, wfound.max())) if len(fc) else 0.0
-        def to_user(v):      # a limit at an end of the foundation: the scene's own number
-            if v == sc["f_from"]:
-                return sc["f_from_user"]
-            if v == sc["f_to"]:
-                return sc["f_to_user"]
-            return user_of(sc, v)
+        # reaction K_c max(d, 0) + K_t min(d, 0), sampled at 9 points per foundation cell
+        tt = np.linspace(0.0, 1.0, 9)
+        dt = (dA[:, None] * tt + dB[:, None]) * tt + dC[:, None]
+        Kc = self.Kc_ab[:, :1] + (self.Kc_ab[:, 1:] - self.Kc_ab[:, :1]) * tt
+        if sc["tensionless"]:
+            react = Kc * np.maximum(dt, 0.0) + self.Kt_cell[:, None] * np.minimum(dt, 0.0)
+        else:
+            react = Kc * dt
+        max_reaction = float(max(0.0, react.max())) if len(fc) else 0.0
+
+        def to_user(v):      # a limit at a key point (piece end, void edge): the scene's own number
+            return sc["user_keys"].get(v, user_of(sc, v))
         positive = [[to_user(a), to_user(b)] for a, b in regions]
         if not sc["tensionless"]:
-            # a bilateral foundation is bonded: it is in contact over its whole extent (as
-            # liftoff reports it); the parts where w > 0 are given separately
-            contact = [[sc["f_from_user"], sc["f_to_user"]]]
+            # a bilateral foundation is bonded: it is in contact over its whole extent (its
+            # pieces, merged where they touch), as liftoff reports it; where d > 0 is given separately
+            contact = []
+            for a, b, *_ in sc["segments"]:
+                if contact and abs(a - contact[-1][1]) <= 1e-12 * (sc["s1"] - sc["s0"]):
+                    contact[-1][1] = b
+                else:
+                    contact.append([a, b])
+            contact = [[to_user(a), to_user(b)] for a, b in contact]
         else:
             contact = positive
         # w at every vertex and cell midpoint, in order along the member (for figures)
@@ -681,8 +1083,12 @@ class Model:
         field_w = np.concatenate([w0, wm])[order]
         last = int(np.argmax(cx[:, 2]))
         field_s, field_w = np.append(field_s, cx[last, 2]), np.append(field_w, w1[last])
-        in_foundation = (field_s >= sc["f_from"]) & (field_s <= sc["f_to"])
-        field_r = sc["K"] * np.where(in_foundation, np.maximum(field_w, 0.0) if sc["tensionless"] else field_w, 0.0)
+        field_r = np.zeros_like(field_w)
+        rf = np.zeros((len(cx), 2))
+        rf[fc, 0], rf[fc, 1] = react[:, 0], react[:, 4]
+        field_rc = np.concatenate([rf[:, 0], rf[:, 1]])[order]
+        field_r[:-1] = field_rc
+        field_r[-1] = react[list(fc).index(last), 8] if last in set(fc) else 0.0
         return {
             "fields": {"coordinate": [user_of(sc, float(v)) for v in field_s], "w": field_w.tolist(),
                        "reaction": field_r.tolist()},
@@ -792,6 +1198,10 @@ def main(argv=None):
         sc = read_scene(opts.scene)
     except (SceneError, tomllib.TOMLDecodeError, OSError) as e:
         print(f"{opts.scene}: {e}", file=sys.stderr)
+        return 2
+    if opts.foundation_integration == "quadrature" and not sc["plain"]:
+        print(f"{opts.scene}: --foundation-integration quadrature covers one constant foundation piece "
+              f"without gap, tension modulus or side (use the default, exact)", file=sys.stderr)
         return 2
     kp = key_points(sc)
 
