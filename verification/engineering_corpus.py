@@ -25,7 +25,8 @@ The answers must agree within their error estimates:
   - Ritz: its own estimate, estimated_limit_error (the last change of the limits with N). It
     estimates the limits only: Ritz deflections are printed, not compared;
   - the exact closed form (verification/closed_form, Hetenyi's beam solved segment by segment,
-    no shared code) for beams on a foundation over their whole length: 1e-10 of the length.
+    no shared code) for beams it covers (closed_form_applies: whole or partial foundations,
+    pieces with voids, gaps, tension_modulus, distributed loads): 1e-10 of the length.
 Two values agree when |a - b| <= 3 (e_a + e_b) + 1e-12 * scale (compare.py's rule: the factor 3
 covers estimates that are themselves only estimates).
 
@@ -139,9 +140,22 @@ def scale_of(doc):
 
 
 def closed_form_applies(doc):
+    """What verification/closed_form solves exactly: a beam with string end supports (pinned,
+    clamped, free; no springs, no settlements), no interior supports, the foundation whole or
+    partial or in pieces with a constant modulus each (voids between them), a gap (table or
+    file), tension_modulus, and force, moment, uniform and distributed loads. Not: a modulus
+    varying within a piece, tension_k, curvature loads (closed_form_reference does not read
+    those two keys, so it must not be asked)."""
     f = doc["foundation"]
-    return (doc["structure"]["kind"] == "beam" and "from" not in f and "to" not in f
-            and not doc["supports"].get("interior"))
+    supports = doc["supports"]
+    pieces = f.get("segments", [])
+    return (doc["structure"]["kind"] == "beam"
+            and all(isinstance(supports.get(end), str) and supports[end] in ("pinned", "clamped", "free")
+                    for end in ("left", "right"))
+            and not supports.get("interior")
+            and not any(isinstance(p.get("modulus", p.get("k")), list) for p in pieces)
+            and "tension_k" not in f
+            and all(load.get("kind") in ("force", "moment", "uniform", "distributed") for load in doc.get("loads", [])))
 
 
 # ---------------------------------------------------------------------------------------------

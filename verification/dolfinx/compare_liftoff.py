@@ -25,7 +25,13 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 def run_json(cmd):
     p = subprocess.run(cmd, capture_output=True, text=True)
     if p.returncode != 0:
-        return None, (p.stderr.strip() or p.stdout.strip()).splitlines()[-1:] or [f"exit {p.returncode}"]
+        message = p.stderr.strip()
+        try:   # a refusal (exit 3) carries one JSON object with the reason on stdout
+            message = json.loads(p.stdout).get("message") or message
+        except (json.JSONDecodeError, AttributeError):
+            message = message or p.stdout.strip()
+        last = (message.splitlines() or [""])[-1]
+        return None, f"refused (exit {p.returncode}): {last}"
     return json.loads(p.stdout), None
 
 
@@ -74,7 +80,8 @@ def main():
         ref = json.load(open(jpath))
         fe, fe_err = run_json([opts.liftoff, "solve", scene, "--json", "--elements", "640"])
         rz, rz_err = run_json([opts.liftoff, "solve", scene, "--json", "--method", "ritz"])
-        rows.append((name, ref, fe, rz, fe_err or rz_err, wall))
+        notes = [f"liftoff FE: {fe_err}"] * bool(fe_err) + [f"liftoff Ritz: {rz_err}"] * bool(rz_err)
+        rows.append((name, ref, fe, rz, notes, wall))
     total = time.perf_counter() - t0
 
     unit = {"beam": "x", "arch": "theta deg"}
@@ -97,6 +104,9 @@ def main():
               f"{ref['time_s']:.3f} | {wall:.1f} |" if order is not None and est is not None else
               f"| {name} | {fmt(ref['contact_regions'])} | {ref['elements']} | - | - | - | | | | | "
               f"{ref['time_s']:.3f} | {wall:.1f} |")
+    for name, ref, fe, rz, notes, wall in rows:
+        for note in (notes if ref is not None else []):
+            print(f"{name}: {note}")
     print(f"\ntotal wall time {total:.1f} s; JSON files in {out}")
     return 0
 

@@ -92,6 +92,15 @@ def _string(table, key, where, allowed, default):
     return v
 
 
+def _known(table, keys, where):
+    """A key this reference does not read would be ignored silently and change the problem:
+    refuse it (the tables of numerics, [solve], [ritz], [trace], [compare], are not read)."""
+    for key in table:
+        if key not in keys:
+            raise SceneError(f"key '{where}.{key}': unknown to the dolfinx reference (it reads "
+                             f"{', '.join(keys)})")
+
+
 def _table_positions(sc, at, where):
     """A table's positions (user coordinate) -> internal, non-decreasing, inside the member."""
     for a, b in zip(at[:-1], at[1:]):
@@ -148,6 +157,10 @@ def _gap_positions(sc, at, where):
 def _read_foundation(sc, fd, scene_path):
     if fd is None:
         raise SceneError("table [foundation] is required")
+    if not isinstance(fd, dict):
+        raise SceneError("key 'foundation': expected a table")
+    _known(fd, ("k", "modulus", "from", "to", "tensionless", "segments", "gap", "gap_file", "tension_modulus",
+                "tension_k", "side"), "foundation")
     kscale = sc["EI"] / sc["ref_length"] ** 4          # K per unit of k
     segments = []                                        # (s_a, s_b, K_a, K_b, user_a, user_b)
     if "segments" in fd:
@@ -160,6 +173,7 @@ def _read_foundation(sc, fd, scene_path):
             where = f"foundation.segments[{i}]"
             if not isinstance(seg, dict):
                 raise SceneError(f"key '{where}': expected a table")
+            _known(seg, ("from", "to", "k", "modulus"), where)
             a_user = _num(seg, "from", where)
             b_user = _num(seg, "to", where)
             if not b_user > a_user:
@@ -237,6 +251,7 @@ def _read_support(sc, v, where, interior=False):
             v = {"kind": v}
         if not isinstance(v, dict):
             raise SceneError(f"key '{where}': expected a string or a table {{ kind = ... }}")
+    _known(v, ("kind", "settlement", "stiffness", "rotational_stiffness") + (("at",) if interior else ()), where)
     out = {"kind": _string(v, "kind", where, allowed, "pinned" if interior else None)}
     if out["kind"] is None:
         raise SceneError(f"key '{where}.kind': required")
@@ -266,6 +281,9 @@ def _read_loads(sc, raw):
     loads = []
     for i, ld in enumerate(raw.get("loads", [])):
         where = f"loads[{i}]"
+        if not isinstance(ld, dict):
+            raise SceneError(f"key '{where}': expected a table")
+        _known(ld, ("kind", "value", "at", "from", "to", "case", "direction", "per"), where)
         lk = _string(ld, "kind", where, ("force", "moment", "uniform", "distributed", "curvature"), None)
         case = _string(ld, "case", where, ("live", "dead"), "live")
         item = {"kind": lk, "case": case}
@@ -317,6 +335,7 @@ def read_scene(path):
     kind = st.get("kind")
     if kind not in ("beam", "arch"):
         raise SceneError("key 'structure.kind': expected \"beam\" or \"arch\"")
+    _known(st, ("kind", "length", "radius", "half_angle_deg", "EI", "EA"), "structure")
     sc = {"kind": kind, "name": path}
     sc["EI"] = _num(st, "EI", "structure")
     if kind == "beam":
@@ -339,6 +358,7 @@ def read_scene(path):
     sup = raw.get("supports", {})
     if not isinstance(sup, dict):
         raise SceneError("key 'supports': expected a table")
+    _known(sup, ("left", "right", "interior"), "supports")
     for end in ("left", "right"):
         sc[end] = _read_support(sc, sup.get(end, "free"), f"supports.{end}")
     interior = sup.get("interior", [])
