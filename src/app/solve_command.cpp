@@ -169,9 +169,8 @@ io::SolveReport fe_report(const scene::Scene& scene, Method method, const SolveR
           "would be as accurate)",
           certificate->round_off_note);
   }
-  if (fields.s.empty() && certified) {
-    const post::DeflectionExtremes x =
-        post::deflection_extremes(d, fe.solution.displacement, request.samples_per_element);
+  if (certified) {  // exact, whether or not fields were sampled
+    const post::DeflectionExtremes x = post::deflection_extremes(d, fe.solution.displacement);
     report.w_max = x.w_max * model.scales.displacement();
     report.at_w_max = model.user_from_s(x.s_at_w_max);
     report.w_min = x.w_min * model.scales.displacement();
@@ -182,48 +181,6 @@ io::SolveReport fe_report(const scene::Scene& scene, Method method, const SolveR
                                   samples, request.samples_per_element, max_field_samples);
   report.time_s = seconds_since(start);
   return report;
-}
-
-// The extremes of w (and of the reaction k w on the contact elements) of a fitted answer, each
-// element's cubic maximised exactly (the zeros of w' located by bisection): a sampled maximum
-// is off by O(h_sample^2), far above a tolerance of 1e-10.
-struct FittedExtremes {
-  double w_max = -INFINITY, s_at_w_max = 0.0, w_min = INFINITY, s_at_w_min = 0.0, contact_w_max = 0.0;
-};
-
-FittedExtremes fitted_extremes(const fe::Discretisation& d, const Eigen::VectorXd& all) {
-  FittedExtremes x;
-  for (int e = 0; e < d.mesh.elements(); ++e) {
-    const double h = d.mesh.element_size(e);
-    const std::vector<int> dofs = d.element_dofs(e);
-    const Eigen::Vector4d w_dofs(all[dofs[0]], all[dofs[1]], all[dofs[2]], all[dofs[3]]);
-    auto w = [&](double xi) { return fe::hermite_cubic(xi, h).value.dot(w_dofs); };
-    auto dw = [&](double xi) { return fe::hermite_cubic(xi, h).d1.dot(w_dofs); };
-    std::vector<double> candidates{0.0, 1.0};
-    constexpr int pieces = 8;  // w' is a quadratic: at most two zeros, separated by these pieces
-    for (int i = 0; i < pieces; ++i) {
-      double lo = static_cast<double>(i) / pieces, hi = static_cast<double>(i + 1) / pieces;
-      double f_lo = dw(lo);
-      if (!(f_lo * dw(hi) < 0.0)) continue;
-      for (int k = 0; k < 60; ++k) {
-        const double mid = 0.5 * (lo + hi), f_mid = dw(mid);
-        if ((f_mid > 0.0) == (f_lo > 0.0)) {
-          lo = mid;
-          f_lo = f_mid;
-        } else {
-          hi = mid;
-        }
-      }
-      candidates.push_back(0.5 * (lo + hi));
-    }
-    for (double xi : candidates) {
-      const double value = w(xi), s = d.mesh.nodes[e] + xi * h;
-      if (value > x.w_max) x.w_max = value, x.s_at_w_max = s;
-      if (value < x.w_min) x.w_min = value, x.s_at_w_min = s;
-      if (d.foundation_on_element[e]) x.contact_w_max = std::max(x.contact_w_max, value);
-    }
-  }
-  return x;
 }
 
 // A report with no answer (usable false), for a refusal of the tolerance.
@@ -352,7 +309,7 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   add_accuracy(report);
   io::attach_certificate(report, certificate, model);
   // Nodal reactions and the extremes as displayed (above).
-  const FittedExtremes x = fitted_extremes(d, all);
+  const post::DeflectionExtremes x = post::deflection_extremes(d, all);
   const fe::Scales& scales = model.scales;
   for (int node = 0; node <= d.mesh.elements(); ++node) {
     const bool pressed =

@@ -84,21 +84,36 @@ Fields sample_fields(const fe::MemberModel& model, const fe::Discretisation& d,
   return f;
 }
 
-DeflectionExtremes deflection_extremes(const fe::Discretisation& d, const Eigen::VectorXd& displacement,
-                                       int samples_per_element) {
-  DeflectionExtremes x{-INFINITY, 0.0, INFINITY, 0.0};
-  const int elements = d.mesh.elements();
-  for (int e = 0; e < elements; ++e) {
+DeflectionExtremes deflection_extremes(const fe::Discretisation& d, const Eigen::VectorXd& displacement) {
+  DeflectionExtremes x;
+  for (int e = 0; e < d.mesh.elements(); ++e) {
     const double h = d.mesh.element_size(e);
     const std::vector<int> dofs = d.element_dofs(e);  // w dofs first (see evaluate)
     const Eigen::Vector4d w_dofs(displacement[dofs[0]], displacement[dofs[1]], displacement[dofs[2]],
                                  displacement[dofs[3]]);
-    for (int i = 0; i <= samples_per_element; ++i) {
-      if (i == samples_per_element && e + 1 < elements) break;  // the end point once, as sample_fields
-      const double xi = static_cast<double>(i) / samples_per_element;
-      const double w = fe::hermite_cubic(xi, h).value.dot(w_dofs), s = d.mesh.nodes[e] + xi * h;
-      if (w >= x.w_max) x.w_max = w, x.s_at_w_max = s;  // the last largest, as std::minmax_element
-      if (w < x.w_min) x.w_min = w, x.s_at_w_min = s;
+    auto w = [&](double xi) { return fe::hermite_cubic(xi, h).value.dot(w_dofs); };
+    // w'(xi) = a xi^2 + b xi + c, from its values at 0, 1/2, 1 (exact for a quadratic).
+    const double d0 = fe::hermite_cubic(0.0, h).d1.dot(w_dofs), dm = fe::hermite_cubic(0.5, h).d1.dot(w_dofs),
+                 d1 = fe::hermite_cubic(1.0, h).d1.dot(w_dofs);
+    const double a = 2.0 * (d0 + d1) - 4.0 * dm, b = 4.0 * dm - 3.0 * d0 - d1, c = d0;
+    double candidates[4] = {0.0, 1.0, -1.0, -1.0};
+    const double scale = std::abs(a) + std::abs(b) + std::abs(c);
+    if (std::abs(a) > 1e-14 * scale) {
+      const double disc = b * b - 4.0 * a * c;
+      if (disc >= 0.0) {  // the stable pair of roots
+        const double q = -0.5 * (b + std::copysign(std::sqrt(disc), b));
+        candidates[2] = q / a;
+        if (q != 0.0) candidates[3] = c / q;
+      }
+    } else if (b != 0.0) {
+      candidates[2] = -c / b;
+    }
+    for (double xi : candidates) {
+      if (!(xi >= 0.0 && xi <= 1.0)) continue;
+      const double value = w(xi), s = d.mesh.nodes[e] + xi * h;
+      if (value > x.w_max) x.w_max = value, x.s_at_w_max = s;
+      if (value < x.w_min) x.w_min = value, x.s_at_w_min = s;
+      if (d.foundation_on_element[e]) x.contact_w_max = std::max(x.contact_w_max, value);
     }
   }
   return x;

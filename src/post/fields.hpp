@@ -7,6 +7,7 @@
 // interpolation of the nodal reactions (compression positive), zero off the foundation.
 
 #include <Eigen/Dense>
+#include <cmath>
 #include <vector>
 
 #include "contact/contact_solver.hpp"
@@ -32,13 +33,15 @@ struct Fields {
 Fields sample_fields(const fe::MemberModel& model, const fe::Discretisation& d,
                      const contact::ContactSolution& solution, int samples_per_element);
 
-// The largest and smallest deflection at the same sample points as sample_fields, without
-// storing any field: what a report needs when no one asked for the fields themselves.
+// The largest and smallest deflection of the discrete answer, each element's cubic maximised
+// exactly (at its ends and at the zeros of w', a quadratic): a sampled maximum is off by
+// O(h_sample^2) relative to the curvature, which on a fine mesh is far above the discretisation
+// error (approach_slab_one_support: 2.3e-9 of max |w| at 100 elements against the closed form,
+// sampled). contact_w_max: the largest w on the elements the foundation acts on.
 struct DeflectionExtremes {
-  double w_max = 0, s_at_w_max = 0, w_min = 0, s_at_w_min = 0;
+  double w_max = -INFINITY, s_at_w_max = 0, w_min = INFINITY, s_at_w_min = 0, contact_w_max = 0;
 };
-DeflectionExtremes deflection_extremes(const fe::Discretisation& d, const Eigen::VectorXd& displacement,
-                                       int samples_per_element);
+DeflectionExtremes deflection_extremes(const fe::Discretisation& d, const Eigen::VectorXd& displacement);
 
 // Nodal reaction interpolated at s (zero off the foundation).
 double reaction_at(const fe::Discretisation& d, const Eigen::VectorXd& reaction, int element, double xi);
