@@ -199,6 +199,13 @@ std::vector<std::string> trace_path_names(const scene::Scene& scene, const Trace
                       "\"fast\" or \"auto\")",
                       scene.source_name, where));
     }
+    // Nor an imposed curvature (an initial strain the moving-boundary energy does not hold).
+    for (std::size_t i = 0; i < scene.loads.size(); ++i)
+      if (scene.loads[i].kind == scene::LoadKind::curvature)
+        throw InputError(
+            fmt::format("{}: key 'loads[{}].kind': the Ritz path cannot take this scene (the Ritz model does not take "
+                        "an imposed curvature); expected an FE method (\"dual\", \"primal\", \"fast\" or \"auto\")",
+                        scene.source_name, i));
     names.push_back("ritz");
   }
   if (t.refine) {

@@ -43,14 +43,24 @@ VectorXd applied_nodal_loads(const fe::MemberModel& model, const fe::Discretisat
   VectorXd f = VectorXd::Zero(d.dofs());
   for (const fe::MemberLoad& load : model.loads) {
     const double value = load.value * (load.load_case == fe::LoadCase::dead ? 1.0 : load_factor);
-    if (load.kind == fe::LoadKind::uniform) {
+    if (load.kind == fe::LoadKind::uniform || load.kind == fe::LoadKind::curvature) {
+      const double factor = load.load_case == fe::LoadCase::dead ? 1.0 : load_factor;
       for (int e = 0; e < d.mesh.elements(); ++e) {
         const double h = d.mesh.element_size(e), middle = d.mesh.nodes[e] + 0.5 * h;
         if (middle < load.from || middle > load.to) continue;
         const std::vector<int> dofs = d.element_dofs(e);
-        for (const fe::GaussPoint& g : fe::gauss5) {
+        if (load.kind == fe::LoadKind::curvature) {
+          // An imposed curvature works through the elastic strain: -kappa int N'' = -kappa [N'].
+          for (const auto& [xi, sign] : {std::pair{0.0, 1.0}, std::pair{1.0, -1.0}}) {
+            const Eigen::Vector4d slope = fe::hermite_cubic(xi, h).d1;
+            for (int j = 0; j < 4; ++j) f[dofs[j]] += sign * value * slope[j];
+          }
+          continue;
+        }
+        for (const fe::GaussPoint& g : fe::gauss5) {  // linear q x cubic N: exact
           const Eigen::Vector4d shape = fe::hermite_cubic(g.xi, h).value;
-          for (int j = 0; j < 4; ++j) f[dofs[j]] += g.weight * h * value * shape[j];
+          const double q = factor * load.intensity(d.mesh.nodes[e] + g.xi * h);
+          for (int j = 0; j < 4; ++j) f[dofs[j]] += g.weight * h * q * shape[j];
         }
       }
       continue;

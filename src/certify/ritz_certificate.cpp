@@ -33,17 +33,24 @@ double applied_work(const MemberModel& model, int mode, double lambda) {
     } else if (load.kind == fe::LoadKind::moment) {
       const Eigen::Vector3d m = detail::balance_mode_at(model, mode, load.at);
       work -= value * (m[2] + (arch ? m[0] : 0.0));
-    } else {  // integral of q m_w over [from, to], in closed form
-      const double a = load.from, b = load.to;
-      if (!arch)
-        work +=
-            value *
-            (mode == 0 ? b - a
-                       : 0.5 * ((b - model.s_begin) * (b - model.s_begin) - (a - model.s_begin) * (a - model.s_begin)));
-      else if (mode == 0)
-        work += value * (std::cos(b) - std::cos(a));  // m_w = -sin
-      else if (mode == 1)
-        work -= value * (std::sin(b) - std::sin(a));  // m_w = -cos
+    } else if (load.kind == fe::LoadKind::uniform) {
+      // integral of q m_w over [from, to] in closed form, q = q0 + q1 s linear
+      const double a = load.from, b = load.to, factor = load.load_case == fe::LoadCase::dead ? 1.0 : lambda;
+      const double q1 = factor * load.slope, q0 = factor * load.value - q1 * a;
+      if (!arch) {
+        const double s0 = model.s_begin;
+        // int (q0 + q1 s) ds and int (q0 + q1 s)(s - s0) ds
+        const double i0 = b - a, i1 = 0.5 * (b * b - a * a), i2 = (b * b * b - a * a * a) / 3.0;
+        work += mode == 0 ? q0 * i0 + q1 * i1 : q0 * (i1 - s0 * i0) + q1 * (i2 - s0 * i1);
+      } else {
+        // int (q0 + q1 s) sin s = q0 (cos a - cos b) + q1 [sin s - s cos s]_a^b, likewise cos.
+        const double int_sin =
+            q0 * (std::cos(a) - std::cos(b)) + q1 * ((std::sin(b) - b * std::cos(b)) - (std::sin(a) - a * std::cos(a)));
+        const double int_cos =
+            q0 * (std::sin(b) - std::sin(a)) + q1 * ((std::cos(b) + b * std::sin(b)) - (std::cos(a) + a * std::sin(a)));
+        if (mode == 0) work -= int_sin;  // m_w = -sin
+        if (mode == 1) work -= int_cos;  // m_w = -cos
+      }
     }
   }
   return work;
@@ -155,8 +162,10 @@ Balance balance_terms(const MemberModel& member, const RitzModel& ritz, const Ve
         } else if (load.kind == fe::LoadKind::moment) {
           const std::array<double, 5> v = test(load.at);
           load_work -= value * (v[3] + v[0]);
-        } else {  // a cubic: one 5-point Gauss interval is exact
-          load_work += value * integrate(load.from, load.to, 1, [&](double s) { return test(s)[2]; });
+        } else if (load.kind == fe::LoadKind::uniform) {  // linear x cubic: one 5-point Gauss interval is exact
+          const double scale = load.load_case == fe::LoadCase::dead ? 1.0 : lambda;
+          load_work +=
+              scale * integrate(load.from, load.to, 1, [&](double s) { return load.intensity(s) * test(s)[2]; });
         }
       }
       g[c] = energy + foundation_work - load_work;

@@ -177,16 +177,25 @@ Assembly assemble(const MemberModel& model, const Discretisation& d, const std::
     }
 
     for (const MemberLoad& load : model.loads) {
-      if (load.kind != LoadKind::uniform || middle < load.from || middle > load.to) continue;
-      Eigen::Vector4d consistent = Eigen::Vector4d::Zero();
-      for (const GaussPoint& g : gauss5) consistent += (g.weight * h * load.value) * hermite_cubic(g.xi, h).value;
+      if (middle < load.from || middle > load.to) continue;
       Eigen::VectorXd& target = load.load_case == LoadCase::dead ? a.dead_load : a.live_load;
-      for (int j = 0; j < 4; ++j) target[dofs[j]] += consistent[j];
+      if (load.kind == LoadKind::uniform) {
+        // Linear q times cubic shapes: degree 4, exact with five Gauss points.
+        Eigen::Vector4d consistent = Eigen::Vector4d::Zero();
+        for (const GaussPoint& g : gauss5)
+          consistent += (g.weight * h * load.intensity(mesh.nodes[e] + g.xi * h)) * hermite_cubic(g.xi, h).value;
+        for (int j = 0; j < 4; ++j) target[dofs[j]] += consistent[j];
+      } else if (load.kind == LoadKind::curvature) {
+        // An initial strain: Pi = 1/2 int (w'' + kappa)^2 gives F = -kappa int N'' = -kappa [N']_0^h,
+        // so a range of curvature is a pair of end moments EI kappa (the interior nodes cancel).
+        target[dofs[1]] += load.value;
+        target[dofs[3]] -= load.value;
+      }
     }
   }
 
   for (const MemberLoad& load : model.loads) {
-    if (load.kind == LoadKind::uniform) continue;
+    if (load.kind == LoadKind::uniform || load.kind == LoadKind::curvature) continue;
     Eigen::VectorXd& target = load.load_case == LoadCase::dead ? a.dead_load : a.live_load;
     const int node = mesh.node_at(load.at);
     if (load.kind == LoadKind::force) {

@@ -17,6 +17,14 @@ double MemberModel::user_from_s(double s) const {
   return kind == StructureKind::beam ? s * scales.length : s / degrees;
 }
 
+double imposed_curvature(const std::vector<MemberLoad>& loads, double s, double load_factor) {
+  double kappa = 0.0;
+  for (const MemberLoad& load : loads)
+    if (load.kind == LoadKind::curvature && s >= load.from && s <= load.to)
+      kappa += load.value * (load.load_case == LoadCase::dead ? 1.0 : load_factor);
+  return kappa;
+}
+
 MemberModel make_member_model(const scene::Scene& scene) {
   const auto& structure = scene.structure;
   MemberModel model;
@@ -48,6 +56,21 @@ MemberModel make_member_model(const scene::Scene& scene) {
   model.foundation_end = model.s_from_user(foundation.to);
 
   for (const auto& load : scene.loads) {
+    if (load.kind == LoadKind::distributed) {
+      for (std::size_t i = 0; i + 1 < load.table_at.size(); ++i) {
+        if (!(load.table_at[i + 1] > load.table_at[i])) continue;  // a step
+        MemberLoad piece;
+        piece.kind = LoadKind::uniform;
+        piece.load_case = load.load_case;
+        piece.from = model.s_from_user(load.table_at[i]);
+        piece.to = model.s_from_user(load.table_at[i + 1]);
+        piece.value = load.table_value[i] / scales.force_per_length();
+        piece.slope =
+            (load.table_value[i + 1] - load.table_value[i]) / scales.force_per_length() / (piece.to - piece.from);
+        model.loads.push_back(piece);
+      }
+      continue;
+    }
     MemberLoad member_load;
     member_load.kind = load.kind;
     member_load.load_case = load.load_case;
@@ -63,6 +86,11 @@ MemberModel make_member_model(const scene::Scene& scene) {
         break;
       case LoadKind::uniform:
         member_load.value = load.value / scales.force_per_length();
+        break;
+      case LoadKind::curvature:  // 1/length -> per unit of the length scale
+        member_load.value = load.value * scales.length;
+        break;
+      case LoadKind::distributed:  // made into uniform pieces above
         break;
     }
     model.loads.push_back(member_load);

@@ -27,14 +27,28 @@ struct Scales {
   double force_per_length() const { return bending_stiffness / (length * length * length); }
 };
 
+// One load on the member. A scene's `distributed` table becomes one `uniform` load per interval
+// of the table, linear from `value` at `from` with `slope` per unit s (steps are where two
+// pieces meet), so every consumer of loads integrates linear pieces and never sees a table.
+// A `curvature` load is an imposed free curvature kappa_T over [from, to] (value = kappa_T l):
+// an initial strain, the elastic curvature being w'' + value there (beams only).
 struct MemberLoad {
   LoadKind kind = LoadKind::force;
   double at = 0.0;     // s
-  double value = 0.0;  // nondimensional
-  double from = 0.0;   // s, uniform loads
+  double value = 0.0;  // nondimensional; uniform: the intensity at `from`
+  double slope = 0.0;  // uniform: d(intensity)/ds (0 for a scene's uniform load)
+  double from = 0.0;   // s, uniform and curvature loads
   double to = 0.0;
   LoadCase load_case = LoadCase::live;
+
+  // The force per length of a uniform (linear) load at s in [from, to].
+  double intensity(double s) const { return value + slope * (s - from); }
 };
+
+// The imposed curvature (nondimensional) at s: the sum of the curvature loads covering s, with
+// the case's factor (dead 1, live load_factor). Breakpoints are nodes, so s inside an element
+// is never on a range's end.
+double imposed_curvature(const std::vector<MemberLoad>& loads, double s, double load_factor);
 
 struct MemberModel {
   StructureKind kind = StructureKind::beam;

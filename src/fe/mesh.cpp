@@ -28,7 +28,7 @@ std::vector<double> mesh_breakpoints(const MemberModel& model) {
   std::vector<double> points{model.s_begin, model.s_end, model.foundation_begin, model.foundation_end};
   for (double s : model.point_supports) points.push_back(s);
   for (const auto& load : model.loads) {
-    if (load.kind == LoadKind::uniform) {
+    if (load.kind == LoadKind::uniform || load.kind == LoadKind::curvature) {  // a distributed table's points too
       points.push_back(load.from);
       points.push_back(load.to);
     } else {

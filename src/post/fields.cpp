@@ -51,7 +51,7 @@ double reaction_at(const fe::Discretisation& d, const Eigen::VectorXd& reaction,
 }
 
 Fields sample_fields(const fe::MemberModel& model, const fe::Discretisation& d,
-                     const contact::ContactSolution& solution, int samples_per_element) {
+                     const contact::ContactSolution& solution, int samples_per_element, double load_factor) {
   Fields f;
   const bool arch = d.kind == StructureKind::arch;
   const int elements = d.mesh.elements();
@@ -63,12 +63,13 @@ Fields sample_fields(const fe::MemberModel& model, const fe::Discretisation& d,
     f.normal_force.reserve(samples);
   }
   std::vector<int> dofs;
+  double kappa = 0.0;  // the element's imposed curvature (curvature ranges end at nodes)
   auto add = [&](int element, double xi) {
     const LocalState x = evaluate_on(d, solution.displacement, element, dofs, xi);
     f.s.push_back(d.mesh.nodes[element] + xi * d.mesh.element_size(element));
     f.w.push_back(x.w);
     f.rotation.push_back(arch ? -(x.u + x.dw) : -x.dw);
-    f.bending_moment.push_back(arch ? -(x.du + x.d2w) : -x.d2w);
+    f.bending_moment.push_back(arch ? -(x.du + x.d2w) : -(x.d2w + kappa));
     f.shear_force.push_back(arch ? -(x.d2u + x.d3w) : -x.d3w);
     f.reaction.push_back(reaction_at(d, solution.reaction, element, xi));
     if (arch) {
@@ -78,6 +79,7 @@ Fields sample_fields(const fe::MemberModel& model, const fe::Discretisation& d,
   };
   for (int e = 0; e < elements; ++e) {
     dofs = d.element_dofs(e);  // once per element, not per sample
+    kappa = fe::imposed_curvature(model.loads, d.mesh.nodes[e] + 0.5 * d.mesh.element_size(e), load_factor);
     for (int i = 0; i < samples_per_element; ++i) add(e, static_cast<double>(i) / samples_per_element);
   }
   add(elements - 1, 1.0);

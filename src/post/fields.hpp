@@ -1,10 +1,11 @@
 #pragma once
 // Fields along the member, recovered from a contact solution (nondimensional).
 //
-// Beams: rotation = -w' (counterclockwise), bending moment M = -w'' (sagging positive),
-// shear V = dM/ds = -w'''. Arches: rotation = -(u + w'), M = -(u' + w''), V = dM/ds,
-// normal force N = EA R^2/EI (u' - w) (tension positive). The reaction is the seed's linear
-// interpolation of the nodal reactions (compression positive), zero off the foundation.
+// Beams: rotation = -w' (counterclockwise), bending moment M = -(w'' + kappa_T) (sagging
+// positive; kappa_T the imposed curvature of curvature loads, so M is the elastic moment and a
+// free member curling freely carries none), shear V = dM/ds = -w'''. Arches: rotation = -(u + w'), M = -(u' + w''), V =
+// dM/ds, normal force N = EA R^2/EI (u' - w) (tension positive). The reaction is the seed's linear interpolation of the
+// nodal reactions (compression positive), zero off the foundation.
 
 #include <Eigen/Dense>
 #include <cmath>
@@ -30,8 +31,9 @@ struct Fields {
 };
 
 // samples_per_element >= 1 points per element (xi = i / samples, i = 0..samples-1), plus the end.
+// load_factor scales live curvature loads (the solution's lambda).
 Fields sample_fields(const fe::MemberModel& model, const fe::Discretisation& d,
-                     const contact::ContactSolution& solution, int samples_per_element);
+                     const contact::ContactSolution& solution, int samples_per_element, double load_factor = 1.0);
 
 // The largest and smallest deflection of the discrete answer, each element's cubic maximised
 // exactly (at its ends and at the zeros of w', a quadratic): a sampled maximum is off by

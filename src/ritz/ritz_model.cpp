@@ -53,6 +53,7 @@ RitzModel::RitzModel(const fe::MemberModel& model, int modes, Topology topology,
     require_finite(value, "a member model value");
   for (const fe::MemberLoad& load : model.loads) {
     require_finite(load.value, "a load value");
+    require_finite(load.slope, "a load slope");
     require_finite(load.at, "a load position");
     require_finite(load.from, "a load extent");
     require_finite(load.to, "a load extent");
@@ -120,6 +121,12 @@ RitzModel::RitzModel(const fe::MemberModel& model, int modes, Topology topology,
   dead_load_ = VectorXd::Zero(amplitudes_);
   live_load_ = VectorXd::Zero(amplitudes_);
   double moment_sum[2] = {0.0, 0.0}, moment_size[2] = {0.0, 0.0};
+  for (const fe::MemberLoad& load : model.loads)
+    if (load.kind == fe::LoadKind::curvature)
+      throw std::invalid_argument(
+          "key 'loads': kind = \"curvature\" (an imposed curvature, an initial strain) is not part of the "
+          "moving-boundary model's energy in "
+          "this version");
   for (const fe::MemberLoad& load : model.loads) {
     const bool dead = load.load_case == fe::LoadCase::dead;
     VectorXd& target = dead ? dead_load_ : live_load_;
@@ -135,11 +142,18 @@ RitzModel::RitzModel(const fe::MemberModel& model, int modes, Topology topology,
         moment_sum[dead] += load.value;
         moment_size[dead] += std::abs(load.value);
         break;
-      case fe::LoadKind::uniform:
+      case fe::LoadKind::uniform: {
+        // q(s) = q0 + q1 s, linear on [from, to]: q0 int phi + q1 int s phi, both exact.
+        const double q1 = load.slope, q0 = load.value - q1 * load.from;
+        const TrigPolynomial s_times = TrigPolynomial::monomial(1);
         for (int j = 0; j < modes_; ++j)
-          target[j] += load.value * split_integral(load.from, load.to, [&](int r, double lo, double hi) {
-                         return w_derivatives_[r][0][j].integral(lo, hi);
-                       });
+          target[j] += split_integral(load.from, load.to, [&](int r, double lo, double hi) {
+            const TrigPolynomial& phi = w_derivatives_[r][0][j];
+            return q0 * phi.integral(lo, hi) + (q1 != 0.0 ? q1 * (s_times * phi).integral(lo, hi) : 0.0);
+          });
+        break;
+      }
+      default:  // curvature: refused above
         break;
     }
   }

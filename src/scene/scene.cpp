@@ -20,10 +20,12 @@ constexpr Names<EndSupport, 4> end_supports{{
     {EndSupport::free, "free"},
     {EndSupport::roller, "roller"},
 }};
-constexpr Names<LoadKind, 3> load_kinds{{
+constexpr Names<LoadKind, 5> load_kinds{{
     {LoadKind::force, "force"},
     {LoadKind::moment, "moment"},
     {LoadKind::uniform, "uniform"},
+    {LoadKind::distributed, "distributed"},
+    {LoadKind::curvature, "curvature"},
 }};
 constexpr Names<LoadCase, 2> load_cases{{
     {LoadCase::live, "live"},

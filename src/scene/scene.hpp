@@ -19,7 +19,9 @@ enum class StructureKind { beam, arch };
 // Beam ends: pinned (w = 0), clamped (w = w' = 0), free.
 // Arch ends: pinned (u = w = 0), roller (w = 0), clamped (u = w = rotation = 0), free.
 enum class EndSupport { pinned, clamped, free, roller };
-enum class LoadKind { force, moment, uniform };
+// distributed: piecewise linear force per length from a table; curvature: an imposed free
+// (thermal) curvature over from..to, an initial strain rather than a force.
+enum class LoadKind { force, moment, uniform, distributed, curvature };
 // Live loads are scaled by the load factor lambda (1 in `solve`); dead loads are not.
 enum class LoadCase { live, dead };
 // How the contact problem is solved. dual, primal: FE + LCP (Lemke); fast: FE, the sparse
@@ -71,9 +73,13 @@ struct Foundation {
 struct Load {
   LoadKind kind = LoadKind::force;
   double at = 0.0;     // force and moment: position
-  double value = 0.0;  // force, moment, or force per unit length (uniform)
-  double from = 0.0;   // uniform: extent; the reader fills the member's ends by default
+  double value = 0.0;  // force, moment, force per unit length (uniform) or curvature kappa_T
+  double from = 0.0;   // uniform, curvature: extent; the reader fills the member's ends by default
   double to = 0.0;
+  // distributed: q(position) piecewise linear through (table_at[i], table_value[i]); positions
+  // non-decreasing (a repeated one is a step), q = 0 outside [table_at.front(), table_at.back()].
+  std::vector<double> table_at;
+  std::vector<double> table_value;
   LoadCase load_case = LoadCase::live;
 };
 

@@ -40,7 +40,7 @@ const std::vector<TableSpec>& schema() {
       {"structure", false, {"kind", "length", "radius", "half_angle_deg", "EI", "EA"}},
       {"supports", false, {"left", "right", "interior"}},
       {"foundation", false, {"k", "modulus", "tensionless", "from", "to"}},
-      {"loads", true, {"kind", "at", "value", "from", "to", "case"}},
+      {"loads", true, {"kind", "at", "value", "from", "to", "case", "direction", "per"}},
       {"solve", false, {"method", "elements", "tolerance"}},
       {"ritz", false, {"modes", "max_modes", "mode_tolerance", "topology", "limits"}},
       {"trace",
@@ -293,6 +293,18 @@ class Section {
     return values;
   }
 
+  // A non-empty array of numbers, each within the range (repeats allowed: a table's steps).
+  std::vector<double> number_array(std::string_view key, const Range& range, std::string_view expected) const {
+    const toml::node* node = find(key);
+    if (node == nullptr) missing(key, expected);
+    const toml::array* array = node->as_array();
+    if (array == nullptr || array->empty()) wrong(key, expected);
+    std::vector<double> values;
+    for (std::size_t i = 0; i < array->size(); ++i)
+      values.push_back(checked(*array->get(i), fmt::format("{}[{}]", path(key), i), range));
+    return values;
+  }
+
   std::optional<int> integer(std::string_view key, int lo, int hi) const {
     const toml::node* node = find(key);
     if (node == nullptr) return std::nullopt;
@@ -484,18 +496,53 @@ Foundation read_foundation(const Section& s, const Member& member) {
   return f;
 }
 
+// distributed: the tables at/value, piecewise linear; positions non-decreasing, at least two.
+void read_distributed(const Section& s, const Member& member, Load& load) {
+  for (const auto key : {"from", "to"})
+    s.refuse(key, "for a distributed load (its table 'at' gives where it acts; zero outside the table)");
+  const std::string positions = fmt::format("an array of at least two non-decreasing {}s in {}",
+                                            member.arch ? "angle" : "position", member.interval(false));
+  load.table_at = s.number_array("at", member.position(), positions);
+  if (load.table_at.size() < 2) s.wrong("at", positions);
+  for (std::size_t i = 1; i < load.table_at.size(); ++i) {
+    if (load.table_at[i] < load.table_at[i - 1])
+      s.fail("at", fmt::format("expected non-decreasing positions (a repeated one is a step), got at[{}] = {} after "
+                               "at[{}] = {}",
+                               i, load.table_at[i], i - 1, load.table_at[i - 1]));
+    if (i >= 2 && load.table_at[i] == load.table_at[i - 2])
+      s.fail("at", fmt::format("expected each position at most twice (a step), got {} three times", load.table_at[i]));
+  }
+  if (!(load.table_at.back() > load.table_at.front()))
+    s.fail("at", "expected a table spanning a positive length, got all its positions equal");
+  load.table_value = s.number_array("value", any_number(), "an array of numbers, one per position in 'at'");
+  if (load.table_value.size() != load.table_at.size())
+    s.fail("value", fmt::format("expected one value per position in 'at' ({}), got {}", load.table_at.size(),
+                                load.table_value.size()));
+}
+
 Load read_load(const Section& s, const Member& member) {
   Load load;
-  load.kind = s.required_choice("kind", {LoadKind::force, LoadKind::moment, LoadKind::uniform});
-  if (load.kind == LoadKind::uniform) {
-    s.refuse("at", "for a uniform load (it acts on from..to)");
+  load.kind = s.required_choice(
+      "kind", {LoadKind::force, LoadKind::moment, LoadKind::uniform, LoadKind::distributed, LoadKind::curvature});
+  // A beam's loads are transverse; the direction of an arch's load is not read by this version.
+  for (const auto key : {"direction", "per"})
+    s.refuse(key, member.arch ? "(arch load directions are not supported by this version: loads act radially)"
+                              : "for a beam (its loads are transverse; arches only)");
+  if (load.kind == LoadKind::distributed) {
+    read_distributed(s, member, load);
+  } else if (load.kind == LoadKind::uniform || load.kind == LoadKind::curvature) {
+    if (load.kind == LoadKind::curvature && member.arch)
+      s.fail("kind",
+             "expected \"force\", \"moment\", \"uniform\" or \"distributed\" for an arch, got "
+             "\"curvature\" (an imposed curvature is supported on beams only)");
+    s.refuse("at", fmt::format("for a {} load (it acts on from..to)", to_string(load.kind)));
     std::tie(load.from, load.to) = read_extent(s, member);
   } else {
     const std::string why = fmt::format("for a {} (it acts at one point, 'at')", to_string(load.kind));
     for (const auto key : {"from", "to"}) s.refuse(key, why);
     load.at = s.required_number("at", member.position());
   }
-  load.value = s.required_number("value", any_number());
+  if (load.kind != LoadKind::distributed) load.value = s.required_number("value", any_number());
   load.load_case = s.choice("case", {LoadCase::live, LoadCase::dead}).value_or(LoadCase::live);
   return load;
 }

@@ -199,6 +199,31 @@ Draft valid_scene(Random& random, const SceneLimits& limits) {
       load.entries = {{"kind", quoted("moment"), Type::name},
                       {"at", toml_number(at)},
                       {"value", written(random, (random.chance(0.5) ? 1 : -1) * size * length_scale)}};
+    } else if (kind == 7 && random.chance(0.5)) {  // a piecewise-linear table, sometimes with a step
+      const int points = random.integer(2, 5);
+      std::vector<double> at;
+      for (int j = 0; j < points; ++j) at.push_back(random.uniform(d.begin, d.end));
+      std::sort(at.begin(), at.end());
+      if (points >= 3 && random.chance(0.3)) at[2] = at[1];  // a step
+      if (random.chance(0.3)) at.front() = d.begin;
+      if (random.chance(0.3)) at.back() = d.end;
+      if (!(at.back() > at.front())) at.back() = d.end, at.front() = d.begin;
+      std::string at_list, value_list;
+      for (int j = 0; j < points; ++j) {
+        at_list += (j > 0 ? ", " : "") + toml_number(at[j]);
+        value_list += (j > 0 ? ", " : "") + toml_number(sign * size / length_scale * random.uniform(0.0, 2.0));
+      }
+      load.entries = {{"kind", quoted("distributed"), Type::name},
+                      {"at", "[" + at_list + "]", Type::positions},
+                      {"value", "[" + value_list + "]", Type::positions}};
+    } else if (kind == 8 && !d.arch && random.chance(0.3)) {  // an imposed curvature (beams)
+      load.entries = {{"kind", quoted("curvature"), Type::name},
+                      {"value", written(random, (random.chance(0.5) ? 1 : -1) * size / length_scale)}};
+      if (random.chance(0.4)) {
+        const auto [from, to] = extent(random, d.begin, d.end);
+        load.entries.push_back({"from", toml_number(from)});
+        load.entries.push_back({"to", toml_number(to)});
+      }
     } else {
       load.entries = {{"kind", quoted("uniform"), Type::name}, {"value", written(random, sign * size / length_scale)}};
       if (random.chance(0.4)) {
@@ -291,7 +316,7 @@ const std::map<std::string, std::vector<std::string>>& schema_keys() {
       {"structure", {"kind", "length", "radius", "half_angle_deg", "EI", "EA"}},
       {"supports", {"left", "right", "interior"}},
       {"foundation", {"k", "modulus", "tensionless", "from", "to"}},
-      {"loads", {"kind", "at", "value", "from", "to", "case"}},
+      {"loads", {"kind", "at", "value", "from", "to", "case", "direction", "per"}},
       {"solve", {"method", "elements"}},
       {"ritz", {"modes", "max_modes", "mode_tolerance", "topology", "limits"}},
       {"trace",
@@ -524,6 +549,47 @@ Mutant mutate(Random& random, Draft d) {
         m.text.erase(header, 1);  // [structure -> unclosed header
       }
       return done("syntax error " + std::to_string(kind), true);
+    }
+    case 10: {  // issue 12's load keys malformed: tables that do not match, decrease, or a direction on a beam
+      std::vector<Table*> tables;
+      for (Table& t : d.tables)
+        if (t.name == "loads") tables.push_back(&t);
+      const double span = d.end - d.begin;
+      if (tables.empty() || random.chance(0.3)) {
+        Table load{"loads", true, {{"kind", "\"distributed\"", Type::name}}};
+        const int kind = random.integer(0, 4);
+        const std::string a = toml_number(d.begin + 0.2 * span), b = toml_number(d.begin + 0.6 * span);
+        if (kind == 0) load.entries.push_back({"at", "[" + a + ", " + b + "]", Type::positions});  // no value
+        if (kind == 1) {
+          load.entries.push_back({"at", "[" + a + ", " + b + "]", Type::positions});
+          load.entries.push_back({"value", "[1.0, 2.0, 3.0]", Type::positions});
+        }
+        if (kind == 2) {
+          load.entries.push_back({"at", "[" + b + ", " + a + "]", Type::positions});
+          load.entries.push_back({"value", "[1.0, 2.0]", Type::positions});
+        }
+        if (kind == 3) {
+          load.entries.push_back({"at", "[" + a + ", " + b + "]", Type::positions});
+          load.entries.push_back({"value", "[1.0, 2.0]", Type::positions});
+          load.entries.push_back({"from", toml_number(d.begin)});
+        }
+        if (kind == 4) {
+          load.entries = {{"kind", "\"curvature\"", Type::name},
+                          {"value", "0.001"},
+                          {"from", toml_number(d.begin + 0.5 * span)},
+                          {"to", toml_number(d.begin + 0.25 * span)}};
+        }
+        d.tables.push_back(load);
+        return done("malformed distributed or curvature load " + std::to_string(kind), true);
+      }
+      Table& load = *random.pick(tables);
+      if (d.arch) {  // (direction and per are an arch's keys) an array where a point or nothing belongs
+        load.entries.push_back({"at", "[1.0, 2.0]", Type::positions});
+        return done("an array 'at' on a load that is no table", true);
+      }
+      load.entries.push_back({random.chance(0.5) ? "direction" : "per",
+                              random.chance(0.5) ? "\"vertical\"" : "\"projection\"", Type::name});
+      return done("direction or per on a beam load", true);
     }
     case 11: {  // junk: random bytes, an empty file, blanks, a NUL
       const int kind = random.integer(0, 4);

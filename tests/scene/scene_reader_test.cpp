@@ -339,8 +339,9 @@ TEST_CASE("an unknown value of a choice is refused", "[scene][errors]") {
   CHECK(
       error_of(beam_scene + "[solve]\nmethod = \"fastest\"\n") ==
       R"(scene.toml:18: key 'solve.method': expected "dual", "primal", "fast", "auto", "ritz" or "all", got "fastest")");
-  CHECK(error_of(edited(beam_scene, "kind = \"force\"", "kind = \"torque\"")) ==
-        R"(scene.toml:14: key 'loads[0].kind': expected "force", "moment" or "uniform", got "torque")");
+  CHECK(
+      error_of(edited(beam_scene, "kind = \"force\"", "kind = \"torque\"")) ==
+      R"(scene.toml:14: key 'loads[0].kind': expected "force", "moment", "uniform", "distributed" or "curvature", got "torque")");
   CHECK(error_of(edited(beam_scene, "value = 1.0", "value = 1.0\ncase = \"permanent\"")) ==
         R"(scene.toml:17: key 'loads[0].case': expected "live" or "dead", got "permanent")");
 }
@@ -648,4 +649,61 @@ TEST_CASE("a [compare] table: a published contact half-angle, arches only", "[sc
              StartsWith("scene.toml:19: key 'compare.contact_half_angle_deg': missing"));
   CHECK_THAT(error_of(beam_scene + "[compare]\nsource = \"p\"\ncontact_half_angle_deg = 1\n"),
              StartsWith("scene.toml:17: key 'compare': not allowed for a beam"));
+}
+
+TEST_CASE("a distributed load reads its table; a curvature load its range", "[scene][issue12]") {
+  const std::string loads = R"([[loads]]
+kind = "distributed"
+at = [0.0, 0.5, 0.5, 2.0]
+value = [1.0, 2.0, -1.0, 0.0]
+case = "dead"
+
+[[loads]]
+kind = "curvature"
+value = 0.25
+from = 0.5
+)";
+  const Scene scene = parse_scene(beam_scene + loads, "scene.toml");
+  REQUIRE(scene.loads.size() == 3);
+  CHECK(scene.loads[1].kind == LoadKind::distributed);
+  CHECK(scene.loads[1].table_at == std::vector<double>{0.0, 0.5, 0.5, 2.0});
+  CHECK(scene.loads[1].table_value == std::vector<double>{1.0, 2.0, -1.0, 0.0});
+  CHECK(scene.loads[1].load_case == LoadCase::dead);
+  CHECK(scene.loads[2].kind == LoadKind::curvature);
+  CHECK(scene.loads[2].value == 0.25);
+  CHECK(scene.loads[2].from == 0.5);
+  CHECK(scene.loads[2].to == 2.0);  // the member's end by default
+}
+
+TEST_CASE("a malformed distributed or curvature load is refused by key", "[scene][issue12][errors]") {
+  const std::string head = beam_scene + "\n[[loads]]\n";  // loads[1] starts on line 18
+  CHECK(error_of(head + "kind = \"distributed\"\nat = [0.0, 1.0]\nvalue = [1.0]\n") ==
+        "scene.toml:21: key 'loads[1].value': expected one value per position in 'at' (2), got 1");
+  CHECK(error_of(head + "kind = \"distributed\"\nat = [1.0, 0.5]\nvalue = [1.0, 2.0]\n") ==
+        "scene.toml:20: key 'loads[1].at': expected non-decreasing positions (a repeated one is a step), got at[1] "
+        "= 0.5 after at[0] = 1");
+  CHECK(error_of(head + "kind = \"distributed\"\nat = [0.0, 3.0]\nvalue = [1.0, 2.0]\n") ==
+        "scene.toml:20: key 'loads[1].at[1]': expected a position in [0, 2], got 3.0");
+  CHECK(error_of(head + "kind = \"distributed\"\nat = [0.5]\nvalue = [1.0]\n") ==
+        "scene.toml:20: key 'loads[1].at': expected an array of at least two non-decreasing positions in [0, 2], "
+        "got an array");
+  CHECK(error_of(head + "kind = \"distributed\"\nat = [0.5, 0.5]\nvalue = [1.0, 1.0]\n") ==
+        "scene.toml:20: key 'loads[1].at': expected a table spanning a positive length, got all its positions equal");
+  CHECK(error_of(head + "kind = \"distributed\"\nvalue = [1.0, 1.0]\n") ==
+        "scene.toml:18: key 'loads[1].at': missing (expected an array of at least two non-decreasing positions in "
+        "[0, 2])");
+  CHECK(error_of(head + "kind = \"distributed\"\nat = [0.0, 1.0]\nvalue = [1.0, 1.0]\nfrom = 0.0\n") ==
+        "scene.toml:22: key 'loads[1].from': not allowed for a distributed load (its table 'at' gives where it acts; "
+        "zero outside the table)");
+  CHECK(error_of(head + "kind = \"curvature\"\nvalue = 0.1\nfrom = 1.0\nto = 2.5\n") ==
+        "scene.toml:22: key 'loads[1].to': expected a position in [0, 2], got 2.5");
+  CHECK(error_of(head + "kind = \"curvature\"\nvalue = 0.1\nat = 1.0\n") ==
+        "scene.toml:21: key 'loads[1].at': not allowed for a curvature load (it acts on from..to)");
+  CHECK(error_of(head + "kind = \"uniform\"\nvalue = 0.1\ndirection = \"vertical\"\n") ==
+        "scene.toml:21: key 'loads[1].direction': not allowed for a beam (its loads are transverse; arches only)");
+  CHECK(error_of(head + "kind = \"uniform\"\nvalue = 0.1\nper = \"arc\"\n") ==
+        "scene.toml:21: key 'loads[1].per': not allowed for a beam (its loads are transverse; arches only)");
+  const std::string arch_head = arch_scene + "\n[[loads]]\n";
+  CHECK_THAT(error_of(arch_head + "kind = \"curvature\"\nvalue = 0.1\n"),
+             StartsWith("scene.toml:21: key 'loads[1].kind': expected") && Contains("beams only"));
 }

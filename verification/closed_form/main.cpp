@@ -125,6 +125,7 @@ int main(int argc, char** argv) {
       const toml::table& load = *node.as_table();
       const std::string kind = load["kind"].value_or(std::string());
       const double value = load["value"].value_or(0.0);
+      if (kind == "curvature") refuse(path, "loads.kind: an imposed curvature has no closed form here");
       if (kind == "force") p.forces.push_back({load["at"].value_or(0.0), value});
       if (kind == "moment") p.moments.push_back({load["at"].value_or(0.0), value});
       if (kind == "uniform")

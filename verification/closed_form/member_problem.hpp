@@ -22,8 +22,11 @@ inline BeamProblem problem_of(const fe::MemberModel& model) {
   for (const auto& l : model.loads) {  // positions from the member's begin
     if (l.kind == scene::LoadKind::force) p.forces.push_back({l.at - model.s_begin, l.value});
     if (l.kind == scene::LoadKind::moment) p.moments.push_back({l.at - model.s_begin, l.value});
-    if (l.kind == scene::LoadKind::uniform)
+    if (l.kind == scene::LoadKind::uniform && l.slope == 0.0)
       p.uniform_loads.push_back({l.from - model.s_begin, l.to - model.s_begin, l.value});
+    if (l.kind == scene::LoadKind::uniform && l.slope != 0.0)  // a piece of a distributed table
+      p.distributed_loads.push_back(
+          {l.from - model.s_begin, l.to - model.s_begin, l.value, l.value + l.slope * (l.to - l.from)});
   }
   return p;
 }
