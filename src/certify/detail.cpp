@@ -39,8 +39,36 @@ std::vector<int> supported_dofs(const fe::MemberModel& model, const fe::Discreti
   return fixed;
 }
 
+namespace {
+// The certificate's own reading of an arch load, from the geometry rather than from the FE's
+// fe::arch_load_components: the force of unit value (per unit arc) in global components, x to the
+// right and y up, the point at theta being R (sin theta, cos theta) from the centre, projected
+// on the directions of w > 0 and of u. Returns (along w, along u).
+Eigen::Vector2d arch_force_on_dofs(const fe::MemberModel& model, const fe::MemberLoad& load, double theta) {
+  const Eigen::Vector2d outward(std::sin(theta), std::cos(theta)), tangent(std::cos(theta), -std::sin(theta));
+  const Eigen::Vector2d w_direction = model.foundation_outside ? outward : Eigen::Vector2d(-outward);
+  Eigen::Vector2d force;
+  switch (load.direction) {
+    case fe::LoadDirection::radial:
+      force = w_direction;
+      break;
+    case fe::LoadDirection::tangential:
+      force = tangent;
+      break;
+    case fe::LoadDirection::vertical:  // per unit projection: dx = cos theta ds
+      force = Eigen::Vector2d(0.0, -1.0) * (load.per == fe::LoadBasis::projection ? std::cos(theta) : 1.0);
+      break;
+    case fe::LoadDirection::horizontal:
+      force = Eigen::Vector2d(1.0, 0.0);
+      break;
+  }
+  return {force.dot(w_direction), force.dot(tangent)};
+}
+}  // namespace
+
 VectorXd applied_nodal_loads(const fe::MemberModel& model, const fe::Discretisation& d, double load_factor) {
   VectorXd f = VectorXd::Zero(d.dofs());
+  const bool arch = model.kind == StructureKind::arch;
   for (const fe::MemberLoad& load : model.loads) {
     const double value = load.value * (load.load_case == fe::LoadCase::dead ? 1.0 : load_factor);
     if (load.kind == fe::LoadKind::uniform) {
@@ -49,15 +77,24 @@ VectorXd applied_nodal_loads(const fe::MemberModel& model, const fe::Discretisat
         if (middle < load.from || middle > load.to) continue;
         const std::vector<int> dofs = d.element_dofs(e);
         for (const fe::GaussPoint& g : fe::gauss5) {
+          const Eigen::Vector2d c =
+              arch ? arch_force_on_dofs(model, load, d.mesh.nodes[e] + g.xi * h) : Eigen::Vector2d(1.0, 0.0);
           const Eigen::Vector4d shape = fe::hermite_cubic(g.xi, h).value;
-          for (int j = 0; j < 4; ++j) f[dofs[j]] += g.weight * h * value * shape[j];
+          for (int j = 0; j < 4; ++j) f[dofs[j]] += g.weight * h * value * c[0] * shape[j];
+          if (!arch) continue;
+          const auto u_shape = fe::lagrange_quartic(g.xi, h).value;
+          for (int j = 0; j < 5; ++j) f[dofs[4 + j]] += g.weight * h * value * c[1] * u_shape[j];
         }
       }
       continue;
     }
     const int node = d.mesh.node_at(load.at);
     if (node < 0) continue;  // the mesh has a node at every load (mesh.hpp)
-    if (load.kind == fe::LoadKind::force) {
+    if (load.kind == fe::LoadKind::force && arch) {
+      const Eigen::Vector2d c = arch_force_on_dofs(model, load, load.at);
+      f[d.deflection_dof(node)] += value * c[0];
+      f[d.tangential_dof(node)] += value * c[1];
+    } else if (load.kind == fe::LoadKind::force) {
       f[d.deflection_dof(node)] += value;
     } else {  // a counterclockwise moment works on the rotation -w' (arches -(u + w'))
       f[d.slope_dof(node)] -= value;

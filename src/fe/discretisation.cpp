@@ -8,6 +8,7 @@
 
 #include "core/error.hpp"
 #include "fe/arch_element.hpp"
+#include "fe/arch_loads.hpp"
 #include "fe/beam_element.hpp"
 #include "fe/foundation_element.hpp"
 #include "fe/shape_functions.hpp"
@@ -178,9 +179,15 @@ Assembly assemble(const MemberModel& model, const Discretisation& d, const std::
 
     for (const MemberLoad& load : model.loads) {
       if (load.kind != LoadKind::uniform || middle < load.from || middle > load.to) continue;
+      Eigen::VectorXd& target = load.load_case == LoadCase::dead ? a.dead_load : a.live_load;
+      if (!beam) {  // radial or vertical, fe/arch_loads.hpp
+        const auto consistent = arch_element_load(mesh.nodes[e], h, load.direction, load.per, model.foundation_outside,
+                                                  [&](double) { return load.value; });
+        for (int j = 0; j < arch_element::dofs; ++j) target[dofs[j]] += consistent[j];
+        continue;
+      }
       Eigen::Vector4d consistent = Eigen::Vector4d::Zero();
       for (const GaussPoint& g : gauss5) consistent += (g.weight * h * load.value) * hermite_cubic(g.xi, h).value;
-      Eigen::VectorXd& target = load.load_case == LoadCase::dead ? a.dead_load : a.live_load;
       for (int j = 0; j < 4; ++j) target[dofs[j]] += consistent[j];
     }
   }
@@ -189,7 +196,11 @@ Assembly assemble(const MemberModel& model, const Discretisation& d, const std::
     if (load.kind == LoadKind::uniform) continue;
     Eigen::VectorXd& target = load.load_case == LoadCase::dead ? a.dead_load : a.live_load;
     const int node = mesh.node_at(load.at);
-    if (load.kind == LoadKind::force) {
+    if (load.kind == LoadKind::force && model.kind == StructureKind::arch) {
+      const Eigen::Vector2d c = arch_load_components(load.direction, load.per, load.at, model.foundation_outside);
+      target[d.deflection_dof(node)] += c[0] * load.value;
+      target[d.tangential_dof(node)] += c[1] * load.value;
+    } else if (load.kind == LoadKind::force) {
       target[d.deflection_dof(node)] += load.value;
     } else {
       // Work of a counterclockwise moment: M * rotation, rotation = -w' (beam), -(u + w') (arch).

@@ -51,6 +51,8 @@ MemberModel make_member_model(const scene::Scene& scene) {
     MemberLoad member_load;
     member_load.kind = load.kind;
     member_load.load_case = load.load_case;
+    member_load.direction = load.direction;
+    member_load.per = load.per;
     member_load.at = model.s_from_user(load.at);
     member_load.from = model.s_from_user(load.from);
     member_load.to = model.s_from_user(load.to);

@@ -14,7 +14,9 @@
 namespace liftoff::fe {
 
 using scene::EndSupport;
+using scene::LoadBasis;
 using scene::LoadCase;
+using scene::LoadDirection;
 using scene::LoadKind;
 using scene::StructureKind;
 
@@ -34,6 +36,8 @@ struct MemberLoad {
   double from = 0.0;   // s, uniform loads
   double to = 0.0;
   LoadCase load_case = LoadCase::live;
+  LoadDirection direction = LoadDirection::radial;  // arches (fe/arch_loads.hpp)
+  LoadBasis per = LoadBasis::arc;
 };
 
 struct MemberModel {
@@ -48,6 +52,8 @@ struct MemberModel {
   bool tensionless = true;
   double foundation_begin = 0.0;  // s
   double foundation_end = 1.0;
+  // Arches: the foundation lies outside (around the extrados), so w > 0 is outward.
+  bool foundation_outside = false;
   std::vector<MemberLoad> loads;
   Scales scales;
 

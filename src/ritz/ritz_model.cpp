@@ -52,6 +52,10 @@ RitzModel::RitzModel(const fe::MemberModel& model, int modes, Topology topology,
                        model.foundation_begin, model.foundation_end})
     require_finite(value, "a member model value");
   for (const fe::MemberLoad& load : model.loads) {
+    if (arch_ && load.kind != fe::LoadKind::moment && load.direction != fe::LoadDirection::radial)
+      throw std::invalid_argument(fmt::format(
+          "the Ritz model takes radial arch loads only, not a load with direction = \"{}\"; use an FE method",
+          scene::to_string(load.direction)));
     require_finite(load.value, "a load value");
     require_finite(load.at, "a load position");
     require_finite(load.from, "a load extent");

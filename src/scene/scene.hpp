@@ -20,6 +20,13 @@ enum class StructureKind { beam, arch };
 // Arch ends: pinned (u = w = 0), roller (w = 0), clamped (u = w = rotation = 0), free.
 enum class EndSupport { pinned, clamped, free, roller };
 enum class LoadKind { force, moment, uniform };
+// Arches only: along what a load's value acts. radial: toward the foundation (today's); tangential
+// and horizontal: toward increasing theta / to the right; vertical: downward (gravity). Uniform
+// loads take radial or vertical, point forces any of the four.
+enum class LoadDirection { radial, tangential, vertical, horizontal };
+// Arches only, vertical uniform loads: the value is per unit arc length (self-weight) or per unit
+// horizontal projection (fill, traffic), that is |cos theta| per unit arc.
+enum class LoadBasis { arc, projection };
 // Live loads are scaled by the load factor lambda (1 in `solve`); dead loads are not.
 enum class LoadCase { live, dead };
 // How the contact problem is solved. dual, primal: FE + LCP (Lemke); fast: FE, the sparse
@@ -35,6 +42,8 @@ std::string_view to_string(StructureKind);
 std::string_view to_string(EndSupport);
 std::string_view to_string(LoadKind);
 std::string_view to_string(LoadCase);
+std::string_view to_string(LoadDirection);
+std::string_view to_string(LoadBasis);
 std::string_view to_string(Method);
 std::string_view to_string(TraceControl);
 std::optional<StructureKind> parse_structure_kind(std::string_view);
@@ -75,6 +84,8 @@ struct Load {
   double from = 0.0;   // uniform: extent; the reader fills the member's ends by default
   double to = 0.0;
   LoadCase load_case = LoadCase::live;
+  LoadDirection direction = LoadDirection::radial;  // arches only (key `direction`)
+  LoadBasis per = LoadBasis::arc;                   // arches, vertical uniform loads (key `per`)
 };
 
 // [solve] tolerance: the accuracy wanted for the contact limits, relative to the member's length

@@ -40,7 +40,7 @@ const std::vector<TableSpec>& schema() {
       {"structure", false, {"kind", "length", "radius", "half_angle_deg", "EI", "EA"}},
       {"supports", false, {"left", "right", "interior"}},
       {"foundation", false, {"k", "modulus", "tensionless", "from", "to"}},
-      {"loads", true, {"kind", "at", "value", "from", "to", "case"}},
+      {"loads", true, {"kind", "at", "value", "from", "to", "case", "direction", "per"}},
       {"solve", false, {"method", "elements", "tolerance"}},
       {"ritz", false, {"modes", "max_modes", "mode_tolerance", "topology", "limits"}},
       {"trace",
@@ -484,6 +484,45 @@ Foundation read_foundation(const Section& s, const Member& member) {
   return f;
 }
 
+// Arches: `direction` and `per` (a beam's loads are transverse, a moment has no direction). A
+// uniform load is radial or vertical; a point force any of the four. `per` goes with vertical
+// uniform loads only, and "projection" only where the arch is not steeper than vertical
+// (|theta| <= 90 deg): below the springing the horizontal projection folds back on itself.
+void read_load_direction(const Section& s, const Member& member, Load& load) {
+  if (!member.arch) {
+    for (const auto key : {"direction", "per"}) s.refuse(key, "for a beam (a beam's loads are transverse)");
+    return;
+  }
+  if (load.kind == LoadKind::moment) {
+    for (const auto key : {"direction", "per"}) s.refuse(key, "for a moment (it turns the arch in its plane)");
+    return;
+  }
+  if (load.kind == LoadKind::uniform) {
+    load.direction = s.choice("direction", {LoadDirection::radial, LoadDirection::vertical},
+                              {"tangential", "a uniform load on an arch is radial or vertical"})
+                         .value_or(LoadDirection::radial);
+  } else {
+    load.direction = s.choice("direction", {LoadDirection::radial, LoadDirection::tangential, LoadDirection::vertical,
+                                            LoadDirection::horizontal})
+                         .value_or(LoadDirection::radial);
+  }
+  if (load.kind != LoadKind::uniform) {
+    s.refuse("per", "for a point force (per goes with vertical uniform loads)");
+    return;
+  }
+  if (load.direction != LoadDirection::vertical) {
+    s.refuse("per", fmt::format("with direction = \"{}\" (per goes with direction = \"vertical\")",
+                                to_string(load.direction)));
+    return;
+  }
+  load.per = s.choice("per", {LoadBasis::arc, LoadBasis::projection}).value_or(LoadBasis::arc);
+  if (load.per == LoadBasis::projection && (load.from < -90.0 || load.to > 90.0)) {
+    s.fail("per", fmt::format("expected a load per unit horizontal projection within theta = -90..90 deg (where "
+                              "the arch is not steeper than vertical), got from = {} and to = {}",
+                              load.from, load.to));
+  }
+}
+
 Load read_load(const Section& s, const Member& member) {
   Load load;
   load.kind = s.required_choice("kind", {LoadKind::force, LoadKind::moment, LoadKind::uniform});
@@ -497,6 +536,7 @@ Load read_load(const Section& s, const Member& member) {
   }
   load.value = s.required_number("value", any_number());
   load.load_case = s.choice("case", {LoadCase::live, LoadCase::dead}).value_or(LoadCase::live);
+  read_load_direction(s, member, load);
   return load;
 }
 

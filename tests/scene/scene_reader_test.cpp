@@ -649,3 +649,44 @@ TEST_CASE("a [compare] table: a published contact half-angle, arches only", "[sc
   CHECK_THAT(error_of(beam_scene + "[compare]\nsource = \"p\"\ncontact_half_angle_deg = 1\n"),
              StartsWith("scene.toml:17: key 'compare': not allowed for a beam"));
 }
+
+TEST_CASE("arch loads: direction and per, and where they are refused", "[scene][errors]") {
+  const std::string vertical = edited(edited(arch_scene, "kind = \"force\"", "kind = \"uniform\""), "at = 0.0\n",
+                                      "direction = \"vertical\"\nper = \"projection\"\n");
+  const Scene s = parse_scene(vertical, "scene.toml");
+  REQUIRE(s.loads.size() == 1);
+  CHECK(s.loads[0].direction == LoadDirection::vertical);
+  CHECK(s.loads[0].per == LoadBasis::projection);
+  const Scene point = parse_scene(edited(arch_scene, "at = 0.0", "at = 0.0\ndirection = \"horizontal\""), "scene.toml");
+  CHECK(point.loads[0].direction == LoadDirection::horizontal);
+  CHECK(parse_scene(arch_scene, "scene.toml").loads[0].direction == LoadDirection::radial);  // the default
+
+  CHECK(error_of(edited(beam_scene, "at = 0.5", "at = 0.5\ndirection = \"vertical\"")) ==
+        "scene.toml:16: key 'loads[0].direction': not allowed for a beam (a beam's loads are transverse)");
+  CHECK(error_of(edited(beam_scene, "at = 0.5", "at = 0.5\nper = \"arc\"")) ==
+        "scene.toml:16: key 'loads[0].per': not allowed for a beam (a beam's loads are transverse)");
+  CHECK(error_of(edited(arch_scene, "at = 0.0", "at = 0.0\ndirection = \"up\"")) ==
+        "scene.toml:18: key 'loads[0].direction': expected \"radial\", \"tangential\", \"vertical\" or "
+        "\"horizontal\", got \"up\"");
+  CHECK(error_of(edited(vertical, "direction = \"vertical\"", "direction = \"tangential\"")) ==
+        "scene.toml:17: key 'loads[0].direction': expected \"radial\" or \"vertical\", got \"tangential\" (a uniform "
+        "load on an arch is radial or vertical)");
+  CHECK(error_of(edited(vertical, "direction = \"vertical\"", "direction = \"radial\"")) ==
+        "scene.toml:18: key 'loads[0].per': not allowed with direction = \"radial\" (per goes with direction = "
+        "\"vertical\")");
+  CHECK(error_of(edited(arch_scene, "at = 0.0", "at = 0.0\nper = \"arc\"")) ==
+        "scene.toml:18: key 'loads[0].per': not allowed for a point force (per goes with vertical uniform loads)");
+  CHECK(error_of(edited(vertical, "per = \"projection\"", "per = \"length\"")) ==
+        "scene.toml:18: key 'loads[0].per': expected \"arc\" or \"projection\", got \"length\"");
+  CHECK(error_of(edited(edited(arch_scene, "kind = \"force\"", "kind = \"moment\""), "at = 0.0",
+                        "at = 0.0\ndirection = \"radial\"")) ==
+        "scene.toml:18: key 'loads[0].direction': not allowed for a moment (it turns the arch in its plane)");
+  // Per unit projection only where the arch is not steeper than vertical.
+  const std::string wide = edited(vertical, "half_angle_deg = 10.0", "half_angle_deg = 120.0");
+  CHECK(error_of(wide) ==
+        "scene.toml:18: key 'loads[0].per': expected a load per unit horizontal projection within theta = -90..90 "
+        "deg (where the arch is not steeper than vertical), got from = -120 and to = 120");
+  CHECK(parse_scene(edited(wide, "per = \"projection\"", "per = \"projection\"\nfrom = -90\nto = 90"), "scene.toml")
+            .loads[0]
+            .per == LoadBasis::projection);
+}
