@@ -192,6 +192,8 @@ std::vector<std::string> trace_path_names(const scene::Scene& scene, const Trace
     // Nor arch loads other than radial ones (issue 12).
     std::string cannot;
     if (!scene.supports.interior.empty()) cannot = "interior point supports";
+    if (scene.structure.kind == scene::StructureKind::arch && scene.foundation.side == scene::FoundationSide::outside)
+      cannot = "foundation.side = \"outside\", only a foundation inside the arch";
     for (std::size_t i = 0; i < scene.loads.size() && cannot.empty(); ++i)
       if (scene.structure.kind == scene::StructureKind::arch && scene.loads[i].kind != scene::LoadKind::moment &&
           scene.loads[i].direction != scene::LoadDirection::radial)

@@ -96,8 +96,8 @@ VectorXd applied_nodal_loads(const fe::MemberModel& model, const fe::Discretisat
       f[d.tangential_dof(node)] += value * c[1];
     } else if (load.kind == fe::LoadKind::force) {
       f[d.deflection_dof(node)] += value;
-    } else {  // a counterclockwise moment works on the rotation -w' (arches -(u + w'))
-      f[d.slope_dof(node)] -= value;
+    } else {  // a counterclockwise moment works on the rotation -w' (arches -(u + w'), outside -(u - w'))
+      f[d.slope_dof(node)] -= (model.foundation_outside ? -1.0 : 1.0) * value;
       if (model.kind == StructureKind::arch) f[d.tangential_dof(node)] -= value;
     }
   }
@@ -117,7 +117,9 @@ std::vector<SupportReaction> support_reactions(const fe::MemberModel& model, con
     auto at = [&](int dof) { return is_supported[dof] ? g[dof] : 0.0; };
     const double g_w = at(d.deflection_dof(node)), g_slope = at(d.slope_dof(node));
     const double g_u = arch ? at(d.tangential_dof(node)) : 0.0;
-    out.push_back({d.mesh.nodes[node], 0.0 - g_w, 0.0 - g_slope, arch ? g_u - g_slope : 0.0});  // no -0
+    // With the foundation outside the rotation is -(u - w'): g_slope is +moment (see the header).
+    const double in = model.foundation_outside ? -1.0 : 1.0, moment = 0.0 - in * g_slope;
+    out.push_back({d.mesh.nodes[node], 0.0 - g_w, moment, arch ? g_u + moment : 0.0});  // no -0
   }
   return out;
 }
@@ -139,11 +141,12 @@ Eigen::Vector3d balance_mode_at(const fe::MemberModel& model, int mode, double s
   if (model.kind == StructureKind::beam)
     return mode == 0 ? Eigen::Vector3d(0, 1, 0) : Eigen::Vector3d(0, s - model.s_begin, 1);
   const double c = std::cos(s), sn = std::sin(s);  // as fe::rigid_motions
+  const double in = model.foundation_outside ? -1.0 : 1.0;
   switch (mode) {
     case 0:
-      return {c, -sn, -c};
+      return {c, -in * sn, -in * c};
     case 1:
-      return {-sn, -c, sn};
+      return {-sn, -in * c, in * sn};
     default:
       return {1, 0, 0};
   }

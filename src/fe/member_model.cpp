@@ -44,6 +44,7 @@ MemberModel make_member_model(const scene::Scene& scene) {
                                  ? *foundation.stiffness_parameter
                                  : *foundation.modulus / (scales.bending_stiffness / std::pow(scales.length, 4));
   model.tensionless = foundation.tensionless;
+  model.foundation_outside = structure.kind == StructureKind::arch && foundation.side == scene::FoundationSide::outside;
   model.foundation_begin = model.s_from_user(foundation.from);
   model.foundation_end = model.s_from_user(foundation.to);
 

@@ -27,6 +27,10 @@ enum class LoadDirection { radial, tangential, vertical, horizontal };
 // Arches only, vertical uniform loads: the value is per unit arc length (self-weight) or per unit
 // horizontal projection (fill, traffic), that is |cos theta| per unit arc.
 enum class LoadBasis { arc, projection };
+// Arches only: where the foundation lies. inside: under the intrados (today's); outside: around the
+// extrados (a buried arch, a culvert). w > 0 is into the foundation either way, so outward when
+// outside.
+enum class FoundationSide { inside, outside };
 // Live loads are scaled by the load factor lambda (1 in `solve`); dead loads are not.
 enum class LoadCase { live, dead };
 // How the contact problem is solved. dual, primal: FE + LCP (Lemke); fast: FE, the sparse
@@ -44,6 +48,7 @@ std::string_view to_string(LoadKind);
 std::string_view to_string(LoadCase);
 std::string_view to_string(LoadDirection);
 std::string_view to_string(LoadBasis);
+std::string_view to_string(FoundationSide);
 std::string_view to_string(Method);
 std::string_view to_string(TraceControl);
 std::optional<StructureKind> parse_structure_kind(std::string_view);
@@ -70,11 +75,12 @@ struct Supports {
 
 struct Foundation {
   // Exactly one of the two is given: k = K L^4/EI (beam) or K R^4/EI (arch), or K itself.
-  std::optional<double> stiffness_parameter;  // key "k"
-  std::optional<double> modulus;              // key "modulus", force per length per length
-  bool tensionless = true;                    // false: conventional bilateral foundation
-  double from = 0.0;                          // extent of the foundation, user coordinate;
-  double to = 0.0;                            // the reader fills the member's ends by default
+  std::optional<double> stiffness_parameter;     // key "k"
+  std::optional<double> modulus;                 // key "modulus", force per length per length
+  bool tensionless = true;                       // false: conventional bilateral foundation
+  double from = 0.0;                             // extent of the foundation, user coordinate;
+  double to = 0.0;                               // the reader fills the member's ends by default
+  FoundationSide side = FoundationSide::inside;  // arches only (key `side`)
 };
 
 struct Load {

@@ -39,7 +39,7 @@ const std::vector<TableSpec>& schema() {
   static const std::vector<TableSpec> tables = {
       {"structure", false, {"kind", "length", "radius", "half_angle_deg", "EI", "EA"}},
       {"supports", false, {"left", "right", "interior"}},
-      {"foundation", false, {"k", "modulus", "tensionless", "from", "to"}},
+      {"foundation", false, {"k", "modulus", "tensionless", "from", "to", "side"}},
       {"loads", true, {"kind", "at", "value", "from", "to", "case", "direction", "per"}},
       {"solve", false, {"method", "elements", "tolerance"}},
       {"ritz", false, {"modes", "max_modes", "mode_tolerance", "topology", "limits"}},
@@ -481,6 +481,11 @@ Foundation read_foundation(const Section& s, const Member& member) {
   }
   f.tensionless = s.flag("tensionless").value_or(true);
   std::tie(f.from, f.to) = read_extent(s, member);
+  if (member.arch) {
+    f.side = s.choice("side", {FoundationSide::inside, FoundationSide::outside}).value_or(f.side);
+  } else {
+    s.refuse("side", "for a beam (arches only: the foundation inside or outside the arch)");
+  }
   return f;
 }
 

@@ -170,6 +170,8 @@ Draft valid_scene(Random& random, const SceneLimits& limits) {
     foundation.entries.push_back({"modulus", written(random, k * EI / std::pow(length_scale, 4))});
   if (random.chance(0.3))
     foundation.entries.push_back({"tensionless", random.chance(0.8) ? "true" : "false", Type::flag});
+  if (d.arch && random.chance(0.25))  // issue 12: soil around the extrados (a buried arch)
+    foundation.entries.push_back({"side", quoted(random.chance(0.8) ? "outside" : "inside"), Type::name});
   double f_from = d.begin, f_to = d.end;
   if (random.chance(0.25)) {
     std::tie(f_from, f_to) = extent(random, d.begin, d.end);
@@ -303,7 +305,7 @@ const std::map<std::string, std::vector<std::string>>& schema_keys() {
   static const std::map<std::string, std::vector<std::string>> keys = {
       {"structure", {"kind", "length", "radius", "half_angle_deg", "EI", "EA"}},
       {"supports", {"left", "right", "interior"}},
-      {"foundation", {"k", "modulus", "tensionless", "from", "to"}},
+      {"foundation", {"k", "modulus", "tensionless", "from", "to", "side"}},
       {"loads", {"kind", "at", "value", "from", "to", "case", "direction", "per"}},
       {"solve", {"method", "elements"}},
       {"ritz", {"modes", "max_modes", "mode_tolerance", "topology", "limits"}},
@@ -482,6 +484,12 @@ Mutant mutate(Random& random, Draft d) {
           }
           return done("misplaced load direction or per", true);
         }
+      }
+      if (random.chance(0.1)) {  // issue 12: side on a beam, or a side that does not exist
+        Table& foundation = *d.find("foundation");
+        std::erase_if(foundation.entries, [](const Entry& e) { return e.key == "side"; });
+        foundation.entries.push_back({"side", quoted(d.arch ? "below" : "outside"), Type::name});
+        return done("foundation side misplaced or unknown", true);
       }
       if (random.chance(0.25)) {
         const int kind = random.integer(0, 3);

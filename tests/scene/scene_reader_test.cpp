@@ -690,3 +690,14 @@ TEST_CASE("arch loads: direction and per, and where they are refused", "[scene][
             .loads[0]
             .per == LoadBasis::projection);
 }
+
+TEST_CASE("[foundation] side: inside or outside, arches only", "[scene][errors]") {
+  CHECK(parse_scene(arch_scene, "scene.toml").foundation.side == FoundationSide::inside);
+  CHECK(parse_scene(edited(arch_scene, "k = 1.0e4", "k = 1.0e4\nside = \"outside\""), "scene.toml").foundation.side ==
+        FoundationSide::outside);
+  CHECK(error_of(edited(arch_scene, "k = 1.0e4", "k = 1.0e4\nside = \"above\"")) ==
+        "scene.toml:14: key 'foundation.side': expected \"inside\" or \"outside\", got \"above\"");
+  CHECK(error_of(edited(beam_scene, "k = 1.0e4", "k = 1.0e4\nside = \"outside\"")) ==
+        "scene.toml:12: key 'foundation.side': not allowed for a beam (arches only: the foundation inside or outside "
+        "the arch)");
+}
