@@ -189,15 +189,25 @@ std::vector<std::string> trace_path_names(const scene::Scene& scene, const Trace
   if (method != scene::Method::ritz) names.push_back("fe");
   if (method == scene::Method::ritz || method == scene::Method::all) {
     // As `solve --method ritz`: the Ritz model has no interior point supports (bad input, exit 2).
-    if (!scene.supports.interior.empty()) {
+    // Nor arch loads other than radial ones (issue 12).
+    std::string cannot;
+    if (!scene.supports.interior.empty()) cannot = "interior point supports";
+    if (scene.structure.kind == scene::StructureKind::arch && scene.foundation.side == scene::FoundationSide::outside)
+      cannot = "foundation.side = \"outside\", only a foundation inside the arch";
+    for (std::size_t i = 0; i < scene.loads.size() && cannot.empty(); ++i)
+      if (scene.structure.kind == scene::StructureKind::arch && scene.loads[i].kind != scene::LoadKind::moment &&
+          scene.loads[i].direction != scene::LoadDirection::radial)
+        cannot = fmt::format("loads[{}].direction = \"{}\", only radial arch loads", i,
+                             scene::to_string(scene.loads[i].direction));
+    if (!cannot.empty()) {
       const std::string where = request.method ? "option '--method'"
                                 : t.method     ? "key 'trace.method'"
                                                : "key 'solve.method'";
       throw InputError(
           fmt::format("{}: {}: the Ritz path cannot take this scene (the Ritz model does not take "
-                      "interior point supports); expected an FE method (\"dual\", \"primal\", "
+                      "{}); expected an FE method (\"dual\", \"primal\", "
                       "\"fast\" or \"auto\")",
-                      scene.source_name, where));
+                      scene.source_name, where, cannot));
     }
     // Nor an imposed curvature (an initial strain the moving-boundary energy does not hold).
     for (std::size_t i = 0; i < scene.loads.size(); ++i)

@@ -39,8 +39,36 @@ std::vector<int> supported_dofs(const fe::MemberModel& model, const fe::Discreti
   return fixed;
 }
 
+namespace {
+// The certificate's own reading of an arch load, from the geometry rather than from the FE's
+// fe::arch_load_components: the force of unit value (per unit arc) in global components, x to the
+// right and y up, the point at theta being R (sin theta, cos theta) from the centre, projected
+// on the directions of w > 0 and of u. Returns (along w, along u).
+Eigen::Vector2d arch_force_on_dofs(const fe::MemberModel& model, const fe::MemberLoad& load, double theta) {
+  const Eigen::Vector2d outward(std::sin(theta), std::cos(theta)), tangent(std::cos(theta), -std::sin(theta));
+  const Eigen::Vector2d w_direction = model.foundation_outside ? outward : Eigen::Vector2d(-outward);
+  Eigen::Vector2d force;
+  switch (load.direction) {
+    case fe::LoadDirection::radial:
+      force = w_direction;
+      break;
+    case fe::LoadDirection::tangential:
+      force = tangent;
+      break;
+    case fe::LoadDirection::vertical:  // per unit projection: dx = cos theta ds
+      force = Eigen::Vector2d(0.0, -1.0) * (load.per == fe::LoadBasis::projection ? std::cos(theta) : 1.0);
+      break;
+    case fe::LoadDirection::horizontal:
+      force = Eigen::Vector2d(1.0, 0.0);
+      break;
+  }
+  return {force.dot(w_direction), force.dot(tangent)};
+}
+}  // namespace
+
 VectorXd applied_nodal_loads(const fe::MemberModel& model, const fe::Discretisation& d, double load_factor) {
   VectorXd f = VectorXd::Zero(d.dofs());
+  const bool arch = model.kind == StructureKind::arch;
   for (const fe::MemberLoad& load : model.loads) {
     const double value = load.value * (load.load_case == fe::LoadCase::dead ? 1.0 : load_factor);
     if (load.kind == fe::LoadKind::uniform || load.kind == fe::LoadKind::curvature) {
@@ -57,20 +85,29 @@ VectorXd applied_nodal_loads(const fe::MemberModel& model, const fe::Discretisat
           }
           continue;
         }
-        for (const fe::GaussPoint& g : fe::gauss5) {  // linear q x cubic N: exact
+        for (const fe::GaussPoint& g : fe::gauss5) {  // linear q x cubic N: exact on beams
+          const double s = d.mesh.nodes[e] + g.xi * h;
+          const double q = factor * load.intensity(s);
+          const Eigen::Vector2d c = arch ? arch_force_on_dofs(model, load, s) : Eigen::Vector2d(1.0, 0.0);
           const Eigen::Vector4d shape = fe::hermite_cubic(g.xi, h).value;
-          const double q = factor * load.intensity(d.mesh.nodes[e] + g.xi * h);
-          for (int j = 0; j < 4; ++j) f[dofs[j]] += g.weight * h * q * shape[j];
+          for (int j = 0; j < 4; ++j) f[dofs[j]] += g.weight * h * q * c[0] * shape[j];
+          if (!arch) continue;
+          const auto u_shape = fe::lagrange_quartic(g.xi, h).value;
+          for (int j = 0; j < 5; ++j) f[dofs[4 + j]] += g.weight * h * q * c[1] * u_shape[j];
         }
       }
       continue;
     }
     const int node = d.mesh.node_at(load.at);
     if (node < 0) continue;  // the mesh has a node at every load (mesh.hpp)
-    if (load.kind == fe::LoadKind::force) {
+    if (load.kind == fe::LoadKind::force && arch) {
+      const Eigen::Vector2d c = arch_force_on_dofs(model, load, load.at);
+      f[d.deflection_dof(node)] += value * c[0];
+      f[d.tangential_dof(node)] += value * c[1];
+    } else if (load.kind == fe::LoadKind::force) {
       f[d.deflection_dof(node)] += value;
-    } else {  // a counterclockwise moment works on the rotation -w' (arches -(u + w'))
-      f[d.slope_dof(node)] -= value;
+    } else {  // a counterclockwise moment works on the rotation -w' (arches -(u + w'), outside -(u - w'))
+      f[d.slope_dof(node)] -= (model.foundation_outside ? -1.0 : 1.0) * value;
       if (model.kind == StructureKind::arch) f[d.tangential_dof(node)] -= value;
     }
   }
@@ -90,7 +127,9 @@ std::vector<SupportReaction> support_reactions(const fe::MemberModel& model, con
     auto at = [&](int dof) { return is_supported[dof] ? g[dof] : 0.0; };
     const double g_w = at(d.deflection_dof(node)), g_slope = at(d.slope_dof(node));
     const double g_u = arch ? at(d.tangential_dof(node)) : 0.0;
-    out.push_back({d.mesh.nodes[node], 0.0 - g_w, 0.0 - g_slope, arch ? g_u - g_slope : 0.0});  // no -0
+    // With the foundation outside the rotation is -(u - w'): g_slope is +moment (see the header).
+    const double in = model.foundation_outside ? -1.0 : 1.0, moment = 0.0 - in * g_slope;
+    out.push_back({d.mesh.nodes[node], 0.0 - g_w, moment, arch ? g_u + moment : 0.0});  // no -0
   }
   return out;
 }
@@ -112,11 +151,12 @@ Eigen::Vector3d balance_mode_at(const fe::MemberModel& model, int mode, double s
   if (model.kind == StructureKind::beam)
     return mode == 0 ? Eigen::Vector3d(0, 1, 0) : Eigen::Vector3d(0, s - model.s_begin, 1);
   const double c = std::cos(s), sn = std::sin(s);  // as fe::rigid_motions
+  const double in = model.foundation_outside ? -1.0 : 1.0;
   switch (mode) {
     case 0:
-      return {c, -sn, -c};
+      return {c, -in * sn, -in * c};
     case 1:
-      return {-sn, -c, sn};
+      return {-sn, -in * c, in * sn};
     default:
       return {1, 0, 0};
   }

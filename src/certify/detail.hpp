@@ -71,7 +71,8 @@ std::vector<int> supported_dofs(const fe::MemberModel& model, const fe::Discreti
 // The applied loads as nodal forces on every dof (work-equivalent, as the assembly computes them).
 Eigen::VectorXd applied_nodal_loads(const fe::MemberModel& model, const fe::Discretisation& d, double load_factor);
 // Support reactions from g, the generalised force each fixed dof's support exerts (in the dof's
-// own sense): force = -g_w, moment = -g_slope, tangential = g_u - g_slope (arches).
+// own sense): force = -g_w, moment = -g_slope, tangential = g_u - g_slope (arches; with the
+// foundation outside moment = g_slope, tangential = g_u + g_slope).
 std::vector<SupportReaction> support_reactions(const fe::MemberModel& model, const fe::Discretisation& d,
                                                const Eigen::VectorXd& g, const std::vector<bool>& is_supported);
 

@@ -79,8 +79,9 @@ NodalForces nodal_forces(const MemberModel& model, const Discretisation& d, cons
     const std::vector<int> dofs = d.element_dofs(e);
     VectorXd ue(dofs.size());
     for (std::size_t j = 0; j < dofs.size(); ++j) ue[j] = u[dofs[j]];
-    const Eigen::MatrixXd ke = arch ? Eigen::MatrixXd(fe::arch_element::stiffness(h, model.membrane_stiffness))
-                                    : Eigen::MatrixXd(fe::beam_element::stiffness(h));
+    const Eigen::MatrixXd ke =
+        arch ? Eigen::MatrixXd(fe::arch_element::stiffness(h, model.membrane_stiffness, model.foundation_outside))
+             : Eigen::MatrixXd(fe::beam_element::stiffness(h));
     const VectorXd fe_forces = ke * ue, fe_magnitude = ke.cwiseAbs() * ue.cwiseAbs();
     for (std::size_t j = 0; j < dofs.size(); ++j) {
       f.internal[dofs[j]] += fe_forces[j];

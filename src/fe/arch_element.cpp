@@ -4,27 +4,27 @@
 
 namespace liftoff::fe::arch_element {
 
-Row9d membrane_strain_row(double xi, double h) {
+Row9d membrane_strain_row(double xi, double h, bool outside) {
   const HermiteCubic w = hermite_cubic(xi, h);
   const LagrangeQuartic u = lagrange_quartic(xi, h);
   Row9d row;
-  row << -w.value.transpose(), u.d1.transpose();
+  row << -inward_sign(outside) * w.value.transpose(), u.d1.transpose();
   return row;
 }
 
-Row9d bending_strain_row(double xi, double h) {
+Row9d bending_strain_row(double xi, double h, bool outside) {
   const HermiteCubic w = hermite_cubic(xi, h);
   const LagrangeQuartic u = lagrange_quartic(xi, h);
   Row9d row;
-  row << w.d2.transpose(), u.d1.transpose();
+  row << inward_sign(outside) * w.d2.transpose(), u.d1.transpose();
   return row;
 }
 
-Matrix9d stiffness(double h, double membrane_stiffness) {
+Matrix9d stiffness(double h, double membrane_stiffness, bool outside) {
   Matrix9d k = Matrix9d::Zero();
   for (const GaussPoint& g : gauss5) {
-    const Row9d eps = membrane_strain_row(g.xi, h);
-    const Row9d chi = bending_strain_row(g.xi, h);
+    const Row9d eps = membrane_strain_row(g.xi, h, outside);
+    const Row9d chi = bending_strain_row(g.xi, h, outside);
     k += (g.weight * h) * (membrane_stiffness * eps.transpose() * eps + chi.transpose() * chi);
   }
   return k;
@@ -38,12 +38,12 @@ Eigen::Vector4d legendre(double xi) {
 }
 }  // namespace
 
-Matrix89d stress_coupling(double h) {
+Matrix89d stress_coupling(double h, bool outside) {
   Matrix89d g = Matrix89d::Zero();
   for (const GaussPoint& q : gauss5) {  // degree 3 + 3: exact
     const Eigen::Vector4d p = legendre(q.xi) * (q.weight * h);
-    g.topRows<4>() += p * membrane_strain_row(q.xi, h);
-    g.bottomRows<4>() += p * bending_strain_row(q.xi, h);
+    g.topRows<4>() += p * membrane_strain_row(q.xi, h, outside);
+    g.bottomRows<4>() += p * bending_strain_row(q.xi, h, outside);
   }
   return g;
 }

@@ -18,12 +18,19 @@ inline constexpr int dofs = 9;
 using Matrix9d = Eigen::Matrix<double, 9, 9>;
 using Row9d = Eigen::Matrix<double, 1, 9>;
 
+// Foundation outside the arch ([foundation] side = "outside", `outside` below): w > 0 is then
+// outward, into the foundation, so the inward displacement is -w and
+//   eps = u' + w,   chi = u' - w'',   rotation = -(u - w')
+// (the physical strains, normal force and moment are those of the inside form: N tension
+// positive, M > 0 with the intrados in tension). The element flips the sign of its w dofs.
+inline double inward_sign(bool outside) { return outside ? -1.0 : 1.0; }
+
 // Rows mapping local dofs to eps and chi at xi.
-Row9d membrane_strain_row(double xi, double h);
-Row9d bending_strain_row(double xi, double h);
+Row9d membrane_strain_row(double xi, double h, bool outside = false);
+Row9d bending_strain_row(double xi, double h, bool outside = false);
 
 // Integral of membrane_stiffness * eps^2 + chi^2 (5-point Gauss, exact).
-Matrix9d stiffness(double h, double membrane_stiffness);
+Matrix9d stiffness(double h, double membrane_stiffness, bool outside = false);
 
 // The same stiffness in mixed (Hellinger-Reissner) form, stiffness = G^T H^-1 G exactly: eps and
 // chi are cubics on the element, so their Legendre coefficients (P0..P3 on xi in [0, 1]) carry
@@ -33,7 +40,7 @@ Matrix9d stiffness(double h, double membrane_stiffness);
 inline constexpr int stresses = 8;
 using Matrix89d = Eigen::Matrix<double, 8, 9>;
 using Vector8d = Eigen::Matrix<double, 8, 1>;
-Matrix89d stress_coupling(double h);
+Matrix89d stress_coupling(double h, bool outside = false);
 Vector8d compliance(double h, double membrane_stiffness);
 
 }  // namespace liftoff::fe::arch_element

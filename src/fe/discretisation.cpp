@@ -8,6 +8,7 @@
 
 #include "core/error.hpp"
 #include "fe/arch_element.hpp"
+#include "fe/arch_loads.hpp"
 #include "fe/beam_element.hpp"
 #include "fe/foundation_element.hpp"
 #include "fe/shape_functions.hpp"
@@ -103,8 +104,10 @@ Eigen::MatrixXd rigid_motions(const MemberModel& model, const Discretisation& d)
     }
     return modes;
   }
-  // Arch: horizontal and vertical translation, rotation about the centre of curvature.
+  // Arch: horizontal and vertical translation, rotation about the centre of curvature (w and w'
+  // change sign with the foundation outside: w > 0 is outward there).
   Eigen::MatrixXd modes = Eigen::MatrixXd::Zero(n, 3);
+  const double in = arch_element::inward_sign(d.foundation_outside);
   for (int dof = 0; dof < n; ++dof) {
     const double t = d.position_of_dof(dof), c = std::cos(t), s = std::sin(t);
     switch (d.role_of_dof(dof)) {
@@ -112,10 +115,10 @@ Eigen::MatrixXd rigid_motions(const MemberModel& model, const Discretisation& d)
         modes.row(dof) << c, -s, 1.0;
         break;
       case DofRole::deflection:
-        modes.row(dof) << -s, -c, 0.0;
+        modes.row(dof) << -in * s, -in * c, 0.0;
         break;
       case DofRole::slope:
-        modes.row(dof) << -c, s, 0.0;
+        modes.row(dof) << -in * c, in * s, 0.0;
         break;
     }
   }
@@ -152,12 +155,13 @@ Assembly assemble(const MemberModel& model, const Discretisation& d, const std::
     const double h = mesh.element_size(e);
     const double middle = mesh.nodes[e] + 0.5 * h;
     const std::vector<int> dofs = d.element_dofs(e);
-    const Eigen::MatrixXd k = beam ? Eigen::MatrixXd(beam_element::stiffness(h))
-                                   : Eigen::MatrixXd(arch_element::stiffness(h, model.membrane_stiffness));
+    const Eigen::MatrixXd k =
+        beam ? Eigen::MatrixXd(beam_element::stiffness(h))
+             : Eigen::MatrixXd(arch_element::stiffness(h, model.membrane_stiffness, model.foundation_outside));
     for (int i = 0; i < k.rows(); ++i)
       for (int j = 0; j < k.cols(); ++j) a.stiffness.emplace_back(dofs[i], dofs[j], k(i, j));
-    const Eigen::MatrixXd g =
-        beam ? Eigen::MatrixXd(beam_element::stress_coupling(h)) : Eigen::MatrixXd(arch_element::stress_coupling(h));
+    const Eigen::MatrixXd g = beam ? Eigen::MatrixXd(beam_element::stress_coupling(h))
+                                   : Eigen::MatrixXd(arch_element::stress_coupling(h, model.foundation_outside));
     a.compliance.segment(static_cast<Eigen::Index>(spe) * e, spe) =
         beam ? Eigen::VectorXd(beam_element::compliance(h))
              : Eigen::VectorXd(arch_element::compliance(h, model.membrane_stiffness));
@@ -179,7 +183,11 @@ Assembly assemble(const MemberModel& model, const Discretisation& d, const std::
     for (const MemberLoad& load : model.loads) {
       if (middle < load.from || middle > load.to) continue;
       Eigen::VectorXd& target = load.load_case == LoadCase::dead ? a.dead_load : a.live_load;
-      if (load.kind == LoadKind::uniform) {
+      if (load.kind == LoadKind::uniform && !beam) {  // radial or vertical, fe/arch_loads.hpp
+        const auto consistent = arch_element_load(mesh.nodes[e], h, load.direction, load.per, model.foundation_outside,
+                                                  [&](double s) { return load.intensity(s); });
+        for (int j = 0; j < arch_element::dofs; ++j) target[dofs[j]] += consistent[j];
+      } else if (load.kind == LoadKind::uniform) {
         // Linear q times cubic shapes: degree 4, exact with five Gauss points.
         Eigen::Vector4d consistent = Eigen::Vector4d::Zero();
         for (const GaussPoint& g : gauss5)
@@ -198,11 +206,16 @@ Assembly assemble(const MemberModel& model, const Discretisation& d, const std::
     if (load.kind == LoadKind::uniform || load.kind == LoadKind::curvature) continue;
     Eigen::VectorXd& target = load.load_case == LoadCase::dead ? a.dead_load : a.live_load;
     const int node = mesh.node_at(load.at);
-    if (load.kind == LoadKind::force) {
+    if (load.kind == LoadKind::force && model.kind == StructureKind::arch) {
+      const Eigen::Vector2d c = arch_load_components(load.direction, load.per, load.at, model.foundation_outside);
+      target[d.deflection_dof(node)] += c[0] * load.value;
+      target[d.tangential_dof(node)] += c[1] * load.value;
+    } else if (load.kind == LoadKind::force) {
       target[d.deflection_dof(node)] += load.value;
     } else {
-      // Work of a counterclockwise moment: M * rotation, rotation = -w' (beam), -(u + w') (arch).
-      target[d.slope_dof(node)] -= load.value;
+      // Work of a counterclockwise moment: M * rotation, rotation = -w' (beam), -(u + w') (arch;
+      // -(u - w') with the foundation outside).
+      target[d.slope_dof(node)] -= arch_element::inward_sign(model.foundation_outside) * load.value;
       if (model.kind == StructureKind::arch) target[d.tangential_dof(node)] -= load.value;
     }
   }
@@ -247,6 +260,7 @@ Discretisation discretise(const MemberModel& model, Mesh mesh, std::vector<bool>
   d.mesh = std::move(mesh);
   d.foundation_modulus = model.foundation_modulus;
   d.tensionless = model.tensionless;
+  d.foundation_outside = model.kind == StructureKind::arch && model.foundation_outside;
   d.stresses_per_element = model.kind == StructureKind::beam ? beam_element::stresses : arch_element::stresses;
   const int elements = d.mesh.elements();
   const int n = dof_count(model.kind, elements);

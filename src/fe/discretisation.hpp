@@ -54,6 +54,7 @@ class Discretisation {
   Eigen::VectorXd live_load;
   double foundation_modulus = 0.0;
   bool tensionless = true;
+  bool foundation_outside = false;  // arches: w > 0 outward (arch_element.hpp)
   // Rigid motions only the foundation resists; non-empty means K is singular.
   int unstable_rigid_motions = 0;
   std::string stability_note;  // in words, for messages

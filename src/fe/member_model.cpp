@@ -52,6 +52,7 @@ MemberModel make_member_model(const scene::Scene& scene) {
                                  ? *foundation.stiffness_parameter
                                  : *foundation.modulus / (scales.bending_stiffness / std::pow(scales.length, 4));
   model.tensionless = foundation.tensionless;
+  model.foundation_outside = structure.kind == StructureKind::arch && foundation.side == scene::FoundationSide::outside;
   model.foundation_begin = model.s_from_user(foundation.from);
   model.foundation_end = model.s_from_user(foundation.to);
 
@@ -62,6 +63,8 @@ MemberModel make_member_model(const scene::Scene& scene) {
         MemberLoad piece;
         piece.kind = LoadKind::uniform;
         piece.load_case = load.load_case;
+        piece.direction = load.direction;
+        piece.per = load.per;
         piece.from = model.s_from_user(load.table_at[i]);
         piece.to = model.s_from_user(load.table_at[i + 1]);
         piece.value = load.table_value[i] / scales.force_per_length();
@@ -74,6 +77,8 @@ MemberModel make_member_model(const scene::Scene& scene) {
     MemberLoad member_load;
     member_load.kind = load.kind;
     member_load.load_case = load.load_case;
+    member_load.direction = load.direction;
+    member_load.per = load.per;
     member_load.at = model.s_from_user(load.at);
     member_load.from = model.s_from_user(load.from);
     member_load.to = model.s_from_user(load.to);

@@ -14,7 +14,9 @@
 namespace liftoff::fe {
 
 using scene::EndSupport;
+using scene::LoadBasis;
 using scene::LoadCase;
+using scene::LoadDirection;
 using scene::LoadKind;
 using scene::StructureKind;
 
@@ -40,6 +42,8 @@ struct MemberLoad {
   double from = 0.0;   // s, uniform and curvature loads
   double to = 0.0;
   LoadCase load_case = LoadCase::live;
+  LoadDirection direction = LoadDirection::radial;  // arches (fe/arch_loads.hpp)
+  LoadBasis per = LoadBasis::arc;
 
   // The force per length of a uniform (linear) load at s in [from, to].
   double intensity(double s) const { return value + slope * (s - from); }
@@ -62,6 +66,8 @@ struct MemberModel {
   bool tensionless = true;
   double foundation_begin = 0.0;  // s
   double foundation_end = 1.0;
+  // Arches: the foundation lies outside (around the extrados), so w > 0 is outward.
+  bool foundation_outside = false;
   std::vector<MemberLoad> loads;
   Scales scales;
 

@@ -88,7 +88,8 @@ SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model,
     const double w = solution.displacement[d.deflection_dof(node)], slope = solution.displacement[d.slope_dof(node)];
     const double u = model.kind == StructureKind::arch ? solution.displacement[d.tangential_dof(node)] : 0.0;
     n.w.push_back(w * scales.displacement());
-    n.rotation.push_back(model.kind == StructureKind::arch ? -(u + slope) : -slope);
+    const double in = model.foundation_outside ? -1.0 : 1.0;  // w > 0 outward outside (arch_element.hpp)
+    n.rotation.push_back(model.kind == StructureKind::arch ? -(u + in * slope) : -slope);
     if (model.kind == StructureKind::arch) n.u.push_back(u * scales.displacement());
   }
   // The nodal reactions are the LCP's unknowns: report their largest, not an interpolation's.

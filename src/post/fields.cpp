@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "fe/arch_element.hpp"
 #include "fe/shape_functions.hpp"
 
 namespace liftoff::post {
@@ -64,17 +65,20 @@ Fields sample_fields(const fe::MemberModel& model, const fe::Discretisation& d,
   }
   std::vector<int> dofs;
   double kappa = 0.0;  // the element's imposed curvature (curvature ranges end at nodes)
+  // With the foundation outside, w > 0 is outward: the inward displacement is -w (arch_element.hpp),
+  // and rotation, moment, shear and normal force keep their physical meaning.
+  const double in = fe::arch_element::inward_sign(d.foundation_outside);
   auto add = [&](int element, double xi) {
     const LocalState x = evaluate_on(d, solution.displacement, element, dofs, xi);
     f.s.push_back(d.mesh.nodes[element] + xi * d.mesh.element_size(element));
     f.w.push_back(x.w);
-    f.rotation.push_back(arch ? -(x.u + x.dw) : -x.dw);
-    f.bending_moment.push_back(arch ? -(x.du + x.d2w) : -(x.d2w + kappa));
-    f.shear_force.push_back(arch ? -(x.d2u + x.d3w) : -x.d3w);
+    f.rotation.push_back(arch ? -(x.u + in * x.dw) : -x.dw);
+    f.bending_moment.push_back(arch ? -(x.du + in * x.d2w) : -(x.d2w + kappa));
+    f.shear_force.push_back(arch ? -(x.d2u + in * x.d3w) : -x.d3w);
     f.reaction.push_back(reaction_at(d, solution.reaction, element, xi));
     if (arch) {
       f.u.push_back(x.u);
-      f.normal_force.push_back(model.membrane_stiffness * (x.du - x.w));
+      f.normal_force.push_back(model.membrane_stiffness * (x.du - in * x.w));
     }
   };
   for (int e = 0; e < elements; ++e) {

@@ -51,7 +51,15 @@ RitzModel::RitzModel(const fe::MemberModel& model, int modes, Topology topology,
   for (double value : {model.s_begin, model.s_end, model.membrane_stiffness, model.foundation_modulus,
                        model.foundation_begin, model.foundation_end})
     require_finite(value, "a member model value");
+  if (arch_ && model.foundation_outside)
+    throw std::invalid_argument(
+        "the Ritz model takes the foundation inside the arch only, not [foundation] side = \"outside\"; use an FE "
+        "method");
   for (const fe::MemberLoad& load : model.loads) {
+    if (arch_ && load.kind != fe::LoadKind::moment && load.direction != fe::LoadDirection::radial)
+      throw std::invalid_argument(fmt::format(
+          "the Ritz model takes radial arch loads only, not a load with direction = \"{}\"; use an FE method",
+          scene::to_string(load.direction)));
     require_finite(load.value, "a load value");
     require_finite(load.slope, "a load slope");
     require_finite(load.at, "a load position");

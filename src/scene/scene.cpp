@@ -31,6 +31,20 @@ constexpr Names<LoadCase, 2> load_cases{{
     {LoadCase::live, "live"},
     {LoadCase::dead, "dead"},
 }};
+constexpr Names<LoadDirection, 4> load_directions{{
+    {LoadDirection::radial, "radial"},
+    {LoadDirection::tangential, "tangential"},
+    {LoadDirection::vertical, "vertical"},
+    {LoadDirection::horizontal, "horizontal"},
+}};
+constexpr Names<LoadBasis, 2> load_bases{{
+    {LoadBasis::arc, "arc"},
+    {LoadBasis::projection, "projection"},
+}};
+constexpr Names<FoundationSide, 2> foundation_sides{{
+    {FoundationSide::inside, "inside"},
+    {FoundationSide::outside, "outside"},
+}};
 constexpr Names<Method, 6> methods{{
     {Method::dual, "dual"},
     {Method::primal, "primal"},
@@ -66,6 +80,9 @@ std::string_view to_string(StructureKind v) { return name_of(structure_kinds, v)
 std::string_view to_string(EndSupport v) { return name_of(end_supports, v); }
 std::string_view to_string(LoadKind v) { return name_of(load_kinds, v); }
 std::string_view to_string(LoadCase v) { return name_of(load_cases, v); }
+std::string_view to_string(LoadDirection v) { return name_of(load_directions, v); }
+std::string_view to_string(LoadBasis v) { return name_of(load_bases, v); }
+std::string_view to_string(FoundationSide v) { return name_of(foundation_sides, v); }
 std::string_view to_string(Method v) { return name_of(methods, v); }
 std::string_view to_string(TraceControl v) { return name_of(trace_controls, v); }
 

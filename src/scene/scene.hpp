@@ -22,6 +22,17 @@ enum class EndSupport { pinned, clamped, free, roller };
 // distributed: piecewise linear force per length from a table; curvature: an imposed free
 // (thermal) curvature over from..to, an initial strain rather than a force.
 enum class LoadKind { force, moment, uniform, distributed, curvature };
+// Arches only: along what a load's value acts. radial: toward the foundation (today's); tangential
+// and horizontal: toward increasing theta / to the right; vertical: downward (gravity). Uniform
+// loads take radial or vertical, point forces any of the four.
+enum class LoadDirection { radial, tangential, vertical, horizontal };
+// Arches only, vertical uniform loads: the value is per unit arc length (self-weight) or per unit
+// horizontal projection (fill, traffic), that is |cos theta| per unit arc.
+enum class LoadBasis { arc, projection };
+// Arches only: where the foundation lies. inside: under the intrados (today's); outside: around the
+// extrados (a buried arch, a culvert). w > 0 is into the foundation either way, so outward when
+// outside.
+enum class FoundationSide { inside, outside };
 // Live loads are scaled by the load factor lambda (1 in `solve`); dead loads are not.
 enum class LoadCase { live, dead };
 // How the contact problem is solved. dual, primal: FE + LCP (Lemke); fast: FE, the sparse
@@ -37,6 +48,9 @@ std::string_view to_string(StructureKind);
 std::string_view to_string(EndSupport);
 std::string_view to_string(LoadKind);
 std::string_view to_string(LoadCase);
+std::string_view to_string(LoadDirection);
+std::string_view to_string(LoadBasis);
+std::string_view to_string(FoundationSide);
 std::string_view to_string(Method);
 std::string_view to_string(TraceControl);
 std::optional<StructureKind> parse_structure_kind(std::string_view);
@@ -63,11 +77,12 @@ struct Supports {
 
 struct Foundation {
   // Exactly one of the two is given: k = K L^4/EI (beam) or K R^4/EI (arch), or K itself.
-  std::optional<double> stiffness_parameter;  // key "k"
-  std::optional<double> modulus;              // key "modulus", force per length per length
-  bool tensionless = true;                    // false: conventional bilateral foundation
-  double from = 0.0;                          // extent of the foundation, user coordinate;
-  double to = 0.0;                            // the reader fills the member's ends by default
+  std::optional<double> stiffness_parameter;     // key "k"
+  std::optional<double> modulus;                 // key "modulus", force per length per length
+  bool tensionless = true;                       // false: conventional bilateral foundation
+  double from = 0.0;                             // extent of the foundation, user coordinate;
+  double to = 0.0;                               // the reader fills the member's ends by default
+  FoundationSide side = FoundationSide::inside;  // arches only (key `side`)
 };
 
 struct Load {
@@ -81,6 +96,8 @@ struct Load {
   std::vector<double> table_at;
   std::vector<double> table_value;
   LoadCase load_case = LoadCase::live;
+  LoadDirection direction = LoadDirection::radial;  // arches only (key `direction`)
+  LoadBasis per = LoadBasis::arc;                   // arches, vertical uniform loads (key `per`)
 };
 
 // [solve] tolerance: the accuracy wanted for the contact limits, relative to the member's length

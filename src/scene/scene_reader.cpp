@@ -39,7 +39,7 @@ const std::vector<TableSpec>& schema() {
   static const std::vector<TableSpec> tables = {
       {"structure", false, {"kind", "length", "radius", "half_angle_deg", "EI", "EA"}},
       {"supports", false, {"left", "right", "interior"}},
-      {"foundation", false, {"k", "modulus", "tensionless", "from", "to"}},
+      {"foundation", false, {"k", "modulus", "tensionless", "from", "to", "side"}},
       {"loads", true, {"kind", "at", "value", "from", "to", "case", "direction", "per"}},
       {"solve", false, {"method", "elements", "tolerance"}},
       {"ritz", false, {"modes", "max_modes", "mode_tolerance", "topology", "limits"}},
@@ -493,6 +493,11 @@ Foundation read_foundation(const Section& s, const Member& member) {
   }
   f.tensionless = s.flag("tensionless").value_or(true);
   std::tie(f.from, f.to) = read_extent(s, member);
+  if (member.arch) {
+    f.side = s.choice("side", {FoundationSide::inside, FoundationSide::outside}).value_or(f.side);
+  } else {
+    s.refuse("side", "for a beam (arches only: the foundation inside or outside the arch)");
+  }
   return f;
 }
 
@@ -520,14 +525,52 @@ void read_distributed(const Section& s, const Member& member, Load& load) {
                                 load.table_value.size()));
 }
 
+// Arches: `direction` and `per` (a beam's loads are transverse, a moment has no direction). A
+// uniform load is radial or vertical; a point force any of the four. `per` goes with vertical
+// uniform loads only, and "projection" only where the arch is not steeper than vertical
+// (|theta| <= 90 deg): below the springing the horizontal projection folds back on itself.
+void read_load_direction(const Section& s, const Member& member, Load& load) {
+  if (!member.arch) {
+    for (const auto key : {"direction", "per"}) s.refuse(key, "for a beam (a beam's loads are transverse)");
+    return;
+  }
+  if (load.kind == LoadKind::moment) {
+    for (const auto key : {"direction", "per"}) s.refuse(key, "for a moment (it turns the arch in its plane)");
+    return;
+  }
+  const bool spread = load.kind == LoadKind::uniform || load.kind == LoadKind::distributed;
+  if (spread) {
+    load.direction = s.choice("direction", {LoadDirection::radial, LoadDirection::vertical},
+                              {"tangential", "a uniform or distributed load on an arch is radial or vertical"})
+                         .value_or(LoadDirection::radial);
+  } else {
+    load.direction = s.choice("direction", {LoadDirection::radial, LoadDirection::tangential, LoadDirection::vertical,
+                                            LoadDirection::horizontal})
+                         .value_or(LoadDirection::radial);
+  }
+  if (!spread) {
+    s.refuse("per", "for a point force (per goes with vertical uniform and distributed loads)");
+    return;
+  }
+  if (load.direction != LoadDirection::vertical) {
+    s.refuse("per", fmt::format("with direction = \"{}\" (per goes with direction = \"vertical\")",
+                                to_string(load.direction)));
+    return;
+  }
+  load.per = s.choice("per", {LoadBasis::arc, LoadBasis::projection}).value_or(LoadBasis::arc);
+  const double from = load.kind == LoadKind::distributed ? load.table_at.front() : load.from;
+  const double to = load.kind == LoadKind::distributed ? load.table_at.back() : load.to;
+  if (load.per == LoadBasis::projection && (from < -90.0 || to > 90.0)) {
+    s.fail("per", fmt::format("expected a load per unit horizontal projection within theta = -90..90 deg (where "
+                              "the arch is not steeper than vertical), got a load on {} .. {}",
+                              from, to));
+  }
+}
+
 Load read_load(const Section& s, const Member& member) {
   Load load;
   load.kind = s.required_choice(
       "kind", {LoadKind::force, LoadKind::moment, LoadKind::uniform, LoadKind::distributed, LoadKind::curvature});
-  // A beam's loads are transverse; the direction of an arch's load is not read by this version.
-  for (const auto key : {"direction", "per"})
-    s.refuse(key, member.arch ? "(arch load directions are not supported by this version: loads act radially)"
-                              : "for a beam (its loads are transverse; arches only)");
   if (load.kind == LoadKind::distributed) {
     read_distributed(s, member, load);
   } else if (load.kind == LoadKind::uniform || load.kind == LoadKind::curvature) {
@@ -544,6 +587,7 @@ Load read_load(const Section& s, const Member& member) {
   }
   if (load.kind != LoadKind::distributed) load.value = s.required_number("value", any_number());
   load.load_case = s.choice("case", {LoadCase::live, LoadCase::dead}).value_or(LoadCase::live);
+  read_load_direction(s, member, load);
   return load;
 }
 

@@ -6,7 +6,9 @@
 
 #include <Eigen/SparseLU>
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <filesystem>
+#include <numbers>
 
 #include "certify/certificate.hpp"
 #include "contact/active_set_solver.hpp"
@@ -306,4 +308,54 @@ TEST_CASE("a limit-fitted answer is certified on its own mesh, and one whose lim
     CAPTURE(bad.message);
     CHECK_FALSE(bad.passed);
   }
+}
+
+// Issue 12: vertical, horizontal and tangential arch loads. The certificate reads the loads again
+// in global components (certify/detail.cpp) and balances them against the foundation and the
+// supports: an answer computed with the loads misread as radial must fail, the right one pass.
+TEST_CASE("arch loads in any direction: certified, and an answer to radial loads is not", "[certify][arch]") {
+  constexpr double degree = std::numbers::pi / 180.0;
+  scene::Scene s;
+  s.source_name = "<test arch>";
+  s.structure.kind = scene::StructureKind::arch;
+  s.structure.radius = 2.0;
+  s.structure.half_angle_deg = 60.0;
+  s.structure.bending_stiffness = 1.0;
+  s.structure.axial_stiffness = 1e3;
+  s.supports.left = s.supports.right = EndSupport::pinned;
+  s.foundation.stiffness_parameter = 200.0;
+  s.foundation.from = -60.0;
+  s.foundation.to = 60.0;
+  scene::Load weight = test::uniform_load(-60.0, 60.0, 1.0), fill = test::uniform_load(-30.0, 45.0, 0.5);
+  weight.direction = fill.direction = scene::LoadDirection::vertical;
+  fill.per = scene::LoadBasis::projection;
+  scene::Load push = test::point_force(20.0, 0.3), drag = test::point_force(-40.0, -0.2);
+  push.direction = scene::LoadDirection::horizontal;
+  drag.direction = scene::LoadDirection::tangential;
+  s.loads = {weight, fill, push, drag};
+  const test::Solved good = test::solve(s, Method::fast, 240);
+  const certify::Certificate c = certify_solved(good);
+  CHECK(c.passed);
+  INFO(c.message);
+  // The applied figures in user units against the resultant by hand (R = 2): down, weight
+  // q R 2 gamma plus fill q R (sin 45 - sin(-30)) plus the drag's 0.2 sin(40 deg); along x, the
+  // push 0.3 and the drag's -0.2 cos(40 deg) (the tangent at theta is (cos theta, -sin theta)). The element works on
+  // interpolated rigid motions: relative error <= h^4/384 with h = 2 gamma / 240 (tests/fe/arch_loads_test.cpp).
+  const certify::UserFigures u = certify::user_figures(c, good.model);
+  const double down = 1.0 * 2.0 * 120.0 * degree + 0.5 * 2.0 * (std::sin(45 * degree) + std::sin(30 * degree)) +
+                      0.2 * std::sin(40 * degree);
+  const double along = 0.3 - 0.2 * std::cos(40 * degree);
+  const double h = 120.0 * degree / 240;
+  CHECK(std::abs(u.applied_force - down) <= 2 * down * std::pow(h, 4) / 384 + 64 * 2.2e-16 * down);
+  CHECK(std::abs(u.applied_force_x - along) <= 2 * down * std::pow(h, 4) / 384 + 64 * 2.2e-16 * down);
+
+  scene::Scene radial = s;
+  for (scene::Load& load : radial.loads)
+    load.direction = scene::LoadDirection::radial, load.per = scene::LoadBasis::arc;
+  test::Solved wrong = good;
+  wrong.solution = test::solve(radial, Method::fast, 240).solution;
+  const certify::Certificate bad = certify_solved(wrong);
+  CHECK_FALSE(bad.passed);
+  CHECK_FALSE(check(bad, certify::check_name::force_balance_x).passed);
+  CHECK_FALSE(check(bad, certify::check_name::moment_balance).passed);
 }

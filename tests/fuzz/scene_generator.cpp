@@ -170,6 +170,8 @@ Draft valid_scene(Random& random, const SceneLimits& limits) {
     foundation.entries.push_back({"modulus", written(random, k * EI / std::pow(length_scale, 4))});
   if (random.chance(0.3))
     foundation.entries.push_back({"tensionless", random.chance(0.8) ? "true" : "false", Type::flag});
+  if (d.arch && random.chance(0.25))  // issue 12: soil around the extrados (a buried arch)
+    foundation.entries.push_back({"side", quoted(random.chance(0.8) ? "outside" : "inside"), Type::name});
   double f_from = d.begin, f_to = d.end;
   if (random.chance(0.25)) {
     std::tie(f_from, f_to) = extent(random, d.begin, d.end);
@@ -193,6 +195,11 @@ Draft valid_scene(Random& random, const SceneLimits& limits) {
       special.push_back(at);
       load.entries = {
           {"kind", quoted("force"), Type::name}, {"at", toml_number(at)}, {"value", written(random, sign * size)}};
+      if (d.arch && random.chance(0.3))  // issue 12: a point force on an arch in any direction
+        load.entries.push_back(
+            {"direction",
+             quoted(random.pick(std::vector<std::string>{"radial", "tangential", "vertical", "horizontal"})),
+             Type::name});
     } else if (kind < 7) {
       const double at = position(random, d.begin, d.end, special);
       special.push_back(at);
@@ -226,10 +233,18 @@ Draft valid_scene(Random& random, const SceneLimits& limits) {
       }
     } else {
       load.entries = {{"kind", quoted("uniform"), Type::name}, {"value", written(random, sign * size / length_scale)}};
+      double from = d.begin, to = d.end;
       if (random.chance(0.4)) {
-        const auto [from, to] = extent(random, d.begin, d.end);
+        std::tie(from, to) = extent(random, d.begin, d.end);
         load.entries.push_back({"from", toml_number(from)});
         load.entries.push_back({"to", toml_number(to)});
+      }
+      if (d.arch && random.chance(0.3)) {  // issue 12: gravity on an arch, per arc or per projection
+        load.entries.push_back({"direction", quoted(random.chance(0.8) ? "vertical" : "radial"), Type::name});
+        const bool vertical = load.entries.back().value == quoted("vertical");
+        if (vertical && random.chance(0.6))  // per unit projection only within |theta| <= 90 deg
+          load.entries.push_back(
+              {"per", quoted(from >= -90.0 && to <= 90.0 && random.chance(0.7) ? "projection" : "arc"), Type::name});
       }
     }
     const int load_case = random.integer(0, 9);
@@ -315,7 +330,7 @@ const std::map<std::string, std::vector<std::string>>& schema_keys() {
   static const std::map<std::string, std::vector<std::string>> keys = {
       {"structure", {"kind", "length", "radius", "half_angle_deg", "EI", "EA"}},
       {"supports", {"left", "right", "interior"}},
-      {"foundation", {"k", "modulus", "tensionless", "from", "to"}},
+      {"foundation", {"k", "modulus", "tensionless", "from", "to", "side"}},
       {"loads", {"kind", "at", "value", "from", "to", "case", "direction", "per"}},
       {"solve", {"method", "elements"}},
       {"ritz", {"modes", "max_modes", "mode_tolerance", "topology", "limits"}},
@@ -472,7 +487,35 @@ Mutant mutate(Random& random, Draft d) {
       std::erase_if(d.find(table)->entries, [&](const Entry& e) { return e.key == key; });
       return done("missing " + table + "." + key, true);
     }
-    case 1: {  // an unknown key or table
+    case 1: {                    // an unknown key or table
+      if (random.chance(0.2)) {  // issue 12: direction / per where they do not belong
+        std::vector<Table*> loads;
+        for (Table& t : d.tables)
+          if (t.name == "loads") loads.push_back(&t);
+        if (!loads.empty()) {
+          Table& load = *random.pick(loads);
+          std::erase_if(load.entries, [](const Entry& e) { return e.key == "direction" || e.key == "per"; });
+          const auto kind_entry =
+              std::find_if(load.entries.begin(), load.entries.end(), [](const Entry& e) { return e.key == "kind"; });
+          const std::string kind = kind_entry != load.entries.end() ? kind_entry->value : "";
+          const int misuse = random.integer(0, 2);
+          if (!d.arch || misuse == 0) {  // a beam's loads have no direction; no arch load goes "up"
+            load.entries.push_back({"direction", quoted(d.arch ? "up" : "vertical"), Type::name});
+          } else if (misuse == 1) {  // per with a radial direction
+            load.entries.push_back({"direction", quoted("radial"), Type::name});
+            load.entries.push_back({"per", quoted("arc"), Type::name});
+          } else {  // per on something other than a uniform load, or an unknown basis
+            load.entries.push_back({"per", quoted(kind == quoted("uniform") ? "length" : "arc"), Type::name});
+          }
+          return done("misplaced load direction or per", true);
+        }
+      }
+      if (random.chance(0.1)) {  // issue 12: side on a beam, or a side that does not exist
+        Table& foundation = *d.find("foundation");
+        std::erase_if(foundation.entries, [](const Entry& e) { return e.key == "side"; });
+        foundation.entries.push_back({"side", quoted(d.arch ? "below" : "outside"), Type::name});
+        return done("foundation side misplaced or unknown", true);
+      }
       if (random.chance(0.25)) {
         const int kind = random.integer(0, 3);
         if (kind == 0) d.tables.push_back({"extra", false, {{"x", "1.0"}}});

@@ -700,10 +700,62 @@ TEST_CASE("a malformed distributed or curvature load is refused by key", "[scene
   CHECK(error_of(head + "kind = \"curvature\"\nvalue = 0.1\nat = 1.0\n") ==
         "scene.toml:21: key 'loads[1].at': not allowed for a curvature load (it acts on from..to)");
   CHECK(error_of(head + "kind = \"uniform\"\nvalue = 0.1\ndirection = \"vertical\"\n") ==
-        "scene.toml:21: key 'loads[1].direction': not allowed for a beam (its loads are transverse; arches only)");
+        "scene.toml:21: key 'loads[1].direction': not allowed for a beam (a beam's loads are transverse)");
   CHECK(error_of(head + "kind = \"uniform\"\nvalue = 0.1\nper = \"arc\"\n") ==
-        "scene.toml:21: key 'loads[1].per': not allowed for a beam (its loads are transverse; arches only)");
+        "scene.toml:21: key 'loads[1].per': not allowed for a beam (a beam's loads are transverse)");
   const std::string arch_head = arch_scene + "\n[[loads]]\n";
   CHECK_THAT(error_of(arch_head + "kind = \"curvature\"\nvalue = 0.1\n"),
              StartsWith("scene.toml:21: key 'loads[1].kind': expected") && Contains("beams only"));
+}
+
+TEST_CASE("arch loads: direction and per, and where they are refused", "[scene][errors]") {
+  const std::string vertical = edited(edited(arch_scene, "kind = \"force\"", "kind = \"uniform\""), "at = 0.0\n",
+                                      "direction = \"vertical\"\nper = \"projection\"\n");
+  const Scene s = parse_scene(vertical, "scene.toml");
+  REQUIRE(s.loads.size() == 1);
+  CHECK(s.loads[0].direction == LoadDirection::vertical);
+  CHECK(s.loads[0].per == LoadBasis::projection);
+  const Scene point = parse_scene(edited(arch_scene, "at = 0.0", "at = 0.0\ndirection = \"horizontal\""), "scene.toml");
+  CHECK(point.loads[0].direction == LoadDirection::horizontal);
+  CHECK(parse_scene(arch_scene, "scene.toml").loads[0].direction == LoadDirection::radial);  // the default
+
+  CHECK(error_of(edited(beam_scene, "at = 0.5", "at = 0.5\ndirection = \"vertical\"")) ==
+        "scene.toml:16: key 'loads[0].direction': not allowed for a beam (a beam's loads are transverse)");
+  CHECK(error_of(edited(beam_scene, "at = 0.5", "at = 0.5\nper = \"arc\"")) ==
+        "scene.toml:16: key 'loads[0].per': not allowed for a beam (a beam's loads are transverse)");
+  CHECK(error_of(edited(arch_scene, "at = 0.0", "at = 0.0\ndirection = \"up\"")) ==
+        "scene.toml:18: key 'loads[0].direction': expected \"radial\", \"tangential\", \"vertical\" or "
+        "\"horizontal\", got \"up\"");
+  CHECK(error_of(edited(vertical, "direction = \"vertical\"", "direction = \"tangential\"")) ==
+        "scene.toml:17: key 'loads[0].direction': expected \"radial\" or \"vertical\", got \"tangential\" (a uniform "
+        "or distributed load on an arch is radial or vertical)");
+  CHECK(error_of(edited(vertical, "direction = \"vertical\"", "direction = \"radial\"")) ==
+        "scene.toml:18: key 'loads[0].per': not allowed with direction = \"radial\" (per goes with direction = "
+        "\"vertical\")");
+  CHECK(error_of(edited(arch_scene, "at = 0.0", "at = 0.0\nper = \"arc\"")) ==
+        "scene.toml:18: key 'loads[0].per': not allowed for a point force (per goes with vertical uniform and distributed loads)");
+  CHECK(error_of(edited(vertical, "per = \"projection\"", "per = \"length\"")) ==
+        "scene.toml:18: key 'loads[0].per': expected \"arc\" or \"projection\", got \"length\"");
+  CHECK(error_of(edited(edited(arch_scene, "kind = \"force\"", "kind = \"moment\""), "at = 0.0",
+                        "at = 0.0\ndirection = \"radial\"")) ==
+        "scene.toml:18: key 'loads[0].direction': not allowed for a moment (it turns the arch in its plane)");
+  // Per unit projection only where the arch is not steeper than vertical.
+  const std::string wide = edited(vertical, "half_angle_deg = 10.0", "half_angle_deg = 120.0");
+  CHECK(error_of(wide) ==
+        "scene.toml:18: key 'loads[0].per': expected a load per unit horizontal projection within theta = -90..90 "
+        "deg (where the arch is not steeper than vertical), got a load on -120 .. 120");
+  CHECK(parse_scene(edited(wide, "per = \"projection\"", "per = \"projection\"\nfrom = -90\nto = 90"), "scene.toml")
+            .loads[0]
+            .per == LoadBasis::projection);
+}
+
+TEST_CASE("[foundation] side: inside or outside, arches only", "[scene][errors]") {
+  CHECK(parse_scene(arch_scene, "scene.toml").foundation.side == FoundationSide::inside);
+  CHECK(parse_scene(edited(arch_scene, "k = 1.0e4", "k = 1.0e4\nside = \"outside\""), "scene.toml").foundation.side ==
+        FoundationSide::outside);
+  CHECK(error_of(edited(arch_scene, "k = 1.0e4", "k = 1.0e4\nside = \"above\"")) ==
+        "scene.toml:14: key 'foundation.side': expected \"inside\" or \"outside\", got \"above\"");
+  CHECK(error_of(edited(beam_scene, "k = 1.0e4", "k = 1.0e4\nside = \"outside\"")) ==
+        "scene.toml:12: key 'foundation.side': not allowed for a beam (arches only: the foundation inside or outside "
+        "the arch)");
 }
