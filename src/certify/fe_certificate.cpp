@@ -96,7 +96,10 @@ NodalForces nodal_forces(const MemberModel& model, const Discretisation& d, cons
     if (!on_foundation(d, e)) continue;
     const int ra = reaction_of_node[e], rb = reaction_of_node[e + 1];
     if (ra < 0 || rb < 0) continue;
+    // No foundation under the element in the member (a void): a reaction there acts on nothing,
+    // so it adds no force and the balance shows it.
     const double k = modulus_under(model, d.mesh, e);
+    if (k == 0.0) continue;
     for (const fe::GaussPoint& g : fe::gauss5) {  // exact: cubic x linear, linear x linear
       const fe::HermiteCubic shape = fe::hermite_cubic(g.xi, h);
       const Eigen::Vector2d phi = fe::reaction_shape(g.xi);
