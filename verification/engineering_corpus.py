@@ -15,6 +15,8 @@ sweep (`loads[1].value=lin:-600e3:0:7`). For every scene and method:
     stiffness matrix is singular), and primal when dense Lemke's pivoting lost accuracy and its
     re-solved contact set proved it wrong (termination numerical_failure). fast and auto must
     answer everywhere.
+  - exit 2 from ritz on a foundation of several [[foundation.segments]] (the Ritz model takes
+    one piece), with a message naming the key.
   - Anything else fails.
 
 The answers must agree within their error estimates:
@@ -287,6 +289,10 @@ def run_case(args, name, path, doc, fails):
             fails.check(expected, where, "refused where no refusal is expected")
         elif rc == 2 and method == "ritz" and has_curvature(doc):
             print(f"  {method:7} -> refused (expected: an imposed curvature): {err or (obj or {}).get('message')}")
+        elif rc == 2 and method == "ritz" and len(doc["foundation"].get("segments", [])) > 1:
+            # The Ritz model takes one foundation piece: a keyed refusal (bad input for it).
+            print(f"  {method:7} -> refused (expected): {err}")
+            fails.check("foundation.segments" in (err or ""), where, "the refusal does not name foundation.segments")
         else:
             print(f"  {method:7} -> exit {rc}: {err or (obj or {}).get('message')}")
             fails.check(False, where, f"exit {rc}")

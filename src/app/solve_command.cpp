@@ -224,7 +224,7 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   // The contact regions of the node-based answer (a bilateral foundation: its whole extent).
   std::vector<contact::ContactInterval> regions;
   if (!d0.tensionless) {
-    regions.push_back({model.foundation_begin, model.foundation_end});
+    for (const auto& [begin, end] : model.foundation_stretches()) regions.push_back({begin, end});
   } else {
     Eigen::VectorXd on_equations(d0.equations);
     for (int dof = 0; dof < d0.dofs(); ++dof)
@@ -300,7 +300,7 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   post::Fields fields = request.fields && certified ? post::sample_fields(model, d, solution, samples) : post::Fields{};
   for (std::size_t i = 0; i < fields.reaction.size(); ++i) {
     const int e = std::min(static_cast<int>(i) / samples, d.mesh.elements() - 1);
-    fields.reaction[i] = d.foundation_on_element[e] ? model.foundation_modulus * std::max(fields.w[i], 0.0) : 0.0;
+    fields.reaction[i] = d.foundation_on_element[e] ? d.element_modulus[e] * std::max(fields.w[i], 0.0) : 0.0;
   }
   std::vector<post::Interval> contact_regions;
   for (const auto& c : answer.contact) contact_regions.push_back({c.begin, c.end});
@@ -311,18 +311,20 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   // Nodal reactions and the extremes as displayed (above).
   const post::DeflectionExtremes x = post::deflection_extremes(d, all);
   const fe::Scales& scales = model.scales;
+  // At a node between two soils the reaction jumps: the mean of its one-sided values.
   for (int node = 0; node <= d.mesh.elements(); ++node) {
-    const bool pressed =
-        (node > 0 && d.foundation_on_element[node - 1]) || (node < d.mesh.elements() && d.foundation_on_element[node]);
+    double k = 0.0;
+    int sides = 0;
+    for (int e : {node - 1, node})
+      if (e >= 0 && e < d.mesh.elements() && d.foundation_on_element[e]) k += d.element_modulus[e], ++sides;
     report.nodes.reaction[node] =
-        pressed ? model.foundation_modulus * std::max(all[d.deflection_dof(node)], 0.0) * scales.force_per_length()
-                : 0.0;
+        sides > 0 ? k / sides * std::max(all[d.deflection_dof(node)], 0.0) * scales.force_per_length() : 0.0;
   }
   report.w_max = x.w_max * scales.displacement();
   report.at_w_max = model.user_from_s(x.s_at_w_max);
   report.w_min = x.w_min * scales.displacement();
   report.at_w_min = model.user_from_s(x.s_at_w_min);
-  report.max_reaction = model.foundation_modulus * x.contact_w_max * scales.force_per_length();
+  report.max_reaction = x.contact_reaction_max * scales.force_per_length();
   if (!certified) {
     report.termination = "certificate_failed";
     report.usable = false;

@@ -216,6 +216,16 @@ std::vector<std::string> trace_path_names(const scene::Scene& scene, const Trace
             fmt::format("{}: key 'loads[{}].kind': the Ritz path cannot take this scene (the Ritz model does not take "
                         "an imposed curvature); expected an FE method (\"dual\", \"primal\", \"fast\" or \"auto\")",
                         scene.source_name, i));
+    if (scene.foundation.segments.size() > 1) {
+      const std::string where = request.method ? "option '--method'"
+                                : t.method     ? "key 'trace.method'"
+                                               : "key 'solve.method'";
+      throw InputError(
+          fmt::format("{}: {}: the Ritz path cannot take this scene (key 'foundation.segments': the Ritz model "
+                      "takes one foundation piece of constant modulus); expected an FE method (\"dual\", "
+                      "\"primal\", \"fast\" or \"auto\")",
+                      scene.source_name, where));
+    }
     names.push_back("ritz");
   }
   if (t.refine) {

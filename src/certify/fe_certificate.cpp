@@ -26,10 +26,15 @@ using detail::eps;
 
 // ---- the answer's nodal forces, from the element equations ------------------------------------
 
-// Whether the element lies on the foundation's extent (as the assembly decides by default).
+// The foundation's k under the element, from the member (not the discretisation's copy): 0 in a
+// void between foundation pieces and beyond the foundation.
+double modulus_under(const MemberModel& model, const fe::Mesh& mesh, int element) {
+  return model.foundation_modulus_at(mesh.nodes[element] + 0.5 * mesh.element_size(element));
+}
+
+// Whether the element lies on a piece of the foundation (as the assembly decides by default).
 bool in_foundation_extent(const MemberModel& model, const fe::Mesh& mesh, int element) {
-  const double middle = mesh.nodes[element] + 0.5 * mesh.element_size(element);
-  return middle >= model.foundation_begin && middle <= model.foundation_end;
+  return modulus_under(model, mesh, element) > 0.0;
 }
 
 // Whether the foundation acts on the element in this discretisation: its extent, or, for a
@@ -65,7 +70,6 @@ NodalForces nodal_forces(const MemberModel& model, const Discretisation& d, cons
   f.applied = detail::applied_nodal_loads(model, d, load_factor);
   f.magnitude = f.applied.cwiseAbs();
   const std::vector<int> reaction_of_node = detail::reaction_of_node(d);
-  const double k = d.foundation_modulus;
   const bool arch = d.kind == StructureKind::arch;
   std::vector<detail::Compensated> defect(n);
   std::vector<int> dof_of_equation(d.equations);
@@ -93,6 +97,10 @@ NodalForces nodal_forces(const MemberModel& model, const Discretisation& d, cons
     if (!on_foundation(d, e)) continue;
     const int ra = reaction_of_node[e], rb = reaction_of_node[e + 1];
     if (ra < 0 || rb < 0) continue;
+    // No foundation under the element in the member (a void): a reaction there acts on nothing,
+    // so it adds no force and the balance shows it.
+    const double k = modulus_under(model, d.mesh, e);
+    if (k == 0.0) continue;
     for (const fe::GaussPoint& g : fe::gauss5) {  // exact: cubic x linear, linear x linear
       const fe::HermiteCubic shape = fe::hermite_cubic(g.xi, h);
       const Eigen::Vector2d phi = fe::reaction_shape(g.xi);

@@ -136,15 +136,16 @@ FittedResult solve_fitted_limits(const fe::MemberModel& model, double load_facto
       throw std::invalid_argument(
           "solve_fitted_limits: contact regions must be disjoint, increasing and inside the foundation's extent");
   }
-  // The interior limits: every region end that is not a foundation end. limit_of[k] points at it.
+  // The interior limits: every region end that is not an end of the foundation (its extent's, or
+  // a void's). limit_of[k] points at it.
   struct LimitRef {
     std::size_t region;
     bool is_begin;
   };
   std::vector<LimitRef> refs;
   for (std::size_t i = 0; i < regions.size(); ++i) {
-    if (regions[i].begin > model.foundation_begin + tol) refs.push_back({i, true});
-    if (regions[i].end < model.foundation_end - tol) refs.push_back({i, false});
+    if (!model.is_foundation_edge(regions[i].begin)) refs.push_back({i, true});
+    if (!model.is_foundation_edge(regions[i].end)) refs.push_back({i, false});
   }
   auto limit = [&](std::size_t k) -> double& {
     return refs[k].is_begin ? regions[refs[k].region].begin : regions[refs[k].region].end;
@@ -154,6 +155,7 @@ FittedResult solve_fitted_limits(const fe::MemberModel& model, double load_facto
   FittedSummary& summary = result.summary;
   summary.iterations = 0;
   const std::vector<double> fixed_points = fe::mesh_breakpoints(model);
+  const std::vector<std::pair<double, double>> stretches = model.foundation_stretches();
   std::vector<bool> layout;  // which mesh points are limits, in order: counts are kept while it holds
   std::vector<int> counts;
   double previous_step = INFINITY;
@@ -247,11 +249,16 @@ FittedResult solve_fitted_limits(const fe::MemberModel& model, double load_facto
       break;
     }
     previous_step = largest;
-    // Keep each limit within half the distance to its neighbours (limits or foundation ends).
+    // Keep each limit within half the distance to its neighbours (limits or the ends of the
+    // stretch of foundation it lies on: a limit never enters a void).
     std::vector<double> bound_lo(refs.size()), bound_hi(refs.size());
     for (std::size_t k = 0; k < refs.size(); ++k) {
-      bound_lo[k] = k > 0 ? limit(k - 1) : model.foundation_begin;
-      bound_hi[k] = k + 1 < refs.size() ? limit(k + 1) : model.foundation_end;
+      bound_lo[k] = model.foundation_begin;
+      bound_hi[k] = model.foundation_end;
+      for (const auto& [a, b] : stretches)
+        if (limit(k) >= a && limit(k) <= b) bound_lo[k] = a, bound_hi[k] = b;
+      if (k > 0) bound_lo[k] = std::max(bound_lo[k], limit(k - 1));
+      if (k + 1 < refs.size()) bound_hi[k] = std::min(bound_hi[k], limit(k + 1));
     }
     double shrink = 1.0;
     for (std::size_t k = 0; k < refs.size(); ++k) {
@@ -285,7 +292,7 @@ FittedResult solve_fitted_limits(const fe::MemberModel& model, double load_facto
   for (int e = 0; e < d.mesh.elements(); ++e) {
     // Beyond the foundation's extent nothing constrains w (an overhang, a void).
     const double middle = d.mesh.nodes[e] + 0.5 * d.mesh.element_size(e);
-    if (middle < model.foundation_begin || middle > model.foundation_end) continue;
+    if (model.foundation_modulus_at(middle) == 0.0) continue;
     const double sign = d.foundation_on_element[e] ? 1.0 : -1.0;  // w >= 0 in contact, <= 0 off it
     for (int j = 1; j < options.samples_per_element; ++j)
       worst_w = std::max(worst_w, -sign * w_at(d, all, e, static_cast<double>(j) / options.samples_per_element));

@@ -49,10 +49,13 @@ class Discretisation {
   // limit-fitted solve), and the rigid motions the supports leave free, on the equations
   // (columns; the kernel of K, empty when the structure is stable).
   std::vector<bool> foundation_on_element;
+  // k of the foundation under each element (0 in a void and beyond the foundation), whether or
+  // not the foundation acts on it in this discretisation.
+  std::vector<double> element_modulus;
   Eigen::MatrixXd free_rigid_motions;
   Eigen::VectorXd dead_load;  // equations
   Eigen::VectorXd live_load;
-  double foundation_modulus = 0.0;
+  double foundation_modulus = 0.0;  // the largest k (MemberModel::foundation_modulus)
   bool tensionless = true;
   bool foundation_outside = false;  // arches: w > 0 outward (arch_element.hpp)
   // Rigid motions only the foundation resists; non-empty means K is singular.
@@ -86,9 +89,9 @@ class Discretisation {
 // Throws InputError for a mechanism the loads drive (see above).
 Discretisation discretise(const MemberModel& model, int elements);
 // The same on a given mesh (it must have a node at every mesh_breakpoints(model) point), with the
-// foundation on the flagged elements only (empty: on the member's foundation extent); reaction
-// nodes are the nodes of those elements. Limit-fitted solves put the foundation on whole contact
-// elements this way.
+// foundation on the flagged elements only (empty: on the member's foundation pieces; a flag on
+// an element in a void is ignored); reaction nodes are the nodes of those elements. Limit-fitted solves put the
+// foundation on whole contact elements this way.
 Discretisation discretise(const MemberModel& model, Mesh mesh, std::vector<bool> foundation_on_element = {});
 
 // The in-plane rigid motions of the member, on every dof (columns), whatever the supports:

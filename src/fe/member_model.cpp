@@ -1,5 +1,6 @@
 #include "fe/member_model.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -25,6 +26,30 @@ double imposed_curvature(const std::vector<MemberLoad>& loads, double s, double 
   return kappa;
 }
 
+double MemberModel::foundation_modulus_at(double s) const {
+  for (const FoundationPiece& piece : foundation_pieces)
+    if (s >= piece.begin && s <= piece.end) return piece.modulus;
+  return 0.0;
+}
+
+std::vector<std::pair<double, double>> MemberModel::foundation_stretches() const {
+  std::vector<std::pair<double, double>> stretches;
+  for (const FoundationPiece& piece : foundation_pieces) {
+    if (!stretches.empty() && piece.begin <= stretches.back().second)
+      stretches.back().second = piece.end;
+    else
+      stretches.emplace_back(piece.begin, piece.end);
+  }
+  return stretches;
+}
+
+bool MemberModel::is_foundation_edge(double s) const {
+  const double tol = 1e-12 * length();
+  for (const auto& [a, b] : foundation_stretches())
+    if (std::abs(s - a) <= tol || std::abs(s - b) <= tol) return true;
+  return false;
+}
+
 MemberModel make_member_model(const scene::Scene& scene) {
   const auto& structure = scene.structure;
   MemberModel model;
@@ -48,9 +73,24 @@ MemberModel make_member_model(const scene::Scene& scene) {
   for (double position : scene.supports.interior) model.point_supports.push_back(model.s_from_user(position));
 
   const auto& foundation = scene.foundation;
-  model.foundation_modulus = foundation.stiffness_parameter
-                                 ? *foundation.stiffness_parameter
-                                 : *foundation.modulus / (scales.bending_stiffness / std::pow(scales.length, 4));
+  const double modulus_scale = scales.bending_stiffness / std::pow(scales.length, 4);
+  // The one-piece form is the one-segment case.
+  const std::vector<scene::FoundationSegment> segments =
+      foundation.stiffness_parameter || foundation.modulus || foundation.segments.empty()
+          ? std::vector<scene::FoundationSegment>{{foundation.from, foundation.to, foundation.stiffness_parameter,
+                                                   foundation.modulus}}
+          : foundation.segments;
+  for (const scene::FoundationSegment& segment : segments) {
+    FoundationPiece piece;
+    piece.begin = model.s_from_user(segment.from);
+    piece.end = model.s_from_user(segment.to);
+    piece.modulus = segment.stiffness_parameter ? *segment.stiffness_parameter : *segment.modulus / modulus_scale;
+    // Abutting pieces share their end exactly (the reader made the user's values equal).
+    if (!model.foundation_pieces.empty() && segment.from == segments[model.foundation_pieces.size() - 1].to)
+      piece.begin = model.foundation_pieces.back().end;
+    model.foundation_pieces.push_back(piece);
+    model.foundation_modulus = std::max(model.foundation_modulus, piece.modulus);
+  }
   model.tensionless = foundation.tensionless;
   model.foundation_outside = structure.kind == StructureKind::arch && foundation.side == scene::FoundationSide::outside;
   model.foundation_begin = model.s_from_user(foundation.from);

@@ -7,6 +7,7 @@
 // k = K l^4/EI; a force P becomes P l^2/EI, a moment M l/EI, a distributed load q l^3/EI.
 // Results therefore do not depend on the user's units, and `Scales` converts back.
 
+#include <utility>
 #include <vector>
 
 #include "scene/scene.hpp"
@@ -54,6 +55,13 @@ struct MemberLoad {
 // is never on a range's end.
 double imposed_curvature(const std::vector<MemberLoad>& loads, double s, double load_factor);
 
+// One piece of the foundation in member terms: [begin, end] in s, modulus k = K l^4/EI.
+struct FoundationPiece {
+  double begin = 0.0;
+  double end = 0.0;
+  double modulus = 0.0;
+};
+
 struct MemberModel {
   StructureKind kind = StructureKind::beam;
   double s_begin = 0.0;
@@ -62,7 +70,11 @@ struct MemberModel {
   EndSupport left = EndSupport::pinned;
   EndSupport right = EndSupport::pinned;
   std::vector<double> point_supports;  // s
-  double foundation_modulus = 0.0;     // k
+  // The foundation: pieces sorted, disjoint (they may abut), with voids between them allowed.
+  // foundation_begin..foundation_end spans them all; foundation_modulus is the largest k (the
+  // scale of the foundation's decay length), the only k when there is one piece.
+  std::vector<FoundationPiece> foundation_pieces;
+  double foundation_modulus = 0.0;  // k
   bool tensionless = true;
   double foundation_begin = 0.0;  // s
   double foundation_end = 1.0;
@@ -75,6 +87,15 @@ struct MemberModel {
   double s_from_user(double position) const;
   double user_from_s(double s) const;
   double length() const { return s_end - s_begin; }
+  // k of the piece containing s (ends included), 0 in a void or beyond the foundation. Called
+  // at element middles, which never fall on a piece's end (piece ends are mesh nodes).
+  double foundation_modulus_at(double s) const;
+  // The stretches of foundation without a void: unions of abutting pieces, in order.
+  std::vector<std::pair<double, double>> foundation_stretches() const;
+  // Whether s is the end of a stretch (the foundation stops there; within round-off).
+  bool is_foundation_edge(double s) const;
+  // The Ritz model and the trace paths model one piece of constant k.
+  bool foundation_is_one_piece() const { return foundation_pieces.size() == 1; }
 };
 
 MemberModel make_member_model(const scene::Scene& scene);

@@ -26,6 +26,10 @@ int Mesh::element_containing(double s) const {
 
 std::vector<double> mesh_breakpoints(const MemberModel& model) {
   std::vector<double> points{model.s_begin, model.s_end, model.foundation_begin, model.foundation_end};
+  for (const FoundationPiece& piece : model.foundation_pieces) {
+    points.push_back(piece.begin);
+    points.push_back(piece.end);
+  }
   for (double s : model.point_supports) points.push_back(s);
   for (const auto& load : model.loads) {
     if (load.kind == LoadKind::uniform || load.kind == LoadKind::curvature) {  // a distributed table's points too

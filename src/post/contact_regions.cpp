@@ -17,7 +17,12 @@ constexpr int brackets = 8;
 std::vector<Interval> contact_regions(const fe::MemberModel& model, const fe::Discretisation& d,
                                       const Eigen::VectorXd& displacement) {
   const double begin = model.foundation_begin, end = model.foundation_end;
-  if (!d.tensionless) return {{begin, end}};
+  const auto stretches = model.foundation_stretches();
+  if (!d.tensionless) {
+    std::vector<Interval> whole;
+    for (const auto& [a, b] : stretches) whole.push_back({a, b});
+    return whole;
+  }
 
   double w_scale = 0.0;
   for (int node = 0; node < static_cast<int>(d.mesh.nodes.size()); ++node)
@@ -28,10 +33,12 @@ std::vector<Interval> contact_regions(const fe::MemberModel& model, const fe::Di
 
   auto w_at = [&](int e, double xi) { return evaluate(d, displacement, e, xi).w; };
   // Points where w changes sign, found by bisection on the element's cubic.
-  std::vector<double> cuts{begin};
+  // The ends of the stretches of foundation cut too: no region spans a void.
+  std::vector<double> cuts;
+  for (const auto& [a, b] : stretches) cuts.insert(cuts.end(), {a, b});
   for (int e = 0; e < d.mesh.elements(); ++e) {
     const double s0 = d.mesh.nodes[e], h = d.mesh.element_size(e);
-    if (s0 + 0.5 * h < begin || s0 + 0.5 * h > end) continue;
+    if (model.foundation_modulus_at(s0 + 0.5 * h) == 0.0) continue;
     // The element's cubic alone: gathered once, evaluated many times by the bisection.
     const std::vector<int> dofs = d.element_dofs(e);
     const Eigen::Vector4d w_dofs(displacement[dofs[0]], displacement[dofs[1]], displacement[dofs[2]],
@@ -55,13 +62,12 @@ std::vector<Interval> contact_regions(const fe::MemberModel& model, const fe::Di
       if (root - begin > edge && end - root > edge) cuts.push_back(root);
     }
   }
-  cuts.push_back(end);
   std::sort(cuts.begin(), cuts.end());
 
   std::vector<Interval> regions;
   for (std::size_t i = 0; i + 1 < cuts.size(); ++i) {
     const double a = cuts[i], b = cuts[i + 1];
-    if (b <= a) continue;
+    if (b <= a || model.foundation_modulus_at(0.5 * (a + b)) == 0.0) continue;  // a void
     // Decide contact from the largest w on the piece (a few samples), so a piece in which w
     // only grazes round-off does not count.
     double w_max = -INFINITY;

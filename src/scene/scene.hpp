@@ -75,13 +75,27 @@ struct Supports {
   std::vector<double> interior;  // point supports (w = 0) strictly inside, sorted ascending
 };
 
+// One piece of the foundation ([[foundation.segments]]): its extent and its constant modulus,
+// exactly one of k (nondimensional) and modulus (force per length per length).
+struct FoundationSegment {
+  double from = 0.0;  // user coordinate, from < to
+  double to = 0.0;
+  std::optional<double> stiffness_parameter;  // key "k"
+  std::optional<double> modulus;              // key "modulus"
+};
+
 struct Foundation {
   // Exactly one of the two is given: k = K L^4/EI (beam) or K R^4/EI (arch), or K itself.
-  std::optional<double> stiffness_parameter;     // key "k"
-  std::optional<double> modulus;                 // key "modulus", force per length per length
-  bool tensionless = true;                       // false: conventional bilateral foundation
-  double from = 0.0;                             // extent of the foundation, user coordinate;
-  double to = 0.0;                               // the reader fills the member's ends by default
+  // Both absent when the foundation is given as segments.
+  std::optional<double> stiffness_parameter;  // key "k"
+  std::optional<double> modulus;              // key "modulus", force per length per length
+  bool tensionless = true;                    // false: conventional bilateral foundation
+  double from = 0.0;                          // extent of the foundation, user coordinate;
+  double to = 0.0;                            // the reader fills the member's ends by default
+                                              // (with segments: the first from, the last to)
+  // [[foundation.segments]]: the pieces, sorted by `from`, disjoint (they may abut), voids
+  // between them allowed. Empty for the one-piece form (k or modulus on [from, to]).
+  std::vector<FoundationSegment> segments;
   FoundationSide side = FoundationSide::inside;  // arches only (key `side`)
 };
 

@@ -39,7 +39,7 @@ const std::vector<TableSpec>& schema() {
   static const std::vector<TableSpec> tables = {
       {"structure", false, {"kind", "length", "radius", "half_angle_deg", "EI", "EA"}},
       {"supports", false, {"left", "right", "interior"}},
-      {"foundation", false, {"k", "modulus", "tensionless", "from", "to", "side"}},
+      {"foundation", false, {"k", "modulus", "tensionless", "from", "to", "segments", "side"}},
       {"loads", true, {"kind", "at", "value", "from", "to", "case", "direction", "per"}},
       {"solve", false, {"method", "elements", "tolerance"}},
       {"ritz", false, {"modes", "max_modes", "mode_tolerance", "topology", "limits"}},
@@ -229,6 +229,7 @@ class Section {
       : source_(source), table_(table), path_(std::move(path)) {}
 
   const toml::table& table() const { return table_; }
+  const std::string& source() const { return source_; }
   const toml::node* find(std::string_view key) const { return table_.get(key); }
   std::string path(std::string_view key) const {
     return path_.empty() ? std::string(key) : fmt::format("{}.{}", path_, key);
@@ -481,8 +482,62 @@ std::pair<double, double> read_extent(const Section& s, const Member& member) {
   return {from, to};
 }
 
+// One [[foundation.segments]] entry: from < to inside the member, exactly one of k and modulus.
+FoundationSegment read_segment(const Section& s, const Member& member) {
+  static const TableSpec spec{"foundation.segments", true, {"from", "to", "k", "modulus"}};
+  s.check_keys(spec);
+  FoundationSegment piece;
+  piece.from = s.required_number("from", member.position());
+  piece.to = s.required_number("to", member.position());
+  if (!(piece.from < piece.to))
+    s.fail("to", fmt::format("expected from < to, got from = {} and to = {}", piece.from, piece.to));
+  for (const auto key : {"k", "modulus"}) {
+    const toml::node* node = s.find(key);
+    if (node != nullptr && node->is_array())
+      s.wrong(key, "a number > 0 (a modulus varying within a segment is not implemented yet: split the segment)");
+  }
+  piece.stiffness_parameter = s.number("k", positive());
+  piece.modulus = s.number("modulus", positive());
+  if (piece.stiffness_parameter && piece.modulus)
+    s.fail("modulus", "expected exactly one of 'k' and 'modulus', got both");
+  if (!piece.stiffness_parameter && !piece.modulus) s.missing("k", "exactly one of 'k' and 'modulus', a number > 0");
+  return piece;
+}
+
 Foundation read_foundation(const Section& s, const Member& member) {
   Foundation f;
+  f.tensionless = s.flag("tensionless").value_or(true);
+  if (const toml::node* segments = s.find("segments"); segments != nullptr) {
+    const toml::array* array = segments->as_array();
+    if (array == nullptr || array->empty()) s.wrong("segments", "a non-empty array of tables [[foundation.segments]]");
+    for (const auto key : {"k", "modulus", "from", "to"})
+      s.refuse(key, "together with [[foundation.segments]] (each segment gives its own extent and modulus)");
+    std::vector<std::pair<FoundationSegment, std::size_t>> pieces;
+    for (std::size_t i = 0; i < array->size(); ++i) {
+      const toml::node& item = *array->get(i);
+      const std::string path = s.path(fmt::format("segments[{}]", i));
+      if (!item.is_table()) s.wrong("segments", "an array of tables [[foundation.segments]]");
+      pieces.emplace_back(read_segment(Section(s.source(), *item.as_table(), path), member), i);
+    }
+    std::sort(pieces.begin(), pieces.end(), [](const auto& a, const auto& b) { return a.first.from < b.first.from; });
+    for (std::size_t i = 1; i < pieces.size(); ++i) {
+      const auto& [before, before_index] = pieces[i - 1];
+      const auto& [after, after_index] = pieces[i];
+      if (after.from < before.to - member.tolerance()) {
+        const toml::node& item = *array->get(after_index);
+        scene::fail(
+            s.source(), &item.source(), s.path(fmt::format("segments[{}]", after_index)),
+            fmt::format("expected segments that do not overlap, got [{}, {}] overlapping segments[{}] = [{}, {}]",
+                        after.from, after.to, before_index, before.from, before.to));
+      }
+    }
+    for (auto& [piece, index] : pieces) f.segments.push_back(piece);
+    for (std::size_t i = 1; i < f.segments.size(); ++i)  // abutting within round-off: exactly
+      if (f.segments[i].from < f.segments[i - 1].to) f.segments[i].from = f.segments[i - 1].to;
+    f.from = f.segments.front().from;
+    f.to = f.segments.back().to;
+    return f;
+  }
   f.stiffness_parameter = s.number("k", positive());
   f.modulus = s.number("modulus", positive());
   if (f.stiffness_parameter && f.modulus) {
@@ -491,7 +546,6 @@ Foundation read_foundation(const Section& s, const Member& member) {
   if (!f.stiffness_parameter && !f.modulus) {
     s.missing("k", "exactly one of 'k' and 'modulus', a number > 0");
   }
-  f.tensionless = s.flag("tensionless").value_or(true);
   std::tie(f.from, f.to) = read_extent(s, member);
   if (member.arch) {
     f.side = s.choice("side", {FoundationSide::inside, FoundationSide::outside}).value_or(f.side);

@@ -359,3 +359,38 @@ TEST_CASE("arch loads in any direction: certified, and an answer to radial loads
   CHECK_FALSE(check(bad, certify::check_name::force_balance_x).passed);
   CHECK_FALSE(check(bad, certify::check_name::moment_balance).passed);
 }
+
+TEST_CASE("foundation pieces: the certificate reads each element's k, and catches a reaction in a void",
+          "[certify][segments]") {
+  // The footing on two soils (clay K = 2e7 and sand K = 8e7 N/m^2): certified as solved.
+  const test::Solved good = test::solve(test::shipped_scene("engineering/footing_two_soils"), Method::fast, 60);
+  REQUIRE(good.solution.summary.is_usable());
+  const certify::Certificate passed = certify_solved(good);
+  CAPTURE(passed.message);
+  REQUIRE(passed.passed);
+
+  SECTION("the answer of one soil everywhere is not the two soils' answer") {
+    // Solve with the sand's modulus replaced by the clay's, certify against the real member.
+    scene::Scene clay = test::shipped_scene("engineering/footing_two_soils");
+    clay.foundation.segments[1].modulus = *clay.foundation.segments[0].modulus;
+    test::Solved wrong = test::solve(clay, Method::fast, 60);
+    REQUIRE(wrong.solution.summary.is_usable());
+    wrong.model = good.model;
+    wrong.discretisation = good.discretisation;
+    const certify::Certificate c = certify_solved(wrong, false);
+    CHECK_FALSE(c.passed);
+  }
+  SECTION("the trench: a reaction at a node inside the void") {
+    const test::Solved trench = test::solve(test::shipped_scene("engineering/pipeline_trench_span"), Method::fast, 240);
+    REQUIRE(certify_solved(trench, false).passed);
+    // Move the reaction of the node at the void's edge (x = 48) onto the void: a discretisation
+    // whose reaction nodes include the void's nodes, certified against the real member.
+    scene::Scene filled = test::shipped_scene("engineering/pipeline_trench_span");
+    filled.foundation.segments = {{0.0, 120.0, std::nullopt, 4.0e6}};
+    test::Solved bad = test::solve(filled, Method::fast, 240);
+    REQUIRE(bad.solution.summary.is_usable());
+    bad.model = trench.model;  // the member with its void
+    const certify::Certificate c = certify_solved(bad, false);
+    CHECK_FALSE(c.passed);
+  }
+}

@@ -759,3 +759,59 @@ TEST_CASE("[foundation] side: inside or outside, arches only", "[scene][errors]"
         "scene.toml:12: key 'foundation.side': not allowed for a beam (arches only: the foundation inside or outside "
         "the arch)");
 }
+
+TEST_CASE("[[foundation.segments]]: pieces sorted, voids allowed, each with its modulus", "[scene][segments]") {
+  const std::string pieces = R"(tensionless = false
+
+[[foundation.segments]]
+from = 1.5
+to = 2.0
+modulus = 4.0
+
+[[foundation.segments]]
+from = 0.0
+to = 0.5
+k = 20.0
+
+[[foundation.segments]]
+from = 0.5
+to = 1.0
+modulus = 2.0
+)";
+  const Scene s = parse_scene(edited(beam_scene, "k = 1.0e4\n", pieces), "scene.toml");
+  REQUIRE(s.foundation.segments.size() == 3);
+  CHECK_FALSE(s.foundation.tensionless);
+  CHECK(s.foundation.segments[0].from == 0.0);
+  CHECK(*s.foundation.segments[0].stiffness_parameter == 20.0);
+  CHECK(s.foundation.segments[1].to == 1.0);
+  CHECK(*s.foundation.segments[2].modulus == 4.0);
+  CHECK(s.foundation.from == 0.0);  // the extent spans the pieces
+  CHECK(s.foundation.to == 2.0);
+  CHECK_FALSE(s.foundation.stiffness_parameter.has_value());
+}
+
+TEST_CASE("[[foundation.segments]]: malformed pieces are refused by key", "[scene][segments][errors]") {
+  auto with = [](const std::string& foundation) { return edited(beam_scene, "k = 1.0e4\n", foundation); };
+  const std::string one = "\n[[foundation.segments]]\nfrom = 0.0\nto = 1.0\nmodulus = 3.0\n";
+  CHECK_THAT(error_of(with("k = 1.0\n" + one)),
+             StartsWith("scene.toml:11: key 'foundation.k': not allowed together with [[foundation.segments]]"));
+  CHECK_THAT(error_of(with("from = 0.5\n" + one)), Contains("key 'foundation.from': not allowed together"));
+  CHECK_THAT(error_of(with("\n[[foundation.segments]]\nfrom = 0.0\nto = 2.5\nmodulus = 3.0\n")),
+             Contains("key 'foundation.segments[0].to': expected a position in [0, 2]"));
+  CHECK_THAT(error_of(with("\n[[foundation.segments]]\nfrom = 1.0\nto = 0.5\nmodulus = 3.0\n")),
+             Contains("key 'foundation.segments[0].to': expected from < to, got from = 1 and to = 0.5"));
+  CHECK_THAT(error_of(with("\n[[foundation.segments]]\nfrom = 0.0\nto = 1.0\nmodulus = -3.0\n")),
+             Contains("key 'foundation.segments[0].modulus': expected a number > 0, got -3"));
+  CHECK_THAT(error_of(with("\n[[foundation.segments]]\nfrom = 0.0\nto = 1.0\nmodulus = 3.0\nk = 1.0\n")),
+             Contains("key 'foundation.segments[0].modulus': expected exactly one of 'k' and 'modulus'"));
+  CHECK_THAT(error_of(with("\n[[foundation.segments]]\nfrom = 0.0\nto = 1.0\n")),
+             Contains("key 'foundation.segments[0].k': missing"));
+  CHECK_THAT(error_of(with("\n[[foundation.segments]]\nfrom = 0.0\nto = 1.0\nmodulus = [3.0, 1.0]\n")),
+             Contains("key 'foundation.segments[0].modulus': expected a number > 0 (a modulus varying"));
+  CHECK_THAT(error_of(with("\n[[foundation.segments]]\nfrom = 0.0\nto = 1.0\nmodulus = 3.0\nmodulos = 1.0\n")),
+             Contains("key 'foundation.segments[0].modulos': unknown key (did you mean 'modulus'?)"));
+  CHECK_THAT(error_of(with(one + "\n[[foundation.segments]]\nfrom = 0.8\nto = 1.5\nmodulus = 3.0\n")),
+             Contains("key 'foundation.segments[1]': expected segments that do not overlap, got [0.8, 1.5] "
+                      "overlapping segments[0] = [0, 1]"));
+  CHECK_THAT(error_of(with("segments = 3\n")), Contains("key 'foundation.segments': expected a non-empty array"));
+}

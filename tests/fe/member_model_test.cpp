@@ -1,0 +1,220 @@
+// Foundation pieces ([[foundation.segments]]): the member's pieces, the mesh and the element
+// data they make, and every FE method on scenes with several soils and voids against the
+// closed form (verification/closed_form, exact per segment and independent of liftoff's code).
+
+#include "fe/member_model.hpp"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdio>
+
+#include "closed_form/beam_on_foundation.hpp"
+#include "contact/active_set_solver.hpp"
+#include "contact/fitted_limits.hpp"
+#include "fe/discretisation.hpp"
+#include "support/scenes.hpp"
+#include "support/solve.hpp"
+
+using namespace liftoff;
+namespace cf = liftoff::closed_form;
+
+namespace {
+
+scene::Scene engineering(const std::string& name) { return test::shipped_scene("engineering/" + name); }
+
+// The closed-form problem of a beam scene in the user's units, read from the scene itself (not
+// from liftoff's member model, so a wrong piece there shows).
+cf::BeamProblem exact_problem(const scene::Scene& s) {
+  cf::BeamProblem p;
+  p.length = s.structure.length;
+  p.bending_stiffness = s.structure.bending_stiffness;
+  auto end = [](scene::EndSupport e) {
+    return e == scene::EndSupport::clamped ? cf::EndCondition::clamped
+           : e == scene::EndSupport::free  ? cf::EndCondition::free
+                                           : cf::EndCondition::pinned;
+  };
+  p.left = end(s.supports.left);
+  p.right = end(s.supports.right);
+  const double k_scale = p.bending_stiffness / std::pow(p.length, 4);
+  for (const auto& piece : s.foundation.segments)
+    p.foundation_segments.push_back(
+        {piece.from, piece.to, piece.modulus ? *piece.modulus : *piece.stiffness_parameter * k_scale});
+  for (const auto& l : s.loads) {
+    if (l.kind == scene::LoadKind::force) p.forces.push_back({l.at, l.value});
+    if (l.kind == scene::LoadKind::uniform) p.uniform_loads.push_back({l.from, l.to, l.value});
+  }
+  return p;
+}
+
+cf::TensionlessResult exact_answer(const scene::Scene& s) {
+  const auto exact = cf::solve_tensionless_auto(exact_problem(s));
+  INFO(exact.message);
+  REQUIRE(exact.status == cf::TensionlessStatus::converged);
+  return exact;
+}
+
+// max over the nodes of |w_FE - w_exact| (user units) and the largest |w_exact|.
+struct NodalError {
+  double error = 0.0, scale = 0.0;
+};
+NodalError nodal_error(const test::Solved& fe, const cf::BeamSolution& exact) {
+  NodalError e;
+  const fe::Discretisation& d = fe.discretisation;
+  for (int node = 0; node <= d.mesh.elements(); ++node) {
+    const double x = fe.model.user_from_s(d.mesh.nodes[node]);
+    const double w = fe.solution.displacement[d.deflection_dof(node)] * fe.model.scales.displacement();
+    e.error = std::max(e.error, std::abs(w - exact.deflection(x)));
+    e.scale = std::max(e.scale, std::abs(exact.deflection(x)));
+  }
+  return e;
+}
+
+// FE nodal w against the closed form on n, 2n and 4n elements with each method: the methods
+// solve the same discrete problem, so they agree to the solves' round-off (1e-9 of max |w|:
+// Lemke and the active-set refinement reach ~1e-12 here); and the error decreases with every
+// doubling of the mesh (a wrong piece would leave it at a plateau). No order is asserted: the
+// node-based limits converge erratically, and where the modulus jumps inside a contact region
+// (two soils) the continuous P1 reaction cannot jump with k w, which costs O(h) in w (orders
+// measured: sleeper 1.01, footing 0.85 on 20..80 elements, trench 2.35; README,
+// [[foundation.segments]]).
+void check_against_exact(const scene::Scene& s, const std::vector<scene::Method>& methods, int n,
+                         const cf::BeamSolution& exact) {
+  std::vector<double> h, error;
+  for (int elements : {n, 2 * n, 4 * n}) {
+    CAPTURE(elements);
+    std::vector<test::Solved> answers;
+    for (scene::Method method : methods) {
+      CAPTURE(scene::to_string(method));
+      answers.push_back(test::solve(s, method, elements));
+      INFO(answers.back().solution.summary.message);
+      REQUIRE(answers.back().solution.summary.is_usable());
+      CHECK(test::relative_difference(answers.back().solution.displacement, answers.front().solution.displacement) <
+            1e-9);
+    }
+    const NodalError e = nodal_error(answers.front(), exact);
+    h.push_back(1.0 / elements);
+    error.push_back(e.error / e.scale);
+  }
+  const double order = test::observed_order(h, error);
+  std::printf("%s: nodal error %.2e of max |w| at %d elements, observed order %.2f\n", s.source_name.c_str(),
+              error.back(), 4 * n, order);
+  for (std::size_t i = 1; i < error.size(); ++i) CHECK(error[i] < error[i - 1]);
+}
+
+}  // namespace
+
+TEST_CASE("foundation pieces: member, mesh nodes and element moduli", "[fe][segments]") {
+  const scene::Scene s = engineering("sleeper_degraded_ballast");
+  const fe::MemberModel model = fe::make_member_model(s);
+  REQUIRE(model.foundation_pieces.size() == 3);
+  const double k_scale = s.structure.bending_stiffness / std::pow(s.structure.length, 4);
+  CHECK(model.foundation_pieces[1].modulus == Approx(3.0e7 / k_scale).epsilon(1e-15));
+  CHECK(model.foundation_pieces[0].end == model.foundation_pieces[1].begin);  // abutting exactly
+  CHECK(model.foundation_stretches().size() == 1);
+  CHECK(model.foundation_modulus == model.foundation_pieces[1].modulus);
+
+  const fe::Discretisation d = fe::discretise(model, 26);
+  for (double x : {0.8, 1.8}) CHECK(d.mesh.node_at(model.s_from_user(x)) >= 0);
+  for (int e = 0; e < d.mesh.elements(); ++e) {
+    const double x = model.user_from_s(d.mesh.nodes[e] + 0.5 * d.mesh.element_size(e));
+    CHECK(d.element_modulus[e] * k_scale == Approx(x > 0.8 && x < 1.8 ? 3.0e7 : 3.0e6).epsilon(1e-14));
+  }
+  // T = h / (6 k) [2 1; 1 2] per element: at a node between the soils the diagonal sums both.
+  const int node = d.mesh.node_at(model.s_from_user(0.8));
+  const double k_weak = model.foundation_pieces[0].modulus, k_sound = model.foundation_pieces[1].modulus;
+  CHECK(
+      d.flexibility.coeff(node, node) ==
+      Approx(d.mesh.element_size(node - 1) / (3 * k_weak) + d.mesh.element_size(node) / (3 * k_sound)).epsilon(1e-14));
+
+  // A void: no reaction unknown inside it, none of its elements on the foundation.
+  const fe::MemberModel trench = fe::make_member_model(engineering("pipeline_trench_span"));
+  REQUIRE(trench.foundation_stretches().size() == 2);
+  const fe::Discretisation dt = fe::discretise(trench, 60);
+  for (int i = 0; i < dt.reactions(); ++i) {
+    const double x = trench.user_from_s(dt.mesh.nodes[dt.reaction_nodes[i]]);
+    CHECK((x <= 48.0 + 1e-12 || x >= 72.0 - 1e-12));
+  }
+  for (int e = 0; e < dt.mesh.elements(); ++e)
+    CHECK(dt.foundation_on_element[e] ==
+          (trench.foundation_modulus_at(dt.mesh.nodes[e] + 0.5 * dt.mesh.element_size(e)) > 0));
+}
+
+TEST_CASE("foundation pieces: every FE method agrees with the closed form", "[fe][segments]") {
+  struct Case {
+    const char* name;
+    scene::Scene scene;
+    int elements;
+    std::vector<scene::Method> methods;
+  };
+  // The free-free scenes only the foundation holds: fast and primal (dual needs K SPD). The
+  // trench pipeline on pinned ends (48 m from the trench: the pins hold w ~ 0 where the far pipe
+  // would lie at q/K, a different but equally exact problem) also goes to the dual form.
+  scene::Scene pinned = engineering("pipeline_trench_span");
+  pinned.supports.left = pinned.supports.right = scene::EndSupport::pinned;
+  pinned.source_name = "pipeline_trench_span (pinned)";
+  const Case cases[] = {
+      {"sleeper_degraded_ballast",
+       engineering("sleeper_degraded_ballast"),
+       52,
+       {scene::Method::fast, scene::Method::primal}},
+      {"footing_two_soils", engineering("footing_two_soils"), 20, {scene::Method::fast, scene::Method::primal}},
+      {"pipeline_trench_span", engineering("pipeline_trench_span"), 120, {scene::Method::fast, scene::Method::primal}},
+      {"pinned trench", pinned, 120, {scene::Method::fast, scene::Method::dual, scene::Method::primal}},
+  };
+  for (const auto& c : cases) {
+    CAPTURE(c.name);
+    const auto exact = exact_answer(c.scene);
+    std::printf("%s: closed form contact", c.name);
+    for (const auto& r : exact.contact) std::printf(" [%.6g, %.6g]", r.start, r.end);
+    std::printf(", max |w| %.6g\n", exact.solution.max_abs_deflection());
+    check_against_exact(c.scene, c.methods, c.elements, exact.solution);
+    // The contact regions: as many as the closed form's, ends within a few elements.
+    const test::Solved fe = test::solve(c.scene, scene::Method::fast, 4 * c.elements);
+    REQUIRE(fe.regions.size() == exact.contact.size());
+    const double h = c.scene.structure.length / (4 * c.elements);
+    for (std::size_t i = 0; i < exact.contact.size(); ++i) {
+      CHECK(std::abs(fe.model.user_from_s(fe.regions[i].begin) - exact.contact[i].start) < 2 * h);
+      CHECK(std::abs(fe.model.user_from_s(fe.regions[i].end) - exact.contact[i].end) < 2 * h);
+    }
+  }
+}
+
+TEST_CASE("foundation pieces: fitted limits converge at h^4 across two soils and a void", "[fe][segments][fitted]") {
+  for (const char* name : {"footing_two_soils", "pipeline_trench_span"}) {
+    CAPTURE(name);
+    const scene::Scene s = engineering(name);
+    const fe::MemberModel model = fe::make_member_model(s);
+    const auto exact = exact_answer(s);
+    REQUIRE(!exact.limits.empty());
+    std::vector<double> h, error;
+    const int coarsest = std::string(name) == "footing_two_soils" ? 20 : 120;
+    for (int n : {coarsest, 2 * coarsest, 4 * coarsest, 8 * coarsest}) {
+      CAPTURE(n);
+      const fe::Discretisation d = fe::discretise(model, n);
+      const auto fast = contact::solve_active_set(d, d.load(1.0), {});
+      REQUIRE(fast.summary.is_usable());
+      contact::FittedOptions options;
+      options.elements = n;
+      const auto fitted = contact::solve_fitted_limits(
+          model, 1.0, contact::contact_intervals(d, fast.state.displacement, fast.in_contact), options);
+      INFO(fitted.summary.message);
+      REQUIRE(fitted.summary.is_usable());
+      REQUIRE(fitted.limits.size() == exact.limits.size());
+      double e = 0.0;
+      for (std::size_t k = 0; k < exact.limits.size(); ++k)
+        e = std::max(e, std::abs(model.user_from_s(fitted.limits[k]) - exact.limits[k]) / s.structure.length);
+      h.push_back(1.0 / n);
+      error.push_back(e);
+    }
+    // As fitted_limits_test: Hermite nodal values with no kink inside an element converge at
+    // h^4, and a void's end is a node (the trench: 3.91 measured). Two soils in contact: the
+    // continuous P1 reaction cannot jump with k at the soils' node, which costs O(h) (0.96
+    // measured); a reaction split at such nodes would restore h^4 (not done yet).
+    const double order = test::observed_order(h, error);
+    std::printf("%s: fitted limit error %.2e at %d elements, observed order %.2f\n", name, error.back(), 8 * coarsest,
+                order);
+    const bool soils_in_contact = std::string(name) == "footing_two_soils";
+    CHECK(order > (soils_in_contact ? 0.9 : 3.7));
+    CHECK(order < (soils_in_contact ? 1.3 : 4.3));
+  }
+}
