@@ -733,7 +733,8 @@ TEST_CASE("arch loads: direction and per, and where they are refused", "[scene][
         "scene.toml:18: key 'loads[0].per': not allowed with direction = \"radial\" (per goes with direction = "
         "\"vertical\")");
   CHECK(error_of(edited(arch_scene, "at = 0.0", "at = 0.0\nper = \"arc\"")) ==
-        "scene.toml:18: key 'loads[0].per': not allowed for a point force (per goes with vertical uniform and distributed loads)");
+        "scene.toml:18: key 'loads[0].per': not allowed for a point force (per goes with vertical uniform and "
+        "distributed loads)");
   CHECK(error_of(edited(vertical, "per = \"projection\"", "per = \"length\"")) ==
         "scene.toml:18: key 'loads[0].per': expected \"arc\" or \"projection\", got \"length\"");
   CHECK(error_of(edited(edited(arch_scene, "kind = \"force\"", "kind = \"moment\""), "at = 0.0",
