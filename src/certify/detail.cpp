@@ -47,7 +47,7 @@ namespace {
 Eigen::Vector2d arch_force_on_dofs(const fe::MemberModel& model, const fe::MemberLoad& load, double theta) {
   const Eigen::Vector2d outward(std::sin(theta), std::cos(theta)), tangent(std::cos(theta), -std::sin(theta));
   const Eigen::Vector2d w_direction = model.foundation_outside ? outward : Eigen::Vector2d(-outward);
-  Eigen::Vector2d force;
+  Eigen::Vector2d force = Eigen::Vector2d::Zero();
   switch (load.direction) {
     case fe::LoadDirection::radial:
       force = w_direction;

@@ -284,7 +284,7 @@ FittedResult solve_fitted_limits(const fe::MemberModel& model, double load_facto
   // The contact inequalities on the answer.
   const fe::Discretisation& d = result.discretisation;
   const VectorXd all = d.expand(result.state.displacement);
-  double w_scale = 0.0, r_scale = result.state.reaction.cwiseAbs().maxCoeff();
+  double w_scale = 0.0, r_scale = result.state.reaction.size() > 0 ? result.state.reaction.cwiseAbs().maxCoeff() : 0.0;
   for (int e = 0; e < d.mesh.elements(); ++e)
     for (int j = 0; j <= options.samples_per_element; ++j)
       w_scale = std::max(w_scale, std::abs(w_at(d, all, e, static_cast<double>(j) / options.samples_per_element)));

@@ -8,7 +8,7 @@ namespace liftoff::fe {
 
 Eigen::Vector2d arch_load_components(LoadDirection direction, LoadBasis per, double theta, bool outside) {
   const double c = std::cos(theta), s = std::sin(theta), inward = outside ? -1.0 : 1.0;
-  Eigen::Vector2d along;  // (along the inward normal, along t)
+  Eigen::Vector2d along = Eigen::Vector2d::Zero();  // (along the inward normal, along t)
   switch (direction) {
     case LoadDirection::radial:
       return {1.0, 0.0};  // toward the foundation, whichever side it is on

@@ -26,15 +26,20 @@ double imposed_curvature(const std::vector<MemberLoad>& loads, double s, double 
   return kappa;
 }
 
+std::vector<FoundationPiece> MemberModel::pieces() const {
+  if (!foundation_pieces.empty()) return foundation_pieces;
+  return {{foundation_begin, foundation_end, foundation_modulus}};
+}
+
 double MemberModel::foundation_modulus_at(double s) const {
-  for (const FoundationPiece& piece : foundation_pieces)
+  for (const FoundationPiece& piece : pieces())
     if (s >= piece.begin && s <= piece.end) return piece.modulus;
   return 0.0;
 }
 
 std::vector<std::pair<double, double>> MemberModel::foundation_stretches() const {
   std::vector<std::pair<double, double>> stretches;
-  for (const FoundationPiece& piece : foundation_pieces) {
+  for (const FoundationPiece& piece : pieces()) {
     if (!stretches.empty() && piece.begin <= stretches.back().second)
       stretches.back().second = piece.end;
     else

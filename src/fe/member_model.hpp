@@ -96,6 +96,9 @@ struct MemberModel {
   bool is_foundation_edge(double s) const;
   // The Ritz model and the trace paths model one piece of constant k.
   bool foundation_is_one_piece() const { return foundation_pieces.size() == 1; }
+  // foundation_pieces, or for a model built in code without them (tests, references) the one
+  // piece foundation_begin..foundation_end of modulus foundation_modulus.
+  std::vector<FoundationPiece> pieces() const;
 };
 
 MemberModel make_member_model(const scene::Scene& scene);

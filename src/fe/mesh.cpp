@@ -26,7 +26,7 @@ int Mesh::element_containing(double s) const {
 
 std::vector<double> mesh_breakpoints(const MemberModel& model) {
   std::vector<double> points{model.s_begin, model.s_end, model.foundation_begin, model.foundation_end};
-  for (const FoundationPiece& piece : model.foundation_pieces) {
+  for (const FoundationPiece& piece : model.pieces()) {
     points.push_back(piece.begin);
     points.push_back(piece.end);
   }

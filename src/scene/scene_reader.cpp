@@ -451,6 +451,20 @@ Structure read_structure(const Section& s) {
     st.half_angle_deg = s.required_number("half_angle_deg", {"an angle in degrees in (0, 180)", 0, 180, true, true});
     st.axial_stiffness = s.required_number("EA", positive());
   }
+  // The numerics are nondimensional (fe/member_model.hpp): K l^4/EI, P l^2/EI and EA R^2/EI must
+  // be finite doubles, so the length scale's fourth power must neither overflow nor vanish.
+  const double l = st.kind == StructureKind::beam ? st.length : st.radius;
+  const double l4 = l * l * l * l, ratio = l4 / st.bending_stiffness;
+  const char* key = st.kind == StructureKind::beam ? "length" : "radius";
+  if (!std::isfinite(l4) || !(l4 > 0) || !std::isfinite(ratio) || !(ratio > 0))
+    s.fail(key, fmt::format("expected a size whose fourth power over EI is a finite, nonzero double (the "
+                            "nondimensional numbers K l^4/EI, P l^2/EI overflow), got {}",
+                            l));
+  if (st.kind == StructureKind::arch) {
+    const double membrane = *st.axial_stiffness * l * l / st.bending_stiffness;
+    if (!std::isfinite(membrane) || !(membrane > 0))
+      s.fail("EA", fmt::format("expected EA R^2/EI to be a finite, nonzero double, got EA = {}", *st.axial_stiffness));
+  }
   return st;
 }
 
