@@ -489,17 +489,18 @@ Certificate certify(const MemberModel& model, const Discretisation& d, const con
     // reaction there, the L2 projection of k w onto the contact elements' P1 functions, is an
     // O(h^2) artefact of either sign (the continuum reaction k w vanishes at the limit): the
     // sign of the reaction is checked pointwise by separation instead (w >= 0 on contact
-    // elements). The same holds at a support on a contact element, where w is held at 0.
+    // elements). The same holds at a support on a contact element, where w is held at 0, on any
+    // answer: a fitted one whose contact covers the whole member (no limit, so it looks
+    // node-based) solved that support's reaction bilaterally (a clamped end in contact).
     const bool fitted = is_limit_fitted(model, d);
     std::vector<char> limit_node(d.mesh.nodes.size(), 0), w_held_at_zero(d.mesh.nodes.size(), 0);
-    if (fitted) {
+    if (fitted)
       for (int e = 0; e + 1 < d.mesh.elements(); ++e)
         if (on_foundation(d, e) != on_foundation(d, e + 1) && in_foundation_extent(model, d.mesh, e) &&
             in_foundation_extent(model, d.mesh, e + 1))
           limit_node[e + 1] = 1;
-      for (std::size_t node = 0; node < d.mesh.nodes.size(); ++node)
-        w_held_at_zero[node] = d.equation_of_dof[d.deflection_dof(static_cast<int>(node))] < 0;
-    }
+    for (std::size_t node = 0; node < d.mesh.nodes.size(); ++node)
+      w_held_at_zero[node] = d.equation_of_dof[d.deflection_dof(static_cast<int>(node))] < 0;
     // Each node's gap against its own terms; or (global_scale) against the largest node's.
     const double gap_floor = options.global_scale && m > 0 ? f.gap_terms.maxCoeff() : 0.0;
     for (int i = 0; i < m; ++i) {
