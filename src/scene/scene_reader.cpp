@@ -575,9 +575,10 @@ void read_gap_file(const Section& s, Foundation& f) {
     if (first == std::string::npos) continue;
     const char c = line[first];
     if (!(std::isdigit(static_cast<unsigned char>(c)) || c == '-' || c == '+' || c == '.')) continue;  // a header
-    for (char& ch : line)
+    std::string separated = line;
+    for (char& ch : separated)
       if (ch == ',' || ch == ';' || ch == '\t' || ch == '\r') ch = ' ';
-    std::istringstream fields(line);
+    std::istringstream fields(separated);
     double position = 0.0, gap = 0.0;
     std::string rest;
     if (!(fields >> position >> gap) || (fields >> rest) || !std::isfinite(position) || !std::isfinite(gap))
