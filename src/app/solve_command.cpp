@@ -208,6 +208,11 @@ io::SolveReport refused_report(const scene::Scene& scene, const fe::MemberModel&
 io::SolveReport fitted_report(const scene::Scene& scene, Method method, const SolveRequest& request, double tolerance) {
   const auto start = std::chrono::steady_clock::now();
   const fe::MemberModel model = fe::make_member_model(scene);
+  if (model.has_ground_gap())
+    throw InputError(
+        fmt::format("{}: key '{}': not implemented yet: a tolerance (the limit-fitted solve) with a ground "
+                    "gap; expected no tolerance (the node-based FE solve on the scene's mesh)",
+                    scene.source_name, scene.foundation.gap_key()));
   const int elements = request.elements.value_or(scene.solve.elements);
   FeResult node_based = solve_fe(scene, model, method, elements);
   const fe::Discretisation& d0 = node_based.discretisation;
@@ -367,6 +372,13 @@ RitzStart ritz_starting_point(const scene::Scene& scene, const fe::MemberModel& 
 io::SolveReport ritz_report(const scene::Scene& scene, const SolveRequest& request) {
   const auto start = std::chrono::steady_clock::now();
   const fe::MemberModel model = fe::make_member_model(scene);
+  // Refused before the FE start is solved, naming the key the user wrote (gap or gap_file).
+  if (model.has_ground_gap())
+    throw InputError(
+        fmt::format("{}: key 'solve.method': the Ritz model cannot take this scene (key '{}': the "
+                    "moving-boundary model takes the ground at the member's axis, no ground gap); "
+                    "expected an FE method (\"dual\", \"primal\", \"fast\" or \"auto\")",
+                    scene.source_name, scene.foundation.gap_key()));
   const int elements = request.elements.value_or(scene.solve.elements);
   const RitzStart starting_point = ritz_starting_point(scene, model, elements);
 

@@ -186,6 +186,11 @@ std::vector<std::string> trace_path_names(const scene::Scene& scene, const Trace
   const scene::TraceSettings& t = trace_settings(scene);
   const scene::Method method = trace_method(scene, request);
   std::vector<std::string> names;
+  if (!scene.foundation.gap_at.empty())
+    throw InputError(
+        fmt::format("{}: key '{}': not implemented yet: the trace paths with a ground gap (the gap is a "
+                    "constant offset the paths do not carry yet); expected `liftoff solve` for this scene",
+                    scene.source_name, scene.foundation.gap_key()));
   if (method != scene::Method::ritz) names.push_back("fe");
   if (method == scene::Method::ritz || method == scene::Method::all) {
     // As `solve --method ritz`: the Ritz model has no interior point supports (bad input, exit 2).

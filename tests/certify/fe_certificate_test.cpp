@@ -414,3 +414,24 @@ TEST_CASE("foundation pieces: the certificate reads each element's k, and catche
     CHECK_FALSE(c.passed);
   }
 }
+
+TEST_CASE("ground gap: an answer that ignores the gap fails the certificate", "[certify][issue12][gap]") {
+  // A loaded pinned-pinned beam over a trench with a sloping floor (g > 0 on 0.4..0.6).
+  scene::Scene s = test::beam_scene(1.0, 1.0, EndSupport::pinned, EndSupport::pinned, 1e4);
+  s.loads = {test::uniform_load(0.0, 1.0, 20.0)};
+  scene::Scene plain = s;
+  s.foundation.gap_at = {0.4, 0.4, 0.6, 0.6};
+  s.foundation.gap_value = {0.0, 3e-4, 2e-4, 0.0};
+  const test::Solved good = test::solve(s, Method::fast, 200);
+  REQUIRE(good.solution.summary.is_usable());
+  CHECK(certify_solved(good).passed);
+  // The answer of the same beam without the gap, certified as an answer to the scene with it.
+  test::Solved wrong = good;
+  wrong.solution = test::solve(plain, Method::fast, 200).solution;
+  const certify::Certificate c = certify_solved(wrong);
+  CHECK_FALSE(c.passed);
+  // Over the trench it presses with r = k w, not k (w - g): its weighted gap r/k - w + g is g
+  // where r > 0, so complementarity fails by about g / (w + g), far above its tolerance.
+  INFO(c.message);
+  CHECK(check(c, "complementarity").value > 1e-2);
+}

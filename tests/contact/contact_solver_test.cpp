@@ -235,3 +235,72 @@ TEST_CASE("an LCP answer that round-off has spoilt is reported, not returned", "
   CHECK(coarse.solution.summary.is_usable());
   CHECK(coarse.solution.summary.residual <= 1e-6);
 }
+
+TEST_CASE("ground gap: a hump presses into an unloaded member, every FE method alike", "[contact][issue12][gap]") {
+  // Pinned-pinned, no load at all; the ground rises by 1e-3 between the walls at 0.3 and 0.7 (a
+  // hump, g < 0). The member must bend away (w < 0) where the hump pushes it.
+  scene::Scene s = test::beam_scene(1.0, 1.0, EndSupport::pinned, EndSupport::pinned, 1e4);
+  s.foundation.gap_at = {0.3, 0.3, 0.7, 0.7};
+  s.foundation.gap_value = {0.0, -1e-3, -1e-3, 0.0};
+  const test::Solved fast = test::solve(s, Method::fast, 200);
+  REQUIRE(fast.solution.summary.is_usable());
+  CHECK(fast.solution.reaction.maxCoeff() > 0.0);  // the hump carries the member: no load, yet reactions
+  // Contact only on the hump (the ground elsewhere is at w = 0, below the lifted member): near
+  // its walls, like a flat punch, and symmetric (the mesh is: 60, 80, 60 elements).
+  REQUIRE(!fast.regions.empty());
+  for (const auto& region : fast.regions) {
+    CHECK(region.begin >= 0.3 - 1e-12);
+    CHECK(region.end <= 0.7 + 1e-12);
+  }
+  CHECK(fast.regions.front().begin == Approx(1.0 - fast.regions.back().end).margin(1e-9));
+  // Where a node presses, the member is above its unloaded axis (w < 0) but not above the hump
+  // (w >= g = -1e-3): r = k (w - g) > 0 to the solver's round-off.
+  const fe::Discretisation& d = fast.discretisation;
+  for (int i = 0; i < d.reactions(); ++i) {
+    if (fast.solution.reaction[i] <= 0.0) continue;
+    const double w = fast.solution.displacement[d.deflection_dof(d.reaction_nodes[i])];
+    CHECK(w < 0.0);
+    CHECK(w >= -1e-3 - 1e-15);
+  }
+  for (Method method : {Method::dual, Method::primal}) {
+    const test::Solved other = test::solve(s, method, 200);
+    REQUIRE(other.solution.summary.is_usable());
+    // The same discrete problem: agreement to the solvers' round-off (residuals ~1e-15; 1e-10
+    // leaves room for the LCP's conditioning at 200 elements, cond ~1e8).
+    CHECK(test::relative_difference(other.solution.displacement, fast.solution.displacement) <= 1e-10);
+  }
+  // Without the hump nothing happens.
+  s.foundation.gap_at.clear();
+  s.foundation.gap_value.clear();
+  CHECK(test::solve(s, Method::fast, 200).solution.displacement.isZero(0.0));
+}
+
+TEST_CASE("ground gap: a uniform gap under a free member shifts w by exactly g", "[contact][issue12][gap]") {
+  // Free-free, so a rigid translation by g costs nothing: with r = k (w - g), w = w0 + g solves
+  // the problem exactly if w0 solves it without the gap (bilateral; and tensionless when w0 > 0
+  // everywhere, full contact).
+  const bool tensionless = GENERATE(false, true);
+  scene::Scene s = test::beam_scene(2.0, 3.0, EndSupport::free, EndSupport::free, 500.0, tensionless);
+  s.loads = {test::uniform_load(0.0, 2.0, 1.0), test::point_force(1.4, 2.0)};
+  const test::Solved plain = test::solve(s, Method::fast, 120);
+  const double g = 0.01;  // length units; nondimensional g / L in the dofs
+  s.foundation.gap_at = {0.7};
+  s.foundation.gap_value = {g};
+  const test::Solved shifted = test::solve(s, Method::fast, 120);
+  REQUIRE(plain.solution.summary.is_usable());
+  REQUIRE(shifted.solution.summary.is_usable());
+  const fe::Discretisation& d = shifted.discretisation;
+  double worst = 0.0, scale = 0.0;
+  for (int node = 0; node <= d.mesh.elements(); ++node) {
+    const int dof = d.deflection_dof(node);
+    if (tensionless) REQUIRE(plain.solution.displacement[dof] > 0.0);  // full contact without the gap
+    worst = std::max(worst, std::abs(shifted.solution.displacement[dof] - plain.solution.displacement[dof] - g / 2.0));
+    scale = std::max(scale, std::abs(shifted.solution.displacement[dof]));
+  }
+  CAPTURE(tensionless, worst, scale);
+  // Both answers are refined to round-off (error estimates ~1e-15); 1e-12 of max |w| leaves
+  // room for the condition of the free-free system.
+  CHECK(worst <= 1e-12 * scale);
+  // The reactions do not change: r = k (w - g) = k w0.
+  CHECK(test::relative_difference(shifted.solution.reaction, plain.solution.reaction) <= 1e-12);
+}

@@ -90,3 +90,47 @@ TEST_CASE("rigid motions: which structures need the foundation to stand", "[fe][
   CHECK(free_ends.unstable_rigid_motions == 2);
   CHECK_FALSE(free_ends.gauge_note.empty());
 }
+
+TEST_CASE("the ground gap vector is the integral of Hb^T g, exact for a piecewise linear g", "[fe][issue12][gap]") {
+  // L = 2 and a gap table with a step at x = 0.5 (a trench wall) and a point at 1.25.
+  scene::Scene s = test::beam_scene(2.0, 1.0, EndSupport::pinned, EndSupport::pinned, 1e3);
+  s.foundation.gap_at = {0.0, 0.5, 0.5, 1.25, 2.0};
+  s.foundation.gap_value = {0.0, 1e-3, -1e-3, 3e-3, 3e-3};
+  s.loads = {test::point_force(1.0, 1.0)};
+  const fe::MemberModel model = fe::make_member_model(s);
+  for (double x : {0.5, 1.25}) CHECK(fe::make_mesh(model, 7).node_at(model.s_from_user(x)) >= 0);
+  const fe::Discretisation d = fe::discretise(model, 7);
+  REQUIRE(d.ground_gap.size() == d.reactions());
+
+  // By hand, in user units, piece by piece: int g dx and int g x dx of a linear g on [a, b] are
+  // (b - a)(ga + gb)/2 and (b - a)/6 (ga (2a + b) + gb (a + 2b)). The reactions' shapes sum to
+  // 1 and interpolate s exactly, so sum c_i = int g ds and sum c_i s_i = int g s ds, with
+  // g/L and x/L the nondimensional g and s (c carries L^-2 and L^-3 against the user's).
+  const double pieces[][4] = {{0.0, 0.5, 0.0, 1e-3}, {0.5, 1.25, -1e-3, 3e-3}, {1.25, 2.0, 3e-3, 3e-3}};
+  double integral = 0.0, moment = 0.0;
+  for (const auto& [a, b, ga, gb] : pieces) {
+    integral += (b - a) * (ga + gb) / 2;
+    moment += (b - a) / 6 * (ga * (2 * a + b) + gb * (a + 2 * b));
+  }
+  double sum = 0.0, first = 0.0;
+  for (int i = 0; i < d.reactions(); ++i) {
+    sum += d.ground_gap[i];
+    first += d.ground_gap[i] * d.mesh.nodes[d.reaction_nodes[i]];
+  }
+  // Both are sums of a few terms of size ~1e-4: a relative round-off of a few eps.
+  CHECK(sum == Approx(integral / 4.0).epsilon(1e-13));
+  CHECK(first == Approx(moment / 8.0).epsilon(1e-13));
+
+  // A uniform g is tested as C tests a uniform w: c = k T 1 g (T = int Hb^T Hb / k).
+  s.foundation.gap_at = {1.0};
+  s.foundation.gap_value = {2e-3};
+  const fe::MemberModel flat = fe::make_member_model(s);
+  const fe::Discretisation u = fe::discretise(flat, 9);
+  const Eigen::VectorXd expected =
+      flat.foundation_modulus * (u.flexibility * Eigen::VectorXd::Ones(u.reactions())) * (2e-3 / 2.0);
+  CHECK((u.ground_gap - expected).lpNorm<Eigen::Infinity>() <= 1e-15 * expected.lpNorm<Eigen::Infinity>() * 10);
+  // No gap: c = 0.
+  s.foundation.gap_at.clear();
+  s.foundation.gap_value.clear();
+  CHECK(fe::discretise(fe::make_member_model(s), 9).ground_gap.isZero(0.0));
+}

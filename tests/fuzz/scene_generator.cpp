@@ -178,6 +178,23 @@ Draft valid_scene(Random& random, const SceneLimits& limits) {
     if (f_from != d.begin || random.chance(0.3)) foundation.entries.push_back({"from", toml_number(f_from)});
     if (f_to != d.end || random.chance(0.3)) foundation.entries.push_back({"to", toml_number(f_to)});
   }
+  if (random.chance(0.15)) {  // issue 12: a ground gap (a trench or a hump), sometimes with a step
+    const double span = d.end - d.begin, depth = random.log_uniform(1e-5, 1e-2) * length_scale;
+    const double a = d.begin + random.uniform(0.0, 0.5) * span, b = a + random.uniform(0.0, 0.5) * span;
+    const std::string g = written(random, random.chance(0.5) ? depth : -depth);
+    const std::string table = random.chance(0.3) ? "{ at = [" + toml_number(a) + "], value = [" + g + "] }"
+                                                 : "{ at = [" + toml_number(a) + ", " + toml_number(a) + ", " +
+                                                       toml_number(b) + "], value = [0.0, " + g + ", " + g + "] }";
+    foundation.entries.push_back({"gap", table, Type::positions});
+  }
+  const bool bilateral = std::any_of(foundation.entries.begin(), foundation.entries.end(),
+                                     [](const Entry& e) { return e.key == "tensionless" && e.value == "false"; });
+  if (!bilateral && random.chance(0.1)) {  // issue 12: the bilinear foundation, at most the compression modulus
+    const bool by_k = foundation.entries.front().key == "k";
+    const double fraction = random.chance(0.2) ? 1.0 : random.uniform(0.0, 1.0);
+    foundation.entries.push_back({by_k ? "tension_k" : "tension_modulus",
+                                  toml_number(fraction * (by_k ? k : k * EI / std::pow(length_scale, 4)))});
+  }
   d.tables.push_back(foundation);
 
   // Loads: every kind and case, often at special points.
@@ -330,7 +347,8 @@ const std::map<std::string, std::vector<std::string>>& schema_keys() {
   static const std::map<std::string, std::vector<std::string>> keys = {
       {"structure", {"kind", "length", "radius", "half_angle_deg", "EI", "EA"}},
       {"supports", {"left", "right", "interior"}},
-      {"foundation", {"k", "modulus", "tensionless", "from", "to", "side"}},
+      {"foundation",
+       {"k", "modulus", "tensionless", "from", "to", "side", "gap", "gap_file", "tension_modulus", "tension_k"}},
       {"loads", {"kind", "at", "value", "from", "to", "case", "direction", "per"}},
       {"solve", {"method", "elements"}},
       {"ritz", {"modes", "max_modes", "mode_tolerance", "topology", "limits"}},
@@ -594,6 +612,29 @@ Mutant mutate(Random& random, Draft d) {
       return done("syntax error " + std::to_string(kind), true);
     }
     case 10: {  // issue 12's load keys malformed: tables that do not match, decrease, or a direction on a beam
+      if (random.chance(0.3)) {  // or the foundation's gap and tension keys
+        Table& foundation = *d.find("foundation");
+        std::erase_if(foundation.entries, [](const Entry& e) {
+          return e.key == "gap" || e.key == "tension_k" || e.key == "tension_modulus" || e.key == "tensionless";
+        });
+        const bool by_k = foundation.entries.front().key == "k";
+        const int kind = random.integer(0, 6);
+        if (kind == 0)
+          foundation.entries.push_back({"gap", "{ at = [1.0, 0.5], value = [0.0, 0.0] }", Type::positions});
+        if (kind == 1) foundation.entries.push_back({"gap", "{ at = [0.5, 1.0], value = [0.0] }", Type::positions});
+        if (kind == 2) foundation.entries.push_back({"gap", "{ at = [], value = [] }", Type::positions});
+        if (kind == 3) {
+          foundation.entries.push_back({"gap", "{ at = [0.5], value = [0.0] }", Type::positions});
+          foundation.entries.push_back({"gap_file", "\"seabed.csv\"", Type::name});
+        }
+        if (kind == 4) foundation.entries.push_back({by_k ? "tension_k" : "tension_modulus", "-1.0"});
+        if (kind == 5) foundation.entries.push_back({by_k ? "tension_modulus" : "tension_k", "0.5"});
+        if (kind == 6) {
+          foundation.entries.push_back({"tensionless", "false", Type::flag});
+          foundation.entries.push_back({by_k ? "tension_k" : "tension_modulus", "0.0"});
+        }
+        return done("malformed gap or tension " + std::to_string(kind), true);
+      }
       std::vector<Table*> tables;
       for (Table& t : d.tables)
         if (t.name == "loads") tables.push_back(&t);

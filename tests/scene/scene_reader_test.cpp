@@ -816,3 +816,90 @@ TEST_CASE("[[foundation.segments]]: malformed pieces are refused by key", "[scen
                       "overlapping segments[0] = [0, 1]"));
   CHECK_THAT(error_of(with("segments = 3\n")), Contains("key 'foundation.segments': expected a non-empty array"));
 }
+
+TEST_CASE("[foundation] gap and gap_file: the ground's distance below the axis", "[scene][issue12][gap]") {
+  auto with = [](const std::string& keys) { return edited(beam_scene, "k = 1.0e4\n", "k = 1.0e4\n" + keys); };
+  const Scene s =
+      parse_scene(with("gap = { at = [0.0, 1.0, 1.0, 2.0], value = [0.0, 1e-3, -2e-3, 0.0] }\n"), "scene.toml");
+  CHECK(s.foundation.gap_at == std::vector<double>{0.0, 1.0, 1.0, 2.0});
+  CHECK(s.foundation.gap_value == std::vector<double>{0.0, 1e-3, -2e-3, 0.0});
+  CHECK(s.foundation.gap_key() == "foundation.gap");
+  // One point is a constant gap; positions beyond the member are allowed (g is constant there).
+  CHECK(parse_scene(with("gap = { at = [-5.0], value = [1e-3] }\n"), "scene.toml").foundation.gap_at.size() == 1);
+
+  // A survey file next to the scene: a header, semicolons, commas and whitespace, a blank line.
+  const auto dir = std::filesystem::temp_directory_path() / "liftoff_gap_file_test";
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream csv(dir / "bed.csv");
+    csv << "position; gap\n-1.0; 0.0\n\n0.5, -1e-3\n 1.5\t2e-3\n";
+  }
+  const Scene f = parse_scene(with("gap_file = \"bed.csv\"\n"), (dir / "scene.toml").string());
+  CHECK(f.foundation.gap_at == std::vector<double>{-1.0, 0.5, 1.5});
+  CHECK(f.foundation.gap_value == std::vector<double>{0.0, -1e-3, 2e-3});
+  CHECK(f.foundation.gap_key() == "foundation.gap_file");
+  {
+    std::ofstream csv(dir / "bad.csv");
+    csv << "x,g\n0.0, 0.0\n0.5, oops\n";
+  }
+  CHECK_THAT(error_of(with("gap_file = \"bad.csv\"\n")),
+             Contains("key 'foundation.gap_file': cannot read"));  // relative to the scene's directory: none here
+  try {
+    parse_scene(with("gap_file = \"bad.csv\"\n"), (dir / "scene.toml").string());
+    FAIL("bad.csv was accepted");
+  } catch (const liftoff::InputError& e) {
+    CHECK_THAT(e.what(), Contains("key 'foundation.gap_file': "));
+    CHECK_THAT(e.what(), Contains("bad.csv:3: expected two finite numbers (position, gap), got \"0.5, oops\""));
+  }
+  {
+    std::ofstream csv(dir / "decreasing.csv");
+    csv << "1.0 0.0\n0.5 0.0\n";
+  }
+  try {
+    parse_scene(with("gap_file = \"decreasing.csv\"\n"), (dir / "scene.toml").string());
+    FAIL("decreasing.csv was accepted");
+  } catch (const liftoff::InputError& e) {
+    CHECK_THAT(e.what(), Contains("expected non-decreasing positions"));
+  }
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("[foundation] gap, gap_file, tension_modulus, tension_k: malformed ones are refused by key",
+          "[scene][issue12][gap][errors]") {
+  auto with = [](const std::string& keys) { return edited(beam_scene, "k = 1.0e4\n", "k = 1.0e4\n" + keys); };
+  CHECK(error_of(with("gap = { at = [0.0, 1.0, 0.5], value = [0.0, 0.0, 0.0] }\n")) ==
+        "scene.toml:12: key 'foundation.gap.at': expected non-decreasing positions (a repeated one is a step), got "
+        "at[2] = 0.5 after at[1] = 1");
+  CHECK_THAT(error_of(with("gap = { at = [0.0, 1.0, 1.0, 1.0], value = [0.0, 0.0, 0.0, 0.0] }\n")),
+             Contains("key 'foundation.gap.at': expected each position at most twice (a step)"));
+  CHECK_THAT(error_of(with("gap = { at = [0.0, 1.0], value = [0.0] }\n")),
+             Contains("key 'foundation.gap.value': expected one value per position in 'at' (2), got 1"));
+  CHECK_THAT(error_of(with("gap = { at = [], value = [] }\n")),
+             Contains("key 'foundation.gap.at': expected a non-empty"));
+  CHECK_THAT(error_of(with("gap = { value = [0.0] }\n")), Contains("key 'foundation.gap.at': missing"));
+  CHECK_THAT(error_of(with("gap = { at = [0.0], value = [0.0], step = 1 }\n")),
+             Contains("key 'foundation.gap.step': unknown key"));
+  CHECK_THAT(error_of(with("gap = 0.1\n")), Contains("key 'foundation.gap': expected a table { at = [...]"));
+  CHECK_THAT(error_of(with("gap = { at = [0.0], value = [0.0] }\ngap_file = \"x.csv\"\n")),
+             Contains("key 'foundation.gap_file': expected one of 'gap' and 'gap_file', got both"));
+  CHECK_THAT(error_of(with("gap_file = 3\n")),
+             Contains("key 'foundation.gap_file': expected the name of a two-column"));
+
+  CHECK(*parse_scene(with("tension_k = 1.0e3\n"), "scene.toml").foundation.tension_stiffness_parameter == 1.0e3);
+  CHECK_THAT(error_of(with("tension_k = -1.0\n")),
+             Contains("key 'foundation.tension_k': expected a number >= 0, got -1"));
+  CHECK_THAT(
+      error_of(with("tension_k = 2.0e4\n")),
+      Contains("key 'foundation.tension_k': expected at most the compression modulus 10000 everywhere, got 20000"));
+  CHECK_THAT(error_of(with("tension_modulus = 1.0\n")),
+             Contains("key 'foundation.tension_modulus': expected 'tension_k' (nondimensional) for a foundation given "
+                      "by 'k'"));
+  CHECK_THAT(error_of(with("tension_k = 1.0\ntension_modulus = 1.0\n")),
+             Contains("key 'foundation.tension_k': expected one of 'tension_modulus' and 'tension_k', got both"));
+  CHECK_THAT(error_of(with("tensionless = false\ntension_k = 1.0\n")),
+             Contains("key 'foundation.tension_k': not allowed with tensionless = false"));
+  CHECK_THAT(error_of(edited(beam_scene, "k = 1.0e4\n", "modulus = 5.0\ntension_k = 1.0\n")),
+             Contains("key 'foundation.tension_k': expected 'tension_modulus' for a foundation given by 'modulus'"));
+  CHECK(*parse_scene(edited(beam_scene, "k = 1.0e4\n", "modulus = 5.0\ntension_modulus = 5.0\n"), "scene.toml")
+             .foundation.tension_modulus == 5.0);
+}
