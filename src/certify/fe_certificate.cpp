@@ -506,12 +506,22 @@ Certificate certify(const MemberModel& model, const Discretisation& d, const con
           limit_node[e + 1] = 1;
     for (std::size_t node = 0; node < d.mesh.nodes.size(); ++node)
       w_held_at_zero[node] = d.equation_of_dof[d.deflection_dof(static_cast<int>(node))] < 0;
-    // Each node's gap against its own terms; or (global_scale) against the largest node's.
+    // Each node's gap against its own terms; or (global_scale) against the largest node's. Never
+    // against less than the terms it would have at the member's largest |w|: the round-off of u
+    // is relative to max |w|, so a node where w is small (near a pinned end, where the ground
+    // meets the member) carries the same absolute round-off in its gap as any other.
     const double gap_floor = options.global_scale && m > 0 ? f.gap_terms.maxCoeff() : 0.0;
+    double w_largest = 0.0;
+    for (std::size_t node = 0; node < d.mesh.nodes.size(); ++node)
+      w_largest = std::max(w_largest, std::abs(u_given[d.deflection_dof(static_cast<int>(node))]));
     for (int i = 0; i < m; ++i) {
-      const double s = d.mesh.nodes[d.reaction_nodes[i]];
+      const int node = d.reaction_nodes[i];
+      const double s = d.mesh.nodes[node];
       const double relative_r = r_scale > 0 ? r_given[i] / r_scale : 0.0;
-      const double gap_terms = std::max(f.gap_terms[i], gap_floor);
+      double support = 0.0;  // the integral of the node's reaction function phi_i
+      if (node > 0 && on_foundation(d, node - 1)) support += 0.5 * d.mesh.element_size(node - 1);
+      if (node < d.mesh.elements() && on_foundation(d, node)) support += 0.5 * d.mesh.element_size(node);
+      const double gap_terms = std::max({f.gap_terms[i], gap_floor, support * w_largest});
       const double relative_gap = gap_terms > 0 ? f.gap[i] / gap_terms : 0.0;
       if (!limit_node[d.reaction_nodes[i]] && !w_held_at_zero[d.reaction_nodes[i]]) worse(sign, -relative_r, s);
       worse(penetration, -relative_gap, s);
