@@ -62,8 +62,8 @@ double imposed_curvature(const std::vector<MemberLoad>& loads, double s, double 
 struct FoundationPiece {
   double begin = 0.0;
   double end = 0.0;
-  double modulus = 0.0;               // at begin; everywhere when constant
-  std::optional<double> end_modulus;  // linear: k at end
+  double modulus = 0.0;                 // at begin; everywhere when constant
+  std::optional<double> end_modulus{};  // linear: k at end
   bool is_constant() const { return !end_modulus; }
   // k at s in [begin, end]: linear between the ends, exact at both.
   double modulus_at(double s) const;

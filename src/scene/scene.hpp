@@ -83,7 +83,7 @@ struct FoundationSegment {
   double to = 0.0;
   std::optional<double> stiffness_parameter;  // key "k" (at `from` when linear)
   std::optional<double> modulus;              // key "modulus" (at `from` when linear)
-  std::optional<double> at_to;                // linear: the k or modulus (as given) at `to`
+  std::optional<double> at_to{};              // linear: the k or modulus (as given) at `to`
 };
 
 struct Foundation {

@@ -418,7 +418,7 @@ TEST_CASE("a modulus linear within a piece: the certificate checks the reaction 
   scene::Scene frozen = s, reversed = s;
   frozen.foundation.segments.clear();
   for (int e = 0; e < 20; ++e)
-    frozen.foundation.segments.push_back({e / 20.0, (e + 1) / 20.0, 3000.0 - 2000.0 * (e + 0.5) / 20.0});
+    frozen.foundation.segments.push_back({e / 20.0, (e + 1) / 20.0, 3000.0 - 2000.0 * (e + 0.5) / 20.0, std::nullopt});
   reversed.foundation.segments = {{0.0, 1.0, 1000.0, std::nullopt, 3000.0}};
   for (const scene::Scene* other : {&frozen, &reversed}) {
     test::Solved wrong = test::solve(*other, Method::fast, 20);
