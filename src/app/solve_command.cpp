@@ -305,7 +305,8 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   post::Fields fields = request.fields && certified ? post::sample_fields(model, d, solution, samples) : post::Fields{};
   for (std::size_t i = 0; i < fields.reaction.size(); ++i) {
     const int e = std::min(static_cast<int>(i) / samples, d.mesh.elements() - 1);
-    fields.reaction[i] = d.foundation_on_element[e] ? d.element_modulus[e] * std::max(fields.w[i], 0.0) : 0.0;
+    const double xi = std::clamp((fields.s[i] - d.mesh.nodes[e]) / d.mesh.element_size(e), 0.0, 1.0);
+    fields.reaction[i] = d.foundation_on_element[e] ? d.element_modulus[e].at(xi) * std::max(fields.w[i], 0.0) : 0.0;
   }
   std::vector<post::Interval> contact_regions;
   for (const auto& c : answer.contact) contact_regions.push_back({c.begin, c.end});
@@ -321,7 +322,8 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
     double k = 0.0;
     int sides = 0;
     for (int e : {node - 1, node})
-      if (e >= 0 && e < d.mesh.elements() && d.foundation_on_element[e]) k += d.element_modulus[e], ++sides;
+      if (e >= 0 && e < d.mesh.elements() && d.foundation_on_element[e])
+        k += e < node ? d.element_modulus[e].end : d.element_modulus[e].begin, ++sides;
     report.nodes.reaction[node] =
         sides > 0 ? k / sides * std::max(all[d.deflection_dof(node)], 0.0) * scales.force_per_length() : 0.0;
   }

@@ -221,7 +221,8 @@ std::vector<std::string> trace_path_names(const scene::Scene& scene, const Trace
             fmt::format("{}: key 'loads[{}].kind': the Ritz path cannot take this scene (the Ritz model does not take "
                         "an imposed curvature); expected an FE method (\"dual\", \"primal\", \"fast\" or \"auto\")",
                         scene.source_name, i));
-    if (scene.foundation.segments.size() > 1) {
+    if (scene.foundation.segments.size() > 1 ||
+        (scene.foundation.segments.size() == 1 && scene.foundation.segments[0].at_to)) {
       const std::string where = request.method ? "option '--method'"
                                 : t.method     ? "key 'trace.method'"
                                                : "key 'solve.method'";

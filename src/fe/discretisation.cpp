@@ -174,7 +174,7 @@ Assembly assemble(const MemberModel& model, const Discretisation& d, const std::
     // The first four local dofs are the Hermite dofs of w for both element kinds.
     if (d.foundation_on_element[e]) {
       const auto c = foundation_element::coupling(h);
-      const auto t = foundation_element::flexibility(h, d.element_modulus[e]);
+      const auto t = foundation_element::flexibility(h, d.element_modulus[e].begin, d.element_modulus[e].end);
       const int r[2] = {reaction_of_node[e], reaction_of_node[e + 1]};
       for (int i = 0; i < 2; ++i) {
         for (int j = 0; j < 4; ++j) a.coupling.emplace_back(r[i], dofs[j], c(i, j));
@@ -278,12 +278,15 @@ Discretisation discretise(const MemberModel& model, Mesh mesh, std::vector<bool>
     if (d.mesh.node_at(s) < 0) throw std::invalid_argument("discretise: the mesh lacks a node at a breakpoint");
 
   d.element_modulus.resize(elements);
-  for (int e = 0; e < elements; ++e)
-    d.element_modulus[e] = model.foundation_modulus_at(d.mesh.nodes[e] + 0.5 * d.mesh.element_size(e));
+  for (int e = 0; e < elements; ++e) {
+    const auto [begin, end] = model.foundation_modulus_on(d.mesh.nodes[e], d.mesh.nodes[e + 1]);
+    d.element_modulus[e] = {begin, end};
+  }
   if (foundation_on_element.empty()) foundation_on_element.assign(elements, true);
   if (static_cast<int>(foundation_on_element.size()) != elements)
     throw std::invalid_argument("discretise: one foundation flag per element expected");
-  for (int e = 0; e < elements; ++e) foundation_on_element[e] = foundation_on_element[e] && d.element_modulus[e] > 0.0;
+  for (int e = 0; e < elements; ++e)
+    foundation_on_element[e] = foundation_on_element[e] && d.element_modulus[e].present();
   d.foundation_on_element = std::move(foundation_on_element);
   std::vector<int> reaction_of_node(d.mesh.nodes.size(), -1);
   for (int node = 0; node <= elements; ++node) {

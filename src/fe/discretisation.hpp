@@ -56,9 +56,14 @@ class Discretisation {
   // limit-fitted solve), and the rigid motions the supports leave free, on the equations
   // (columns; the kernel of K, empty when the structure is stable).
   std::vector<bool> foundation_on_element;
-  // k of the foundation under each element (0 in a void and beyond the foundation), whether or
-  // not the foundation acts on it in this discretisation.
-  std::vector<double> element_modulus;
+  // k of the foundation under each element at its two nodes (linear between them; 0 in a void
+  // and beyond the foundation), whether or not the foundation acts on it in this discretisation.
+  struct ElementModulus {
+    double begin = 0.0, end = 0.0;
+    double at(double xi) const { return (1.0 - xi) * begin + xi * end; }  // exact at both ends
+    bool present() const { return begin > 0.0; }
+  };
+  std::vector<ElementModulus> element_modulus;
   Eigen::MatrixXd free_rigid_motions;
   Eigen::VectorXd dead_load;  // equations
   Eigen::VectorXd live_load;

@@ -35,10 +35,23 @@ std::vector<FoundationPiece> MemberModel::pieces() const {
   return {{foundation_begin, foundation_end, foundation_modulus}};
 }
 
+double FoundationPiece::modulus_at(double s) const {
+  if (!end_modulus) return modulus;
+  const double t = std::clamp((s - begin) / (end - begin), 0.0, 1.0);
+  return (1.0 - t) * modulus + t * *end_modulus;
+}
+
 double MemberModel::foundation_modulus_at(double s) const {
   for (const FoundationPiece& piece : pieces())
-    if (s >= piece.begin && s <= piece.end) return piece.modulus;
+    if (s >= piece.begin && s <= piece.end) return piece.modulus_at(s);
   return 0.0;
+}
+
+std::pair<double, double> MemberModel::foundation_modulus_on(double a, double b) const {
+  const double middle = 0.5 * (a + b);
+  for (const FoundationPiece& piece : pieces())
+    if (middle >= piece.begin && middle <= piece.end) return {piece.modulus_at(a), piece.modulus_at(b)};
+  return {0.0, 0.0};
 }
 
 std::vector<std::pair<double, double>> MemberModel::foundation_stretches() const {
@@ -104,11 +117,13 @@ MemberModel make_member_model(const scene::Scene& scene) {
     piece.begin = model.s_from_user(segment.from);
     piece.end = model.s_from_user(segment.to);
     piece.modulus = segment.stiffness_parameter ? *segment.stiffness_parameter : *segment.modulus / modulus_scale;
+    if (segment.at_to)
+      piece.end_modulus = segment.stiffness_parameter ? *segment.at_to : *segment.at_to / modulus_scale;
     // Abutting pieces share their end exactly (the reader made the user's values equal).
     if (!model.foundation_pieces.empty() && segment.from == segments[model.foundation_pieces.size() - 1].to)
       piece.begin = model.foundation_pieces.back().end;
     model.foundation_pieces.push_back(piece);
-    model.foundation_modulus = std::max(model.foundation_modulus, piece.modulus);
+    model.foundation_modulus = std::max(model.foundation_modulus, piece.largest_modulus());
   }
   model.tensionless = foundation.tensionless;
   model.foundation_outside = structure.kind == StructureKind::arch && foundation.side == scene::FoundationSide::outside;

@@ -7,6 +7,8 @@
 // k = K l^4/EI; a force P becomes P l^2/EI, a moment M l/EI, a distributed load q l^3/EI.
 // Results therefore do not depend on the user's units, and `Scales` converts back.
 
+#include <algorithm>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -55,11 +57,17 @@ struct MemberLoad {
 // is never on a range's end.
 double imposed_curvature(const std::vector<MemberLoad>& loads, double s, double load_factor);
 
-// One piece of the foundation in member terms: [begin, end] in s, modulus k = K l^4/EI.
+// One piece of the foundation in member terms: [begin, end] in s, modulus k = K l^4/EI,
+// constant or linear from `modulus` at begin to `end_modulus` at end.
 struct FoundationPiece {
   double begin = 0.0;
   double end = 0.0;
-  double modulus = 0.0;
+  double modulus = 0.0;                 // at begin; everywhere when constant
+  std::optional<double> end_modulus{};  // linear: k at end
+  bool is_constant() const { return !end_modulus; }
+  // k at s in [begin, end]: linear between the ends, exact at both.
+  double modulus_at(double s) const;
+  double largest_modulus() const { return end_modulus ? std::max(modulus, *end_modulus) : modulus; }
 };
 
 struct MemberModel {
@@ -72,7 +80,7 @@ struct MemberModel {
   std::vector<double> point_supports;  // s
   // The foundation: pieces sorted, disjoint (they may abut), with voids between them allowed.
   // foundation_begin..foundation_end spans them all; foundation_modulus is the largest k (the
-  // scale of the foundation's decay length), the only k when there is one piece.
+  // scale of the foundation's decay length), the only k when there is one constant piece.
   std::vector<FoundationPiece> foundation_pieces;
   double foundation_modulus = 0.0;  // k
   bool tensionless = true;
@@ -96,15 +104,23 @@ struct MemberModel {
   double s_from_user(double position) const;
   double user_from_s(double s) const;
   double length() const { return s_end - s_begin; }
-  // k of the piece containing s (ends included), 0 in a void or beyond the foundation. Called
-  // at element middles, which never fall on a piece's end (piece ends are mesh nodes).
+  // k of the piece containing s (ends included; at two pieces' common end the first's), 0 in a
+  // void or beyond the foundation. At element middles it decides whether the foundation is
+  // under the element (piece ends are mesh nodes, never middles).
   double foundation_modulus_at(double s) const;
+  // k at a and b of the piece under the interval [a, b] (the one containing its middle; its k is
+  // linear there), {0, 0} in a void or beyond the foundation. An element's k at its two nodes.
+  std::pair<double, double> foundation_modulus_on(double a, double b) const;
   // The stretches of foundation without a void: unions of abutting pieces, in order.
   std::vector<std::pair<double, double>> foundation_stretches() const;
   // Whether s is the end of a stretch (the foundation stops there; within round-off).
   bool is_foundation_edge(double s) const;
   // The Ritz model and the trace paths model one piece of constant k.
   bool foundation_is_one_piece() const { return foundation_pieces.size() == 1; }
+  bool foundation_modulus_is_constant() const {
+    return std::all_of(foundation_pieces.begin(), foundation_pieces.end(),
+                       [](const FoundationPiece& p) { return p.is_constant(); });
+  }
   // foundation_pieces, or for a model built in code without them (tests, references) the one
   // piece foundation_begin..foundation_end of modulus foundation_modulus.
   std::vector<FoundationPiece> pieces() const;

@@ -39,7 +39,8 @@ Fields sample_fields(const fe::MemberModel& model, const fe::Discretisation& d,
 // exactly (at its ends and at the zeros of w', a quadratic): a sampled maximum is off by
 // O(h_sample^2) relative to the curvature, which on a fine mesh is far above the discretisation
 // error (approach_slab_one_support: 2.3e-9 of max |w| at 100 elements against the closed form,
-// sampled). contact_reaction_max: the largest k_e w on the elements the foundation acts on.
+// sampled). contact_reaction_max: the largest k w on the elements the foundation acts on (k linear
+// on an element: Newton on (k w)' = 0).
 struct DeflectionExtremes {
   double w_max = -INFINITY, s_at_w_max = 0, w_min = INFINITY, s_at_w_min = 0, contact_reaction_max = 0;
 };

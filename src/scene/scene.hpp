@@ -75,13 +75,15 @@ struct Supports {
   std::vector<double> interior;  // point supports (w = 0) strictly inside, sorted ascending
 };
 
-// One piece of the foundation ([[foundation.segments]]): its extent and its constant modulus,
-// exactly one of k (nondimensional) and modulus (force per length per length).
+// One piece of the foundation ([[foundation.segments]]): its extent and its modulus, exactly one
+// of k (nondimensional) and modulus (force per length per length); constant, or linear from
+// `from` to `to` when given as [at from, at to].
 struct FoundationSegment {
   double from = 0.0;  // user coordinate, from < to
   double to = 0.0;
-  std::optional<double> stiffness_parameter;  // key "k"
-  std::optional<double> modulus;              // key "modulus"
+  std::optional<double> stiffness_parameter;  // key "k" (at `from` when linear)
+  std::optional<double> modulus;              // key "modulus" (at `from` when linear)
+  std::optional<double> at_to{};              // linear: the k or modulus (as given) at `to`
 };
 
 struct Foundation {

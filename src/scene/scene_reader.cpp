@@ -512,13 +512,18 @@ FoundationSegment read_segment(const Section& s, const Member& member) {
   piece.to = s.required_number("to", member.position());
   if (!(piece.from < piece.to))
     s.fail("to", fmt::format("expected from < to, got from = {} and to = {}", piece.from, piece.to));
-  for (const auto key : {"k", "modulus"}) {
+  // A number, or [at from, at to] for a linear variation (equal ends: constant).
+  auto value = [&](const char* key) -> std::optional<double> {
     const toml::node* node = s.find(key);
-    if (node != nullptr && node->is_array())
-      s.wrong(key, "a number > 0 (a modulus varying within a segment is not implemented yet: split the segment)");
-  }
-  piece.stiffness_parameter = s.number("k", positive());
-  piece.modulus = s.number("modulus", positive());
+    if (node == nullptr || !node->is_array()) return s.number(key, positive());
+    const char* expected = "a number > 0, or two numbers > 0 [at from, at to] for a linear variation";
+    const std::vector<double> ends = s.number_array(key, positive(), expected);
+    if (ends.size() != 2) s.wrong(key, expected);
+    if (ends[1] != ends[0]) piece.at_to = ends[1];
+    return ends[0];
+  };
+  piece.stiffness_parameter = value("k");
+  piece.modulus = value("modulus");
   if (piece.stiffness_parameter && piece.modulus)
     s.fail("modulus", "expected exactly one of 'k' and 'modulus', got both");
   if (!piece.stiffness_parameter && !piece.modulus) s.missing("k", "exactly one of 'k' and 'modulus', a number > 0");

@@ -435,3 +435,40 @@ TEST_CASE("ground gap: an answer that ignores the gap fails the certificate", "[
   INFO(c.message);
   CHECK(check(c, "complementarity").value > 1e-2);
 }
+
+TEST_CASE("a modulus linear within a piece: the certificate checks the reaction against k(s) w",
+          "[certify][segments]") {
+  // The free-free beam of issue12/segment_linear_modulus.toml (k from 3000 at x = 0 to 1000 at
+  // x = 1), bilateral and tensionless, on 20 elements: certified as solved.
+  const bool tensionless = GENERATE(true, false);
+  CAPTURE(tensionless);
+  scene::Scene s = test::beam_scene(1.0, 1.0, EndSupport::free, EndSupport::free, 1.0, tensionless);
+  s.foundation.stiffness_parameter.reset();
+  s.foundation.segments = {{0.0, 1.0, 3000.0, std::nullopt, 1000.0}};
+  s.loads = {test::point_force(0.3, 5.0), test::point_moment(0.6, -2.2)};
+  const test::Solved good = test::solve(s, Method::fast, 20);
+  REQUIRE(good.solution.summary.is_usable());
+  REQUIRE(good.discretisation.mesh.elements() == 20);
+  const certify::Certificate passed = certify_solved(good);
+  CAPTURE(passed.message);
+  REQUIRE(passed.passed);
+
+  // Answers of other foundations on the same mesh, certified against the real member: k frozen
+  // per element at its middle value (20 constant pieces: an O(h^2) error in T), and the linear
+  // variation reversed.
+  scene::Scene frozen = s, reversed = s;
+  frozen.foundation.segments.clear();
+  for (int e = 0; e < 20; ++e)
+    frozen.foundation.segments.push_back({e / 20.0, (e + 1) / 20.0, 3000.0 - 2000.0 * (e + 0.5) / 20.0, std::nullopt});
+  reversed.foundation.segments = {{0.0, 1.0, 1000.0, std::nullopt, 3000.0}};
+  for (const scene::Scene* other : {&frozen, &reversed}) {
+    test::Solved wrong = test::solve(*other, Method::fast, 20);
+    REQUIRE(wrong.solution.summary.is_usable());
+    REQUIRE(wrong.solution.reaction.size() == good.solution.reaction.size());
+    wrong.model = good.model;
+    wrong.discretisation = good.discretisation;
+    const certify::Certificate c = certify_solved(wrong, false);
+    CHECK_FALSE(c.passed);
+    CHECK_FALSE(check(c, certify::check_name::complementarity).passed);
+  }
+}

@@ -510,7 +510,9 @@ Case sweep_case(Random& random, int) {
   c.command = Command::sweep;
   c.args = {"sweep", c.scene};
   // Stiffnesses keep their sign; loads may change theirs; elements stay integers.
-  std::vector<std::string> keys{"structure.EI", d.has("foundation", "k") ? "foundation.k" : "foundation.modulus"};
+  std::vector<std::string> keys{"structure.EI"};
+  for (const char* key : {"k", "modulus"})  // (none with [[foundation.segments]])
+    if (d.has("foundation", key)) keys.push_back(fmt::format("foundation.{}", key));
   int load = 0;
   for (const auto& t : d.tables)
     if (t.name == "loads") keys.push_back(fmt::format("loads[{}].value", load++));

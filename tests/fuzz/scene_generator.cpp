@@ -195,13 +195,52 @@ Draft valid_scene(Random& random, const SceneLimits& limits) {
     foundation.entries.push_back({by_k ? "tension_k" : "tension_modulus",
                                   toml_number(fraction * (by_k ? k : k * EI / std::pow(length_scale, 4)))});
   }
+  // Issue 12: sometimes the foundation as [[foundation.segments]] instead: pieces with voids
+  // between them, abutting ones sharing an end exactly, k or modulus, constant or linear
+  // [at from, at to], listed in any order.
+  std::vector<Table> segments;
+  std::vector<double> piece_ends;
+  if (random.chance(0.25)) {
+    std::erase_if(foundation.entries, [](const Entry& e) {
+      return e.key == "k" || e.key == "modulus" || e.key == "from" || e.key == "to" || e.key == "tension_k" ||
+             e.key == "tension_modulus";  // a tension key names the pieces' kind
+    });
+    const double span = d.end - d.begin;
+    std::vector<double> at{d.begin, d.end};
+    for (int i = random.integer(1, 4); i > 0; --i) {
+      const double x = random.chance(0.3) ? d.begin + span * random.integer(1, 7) / 8.0
+                                          : random.uniform(d.begin + 0.02 * span, d.end - 0.02 * span);
+      if (std::none_of(at.begin(), at.end(), [&](double y) { return std::abs(x - y) < 1e-3 * span; })) at.push_back(x);
+    }
+    std::sort(at.begin(), at.end());
+    for (std::size_t i = 0; i + 1 < at.size(); ++i) {
+      if (!random.chance(0.7) && !(i + 2 == at.size() && segments.empty())) continue;  // a void
+      Table piece{"foundation.segments", true, {{"from", toml_number(at[i])}, {"to", toml_number(at[i + 1])}}};
+      const double k_here = k * random.log_uniform(0.1, 10.0);
+      const bool modulus = random.chance(0.4);
+      const double scale = modulus ? EI / std::pow(length_scale, 4) : 1.0;
+      std::string value = written(random, k_here * scale);
+      if (random.chance(0.35))
+        value = "[" + value + ", " + written(random, k_here * random.log_uniform(0.2, 5.0) * scale) + "]";
+      piece.entries.push_back({modulus ? "modulus" : "k", value});
+      if (random.chance(0.2)) std::reverse(piece.entries.begin(), piece.entries.end());
+      segments.push_back(piece);
+      piece_ends.push_back(at[i]);
+      piece_ends.push_back(at[i + 1]);
+    }
+    f_from = piece_ends.front();
+    f_to = piece_ends.back();
+    if (random.chance(0.4)) std::reverse(segments.begin(), segments.end());
+  }
   d.tables.push_back(foundation);
+  for (const Table& piece : segments) d.tables.push_back(piece);
 
   // Loads: every kind and case, often at special points.
   const int loads = random.chance(0.05) ? 0 : random.integer(1, 4);
   std::vector<double> special = interior;
   special.push_back(f_from);
   special.push_back(f_to);
+  special.insert(special.end(), piece_ends.begin(), piece_ends.end());
   for (int i = 0; i < loads; ++i) {
     Table load{"loads", true, {}};
     const int kind = random.integer(0, 9);
@@ -349,6 +388,7 @@ const std::map<std::string, std::vector<std::string>>& schema_keys() {
       {"supports", {"left", "right", "interior"}},
       {"foundation",
        {"k", "modulus", "tensionless", "from", "to", "side", "gap", "gap_file", "tension_modulus", "tension_k"}},
+      {"foundation.segments", {"from", "to", "k", "modulus"}},
       {"loads", {"kind", "at", "value", "from", "to", "case", "direction", "per"}},
       {"solve", {"method", "elements"}},
       {"ritz", {"modes", "max_modes", "mode_tolerance", "topology", "limits"}},
@@ -443,10 +483,10 @@ std::string out_of_range(Random& random, const Draft& d, const Table& t, const E
   if (t.name == "structure" && (k == "length" || k == "EI" || k == "EA" || k == "radius"))
     return random.pick(std::vector<std::string>{"0.0", "-1.5", "0", "-0.0", "-1e-300"});
   if (k == "half_angle_deg") return random.pick(std::vector<std::string>{"0.0", "180.0", "181", "-10.0", "360.0"});
-  if (t.name == "foundation" && (k == "k" || k == "modulus"))
-    return random.pick(std::vector<std::string>{"0.0", "-3.0", "0"});
-  if (k == "at" || k == "monitor" || ((k == "from" || k == "to") && (t.name == "loads" || t.name == "foundation")))
-    return outside;
+  const bool foundation = t.name == "foundation" || t.name == "foundation.segments";
+  if (foundation && (k == "k" || k == "modulus"))
+    return random.pick(std::vector<std::string>{"0.0", "-3.0", "0", "[0.0, 1.0]", "[1.0, -2.0]"});
+  if (k == "at" || k == "monitor" || ((k == "from" || k == "to") && (t.name == "loads" || foundation))) return outside;
   if (k == "interior")
     return random.pick(std::vector<std::string>{
         "[" + toml_number(d.begin) + "]", "[" + outside + "]",
@@ -460,6 +500,82 @@ std::string out_of_range(Random& random, const Draft& d, const Table& t, const E
   if (k == "max_steps") return random.pick(std::vector<std::string>{"0", "-1", "100000001"});
   if (k == "lambda_max") return random.pick(std::vector<std::string>{"-2.0", "-1e9"});  // lambda_min is <= 0.5
   return {};
+}
+
+// Issue 12: [[foundation.segments]] malformed. The foundation becomes two valid abutting pieces
+// [begin, middle] (k) and [middle, end] (modulus, linear), then one rule is broken.
+Mutant malformed_segments(Random& random, Draft d) {
+  std::erase_if(d.tables, [](const Table& t) { return t.name == "foundation.segments"; });
+  Table& foundation = *d.find("foundation");
+  std::erase_if(foundation.entries,
+                [](const Entry& e) { return e.key == "k" || e.key == "modulus" || e.key == "from" || e.key == "to"; });
+  const double span = d.end - d.begin, middle = d.begin + 0.5 * span;
+  auto piece = [](double from, double to, const char* key, const char* value) {
+    return Table{"foundation.segments", true, {{"from", toml_number(from)}, {"to", toml_number(to)}, {key, value}}};
+  };
+  std::vector<Table> pieces{piece(d.begin, middle, "k", "100.0"), piece(middle, d.end, "modulus", "[2.0, 3.0]")};
+  Table& p = pieces[random.next() % 2];
+  std::string what;
+  switch (random.integer(0, 9)) {
+    case 0:
+      pieces[1].entries[0].value = toml_number(d.begin + random.uniform(0.0, 0.45) * span);
+      what = "overlapping";
+      break;
+    case 1:
+      if (random.chance(0.5))
+        pieces[1].entries[1].value = toml_number(d.end + random.log_uniform(1e-6, 1.0) * span);
+      else
+        pieces[0].entries[0].value = toml_number(d.begin - random.log_uniform(1e-6, 1.0) * span);
+      what = "outside the member";
+      break;
+    case 2:
+      p.entries[1].value = &p == &pieces[0] || random.chance(0.5) ? p.entries[0].value  // to = from
+                                                                  : toml_number(d.begin + 0.25 * span);
+      what = "from >= to";
+      break;
+    case 3:
+      p.entries.push_back({p.entries[2].key == "k" ? "modulus" : "k", "1.0"});
+      what = "both k and modulus";
+      break;
+    case 4:
+      p.entries[2].value =
+          random.pick(std::vector<std::string>{"0.0", "-1.0", "[0.0, 2.0]", "[2.0, -1.0]", "[2.0, 0]"});
+      what = "modulus <= 0";
+      break;
+    case 5:
+      foundation.entries.push_back(
+          {random.pick(std::vector<std::string>{"k", "modulus", "from", "to"}), toml_number(d.begin)});
+      if (foundation.entries.back().key == "k" || foundation.entries.back().key == "modulus")
+        foundation.entries.back().value = "10.0";
+      what = "with [foundation] k, modulus, from or to";
+      break;
+    case 6:
+      p.entries[2].value = random.pick(
+          std::vector<std::string>{"[1.0]", "[1.0, 2.0, 3.0]", "[]", "[\"a\", 1.0]", "[[1.0, 2.0]]", "[1.0, true]"});
+      what = "a linear form that is not two numbers";
+      break;
+    case 7: {
+      const std::string key = random.pick(std::vector<std::string>{"from", "to", p.entries[2].key});
+      std::erase_if(p.entries, [&](const Entry& e) { return e.key == key; });
+      what = "a key missing";
+      break;
+    }
+    case 8:
+      pieces.clear();
+      foundation.entries.push_back(
+          {"segments", random.pick(std::vector<std::string>{"3", "[]", "[1.0, 2.0]", "{ from = 0.0 }", "\"none\""})});
+      what = "segments not an array of tables";
+      break;
+    default:
+      p.entries.push_back({random.pick(std::vector<std::string>{"modulos", "at", "value", "K", "tensionless"}), "1.0"});
+      what = "an unknown key";
+      break;
+  }
+  if (random.chance(0.3)) std::reverse(pieces.begin(), pieces.end());
+  const auto after =
+      std::find_if(d.tables.begin(), d.tables.end(), [](const Table& t) { return t.name == "foundation"; });
+  d.tables.insert(after + 1, pieces.begin(), pieces.end());
+  return {"malformed foundation segments: " + what, d.text(), true};
 }
 
 }  // namespace
@@ -482,10 +598,19 @@ Mutant mutate(Random& random, Draft d) {
       } else {
         required.push_back({"structure", "length"});
       }
-      required.push_back({"foundation", d.find("foundation", "k") != nullptr ? "k" : "modulus"});
+      if (const Table* piece = d.find("foundation.segments")) {  // the first piece's from, to, k or modulus
+        for (const char* key : {"from", "to", "k", "modulus"})
+          if (d.has("foundation.segments", key) &&
+              std::any_of(piece->entries.begin(), piece->entries.end(), [&](const Entry& e) { return e.key == key; }))
+            required.push_back({"foundation.segments", key});
+      } else {
+        required.push_back({"foundation", d.find("foundation", "k") != nullptr ? "k" : "modulus"});
+      }
       if (random.chance(0.2)) {
         const std::string table = random.pick(std::vector<std::string>{"structure", "supports", "foundation"});
-        d.tables.erase(std::find_if(d.tables.begin(), d.tables.end(), [&](const Table& t) { return t.name == table; }));
+        std::erase_if(d.tables, [&](const Table& t) {  // [[foundation.segments]] would make [foundation]
+          return t.name == table || (table == "foundation" && t.name == "foundation.segments");
+        });
         return done("missing table [" + table + "]", true);
       }
       std::vector<Table*> loads;
@@ -617,8 +742,10 @@ Mutant mutate(Random& random, Draft d) {
         std::erase_if(foundation.entries, [](const Entry& e) {
           return e.key == "gap" || e.key == "tension_k" || e.key == "tension_modulus" || e.key == "tensionless";
         });
-        const bool by_k = foundation.entries.front().key == "k";
-        const int kind = random.integer(0, 6);
+        const bool by_k = !foundation.entries.empty() && foundation.entries.front().key == "k";
+        const bool by_modulus = !foundation.entries.empty() && foundation.entries.front().key == "modulus";
+        int kind = random.integer(0, 6);
+        if (kind == 5 && !by_k && !by_modulus) kind = 4;  // segments: which tension key fits depends on them
         if (kind == 0)
           foundation.entries.push_back({"gap", "{ at = [1.0, 0.5], value = [0.0, 0.0] }", Type::positions});
         if (kind == 1) foundation.entries.push_back({"gap", "{ at = [0.5, 1.0], value = [0.0] }", Type::positions});
@@ -635,6 +762,7 @@ Mutant mutate(Random& random, Draft d) {
         }
         return done("malformed gap or tension " + std::to_string(kind), true);
       }
+      if (random.chance(0.5)) return malformed_segments(random, std::move(d));
       std::vector<Table*> tables;
       for (Table& t : d.tables)
         if (t.name == "loads") tables.push_back(&t);

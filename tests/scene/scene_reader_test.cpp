@@ -789,6 +789,28 @@ modulus = 2.0
   CHECK(s.foundation.from == 0.0);  // the extent spans the pieces
   CHECK(s.foundation.to == 2.0);
   CHECK_FALSE(s.foundation.stiffness_parameter.has_value());
+  for (const auto& piece : s.foundation.segments) CHECK_FALSE(piece.at_to.has_value());
+}
+
+TEST_CASE("[[foundation.segments]]: a modulus linear within a piece, [at from, at to]", "[scene][segments]") {
+  const std::string pieces = R"(
+[[foundation.segments]]
+from = 1.0
+to = 2.0
+k = [20.0, 5.0]
+
+[[foundation.segments]]
+from = 0.0
+to = 1.0
+modulus = [3.0, 3.0]
+)";
+  const Scene s = parse_scene(edited(beam_scene, "k = 1.0e4\n", pieces), "scene.toml");
+  REQUIRE(s.foundation.segments.size() == 2);
+  CHECK(*s.foundation.segments[0].modulus == 3.0);  // equal ends: constant
+  CHECK_FALSE(s.foundation.segments[0].at_to.has_value());
+  CHECK(*s.foundation.segments[1].stiffness_parameter == 20.0);  // at from
+  REQUIRE(s.foundation.segments[1].at_to.has_value());
+  CHECK(*s.foundation.segments[1].at_to == 5.0);
 }
 
 TEST_CASE("[[foundation.segments]]: malformed pieces are refused by key", "[scene][segments][errors]") {
@@ -807,8 +829,17 @@ TEST_CASE("[[foundation.segments]]: malformed pieces are refused by key", "[scen
              Contains("key 'foundation.segments[0].modulus': expected exactly one of 'k' and 'modulus'"));
   CHECK_THAT(error_of(with("\n[[foundation.segments]]\nfrom = 0.0\nto = 1.0\n")),
              Contains("key 'foundation.segments[0].k': missing"));
-  CHECK_THAT(error_of(with("\n[[foundation.segments]]\nfrom = 0.0\nto = 1.0\nmodulus = [3.0, 1.0]\n")),
-             Contains("key 'foundation.segments[0].modulus': expected a number > 0 (a modulus varying"));
+  const std::string linear = "a number > 0, or two numbers > 0 [at from, at to] for a linear variation";
+  CHECK_THAT(error_of(with("\n[[foundation.segments]]\nfrom = 0.0\nto = 1.0\nmodulus = [3.0, 1.0, 2.0]\n")),
+             Contains("key 'foundation.segments[0].modulus': expected " + linear));
+  CHECK_THAT(error_of(with("\n[[foundation.segments]]\nfrom = 0.0\nto = 1.0\nk = []\n")),
+             Contains("key 'foundation.segments[0].k': expected " + linear));
+  CHECK_THAT(error_of(with("\n[[foundation.segments]]\nfrom = 0.0\nto = 1.0\nmodulus = [3.0, 0.0]\n")),
+             Contains("key 'foundation.segments[0].modulus[1]': expected a number > 0, got 0"));
+  CHECK_THAT(error_of(with("\n[[foundation.segments]]\nfrom = 0.0\nto = 1.0\nk = [3.0, \"soft\"]\n")),
+             Contains("key 'foundation.segments[0].k[1]': expected a number > 0"));
+  CHECK_THAT(error_of(with("\n[[foundation.segments]]\nfrom = 0.0\nto = 1.0\nk = [3.0, 1.0]\nmodulus = 2.0\n")),
+             Contains("key 'foundation.segments[0].modulus': expected exactly one of 'k' and 'modulus'"));
   CHECK_THAT(error_of(with("\n[[foundation.segments]]\nfrom = 0.0\nto = 1.0\nmodulus = 3.0\nmodulos = 1.0\n")),
              Contains("key 'foundation.segments[0].modulos': unknown key (did you mean 'modulus'?)"));
   CHECK_THAT(error_of(with(one + "\n[[foundation.segments]]\nfrom = 0.8\nto = 1.5\nmodulus = 3.0\n")),
