@@ -268,7 +268,7 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   const contact::FittedResult& answer = refined.answer;
   const fe::Discretisation& d = answer.discretisation;
   contact::ContactSolution solution;
-  solution.displacement = d.expand(answer.state.displacement);
+  solution.displacement = d.expand_displacement(answer.state.displacement);
   solution.reaction = answer.state.reaction;
   solution.gap = d.flexibility * solution.reaction - d.coupling * answer.state.displacement;
   contact::ContactSummary& summary = solution.summary;

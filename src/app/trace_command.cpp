@@ -192,6 +192,14 @@ std::vector<std::string> trace_path_names(const scene::Scene& scene, const Trace
     // Nor arch loads other than radial ones (issue 12).
     std::string cannot;
     if (!scene.supports.interior.empty()) cannot = "interior point supports";
+    {
+      const scene::Supports& sp = scene.supports;
+      const bool elastic = sp.left_detail.spring || sp.right_detail.spring || !sp.interior_springs.empty();
+      const bool settles =
+          sp.left_detail.settlement != 0.0 || sp.right_detail.settlement != 0.0 || !sp.interior_settlement.empty();
+      if (elastic || settles)
+        cannot = "springs (supports kind = \"spring\") or settlements, only rigid supports that stay at w = 0";
+    }
     if (scene.structure.kind == scene::StructureKind::arch && scene.foundation.side == scene::FoundationSide::outside)
       cannot = "foundation.side = \"outside\", only a foundation inside the arch";
     for (std::size_t i = 0; i < scene.loads.size() && cannot.empty(); ++i)
