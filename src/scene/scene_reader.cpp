@@ -494,6 +494,8 @@ EndSupport read_support_table(const Section& t, const Member& member, bool inter
     if (kind_text == nullptr || kind_text->get() != "pinned") t.wrong("kind", expected);
     kind = EndSupport::pinned;
   } else {
+    const std::string text = kind_text != nullptr ? kind_text->get() : std::string();
+    if (text != "pinned" && text != "clamped" && text != "free" && text != "roller") t.wrong("kind", expected);
     const auto choice =
         member.arch ? t.choice("kind", {EndSupport::pinned, EndSupport::roller, EndSupport::clamped, EndSupport::free})
                     : t.choice("kind", {EndSupport::pinned, EndSupport::clamped, EndSupport::free},
