@@ -114,10 +114,12 @@ NodalForces nodal_forces(const MemberModel& model, const Discretisation& d, cons
         f.foundation[dofs[j]] += weight * shape.value[j] * r_here;
         f.magnitude[dofs[j]] += weight * std::abs(shape.value[j]) * abs_r;
       }
+      // The ground gap g from the model (the user's table), not from the discretisation's c.
+      const double g_here = model.ground_gap(d.mesh.nodes[e] + g.xi * h);
       for (int a = 0; a < 2; ++a) {
         const int i = a == 0 ? ra : rb;
-        f.gap[i] += weight * phi[a] * (r_here / k - w_here);
-        f.gap_terms[i] += weight * phi[a] * (abs_r / k + abs_w);
+        f.gap[i] += weight * phi[a] * (r_here / k - w_here + g_here);
+        f.gap_terms[i] += weight * phi[a] * (abs_r / k + abs_w + std::abs(g_here));
       }
     }
   }
@@ -270,6 +272,9 @@ RoundOff measure_round_off(const Discretisation& d, const VectorXd& u_all, const
       const int slot = slot_of_reaction[it.row()];
       if (slot >= 0) sums[slot].add_product(it.value(), r[col]);
     }
+  // A contact row reads C u - T r = c (the ground gap, Discretisation::ground_gap).
+  for (int i = 0; i < m && d.ground_gap.size() == m; ++i)
+    if (slot_of_reaction[i] >= 0) sums[slot_of_reaction[i]].add(d.ground_gap[i]);
   VectorXd rhs(size);
   for (int row = 0; row < size; ++row) rhs[row] = sums[row].value();
 
@@ -575,8 +580,9 @@ Certificate certify(const MemberModel& model, const Discretisation& d, const con
       worse(penetration, -relative_gap, s);
       worse(complementarity, std::min(std::abs(relative_r), std::abs(relative_gap)), s);
     }
-    // Pointwise, every element on the foundation. Limit elements: w changes sign in the element
-    // or in a neighbour, or its nodes differ in contact.
+    // Pointwise, every element on the foundation, on w - g (contact where w >= g, lifted where
+    // w < g). Limit elements: w - g changes sign in the element or in a neighbour, or its nodes
+    // differ in contact.
     const int elements = d.mesh.elements(), samples = options.samples_per_element;
     std::vector<char> sign_change(elements, 0), limit(elements, 0);
     double w_scale = 0.0;
@@ -584,9 +590,11 @@ Certificate certify(const MemberModel& model, const Discretisation& d, const con
     for (int e = 0; e < elements; ++e) {
       bool positive = false, negative = false;
       for (int i = 0; i <= samples; ++i) {
-        const double w = w_in(d, u_given, e, static_cast<double>(i) / samples);
+        const double xi = static_cast<double>(i) / samples;
+        const double g = model.ground_gap_in(d.mesh.nodes[e], d.mesh.element_size(e), xi);
+        const double w = w_in(d, u_given, e, xi) - g;
         w_samples[static_cast<std::size_t>(e) * (samples + 1) + i] = w;
-        w_scale = std::max(w_scale, std::abs(w));
+        w_scale = std::max({w_scale, std::abs(w), std::abs(g)});
         positive |= w > 0;
         negative |= w < 0;
       }

@@ -52,7 +52,8 @@ std::vector<int> infeasible_nodes(const fe::Discretisation& d, const ContactStat
                                   const std::vector<bool>& in_contact, double tolerance) {
   const double reaction_scale = state.reaction.lpNorm<Eigen::Infinity>();
   const VectorXd coupled = d.coupling * state.displacement;
-  const double gap_scale = std::max(coupled.lpNorm<Eigen::Infinity>(), (state.gap).lpNorm<Eigen::Infinity>());
+  const double gap_scale = std::max({coupled.lpNorm<Eigen::Infinity>(), state.gap.lpNorm<Eigen::Infinity>(),
+                                     d.ground_gap.size() == 0 ? 0.0 : d.ground_gap.lpNorm<Eigen::Infinity>()});
   std::vector<int> nodes;
   for (int i = 0; i < static_cast<int>(in_contact.size()); ++i) {
     const bool wrong =
@@ -65,9 +66,12 @@ std::vector<int> infeasible_nodes(const fe::Discretisation& d, const ContactStat
 }  // namespace
 
 ActiveSetResult solve_active_set(const fe::Discretisation& d, const VectorXd& load, const ActiveSetOptions& options,
-                                 std::vector<bool> initial) {
+                                 std::vector<bool> initial, const VectorXd& gap_offset) {
   options.validate();
   const int m = d.reactions();
+  if (gap_offset.size() == 0 && d.has_ground_gap())
+    throw std::invalid_argument("solve_active_set: the discretisation has a ground gap, and no gap offset was given");
+  const VectorXd offset = gap_offset.size() == 0 ? VectorXd::Zero(m) : gap_offset;
   if (load.size() != d.equations) throw std::invalid_argument("solve_active_set: one load per equation expected");
   if (initial.empty()) initial.assign(m, true);
   if (static_cast<int>(initial.size()) != m)
@@ -102,7 +106,7 @@ ActiveSetResult solve_active_set(const fe::Discretisation& d, const VectorXd& lo
     RefinementOptions refinement;
     refinement.target_error = options.intermediate_error;
     refinement.residual = false;
-    if (factorised) result.state = system.solve(load, refinement);
+    if (factorised) result.state = system.solve(load, offset, refinement);
     if (!factorised || !(result.state.error_estimate <= max_solve_error)) {
       if (last_good.empty() || singular_retry) {
         summary.termination = ActiveSetTermination::singular_system;
@@ -183,9 +187,9 @@ void NestedOptions::validate() const {
 namespace {
 
 // The contact set on `fine` that a coarse answer suggests: a reaction node is in contact where the
-// coarse deflection (its Hermite cubic, the first four local dofs of both element kinds) is > 0.
-std::vector<bool> carried_contact_set(const fe::Discretisation& coarse, const VectorXd& coarse_displacement,
-                                      const fe::Discretisation& fine) {
+// coarse deflection (its Hermite cubic, the first four local dofs of both element kinds) exceeds the ground gap g.
+std::vector<bool> carried_contact_set(const fe::MemberModel& model, const fe::Discretisation& coarse,
+                                      const VectorXd& coarse_displacement, const fe::Discretisation& fine) {
   const VectorXd all = coarse.expand_displacement(coarse_displacement);
   std::vector<bool> in_contact(fine.reactions());
   int e = 0;  // the fine reaction nodes are in order along the member: walk the coarse elements once
@@ -200,7 +204,7 @@ std::vector<bool> carried_contact_set(const fe::Discretisation& coarse, const Ve
     const double h = coarse.mesh.element_size(e);
     const Eigen::Vector4d w_dofs(all[dofs[0]], all[dofs[1]], all[dofs[2]], all[dofs[3]]);
     const double xi = std::clamp((s - coarse.mesh.nodes[e]) / h, 0.0, 1.0);
-    in_contact[i] = fe::hermite_cubic(xi, h).value.dot(w_dofs) > 0.0;
+    in_contact[i] = fe::hermite_cubic(xi, h).value.dot(w_dofs) > model.ground_gap(s);
   }
   return in_contact;
 }
@@ -223,7 +227,8 @@ CoarseStart coarse_start(const fe::MemberModel& model, const fe::Discretisation&
   out.coarse_sets = below.coarse_sets + below.result.summary.iterations;
   out.levels = below.levels + 1;
   // A coarse failure only costs the better start: this mesh starts from every node in contact.
-  if (below.result.summary.is_usable()) out.initial = carried_contact_set(coarse, below.result.state.displacement, d);
+  if (below.result.summary.is_usable())
+    out.initial = carried_contact_set(model, coarse, below.result.state.displacement, d);
   return out;
 }
 
@@ -233,7 +238,7 @@ NestedResult solve_active_set_nested(const fe::MemberModel& model, const fe::Dis
   NestedResult out;
   out.coarse_sets = start.coarse_sets;
   out.levels = start.levels;
-  out.result = solve_active_set(d, d.load(load_factor), options, std::move(start.initial));
+  out.result = solve_active_set(d, d.load(load_factor), options, std::move(start.initial), d.ground_gap);
   return out;
 }
 

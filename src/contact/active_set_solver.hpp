@@ -90,9 +90,11 @@ struct ActiveSetResult {
 };
 
 // Solves for a load on the equations (nondimensional). `initial`: the first contact set
-// (empty: every node in contact).
+// (empty: every node in contact). `gap_offset`: the discretisation's ground_gap scaled as the load
+// is (empty: none; refused, std::invalid_argument, when the discretisation has a ground gap).
 ActiveSetResult solve_active_set(const fe::Discretisation& discretisation, const Eigen::VectorXd& load,
-                                 const ActiveSetOptions& options, std::vector<bool> initial = {});
+                                 const ActiveSetOptions& options, std::vector<bool> initial = {},
+                                 const Eigen::VectorXd& gap_offset = {});
 
 // Nested iteration, for large meshes: the same problem (F = F_dead + load_factor F_live) is
 // first solved on a mesh `coarsening` times coarser (recursively; a coarse mesh has at least

@@ -286,11 +286,22 @@ double ActiveSetSystem::residual_of_last_solve() const {
 ContactState ActiveSetSystem::solve(const VectorXd& load) const { return solve(load, RefinementOptions{}); }
 
 ContactState ActiveSetSystem::solve(const VectorXd& load, const RefinementOptions& refinement) const {
+  return solve(load, VectorXd::Zero(d_.reactions()), refinement);
+}
+
+ContactState ActiveSetSystem::solve(const VectorXd& load, const VectorXd& gap_offset,
+                                    const RefinementOptions& refinement) const {
   if (!factorised_) throw std::logic_error("ActiveSetSystem::solve before a successful factorise()");
-  const int n = d_.equations;
+  const int n = d_.equations, ns = d_.stresses();
   if (load.size() != n) throw std::invalid_argument("ActiveSetSystem::solve: one load per equation expected");
+  if (gap_offset.size() != d_.reactions())
+    throw std::invalid_argument("ActiveSetSystem::solve: one gap offset per reaction node expected");
   rhs_.setZero();
   for (int e = 0; e < n; ++e) rhs_[slot_[e]] = load[e];
+  // Contact rows: C_A u - T_AA r_A = c_A; a lifted-off node's row r_i = 0 keeps a zero right side.
+  for (int i = 0; i < d_.reactions(); ++i)
+    if (in_contact_[i]) rhs_[slot_[n + ns + i]] = gap_offset[i];
+  offset_ = gap_offset;
   x_ = rhs_;
   solve_in_place(x_);
   solved_ = true;
@@ -347,7 +358,7 @@ ContactState ActiveSetSystem::refine(const RefinementOptions& refinement) const 
   state.reaction = VectorXd::Zero(m);
   for (int i = 0; i < m; ++i)
     if (in_contact_[i]) state.reaction[i] = x_[slot_[n + ns + i]];
-  state.gap = d_.flexibility * state.reaction - d_.coupling * state.displacement;
+  state.gap = d_.flexibility * state.reaction - d_.coupling * state.displacement + offset_;
   for (int i = 0; i < m; ++i)
     if (in_contact_[i]) state.gap[i] = 0.0;  // exact by construction; the defect measures it
   if (refinement.residual) state.residual = relative_defect();
@@ -368,7 +379,10 @@ double ActiveSetSystem::data_error(const ContactState& state, const VectorXd& lo
     b[slot_[e]] = load[e];
   }
   for (int k = 0; k < ns; ++k) x[slot_[n + k]] = stresses[k];
-  for (int i = 0; i < m; ++i) x[slot_[n + ns + i]] = state.reaction[i];
+  for (int i = 0; i < m; ++i) {
+    x[slot_[n + ns + i]] = state.reaction[i];
+    if (in_contact_[i] && offset_.size() == m) b[slot_[n + ns + i]] = offset_[i];
+  }
   compute_defect(b, x);
   const VectorXd weight = magnitude_;  // D = |A| |x| + |b| over the set
   // Hager's estimate of || P A^-1 D ||_inf = || D A^-T P^T ||_1 for the rows P of one block (the

@@ -80,9 +80,13 @@ class ActiveSetSystem {
   bool factorise(const std::vector<bool>& in_contact);
 
   // Solves for a load on the equations (nondimensional), refined to round-off. Requires a
-  // successful factorise().
+  // successful factorise(). The gap offset c (one per reaction node, Discretisation::ground_gap
+  // scaled as the load is) makes the contact rows C_A u - T_AA r_A = c_A and the gaps
+  // T r - C u + c; the forms without it take c = 0 (a load alone, or a homogeneous response).
   ContactState solve(const Eigen::VectorXd& load) const;
   ContactState solve(const Eigen::VectorXd& load, const RefinementOptions& refinement) const;
+  ContactState solve(const Eigen::VectorXd& load, const Eigen::VectorXd& gap_offset,
+                     const RefinementOptions& refinement = {}) const;
 
   // Refines the last solve's answer further (the same set and load), e.g. to round-off after a
   // solve that stopped at a coarser target_error: no new first solve. Requires a solve().
@@ -137,6 +141,7 @@ class ActiveSetSystem {
   int factorisations_ = 0;
   // Workspace of solve().
   mutable Eigen::VectorXd rhs_, x_, correction_, defect_, magnitude_;
+  mutable Eigen::VectorXd offset_;  // the last solve's gap offset (reactions)
   mutable std::vector<long double> accumulator_;
 };
 

@@ -102,6 +102,7 @@ MatrixXd free_rigid_motions(const Discretisation& d) {
 // = rho^T K u = 0, against |rho|^T (|F| + |C^T||r|): the global force and moment balance, whose
 // round-off floor is that of the loads and reactions, not of K.
 double relative_residual(const Discretisation& d, const Unknowns& x, const VectorXd& load, bool tensionless) {
+  // The gap's terms include the ground gap c (gap = T r - C u + c).
   const VectorXd equilibrium = d.stiffness * x.displacement + d.coupling.transpose() * x.reaction - load;
   const VectorXd force_terms = absolute_product(d.stiffness, x.displacement) +
                                absolute_product(d.coupling.transpose(), x.reaction) + load.cwiseAbs();
@@ -118,8 +119,9 @@ double relative_residual(const Discretisation& d, const Unknowns& x, const Vecto
   }
   if (d.reactions() == 0) return residual;
 
-  const VectorXd gap = d.flexibility * x.reaction - d.coupling * x.displacement;
-  const VectorXd gap_terms = absolute_product(d.flexibility, x.reaction) + absolute_product(d.coupling, x.displacement);
+  const VectorXd gap = d.gap_of(x.reaction, x.displacement);
+  const VectorXd gap_terms = absolute_product(d.flexibility, x.reaction) +
+                             absolute_product(d.coupling, x.displacement) + d.ground_gap.cwiseAbs();
   const double gap_scale = std::max(gap_terms.maxCoeff(), 1e-300);
   if (!tensionless) return std::max(residual, gap.lpNorm<Eigen::Infinity>() / gap_scale);
 
@@ -184,8 +186,8 @@ struct LcpOutcome {
 // sparse system [K C_A^T; C_A -T_AA] (active_set_system.hpp; refined in extended precision) gives
 // to round-off. The set is then the answer exactly when r_A >= 0 and gap_I >= 0 there, judged as
 // the fast solver judges them. A wrong set is reported, never returned.
-void settle_contact_set(const Discretisation& d, const VectorXd& load, const std::vector<int>& contact_nodes,
-                        std::string_view form, LcpOutcome& outcome) {
+void settle_contact_set(const Discretisation& d, const VectorXd& load, const VectorXd& offset,
+                        const std::vector<int>& contact_nodes, std::string_view form, LcpOutcome& outcome) {
   lcp::LemkeSummary& lemke = outcome.lemke;
   auto fail = [&](const std::string& why) {
     lemke.termination = lcp::LemkeTermination::numerical_failure;
@@ -206,7 +208,7 @@ void settle_contact_set(const Discretisation& d, const VectorXd& load, const std
     lemke.message += "; its contact set leaves a rigid motion free (a neutral balance), so Lemke's answer is kept";
     return;
   }
-  ContactState state = system.solve(load);
+  ContactState state = system.solve(load, offset);
   // As the fast solver's sign test (active_set_solver.cpp): signs are trusted beyond 1e-11 of their
   // scale or ten times the solve's own error estimate, whichever is larger.
   constexpr double max_solve_error = 1e-6;
@@ -215,8 +217,8 @@ void settle_contact_set(const Discretisation& d, const VectorXd& load, const std
                             state.error_estimate));
   const double tolerance = std::max(ActiveSetOptions{}.sign_tolerance, 10.0 * state.error_estimate);
   const double reaction_scale = state.reaction.lpNorm<Eigen::Infinity>();
-  const double gap_scale =
-      std::max((d.coupling * state.displacement).lpNorm<Eigen::Infinity>(), state.gap.lpNorm<Eigen::Infinity>());
+  const double gap_scale = std::max({(d.coupling * state.displacement).lpNorm<Eigen::Infinity>(),
+                                     state.gap.lpNorm<Eigen::Infinity>(), offset.lpNorm<Eigen::Infinity>()});
   int worst = -1;
   double worst_ratio = 0.0;
   for (int i = 0; i < d.reactions(); ++i) {
@@ -241,14 +243,16 @@ void settle_contact_set(const Discretisation& d, const VectorXd& load, const std
   outcome.unknowns.reaction = std::move(state.reaction);
 }
 
-LcpOutcome solve_dual(const Discretisation& d, const VectorXd& load, const lcp::LemkeOptions& options) {
+// `offset`: the ground gap c scaled as the load is; it is q's constant part (gap = T r - C u + c).
+LcpOutcome solve_dual(const Discretisation& d, const VectorXd& load, const VectorXd& offset,
+                      const lcp::LemkeOptions& options) {
   Eigen::SimplicialLDLT<fe::SparseMatrix> stiffness(d.stiffness);
   if (stiffness.info() != Eigen::Success)
     throw SolverFailure("the dual form could not factorise the stiffness matrix K; use method = \"primal\"");
   const MatrixXd flexibility_of_structure = stiffness.solve(MatrixXd(d.coupling.transpose()));  // K^-1 C^T
   const MatrixXd p = d.coupling * flexibility_of_structure + MatrixXd(d.flexibility);
   const VectorXd free_displacement = stiffness.solve(load);  // K^-1 F
-  const VectorXd q = -(d.coupling * free_displacement);
+  const VectorXd q = offset - d.coupling * free_displacement;
 
   const lcp::LemkeResult result = lcp::solve_lemke(p, q, options);
   LcpOutcome outcome;
@@ -259,11 +263,12 @@ LcpOutcome solve_dual(const Discretisation& d, const VectorXd& load, const lcp::
   // of two large vectors carries eps times their size, so its equilibrium residual was up to
   // 1e-12 of the row terms where a backward-stable solve leaves a few eps.
   outcome.unknowns.displacement = stiffness.solve(load - d.coupling.transpose() * result.z);
-  if (result.complementary) settle_contact_set(d, load, result.basic_z, "dual", outcome);
+  if (result.complementary) settle_contact_set(d, load, offset, result.basic_z, "dual", outcome);
   return outcome;
 }
 
-LcpOutcome solve_primal(const Discretisation& d, const VectorXd& load, const lcp::LemkeOptions& options) {
+LcpOutcome solve_primal(const Discretisation& d, const VectorXd& load, const VectorXd& offset,
+                        const lcp::LemkeOptions& options) {
   const int n = d.equations, m = d.reactions();
   const MatrixXd k(d.stiffness), c(d.coupling);
   MatrixXd lcp_matrix(2 * n + m, 2 * n + m);
@@ -271,7 +276,7 @@ LcpOutcome solve_primal(const Discretisation& d, const VectorXd& load, const lcp
       -k, k, -c.transpose(),           //
       -c, c, MatrixXd(d.flexibility);
   VectorXd q(2 * n + m);
-  q << -load, load, VectorXd::Zero(m);
+  q << -load, load, offset;
 
   const lcp::LemkeResult result = lcp::solve_lemke(lcp_matrix, q, options);
   LcpOutcome outcome;
@@ -283,7 +288,7 @@ LcpOutcome solve_primal(const Discretisation& d, const VectorXd& load, const lcp
     std::vector<int> contact_nodes;  // the reactions among the basic z: (u+, u-, r)
     for (int i : result.basic_z)
       if (i >= 2 * n) contact_nodes.push_back(i - 2 * n);
-    settle_contact_set(d, load, contact_nodes, "primal", outcome);
+    settle_contact_set(d, load, offset, contact_nodes, "primal", outcome);
   }
   return outcome;
 }
@@ -291,13 +296,13 @@ LcpOutcome solve_primal(const Discretisation& d, const VectorXd& load, const lcp
 // Bilateral foundation: the saddle-point system [K C^T; C -T] (u, r) = (F, 0), which is the
 // fixed-contact-set system with every node in contact.
 // Its round-off bound (Hager's estimate, up to 12 more solves) only on request, as for fast.
-bool solve_bilateral(const Discretisation& d, const VectorXd& load, bool estimate_round_off, Unknowns& x,
-                     ContactSummary& summary) {
+bool solve_bilateral(const Discretisation& d, const VectorXd& load, const VectorXd& offset, bool estimate_round_off,
+                     Unknowns& x, ContactSummary& summary) {
   ActiveSetSystem system(d);
   const bool factorised = system.factorise(std::vector<bool>(d.reactions(), true));
   summary.factorisations = system.factorisations();
   if (!factorised) return false;
-  ContactState state = system.solve(load);
+  ContactState state = system.solve(load, offset);
   summary.error_estimate = state.error_estimate;
   if (estimate_round_off && state.error_estimate <= acceptable_error)
     summary.round_off_bound = system.data_error(state, load);
@@ -349,14 +354,17 @@ ContactSolution solve_contact(const Discretisation& d, const ContactOptions& opt
     check_dense_size(d, summary.method);
 
   const VectorXd load = d.load(options.load_factor);
-  const double load_scale = load.lpNorm<Eigen::Infinity>();
+  // The problem is linear in (F, c) together: both are scaled by one number, the larger of them.
+  const VectorXd ground_gap = d.ground_gap.size() == d.reactions() ? d.ground_gap : VectorXd::Zero(d.reactions());
+  const double load_scale = std::max(load.lpNorm<Eigen::Infinity>(), ground_gap.lpNorm<Eigen::Infinity>());
+  const VectorXd offset = load_scale > 0.0 ? VectorXd(ground_gap / load_scale) : ground_gap;
   Unknowns x{VectorXd::Zero(d.equations), VectorXd::Zero(d.reactions())};
   summary.termination = ContactTermination::solved;
   summary.pivots = 0;
 
   auto solve_by_lemke = [&](Method method) {
-    LcpOutcome outcome = method == Method::dual ? solve_dual(d, load / load_scale, options.lemke)
-                                                : solve_primal(d, load / load_scale, options.lemke);
+    LcpOutcome outcome = method == Method::dual ? solve_dual(d, load / load_scale, offset, options.lemke)
+                                                : solve_primal(d, load / load_scale, offset, options.lemke);
     x = outcome.unknowns;
     summary.pivots = outcome.lemke.pivots;
     summary.lcp_size = outcome.size;
@@ -365,11 +373,11 @@ ContactSolution solve_contact(const Discretisation& d, const ContactOptions& opt
   };
 
   if (load_scale == 0.0) {
-    summary.message = "no load: the member stays where it is";
+    summary.message = "no load and no ground gap: the member stays where it is";
   } else if (!d.tensionless) {
     summary.method_reason = "bilateral foundation: one sparse solve, no LCP";
     summary.pivots = -1;
-    if (!solve_bilateral(d, load / load_scale, options.active_set.estimate_round_off, x, summary)) {
+    if (!solve_bilateral(d, load / load_scale, offset, options.active_set.estimate_round_off, x, summary)) {
       summary.termination = ContactTermination::numerical_failure;
       summary.message = "the bilateral system is singular: the structure is a mechanism even on the foundation";
     } else {
@@ -381,7 +389,7 @@ ContactSolution solve_contact(const Discretisation& d, const ContactOptions& opt
     // start within a coarse element of their place (2-3 sets here instead of 10 or more).
     CoarseStart start;
     if (d.uniform_member) start = coarse_start(*d.uniform_member, d, options.load_factor, options.active_set);
-    ActiveSetResult fast = solve_active_set(d, load / load_scale, options.active_set, std::move(start.initial));
+    ActiveSetResult fast = solve_active_set(d, load / load_scale, options.active_set, std::move(start.initial), offset);
     if (start.levels > 1 && fast.summary.is_usable())
       fast.summary.message += fmt::format(", started from a coarser mesh's set ({} sets on {} coarser meshes)",
                                           start.coarse_sets, start.levels - 1);
@@ -421,7 +429,7 @@ ContactSolution solve_contact(const Discretisation& d, const ContactOptions& opt
 
   solution.displacement = d.expand_displacement(x.displacement);
   solution.reaction = x.reaction;
-  solution.gap = d.flexibility * x.reaction - d.coupling * x.displacement;
+  solution.gap = d.gap_of(x.reaction, x.displacement);
   summary.residual = load_scale == 0.0 ? 0.0 : relative_residual(d, x, load, d.tensionless);
   // Lemke's own checks are in its scaled units; the answer must also hold in the mechanics'.
   if (summary.termination == ContactTermination::solved && !(summary.residual <= acceptable_residual)) {

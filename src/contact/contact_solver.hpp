@@ -77,7 +77,7 @@ struct ContactSummary {
 struct ContactSolution {
   Eigen::VectorXd displacement;  // nondimensional, on every dof (fixed dofs 0)
   Eigen::VectorXd reaction;      // nondimensional nodal reactions, one per reaction node
-  Eigen::VectorXd gap;           // T r - C u, the weighted gap at the reaction nodes
+  Eigen::VectorXd gap;           // T r - C u + c, the weighted gap at the reaction nodes
   ContactSummary summary;
 };
 

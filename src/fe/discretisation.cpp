@@ -177,6 +177,7 @@ Eigen::MatrixXd kernel(const Eigen::MatrixXd& a, int columns) {
 
 struct Assembly {
   Triplets stiffness, coupling, flexibility, stress_coupling;
+  Eigen::VectorXd ground_gap;  // reactions
   Eigen::VectorXd compliance;
   Eigen::VectorXd dead_load, live_load;  // on every dof
 };
@@ -190,6 +191,7 @@ Assembly assemble(const MemberModel& model, const Discretisation& d, const std::
   const bool beam = model.kind == StructureKind::beam;
   const int spe = d.stresses_per_element;
   a.compliance.resize(static_cast<Eigen::Index>(spe) * mesh.elements() + static_cast<Eigen::Index>(d.springs.size()));
+  a.ground_gap = Eigen::VectorXd::Zero(d.reactions());
 
   for (int e = 0; e < mesh.elements(); ++e) {
     const double h = mesh.element_size(e);
@@ -217,6 +219,13 @@ Assembly assemble(const MemberModel& model, const Discretisation& d, const std::
       for (int i = 0; i < 2; ++i) {
         for (int j = 0; j < 4; ++j) a.coupling.emplace_back(r[i], dofs[j], c(i, j));
         for (int j = 0; j < 2; ++j) a.flexibility.emplace_back(r[i], r[j], t(i, j));
+      }
+      if (model.has_ground_gap()) {
+        // g is linear in the element: its end values from two interior points (a step at a node
+        // has each side's value), then integral of Hb^T g = h/6 [2 g0 + g1, g0 + 2 g1].
+        const double g0 = model.ground_gap_in(mesh.nodes[e], h, 0.0), g1 = model.ground_gap_in(mesh.nodes[e], h, 1.0);
+        a.ground_gap[r[0]] += h / 6.0 * (2.0 * g0 + g1);
+        a.ground_gap[r[1]] += h / 6.0 * (g0 + 2.0 * g1);
       }
     }
 
@@ -346,15 +355,11 @@ Discretisation discretise(const MemberModel& model, Mesh mesh, std::vector<bool>
 
   // Settlements: u = u_f + v with u_f the prescribed w at the settled supports, so K v = F - K u_f
   // (a dead load: the ground moves the supports whatever the live load) and the gap is offset
-  // by -C u_f.
+  // by -C u_f (added to the ground gap c, not scaled by lambda either).
   d.prescribed = prescribed_displacement(model, d);
   if (!d.prescribed.isZero(0.0)) {
     for (const auto& t : a.stiffness) a.dead_load[t.row()] -= t.value() * d.prescribed[t.col()];
-    if (!(coupling_all * d.prescribed).isZero(0.0))
-      throw InputError(
-          "key 'supports': not implemented yet: a settlement of a support the foundation reaches (the settled "
-          "support's displacement offsets the foundation's gap); expected the foundation to stop short of the "
-          "settled support (foundation from/to) or a spring support with a settlement");
+    a.ground_gap -= coupling_all * d.prescribed;  // where the foundation reaches a settled support
   }
 
   // Rigid motions left free by the supports, split into those the foundation sees and those
@@ -418,6 +423,7 @@ Discretisation discretise(const MemberModel& model, Mesh mesh, std::vector<bool>
   d.stress_coupling = to_sparse(static_cast<int>(a.compliance.size()), d.equations, std::move(a.stress_coupling),
                                 nullptr, &d.equation_of_dof);
   d.compliance = std::move(a.compliance);
+  d.ground_gap = std::move(a.ground_gap);
   Eigen::MatrixXd on_equations(d.equations, d.unstable_rigid_motions);
   for (int dof = 0; dof < n && d.unstable_rigid_motions > 0; ++dof)
     if (d.equation_of_dof[dof] >= 0) on_equations.row(d.equation_of_dof[dof]) = d.free_rigid_motions.row(dof);

@@ -1,6 +1,7 @@
 #pragma once
 // The discrete structure-foundation system of one member on one mesh:
-//   K u + C^T r = F_dead + lambda F_live,   gap = T r - C u >= 0,  r >= 0,  r.gap = 0
+//   K u + C^T r = F_dead + lambda F_live,   gap = T r - C u + c >= 0,  r >= 0,  r.gap = 0
+// with c = ground_gap, the ground's distance below the axis (a constant offset, not scaled by lambda).
 // with u the structural dofs left free by the supports ("equations") and r the nodal foundation
 // reactions (one per node of the foundation's extent). Everything is nondimensional
 // (member_model.hpp) and sparse; dense matrices are built only by the LCP formulations.
@@ -38,6 +39,12 @@ class Discretisation {
   SparseMatrix stiffness;           // K: equations x equations
   SparseMatrix coupling;            // C: reactions x equations
   SparseMatrix flexibility;         // T: reactions x reactions
+  // c: reactions. The ground gap g(s) (MemberModel::ground_gap) tested by the reactions' shapes,
+  // c_i = integral of Hb_i g ds over the foundation's elements (as C u is of Hb_i w), so that
+  // gap = T r - C u + c is the discrete r/k - (w - g): contact where w >= g, r = k (w - g).
+  // Integrated exactly (g is linear within elements). Zero without a gap. Every consumer of T and
+  // C must add it: the LCPs' q, the fixed-set system's right-hand side, the gaps reported.
+  Eigen::VectorXd ground_gap;
   // The same stiffness in mixed (Hellinger-Reissner) form, K = G^T H^-1 G exactly, with element
   // stress resultants as extra unknowns (beam_element.hpp, arch_element.hpp): the saddle-point
   // system built on G and H has a condition number growing like N^2 where K's grows like N^4,
@@ -88,6 +95,13 @@ class Discretisation {
   int dofs() const { return static_cast<int>(equation_of_dof.size()); }
   int reactions() const { return static_cast<int>(reaction_nodes.size()); }
   int stresses() const { return static_cast<int>(compliance.size()); }
+  bool has_ground_gap() const { return ground_gap.size() > 0 && ground_gap.lpNorm<Eigen::Infinity>() > 0.0; }
+  // T r - C u + c: the discrete gap of an answer (u on the equations).
+  Eigen::VectorXd gap_of(const Eigen::VectorXd& reaction, const Eigen::VectorXd& displacement) const {
+    Eigen::VectorXd gap = flexibility * reaction - coupling * displacement;
+    if (ground_gap.size() == gap.size()) gap += ground_gap;
+    return gap;
+  }
   bool structure_is_stable() const { return unstable_rigid_motions == 0; }
   Eigen::VectorXd load(double load_factor) const { return dead_load + load_factor * live_load; }
   // Values on the equations -> values on every dof (fixed dofs 0): loads, corrections, directions.

@@ -1,8 +1,12 @@
 #include "fe/member_model.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+
+#include "core/error.hpp"
 
 namespace liftoff::fe {
 
@@ -46,6 +50,16 @@ std::vector<std::pair<double, double>> MemberModel::foundation_stretches() const
       stretches.emplace_back(piece.begin, piece.end);
   }
   return stretches;
+}
+
+double MemberModel::ground_gap(double s) const {
+  if (ground_gap_at.empty()) return 0.0;
+  if (s < ground_gap_at.front()) return ground_gap_value.front();
+  if (s >= ground_gap_at.back()) return ground_gap_value.back();
+  const auto upper = std::upper_bound(ground_gap_at.begin(), ground_gap_at.end(), s);
+  const std::size_t j = static_cast<std::size_t>(upper - ground_gap_at.begin()), i = j - 1;
+  const double t = (s - ground_gap_at[i]) / (ground_gap_at[j] - ground_gap_at[i]);
+  return ground_gap_value[i] + t * (ground_gap_value[j] - ground_gap_value[i]);
 }
 
 bool MemberModel::is_foundation_edge(double s) const {
@@ -120,6 +134,19 @@ MemberModel make_member_model(const scene::Scene& scene) {
   model.foundation_outside = structure.kind == StructureKind::arch && foundation.side == scene::FoundationSide::outside;
   model.foundation_begin = model.s_from_user(foundation.from);
   model.foundation_end = model.s_from_user(foundation.to);
+  for (std::size_t i = 0; i < foundation.gap_at.size(); ++i) {
+    model.ground_gap_at.push_back(model.s_from_user(foundation.gap_at[i]));
+    model.ground_gap_value.push_back(foundation.gap_value[i] / scales.displacement());
+  }
+  if (foundation.tension_modulus)
+    model.tension_modulus = *foundation.tension_modulus / modulus_scale;
+  else if (foundation.tension_stiffness_parameter)
+    model.tension_modulus = *foundation.tension_stiffness_parameter;
+  if (foundation.tension_modulus || foundation.tension_stiffness_parameter)
+    throw InputError(
+        fmt::format("{}: key 'foundation.{}': not implemented yet: the bilinear foundation (a modulus in "
+                    "tension); give tensionless = true without it, or tensionless = false",
+                    scene.source_name, foundation.tension_modulus ? "tension_modulus" : "tension_k"));
 
   for (const auto& load : scene.loads) {
     if (load.kind == LoadKind::distributed) {

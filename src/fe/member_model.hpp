@@ -99,6 +99,15 @@ struct MemberModel {
   bool foundation_outside = false;
   std::vector<MemberLoad> loads;
   Scales scales;
+  // The ground's distance g below the unloaded axis (radial for arches), nondimensional (over
+  // the length scale), piecewise linear in s between these points: s non-decreasing, a repeated
+  // s is a step, g constant beyond the ends. Empty: g = 0. Contact where w >= g.
+  std::vector<double> ground_gap_at;
+  std::vector<double> ground_gap_value;
+  // The bilinear foundation's k in tension (the scene's tension_modulus or tension_k), <= every
+  // piece's k; the reaction is k max(w - g, 0) + tension_modulus min(w - g, 0). The reader takes it,
+  // the numerics refuse it for now (make_member_model).
+  double tension_modulus = 0.0;
 
   // User coordinate (x, or theta in degrees) <-> member coordinate s.
   double s_from_user(double position) const;
@@ -119,6 +128,16 @@ struct MemberModel {
   // foundation_pieces, or for a model built in code without them (tests, references) the one
   // piece foundation_begin..foundation_end of modulus foundation_modulus.
   std::vector<FoundationPiece> pieces() const;
+  bool has_ground_gap() const { return !ground_gap_at.empty(); }
+  // g at s (0 without a gap). At a step's position: the value to its right. Called inside
+  // elements, where g is linear (the table's points are mesh breakpoints).
+  double ground_gap(double s) const;
+  // g at xi in [0, 1] of the element [a, a + h], the element's own linear g (at a step on one
+  // of its ends: that end's value from this element's side).
+  double ground_gap_in(double a, double h, double xi) const {
+    const double quarter = ground_gap(a + 0.25 * h), three_quarters = ground_gap(a + 0.75 * h);
+    return quarter + (xi - 0.25) * 2.0 * (three_quarters - quarter);
+  }
 };
 
 MemberModel make_member_model(const scene::Scene& scene);

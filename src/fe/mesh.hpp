@@ -3,10 +3,9 @@
 //
 // Every point where something happens (a point load or support, the ends of a uniform or
 // curvature load, the points of a distributed load's table, the ends of the foundation and of each
-// of its pieces) is a node, so point loads act at nodes and no element straddles a jump in the
-// data. The requested number of elements is shared among the segments between those points in
-// proportion to their lengths (at least one each), so a uniform mesh stays uniform when the points
-// fall on it.
+// of its pieces, the points of the ground-gap table) is a node, so point loads act at nodes and no element straddles a
+// jump in the data. The requested number of elements is shared among the segments between those points in proportion to
+// their lengths (at least one each), so a uniform mesh stays uniform when the points fall on it.
 //
 // Element sizes are stored, not taken as differences of node coordinates: every element of a
 // segment has the size (b - a) / count, computed once, so their matrices are bitwise identical

@@ -26,16 +26,22 @@ std::vector<Interval> contact_regions(const fe::MemberModel& model, const fe::Di
 
   double w_scale = 0.0;
   for (int node = 0; node < static_cast<int>(d.mesh.nodes.size()); ++node)
-    w_scale = std::max(w_scale, std::abs(displacement[d.deflection_dof(node)]));
+    w_scale = std::max(
+        {w_scale, std::abs(displacement[d.deflection_dof(node)]), std::abs(model.ground_gap(d.mesh.nodes[node]))});
   if (w_scale == 0.0) return {};
   const double threshold = 1e-12 * w_scale;
   const double edge = 1e-10 * model.length();
 
-  auto w_at = [&](int e, double xi) { return evaluate(d, displacement, e, xi).w; };
-  // Points where w changes sign, found by bisection on the element's cubic.
+  // w - g: contact where the member reaches the ground (w >= g).
+  auto w_at = [&](int e, double xi) {
+    return evaluate(d, displacement, e, xi).w - model.ground_gap_in(d.mesh.nodes[e], d.mesh.element_size(e), xi);
+  };
+  // Points where w - g changes sign, found by bisection on the element's cubic (g is linear there).
   // The ends of the stretches of foundation cut too: no region spans a void.
   std::vector<double> cuts;
   for (const auto& [a, b] : stretches) cuts.insert(cuts.end(), {a, b});
+  for (double s : model.ground_gap_at)  // a step of g is a node where w - g may change sign
+    if (s - begin > edge && end - s > edge) cuts.push_back(s);
   for (int e = 0; e < d.mesh.elements(); ++e) {
     const double s0 = d.mesh.nodes[e], h = d.mesh.element_size(e);
     if (model.foundation_modulus_at(s0 + 0.5 * h) == 0.0) continue;
@@ -43,7 +49,7 @@ std::vector<Interval> contact_regions(const fe::MemberModel& model, const fe::Di
     const std::vector<int> dofs = d.element_dofs(e);
     const Eigen::Vector4d w_dofs(displacement[dofs[0]], displacement[dofs[1]], displacement[dofs[2]],
                                  displacement[dofs[3]]);
-    auto w_in = [&](double xi) { return fe::hermite_cubic(xi, h).value.dot(w_dofs); };
+    auto w_in = [&](double xi) { return fe::hermite_cubic(xi, h).value.dot(w_dofs) - model.ground_gap_in(s0, h, xi); };
     for (int i = 0; i < brackets; ++i) {
       double a = static_cast<double>(i) / brackets, b = static_cast<double>(i + 1) / brackets;
       double wa = w_in(a), wb = w_in(b);

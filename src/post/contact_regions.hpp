@@ -1,8 +1,8 @@
 #pragma once
 // Contact regions: the parts of the foundation's extent where the member presses into it
-// (w > 0), as intervals of s whose ends are located inside elements, at the roots of the
-// element's cubic deflection, not snapped to nodes. A bilateral foundation is in contact
-// over its whole extent. No region spans a void between foundation pieces.
+// (w > g, the ground gap; g = 0 without one), as intervals of s whose ends are located inside elements, at the roots of
+// the element's cubic deflection, not snapped to nodes. A bilateral foundation is in contact over its whole extent. No
+// region spans a void between foundation pieces.
 
 #include <Eigen/Dense>
 #include <vector>

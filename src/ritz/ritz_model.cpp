@@ -54,6 +54,9 @@ RitzModel::RitzModel(const fe::MemberModel& model, int modes, Topology topology,
   if (model.foundation_pieces.size() > 1)  // none: a model built in code, one piece
     throw std::invalid_argument(
         "key 'foundation.segments': the moving-boundary model takes one foundation piece of constant modulus");
+  if (model.has_ground_gap())
+    throw std::invalid_argument(
+        "key 'foundation.gap': the moving-boundary model takes the ground at the member's axis (no ground gap)");
   topology_.validate();
   for (double value : {model.s_begin, model.s_end, model.membrane_stiffness, model.foundation_modulus,
                        model.foundation_begin, model.foundation_end})

@@ -116,6 +116,17 @@ struct Foundation {
   // between them allowed. Empty for the one-piece form (k or modulus on [from, to]).
   std::vector<FoundationSegment> segments;
   FoundationSide side = FoundationSide::inside;  // arches only (key `side`)
+  // The ground's distance g below the member's unloaded axis (key `gap` or `gap_file`), length
+  // units, piecewise linear in the user coordinate: positions non-decreasing (a repeated one is a
+  // step), g constant beyond the table's ends. Empty: g = 0. Contact where w >= g.
+  std::vector<double> gap_at;
+  std::vector<double> gap_value;
+  std::string gap_file;  // as written (gap_file), empty for an inline table or none
+  // The key that gave the gap, for messages ("foundation.gap" or "foundation.gap_file").
+  std::string gap_key() const { return gap_file.empty() ? "foundation.gap" : "foundation.gap_file"; }
+  // The bilinear foundation's modulus in tension (keys `tension_modulus` or `tension_k`).
+  std::optional<double> tension_modulus;
+  std::optional<double> tension_stiffness_parameter;
 };
 
 struct Load {

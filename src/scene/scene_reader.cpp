@@ -10,10 +10,14 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
 #include <initializer_list>
 #include <limits>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -39,7 +43,10 @@ const std::vector<TableSpec>& schema() {
   static const std::vector<TableSpec> tables = {
       {"structure", false, {"kind", "length", "radius", "half_angle_deg", "EI", "EA"}},
       {"supports", false, {"left", "right", "interior"}},
-      {"foundation", false, {"k", "modulus", "tensionless", "from", "to", "segments", "side"}},
+      {"foundation",
+       false,
+       {"k", "modulus", "tensionless", "from", "to", "segments", "side", "gap", "gap_file", "tension_modulus",
+        "tension_k"}},
       {"loads", true, {"kind", "at", "value", "from", "to", "case", "direction", "per"}},
       {"solve", false, {"method", "elements", "tolerance"}},
       {"ritz", false, {"modes", "max_modes", "mode_tolerance", "topology", "limits"}},
@@ -612,7 +619,113 @@ FoundationSegment read_segment(const Section& s, const Member& member) {
   return piece;
 }
 
+Foundation read_foundation_moduli(const Section& s, const Member& member);
+
+// A ground-gap table's positions: non-decreasing, each at most twice (a step).
+void check_gap_positions(const std::vector<double>& at, const std::function<void(std::string)>& fail) {
+  for (std::size_t i = 1; i < at.size(); ++i) {
+    if (at[i] < at[i - 1])
+      fail(
+          fmt::format("expected non-decreasing positions (a repeated one is a step), got at[{}] = {} after at[{}] = {}",
+                      i, at[i], i - 1, at[i - 1]));
+    if (i >= 2 && at[i] == at[i - 2])
+      fail(fmt::format("expected each position at most twice (a step), got {} three times", at[i]));
+  }
+}
+
+// `gap = { at = [...], value = [...] }`: at least one point; positions may lie beyond the member
+// (g is constant beyond the table's ends).
+void read_gap_table(const Section& s, Foundation& f) {
+  const toml::node* node = s.find("gap");
+  if (!node->is_table())
+    s.wrong("gap", "a table { at = [...], value = [...] } of the ground's distance below the axis");
+  const Section table(s.source(), *node->as_table(), s.path("gap"));
+  static const TableSpec spec{"foundation.gap", false, {"at", "value"}};
+  table.check_keys(spec);
+  f.gap_at = table.number_array("at", any_number(), "a non-empty array of non-decreasing positions");
+  check_gap_positions(f.gap_at, [&](const std::string& problem) { table.fail("at", problem); });
+  f.gap_value = table.number_array("value", any_number(), "an array of gaps (length), one per position in 'at'");
+  if (f.gap_value.size() != f.gap_at.size())
+    table.fail("value", fmt::format("expected one value per position in 'at' ({}), got {}", f.gap_at.size(),
+                                    f.gap_value.size()));
+}
+
+// `gap_file = "x.csv"` (relative to the scene's directory): two numbers a line, position and gap,
+// separated by a comma, semicolon or whitespace; lines that do not start with a number (headers,
+// blank lines) are skipped.
+void read_gap_file(const Section& s, Foundation& f) {
+  const toml::node* node = s.find("gap_file");
+  if (!node->is_string() || node->as_string()->get().empty())
+    s.wrong("gap_file", "the name of a two-column CSV file (position, gap)");
+  f.gap_file = node->as_string()->get();
+  std::filesystem::path file(f.gap_file);
+  if (file.is_relative()) file = std::filesystem::path(s.source()).parent_path() / file;
+  const std::string name = escaped(file.string());
+  std::ifstream in(file);
+  if (!in) s.fail("gap_file", fmt::format("cannot read {} ({})", name, std::strerror(errno)));
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    std::size_t first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos) continue;
+    const char c = line[first];
+    if (!(std::isdigit(static_cast<unsigned char>(c)) || c == '-' || c == '+' || c == '.')) continue;  // a header
+    for (char& ch : line)
+      if (ch == ',' || ch == ';' || ch == '\t' || ch == '\r') ch = ' ';
+    std::istringstream fields(line);
+    double position = 0.0, gap = 0.0;
+    std::string rest;
+    if (!(fields >> position >> gap) || (fields >> rest) || !std::isfinite(position) || !std::isfinite(gap))
+      s.fail("gap_file", fmt::format("{}:{}: expected two finite numbers (position, gap), got \"{}\"", name, number,
+                                     escaped(line.substr(first))));
+    f.gap_at.push_back(position);
+    f.gap_value.push_back(gap);
+  }
+  if (in.bad()) s.fail("gap_file", fmt::format("cannot read {} ({})", name, std::strerror(errno)));
+  if (f.gap_at.empty())
+    s.fail("gap_file", fmt::format("{}: expected at least one line of two numbers, got none", name));
+  check_gap_positions(f.gap_at,
+                      [&](const std::string& problem) { s.fail("gap_file", fmt::format("{}: {}", name, problem)); });
+}
+
+// The ground gap and the bilinear foundation's tension modulus (after the compression moduli).
+void read_gap_and_tension(const Section& s, Foundation& f) {
+  if (s.find("gap") != nullptr && s.find("gap_file") != nullptr)
+    s.fail("gap_file", "expected one of 'gap' and 'gap_file', got both");
+  if (s.find("gap") != nullptr) read_gap_table(s, f);
+  if (s.find("gap_file") != nullptr) read_gap_file(s, f);
+
+  const Range non_negative{"a number >= 0", 0.0, inf};
+  f.tension_modulus = s.number("tension_modulus", non_negative);
+  f.tension_stiffness_parameter = s.number("tension_k", non_negative);
+  if (!f.tension_modulus && !f.tension_stiffness_parameter) return;
+  const char* key = f.tension_modulus ? "tension_modulus" : "tension_k";
+  if (f.tension_modulus && f.tension_stiffness_parameter)
+    s.fail("tension_k", "expected one of 'tension_modulus' and 'tension_k', got both");
+  if (!f.tensionless)
+    s.fail(key, "not allowed with tensionless = false (a bilateral foundation resists tension with its full modulus)");
+  // The compression moduli, of the kind the tension modulus must share.
+  std::vector<std::pair<std::optional<double>, std::optional<double>>> compression;  // (k, modulus)
+  if (f.segments.empty()) compression.emplace_back(f.stiffness_parameter, f.modulus);
+  for (const FoundationSegment& piece : f.segments) compression.emplace_back(piece.stiffness_parameter, piece.modulus);
+  const double tension = f.tension_modulus ? *f.tension_modulus : *f.tension_stiffness_parameter;
+  for (const auto& [k, modulus] : compression) {
+    if (f.tension_modulus && !modulus)
+      s.fail(key, "expected 'tension_k' (nondimensional) for a foundation given by 'k', got 'tension_modulus'");
+    if (f.tension_stiffness_parameter && !k)
+      s.fail(key, "expected 'tension_modulus' for a foundation given by 'modulus', got 'tension_k'");
+    const double c = k ? *k : *modulus;
+    if (tension > c)
+      s.fail(key, fmt::format("expected at most the compression modulus {} everywhere, got {}", c, tension));
+  }
+}
+
 Foundation read_foundation(const Section& s, const Member& member) {
+  Foundation f = read_foundation_moduli(s, member);
+  read_gap_and_tension(s, f);
+  return f;
+}
+
+Foundation read_foundation_moduli(const Section& s, const Member& member) {
   Foundation f;
   f.tensionless = s.flag("tensionless").value_or(true);
   if (const toml::node* segments = s.find("segments"); segments != nullptr) {
