@@ -455,13 +455,13 @@ bool FePath::establish_start(double lambda) {
 }
 
 ContactTopology FePath::topology_at(double lambda) const {
-  return contact_topology(model_, d_, d_.expand(state_.displacement(lambda)), points_);
+  return contact_topology(model_, d_, d_.expand_displacement(state_.displacement(lambda)), points_);
 }
 
 TraceStep FePath::step_at(double lambda) {
   TraceStep step;
   step.load_factor = lambda;
-  const VectorXd displacement = d_.expand(state_.displacement(lambda));
+  const VectorXd displacement = d_.expand_displacement(state_.displacement(lambda));
   const VectorXd reaction = state_.reaction(lambda);
   for (const auto& region : post::contact_regions(model_, d_, displacement))
     step.contact_regions.push_back({model_.user_from_s(region.begin), model_.user_from_s(region.end)});
@@ -489,7 +489,7 @@ void FePath::emit_step(TraceStep step) {
   // against the discretisation is left to the solve of the same mesh (it costs a second solve).
   // A state that fails ends the path there, the steps before it valid.
   contact::ContactSolution answer;
-  answer.displacement = d_.expand(state_.displacement(step.load_factor));
+  answer.displacement = d_.expand_displacement(state_.displacement(step.load_factor));
   answer.reaction = state_.reaction(step.load_factor);
   certify::CertifyOptions certify_options;
   certify_options.load_factor = step.load_factor;

@@ -213,6 +213,11 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
         fmt::format("{}: key '{}': not implemented yet: a tolerance (the limit-fitted solve) with a ground "
                     "gap; expected no tolerance (the node-based FE solve on the scene's mesh)",
                     scene.source_name, scene.foundation.gap_key()));
+  if (model.has_settlements())
+    throw InputError(
+        fmt::format("{}: key 'supports': not implemented yet: a tolerance (the limit-fitted solve) with "
+                    "a settlement; expected no tolerance (the node-based FE solve on the scene's mesh)",
+                    scene.source_name));
   const int elements = request.elements.value_or(scene.solve.elements);
   FeResult node_based = solve_fe(scene, model, method, elements);
   const fe::Discretisation& d0 = node_based.discretisation;
@@ -273,7 +278,7 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   const contact::FittedResult& answer = refined.answer;
   const fe::Discretisation& d = answer.discretisation;
   contact::ContactSolution solution;
-  solution.displacement = d.expand(answer.state.displacement);
+  solution.displacement = d.expand_displacement(answer.state.displacement);
   solution.reaction = answer.state.reaction;
   solution.gap = d.flexibility * solution.reaction - d.coupling * answer.state.displacement;
   contact::ContactSummary& summary = solution.summary;

@@ -191,12 +191,27 @@ std::vector<std::string> trace_path_names(const scene::Scene& scene, const Trace
         fmt::format("{}: key '{}': not implemented yet: the trace paths with a ground gap (the gap is a "
                     "constant offset the paths do not carry yet); expected `liftoff solve` for this scene",
                     scene.source_name, scene.foundation.gap_key()));
+  {
+    const scene::Supports& sp = scene.supports;
+    if (sp.left_detail.settlement != 0.0 || sp.right_detail.settlement != 0.0 || !sp.interior_settlement.empty())
+      throw InputError(
+          fmt::format("{}: key 'supports': not implemented yet: the trace paths with a settlement (a dead load and "
+                      "a constant gap offset the paths do not carry yet); expected `liftoff solve` for this scene",
+                      scene.source_name));
+  }
   if (method != scene::Method::ritz) names.push_back("fe");
   if (method == scene::Method::ritz || method == scene::Method::all) {
     // As `solve --method ritz`: the Ritz model has no interior point supports (bad input, exit 2).
     // Nor arch loads other than radial ones (issue 12).
     std::string cannot;
     if (!scene.supports.interior.empty()) cannot = "interior point supports";
+    {
+      const scene::Supports& sp = scene.supports;
+      const bool elastic = sp.left_detail.spring || sp.right_detail.spring || !sp.interior_springs.empty();
+      const bool settles =
+          sp.left_detail.settlement != 0.0 || sp.right_detail.settlement != 0.0 || !sp.interior_settlement.empty();
+      if (elastic || settles) cannot = "springs (supports kind = \"spring\"), only rigid supports";
+    }
     if (scene.structure.kind == scene::StructureKind::arch && scene.foundation.side == scene::FoundationSide::outside)
       cannot = "foundation.side = \"outside\", only a foundation inside the arch";
     for (std::size_t i = 0; i < scene.loads.size() && cannot.empty(); ++i)

@@ -32,8 +32,8 @@ UserFigures user_figures(const Certificate& c, const fe::MemberModel& model) {
   const fe::Scales& scales = model.scales;
   UserFigures u;
   for (const SupportReaction& r : c.support_reactions)
-    u.support_reactions.push_back(
-        {model.user_from_s(r.at), r.force * scales.force(), r.moment * scales.moment(), r.tangential * scales.force()});
+    u.support_reactions.push_back({model.user_from_s(r.at), r.force * scales.force(), r.moment * scales.moment(),
+                                   r.tangential * scales.force(), r.spring, r.settlement * scales.displacement()});
   u.foundation_resultant = c.foundation_resultant * scales.force();
   u.foundation_centroid = model.user_from_s(c.foundation_centroid);
   u.applied_force = c.applied_force * scales.force();

@@ -103,6 +103,7 @@ inline constexpr std::string_view separation = "separation";
 inline constexpr std::string_view complementarity = "complementarity";
 inline constexpr std::string_view backward_error = "backward_error";
 inline constexpr std::string_view round_off = "round_off";
+inline constexpr std::string_view settlement = "settlement";
 }  // namespace check_name
 
 struct Check {
@@ -119,6 +120,8 @@ struct SupportReaction {
   double force = 0.0;       // pushes the member away from the foundation (beams: upward)
   double moment = 0.0;      // counterclockwise; 0 where the rotation is free
   double tangential = 0.0;  // arches: along increasing theta; 0 for beams
+  bool spring = false;      // an elastic support: force and moment are its springs'
+  double settlement = 0.0;  // the support's (or its spring's far end's) prescribed w, in l
 };
 
 struct Certificate {

@@ -115,12 +115,14 @@ VectorXd applied_nodal_loads(const fe::MemberModel& model, const fe::Discretisat
 }
 
 std::vector<SupportReaction> support_reactions(const fe::MemberModel& model, const fe::Discretisation& d,
-                                               const VectorXd& g, const std::vector<bool>& is_supported) {
-  std::vector<int> nodes;
-  if (model.left != EndSupport::free) nodes.push_back(0);
-  for (double s : model.point_supports)
-    if (d.mesh.node_at(s) >= 0) nodes.push_back(d.mesh.node_at(s));
-  if (model.right != EndSupport::free) nodes.push_back(d.mesh.elements());
+                                               const VectorXd& g, const std::vector<bool>& is_supported,
+                                               std::vector<int> nodes) {
+  if (nodes.empty()) {
+    if (model.left != EndSupport::free) nodes.push_back(0);
+    for (double s : model.point_supports)
+      if (d.mesh.node_at(s) >= 0) nodes.push_back(d.mesh.node_at(s));
+    if (model.right != EndSupport::free) nodes.push_back(d.mesh.elements());
+  }
   const bool arch = model.kind == StructureKind::arch;
   std::vector<SupportReaction> out;
   for (int node : nodes) {
@@ -131,6 +133,15 @@ std::vector<SupportReaction> support_reactions(const fe::MemberModel& model, con
     const double in = model.foundation_outside ? -1.0 : 1.0, moment = 0.0 - in * g_slope;
     out.push_back({d.mesh.nodes[node], 0.0 - g_w, moment, arch ? g_u + moment : 0.0});  // no -0
   }
+  return out;
+}
+
+std::vector<std::pair<double, double>> settlements(const fe::MemberModel& model) {
+  std::vector<std::pair<double, double>> out;
+  if (model.left != EndSupport::free) out.emplace_back(model.s_begin, model.left_settlement);
+  for (std::size_t i = 0; i < model.point_supports.size(); ++i)
+    out.emplace_back(model.point_supports[i], i < model.point_settlements.size() ? model.point_settlements[i] : 0.0);
+  if (model.right != EndSupport::free) out.emplace_back(model.s_end, model.right_settlement);
   return out;
 }
 

@@ -73,8 +73,12 @@ Eigen::VectorXd applied_nodal_loads(const fe::MemberModel& model, const fe::Disc
 // Support reactions from g, the generalised force each fixed dof's support exerts (in the dof's
 // own sense): force = -g_w, moment = -g_slope, tangential = g_u - g_slope (arches; with the
 // foundation outside moment = g_slope, tangential = g_u + g_slope).
+// `nodes`: the supports' nodes, or (empty) the rigid supports' nodes.
 std::vector<SupportReaction> support_reactions(const fe::MemberModel& model, const fe::Discretisation& d,
-                                               const Eigen::VectorXd& g, const std::vector<bool>& is_supported);
+                                               const Eigen::VectorXd& g, const std::vector<bool>& is_supported,
+                                               std::vector<int> nodes = {});
+// The settled rigid supports (s, delta), read from the model.
+std::vector<std::pair<double, double>> settlements(const fe::MemberModel& model);
 
 // The rigid motions of the balance, on every dof: beams translation (w = 1) and rotation about
 // the begin (w = s - s_begin, w' = 1); arches fe::rigid_motions (x, y, rotation about the centre).

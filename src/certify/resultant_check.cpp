@@ -97,10 +97,14 @@ ResultantCheck check_resultant(const fe::MemberModel& model, const fe::Discretis
   std::vector<int> fixed;
   for (int dof = 0; dof < d.dofs(); ++dof)
     if (d.equation_of_dof[dof] < 0) fixed.push_back(dof);
-  MatrixXd at_fixed(fixed.size(), modes.cols());
+  // A spring restrains the motions that stretch it, as a fixed dof does (fe::discretise).
+  MatrixXd at_fixed = MatrixXd::Zero(fixed.size() + d.springs.size(), modes.cols());
   for (std::size_t i = 0; i < fixed.size(); ++i) at_fixed.row(i) = modes.row(fixed[i]);
+  for (std::size_t i = 0; i < d.springs.size(); ++i)
+    for (const auto& [dof, coefficient] : d.springs[i].on)
+      at_fixed.row(fixed.size() + i) += coefficient * modes.row(dof);
   MatrixXd free_motions;
-  if (fixed.empty()) {
+  if (at_fixed.rows() == 0) {
     free_motions = modes;
   } else {
     Eigen::FullPivLU<MatrixXd> lu(at_fixed);

@@ -190,7 +190,7 @@ namespace {
 // coarse deflection (its Hermite cubic, the first four local dofs of both element kinds) exceeds the ground gap g.
 std::vector<bool> carried_contact_set(const fe::MemberModel& model, const fe::Discretisation& coarse,
                                       const VectorXd& coarse_displacement, const fe::Discretisation& fine) {
-  const VectorXd all = coarse.expand(coarse_displacement);
+  const VectorXd all = coarse.expand_displacement(coarse_displacement);
   std::vector<bool> in_contact(fine.reactions());
   int e = 0;  // the fine reaction nodes are in order along the member: walk the coarse elements once
   std::vector<int> dofs = coarse.element_dofs(e);

@@ -45,7 +45,8 @@ void ActiveSetSystem::reassemble() {
 void ActiveSetSystem::assemble() {
   const int n = d_.equations, ns = d_.stresses(), m = d_.reactions(), size = n + ns + m;
   const int elements = d_.mesh.elements(), spe = d_.stresses_per_element;
-  if (ns != spe * elements || d_.stress_coupling.rows() != ns || d_.stress_coupling.cols() != n)
+  if (ns != d_.element_stresses() + static_cast<int>(d_.springs.size()) || d_.stress_coupling.rows() != ns ||
+      d_.stress_coupling.cols() != n)
     throw std::invalid_argument("ActiveSetSystem: the discretisation has no mixed form (stress_coupling, compliance)");
 
   // Unknowns in order along the member: a node's dofs and reaction, then the element's interior
@@ -61,8 +62,16 @@ void ActiveSetSystem::assemble() {
     for (int k = 0; k < dofs.count; ++k)
       if (d_.equation_of_dof[dofs.dof[k]] >= 0) slot_[d_.equation_of_dof[dofs.dof[k]]] = next++;
   };
+  // A spring's stress goes with its node's dofs (the spring block of the stresses, discretisation.hpp).
+  std::vector<std::vector<int>> springs_of_node(d_.mesh.nodes.size());
+  for (std::size_t i = 0; i < d_.springs.size(); ++i)
+    springs_of_node[d_.springs[i].node].push_back(d_.element_stresses() + static_cast<int>(i));
   for (int node = 0; node <= elements; ++node) {
     place_dofs(node_dofs(d_, node));
+    for (int k : springs_of_node[node]) {
+      slot_[n + k] = next;
+      block_of_slot_[next++] = stress;
+    }
     if (reaction_of_node[node] >= 0) {
       slot_[n + ns + reaction_of_node[node]] = next;
       reaction_of_slot_[next] = reaction_of_node[node];

@@ -427,7 +427,7 @@ ContactSolution solve_contact(const Discretisation& d, const ContactOptions& opt
   x.displacement *= load_scale;
   x.reaction *= load_scale;
 
-  solution.displacement = d.expand(x.displacement);
+  solution.displacement = d.expand_displacement(x.displacement);
   solution.reaction = x.reaction;
   solution.gap = d.gap_of(x.reaction, x.displacement);
   summary.residual = load_scale == 0.0 ? 0.0 : relative_residual(d, x, load, d.tensionless);

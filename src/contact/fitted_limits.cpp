@@ -82,7 +82,7 @@ std::vector<ContactInterval> contact_intervals(const fe::Discretisation& d, cons
                                                const std::vector<bool>& in_contact) {
   if (static_cast<int>(in_contact.size()) != d.reactions())
     throw std::invalid_argument("contact_intervals: one contact flag per reaction node expected");
-  const VectorXd all = d.expand(displacement);
+  const VectorXd all = d.expand_displacement(displacement);
   std::vector<ContactInterval> regions;
   const int m = d.reactions();
   for (int i = 0; i < m; ++i) {
@@ -209,7 +209,7 @@ FittedResult solve_fitted_limits(const fe::MemberModel& model, double load_facto
     refinement.target_error = 1e-13;
     refinement.residual = false;
     result.state = system->solve(d.load(load_factor), refinement);
-    const VectorXd all = d.expand(result.state.displacement);
+    const VectorXd all = d.expand_displacement(result.state.displacement);
     double w_scale = 0.0;
     for (int node = 0; node <= d.mesh.elements(); ++node)
       w_scale = std::max(w_scale, std::abs(all[d.deflection_dof(node)]));
@@ -283,7 +283,7 @@ FittedResult solve_fitted_limits(const fe::MemberModel& model, double load_facto
 
   // The contact inequalities on the answer.
   const fe::Discretisation& d = result.discretisation;
-  const VectorXd all = d.expand(result.state.displacement);
+  const VectorXd all = d.expand_displacement(result.state.displacement);
   double w_scale = 0.0, r_scale = result.state.reaction.size() > 0 ? result.state.reaction.cwiseAbs().maxCoeff() : 0.0;
   for (int e = 0; e < d.mesh.elements(); ++e)
     for (int j = 0; j <= options.samples_per_element; ++j)

@@ -143,7 +143,7 @@ ToleranceResult refine_to_tolerance(const fe::MemberModel& model, double load_fa
                                     to_string(level.fitted.summary.termination), level.fitted.summary.message);
       return false;
     }
-    level.all = level.fitted.discretisation.expand(level.fitted.state.displacement);
+    level.all = level.fitted.discretisation.expand_displacement(level.fitted.state.displacement);
     summary.levels.push_back({level.fitted.discretisation.mesh.elements(), -1.0, -1.0, -1.0});
     summary.round_off_floor = round_off_floor(level, length);
     return true;

@@ -55,6 +55,12 @@ Eigen::VectorXd Discretisation::expand(const Eigen::VectorXd& on_equations) cons
   return all;
 }
 
+Eigen::VectorXd Discretisation::expand_displacement(const Eigen::VectorXd& on_equations) const {
+  Eigen::VectorXd all = expand(on_equations);
+  if (prescribed.size() == all.size()) all += prescribed;
+  return all;
+}
+
 namespace {
 
 int dof_count(StructureKind kind, int elements) {
@@ -87,6 +93,40 @@ std::vector<int> supported_dofs(const MemberModel& model, const Discretisation& 
   fix_end(d.mesh.elements(), model.right);
   for (double s : model.point_supports) fixed.push_back(d.deflection_dof(d.mesh.node_at(s)));
   return fixed;
+}
+
+// The rows of G of the elastic supports, one per spring (a support with both kinds has two; an
+// arch's translational spring two, on u and on w).
+std::vector<Discretisation::SpringRow> spring_rows(const MemberModel& model, const Discretisation& d) {
+  std::vector<Discretisation::SpringRow> rows;
+  const bool arch = model.kind == StructureKind::arch;
+  for (const SupportSpring& spring : model.springs) {
+    const int node = d.mesh.node_at(spring.s);
+    if (node < 0) throw std::invalid_argument("discretise: the mesh lacks a node at an elastic support");
+    if (spring.stiffness > 0.0) {
+      rows.push_back({node, DofRole::deflection, {{d.deflection_dof(node), 1.0}}, spring.stiffness, spring.settlement});
+      if (arch) rows.push_back({node, DofRole::tangential, {{d.tangential_dof(node), 1.0}}, spring.stiffness, 0.0});
+    }
+    if (spring.rotational_stiffness > 0.0) {
+      // The rotation a counterclockwise moment works on: -w' (beams), -(u + w') (arches; -(u - w')
+      // with the foundation outside), as the assembly's moment loads read it.
+      Discretisation::SpringRow row{node, DofRole::slope, {}, spring.rotational_stiffness, 0.0};
+      row.on.emplace_back(d.slope_dof(node), arch ? -arch_element::inward_sign(model.foundation_outside) : -1.0);
+      if (arch) row.on.emplace_back(d.tangential_dof(node), -1.0);
+      rows.push_back(row);
+    }
+  }
+  return rows;
+}
+
+// The displacement the settled supports prescribe, on every dof.
+Eigen::VectorXd prescribed_displacement(const MemberModel& model, const Discretisation& d) {
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(d.dofs());
+  if (model.left != EndSupport::free) u[d.deflection_dof(0)] = model.left_settlement;
+  if (model.right != EndSupport::free) u[d.deflection_dof(d.mesh.elements())] = model.right_settlement;
+  for (std::size_t i = 0; i < model.point_settlements.size() && i < model.point_supports.size(); ++i)
+    u[d.deflection_dof(d.mesh.node_at(model.point_supports[i]))] = model.point_settlements[i];
+  return u;
 }
 
 }  // namespace
@@ -150,7 +190,7 @@ Assembly assemble(const MemberModel& model, const Discretisation& d, const std::
   const Mesh& mesh = d.mesh;
   const bool beam = model.kind == StructureKind::beam;
   const int spe = d.stresses_per_element;
-  a.compliance.resize(static_cast<Eigen::Index>(spe) * mesh.elements());
+  a.compliance.resize(static_cast<Eigen::Index>(spe) * mesh.elements() + static_cast<Eigen::Index>(d.springs.size()));
   a.ground_gap = Eigen::VectorXd::Zero(d.reactions());
 
   for (int e = 0; e < mesh.elements(); ++e) {
@@ -208,6 +248,20 @@ Assembly assemble(const MemberModel& model, const Discretisation& d, const std::
         target[dofs[1]] += load.value;
         target[dofs[3]] -= load.value;
       }
+    }
+  }
+
+  // Springs: K += k a a^T, one more stress (row a of G, compliance 1/k); a settled spring's far
+  // end pulls with k delta (a dead load: the ground, not the live load, moves it).
+  for (std::size_t i = 0; i < d.springs.size(); ++i) {
+    const Discretisation::SpringRow& spring = d.springs[i];
+    const int row = spe * mesh.elements() + static_cast<int>(i);
+    a.compliance[row] = 1.0 / spring.stiffness;
+    for (const auto& [dof, coefficient] : spring.on) {
+      a.stress_coupling.emplace_back(row, dof, coefficient);
+      a.dead_load[dof] += spring.stiffness * spring.settlement * coefficient;
+      for (const auto& [other, other_coefficient] : spring.on)
+        a.stiffness.emplace_back(dof, other, spring.stiffness * coefficient * other_coefficient);
     }
   }
 
@@ -298,16 +352,30 @@ Discretisation discretise(const MemberModel& model, Mesh mesh, std::vector<bool>
     }
   }
 
+  d.springs = spring_rows(model, d);
   Assembly a = assemble(model, d, reaction_of_node);
   const SparseMatrix coupling_all = to_sparse(d.reactions(), n, a.coupling, nullptr, nullptr);
+
+  // Settlements: u = u_f + v with u_f the prescribed w at the settled supports, so K v = F - K u_f
+  // (a dead load: the ground moves the supports whatever the live load) and the gap is offset
+  // by -C u_f (added to the ground gap c, not scaled by lambda either).
+  d.prescribed = prescribed_displacement(model, d);
+  if (!d.prescribed.isZero(0.0)) {
+    for (const auto& t : a.stiffness) a.dead_load[t.row()] -= t.value() * d.prescribed[t.col()];
+    a.ground_gap -= coupling_all * d.prescribed;  // where the foundation reaches a settled support
+  }
 
   // Rigid motions left free by the supports, split into those the foundation sees and those
   // it cannot (C m = 0).
   std::vector<int> fixed = supported_dofs(model, d);
   const Eigen::MatrixXd modes = rigid_motions(model, d);
+  // A spring restrains whatever motion stretches it, like a fixed dof.
   auto free_motions = [&](const std::vector<int>& fixed_dofs) {
-    Eigen::MatrixXd at_fixed(fixed_dofs.size(), modes.cols());
+    Eigen::MatrixXd at_fixed = Eigen::MatrixXd::Zero(fixed_dofs.size() + d.springs.size(), modes.cols());
     for (std::size_t i = 0; i < fixed_dofs.size(); ++i) at_fixed.row(i) = modes.row(fixed_dofs[i]);
+    for (std::size_t i = 0; i < d.springs.size(); ++i)
+      for (const auto& [dof, coefficient] : d.springs[i].on)
+        at_fixed.row(fixed_dofs.size() + i) += coefficient * modes.row(dof);
     return Eigen::MatrixXd(modes * kernel(at_fixed, static_cast<int>(modes.cols())));
   };
   const Eigen::MatrixXd motions = free_motions(fixed);

@@ -49,9 +49,27 @@ class Discretisation {
   // stress resultants as extra unknowns (beam_element.hpp, arch_element.hpp): the saddle-point
   // system built on G and H has a condition number growing like N^2 where K's grows like N^4,
   // which is what lets contact::ActiveSetSystem solve meshes of 1e6 elements to round-off.
-  SparseMatrix stress_coupling;  // G: stresses x equations (stresses_per_element per element)
+  SparseMatrix stress_coupling;  // G: stresses x equations (see the two blocks below)
   Eigen::VectorXd compliance;    // H, diagonal: one per stress unknown
   int stresses_per_element = 0;
+  // The stresses are two blocks: stresses_per_element per element, in element order
+  // (element_stresses() of them), then one per spring of an elastic support, in `springs`' order.
+  // A spring is a stress like any other: its row of G reads the displacement it stretches (w;
+  // arches u and w separately; the rotation), its compliance is 1/stiffness, so K = G^T H^-1 G
+  // still holds exactly and the spring's force is its stress.
+  struct SpringRow {
+    int node = 0;                            // mesh node of the support
+    DofRole role = DofRole::deflection;      // deflection, tangential (arch u) or slope (the rotation)
+    std::vector<std::pair<int, double>> on;  // (dof, coefficient): the functional, on every dof
+    double stiffness = 0.0;                  // nondimensional
+    double settlement = 0.0;                 // the far end's displacement (deflection rows only)
+  };
+  std::vector<SpringRow> springs;
+  int element_stresses() const { return stresses_per_element * mesh.elements(); }
+  // Settlements: the displacement the supports prescribe on every dof (0 but at settled
+  // supports' w). The equations' unknowns are u - prescribed; the dead load carries -K u_f and a
+  // settled spring's k delta.
+  Eigen::VectorXd prescribed;
   // Which elements the foundation acts on (the member's extent, or the contact elements of a
   // limit-fitted solve), and the rigid motions the supports leave free, on the equations
   // (columns; the kernel of K, empty when the structure is stable).
@@ -91,8 +109,10 @@ class Discretisation {
   }
   bool structure_is_stable() const { return unstable_rigid_motions == 0; }
   Eigen::VectorXd load(double load_factor) const { return dead_load + load_factor * live_load; }
-  // Values on the equations -> values on every dof (fixed dofs 0).
+  // Values on the equations -> values on every dof (fixed dofs 0): loads, corrections, directions.
   Eigen::VectorXd expand(const Eigen::VectorXd& on_equations) const;
+  // A displacement on the equations -> on every dof, the settled supports' w included.
+  Eigen::VectorXd expand_displacement(const Eigen::VectorXd& on_equations) const;
 
   // Dof numbering. Beam: node j has (w, w') at 2j, 2j+1. Arch: node j has (u, w, w') at
   // 6j..6j+2 and element j's interior u at 6j+3..6j+5.

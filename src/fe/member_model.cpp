@@ -82,6 +82,13 @@ bool MemberModel::is_foundation_edge(double s) const {
   return false;
 }
 
+bool MemberModel::has_settlements() const {
+  bool any = left_settlement != 0.0 || right_settlement != 0.0;
+  for (double settlement : point_settlements) any = any || settlement != 0.0;
+  for (const SupportSpring& spring : springs) any = any || spring.settlement != 0.0;
+  return any;
+}
+
 MemberModel make_member_model(const scene::Scene& scene) {
   const auto& structure = scene.structure;
   MemberModel model;
@@ -103,6 +110,19 @@ MemberModel make_member_model(const scene::Scene& scene) {
   model.left = scene.supports.left;
   model.right = scene.supports.right;
   for (double position : scene.supports.interior) model.point_supports.push_back(model.s_from_user(position));
+  // Springs: k_s l^3/EI, k_r l/EI; settlements in l.
+  const double length = scales.length, ei = scales.bending_stiffness;
+  auto spring_at = [&](double s, const scene::SupportDetail& detail) {
+    return SupportSpring{s, detail.stiffness * length * length * length / ei, detail.rotational_stiffness * length / ei,
+                         detail.settlement / length};
+  };
+  if (scene.supports.left_detail.spring) model.springs.push_back(spring_at(model.s_begin, scene.supports.left_detail));
+  for (const scene::InteriorSpring& point : scene.supports.interior_springs)
+    model.springs.push_back(spring_at(model.s_from_user(point.at), point.detail));
+  if (scene.supports.right_detail.spring) model.springs.push_back(spring_at(model.s_end, scene.supports.right_detail));
+  if (!scene.supports.left_detail.spring) model.left_settlement = scene.supports.left_detail.settlement / length;
+  if (!scene.supports.right_detail.spring) model.right_settlement = scene.supports.right_detail.settlement / length;
+  for (double settlement : scene.supports.interior_settlement) model.point_settlements.push_back(settlement / length);
 
   const auto& foundation = scene.foundation;
   const double modulus_scale = scales.bending_stiffness / std::pow(scales.length, 4);

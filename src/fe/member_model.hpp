@@ -70,6 +70,16 @@ struct FoundationPiece {
   double largest_modulus() const { return end_modulus ? std::max(modulus, *end_modulus) : modulus; }
 };
 
+// An elastic support at s: a translational spring of stiffness k_s l^3/EI on w (arches: on u and
+// w alike), a rotational one of k_r l/EI on the rotation, the translational spring's far end
+// displaced by `settlement` (in l) along w (fe/discretisation.hpp says how each enters).
+struct SupportSpring {
+  double s = 0.0;
+  double stiffness = 0.0;
+  double rotational_stiffness = 0.0;
+  double settlement = 0.0;
+};
+
 struct MemberModel {
   StructureKind kind = StructureKind::beam;
   double s_begin = 0.0;
@@ -78,6 +88,13 @@ struct MemberModel {
   EndSupport left = EndSupport::pinned;
   EndSupport right = EndSupport::pinned;
   std::vector<double> point_supports;  // s
+  // Settlements of the rigid supports (in l): w = settlement there instead of 0. point_settlements
+  // is parallel to point_supports, or empty when none settles.
+  double left_settlement = 0.0;
+  double right_settlement = 0.0;
+  std::vector<double> point_settlements;
+  // Elastic supports ([supports] kind = "spring"), ends and interior points, sorted by s.
+  std::vector<SupportSpring> springs;
   // The foundation: pieces sorted, disjoint (they may abut), with voids between them allowed.
   // foundation_begin..foundation_end spans them all; foundation_modulus is the largest k (the
   // scale of the foundation's decay length), the only k when there is one constant piece.
@@ -121,6 +138,9 @@ struct MemberModel {
     return std::all_of(foundation_pieces.begin(), foundation_pieces.end(),
                        [](const FoundationPiece& p) { return p.is_constant(); });
   }
+  // Whether a support is elastic or settles: the Ritz model and the Ritz trace path refuse these.
+  bool has_springs() const { return !springs.empty(); }
+  bool has_settlements() const;
   // foundation_pieces, or for a model built in code without them (tests, references) the one
   // piece foundation_begin..foundation_end of modulus foundation_modulus.
   std::vector<FoundationPiece> pieces() const;

@@ -31,6 +31,7 @@ std::vector<double> mesh_breakpoints(const MemberModel& model) {
     points.push_back(piece.end);
   }
   for (double s : model.point_supports) points.push_back(s);
+  for (const SupportSpring& spring : model.springs) points.push_back(spring.s);
   for (double s : model.ground_gap_at) points.push_back(s);  // g is linear within elements
   for (const auto& load : model.loads) {
     if (load.kind == LoadKind::uniform || load.kind == LoadKind::curvature) {  // a distributed table's points too

@@ -175,6 +175,8 @@ nlohmann::json support_reactions_json(const SolveReport& r) {
   for (const certify::SupportReaction& s : r.certificate_figures.support_reactions) {
     nlohmann::json one{{"at", s.at}, {"force", s.force}, {"moment", s.moment}};
     if (r.kind == StructureKind::arch) one["tangential"] = s.tangential;
+    if (s.spring) one["spring"] = true;                         // an elastic support: its springs' force
+    if (s.settlement != 0.0) one["settlement"] = s.settlement;  // the support's prescribed w
     all.push_back(one);
   }
   return all;
@@ -333,8 +335,9 @@ std::string certificate_lines(const SolveReport& r) {
   if (!u.support_reactions.empty()) {
     std::string supports;
     for (const certify::SupportReaction& s : u.support_reactions) {
-      supports += fmt::format("{}{} = {:.6g}{}: force {:.6g}", supports.empty() ? "" : "; ", arch ? "theta" : "x", s.at,
-                              unit, s.force);
+      supports += fmt::format("{}{} = {:.6g}{}: {}force {:.6g}", supports.empty() ? "" : "; ", arch ? "theta" : "x",
+                              s.at, unit, s.spring ? "spring " : "", s.force);
+      if (s.settlement != 0.0) supports += fmt::format(", settlement {:.6g}", s.settlement);
       if (s.moment != 0.0) supports += fmt::format(", moment {:.6g}", s.moment);
       if (arch && s.tangential != 0.0) supports += fmt::format(", tangential {:.6g}", s.tangential);
     }

@@ -47,6 +47,10 @@ RitzModel::RitzModel(const fe::MemberModel& model, int modes, Topology topology,
       topology_(topology) {
   if (!model.point_supports.empty())
     throw std::invalid_argument("the Ritz model does not take interior point supports; use an FE method");
+  if (model.has_springs() || model.has_settlements())
+    throw std::invalid_argument(
+        "key 'supports': the moving-boundary model takes rigid supports without settlement only, not springs "
+        "(kind = \"spring\") or a settlement; use an FE method");
   if (model.foundation_pieces.size() > 1 || !model.foundation_modulus_is_constant())  // none: built in code, one piece
     throw std::invalid_argument(
         "key 'foundation.segments': the moving-boundary model takes one foundation piece of constant modulus");

@@ -69,10 +69,29 @@ struct Structure {
   std::optional<double> axial_stiffness;  // EA (required for arches)
 };
 
+// The table form of a support (keys kind, stiffness, rotational_stiffness, settlement): springs
+// (stiffness: force per length, on w; arches on u and w alike; rotational_stiffness: moment per
+// radian) and a settlement (length: the support, or a spring's far end, is displaced to
+// w = settlement, > 0 into the foundation). A spring end is otherwise free (its EndSupport is free).
+struct SupportDetail {
+  bool spring = false;
+  double stiffness = 0.0;
+  double rotational_stiffness = 0.0;
+  double settlement = 0.0;
+};
+struct InteriorSpring {
+  double at = 0.0;  // strictly inside
+  SupportDetail detail;
+};
+
 struct Supports {
   EndSupport left = EndSupport::pinned;
   EndSupport right = EndSupport::pinned;
   std::vector<double> interior;  // point supports (w = 0) strictly inside, sorted ascending
+  // The table forms (all zero for the string form and for plain interior numbers).
+  SupportDetail left_detail, right_detail;
+  std::vector<double> interior_settlement;       // parallel to interior (empty: none settles)
+  std::vector<InteriorSpring> interior_springs;  // elastic point supports, sorted by at
 };
 
 // One piece of the foundation ([[foundation.segments]]): its extent and its modulus, exactly one

@@ -278,6 +278,10 @@ class Section {
   double required_number(std::string_view key, const Range& range) const {
     return required(number(key, range), key, range.expected);
   }
+  // One number given as a node (an array's item), at item_path for messages.
+  double number_at(const toml::node& node, const std::string& item_path, const Range& range) const {
+    return checked(node, item_path, range);
+  }
 
   // An array of distinct numbers, each within the range.
   std::vector<double> numbers(std::string_view key, const Range& range) const {
@@ -475,20 +479,110 @@ Structure read_structure(const Section& s) {
   return st;
 }
 
+// The table form of a support: { kind, stiffness, rotational_stiffness, settlement } (ends) or
+// { at, kind, ... } (interior points: kind pinned or spring). Returns the kind (free for a spring).
+EndSupport read_support_table(const Section& t, const Member& member, bool interior, SupportDetail& detail) {
+  const std::string name = t.path("");
+  const TableSpec spec{
+      std::string_view(name).substr(0, name.size() - 1), false,
+      interior ? std::vector<std::string_view>{"at", "kind", "stiffness", "rotational_stiffness", "settlement"}
+               : std::vector<std::string_view>{"kind", "stiffness", "rotational_stiffness", "settlement"}};
+  t.check_keys(spec);
+  const toml::node* kind_node = t.find("kind");
+  const toml::value<std::string>* kind_text = kind_node != nullptr ? kind_node->as_string() : nullptr;
+  const std::string expected = interior      ? R"("pinned" or "spring")"
+                               : member.arch ? R"("spring", "pinned", "roller", "clamped" or "free")"
+                                             : R"("spring", "pinned", "clamped" or "free")";
+  if (kind_node == nullptr) t.missing("kind", expected);
+  EndSupport kind = EndSupport::free;
+  if (kind_text != nullptr && kind_text->get() == "spring") {
+    detail.spring = true;
+  } else if (interior) {
+    if (kind_text == nullptr || kind_text->get() != "pinned") t.wrong("kind", expected);
+    kind = EndSupport::pinned;
+  } else {
+    const std::string text = kind_text != nullptr ? kind_text->get() : std::string();
+    if (text != "pinned" && text != "clamped" && text != "free" && text != "roller") t.wrong("kind", expected);
+    const auto choice =
+        member.arch ? t.choice("kind", {EndSupport::pinned, EndSupport::roller, EndSupport::clamped, EndSupport::free})
+                    : t.choice("kind", {EndSupport::pinned, EndSupport::clamped, EndSupport::free},
+                               {"roller", "for a beam, roller is the same as pinned"});
+    kind = *choice;
+  }
+  const Range non_negative{"a number >= 0", 0.0, inf};
+  if (detail.spring) {
+    detail.stiffness = t.number("stiffness", non_negative).value_or(0.0);
+    detail.rotational_stiffness = t.number("rotational_stiffness", non_negative).value_or(0.0);
+    if (!(detail.stiffness > 0.0) && !(detail.rotational_stiffness > 0.0))
+      t.fail(t.find("stiffness") != nullptr ? "stiffness" : "rotational_stiffness",
+             "expected a spring with stiffness > 0 or rotational_stiffness > 0 (or both), got neither");
+  } else {
+    for (const auto key : {"stiffness", "rotational_stiffness"})
+      t.refuse(key, fmt::format("on a support of kind \"{}\" (springs only: kind = \"spring\")", to_string(kind)));
+  }
+  if (kind == EndSupport::free && !detail.spring)
+    t.refuse("settlement", "on a free end (a free end has no support to settle)");
+  if (detail.spring && !(detail.stiffness > 0.0))
+    t.refuse("settlement",
+             "on a spring without translational stiffness (the settlement displaces the spring's far end along w)");
+  detail.settlement = t.number("settlement", any_number()).value_or(0.0);
+  return kind;
+}
+
 Supports read_supports(const Section& s, const Member& member) {
   Supports sp;
-  for (const auto& [key, end] : {std::pair{"left", &sp.left}, std::pair{"right", &sp.right}}) {
+  for (const auto& [key, end, detail] :
+       {std::tuple{"left", &sp.left, &sp.left_detail}, std::tuple{"right", &sp.right, &sp.right_detail}}) {
+    if (const toml::node* node = s.find(key); node != nullptr && node->is_table()) {
+      *end = read_support_table(s.section(key), member, false, *detail);
+      continue;
+    }
     const auto support =
         member.arch ? s.choice(key, {EndSupport::pinned, EndSupport::roller, EndSupport::clamped, EndSupport::free})
                     : s.choice(key, {EndSupport::pinned, EndSupport::clamped, EndSupport::free},
                                {"roller", "for a beam, roller is the same as pinned"});
     if (!support) {
-      s.missing(key, member.arch ? R"("pinned", "roller", "clamped" or "free")" : R"("pinned", "clamped" or "free")");
+      s.missing(key, member.arch ? R"("pinned", "roller", "clamped" or "free", or a table { kind = ... })"
+                                 : R"("pinned", "clamped" or "free", or a table { kind = ... })");
     }
     *end = *support;
   }
-  sp.interior = s.numbers("interior", member.inside());
-  std::sort(sp.interior.begin(), sp.interior.end());
+  // interior: numbers (rigid points) or tables { at, kind = "pinned" | "spring", ... }.
+  std::vector<std::pair<double, SupportDetail>> points;
+  if (const toml::node* node = s.find("interior"); node != nullptr) {
+    const toml::array* array = node->as_array();
+    if (array == nullptr) s.wrong("interior", "an array of positions or tables { at = ..., kind = ... }");
+    const Range inside = member.inside();
+    for (std::size_t i = 0; i < array->size(); ++i) {
+      const toml::node& item = *array->get(i);
+      const std::string item_path = fmt::format("{}[{}]", s.path("interior"), i);
+      SupportDetail detail;
+      double at = 0.0;
+      if (item.is_table()) {
+        const Section t(s.source(), *item.as_table(), item_path);
+        read_support_table(t, member, true, detail);
+        at = t.required_number("at", inside);
+      } else {
+        at = s.number_at(item, item_path, inside);
+      }
+      for (const auto& [earlier, unused] : points)
+        if (std::abs(at - earlier) <= inside.tolerance)
+          fail(s.source(), &item.source(), item_path, fmt::format("expected distinct positions, got {} twice", at));
+      points.emplace_back(at, detail);
+    }
+  }
+  std::sort(points.begin(), points.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  bool settles = false;
+  for (const auto& [at, detail] : points) {
+    if (detail.spring) {
+      sp.interior_springs.push_back({at, detail});
+      continue;
+    }
+    sp.interior.push_back(at);
+    sp.interior_settlement.push_back(detail.settlement);
+    settles = settles || detail.settlement != 0.0;
+  }
+  if (!settles) sp.interior_settlement.clear();
   return sp;
 }
 

@@ -472,3 +472,53 @@ TEST_CASE("a modulus linear within a piece: the certificate checks the reaction 
     CHECK_FALSE(check(c, certify::check_name::complementarity).passed);
   }
 }
+
+TEST_CASE("springs and settlements: certified, and an answer that dropped either is not",
+          "[certify][springs][settlement]") {
+  // Both ends on springs (the left one settled), an interior spring: the answer passes. The
+  // answer of the same beam with the left spring removed (its end free, the same equations)
+  // fails: the spring's force k (w - delta) is missing from its equilibrium.
+  scene::Scene s = test::beam_scene(1.0, 1.0, EndSupport::free, EndSupport::free, 3e3);
+  s.supports.left_detail = {true, 200.0, 0.0, 1e-3};
+  s.supports.right_detail = {true, 1e3, 5.0, 0.0};
+  s.supports.interior_springs.push_back({0.5, {true, 500.0, 0.0, 0.0}});
+  s.loads = {test::point_force(0.3, 5.0), test::point_moment(0.7, -2.2)};
+  const test::Solved good = test::solve(s, Method::fast, 100);
+  const certify::Certificate passed = certify_solved(good);
+  CHECK(passed.passed);
+  // The springs are reported as supports: force k (w - delta), moment of the rotational one.
+  int springs = 0;
+  for (const certify::SupportReaction& r : passed.support_reactions) springs += r.spring;
+  CHECK(springs == 3);
+  const double w0 = good.solution.displacement[good.discretisation.deflection_dof(0)];
+  CHECK(passed.support_reactions.front().force == Approx(200.0 * (w0 - 1e-3)).epsilon(1e-12));
+
+  scene::Scene dropped = s;
+  dropped.supports.left_detail = {};
+  test::Solved spoilt = test::solve(dropped, Method::fast, 100);
+  REQUIRE(spoilt.discretisation.equations == good.discretisation.equations);
+  spoilt.model = good.model;
+  spoilt.discretisation = good.discretisation;
+  const certify::Certificate failed = certify_solved(spoilt);
+  CHECK_FALSE(failed.passed);
+  CHECK_FALSE(check(failed, certify::check_name::backward_error).passed);
+
+  // A settled end: w = delta is checked, so the answer of the unsettled beam fails.
+  scene::Scene settled = test::beam_scene(1.0, 1.0, EndSupport::pinned, EndSupport::pinned, 1e4);
+  settled.supports.left_detail.settlement = 2e-3;
+  settled.supports.right_detail.settlement = -1e-3;
+  settled.loads = {test::point_moment(0.0, 1.0), test::point_moment(1.0, 1.0)};
+  const test::Solved sound = test::solve(settled, Method::fast, 100);
+  const certify::Certificate ok = certify_solved(sound);
+  CHECK(ok.passed);
+  CHECK(check(ok, certify::check_name::settlement).passed);
+  CHECK(ok.support_reactions.front().settlement == 2e-3);
+  scene::Scene unsettled = settled;
+  unsettled.supports.left_detail.settlement = unsettled.supports.right_detail.settlement = 0.0;
+  test::Solved wrong = test::solve(unsettled, Method::fast, 100);
+  wrong.model = sound.model;
+  wrong.discretisation = sound.discretisation;
+  const certify::Certificate refused = certify_solved(wrong);
+  CHECK_FALSE(refused.passed);
+  CHECK_FALSE(check(refused, certify::check_name::settlement).passed);
+}

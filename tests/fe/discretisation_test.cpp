@@ -2,6 +2,7 @@
 #include "fe/discretisation.hpp"
 
 #include <catch2/catch.hpp>
+#include <limits>
 
 #include "core/error.hpp"
 #include "fe/mesh.hpp"
@@ -133,4 +134,101 @@ TEST_CASE("the ground gap vector is the integral of Hb^T g, exact for a piecewis
   s.foundation.gap_at.clear();
   s.foundation.gap_value.clear();
   CHECK(fe::discretise(fe::make_member_model(s), 9).ground_gap.isZero(0.0));
+}
+
+namespace {
+// A beam (or the seed arch) with elastic supports set in code: k_s, k_r nondimensional (L = EI = 1).
+scene::Scene spring_beam(double left_k, double left_rotational, double interior_k) {
+  scene::Scene s = test::beam_scene(1.0, 1.0, EndSupport::free, EndSupport::pinned, 1e3);
+  s.supports.left_detail = {true, left_k, left_rotational, 0.0};
+  if (interior_k > 0) s.supports.interior_springs.push_back({0.4, {true, interior_k, 0.0, 0.0}});
+  s.loads = {test::point_force(0.5, 1.0)};
+  return s;
+}
+}  // namespace
+
+TEST_CASE("springs: one more stress each, so K = G^T H^-1 G still holds; K gains k a a^T", "[fe][springs]") {
+  const fe::Discretisation plain = fe::discretise(fe::make_member_model(spring_beam(0, 0, 0)), 10);
+  scene::Scene arch_scene = test::shipped_scene("seed_arch_pinned");
+  arch_scene.supports.left = EndSupport::free;
+  arch_scene.supports.left_detail = {true, 30.0, 7.0, 0.0};
+  for (const scene::Scene& s : {spring_beam(250.0, 40.0, 90.0), arch_scene}) {
+    const fe::Discretisation d = fe::discretise(fe::make_member_model(s), 10);
+    const bool arch = d.kind == fe::StructureKind::arch;
+    // Beam: translational and rotational at the left, translational inside; arch: u, w and rotation.
+    CHECK(d.springs.size() == 3u);
+    CHECK(d.stresses() == d.element_stresses() + 3);
+    const Eigen::MatrixXd g(d.stress_coupling);
+    const Eigen::MatrixXd k = g.transpose() * d.compliance.cwiseInverse().asDiagonal() * g;
+    CHECK((k - Eigen::MatrixXd(d.stiffness)).norm() <= 1e-12 * Eigen::MatrixXd(d.stiffness).norm());
+    if (arch) continue;
+    // Against the beam without springs, with the left end's w free in both (the same equations):
+    // K - K_plain = k_s e_w e_w^T + k_r e_w' e_w'^T + k_i e_w(0.4) e_w(0.4)^T, exactly.
+    REQUIRE(d.equations == plain.equations);
+    Eigen::MatrixXd difference = Eigen::MatrixXd(d.stiffness) - Eigen::MatrixXd(plain.stiffness);
+    const int w0 = d.equation_of_dof[d.deflection_dof(0)], slope0 = d.equation_of_dof[d.slope_dof(0)];
+    const int w4 = d.equation_of_dof[d.deflection_dof(d.mesh.node_at(0.4))];
+    // Exact but for the rounding of sums of K's entries (~12/h^3): a few ulps of the largest.
+    const double round_off =
+        64 * std::numeric_limits<double>::epsilon() * Eigen::MatrixXd(plain.stiffness).cwiseAbs().maxCoeff();
+    CHECK(std::abs(difference(w0, w0) - 250.0) <= round_off);
+    CHECK(std::abs(difference(slope0, slope0) - 40.0) <= round_off);
+    CHECK(std::abs(difference(w4, w4) - 90.0) <= round_off);
+    difference(w0, w0) = difference(slope0, slope0) = difference(w4, w4) = 0.0;
+    CHECK(difference.cwiseAbs().maxCoeff() <= round_off);
+  }
+}
+
+TEST_CASE("springs restrain rigid motions: a free-free beam on end springs is stable", "[fe][springs][stability]") {
+  scene::Scene s = test::beam_scene(1.0, 1.0, EndSupport::free, EndSupport::free, 1e3);
+  s.loads = {test::point_force(0.5, 1.0)};
+  auto unstable = [&](const scene::Scene& scene) {
+    return fe::discretise(fe::make_member_model(scene), 10).unstable_rigid_motions;
+  };
+  CHECK(unstable(s) == 2);
+  s.supports.left_detail = {true, 10.0, 0.0, 0.0};
+  CHECK(unstable(s) == 1);  // the rotation about the left end
+  s.supports.right_detail = {true, 10.0, 0.0, 0.0};
+  CHECK(unstable(s) == 0);
+  s.supports.right_detail = {};
+  s.supports.left_detail = {true, 10.0, 5.0, 0.0};  // translational and rotational at one end
+  CHECK(unstable(s) == 0);
+
+  // A mechanism stays a mechanism: an arch on rollers driven round its centre by a tangential
+  // force is refused; a spring at an interior point resists that rotation (it stretches along u).
+  scene::Scene arch = test::shipped_scene("seed_arch_pinned");
+  arch.supports.left = arch.supports.right = EndSupport::roller;
+  scene::Load push = test::point_force(5.0, 1.0);
+  push.direction = scene::LoadDirection::tangential;
+  arch.loads = {push};
+  CHECK_THROWS_AS(fe::discretise(fe::make_member_model(arch), 20), MechanismError);
+  arch.supports.interior_springs.push_back({10.0, {true, 3.0, 0.0, 0.0}});
+  const fe::Discretisation held = fe::discretise(fe::make_member_model(arch), 20);
+  CHECK(held.unstable_rigid_motions == 0);
+  CHECK(held.gauge_note.empty());
+}
+
+TEST_CASE("settlements: w = delta on the settled dof, the dead load -K u_f moves the member with it",
+          "[fe][settlement]") {
+  // Both ends of a clamped beam settle by delta: the exact answer is the rigid translation
+  // w = delta, w' = 0, whatever the mesh (the foundation is not in K).
+  const double delta = 0.0125;
+  scene::Scene s = test::beam_scene(1.0, 1.0, EndSupport::clamped, EndSupport::clamped, 1e3);
+  s.supports.left_detail.settlement = s.supports.right_detail.settlement = delta;
+  const fe::Discretisation d = fe::discretise(fe::make_member_model(s), 16);
+  const int left_w = d.deflection_dof(0);
+  CHECK(d.equation_of_dof[left_w] < 0);
+  const Eigen::VectorXd v = Eigen::MatrixXd(d.stiffness).ldlt().solve(d.load(1.0));
+  const Eigen::VectorXd u = d.expand_displacement(v);
+  CHECK(u[left_w] == delta);        // prescribed, exactly
+  CHECK(d.expand(v)[left_w] == 0);  // expand is for loads and corrections: fixed dofs 0
+  // K's condition ~ N^4 = 6.6e4 at 16 elements: 1e-10 relative covers the solve's round-off.
+  for (int node = 0; node <= d.mesh.elements(); ++node) {
+    CHECK(u[d.deflection_dof(node)] == Approx(delta).epsilon(1e-10));
+    CHECK(std::abs(u[d.slope_dof(node)]) <= 1e-10 * delta);
+  }
+  // The foundation reaches the settled ends: its gap carries -C u_f (as a ground gap would).
+  REQUIRE(d.ground_gap.size() == d.reactions());
+  CHECK(d.ground_gap[0] < 0.0);                   // pushed into the ground at the end
+  CHECK(d.ground_gap[d.reactions() / 2] == 0.0);  // the middle node's shapes do not reach the ends
 }

@@ -144,6 +144,22 @@ Draft valid_scene(Random& random, const SceneLimits& limits) {
   Table supports{"supports", false, {}};
   supports.entries.push_back({"left", quoted(random.pick(ends)), Type::name});
   supports.entries.push_back({"right", quoted(random.pick(ends)), Type::name});
+  // Issue 12: an end as a table, a spring (a free end's) or a settlement (a supported end's).
+  for (Entry& end : supports.entries) {
+    if (!random.chance(0.15)) continue;
+    const std::string kind = end.value.substr(1, end.value.size() - 2);
+    const std::string settlement =
+        toml_number((random.chance(0.5) ? 1.0 : -1.0) * random.log_uniform(1e-6, 1e-3) * length_scale);
+    if (kind == "free")
+      end.value = "{ kind = \"spring\", stiffness = " +
+                  toml_number(random.log_uniform(1e-2, 1e4) * force_scale / length_scale) +
+                  (random.chance(0.4) ? ", rotational_stiffness = " +
+                                            toml_number(random.log_uniform(1e-2, 1e3) * force_scale * length_scale)
+                                      : "") +
+                  (random.chance(0.3) ? ", settlement = " + settlement : "") + " }";
+    else
+      end.value = "{ kind = " + end.value + ", settlement = " + settlement + " }";
+  }
   std::vector<double> interior;
   if (random.chance(d.arch ? 0.1 : 0.15)) {
     const int n = random.integer(1, 2);
@@ -156,7 +172,13 @@ Draft valid_scene(Random& random, const SceneLimits& limits) {
         interior.push_back(x);
     }
     std::string list;
-    for (double x : interior) list += (list.empty() ? "" : ", ") + toml_number(x);
+    for (double x : interior)  // issue 12: some as tables, elastic or settled
+      list += (list.empty() ? "" : ", ") +
+              (random.chance(0.7)   ? toml_number(x)
+               : random.chance(0.5) ? "{ at = " + toml_number(x) + ", kind = \"spring\", stiffness = " +
+                                          toml_number(random.log_uniform(1e-2, 1e4) * force_scale / length_scale) + " }"
+                                    : "{ at = " + toml_number(x) + ", kind = \"pinned\", settlement = " +
+                                          toml_number(random.log_uniform(1e-6, 1e-3) * length_scale) + " }");
     supports.entries.push_back({"interior", "[" + list + "]", Type::positions});
   }
   d.tables.push_back(supports);
@@ -763,6 +785,30 @@ Mutant mutate(Random& random, Draft d) {
         return done("malformed gap or tension " + std::to_string(kind), true);
       }
       if (random.chance(0.5)) return malformed_segments(random, std::move(d));
+      if (random.chance(0.3)) {  // issue 12: a malformed support table
+        const std::string mid = toml_number(d.begin + 0.5 * (d.end - d.begin));
+        const std::vector<std::string> bad = {"{ kind = \"spring\", stiffness = -1.0 }",
+                                              "{ kind = \"spring\" }",
+                                              "{ kind = \"free\", settlement = 0.01 }",
+                                              "{ kind = \"hinge\" }",
+                                              "{ kind = \"pinned\", stiffness = 5.0 }",
+                                              "{ settlement = 0.01 }",
+                                              "{ kind = \"spring\", stiffness = 1.0, stifness = 1.0 }"};
+        if (random.chance(0.7)) {
+          d.find("supports", random.chance(0.5) ? "left" : "right")->value = random.pick(bad);
+        } else {
+          Table& supports = *d.find("supports");
+          std::erase_if(supports.entries, [](const Entry& e) { return e.key == "interior"; });
+          supports.entries.push_back(
+              {"interior",
+               random.pick(std::vector<std::string>{
+                   "[{ at = " + toml_number(d.end + (d.end - d.begin)) + ", kind = \"spring\", stiffness = 1.0 }]",
+                   "[{ at = " + mid + ", kind = \"clamped\" }]", "[{ kind = \"pinned\" }]",
+                   "[{ at = " + mid + ", kind = \"spring\", stiffness = -2.0 }]"}),
+               Type::positions});
+        }
+        return done("malformed support table", true);
+      }
       std::vector<Table*> tables;
       for (Table& t : d.tables)
         if (t.name == "loads") tables.push_back(&t);

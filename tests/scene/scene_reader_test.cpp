@@ -290,8 +290,9 @@ TEST_CASE("positions within a relative 1e-12 of an end snap onto it", "[scene]")
 TEST_CASE("a missing key names the table and its line", "[scene][errors]") {
   CHECK(error_of(edited(beam_scene, "EI = 1.0\n", "\n")) ==
         "scene.toml:1: key 'structure.EI': missing (expected a number > 0)");
-  CHECK(error_of(edited(beam_scene, "right = \"clamped\"\n", "\n")) ==
-        R"(scene.toml:6: key 'supports.right': missing (expected "pinned", "clamped" or "free"))");
+  CHECK(
+      error_of(edited(beam_scene, "right = \"clamped\"\n", "\n")) ==
+      R"(scene.toml:6: key 'supports.right': missing (expected "pinned", "clamped" or "free", or a table { kind = ... }))");
   CHECK(error_of(edited(beam_scene, "at = 0.5\n", "\n")) ==
         "scene.toml:13: key 'loads[0].at': missing (expected a position in [0, 2])");
   CHECK(error_of(edited(beam_scene, "length = 2.0\n", "\n")) ==
@@ -392,7 +393,8 @@ TEST_CASE("a load or support outside the member is refused", "[scene][errors]") 
   CHECK(error_of(edited(beam_scene, "right = \"clamped\"", "right = \"clamped\"\ninterior = [0.5, 1, 0.5]")) ==
         "scene.toml:9: key 'supports.interior[2]': expected distinct positions, got 0.5 twice");
   CHECK(error_of(edited(beam_scene, "right = \"clamped\"", "right = \"clamped\"\ninterior = 0.5")) ==
-        "scene.toml:9: key 'supports.interior': expected an array of numbers, got 0.5");
+        "scene.toml:9: key 'supports.interior': expected an array of positions or tables { at = ..., kind = ... }, got "
+        "0.5");
 }
 
 TEST_CASE("the foundation needs exactly one of k and modulus", "[scene][errors]") {
@@ -933,4 +935,71 @@ TEST_CASE("[foundation] gap, gap_file, tension_modulus, tension_k: malformed one
              Contains("key 'foundation.tension_k': expected 'tension_modulus' for a foundation given by 'modulus'"));
   CHECK(*parse_scene(edited(beam_scene, "k = 1.0e4\n", "modulus = 5.0\ntension_modulus = 5.0\n"), "scene.toml")
              .foundation.tension_modulus == 5.0);
+}
+
+TEST_CASE("[supports] as tables: springs and settlements at the ends and inside", "[scene][issue12][supports]") {
+  const std::string text = edited(edited(beam_scene, "left = \"pinned\"\n",
+                                         "left = { kind = \"spring\", stiffness = 1e6, rotational_stiffness = 2.0, "
+                                         "settlement = 0.005 }\n"
+                                         "interior = [1.5, { at = 0.5, kind = \"spring\", stiffness = 3.0 }, "
+                                         "{ at = 1.0, kind = \"pinned\", settlement = -0.002 }]\n"),
+                                  "right = \"clamped\"\n", "right = { kind = \"clamped\", settlement = 0.01 }\n");
+  const Scene s = parse_scene(text, "scene.toml");
+  CHECK(s.supports.left == EndSupport::free);  // a spring end is otherwise free
+  CHECK(s.supports.left_detail.spring);
+  CHECK(s.supports.left_detail.stiffness == 1e6);
+  CHECK(s.supports.left_detail.rotational_stiffness == 2.0);
+  CHECK(s.supports.left_detail.settlement == 0.005);
+  CHECK(s.supports.right == EndSupport::clamped);
+  CHECK(s.supports.right_detail.settlement == 0.01);
+  CHECK_FALSE(s.supports.right_detail.spring);
+  CHECK(s.supports.interior == std::vector<double>{1.0, 1.5});  // rigid points, sorted
+  CHECK(s.supports.interior_settlement == std::vector<double>{-0.002, 0.0});
+  REQUIRE(s.supports.interior_springs.size() == 1);
+  CHECK(s.supports.interior_springs[0].at == 0.5);
+  CHECK(s.supports.interior_springs[0].detail.stiffness == 3.0);
+  // The string form and plain numbers read as before: no springs, no settlements.
+  const Scene plain = parse_scene(beam_scene, "scene.toml");
+  CHECK_FALSE(plain.supports.left_detail.spring);
+  CHECK(plain.supports.interior_settlement.empty());
+}
+
+TEST_CASE("[supports] tables: malformed springs and settlements are refused by key",
+          "[scene][issue12][supports][errors]") {
+  auto left = [](const std::string& value) {
+    return edited(beam_scene, "left = \"pinned\"\n", "left = " + value + "\n");
+  };
+  CHECK_THAT(error_of(left("{ kind = \"spring\", stiffness = -1.0 }")),
+             StartsWith("scene.toml:7: key 'supports.left.stiffness': expected a number >= 0, got -1"));
+  CHECK_THAT(error_of(left("{ kind = \"spring\" }")),
+             Contains("key 'supports.left.rotational_stiffness': expected a spring with stiffness > 0 or "
+                      "rotational_stiffness > 0"));
+  CHECK_THAT(error_of(left("{ kind = \"spring\", stiffness = 0.0, rotational_stiffness = 0.0 }")),
+             Contains("key 'supports.left.stiffness': expected a spring with stiffness > 0"));
+  CHECK_THAT(error_of(left("{ kind = \"free\", settlement = 0.1 }")),
+             Contains("key 'supports.left.settlement': not allowed on a free end"));
+  CHECK_THAT(error_of(left("{ kind = \"spring\", rotational_stiffness = 1.0, settlement = 0.1 }")),
+             Contains("key 'supports.left.settlement': not allowed on a spring without translational stiffness"));
+  CHECK_THAT(
+      error_of(left("{ kind = \"hinge\" }")),
+      Contains("key 'supports.left.kind': expected \"spring\", \"pinned\", \"clamped\" or \"free\", got \"hinge\""));
+  CHECK_THAT(error_of(left("{ kind = \"roller\" }")), Contains("roller is the same as pinned"));
+  CHECK_THAT(error_of(left("{ kind = \"pinned\", stiffness = 5.0 }")),
+             Contains("key 'supports.left.stiffness': not allowed on a support of kind \"pinned\""));
+  CHECK_THAT(error_of(left("{ stiffness = 5.0 }")), Contains("key 'supports.left.kind': missing"));
+  CHECK_THAT(error_of(left("{ kind = \"spring\", stifness = 5.0 }")),
+             Contains("key 'supports.left.stifness': unknown key (did you mean 'stiffness'?)"));
+  CHECK_THAT(error_of(left("{ kind = \"pinned\", settlement = \"a lot\" }")),
+             Contains("key 'supports.left.settlement': expected a finite number"));
+  auto interior = [](const std::string& value) {
+    return edited(beam_scene, "right = \"clamped\"\n", "right = \"clamped\"\ninterior = [" + value + "]\n");
+  };
+  CHECK_THAT(error_of(interior("{ at = 2.5, kind = \"spring\", stiffness = 1.0 }")),
+             Contains("key 'supports.interior[0].at': expected a position strictly inside (0, 2)"));
+  CHECK_THAT(error_of(interior("{ at = 1.0, kind = \"clamped\" }")),
+             Contains("key 'supports.interior[0].kind': expected \"pinned\" or \"spring\""));
+  CHECK_THAT(error_of(interior("{ kind = \"pinned\" }")), Contains("key 'supports.interior[0].at': missing"));
+  CHECK_THAT(error_of(interior("1.0, { at = 1.0, kind = \"spring\", stiffness = 1.0 }")),
+             Contains("key 'supports.interior[1]': expected distinct positions, got 1 twice"));
+  CHECK_THAT(error_of(interior("\"middle\"")), Contains("key 'supports.interior[0]': expected a position"));
 }
