@@ -297,8 +297,16 @@ std::vector<Finding> check(const Case& c, const Ended& e, const fs::path& dir) {
     std::vector<std::string> reasons;
     for (const auto& l : err_lines)
       if (l.rfind("liftoff sweep [", 0) != 0) reasons.push_back(l);  // not the progress bar
-    const bool single =
-        code == 2 || (c.command == Command::solve && std::find(c.args.begin(), c.args.end(), "all") == c.args.end());
+    // Every method of "all" (asked for by --method, or by the scene's [solve] method with no
+    // --method) reports its own failure.
+    bool all = std::find(c.args.begin(), c.args.end(), "all") != c.args.end();
+    if (!all && std::find(c.args.begin(), c.args.end(), "--method") == c.args.end() && c.files.contains(c.scene)) {
+      try {
+        all = toml::parse(c.files.at(c.scene))["solve"]["method"].value_or(std::string()) == "all";
+      } catch (const toml::parse_error&) {
+      }
+    }
+    const bool single = code == 2 || (c.command == Command::solve && !all);
     if (reasons.empty() || (single && reasons.size() != 1))
       found.push_back({"stderr_lines", fmt::format("{} lines on stderr for exit {}", reasons.size(), code)});
     for (const auto& l : reasons)
