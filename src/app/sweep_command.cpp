@@ -133,7 +133,8 @@ std::vector<io::SweepCase> run_sweep(const scene::Scene& scene, const std::vecto
 
   const bool all = request.method.value_or(scene.solve.method) == scene::Method::all;
   std::atomic<std::size_t> next{0};
-  std::atomic<int> done{0};
+  int done = 0;
+  std::mutex progress_lock;
   auto worker = [&] {
     for (std::size_t i = next++; i < total; i = next++) {
       try {
@@ -144,7 +145,11 @@ std::vector<io::SweepCase> run_sweep(const scene::Scene& scene, const std::vecto
       } catch (const std::exception& e) {  // InputError, SolverFailure: the case's own failure
         cases[i].error = e.what();
       }
-      if (progress) progress(++done, static_cast<int>(total));
+      // Counted and reported under one lock: a count taken outside it could be reported after a
+      // larger one (a "2/4" after the final "4/4", on the line of the message that follows).
+      const std::lock_guard<std::mutex> lock(progress_lock);
+      ++done;
+      if (progress) progress(done, static_cast<int>(total));
     }
   };
   std::vector<std::thread> threads;
