@@ -213,6 +213,11 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
         fmt::format("{}: key '{}': not implemented yet: a tolerance (the limit-fitted solve) with a ground "
                     "gap; expected no tolerance (the node-based FE solve on the scene's mesh)",
                     scene.source_name, scene.foundation.gap_key()));
+  if (model.has_tension_modulus())
+    throw InputError(
+        fmt::format("{}: key '{}': not implemented yet: a tolerance (the limit-fitted solve) with a modulus in "
+                    "tension; expected no tolerance (the node-based FE solve on the scene's mesh)",
+                    scene.source_name, scene.foundation.tension_key()));
   const int elements = request.elements.value_or(scene.solve.elements);
   FeResult node_based = solve_fe(scene, model, method, elements);
   const fe::Discretisation& d0 = node_based.discretisation;
@@ -305,7 +310,7 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   post::Fields fields = request.fields && certified ? post::sample_fields(model, d, solution, samples) : post::Fields{};
   for (std::size_t i = 0; i < fields.reaction.size(); ++i) {
     const int e = std::min(static_cast<int>(i) / samples, d.mesh.elements() - 1);
-    fields.reaction[i] = d.foundation_on_element[e] ? d.element_modulus[e] * std::max(fields.w[i], 0.0) : 0.0;
+    fields.reaction[i] = d.reaction_in(e, fields.w[i] - model.ground_gap(fields.s[i]));
   }
   std::vector<post::Interval> contact_regions;
   for (const auto& c : answer.contact) contact_regions.push_back({c.begin, c.end});
@@ -318,12 +323,13 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   const fe::Scales& scales = model.scales;
   // At a node between two soils the reaction jumps: the mean of its one-sided values.
   for (int node = 0; node <= d.mesh.elements(); ++node) {
-    double k = 0.0;
+    double reaction = 0.0;
     int sides = 0;
+    const double w_minus_g = all[d.deflection_dof(node)] - model.ground_gap(d.mesh.nodes[node]);
     for (int e : {node - 1, node})
-      if (e >= 0 && e < d.mesh.elements() && d.foundation_on_element[e]) k += d.element_modulus[e], ++sides;
-    report.nodes.reaction[node] =
-        sides > 0 ? k / sides * std::max(all[d.deflection_dof(node)], 0.0) * scales.force_per_length() : 0.0;
+      if (e >= 0 && e < d.mesh.elements() && (d.foundation_on_element[e] || d.element_tension_modulus[e] > 0.0))
+        reaction += d.reaction_in(e, w_minus_g), ++sides;
+    report.nodes.reaction[node] = sides > 0 ? reaction / sides * scales.force_per_length() : 0.0;
   }
   report.w_max = x.w_max * scales.displacement();
   report.at_w_max = model.user_from_s(x.s_at_w_max);
@@ -379,6 +385,12 @@ io::SolveReport ritz_report(const scene::Scene& scene, const SolveRequest& reque
                     "moving-boundary model takes the ground at the member's axis, no ground gap); "
                     "expected an FE method (\"dual\", \"primal\", \"fast\" or \"auto\")",
                     scene.source_name, scene.foundation.gap_key()));
+  if (model.has_tension_modulus())
+    throw InputError(
+        fmt::format("{}: key 'solve.method': the Ritz model cannot take this scene (key '{}': the "
+                    "moving-boundary model takes a tensionless or bilateral foundation, no modulus in tension); "
+                    "expected an FE method (\"dual\", \"primal\", \"fast\" or \"auto\")",
+                    scene.source_name, scene.foundation.tension_key()));
   const int elements = request.elements.value_or(scene.solve.elements);
   const RitzStart starting_point = ritz_starting_point(scene, model, elements);
 

@@ -16,10 +16,12 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
+#include <algorithm>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "fe/foundation_element.hpp"
 #include "fe/member_model.hpp"
 #include "fe/mesh.hpp"
 
@@ -49,16 +51,30 @@ class Discretisation {
   // stress resultants as extra unknowns (beam_element.hpp, arch_element.hpp): the saddle-point
   // system built on G and H has a condition number growing like N^2 where K's grows like N^4,
   // which is what lets contact::ActiveSetSystem solve meshes of 1e6 elements to round-off.
-  SparseMatrix stress_coupling;  // G: stresses x equations (stresses_per_element per element)
+  // Stress unknowns in blocks: first stresses_per_element per element (element e's at
+  // stresses_per_element * e), then the bilinear foundation's Winkler block (below).
+  SparseMatrix stress_coupling;  // G: stresses x equations
   Eigen::VectorXd compliance;    // H, diagonal: one per stress unknown
   int stresses_per_element = 0;
+  // The Winkler block of a bilinear foundation (MemberModel::tension_modulus K_t > 0): on each
+  // element of winkler_elements, in order, foundation_element::winkler_points stresses
+  // sigma_q = K_t W_q w(xi_q) (foundation_element.hpp), so that G^T H^-1 G holds the stiffness
+  // integral of K_t N_w^T N_w that `stiffness` holds too. Its load K_t g is in dead_load.
+  std::vector<int> winkler_elements;
+  int element_stresses() const { return stresses_per_element * mesh.elements(); }
+  // The first Winkler stress of winkler_elements[i].
+  int winkler_stress(int i) const { return element_stresses() + foundation_element::winkler_points * i; }
   // Which elements the foundation acts on (the member's extent, or the contact elements of a
   // limit-fitted solve), and the rigid motions the supports leave free, on the equations
   // (columns; the kernel of K, empty when the structure is stable).
   std::vector<bool> foundation_on_element;
-  // k of the foundation under each element (0 in a void and beyond the foundation), whether or
-  // not the foundation acts on it in this discretisation.
+  // k of the foundation's tensionless part under each element (0 in a void and beyond the
+  // foundation), whether or not the foundation acts on it in this discretisation: k, or for a
+  // bilinear foundation k - K_t (MemberModel::contact_modulus_at), the k of C, T and the contact
+  // conditions. element_tension_modulus: K_t there (0 in a void and without a tension modulus);
+  // the reaction is element_tension_modulus (w - g) + element_modulus max(w - g, 0).
   std::vector<double> element_modulus;
+  std::vector<double> element_tension_modulus;
   Eigen::MatrixXd free_rigid_motions;
   Eigen::VectorXd dead_load;  // equations
   Eigen::VectorXd live_load;
@@ -83,6 +99,12 @@ class Discretisation {
     Eigen::VectorXd gap = flexibility * reaction - coupling * displacement;
     if (ground_gap.size() == gap.size()) gap += ground_gap;
     return gap;
+  }
+  // The foundation's reaction on element e at a point where w - g = w_minus_g: the tensionless
+  // part's max(w - g, 0) where the foundation acts on e, plus the Winkler part's K_t (w - g).
+  double reaction_in(int e, double w_minus_g) const {
+    return (foundation_on_element[e] ? element_modulus[e] * std::max(w_minus_g, 0.0) : 0.0) +
+           element_tension_modulus[e] * w_minus_g;
   }
   bool structure_is_stable() const { return unstable_rigid_motions == 0; }
   Eigen::VectorXd load(double load_factor) const { return dead_load + load_factor * live_load; }

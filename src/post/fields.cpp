@@ -119,8 +119,8 @@ DeflectionExtremes deflection_extremes(const fe::Discretisation& d, const Eigen:
       const double value = w(xi), s = d.mesh.nodes[e] + xi * h;
       if (value > x.w_max) x.w_max = value, x.s_at_w_max = s;
       if (value < x.w_min) x.w_min = value, x.s_at_w_min = s;
-      if (d.foundation_on_element[e])
-        x.contact_reaction_max = std::max(x.contact_reaction_max, d.element_modulus[e] * value);
+      if (d.foundation_on_element[e] || d.element_tension_modulus[e] > 0.0)  // (the ground at the axis)
+        x.contact_reaction_max = std::max(x.contact_reaction_max, d.reaction_in(e, value));
     }
   }
   return x;

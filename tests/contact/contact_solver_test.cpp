@@ -304,3 +304,83 @@ TEST_CASE("ground gap: a uniform gap under a free member shifts w by exactly g",
   // The reactions do not change: r = k (w - g) = k w0.
   CHECK(test::relative_difference(shifted.solution.reaction, plain.solution.reaction) <= 1e-12);
 }
+
+namespace {
+// A free-free beam, k = 1e4 (kL^4/EI), tension_k = kt (none for kt < 0), loads `loads`.
+scene::Scene bilinear_beam(double kt, std::vector<scene::Load> loads) {
+  scene::Scene s = test::beam_scene(1.0, 1.0, EndSupport::free, EndSupport::free, 1e4);
+  if (kt >= 0.0) s.foundation.tension_stiffness_parameter = kt;
+  s.loads = std::move(loads);
+  return s;
+}
+// The length of the member where w < 0 (lifted off the ground at the axis), from the nodes.
+double lifted_length(const test::Solved& s) {
+  const fe::Discretisation& d = s.discretisation;
+  double length = 0.0;
+  for (int e = 0; e < d.mesh.elements(); ++e)
+    if (s.solution.displacement[d.deflection_dof(e)] < 0.0 && s.solution.displacement[d.deflection_dof(e + 1)] < 0.0)
+      length += d.mesh.element_size(e);
+  return length;
+}
+}  // namespace
+
+TEST_CASE("bilinear foundation: hand checks, limits K_t = k and K_t -> 0, every FE method",
+          "[contact][issue12][tension]") {
+  // A uniform load q on a free-free beam presses it down uniformly, w = q/k, whatever K_t: the
+  // cubic space holds the constant, so the FE answer is exact to round-off (1e-9 relative: K's
+  // condition at 200 elements times eps is ~1e-8 of the solve's scale, refined by fast).
+  for (Method m : {Method::fast, Method::primal}) {
+    const test::Solved uniform = test::solve(bilinear_beam(3e3, {test::uniform_load(0.0, 1.0, 5.0)}), m, 200);
+    REQUIRE(uniform.solution.summary.is_usable());
+    const fe::Discretisation& d = uniform.discretisation;
+    for (int node = 0; node <= 200; ++node)
+      CHECK(uniform.solution.displacement[d.deflection_dof(node)] == Approx(5.0 / 1e4).epsilon(1e-9));
+  }
+  // A central force on a long (kL^4 = 1e4) free-free beam lifts its ends off; K_t holds them
+  // down: the lift-off zone shortens as K_t grows, and the three FE methods agree.
+  const std::vector<scene::Load> central = {test::point_force(0.5, 100.0)};
+  double previous = 2.0;
+  for (double kt : {0.0, 1e2, 1e3, 5e3}) {
+    CAPTURE(kt);
+    const test::Solved fast = test::solve(bilinear_beam(kt, central), Method::fast, 200);
+    REQUIRE(fast.solution.summary.is_usable());
+    const double lifted = lifted_length(fast);
+    CHECK(lifted < previous);
+    previous = lifted;
+    // Dual is refused on the free-free beam only without K_t (K singular).
+    for (Method m :
+         kt > 0.0 ? std::vector<Method>{Method::dual, Method::primal} : std::vector<Method>{Method::primal}) {
+      const test::Solved other = test::solve(bilinear_beam(kt, central), m, 200);
+      REQUIRE(other.solution.summary.is_usable());
+      // Lemke's dense solves at 200 elements: round-off well below 1e-8 (as the LCP test above).
+      CHECK(test::relative_difference(other.solution.displacement, fast.solution.displacement) < 1e-8);
+    }
+  }
+  CHECK(previous > 0.0);  // still lifted at K_t = k/2
+
+  // K_t = k: the bilateral answer, exactly (the model becomes bilateral).
+  scene::Scene bilateral = bilinear_beam(-1.0, central);
+  bilateral.foundation.tensionless = false;
+  const test::Solved equal = test::solve(bilinear_beam(1e4, central), Method::fast, 200);
+  const test::Solved reference = test::solve(bilateral, Method::fast, 200);
+  CHECK(test::relative_difference(equal.solution.displacement, reference.solution.displacement) == 0.0);
+  // ... and K_t just below k, through the bilinear path: the tensionless part k - K_t = 1e-6 k
+  // changes w by O(1e-6) of max |w| (first order in the change of stiffness where w < 0).
+  const test::Solved near = test::solve(bilinear_beam(1e4 * (1.0 - 1e-6), central), Method::fast, 200);
+  REQUIRE(near.solution.summary.is_usable());
+  const double near_difference = test::relative_difference(near.solution.displacement, reference.solution.displacement);
+  CHECK(near_difference < 1e-5);
+  CHECK(near_difference > 0.0);
+
+  // K_t -> 0: the tensionless answer, the difference first order in K_t (linear: ten times K_t,
+  // about ten times the difference, the contact set unchanged).
+  const test::Solved tensionless = test::solve(bilinear_beam(-1.0, central), Method::primal, 200);
+  const double d1 =
+      test::relative_difference(test::solve(bilinear_beam(1e-4, central), Method::fast, 200).solution.displacement,
+                                tensionless.solution.displacement);
+  const double d2 =
+      test::relative_difference(test::solve(bilinear_beam(1e-3, central), Method::fast, 200).solution.displacement,
+                                tensionless.solution.displacement);
+  CHECK(d1 < 1e-6);
+  CHECK(d2 / d1 == Approx(10.0).epsilon(0.05));
+}
