@@ -336,6 +336,18 @@ TEST_CASE("bilinear foundation: hand checks, limits K_t = k and K_t -> 0, every 
     for (int node = 0; node <= 200; ++node)
       CHECK(uniform.solution.displacement[d.deflection_dof(node)] == Approx(5.0 / 1e4).epsilon(1e-9));
   }
+  // Over a uniform gap g (the ground 2e-4 below the axis) the beam settles by g more, w = g + q/k:
+  // K_t pulls only with its load K_t g (dead), or it would hold the beam up by K_t g / k.
+  {
+    scene::Scene trench = bilinear_beam(3e3, {test::uniform_load(0.0, 1.0, 5.0)});
+    trench.foundation.gap_at = {0.0, 1.0};
+    trench.foundation.gap_value = {2e-4, 2e-4};
+    const test::Solved settled = test::solve(trench, Method::fast, 200);
+    REQUIRE(settled.solution.summary.is_usable());
+    for (int node = 0; node <= 200; ++node)
+      CHECK(settled.solution.displacement[settled.discretisation.deflection_dof(node)] ==
+            Approx(2e-4 + 5.0 / 1e4).epsilon(1e-9));
+  }
   // A central force on a long (kL^4 = 1e4) free-free beam lifts its ends off; K_t holds them
   // down: the lift-off zone shortens as K_t grows, and the three FE methods agree.
   const std::vector<scene::Load> central = {test::point_force(0.5, 100.0)};
