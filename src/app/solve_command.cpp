@@ -218,6 +218,11 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
         fmt::format("{}: key 'supports': not implemented yet: a tolerance (the limit-fitted solve) with "
                     "a settlement; expected no tolerance (the node-based FE solve on the scene's mesh)",
                     scene.source_name));
+  if (model.has_tension_modulus())
+    throw InputError(
+        fmt::format("{}: key '{}': not implemented yet: a tolerance (the limit-fitted solve) with a modulus in "
+                    "tension; expected no tolerance (the node-based FE solve on the scene's mesh)",
+                    scene.source_name, scene.foundation.tension_key()));
   const int elements = request.elements.value_or(scene.solve.elements);
   FeResult node_based = solve_fe(scene, model, method, elements);
   const fe::Discretisation& d0 = node_based.discretisation;
@@ -311,7 +316,7 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   for (std::size_t i = 0; i < fields.reaction.size(); ++i) {
     const int e = std::min(static_cast<int>(i) / samples, d.mesh.elements() - 1);
     const double xi = std::clamp((fields.s[i] - d.mesh.nodes[e]) / d.mesh.element_size(e), 0.0, 1.0);
-    fields.reaction[i] = d.foundation_on_element[e] ? d.element_modulus[e].at(xi) * std::max(fields.w[i], 0.0) : 0.0;
+    fields.reaction[i] = d.reaction_in(e, xi, fields.w[i] - model.ground_gap(fields.s[i]));
   }
   std::vector<post::Interval> contact_regions;
   for (const auto& c : answer.contact) contact_regions.push_back({c.begin, c.end});
@@ -324,13 +329,13 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   const fe::Scales& scales = model.scales;
   // At a node between two soils the reaction jumps: the mean of its one-sided values.
   for (int node = 0; node <= d.mesh.elements(); ++node) {
-    double k = 0.0;
+    double reaction = 0.0;
     int sides = 0;
+    const double w_minus_g = all[d.deflection_dof(node)] - model.ground_gap(d.mesh.nodes[node]);
     for (int e : {node - 1, node})
-      if (e >= 0 && e < d.mesh.elements() && d.foundation_on_element[e])
-        k += e < node ? d.element_modulus[e].end : d.element_modulus[e].begin, ++sides;
-    report.nodes.reaction[node] =
-        sides > 0 ? k / sides * std::max(all[d.deflection_dof(node)], 0.0) * scales.force_per_length() : 0.0;
+      if (e >= 0 && e < d.mesh.elements() && (d.foundation_on_element[e] || d.element_tension_modulus[e] > 0.0))
+        reaction += d.reaction_in(e, e < node ? 1.0 : 0.0, w_minus_g), ++sides;
+    report.nodes.reaction[node] = sides > 0 ? reaction / sides * scales.force_per_length() : 0.0;
   }
   report.w_max = x.w_max * scales.displacement();
   report.at_w_max = model.user_from_s(x.s_at_w_max);
@@ -386,6 +391,12 @@ io::SolveReport ritz_report(const scene::Scene& scene, const SolveRequest& reque
                     "moving-boundary model takes the ground at the member's axis, no ground gap); "
                     "expected an FE method (\"dual\", \"primal\", \"fast\" or \"auto\")",
                     scene.source_name, scene.foundation.gap_key()));
+  if (model.has_tension_modulus())
+    throw InputError(
+        fmt::format("{}: key 'solve.method': the Ritz model cannot take this scene (key '{}': the "
+                    "moving-boundary model takes a tensionless or bilateral foundation, no modulus in tension); "
+                    "expected an FE method (\"dual\", \"primal\", \"fast\" or \"auto\")",
+                    scene.source_name, scene.foundation.tension_key()));
   const int elements = request.elements.value_or(scene.solve.elements);
   const RitzStart starting_point = ritz_starting_point(scene, model, elements);
 

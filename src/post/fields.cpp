@@ -120,23 +120,26 @@ DeflectionExtremes deflection_extremes(const fe::Discretisation& d, const Eigen:
       const double value = w(xi), s = d.mesh.nodes[e] + xi * h;
       if (value > x.w_max) x.w_max = value, x.s_at_w_max = s;
       if (value < x.w_min) x.w_min = value, x.s_at_w_min = s;
-      if (d.foundation_on_element[e]) x.contact_reaction_max = std::max(x.contact_reaction_max, k.at(xi) * value);
+      // (the ground at the axis: no gap on this path)
+      x.contact_reaction_max = std::max(x.contact_reaction_max, d.reaction_in(e, xi, value));
     }
     // k linear on the element: k w is a quartic whose maximum moves off w's. Newton on
-    // (k w)' = 0 from w's candidates and the middle; every point kept is a value of k w, so the
-    // result never exceeds the true maximum and reaches it when Newton does.
+    // (k w)' = 0 from w's candidates and the middle (k the whole modulus, the bilinear foundation's
+    // K_t included: where w > 0 the reaction is k w); every point kept is a value of the reaction,
+    // so the result never exceeds the true maximum and reaches it when Newton does.
     if (d.foundation_on_element[e] && k.begin != k.end) {
       const double dk = k.end - k.begin;  // per unit xi
+      auto k_at = [&](double xi) { return k.at(xi) + d.element_tension_modulus[e]; };
       for (double xi : {candidates[2], candidates[3], 0.5}) {
         if (!(xi >= 0.0 && xi <= 1.0)) continue;
         for (int step = 0; step < 12; ++step) {
           const fe::HermiteCubic n = fe::hermite_cubic(xi, h);
           const double wx = h * n.d1.dot(w_dofs), wxx = h * h * n.d2.dot(w_dofs);
-          const double g = dk * n.value.dot(w_dofs) + k.at(xi) * wx, dg = 2.0 * dk * wx + k.at(xi) * wxx;
+          const double g = dk * n.value.dot(w_dofs) + k_at(xi) * wx, dg = 2.0 * dk * wx + k_at(xi) * wxx;
           if (dg == 0.0) break;
           xi = std::clamp(xi - g / dg, 0.0, 1.0);
         }
-        x.contact_reaction_max = std::max(x.contact_reaction_max, k.at(xi) * w(xi));
+        x.contact_reaction_max = std::max(x.contact_reaction_max, d.reaction_in(e, xi, w(xi)));
       }
     }
   }
