@@ -18,6 +18,7 @@
 #include "fe/shape_functions.hpp"
 #include "post/contact_regions.hpp"
 #include "post/fields.hpp"
+#include "ritz/ritz_model.hpp"
 #include "ritz/ritz_solver.hpp"
 #include "ritz/starting_point.hpp"
 
@@ -384,19 +385,13 @@ RitzStart ritz_starting_point(const scene::Scene& scene, const fe::MemberModel& 
 io::SolveReport ritz_report(const scene::Scene& scene, const SolveRequest& request) {
   const auto start = std::chrono::steady_clock::now();
   const fe::MemberModel model = fe::make_member_model(scene);
-  // Refused before the FE start is solved, naming the key the user wrote (gap or gap_file).
-  if (model.has_ground_gap())
+  // Refused before the FE start is solved, naming the key the user wrote (gap or gap_file, ...).
+  if (const auto unsupported =
+          ritz::unsupported_input(model, scene.foundation.gap_key(), scene.foundation.tension_key()))
     throw InputError(
-        fmt::format("{}: key 'solve.method': the Ritz model cannot take this scene (key '{}': the "
-                    "moving-boundary model takes the ground at the member's axis, no ground gap); "
-                    "expected an FE method (\"dual\", \"primal\", \"fast\" or \"auto\")",
-                    scene.source_name, scene.foundation.gap_key()));
-  if (model.has_tension_modulus())
-    throw InputError(
-        fmt::format("{}: key 'solve.method': the Ritz model cannot take this scene (key '{}': the "
-                    "moving-boundary model takes a tensionless or bilateral foundation, no modulus in tension); "
-                    "expected an FE method (\"dual\", \"primal\", \"fast\" or \"auto\")",
-                    scene.source_name, scene.foundation.tension_key()));
+        fmt::format("{}: key 'solve.method': the Ritz model cannot take this scene ({}); expected an FE "
+                    "method (\"dual\", \"primal\", \"fast\" or \"auto\")",
+                    scene.source_name, unsupported->message()));
   const int elements = request.elements.value_or(scene.solve.elements);
   const RitzStart starting_point = ritz_starting_point(scene, model, elements);
 

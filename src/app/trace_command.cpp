@@ -12,6 +12,7 @@
 #include "core/error.hpp"
 #include "fe/member_model.hpp"
 #include "io/trace_writer.hpp"
+#include "ritz/ritz_model.hpp"
 
 namespace liftoff::app {
 
@@ -208,51 +209,17 @@ std::vector<std::string> trace_path_names(const scene::Scene& scene, const Trace
                     scene.source_name, scene.foundation.tension_key()));
   if (method != scene::Method::ritz) names.push_back("fe");
   if (method == scene::Method::ritz || method == scene::Method::all) {
-    // As `solve --method ritz`: the Ritz model has no interior point supports (bad input, exit 2).
-    // Nor arch loads other than radial ones (issue 12).
-    std::string cannot;
-    if (!scene.supports.interior.empty()) cannot = "interior point supports";
-    {
-      const scene::Supports& sp = scene.supports;
-      const bool elastic = sp.left_detail.spring || sp.right_detail.spring || !sp.interior_springs.empty();
-      const bool settles =
-          sp.left_detail.settlement != 0.0 || sp.right_detail.settlement != 0.0 || !sp.interior_settlement.empty();
-      if (elastic || settles) cannot = "springs (supports kind = \"spring\"), only rigid supports";
-    }
-    if (scene.structure.kind == scene::StructureKind::arch && scene.foundation.side == scene::FoundationSide::outside)
-      cannot = "foundation.side = \"outside\", only a foundation inside the arch";
-    for (std::size_t i = 0; i < scene.loads.size() && cannot.empty(); ++i)
-      if (scene.structure.kind == scene::StructureKind::arch && scene.loads[i].kind != scene::LoadKind::moment &&
-          scene.loads[i].direction != scene::LoadDirection::radial)
-        cannot = fmt::format("loads[{}].direction = \"{}\", only radial arch loads", i,
-                             scene::to_string(scene.loads[i].direction));
-    if (!cannot.empty()) {
+    // As `solve --method ritz`: what the Ritz model cannot take is bad input for it (exit 2).
+    const fe::MemberModel model = fe::make_member_model(scene);
+    if (const auto unsupported =
+            ritz::unsupported_input(model, scene.foundation.gap_key(), scene.foundation.tension_key())) {
       const std::string where = request.method ? "option '--method'"
                                 : t.method     ? "key 'trace.method'"
                                                : "key 'solve.method'";
       throw InputError(
-          fmt::format("{}: {}: the Ritz path cannot take this scene (the Ritz model does not take "
-                      "{}); expected an FE method (\"dual\", \"primal\", "
-                      "\"fast\" or \"auto\")",
-                      scene.source_name, where, cannot));
-    }
-    // Nor an imposed curvature (an initial strain the moving-boundary energy does not hold).
-    for (std::size_t i = 0; i < scene.loads.size(); ++i)
-      if (scene.loads[i].kind == scene::LoadKind::curvature)
-        throw InputError(
-            fmt::format("{}: key 'loads[{}].kind': the Ritz path cannot take this scene (the Ritz model does not take "
-                        "an imposed curvature); expected an FE method (\"dual\", \"primal\", \"fast\" or \"auto\")",
-                        scene.source_name, i));
-    if (scene.foundation.segments.size() > 1 ||
-        (scene.foundation.segments.size() == 1 && scene.foundation.segments[0].at_to)) {
-      const std::string where = request.method ? "option '--method'"
-                                : t.method     ? "key 'trace.method'"
-                                               : "key 'solve.method'";
-      throw InputError(
-          fmt::format("{}: {}: the Ritz path cannot take this scene (key 'foundation.segments': the Ritz model "
-                      "takes one foundation piece of constant modulus); expected an FE method (\"dual\", "
-                      "\"primal\", \"fast\" or \"auto\")",
-                      scene.source_name, where));
+          fmt::format("{}: {}: the Ritz path cannot take this scene ({}); expected an FE method "
+                      "(\"dual\", \"primal\", \"fast\" or \"auto\")",
+                      scene.source_name, where, unsupported->message()));
     }
     names.push_back("ritz");
   }

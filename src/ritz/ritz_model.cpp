@@ -40,40 +40,44 @@ MatrixXd gram(const std::vector<TrigPolynomial>& f, double a, double b) {
 
 }  // namespace
 
+std::optional<Unsupported> unsupported_input(const fe::MemberModel& model, const std::string& gap_key,
+                                             const std::string& tension_key) {
+  const bool arch = model.kind == fe::StructureKind::arch;
+  if (!model.point_supports.empty()) return Unsupported{"supports.interior", "takes no interior point supports"};
+  if (model.has_springs() || model.has_settlements())
+    return Unsupported{"supports",
+                       "takes rigid supports without settlement only, not springs (kind = \"spring\") or a settlement"};
+  if (model.foundation_pieces.size() > 1 || !model.foundation_modulus_is_constant())  // none: built in code, one piece
+    return Unsupported{"foundation.segments", "takes one foundation piece of constant modulus"};
+  if (model.has_ground_gap()) return Unsupported{gap_key, "takes the ground at the member's axis (no ground gap)"};
+  if (model.has_tension_modulus())
+    return Unsupported{tension_key, "takes a tensionless or bilateral foundation (no modulus in tension)"};
+  if (arch && model.foundation_outside)
+    return Unsupported{"foundation.side", "takes the foundation inside the arch only, not side = \"outside\""};
+  for (const fe::MemberLoad& load : model.loads) {
+    if (load.kind == fe::LoadKind::curvature)
+      return Unsupported{"loads",
+                         "has no imposed curvature (kind = \"curvature\", an initial strain) in its energy in this "
+                         "version"};
+    if (arch && load.kind != fe::LoadKind::moment && load.direction != fe::LoadDirection::radial)
+      return Unsupported{"loads", fmt::format("takes radial arch loads only, not direction = \"{}\"",
+                                              scene::to_string(load.direction))};
+  }
+  return std::nullopt;
+}
+
 RitzModel::RitzModel(const fe::MemberModel& model, int modes, Topology topology, Enrichment enrichment)
     : arch_(model.kind == fe::StructureKind::arch),
       tensionless_(model.tensionless),
       modes_(modes),
       topology_(topology) {
-  if (!model.point_supports.empty())
-    throw std::invalid_argument("the Ritz model does not take interior point supports; use an FE method");
-  if (model.has_springs() || model.has_settlements())
-    throw std::invalid_argument(
-        "key 'supports': the moving-boundary model takes rigid supports without settlement only, not springs "
-        "(kind = \"spring\") or a settlement; use an FE method");
-  if (model.foundation_pieces.size() > 1 || !model.foundation_modulus_is_constant())  // none: built in code, one piece
-    throw std::invalid_argument(
-        "key 'foundation.segments': the moving-boundary model takes one foundation piece of constant modulus");
-  if (model.has_ground_gap())
-    throw std::invalid_argument(
-        "key 'foundation.gap': the moving-boundary model takes the ground at the member's axis (no ground gap)");
-  if (model.has_tension_modulus())
-    throw std::invalid_argument(
-        "key 'foundation.tension_modulus': the moving-boundary model takes a tensionless or bilateral foundation "
-        "(no modulus in tension)");
+  if (const std::optional<Unsupported> unsupported = unsupported_input(model))
+    throw std::invalid_argument(unsupported->message());
   topology_.validate();
   for (double value : {model.s_begin, model.s_end, model.membrane_stiffness, model.foundation_modulus,
                        model.foundation_begin, model.foundation_end})
     require_finite(value, "a member model value");
-  if (arch_ && model.foundation_outside)
-    throw std::invalid_argument(
-        "the Ritz model takes the foundation inside the arch only, not [foundation] side = \"outside\"; use an FE "
-        "method");
   for (const fe::MemberLoad& load : model.loads) {
-    if (arch_ && load.kind != fe::LoadKind::moment && load.direction != fe::LoadDirection::radial)
-      throw std::invalid_argument(fmt::format(
-          "the Ritz model takes radial arch loads only, not a load with direction = \"{}\"; use an FE method",
-          scene::to_string(load.direction)));
     require_finite(load.value, "a load value");
     require_finite(load.slope, "a load slope");
     require_finite(load.at, "a load position");
@@ -143,12 +147,6 @@ RitzModel::RitzModel(const fe::MemberModel& model, int modes, Topology topology,
   dead_load_ = VectorXd::Zero(amplitudes_);
   live_load_ = VectorXd::Zero(amplitudes_);
   double moment_sum[2] = {0.0, 0.0}, moment_size[2] = {0.0, 0.0};
-  for (const fe::MemberLoad& load : model.loads)
-    if (load.kind == fe::LoadKind::curvature)
-      throw std::invalid_argument(
-          "key 'loads': kind = \"curvature\" (an imposed curvature, an initial strain) is not part of the "
-          "moving-boundary model's energy in "
-          "this version");
   for (const fe::MemberLoad& load : model.loads) {
     const bool dead = load.load_case == fe::LoadCase::dead;
     VectorXd& target = dead ? dead_load_ : live_load_;

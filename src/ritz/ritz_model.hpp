@@ -56,9 +56,23 @@ struct Piece {
   bool in_contact = false;
 };
 
+// What the moving-boundary model cannot take, found from the member before anything is solved:
+// the scene key that brings it in and what the model takes instead. The one list of them, used by
+// RitzModel, `solve --method ritz` and the Ritz trace path, so that every refusal names the same
+// key. gap_key and tension_key: the keys the user wrote (gap or gap_file, tension_modulus or
+// tension_k; scene::Foundation::gap_key()).
+struct Unsupported {
+  std::string key;   // e.g. "foundation.segments"
+  std::string what;  // completes "the moving-boundary model ...", e.g. "takes one foundation piece ..."
+  std::string message() const { return "key '" + key + "': the moving-boundary model " + what; }
+};
+std::optional<Unsupported> unsupported_input(const fe::MemberModel& model,
+                                             const std::string& gap_key = "foundation.gap",
+                                             const std::string& tension_key = "foundation.tension_modulus");
+
 class RitzModel {
  public:
-  // Throws std::invalid_argument for interior point supports, modes < 1, an invalid topology,
+  // Throws std::invalid_argument for what unsupported_input lists, modes < 1, an invalid topology,
   // a bilateral foundation with a topology other than {true, 0}, or a non-finite model value;
   // liftoff::MechanismError for an arch whose u is free at both ends (roller or free ends)
   // loaded by moments: they drive the rigid rotation about the centre, which nothing resists.

@@ -524,9 +524,9 @@ TEST_CASE("trace: the Ritz path refuses interior supports as bad input, before a
   text.replace(text.find("right = \"free\""), 14, "right = \"free\"\ninterior = [5.0]");
   const scene::Scene s = scene::parse_scene(text, "beam.toml");
   CHECK_THROWS_WITH(app::trace_path_names(s, {}),
-                    "beam.toml: key 'trace.method': the Ritz path cannot take this scene (the Ritz model does not "
-                    "take interior point supports); expected an FE method (\"dual\", \"primal\", \"fast\" or "
-                    "\"auto\")");
+                    "beam.toml: key 'trace.method': the Ritz path cannot take this scene (key 'supports.interior': "
+                    "the moving-boundary model takes no interior point supports); expected an FE method (\"dual\", "
+                    "\"primal\", \"fast\" or \"auto\")");
   app::TraceRequest all;
   all.method = scene::Method::all;
   CHECK_THROWS_WITH(app::trace_path_names(s, all), Catch::Matchers::StartsWith("beam.toml: option '--method':"));

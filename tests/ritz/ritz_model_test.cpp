@@ -16,6 +16,7 @@
 #include "core/error.hpp"
 #include "fe/discretisation.hpp"
 #include "fe/shape_functions.hpp"
+#include "support/scenes.hpp"
 
 using namespace liftoff;
 using namespace liftoff::ritz;
@@ -601,7 +602,7 @@ TEST_CASE("ritz model: misuse is refused", "[ritz][model]") {
   fe::MemberModel supported = beam(EndSupport::pinned, EndSupport::pinned, 1e3, {force(0.5, 1.0)});
   supported.point_supports = {0.5};
   CHECK_THROWS_WITH(RitzModel(supported, 4, {true, 0}),
-                    "the Ritz model does not take interior point supports; use an FE method");
+                    "key 'supports.interior': the moving-boundary model takes no interior point supports");
   const fe::MemberModel plain = beam(EndSupport::pinned, EndSupport::pinned, 1e3, {force(0.5, 1.0)});
   CHECK_THROWS_AS(RitzModel(plain, 0, {true, 0}), std::invalid_argument);
   CHECK_THROWS_AS(RitzModel(plain, 4, {true, -1}), std::invalid_argument);
@@ -615,4 +616,44 @@ TEST_CASE("ritz model: misuse is refused", "[ritz][model]") {
   const fe::MemberModel balanced =
       arch(EndSupport::roller, EndSupport::roller, 10, 3e6, 1e6, {moment(-0.1, 1.0), moment(0.1, -1.0)});
   CHECK_NOTHROW(RitzModel(balanced, 4, {true, 0}));
+}
+
+TEST_CASE("ritz model: unsupported_input names the key of each input the model cannot take", "[ritz][model]") {
+  // One place lists them (solve --method ritz and the trace path refuse with its key): each input
+  // on an otherwise plain beam is found, and RitzModel refuses it with the same message.
+  const scene::Scene plain = test::beam_scene(1.0, 1.0, scene::EndSupport::pinned, scene::EndSupport::pinned, 1e3);
+  CHECK_FALSE(unsupported_input(fe::make_member_model(plain)).has_value());
+  auto key_of = [](const scene::Scene& s) {
+    const fe::MemberModel model = fe::make_member_model(s);
+    const std::optional<Unsupported> u = unsupported_input(model, "foundation.gap_file", "foundation.tension_k");
+    REQUIRE(u.has_value());
+    // (RitzModel sees no scene: it names the keys' default spellings.)
+    CHECK_THROWS_WITH(RitzModel(model, 4, {true, 0}), unsupported_input(model)->message());
+    return u->key;
+  };
+  scene::Scene s = plain;
+  s.supports.interior = {0.5};
+  s.supports.interior_settlement = {0.0};
+  CHECK(key_of(s) == "supports.interior");
+  s = plain;
+  s.supports.left_detail.settlement = 1e-3;
+  CHECK(key_of(s) == "supports");
+  s = plain;
+  s.foundation.stiffness_parameter.reset();
+  s.foundation.segments = {{0.0, 1.0, 3e3, std::nullopt, 1e3}};
+  CHECK(key_of(s) == "foundation.segments");
+  s = plain;
+  s.foundation.gap_at = {0.0};
+  s.foundation.gap_value = {1e-3};
+  CHECK(key_of(s) == "foundation.gap_file");
+  s = plain;
+  s.foundation.tension_stiffness_parameter = 10.0;
+  CHECK(key_of(s) == "foundation.tension_k");
+  s = plain;
+  scene::Load curvature;
+  curvature.kind = scene::LoadKind::curvature;
+  curvature.value = 1e-3;
+  curvature.to = 1.0;
+  s.loads = {curvature};
+  CHECK(key_of(s) == "loads");
 }
