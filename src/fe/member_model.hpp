@@ -128,6 +128,10 @@ struct MemberModel {
   // k at a and b of the piece under the interval [a, b] (the one containing its middle; its k is
   // linear there), {0, 0} in a void or beyond the foundation. An element's k at its two nodes.
   std::pair<double, double> foundation_modulus_on(double a, double b) const;
+  // Where the reaction k (w - g) may jump inside the foundation (sorted, s): the common end of two
+  // abutting pieces whose k differ there, and a step of the gap table (a repeated position with
+  // two values). Read from the data, never from nearby numbers: the FE puts two reactions there.
+  std::vector<double> reaction_jumps() const;
   // The stretches of foundation without a void: unions of abutting pieces, in order.
   std::vector<std::pair<double, double>> foundation_stretches() const;
   // Whether s is the end of a stretch (the foundation stops there; within round-off).

@@ -82,8 +82,12 @@ SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model,
   FieldTable& n = r.nodes;
   n.coordinate = to_user(model, d.mesh.nodes);
   n.reaction.assign(d.mesh.nodes.size(), 0.0);
-  for (int i = 0; i < d.reactions(); ++i)
-    n.reaction[d.reaction_nodes[i]] = solution.reaction[i] * scales.force_per_length();
+  // Where the reaction jumps a node has two: the table shows the larger (max_reaction too).
+  for (int i = 0; i < d.reactions(); ++i) {
+    double& at_node = n.reaction[d.reaction_nodes[i]];
+    const double value = solution.reaction[i] * scales.force_per_length();
+    at_node = i > 0 && d.reaction_nodes[i - 1] == d.reaction_nodes[i] ? std::max(at_node, value) : value;
+  }
   for (int node = 0; node < static_cast<int>(d.mesh.nodes.size()); ++node) {
     const double w = solution.displacement[d.deflection_dof(node)], slope = solution.displacement[d.slope_dof(node)];
     const double u = model.kind == StructureKind::arch ? solution.displacement[d.tangential_dof(node)] : 0.0;

@@ -42,13 +42,11 @@ LocalState evaluate(const fe::Discretisation& d, const Eigen::VectorXd& displace
 }
 
 double reaction_at(const fe::Discretisation& d, const Eigen::VectorXd& reaction, int element, double xi) {
-  // Reaction nodes are the nodes of the elements the foundation acts on (increasing): its extent,
-  // or a limit-fitted solve's contact elements, in several runs.
+  // The element's own two reactions (at a node where the reaction jumps, its side's).
   if (d.reactions() == 0 || !d.foundation_on_element[element]) return 0.0;
-  const auto found = std::lower_bound(d.reaction_nodes.begin(), d.reaction_nodes.end(), element);
-  const auto first = static_cast<int>(found - d.reaction_nodes.begin());
+  const auto [first, second] = d.element_reactions(element);
   const Eigen::Vector2d shape = fe::reaction_shape(xi);
-  return shape[0] * reaction[first] + shape[1] * reaction[first + 1];
+  return shape[0] * reaction[first] + shape[1] * reaction[second];
 }
 
 Fields sample_fields(const fe::MemberModel& model, const fe::Discretisation& d,
@@ -81,7 +79,16 @@ Fields sample_fields(const fe::MemberModel& model, const fe::Discretisation& d,
       f.normal_force.push_back(model.membrane_stiffness * (x.du - in * x.w));
     }
   };
+  // Where the reaction jumps (two reactions at a node) the diagram gets both values at that s:
+  // the left element's end, then the right element's start.
+  std::vector<char> jumps(d.mesh.nodes.size(), 0);
+  for (int i = 0; i + 1 < d.reactions(); ++i)
+    if (d.reaction_nodes[i] == d.reaction_nodes[i + 1]) jumps[d.reaction_nodes[i]] = 1;
   for (int e = 0; e < elements; ++e) {
+    if (e > 0 && jumps[e]) {
+      dofs = d.element_dofs(e - 1);
+      add(e - 1, 1.0);
+    }
     dofs = d.element_dofs(e);  // once per element, not per sample
     kappa = fe::imposed_curvature(model.loads, d.mesh.nodes[e] + 0.5 * d.mesh.element_size(e), load_factor);
     for (int i = 0; i < samples_per_element; ++i) add(e, static_cast<double>(i) / samples_per_element);
