@@ -68,7 +68,8 @@ Fields sample_fields(const fe::MemberModel& model, const fe::Discretisation& d,
   const double in = fe::arch_element::inward_sign(d.foundation_outside);
   auto add = [&](int element, double xi) {
     const LocalState x = evaluate_on(d, solution.displacement, element, dofs, xi);
-    f.s.push_back(d.mesh.nodes[element] + xi * d.mesh.element_size(element));
+    // An element's end is its next node exactly (the jump's two samples share their s).
+    f.s.push_back(xi == 1.0 ? d.mesh.nodes[element + 1] : d.mesh.nodes[element] + xi * d.mesh.element_size(element));
     f.w.push_back(x.w);
     f.rotation.push_back(arch ? -(x.u + in * x.dw) : -x.dw);
     f.bending_moment.push_back(arch ? -(x.du + in * x.d2w) : -(x.d2w + kappa));
