@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 
@@ -328,15 +329,16 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   // Nodal reactions and the extremes as displayed (above).
   const post::DeflectionExtremes x = post::deflection_extremes(d, all);
   const fe::Scales& scales = model.scales;
-  // At a node between two soils the reaction jumps: the mean of its one-sided values.
+  // Where the reaction jumps (two soils, a step of the gap) a node has two one-sided values: the
+  // table shows the larger, as make_report does.
   for (int node = 0; node <= d.mesh.elements(); ++node) {
-    double reaction = 0.0;
-    int sides = 0;
+    std::optional<double> reaction;
     const double w_minus_g = all[d.deflection_dof(node)] - model.ground_gap(d.mesh.nodes[node]);
     for (int e : {node - 1, node})
       if (e >= 0 && e < d.mesh.elements() && (d.foundation_on_element[e] || d.element_tension_modulus[e] > 0.0))
-        reaction += d.reaction_in(e, e < node ? 1.0 : 0.0, w_minus_g), ++sides;
-    report.nodes.reaction[node] = sides > 0 ? reaction / sides * scales.force_per_length() : 0.0;
+        reaction = std::max(reaction.value_or(-std::numeric_limits<double>::infinity()),
+                            d.reaction_in(e, e < node ? 1.0 : 0.0, w_minus_g));
+    report.nodes.reaction[node] = reaction.value_or(0.0) * scales.force_per_length();
   }
   report.w_max = x.w_max * scales.displacement();
   report.at_w_max = model.user_from_s(x.s_at_w_max);

@@ -12,9 +12,12 @@ using Eigen::VectorXd;
 using fe::EndSupport;
 using fe::StructureKind;
 
-std::vector<int> reaction_of_node(const fe::Discretisation& d) {
-  std::vector<int> out(d.mesh.nodes.size(), -1);
-  for (int i = 0; i < d.reactions(); ++i) out[d.reaction_nodes[i]] = i;
+std::vector<std::array<int, 2>> element_reactions(const fe::Discretisation& d) {
+  std::vector<int> first(d.mesh.nodes.size(), -1), last(d.mesh.nodes.size(), -1);
+  for (int i = d.reactions() - 1; i >= 0; --i) first[d.reaction_nodes[i]] = i;
+  for (int i = 0; i < d.reactions(); ++i) last[d.reaction_nodes[i]] = i;
+  std::vector<std::array<int, 2>> out(d.mesh.elements());
+  for (int e = 0; e < d.mesh.elements(); ++e) out[e] = {last[e], first[e + 1]};
   return out;
 }
 

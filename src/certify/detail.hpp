@@ -4,6 +4,7 @@
 // Internal to liftoff_certify.
 
 #include <Eigen/Dense>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <string_view>
@@ -64,8 +65,10 @@ inline Check make_check(std::string_view name, double value, double tolerance) {
   return check;
 }
 
-// Mesh node -> index of its reaction unknown, -1 off the foundation.
-std::vector<int> reaction_of_node(const fe::Discretisation& d);
+// Element -> the reaction unknowns at its two ends, -1 off the foundation: the last reaction of
+// its first node and the first of its second (a node where the reaction jumps has two, the left
+// element's first: fe/discretisation.hpp).
+std::vector<std::array<int, 2>> element_reactions(const fe::Discretisation& d);
 // The dofs the end and point supports fix (as fe::discretise fixes them; the gauge is not one).
 std::vector<int> supported_dofs(const fe::MemberModel& model, const fe::Discretisation& d);
 // The applied loads as nodal forces on every dof (work-equivalent, as the assembly computes them).

@@ -102,7 +102,7 @@ NodalForces nodal_forces(const MemberModel& model, const Discretisation& d, cons
   f.gap = f.gap_terms = VectorXd::Zero(d.reactions());
   f.applied = detail::applied_nodal_loads(model, d, load_factor);
   f.magnitude = f.applied.cwiseAbs();
-  const std::vector<int> reaction_of_node = detail::reaction_of_node(d);
+  const std::vector<std::array<int, 2>> reaction_of_node = detail::element_reactions(d);
   const bool arch = d.kind == StructureKind::arch;
   std::vector<detail::Compensated> defect(n);
   std::vector<int> dof_of_equation(d.equations);
@@ -145,7 +145,7 @@ NodalForces nodal_forces(const MemberModel& model, const Discretisation& d, cons
       }
     }
     if (!on_foundation(d, e)) continue;
-    const int ra = reaction_of_node[e], rb = reaction_of_node[e + 1];
+    const auto [ra, rb] = reaction_of_node[e];
     if (ra < 0 || rb < 0) continue;
     // No foundation under the element in the member (a void): a reaction there acts on nothing,
     // so it adds no force and the balance shows it.
@@ -377,10 +377,10 @@ double w_in(const Discretisation& d, const VectorXd& u, int e, double xi) {
   return fe::hermite_cubic(xi, d.mesh.element_size(e)).value.dot(w_dofs);
 }
 
-double r_in(const MemberModel& /*model*/, const Discretisation& d, const std::vector<int>& reaction_of_node,
-            const VectorXd& r, int e, double xi) {
+double r_in(const MemberModel& /*model*/, const Discretisation& d,
+            const std::vector<std::array<int, 2>>& reaction_of_node, const VectorXd& r, int e, double xi) {
   if (!on_foundation(d, e)) return 0.0;
-  const int ra = reaction_of_node[e], rb = reaction_of_node[e + 1];
+  const auto [ra, rb] = reaction_of_node[e];
   if (ra < 0 || rb < 0) return 0.0;
   const Eigen::Vector2d phi = fe::reaction_shape(xi);
   return phi[0] * r[ra] + phi[1] * r[rb];
@@ -423,8 +423,8 @@ DiscretisationError estimate_discretisation_error(const MemberModel& model, cons
     u2 += polish.correction_u;
     r2 += polish.correction_r;
   }
-  const std::vector<int> reactions_fine = detail::reaction_of_node(d),
-                         reactions_coarse = detail::reaction_of_node(coarse);
+  const std::vector<std::array<int, 2>> reactions_fine = detail::element_reactions(d),
+                                        reactions_coarse = detail::element_reactions(coarse);
   double w_scale = 0.0, r_scale = 0.0, w_change = 0.0, r_change = 0.0;
   for (int e = 0; e < d.mesh.elements(); ++e)
     for (int i = 0; i <= samples; ++i) {
@@ -572,9 +572,9 @@ Certificate certify(const MemberModel& model, const Discretisation& d, const con
   }
   {
     double integral = 0.0, moment = 0.0;  // of the P1 reaction: integral of r and of r s
-    const std::vector<int> reactions = detail::reaction_of_node(d);
+    const std::vector<std::array<int, 2>> reactions = detail::element_reactions(d);
     for (int e = 0; e < d.mesh.elements(); ++e) {
-      const int ra = reactions[e], rb = reactions[e + 1];
+      const auto [ra, rb] = reactions[e];
       if (!on_foundation(d, e) || ra < 0 || rb < 0) continue;
       const double h = d.mesh.element_size(e), sa = d.mesh.nodes[e], sb = d.mesh.nodes[e + 1];
       integral += 0.5 * h * (r_given[ra] + r_given[rb]);
@@ -596,7 +596,7 @@ Certificate certify(const MemberModel& model, const Discretisation& d, const con
   const double sign_tolerance = detail::sign_safety * std::max(answer_error, options.sign_floor);
 
   // Contact conditions: discrete (nodal, weighted) and pointwise.
-  const std::vector<int> reaction_of_node = detail::reaction_of_node(d);
+  const std::vector<std::array<int, 2>> reaction_of_node = detail::element_reactions(d);
   const int m = d.reactions();
   const double r_scale = m > 0 ? r_given.cwiseAbs().maxCoeff() : 0.0;
   if (d.tensionless) {
@@ -639,8 +639,10 @@ Certificate certify(const MemberModel& model, const Discretisation& d, const con
       const double s = d.mesh.nodes[node];
       const double relative_r = r_scale > 0 ? r_given[i] / r_scale : 0.0;
       double support = 0.0;  // the integral of the node's reaction function phi_i
-      if (node > 0 && on_foundation(d, node - 1)) support += 0.5 * d.mesh.element_size(node - 1);
-      if (node < d.mesh.elements() && on_foundation(d, node)) support += 0.5 * d.mesh.element_size(node);
+      if (node > 0 && on_foundation(d, node - 1) && reaction_of_node[node - 1][1] == i)
+        support += 0.5 * d.mesh.element_size(node - 1);
+      if (node < d.mesh.elements() && on_foundation(d, node) && reaction_of_node[node][0] == i)
+        support += 0.5 * d.mesh.element_size(node);
       const double gap_terms = std::max({f.gap_terms[i], gap_floor, support * w_largest});
       const double relative_gap = gap_terms > 0 ? f.gap[i] / gap_terms : 0.0;
       if (!limit_node[d.reaction_nodes[i]] && !w_held_at_zero[d.reaction_nodes[i]]) worse(sign, -relative_r, s);
@@ -668,7 +670,7 @@ Certificate certify(const MemberModel& model, const Discretisation& d, const con
       sign_change[e] = positive && negative;
     }
     for (int e = 0; e < elements && !fitted; ++e) {  // a fitted answer has no limit elements
-      const int ra = reaction_of_node[e], rb = reaction_of_node[e + 1];
+      const auto [ra, rb] = reaction_of_node[e];
       const bool mixed = ra >= 0 && rb >= 0 && ((r_given[ra] > 0) != (r_given[rb] > 0));
       limit[e] = sign_change[e] || mixed || (e > 0 && sign_change[e - 1]) || (e + 1 < elements && sign_change[e + 1]);
     }

@@ -51,11 +51,11 @@ void ActiveSetSystem::assemble() {
     throw std::invalid_argument("ActiveSetSystem: the discretisation has no mixed form (stress_coupling, compliance)");
 
   // Unknowns in order along the member: a node's dofs and reaction, then the element's interior
-  // dofs and stresses (its own, then its Winkler stresses, fe/discretisation.hpp). Every coupling is within an element
-  // or between neighbouring nodes' reactions, so the matrix is banded in this order with a bandwidth independent of the
-  // mesh.
-  std::vector<int> reaction_of_node(d_.mesh.nodes.size(), -1);
-  for (int i = 0; i < m; ++i) reaction_of_node[d_.reaction_nodes[i]] = i;
+  // dofs and stresses (its own, then its Winkler stresses, fe/discretisation.hpp). Every coupling
+  // is within an element or between neighbouring nodes' reactions, so the matrix is banded in this
+  // order with a bandwidth independent of the mesh. A node where the reaction jumps has two
+  // reactions, placed together (the left one first).
+  int next_reaction = 0;
   slot_.assign(size, -1);
   reaction_of_slot_.assign(size, -1);
   block_of_slot_.assign(size, displacement);
@@ -74,9 +74,9 @@ void ActiveSetSystem::assemble() {
       slot_[n + k] = next;
       block_of_slot_[next++] = stress;
     }
-    if (reaction_of_node[node] >= 0) {
-      slot_[n + ns + reaction_of_node[node]] = next;
-      reaction_of_slot_[next] = reaction_of_node[node];
+    for (; next_reaction < m && d_.reaction_nodes[next_reaction] == node; ++next_reaction) {
+      slot_[n + ns + next_reaction] = next;
+      reaction_of_slot_[next] = next_reaction;
       block_of_slot_[next++] = reaction;
     }
     if (node == elements) break;

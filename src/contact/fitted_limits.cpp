@@ -88,8 +88,9 @@ std::vector<ContactInterval> contact_intervals(const fe::Discretisation& d, cons
   for (int i = 0; i < m; ++i) {
     if (!in_contact[i]) continue;
     const int node = d.reaction_nodes[i];
-    const bool starts = i == 0 || !in_contact[i - 1] || d.reaction_nodes[i - 1] != node - 1;
-    const bool ends = i == m - 1 || !in_contact[i + 1] || d.reaction_nodes[i + 1] != node + 1;
+    // Neighbours: the next node's reaction, or the other of a node where the reaction jumps.
+    const bool starts = i == 0 || !in_contact[i - 1] || d.reaction_nodes[i - 1] < node - 1;
+    const bool ends = i == m - 1 || !in_contact[i + 1] || d.reaction_nodes[i + 1] > node + 1;
     // The lifted-off nodes on the foundation beyond the region, walked outwards (direction -1 or
     // +1): the limit is the zero of w in the element where w turns negative. A node with w = 0
     // exactly (a support holds it) or the foundation's end ends the region there (a limit at a
@@ -102,6 +103,10 @@ std::vector<ContactInterval> contact_intervals(const fe::Discretisation& d, cons
       int at = node, index = i;
       for (;;) {
         const int next = index + direction;
+        if (next >= 0 && next < m && d.reaction_nodes[next] == at) {  // the other reaction of a jump
+          index = next;
+          continue;
+        }
         if (next < 0 || next >= m || d.reaction_nodes[next] != at + direction) return d.mesh.nodes[at];
         at += direction;
         index = next;

@@ -23,6 +23,15 @@ int Discretisation::deflection_dof(int node) const { return kind == StructureKin
 int Discretisation::slope_dof(int node) const { return kind == StructureKind::beam ? 2 * node + 1 : 6 * node + 2; }
 int Discretisation::tangential_dof(int node) const { return 6 * node; }
 
+std::array<int, 2> Discretisation::element_reactions(int element) const {
+  std::array<int, 2> ends{-1, -1};
+  const auto last = std::upper_bound(reaction_nodes.begin(), reaction_nodes.end(), element);
+  if (last != reaction_nodes.begin() && *(last - 1) == element)
+    ends[0] = static_cast<int>(last - reaction_nodes.begin()) - 1;
+  if (last != reaction_nodes.end() && *last == element + 1) ends[1] = static_cast<int>(last - reaction_nodes.begin());
+  return ends;
+}
+
 std::vector<int> Discretisation::element_dofs(int e) const {
   if (kind == StructureKind::beam) return {2 * e, 2 * e + 1, 2 * e + 2, 2 * e + 3};
   return {6 * e + 1, 6 * e + 2, 6 * e + 7, 6 * e + 8, 6 * e, 6 * e + 3, 6 * e + 4, 6 * e + 5, 6 * e + 6};
@@ -182,7 +191,7 @@ struct Assembly {
   Eigen::VectorXd dead_load, live_load;  // on every dof
 };
 
-Assembly assemble(const MemberModel& model, const Discretisation& d, const std::vector<int>& reaction_of_node) {
+Assembly assemble(const MemberModel& model, const Discretisation& d) {
   Assembly a;
   const int n = d.dofs();
   a.dead_load = Eigen::VectorXd::Zero(n);
@@ -240,7 +249,7 @@ Assembly assemble(const MemberModel& model, const Discretisation& d, const std::
     if (d.foundation_on_element[e]) {
       const auto c = foundation_element::coupling(h);
       const auto t = foundation_element::flexibility(h, d.element_modulus[e].begin, d.element_modulus[e].end);
-      const int r[2] = {reaction_of_node[e], reaction_of_node[e + 1]};
+      const std::array<int, 2> r = d.element_reactions(e);
       for (int i = 0; i < 2; ++i) {
         for (int j = 0; j < 4; ++j) a.coupling.emplace_back(r[i], dofs[j], c(i, j));
         for (int j = 0; j < 2; ++j) a.flexibility.emplace_back(r[i], r[j], t(i, j));
@@ -372,18 +381,18 @@ Discretisation discretise(const MemberModel& model, Mesh mesh, std::vector<bool>
   for (int e = 0; e < elements; ++e)
     foundation_on_element[e] = foundation_on_element[e] && d.element_modulus[e].present();
   d.foundation_on_element = std::move(foundation_on_element);
-  std::vector<int> reaction_of_node(d.mesh.nodes.size(), -1);
+  std::vector<bool> jumps(d.mesh.nodes.size(), false);
+  for (double s : model.reaction_jumps())
+    if (const int node = d.mesh.node_at(s); node >= 0) jumps[node] = true;
   for (int node = 0; node <= elements; ++node) {
-    const bool touches =
-        (node > 0 && d.foundation_on_element[node - 1]) || (node < elements && d.foundation_on_element[node]);
-    if (touches) {
-      reaction_of_node[node] = static_cast<int>(d.reaction_nodes.size());
-      d.reaction_nodes.push_back(node);
-    }
+    const bool left = node > 0 && d.foundation_on_element[node - 1];
+    const bool right = node < elements && d.foundation_on_element[node];
+    if (left || right) d.reaction_nodes.push_back(node);
+    if (left && right && jumps[node]) d.reaction_nodes.push_back(node);
   }
 
   d.springs = spring_rows(model, d);
-  Assembly a = assemble(model, d, reaction_of_node);
+  Assembly a = assemble(model, d);
   const SparseMatrix coupling_all = to_sparse(d.reactions(), n, a.coupling, nullptr, nullptr);
 
   // Settlements: u = u_f + v with u_f the prescribed w at the settled supports, so K v = F - K u_f

@@ -17,6 +17,7 @@
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
 #include <algorithm>
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -37,10 +38,23 @@ class Discretisation {
   Mesh mesh;
   std::vector<int> equation_of_dof;  // -1: fixed by a support or the gauge
   int equations = 0;
-  std::vector<int> reaction_nodes;  // mesh node of each reaction unknown
-  SparseMatrix stiffness;           // K: equations x equations
-  SparseMatrix coupling;            // C: reactions x equations
-  SparseMatrix flexibility;         // T: reactions x reactions
+  // The mesh node of each reaction unknown, non-decreasing: one per node of the foundation's
+  // elements, but two where the reaction jumps (MemberModel::reaction_jumps: k or g steps there)
+  // and the foundation acts on both elements: the left element's (its half of the hat, the left
+  // k and g) then the right element's, each with its own row of T, C, c and its own
+  // complementarity. One nodal value cannot follow a jump of k (w - g): w would converge like h.
+  std::vector<int> reaction_nodes;
+  // The reactions at element e's two ends (-1 where no node has one): the last reaction of its
+  // first node and the first of its second node.
+  std::array<int, 2> element_reactions(int element) const;
+  // Whether reaction i shares its node with another (a jump).
+  bool reaction_is_split(int i) const {
+    return (i > 0 && reaction_nodes[i - 1] == reaction_nodes[i]) ||
+           (i + 1 < reactions() && reaction_nodes[i + 1] == reaction_nodes[i]);
+  }
+  SparseMatrix stiffness;    // K: equations x equations
+  SparseMatrix coupling;     // C: reactions x equations
+  SparseMatrix flexibility;  // T: reactions x reactions
   // c: reactions. The ground gap g(s) (MemberModel::ground_gap) tested by the reactions' shapes,
   // c_i = integral of Hb_i g ds over the foundation's elements (as C u is of Hb_i w), so that
   // gap = T r - C u + c is the discrete r/k - (w - g): contact where w >= g, r = k (w - g).

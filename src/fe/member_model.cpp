@@ -65,6 +65,20 @@ std::vector<std::pair<double, double>> MemberModel::foundation_stretches() const
   return stretches;
 }
 
+std::vector<double> MemberModel::reaction_jumps() const {
+  std::vector<double> jumps;
+  const std::vector<FoundationPiece> all = pieces();
+  for (std::size_t i = 0; i + 1 < all.size(); ++i)
+    if (all[i].end == all[i + 1].begin && all[i].modulus_at(all[i].end) != all[i + 1].modulus)
+      jumps.push_back(all[i].end);
+  for (std::size_t i = 0; i + 1 < ground_gap_at.size(); ++i)
+    if (ground_gap_at[i] == ground_gap_at[i + 1] && ground_gap_value[i] != ground_gap_value[i + 1])
+      jumps.push_back(ground_gap_at[i]);
+  std::sort(jumps.begin(), jumps.end());
+  jumps.erase(std::unique(jumps.begin(), jumps.end()), jumps.end());
+  return jumps;
+}
+
 double MemberModel::ground_gap(double s) const {
   if (ground_gap_at.empty()) return 0.0;
   if (s < ground_gap_at.front()) return ground_gap_value.front();

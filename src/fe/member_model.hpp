@@ -136,6 +136,10 @@ struct MemberModel {
   double tension_modulus_at(double s) const { return foundation_modulus_at(s) > 0.0 ? tension_modulus : 0.0; }
   double contact_modulus_at(double s) const { return foundation_modulus_at(s) - tension_modulus_at(s); }
   bool has_tension_modulus() const { return tension_modulus > 0.0; }
+  // Where the reaction k (w - g) may jump inside the foundation (sorted, s): the common end of two
+  // abutting pieces whose k differ there, and a step of the gap table (a repeated position with
+  // two values). Read from the data, never from nearby numbers: the FE puts two reactions there.
+  std::vector<double> reaction_jumps() const;
   // The stretches of foundation without a void: unions of abutting pieces, in order.
   std::vector<std::pair<double, double>> foundation_stretches() const;
   // Whether s is the end of a stretch (the foundation stops there; within round-off).

@@ -82,8 +82,12 @@ SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model,
   FieldTable& n = r.nodes;
   n.coordinate = to_user(model, d.mesh.nodes);
   n.reaction.assign(d.mesh.nodes.size(), 0.0);
-  for (int i = 0; i < d.reactions(); ++i)
-    n.reaction[d.reaction_nodes[i]] = solution.reaction[i] * scales.force_per_length();
+  // Where the reaction jumps a node has two: the table shows the larger (max_reaction too).
+  for (int i = 0; i < d.reactions(); ++i) {
+    double& at_node = n.reaction[d.reaction_nodes[i]];
+    const double value = solution.reaction[i] * scales.force_per_length();
+    at_node = i > 0 && d.reaction_nodes[i - 1] == d.reaction_nodes[i] ? std::max(at_node, value) : value;
+  }
   for (int node = 0; node < static_cast<int>(d.mesh.nodes.size()); ++node) {
     const double w = solution.displacement[d.deflection_dof(node)], slope = solution.displacement[d.slope_dof(node)];
     const double u = model.kind == StructureKind::arch ? solution.displacement[d.tangential_dof(node)] : 0.0;
@@ -91,8 +95,15 @@ SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model,
     const double in = model.foundation_outside ? -1.0 : 1.0;  // w > 0 outward outside (arch_element.hpp)
     n.rotation.push_back(model.kind == StructureKind::arch ? -(u + in * slope) : -slope);
     if (model.kind == StructureKind::arch) n.u.push_back(u * scales.displacement());
+    // A bilinear foundation's Winkler part K_t (w - g) adds to the LCP's reaction: the total.
+    double tension_modulus = 0.0;
+    for (int e : {node - 1, node})
+      if (e >= 0 && e < d.mesh.elements()) tension_modulus = std::max(tension_modulus, d.element_tension_modulus[e]);
+    if (tension_modulus > 0.0)
+      n.reaction[node] += tension_modulus * (w - model.ground_gap(d.mesh.nodes[node])) * scales.force_per_length();
   }
-  // The nodal reactions are the LCP's unknowns: report their largest, not an interpolation's.
+  // The nodal reactions are the LCP's unknowns (plus the Winkler part's K_t (w - g), linear in the
+  // nodal w): report their largest, not an interpolation's.
   r.max_reaction = *std::max_element(n.reaction.begin(), n.reaction.end());
   return r;
 }

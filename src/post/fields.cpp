@@ -42,13 +42,11 @@ LocalState evaluate(const fe::Discretisation& d, const Eigen::VectorXd& displace
 }
 
 double reaction_at(const fe::Discretisation& d, const Eigen::VectorXd& reaction, int element, double xi) {
-  // Reaction nodes are the nodes of the elements the foundation acts on (increasing): its extent,
-  // or a limit-fitted solve's contact elements, in several runs.
+  // The element's own two reactions (at a node where the reaction jumps, its side's).
   if (d.reactions() == 0 || !d.foundation_on_element[element]) return 0.0;
-  const auto found = std::lower_bound(d.reaction_nodes.begin(), d.reaction_nodes.end(), element);
-  const auto first = static_cast<int>(found - d.reaction_nodes.begin());
+  const auto [first, second] = d.element_reactions(element);
   const Eigen::Vector2d shape = fe::reaction_shape(xi);
-  return shape[0] * reaction[first] + shape[1] * reaction[first + 1];
+  return shape[0] * reaction[first] + shape[1] * reaction[second];
 }
 
 Fields sample_fields(const fe::MemberModel& model, const fe::Discretisation& d,
@@ -70,18 +68,32 @@ Fields sample_fields(const fe::MemberModel& model, const fe::Discretisation& d,
   const double in = fe::arch_element::inward_sign(d.foundation_outside);
   auto add = [&](int element, double xi) {
     const LocalState x = evaluate_on(d, solution.displacement, element, dofs, xi);
-    f.s.push_back(d.mesh.nodes[element] + xi * d.mesh.element_size(element));
+    // An element's end is its next node exactly (the jump's two samples share their s).
+    f.s.push_back(xi == 1.0 ? d.mesh.nodes[element + 1] : d.mesh.nodes[element] + xi * d.mesh.element_size(element));
     f.w.push_back(x.w);
     f.rotation.push_back(arch ? -(x.u + in * x.dw) : -x.dw);
     f.bending_moment.push_back(arch ? -(x.du + in * x.d2w) : -(x.d2w + kappa));
     f.shear_force.push_back(arch ? -(x.d2u + in * x.d3w) : -x.d3w);
-    f.reaction.push_back(reaction_at(d, solution.reaction, element, xi));
+    // The total: the LCP's reaction plus a bilinear foundation's Winkler part K_t (w - g).
+    const double winkler = d.element_tension_modulus[element] == 0.0
+                               ? 0.0
+                               : d.element_tension_modulus[element] * (x.w - model.ground_gap(f.s.back()));
+    f.reaction.push_back(reaction_at(d, solution.reaction, element, xi) + winkler);
     if (arch) {
       f.u.push_back(x.u);
       f.normal_force.push_back(model.membrane_stiffness * (x.du - in * x.w));
     }
   };
+  // Where the reaction jumps (two reactions at a node) the diagram gets both values at that s:
+  // the left element's end, then the right element's start.
+  std::vector<char> jumps(d.mesh.nodes.size(), 0);
+  for (int i = 0; i + 1 < d.reactions(); ++i)
+    if (d.reaction_nodes[i] == d.reaction_nodes[i + 1]) jumps[d.reaction_nodes[i]] = 1;
   for (int e = 0; e < elements; ++e) {
+    if (e > 0 && jumps[e]) {
+      dofs = d.element_dofs(e - 1);
+      add(e - 1, 1.0);
+    }
     dofs = d.element_dofs(e);  // once per element, not per sample
     kappa = fe::imposed_curvature(model.loads, d.mesh.nodes[e] + 0.5 * d.mesh.element_size(e), load_factor);
     for (int i = 0; i < samples_per_element; ++i) add(e, static_cast<double>(i) / samples_per_element);

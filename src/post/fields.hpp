@@ -30,7 +30,8 @@ struct Fields {
   std::vector<double> u, normal_force;  // arches only (empty for beams)
 };
 
-// samples_per_element >= 1 points per element (xi = i / samples, i = 0..samples-1), plus the end.
+// samples_per_element >= 1 points per element (xi = i / samples, i = 0..samples-1), plus the end,
+// and at a node where the reaction jumps (two reactions) also the left element's end: s repeats there.
 // load_factor scales live curvature loads (the solution's lambda).
 Fields sample_fields(const fe::MemberModel& model, const fe::Discretisation& d,
                      const contact::ContactSolution& solution, int samples_per_element, double load_factor = 1.0);

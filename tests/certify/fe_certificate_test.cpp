@@ -44,6 +44,21 @@ scene::Scene footing() {
   return s;
 }
 
+// Reactions of an answer on `from`'s numbering moved onto `to`'s (the same mesh): by node and
+// side, so answers of foundations whose k jumps at other nodes (two reactions there) can be
+// certified against a member: a node's one reaction serves both sides, a side's its own.
+Eigen::VectorXd on_numbering(const fe::Discretisation& from, const Eigen::VectorXd& r, const fe::Discretisation& to) {
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(to.reactions());
+  for (int i = 0; i < to.reactions(); ++i) {
+    const int node = to.reaction_nodes[i];
+    const bool left_side = node > 0 && to.element_reactions(node - 1)[1] == i;
+    const int j = left_side ? from.element_reactions(node - 1)[1]
+                            : (node < from.mesh.elements() ? from.element_reactions(node)[0] : -1);
+    if (j >= 0) out[i] = r[j];
+  }
+  return out;
+}
+
 // A reaction node well inside a contact region (r > 0 there and at both neighbours), and one
 // well inside a lift-off region.
 int node_in_contact(const test::Solved& s) {
@@ -395,6 +410,7 @@ TEST_CASE("foundation pieces: the certificate reads each element's k, and catche
     clay.foundation.segments[1].modulus = *clay.foundation.segments[0].modulus;
     test::Solved wrong = test::solve(clay, Method::fast, 60);
     REQUIRE(wrong.solution.summary.is_usable());
+    wrong.solution.reaction = on_numbering(wrong.discretisation, wrong.solution.reaction, good.discretisation);
     wrong.model = good.model;
     wrong.discretisation = good.discretisation;
     const certify::Certificate c = certify_solved(wrong, false);
@@ -427,7 +443,9 @@ TEST_CASE("ground gap: an answer that ignores the gap fails the certificate", "[
   CHECK(certify_solved(good).passed);
   // The answer of the same beam without the gap, certified as an answer to the scene with it.
   test::Solved wrong = good;
-  wrong.solution = test::solve(plain, Method::fast, 200).solution;
+  const test::Solved without = test::solve(plain, Method::fast, 200);
+  wrong.solution = without.solution;  // its one reaction at each wall serves both halves there
+  wrong.solution.reaction = on_numbering(without.discretisation, without.solution.reaction, good.discretisation);
   const certify::Certificate c = certify_solved(wrong);
   CHECK_FALSE(c.passed);
   // Over the trench it presses with r = k w, not k (w - g): its weighted gap r/k - w + g is g
@@ -464,6 +482,8 @@ TEST_CASE("a modulus linear within a piece: the certificate checks the reaction 
   for (const scene::Scene* other : {&frozen, &reversed}) {
     test::Solved wrong = test::solve(*other, Method::fast, 20);
     REQUIRE(wrong.solution.summary.is_usable());
+    // Frozen: 20 pieces, two reactions at every interior node; on the member's numbering.
+    wrong.solution.reaction = on_numbering(wrong.discretisation, wrong.solution.reaction, good.discretisation);
     REQUIRE(wrong.solution.reaction.size() == good.solution.reaction.size());
     wrong.model = good.model;
     wrong.discretisation = good.discretisation;
@@ -549,4 +569,43 @@ TEST_CASE("bilinear foundation: certified, and an answer that drops K_t is not",
   // balances the load: 5 % off (the pull K_t w on the lifted ends and K_t w + r in contact), far
   // above the balance's round-off tolerance (4e-8).
   CHECK(check(c, "force_balance").value > 1e-2);
+}
+
+TEST_CASE("two reactions where k jumps: certified, each against its side's k w", "[certify][segments][jump]") {
+  // The footing on two soils (clay 2e7, sand 8e7 N/m^2, meeting at x = 1.5 m, inside the contact
+  // region), bilateral and tensionless: the node at 1.5 carries a clay reaction and a sand
+  // reaction, ~k w of each soil (ratio ~1/4), and the answer is certified.
+  const bool tensionless = GENERATE(true, false);
+  CAPTURE(tensionless);
+  scene::Scene s = test::shipped_scene("engineering/footing_two_soils");
+  s.foundation.tensionless = tensionless;
+  const test::Solved good = test::solve(s, Method::fast, 60);
+  REQUIRE(good.solution.summary.is_usable());
+  const fe::Discretisation& d = good.discretisation;
+  const int node = d.mesh.node_at(good.model.s_from_user(1.5));
+  REQUIRE(node >= 0);
+  const int clay = d.element_reactions(node - 1)[1], sand = d.element_reactions(node)[0];
+  REQUIRE(sand == clay + 1);
+  const double w = good.solution.displacement[d.deflection_dof(node)];
+  REQUIRE(w > 0);
+  CAPTURE(good.solution.reaction[clay], good.solution.reaction[sand], w);
+  // Each is its soil's k w up to the P1 projection's O(h^2) (h = 1/60 of the length, w'' L^2 / w
+  // of order 1 here; 2.5e-7 and 2.6e-6 measured), where one value for both would be off by a
+  // factor 2.5 on either side.
+  const double k_clay = d.element_modulus[node - 1].end, k_sand = d.element_modulus[node].begin;
+  REQUIRE(k_sand == Approx(4.0 * k_clay).epsilon(1e-15));
+  const double h = 1.0 / 60.0;
+  CHECK(good.solution.reaction[clay] == Approx(k_clay * w).epsilon(h * h));
+  CHECK(good.solution.reaction[sand] == Approx(k_sand * w).epsilon(h * h));
+  const certify::Certificate passed = certify_solved(good);
+  CAPTURE(passed.message);
+  CHECK(passed.passed);
+  // One value for both sides (their mean, as one nodal reaction would carry): each side's
+  // weighted gap r/k - w is then off by ~w/2 at that node, far above its tolerance.
+  test::Solved merged = good;
+  const double mean = 0.5 * (good.solution.reaction[clay] + good.solution.reaction[sand]);
+  merged.solution.reaction[clay] = merged.solution.reaction[sand] = mean;
+  const certify::Certificate c = certify_solved(merged, false);
+  CHECK_FALSE(c.passed);
+  CHECK_FALSE(check(c, certify::check_name::complementarity).passed);
 }

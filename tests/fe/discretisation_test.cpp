@@ -1,6 +1,7 @@
 // Mesh breakpoints, and the analysis of rigid motions the supports leave free.
 #include "fe/discretisation.hpp"
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <limits>
 
@@ -134,6 +135,69 @@ TEST_CASE("the ground gap vector is the integral of Hb^T g, exact for a piecewis
   s.foundation.gap_at.clear();
   s.foundation.gap_value.clear();
   CHECK(fe::discretise(fe::make_member_model(s), 9).ground_gap.isZero(0.0));
+}
+
+TEST_CASE("two reactions at a node where k or the ground gap steps, one where neither does", "[fe][issue12][jump]") {
+  // L = 1, EI = 1: k = 1000 on [0, 0.4], 4000 on [0.4, 0.7], 4000 on [0.7, 0.8] (no step at 0.7),
+  // a void on [0.8, 0.9], 1000 on [0.9, 1]; the gap steps at 0.2 (and is continuous at 0.5).
+  scene::Scene s = test::beam_scene(1.0, 1.0, EndSupport::free, EndSupport::free, 1.0);
+  s.foundation.stiffness_parameter.reset();
+  s.foundation.segments = {{0.0, 0.4, 1000.0, std::nullopt},
+                           {0.4, 0.7, 4000.0, std::nullopt},
+                           {0.7, 0.8, 4000.0, std::nullopt},
+                           {0.9, 1.0, 1000.0, std::nullopt}};
+  s.foundation.gap_at = {0.2, 0.2, 0.5};
+  s.foundation.gap_value = {0.0, 1e-3, 2e-3};
+  s.loads = {test::point_force(0.5, 1.0)};
+  const fe::MemberModel model = fe::make_member_model(s);
+  CHECK(model.reaction_jumps() == std::vector<double>{0.2, 0.4});
+  const fe::Discretisation d = fe::discretise(model, 20);  // h = 0.05: nodes 4 (0.2), 8 (0.4), 14, 16, 18
+  const int step = d.mesh.node_at(0.2), soils = d.mesh.node_at(0.4);
+  REQUIRE(step == 4);
+  REQUIRE(soils == 8);
+  // Nodes 0..16 and 18..20, with 4 and 8 twice: left reaction first, each element's own.
+  std::vector<int> expected;
+  for (int node = 0; node <= 20; ++node) {
+    if (node == 17) continue;
+    expected.push_back(node);
+    if (node == step || node == soils) expected.push_back(node);
+  }
+  CHECK(d.reaction_nodes == expected);
+  // Reactions 4, 5 at the step's node, 9, 10 at the soils' node.
+  CHECK(d.element_reactions(3) == std::array<int, 2>{3, 4});
+  CHECK(d.element_reactions(4) == std::array<int, 2>{5, 6});
+  CHECK(d.element_reactions(7) == std::array<int, 2>{8, 9});
+  CHECK(d.element_reactions(8) == std::array<int, 2>{10, 11});
+  for (int i : {4, 5, 9, 10}) CHECK(d.reaction_is_split(i));
+  CHECK_FALSE(d.reaction_is_split(3));
+  CHECK_FALSE(d.reaction_is_split(6));
+  // Each half takes its element's rows alone: T of one element end (h / (3 k), its side's k),
+  // no coupling between the two halves, C the element's w-shape integral (h / 2 for a uniform w),
+  // and c its side's gap (a uniform w of 1 - g: the left half sees g = 0, the right g = 1e-3).
+  const Eigen::MatrixXd t(d.flexibility);
+  const double h = 0.05;
+  CHECK(t(9, 9) == Approx(h / 3.0 / 1000.0).epsilon(1e-14));
+  CHECK(t(10, 10) == Approx(h / 3.0 / 4000.0).epsilon(1e-14));
+  CHECK(t(9, 10) == 0.0);
+  CHECK(t(8, 9) == Approx(h / 6.0 / 1000.0).epsilon(1e-14));
+  CHECK(t(10, 11) == Approx(h / 6.0 / 4000.0).epsilon(1e-14));
+  Eigen::VectorXd translation = Eigen::VectorXd::Zero(d.dofs());
+  for (int node = 0; node <= 20; ++node) translation[d.deflection_dof(node)] = 1.0;
+  Eigen::VectorXd on_equations(d.equations);
+  for (int dof = 0; dof < d.dofs(); ++dof)
+    if (d.equation_of_dof[dof] >= 0) on_equations[d.equation_of_dof[dof]] = translation[dof];
+  const Eigen::VectorXd c_w = d.coupling * on_equations;
+  for (int i : {4, 5, 9, 10}) CHECK(c_w[i] == Approx(h / 2.0).epsilon(1e-14));
+  CHECK(c_w[3] == Approx(h).epsilon(1e-14));
+  CHECK(d.ground_gap[4] == 0.0);
+  // The right element of the step: g from 1e-3 at 0.2 to 1e-3 + 1e-3/6 at 0.25, by the half hat.
+  CHECK(d.ground_gap[5] == Approx(h / 6.0 * (2 * 1e-3 + (1e-3 + 1e-3 / 6.0))).epsilon(1e-13));
+  // A foundation on one side of a jump only (a limit-fitted solve's contact ending there): one.
+  std::vector<bool> left_only(20, true);
+  for (int e = 8; e < 20; ++e) left_only[e] = false;
+  const fe::Discretisation fitted = fe::discretise(model, fe::make_mesh(model, 20), left_only);
+  CHECK(fitted.reaction_nodes.back() == soils);
+  CHECK(std::count(fitted.reaction_nodes.begin(), fitted.reaction_nodes.end(), soils) == 1);
 }
 
 namespace {

@@ -73,10 +73,9 @@ NodalError nodal_error(const test::Solved& fe, const cf::BeamSolution& exact) {
 // solve the same discrete problem, so they agree to the solves' round-off (1e-9 of max |w|:
 // Lemke and the active-set refinement reach ~1e-12 here); and the error decreases with every
 // doubling of the mesh (a wrong piece would leave it at a plateau). No order is asserted: the
-// node-based limits converge erratically, and where the modulus jumps inside a contact region
-// (two soils) the continuous P1 reaction cannot jump with k w, which costs O(h) in w (orders
-// measured: sleeper 1.01, footing 0.85 on 20..80 elements, trench 2.35; README,
-// [[foundation.segments]]).
+// node-based limits converge erratically (orders measured: sleeper 4.0 (in contact everywhere),
+// footing 2.7, trench 2.35; with one reaction per node where the modulus jumps, sleeper 1.01 and
+// footing 0.85: the order test below asserts the two reactions there).
 void check_against_exact(const scene::Scene& s, const std::vector<scene::Method>& methods, int n,
                          const cf::BeamSolution& exact) {
   std::vector<double> h, error;
@@ -120,12 +119,15 @@ TEST_CASE("foundation pieces: member, mesh nodes and element moduli", "[fe][segm
     for (double k : {d.element_modulus[e].begin, d.element_modulus[e].end})
       CHECK(k * k_scale == Approx(x > 0.8 && x < 1.8 ? 3.0e7 : 3.0e6).epsilon(1e-14));
   }
-  // T = h / (6 k) [2 1; 1 2] per element: at a node between the soils the diagonal sums both.
+  // T = h / (6 k) [2 1; 1 2] per element: the node between the soils has two reactions (k
+  // jumps there), the weak soil's with its element's h / (3 k_weak), the sound's with its own.
   const int node = d.mesh.node_at(model.s_from_user(0.8));
   const double k_weak = model.foundation_pieces[0].modulus, k_sound = model.foundation_pieces[1].modulus;
-  CHECK(
-      d.flexibility.coeff(node, node) ==
-      Approx(d.mesh.element_size(node - 1) / (3 * k_weak) + d.mesh.element_size(node) / (3 * k_sound)).epsilon(1e-14));
+  const int weak = d.element_reactions(node - 1)[1], sound = d.element_reactions(node)[0];
+  REQUIRE(sound == weak + 1);
+  CHECK(d.flexibility.coeff(weak, weak) == Approx(d.mesh.element_size(node - 1) / (3 * k_weak)).epsilon(1e-14));
+  CHECK(d.flexibility.coeff(sound, sound) == Approx(d.mesh.element_size(node) / (3 * k_sound)).epsilon(1e-14));
+  CHECK(d.flexibility.coeff(weak, sound) == 0.0);
 
   // A void: no reaction unknown inside it, none of its elements on the foundation.
   const fe::MemberModel trench = fe::make_member_model(engineering("pipeline_trench_span"));
@@ -158,7 +160,8 @@ TEST_CASE("foundation pieces: every FE method agrees with the closed form", "[fe
        engineering("sleeper_degraded_ballast"),
        52,
        {scene::Method::fast, scene::Method::primal}},
-      {"footing_two_soils", engineering("footing_two_soils"), 20, {scene::Method::fast, scene::Method::primal}},
+      // (Primal Lemke refuses 80 elements of the footing, its pivoting having lost accuracy: 25..100.)
+      {"footing_two_soils", engineering("footing_two_soils"), 25, {scene::Method::fast, scene::Method::primal}},
       {"pipeline_trench_span", engineering("pipeline_trench_span"), 120, {scene::Method::fast, scene::Method::primal}},
       {"pinned trench", pinned, 120, {scene::Method::fast, scene::Method::dual, scene::Method::primal}},
   };
@@ -180,6 +183,76 @@ TEST_CASE("foundation pieces: every FE method agrees with the closed form", "[fe
   }
 }
 
+TEST_CASE("foundation pieces: two reactions where k jumps, so bilateral nodal w converges at h^4",
+          "[fe][segments][jump]") {
+  // Bilateral, so the only error is the discretisation's, against the closed form (exact per
+  // segment). One continuous P1 reaction across a jump of k cannot follow k w, which costs O(h)
+  // in w (orders 0.85-1.01 measured with one reaction per node); with the left and right
+  // reactions at the soils' nodes (each with its own k) the Hermite nodal values converge at
+  // h^4 as on one soil. Meshes from 20 elements, while the error stays far above round-off
+  // (~1e-12 of max |w| with these solves).
+  for (const char* name : {"footing_two_soils", "sleeper_degraded_ballast"}) {
+    CAPTURE(name);
+    scene::Scene s = engineering(name);
+    s.foundation.tensionless = false;
+    const cf::BeamSolution exact = cf::solve_bilateral(exact_problem(s));
+    std::vector<double> h, error;
+    for (int n : {26, 52, 104, 208}) {
+      const test::Solved fe = test::solve(s, scene::Method::fast, n);
+      INFO(fe.solution.summary.message);
+      REQUIRE(fe.solution.summary.is_usable());
+      REQUIRE(fe.discretisation.reactions() ==
+              fe.discretisation.mesh.elements() + 1 + static_cast<int>(fe.model.reaction_jumps().size()));
+      const NodalError e = nodal_error(fe, exact);
+      h.push_back(1.0 / n);
+      error.push_back(e.error / e.scale);
+    }
+    const double order = test::observed_order(h, error);
+    std::printf("%s (bilateral): nodal error %.2e of max |w| at 208 elements, observed order %.2f\n", name,
+                error.back(), order);
+    CHECK(order > 3.7);
+    CHECK(order < 4.3);
+  }
+}
+
+TEST_CASE("ground gap: two reactions at a step of the gap, so bilateral nodal w converges at h^4",
+          "[fe][issue12][gap][jump]") {
+  // The trench of verification/dolfinx/scenes/issue12/gap_trench.toml (L = 1, EI = 1, k = 1e4,
+  // a uniform load 1, the ground 3e-4 .. 2e-4 below the axis on 0.4..0.6 with walls at both
+  // ends), bilateral: the reaction k (w - g) jumps at the walls by k times the wall's height. Two
+  // reactions at each wall give the nodal w at h^4 against the closed form (4.01 measured). Unlike
+  // a jump of k (where T itself is wrong near the node), one reaction per node only misprojects
+  // the constant c here: it measured order 3.87 with errors 9-13 times larger (1.9e-4 .. 6.2e-8
+  // of max |w| on 20..160 elements against 2.0e-5 .. 4.8e-9), so this test asserts the order and
+  // the count of reactions, and the error ratio is a measurement, not a check.
+  scene::Scene s = test::beam_scene(1.0, 1.0, scene::EndSupport::free, scene::EndSupport::free, 1e4, false);
+  s.foundation.gap_at = {0.0, 0.4, 0.4, 0.6, 0.6, 1.0};
+  s.foundation.gap_value = {0.0, 0.0, 3e-4, 2e-4, 0.0, 0.0};
+  s.loads = {test::uniform_load(0.0, 1.0, 1.0)};
+  cf::BeamProblem p;
+  p.foundation_modulus = 1e4;
+  p.gap = {s.foundation.gap_at, s.foundation.gap_value};
+  p.uniform_loads.push_back({0.0, 1.0, 1.0});
+  const cf::BeamSolution exact = cf::solve_bilateral(p);
+  std::vector<double> h, error;
+  for (int n : {20, 40, 80, 160}) {
+    const test::Solved fe = test::solve(s, scene::Method::fast, n);
+    INFO(fe.solution.summary.message);
+    REQUIRE(fe.solution.summary.is_usable());
+    REQUIRE(fe.discretisation.reactions() == n + 1 + 2);  // both walls
+    const NodalError e = nodal_error(fe, exact);
+    h.push_back(1.0 / n);
+    error.push_back(e.error / e.scale);
+  }
+  const double order = test::observed_order(h, error);
+  std::printf(
+      "gap trench (bilateral): nodal error %.2e %.2e %.2e %.2e of max |w| at 20..160 elements, observed "
+      "order %.2f\n",
+      error[0], error[1], error[2], error[3], order);
+  CHECK(order > 3.7);
+  CHECK(order < 4.3);
+}
+
 TEST_CASE("foundation pieces: fitted limits converge at h^4 across two soils and a void", "[fe][segments][fitted]") {
   for (const char* name : {"footing_two_soils", "pipeline_trench_span"}) {
     CAPTURE(name);
@@ -188,7 +261,7 @@ TEST_CASE("foundation pieces: fitted limits converge at h^4 across two soils and
     const auto exact = exact_answer(s);
     REQUIRE(!exact.limits.empty());
     std::vector<double> h, error;
-    const int coarsest = std::string(name) == "footing_two_soils" ? 20 : 120;
+    const int coarsest = std::string(name) == "footing_two_soils" ? 10 : 120;
     for (int n : {coarsest, 2 * coarsest, 4 * coarsest, 8 * coarsest}) {
       CAPTURE(n);
       const fe::Discretisation d = fe::discretise(model, n);
@@ -204,19 +277,24 @@ TEST_CASE("foundation pieces: fitted limits converge at h^4 across two soils and
       double e = 0.0;
       for (std::size_t k = 0; k < exact.limits.size(); ++k)
         e = std::max(e, std::abs(model.user_from_s(fitted.limits[k]) - exact.limits[k]) / s.structure.length);
-      h.push_back(1.0 / n);
+      // The fitted mesh's largest element: its counts per segment are apportioned anew with the
+      // limit, so they do not exactly double with n.
+      double largest = 0.0;
+      for (int j = 0; j < fitted.discretisation.mesh.elements(); ++j)
+        largest = std::max(largest, fitted.discretisation.mesh.element_size(j));
+      h.push_back(largest);
       error.push_back(e);
     }
     // As fitted_limits_test: Hermite nodal values with no kink inside an element converge at
-    // h^4, and a void's end is a node (the trench: 3.91 measured). Two soils in contact: the
-    // continuous P1 reaction cannot jump with k at the soils' node, which costs O(h) (0.96
-    // measured); a reaction split at such nodes would restore h^4 (not done yet).
+    // h^4, and a void's end is a node (the trench: 3.85 measured). Two soils in contact: two
+    // reactions at the soils' node, each with its soil's k, keep h^4 (one continuous P1
+    // reaction there could not jump with k w: 0.96 measured). The footing from 10 elements: at
+    // 160 its limit is within 3e-12 of the length, near the solve's round-off.
     const double order = test::observed_order(h, error);
-    std::printf("%s: fitted limit error %.2e at %d elements, observed order %.2f\n", name, error.back(), 8 * coarsest,
-                order);
-    const bool soils_in_contact = std::string(name) == "footing_two_soils";
-    CHECK(order > (soils_in_contact ? 0.9 : 3.7));
-    CHECK(order < (soils_in_contact ? 1.3 : 4.3));
+    std::printf("%s: fitted limit error %.2e %.2e %.2e %.2e at %d..%d elements, observed order %.2f\n", name, error[0],
+                error[1], error[2], error[3], coarsest, 8 * coarsest, order);
+    CHECK(order > 3.7);
+    CHECK(order < 4.3);
   }
 }
 

@@ -103,3 +103,29 @@ TEST_CASE("a foundation on part of the member and interior point supports", "[po
   for (std::size_t i = 0; i < f.s.size(); ++i)
     if (f.s[i] < 0.2 || f.s[i] > 0.9) CHECK(f.reaction[i] == 0.0);
 }
+
+TEST_CASE("where the reaction jumps the diagram has both values at one s", "[post][jump]") {
+  // The footing on two soils (clay 2e7, sand 8e7 N/m^2 meeting at x = 1.5 m inside the contact
+  // region), 60 elements: the sampled reaction repeats s = 1.5 m with the clay's value then the
+  // sand's, the two nodal reactions there; every other s is sampled once, in order.
+  const test::Solved fe = test::solve(test::shipped_scene("engineering/footing_two_soils"), Method::fast, 60);
+  REQUIRE(fe.solution.summary.is_usable());
+  const fe::Discretisation& d = fe.discretisation;
+  const post::Fields f = post::sample_fields(fe.model, d, fe.solution, 4);
+  const double jump = fe.model.s_from_user(1.5);
+  const int node = d.mesh.node_at(jump);
+  REQUIRE(node >= 0);
+  REQUIRE(f.s.size() == static_cast<std::size_t>(4 * d.mesh.elements() + 2));
+  int repeats = 0;
+  for (std::size_t i = 1; i < f.s.size(); ++i) {
+    CHECK(f.s[i] >= f.s[i - 1]);
+    if (f.s[i] != f.s[i - 1]) continue;
+    ++repeats;
+    CHECK(f.s[i] == d.mesh.nodes[node]);
+    CHECK(f.reaction[i - 1] == fe.solution.reaction[d.element_reactions(node - 1)[1]]);
+    CHECK(f.reaction[i] == fe.solution.reaction[d.element_reactions(node)[0]]);
+    CHECK(f.w[i] == f.w[i - 1]);                     // the same point of the member
+    CHECK(f.reaction[i] > 3.0 * f.reaction[i - 1]);  // the sand's k is 4 times the clay's, w the same
+  }
+  CHECK(repeats == 1);
+}
