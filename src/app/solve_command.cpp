@@ -208,16 +208,6 @@ io::SolveReport refused_report(const scene::Scene& scene, const fe::MemberModel&
 io::SolveReport fitted_report(const scene::Scene& scene, Method method, const SolveRequest& request, double tolerance) {
   const auto start = std::chrono::steady_clock::now();
   const fe::MemberModel model = fe::make_member_model(scene);
-  if (model.has_ground_gap())
-    throw InputError(
-        fmt::format("{}: key '{}': not implemented yet: a tolerance (the limit-fitted solve) with a ground "
-                    "gap; expected no tolerance (the node-based FE solve on the scene's mesh)",
-                    scene.source_name, scene.foundation.gap_key()));
-  if (model.has_settlements())
-    throw InputError(
-        fmt::format("{}: key 'supports': not implemented yet: a tolerance (the limit-fitted solve) with "
-                    "a settlement; expected no tolerance (the node-based FE solve on the scene's mesh)",
-                    scene.source_name));
   const int elements = request.elements.value_or(scene.solve.elements);
   FeResult node_based = solve_fe(scene, model, method, elements);
   const fe::Discretisation& d0 = node_based.discretisation;
@@ -241,7 +231,7 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
       if (d0.equation_of_dof[dof] >= 0) on_equations[d0.equation_of_dof[dof]] = node_based.solution.displacement[dof];
     std::vector<bool> in_contact(d0.reactions());
     for (int i = 0; i < d0.reactions(); ++i) in_contact[i] = node_based.solution.reaction[i] > 0.0;
-    regions = contact::contact_intervals(d0, on_equations, in_contact);
+    regions = contact::contact_intervals(model, d0, on_equations, in_contact);
   }
   contact::ToleranceOptions options;
   options.tolerance = tolerance;
@@ -280,7 +270,7 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   contact::ContactSolution solution;
   solution.displacement = d.expand_displacement(answer.state.displacement);
   solution.reaction = answer.state.reaction;
-  solution.gap = d.flexibility * solution.reaction - d.coupling * answer.state.displacement;
+  solution.gap = d.gap_of(solution.reaction, answer.state.displacement);  // T r - C u + c
   contact::ContactSummary& summary = solution.summary;
   summary.termination = contact::ContactTermination::solved;
   summary.method = first.method;
@@ -301,7 +291,7 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   if (const certify::Check* backward = certificate.find(certify::check_name::backward_error))
     summary.residual = backward->value;
 
-  // Displayed: w from the answer, the reaction as k max(w, 0) on the contact elements (the
+  // Displayed: w from the answer, the reaction as k max(w - g, 0) on the contact elements (the
   // continuum's law on the converged w: h^4 like w, where the P1 reaction the certificate checks
   // is an L2 projection, h^2).
   const Eigen::VectorXd& all = solution.displacement;
@@ -311,7 +301,9 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   for (std::size_t i = 0; i < fields.reaction.size(); ++i) {
     const int e = std::min(static_cast<int>(i) / samples, d.mesh.elements() - 1);
     const double xi = std::clamp((fields.s[i] - d.mesh.nodes[e]) / d.mesh.element_size(e), 0.0, 1.0);
-    fields.reaction[i] = d.foundation_on_element[e] ? d.element_modulus[e].at(xi) * std::max(fields.w[i], 0.0) : 0.0;
+    const double g = model.ground_gap_in(d.mesh.nodes[e], d.mesh.element_size(e), xi);
+    fields.reaction[i] =
+        d.foundation_on_element[e] ? d.element_modulus[e].at(xi) * std::max(fields.w[i] - g, 0.0) : 0.0;
   }
   std::vector<post::Interval> contact_regions;
   for (const auto& c : answer.contact) contact_regions.push_back({c.begin, c.end});
@@ -320,17 +312,20 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   add_accuracy(report);
   io::attach_certificate(report, certificate, model);
   // Nodal reactions and the extremes as displayed (above).
-  const post::DeflectionExtremes x = post::deflection_extremes(d, all);
+  const post::DeflectionExtremes x = post::deflection_extremes(d, all, &model);
   const fe::Scales& scales = model.scales;
-  // At a node between two soils the reaction jumps: the mean of its one-sided values.
+  // At a node between two soils (or at a step of the ground gap) the reaction jumps: the mean of
+  // its one-sided values.
   for (int node = 0; node <= d.mesh.elements(); ++node) {
-    double k = 0.0;
+    double reaction = 0.0;
     int sides = 0;
-    for (int e : {node - 1, node})
-      if (e >= 0 && e < d.mesh.elements() && d.foundation_on_element[e])
-        k += e < node ? d.element_modulus[e].end : d.element_modulus[e].begin, ++sides;
-    report.nodes.reaction[node] =
-        sides > 0 ? k / sides * std::max(all[d.deflection_dof(node)], 0.0) * scales.force_per_length() : 0.0;
+    for (int e : {node - 1, node}) {
+      if (e < 0 || e >= d.mesh.elements() || !d.foundation_on_element[e]) continue;
+      const double xi = e < node ? 1.0 : 0.0, g = model.ground_gap_in(d.mesh.nodes[e], d.mesh.element_size(e), xi);
+      reaction += d.element_modulus[e].at(xi) * std::max(all[d.deflection_dof(node)] - g, 0.0);
+      ++sides;
+    }
+    report.nodes.reaction[node] = sides > 0 ? reaction / sides * scales.force_per_length() : 0.0;
   }
   report.w_max = x.w_max * scales.displacement();
   report.at_w_max = model.user_from_s(x.s_at_w_max);
