@@ -295,6 +295,13 @@ FittedResult solve_fitted_limits(const fe::MemberModel& model, double load_facto
         continue;
       }
       step[k] = -f / slope;
+      // w - g rises into a contact region from its limit: (w - g)' >= 0 at a region's begin, <= 0
+      // at its end. With the other sign (a start far from the answer, or a limit whose answer is
+      // at a step of g, where w - g need not vanish) Newton's step points away from where the
+      // contact must go: step the same length the way the sign of w - g says instead (w > g:
+      // the region grows), to a step of g or until the iteration sees its root.
+      const double inward = refs[k].is_begin ? 1.0 : -1.0;  // into the region
+      if (slope * inward < 0.0) step[k] = (f > 0.0 ? -inward : inward) * std::abs(step[k]);
       largest = std::max(largest, std::abs(step[k]));
     }
     summary.limit_residual = w_scale > 0 ? residual / w_scale : 0.0;
