@@ -186,19 +186,6 @@ std::vector<std::string> trace_path_names(const scene::Scene& scene, const Trace
   const scene::TraceSettings& t = trace_settings(scene);
   const scene::Method method = trace_method(scene, request);
   std::vector<std::string> names;
-  if (!scene.foundation.gap_at.empty())
-    throw InputError(
-        fmt::format("{}: key '{}': not implemented yet: the trace paths with a ground gap (the gap is a "
-                    "constant offset the paths do not carry yet); expected `liftoff solve` for this scene",
-                    scene.source_name, scene.foundation.gap_key()));
-  {
-    const scene::Supports& sp = scene.supports;
-    if (sp.left_detail.settlement != 0.0 || sp.right_detail.settlement != 0.0 || !sp.interior_settlement.empty())
-      throw InputError(
-          fmt::format("{}: key 'supports': not implemented yet: the trace paths with a settlement (a dead load and "
-                      "a constant gap offset the paths do not carry yet); expected `liftoff solve` for this scene",
-                      scene.source_name));
-  }
   if (method != scene::Method::ritz) names.push_back("fe");
   if (method == scene::Method::ritz || method == scene::Method::all) {
     // As `solve --method ritz`: the Ritz model has no interior point supports (bad input, exit 2).
@@ -219,6 +206,8 @@ std::vector<std::string> trace_path_names(const scene::Scene& scene, const Trace
           scene.loads[i].direction != scene::LoadDirection::radial)
         cannot = fmt::format("loads[{}].direction = \"{}\", only radial arch loads", i,
                              scene::to_string(scene.loads[i].direction));
+    if (!scene.foundation.gap_at.empty())  // as `solve --method ritz`, naming the key the user wrote
+      cannot = fmt::format("a ground gap (key '{}'), only the ground at the member's axis", scene.foundation.gap_key());
     if (!cannot.empty()) {
       const std::string where = request.method ? "option '--method'"
                                 : t.method     ? "key 'trace.method'"
