@@ -197,7 +197,8 @@ std::vector<std::string> trace_path_names(const scene::Scene& scene, const Trace
       const bool elastic = sp.left_detail.spring || sp.right_detail.spring || !sp.interior_springs.empty();
       const bool settles =
           sp.left_detail.settlement != 0.0 || sp.right_detail.settlement != 0.0 || !sp.interior_settlement.empty();
-      if (elastic || settles) cannot = "springs (supports kind = \"spring\"), only rigid supports";
+      if (elastic) cannot = "springs (supports kind = \"spring\"), only rigid supports";
+      if (settles && !elastic) cannot = "settlements (supports settlement), only supports held at w = 0";
     }
     if (scene.structure.kind == scene::StructureKind::arch && scene.foundation.side == scene::FoundationSide::outside)
       cannot = "foundation.side = \"outside\", only a foundation inside the arch";
