@@ -208,6 +208,11 @@ io::SolveReport refused_report(const scene::Scene& scene, const fe::MemberModel&
 io::SolveReport fitted_report(const scene::Scene& scene, Method method, const SolveRequest& request, double tolerance) {
   const auto start = std::chrono::steady_clock::now();
   const fe::MemberModel model = fe::make_member_model(scene);
+  if (model.has_tension_modulus())
+    throw InputError(
+        fmt::format("{}: key '{}': not implemented yet: a tolerance (the limit-fitted solve) with a modulus in "
+                    "tension; expected no tolerance (the node-based FE solve on the scene's mesh)",
+                    scene.source_name, scene.foundation.tension_key()));
   const int elements = request.elements.value_or(scene.solve.elements);
   FeResult node_based = solve_fe(scene, model, method, elements);
   const fe::Discretisation& d0 = node_based.discretisation;
@@ -301,9 +306,8 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   for (std::size_t i = 0; i < fields.reaction.size(); ++i) {
     const int e = std::min(static_cast<int>(i) / samples, d.mesh.elements() - 1);
     const double xi = std::clamp((fields.s[i] - d.mesh.nodes[e]) / d.mesh.element_size(e), 0.0, 1.0);
-    const double g = model.ground_gap_in(d.mesh.nodes[e], d.mesh.element_size(e), xi);
     fields.reaction[i] =
-        d.foundation_on_element[e] ? d.element_modulus[e].at(xi) * std::max(fields.w[i] - g, 0.0) : 0.0;
+        d.reaction_in(e, xi, fields.w[i] - model.ground_gap_in(d.mesh.nodes[e], d.mesh.element_size(e), xi));
   }
   std::vector<post::Interval> contact_regions;
   for (const auto& c : answer.contact) contact_regions.push_back({c.begin, c.end});
@@ -320,9 +324,10 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
     double reaction = 0.0;
     int sides = 0;
     for (int e : {node - 1, node}) {
-      if (e < 0 || e >= d.mesh.elements() || !d.foundation_on_element[e]) continue;
+      if (e < 0 || e >= d.mesh.elements() || !(d.foundation_on_element[e] || d.element_tension_modulus[e] > 0.0))
+        continue;
       const double xi = e < node ? 1.0 : 0.0, g = model.ground_gap_in(d.mesh.nodes[e], d.mesh.element_size(e), xi);
-      reaction += d.element_modulus[e].at(xi) * std::max(all[d.deflection_dof(node)] - g, 0.0);
+      reaction += d.reaction_in(e, xi, all[d.deflection_dof(node)] - g);
       ++sides;
     }
     report.nodes.reaction[node] = sides > 0 ? reaction / sides * scales.force_per_length() : 0.0;
@@ -381,6 +386,12 @@ io::SolveReport ritz_report(const scene::Scene& scene, const SolveRequest& reque
                     "moving-boundary model takes the ground at the member's axis, no ground gap); "
                     "expected an FE method (\"dual\", \"primal\", \"fast\" or \"auto\")",
                     scene.source_name, scene.foundation.gap_key()));
+  if (model.has_tension_modulus())
+    throw InputError(
+        fmt::format("{}: key 'solve.method': the Ritz model cannot take this scene (key '{}': the "
+                    "moving-boundary model takes a tensionless or bilateral foundation, no modulus in tension); "
+                    "expected an FE method (\"dual\", \"primal\", \"fast\" or \"auto\")",
+                    scene.source_name, scene.foundation.tension_key()));
   const int elements = request.elements.value_or(scene.solve.elements);
   const RitzStart starting_point = ritz_starting_point(scene, model, elements);
 

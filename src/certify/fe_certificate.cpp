@@ -28,8 +28,15 @@ using detail::eps;
 
 // The foundation's k under the element at its two nodes (linear between), from the member (not
 // the discretisation's copy): 0 in a void between foundation pieces and beyond the foundation.
+// For a bilinear foundation the tensionless part's k - K_t (the contact conditions' modulus), and
+// K_t (constant) its Winkler part's.
+double tension_modulus_under(const MemberModel& model, const fe::Mesh& mesh, int element) {
+  return model.tension_modulus_at(mesh.nodes[element] + 0.5 * mesh.element_size(element));
+}
 std::pair<double, double> modulus_under(const MemberModel& model, const fe::Mesh& mesh, int element) {
-  return model.foundation_modulus_on(mesh.nodes[element], mesh.nodes[element + 1]);
+  const auto [begin, end] = model.foundation_modulus_on(mesh.nodes[element], mesh.nodes[element + 1]);
+  const double kt = tension_modulus_under(model, mesh, element);
+  return {begin - kt, end - kt};
 }
 
 // Whether the element lies on a piece of the foundation (as the assembly decides by default).
@@ -73,8 +80,10 @@ bool is_limit_fitted(const MemberModel& model, const Discretisation& d) {
 }
 
 // Per dof: the element forces K_e u_e summed, the foundation's nodal forces (integral of N_w
-// times the P1 reaction), the applied nodal loads, and the magnitude of the terms each row sums
-// (|K||u| + |C^T||r| + |F|). Per reaction node: the weighted gap integral of phi_i (r/k - w),
+// times the P1 reaction, plus for a bilinear foundation the Winkler part's K_t (w - g) on every
+// element of the foundation, with g from the model), the applied nodal loads, and the
+// magnitude of the terms each row sums (|K||u| + |C^T||r| + |F|). Per reaction node: the
+// weighted gap integral of phi_i (r/k - w),
 // and the magnitude of its terms.
 struct NodalForces {
   VectorXd internal, foundation, applied, magnitude;
@@ -117,6 +126,23 @@ NodalForces nodal_forces(const MemberModel& model, const Discretisation& d, cons
       if (d.equation_of_dof[dofs[j]] >= 0)
         for (std::size_t i = 0; i < dofs.size(); ++i)
           if (d.equation_of_dof[dofs[i]] >= 0) defect[dofs[j]].add_product(-ke(j, i), ue[i]);
+    }
+    if (const double kt = tension_modulus_under(model, d.mesh, e); kt > 0.0) {
+      for (const fe::GaussPoint& g : fe::gauss5) {  // exact: cubic x cubic, cubic x linear
+        const Eigen::Vector4d shape = fe::hermite_cubic(g.xi, h).value;
+        const double weight = g.weight * h, g_here = model.ground_gap(d.mesh.nodes[e] + g.xi * h);
+        double w_here = 0.0, abs_w = 0.0;
+        for (int j = 0; j < 4; ++j) w_here += shape[j] * ue[j], abs_w += std::abs(shape[j] * ue[j]);
+        for (int j = 0; j < 4; ++j) {
+          f.foundation[dofs[j]] += weight * shape[j] * kt * (w_here - g_here);
+          f.magnitude[dofs[j]] += weight * std::abs(shape[j]) * kt * (abs_w + std::abs(g_here));
+          // K holds K_t's stiffness too (fe/discretisation.hpp): off the assembly defect.
+          if (d.equation_of_dof[dofs[j]] >= 0)
+            for (int i = 0; i < 4; ++i)
+              if (d.equation_of_dof[dofs[i]] >= 0)
+                defect[dofs[j]].add_product(-weight * kt * shape[j] * shape[i], ue[i]);
+        }
+      }
     }
     if (!on_foundation(d, e)) continue;
     const int ra = reaction_of_node[e], rb = reaction_of_node[e + 1];

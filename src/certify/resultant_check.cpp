@@ -92,7 +92,8 @@ VectorXd non_negative_least_squares(const MatrixXd& a, const VectorXd& b) {
 
 ResultantCheck check_resultant(const fe::MemberModel& model, const fe::Discretisation& d, double load_factor) {
   ResultantCheck out;
-  if (!d.tensionless || d.reactions() == 0) return out;
+  // A bilinear foundation's Winkler part (K_t > 0) pulls too: like a bilateral one.
+  if (!d.tensionless || d.reactions() == 0 || !d.winkler_elements.empty()) return out;
   const MatrixXd modes = fe::rigid_motions(model, d);
   std::vector<int> fixed;
   for (int dof = 0; dof < d.dofs(); ++dof)

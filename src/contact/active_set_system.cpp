@@ -45,19 +45,21 @@ void ActiveSetSystem::reassemble() {
 void ActiveSetSystem::assemble() {
   const int n = d_.equations, ns = d_.stresses(), m = d_.reactions(), size = n + ns + m;
   const int elements = d_.mesh.elements(), spe = d_.stresses_per_element;
-  if (ns != d_.element_stresses() + static_cast<int>(d_.springs.size()) || d_.stress_coupling.rows() != ns ||
+  const int winkler_elements = static_cast<int>(d_.winkler_elements.size());
+  if (ns != d_.spring_stress(static_cast<int>(d_.springs.size())) || d_.stress_coupling.rows() != ns ||
       d_.stress_coupling.cols() != n)
     throw std::invalid_argument("ActiveSetSystem: the discretisation has no mixed form (stress_coupling, compliance)");
 
   // Unknowns in order along the member: a node's dofs and reaction, then the element's interior
-  // dofs and stresses. Every coupling is within an element or between neighbouring nodes' reactions,
-  // so the matrix is banded in this order with a bandwidth independent of the mesh.
+  // dofs and stresses (its own, then its Winkler stresses, fe/discretisation.hpp). Every coupling is within an element
+  // or between neighbouring nodes' reactions, so the matrix is banded in this order with a bandwidth independent of the
+  // mesh.
   std::vector<int> reaction_of_node(d_.mesh.nodes.size(), -1);
   for (int i = 0; i < m; ++i) reaction_of_node[d_.reaction_nodes[i]] = i;
   slot_.assign(size, -1);
   reaction_of_slot_.assign(size, -1);
   block_of_slot_.assign(size, displacement);
-  int next = 0;
+  int next = 0, winkler = 0;
   auto place_dofs = [&](const Dofs& dofs) {
     for (int k = 0; k < dofs.count; ++k)
       if (d_.equation_of_dof[dofs.dof[k]] >= 0) slot_[d_.equation_of_dof[dofs.dof[k]]] = next++;
@@ -65,7 +67,7 @@ void ActiveSetSystem::assemble() {
   // A spring's stress goes with its node's dofs (the spring block of the stresses, discretisation.hpp).
   std::vector<std::vector<int>> springs_of_node(d_.mesh.nodes.size());
   for (std::size_t i = 0; i < d_.springs.size(); ++i)
-    springs_of_node[d_.springs[i].node].push_back(d_.element_stresses() + static_cast<int>(i));
+    springs_of_node[d_.springs[i].node].push_back(d_.spring_stress(static_cast<int>(i)));
   for (int node = 0; node <= elements; ++node) {
     place_dofs(node_dofs(d_, node));
     for (int k : springs_of_node[node]) {
@@ -82,6 +84,13 @@ void ActiveSetSystem::assemble() {
     for (int k = spe * node; k < spe * (node + 1); ++k) {
       slot_[n + k] = next;
       block_of_slot_[next++] = stress;
+    }
+    if (winkler < winkler_elements && d_.winkler_elements[winkler] == node) {
+      const int first = d_.winkler_stress(winkler++);
+      for (int k = first; k < first + fe::foundation_element::winkler_points; ++k) {
+        slot_[n + k] = next;
+        block_of_slot_[next++] = stress;
+      }
     }
   }
   if (next != size) throw std::logic_error("ActiveSetSystem: an unknown was left unnumbered");

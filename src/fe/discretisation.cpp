@@ -190,7 +190,9 @@ Assembly assemble(const MemberModel& model, const Discretisation& d, const std::
   const Mesh& mesh = d.mesh;
   const bool beam = model.kind == StructureKind::beam;
   const int spe = d.stresses_per_element;
-  a.compliance.resize(static_cast<Eigen::Index>(spe) * mesh.elements() + static_cast<Eigen::Index>(d.springs.size()));
+  const int winkler_count = static_cast<int>(d.winkler_elements.size());
+  a.compliance.resize(d.spring_stress(static_cast<int>(d.springs.size())));
+  int winkler_index = 0;  // into d.winkler_elements, which is in element order
   a.ground_gap = Eigen::VectorXd::Zero(d.reactions());
 
   for (int e = 0; e < mesh.elements(); ++e) {
@@ -212,6 +214,29 @@ Assembly assemble(const MemberModel& model, const Discretisation& d, const std::
         if (g(i, j) != 0.0) a.stress_coupling.emplace_back(spe * e + i, dofs[j], g(i, j));
 
     // The first four local dofs are the Hermite dofs of w for both element kinds.
+    if (winkler_index < winkler_count && d.winkler_elements[winkler_index] == e) {
+      // The bilinear foundation's Winkler part K_t (w - g): its stiffness K_t N_w^T N_w both in K
+      // and as Gauss-point stresses in G, H (foundation_element.hpp), its load K_t g N_w dead.
+      const double kt = d.element_tension_modulus[e];
+      const int first = d.winkler_stress(winkler_index++);
+      for (int q = 0; q < foundation_element::winkler_points; ++q) {
+        const auto& point = foundation_element::winkler_rule[q];
+        const Eigen::Vector4d n_w = hermite_cubic(point.xi, h).value;
+        const double weight = point.weight * h;
+        a.compliance[first + q] = 1.0 / (kt * weight);
+        for (int i = 0; i < 4; ++i) {
+          if (n_w[i] != 0.0) a.stress_coupling.emplace_back(first + q, dofs[i], n_w[i]);
+          for (int j = 0; j < 4; ++j) a.stiffness.emplace_back(dofs[i], dofs[j], kt * weight * n_w[i] * n_w[j]);
+        }
+      }
+      if (model.has_ground_gap()) {
+        Eigen::Vector4d load = Eigen::Vector4d::Zero();
+        for (const auto& point : foundation_element::winkler_rule)  // g linear, N_w cubic: exact
+          load += (kt * point.weight * h * model.ground_gap_in(mesh.nodes[e], h, point.xi)) *
+                  hermite_cubic(point.xi, h).value;
+        for (int j = 0; j < 4; ++j) a.dead_load[dofs[j]] += load[j];
+      }
+    }
     if (d.foundation_on_element[e]) {
       const auto c = foundation_element::coupling(h);
       const auto t = foundation_element::flexibility(h, d.element_modulus[e].begin, d.element_modulus[e].end);
@@ -255,7 +280,7 @@ Assembly assemble(const MemberModel& model, const Discretisation& d, const std::
   // end pulls with k delta (a dead load: the ground, not the live load, moves it).
   for (std::size_t i = 0; i < d.springs.size(); ++i) {
     const Discretisation::SpringRow& spring = d.springs[i];
-    const int row = spe * mesh.elements() + static_cast<int>(i);
+    const int row = d.spring_stress(static_cast<int>(i));
     a.compliance[row] = 1.0 / spring.stiffness;
     for (const auto& [dof, coefficient] : spring.on) {
       a.stress_coupling.emplace_back(row, dof, coefficient);
@@ -332,9 +357,14 @@ Discretisation discretise(const MemberModel& model, Mesh mesh, std::vector<bool>
     if (d.mesh.node_at(s) < 0) throw std::invalid_argument("discretise: the mesh lacks a node at a breakpoint");
 
   d.element_modulus.resize(elements);
+  d.element_tension_modulus.resize(elements);
   for (int e = 0; e < elements; ++e) {
     const auto [begin, end] = model.foundation_modulus_on(d.mesh.nodes[e], d.mesh.nodes[e + 1]);
-    d.element_modulus[e] = {begin, end};
+    // The Winkler part K_t under the element (constant), the tensionless part k - K_t at its ends.
+    const double middle = d.mesh.nodes[e] + 0.5 * d.mesh.element_size(e);
+    d.element_tension_modulus[e] = model.tension_modulus_at(middle);
+    d.element_modulus[e] = {begin - d.element_tension_modulus[e], end - d.element_tension_modulus[e]};
+    if (d.element_tension_modulus[e] > 0.0) d.winkler_elements.push_back(e);
   }
   if (foundation_on_element.empty()) foundation_on_element.assign(elements, true);
   if (static_cast<int>(foundation_on_element.size()) != elements)
@@ -408,7 +438,15 @@ Discretisation discretise(const MemberModel& model, Mesh mesh, std::vector<bool>
           arch ? "the arch is" : "the member is", arch ? "rotate rigidly about its centre" : "move rigidly",
           arch ? "theta" : "x", model.user_from_s(d.position_of_dof(gauge)), arch ? " deg" : "");
     }
-    const Eigen::MatrixXd left_free = free_motions(fixed);
+    Eigen::MatrixXd left_free = free_motions(fixed);
+    if (left_free.cols() > 0 && !d.winkler_elements.empty()) {
+      // The Winkler part of a bilinear foundation resists, in K, every motion that moves w on it.
+      const SparseMatrix g = to_sparse(static_cast<int>(a.compliance.size()), n, a.stress_coupling, nullptr, nullptr);
+      const Eigen::MatrixXd g_m = g * left_free;
+      const Eigen::MatrixXd seen = g_m.bottomRows(g_m.rows() - d.element_stresses());
+      left_free =
+          left_free * kernel(seen / std::max(1e-300, seen.cwiseAbs().maxCoeff()), static_cast<int>(left_free.cols()));
+    }
     d.unstable_rigid_motions = static_cast<int>(left_free.cols());
     d.free_rigid_motions = left_free;  // on every dof here; restricted to the equations below
     if (!d.structure_is_stable())

@@ -16,10 +16,12 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
+#include <algorithm>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "fe/foundation_element.hpp"
 #include "fe/member_model.hpp"
 #include "fe/mesh.hpp"
 
@@ -49,14 +51,20 @@ class Discretisation {
   // stress resultants as extra unknowns (beam_element.hpp, arch_element.hpp): the saddle-point
   // system built on G and H has a condition number growing like N^2 where K's grows like N^4,
   // which is what lets contact::ActiveSetSystem solve meshes of 1e6 elements to round-off.
-  SparseMatrix stress_coupling;  // G: stresses x equations (see the two blocks below)
+  SparseMatrix stress_coupling;  // G: stresses x equations (see the three blocks below)
   Eigen::VectorXd compliance;    // H, diagonal: one per stress unknown
   int stresses_per_element = 0;
-  // The stresses are two blocks: stresses_per_element per element, in element order
-  // (element_stresses() of them), then one per spring of an elastic support, in `springs`' order.
-  // A spring is a stress like any other: its row of G reads the displacement it stretches (w;
-  // arches u and w separately; the rotation), its compliance is 1/stiffness, so K = G^T H^-1 G
-  // still holds exactly and the spring's force is its stress.
+  // The stresses are three blocks, each with an offset function:
+  //  - stresses_per_element per element, in element order (element_stresses() of them);
+  //  - the bilinear foundation's Winkler block (MemberModel::tension_modulus K_t > 0): on each
+  //    element of winkler_elements, in order, foundation_element::winkler_points stresses
+  //    sigma_q = K_t W_q w(xi_q) (foundation_element.hpp), so that G^T H^-1 G holds the stiffness
+  //    integral of K_t N_w^T N_w that `stiffness` holds too; its load K_t g is in dead_load;
+  //  - one per spring of an elastic support, in `springs`' order. A spring is a stress like any
+  //    other: its row of G reads the displacement it stretches (w; arches u and w separately; the
+  //    rotation), its compliance is 1/stiffness, so K = G^T H^-1 G still holds exactly and the
+  //    spring's force is its stress.
+  std::vector<int> winkler_elements;
   struct SpringRow {
     int node = 0;                            // mesh node of the support
     DofRole role = DofRole::deflection;      // deflection, tangential (arch u) or slope (the rotation)
@@ -66,6 +74,9 @@ class Discretisation {
   };
   std::vector<SpringRow> springs;
   int element_stresses() const { return stresses_per_element * mesh.elements(); }
+  // The first Winkler stress of winkler_elements[i]; spring i's stress.
+  int winkler_stress(int i) const { return element_stresses() + foundation_element::winkler_points * i; }
+  int spring_stress(int i) const { return winkler_stress(static_cast<int>(winkler_elements.size())) + i; }
   // Settlements: the displacement the supports prescribe on every dof (0 but at settled
   // supports' w). The equations' unknowns are u - prescribed; the dead load carries -K u_f and a
   // settled spring's k delta.
@@ -74,14 +85,18 @@ class Discretisation {
   // limit-fitted solve), and the rigid motions the supports leave free, on the equations
   // (columns; the kernel of K, empty when the structure is stable).
   std::vector<bool> foundation_on_element;
-  // k of the foundation under each element at its two nodes (linear between them; 0 in a void
-  // and beyond the foundation), whether or not the foundation acts on it in this discretisation.
+  // The foundation's tensionless part under each element at its two nodes (linear between them;
+  // 0 in a void and beyond the foundation), whether or not the foundation acts on it in this
+  // discretisation: k, or for a bilinear foundation k - K_t (MemberModel::contact_modulus_at), the
+  // k of C, T and the contact conditions. element_tension_modulus: K_t there (constant; 0 in a
+  // void and without a tension modulus). The reaction is K_t (w - g) + (k - K_t) max(w - g, 0).
   struct ElementModulus {
     double begin = 0.0, end = 0.0;
     double at(double xi) const { return (1.0 - xi) * begin + xi * end; }  // exact at both ends
     bool present() const { return begin > 0.0; }
   };
   std::vector<ElementModulus> element_modulus;
+  std::vector<double> element_tension_modulus;
   Eigen::MatrixXd free_rigid_motions;
   Eigen::VectorXd dead_load;  // equations
   Eigen::VectorXd live_load;
@@ -106,6 +121,13 @@ class Discretisation {
     Eigen::VectorXd gap = flexibility * reaction - coupling * displacement;
     if (ground_gap.size() == gap.size()) gap += ground_gap;
     return gap;
+  }
+  // The foundation's reaction on element e at a point where w - g = w_minus_g: the tensionless
+  // part's max(w - g, 0) where the foundation acts on e, plus the Winkler part's K_t (w - g).
+  // xi: where in the element (0 at its first node, 1 at its second).
+  double reaction_in(int e, double xi, double w_minus_g) const {
+    return (foundation_on_element[e] ? element_modulus[e].at(xi) * std::max(w_minus_g, 0.0) : 0.0) +
+           element_tension_modulus[e] * w_minus_g;
   }
   bool structure_is_stable() const { return unstable_rigid_motions == 0; }
   Eigen::VectorXd load(double load_factor) const { return dead_load + load_factor * live_load; }

@@ -19,4 +19,20 @@ Eigen::Matrix2d flexibility(double h, double foundation_modulus);
 // k linear from k_begin (xi = 0) to k_end (xi = 1), both > 0.
 Eigen::Matrix2d flexibility(double h, double k_begin, double k_end);
 
+// The bilateral (Winkler) part K_t of a bilinear foundation in mixed form: one stress unknown per
+// point of a 4-point Gauss rule, sigma_q = K_t W_q w(xi_q) with W_q = weight_q h, so that
+//   G_q = N_w(xi_q) (1 x 4, the Hermite dofs of w),  H_q = 1 / (K_t W_q),
+// and sum_q G_q^T H_q^-1 G_q = integral of K_t N_w^T N_w ds exactly (degree 6 <= 7).
+struct WinklerPoint {
+  double xi;
+  double weight;
+};
+inline constexpr int winkler_points = 4;
+inline constexpr WinklerPoint winkler_rule[winkler_points] = {
+    {0.5 - 0.5 * 0.8611363115940526, 0.5 * 0.3478548451374538},
+    {0.5 - 0.5 * 0.3399810435848563, 0.5 * 0.6521451548625461},
+    {0.5 + 0.5 * 0.3399810435848563, 0.5 * 0.6521451548625461},
+    {0.5 + 0.5 * 0.8611363115940526, 0.5 * 0.3478548451374538},
+};
+
 }  // namespace liftoff::fe::foundation_element

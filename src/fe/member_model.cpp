@@ -157,11 +157,14 @@ MemberModel make_member_model(const scene::Scene& scene) {
     model.tension_modulus = *foundation.tension_modulus / modulus_scale;
   else if (foundation.tension_stiffness_parameter)
     model.tension_modulus = *foundation.tension_stiffness_parameter;
-  if (foundation.tension_modulus || foundation.tension_stiffness_parameter)
-    throw InputError(
-        fmt::format("{}: key 'foundation.{}': not implemented yet: the bilinear foundation (a modulus in "
-                    "tension); give tensionless = true without it, or tensionless = false",
-                    scene.source_name, foundation.tension_modulus ? "tension_modulus" : "tension_k"));
+  // K_t = K_c on every piece: the reaction is K_c (w - g) everywhere, the bilateral foundation.
+  if (model.tension_modulus > 0.0 &&
+      std::all_of(model.foundation_pieces.begin(), model.foundation_pieces.end(), [&](const FoundationPiece& piece) {
+        return piece.is_constant() && piece.modulus == model.tension_modulus;
+      })) {
+    model.tensionless = false;
+    model.tension_modulus = 0.0;
+  }
 
   for (const auto& load : scene.loads) {
     if (load.kind == LoadKind::distributed) {

@@ -113,8 +113,11 @@ struct MemberModel {
   std::vector<double> ground_gap_at;
   std::vector<double> ground_gap_value;
   // The bilinear foundation's k in tension (the scene's tension_modulus or tension_k), <= every
-  // piece's k; the reaction is k max(w - g, 0) + tension_modulus min(w - g, 0). The reader takes it,
-  // the numerics refuse it for now (make_member_model).
+  // piece's k; the reaction is k max(w - g, 0) + tension_modulus min(w - g, 0)
+  //   = tension_modulus (w - g) + (k - tension_modulus) max(w - g, 0):
+  // a bilateral (Winkler) foundation of modulus tension_modulus on every piece plus the tensionless
+  // one of modulus k - tension_modulus (contact_modulus_at). 0 for a bilateral or plain tensionless
+  // foundation (make_member_model makes tension_modulus = every piece's k a bilateral foundation).
   double tension_modulus = 0.0;
 
   // User coordinate (x, or theta in degrees) <-> member coordinate s.
@@ -128,6 +131,11 @@ struct MemberModel {
   // k at a and b of the piece under the interval [a, b] (the one containing its middle; its k is
   // linear there), {0, 0} in a void or beyond the foundation. An element's k at its two nodes.
   std::pair<double, double> foundation_modulus_on(double a, double b) const;
+  // The bilinear foundation's parts at s: the Winkler modulus (tension_modulus on a piece, 0 in a
+  // void) and the tensionless part's modulus k - tension_modulus (the contact conditions' k).
+  double tension_modulus_at(double s) const { return foundation_modulus_at(s) > 0.0 ? tension_modulus : 0.0; }
+  double contact_modulus_at(double s) const { return foundation_modulus_at(s) - tension_modulus_at(s); }
+  bool has_tension_modulus() const { return tension_modulus > 0.0; }
   // The stretches of foundation without a void: unions of abutting pieces, in order.
   std::vector<std::pair<double, double>> foundation_stretches() const;
   // Whether s is the end of a stretch (the foundation stops there; within round-off).

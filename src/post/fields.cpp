@@ -132,26 +132,31 @@ DeflectionExtremes deflection_extremes(const fe::Discretisation& d, const Eigen:
       if (value > x.w_max) x.w_max = value, x.s_at_w_max = s;
       if (value < x.w_min) x.w_min = value, x.s_at_w_min = s;
     }
-    if (!d.foundation_on_element[e]) continue;
+    // The reaction k max(w - g, 0) where the foundation acts, plus the bilinear foundation's
+    // K_t (w - g) (Discretisation::reaction_in).
     const fe::Discretisation::ElementModulus& k = d.element_modulus[e];
     const std::array<double, 4> pressing_candidates = gs == 0.0 ? candidates : stationary(gs);
     for (double xi : pressing_candidates)
-      if (xi >= 0.0 && xi <= 1.0) x.contact_reaction_max = std::max(x.contact_reaction_max, k.at(xi) * pressing(xi));
+      if (xi >= 0.0 && xi <= 1.0)
+        x.contact_reaction_max = std::max(x.contact_reaction_max, d.reaction_in(e, xi, pressing(xi)));
     // k linear on the element: k (w - g) is a quartic whose maximum moves off w - g's. Newton on
-    // (k (w - g))' = 0 from w - g's candidates and the middle; every point kept is a value of
-    // k (w - g), so the result never exceeds the true maximum and reaches it when Newton does.
-    if (k.begin != k.end) {
+    // (k (w - g))' = 0 from w - g's candidates and the middle (k the whole modulus, the bilinear
+    // foundation's K_t included: where w > g the reaction is k (w - g)); every point kept is a
+    // value of the reaction, so the result never exceeds the true maximum and reaches it when
+    // Newton does.
+    if (d.foundation_on_element[e] && k.begin != k.end) {
       const double dk = k.end - k.begin;  // per unit xi
+      auto k_at = [&](double xi) { return k.at(xi) + d.element_tension_modulus[e]; };
       for (double xi : {pressing_candidates[2], pressing_candidates[3], 0.5}) {
         if (!(xi >= 0.0 && xi <= 1.0)) continue;
         for (int step = 0; step < 12; ++step) {
           const fe::HermiteCubic n = fe::hermite_cubic(xi, h);
           const double px = h * (n.d1.dot(w_dofs) - gs), pxx = h * h * n.d2.dot(w_dofs);
-          const double g = dk * pressing(xi) + k.at(xi) * px, dg = 2.0 * dk * px + k.at(xi) * pxx;
+          const double g = dk * pressing(xi) + k_at(xi) * px, dg = 2.0 * dk * px + k_at(xi) * pxx;
           if (dg == 0.0) break;
           xi = std::clamp(xi - g / dg, 0.0, 1.0);
         }
-        x.contact_reaction_max = std::max(x.contact_reaction_max, k.at(xi) * pressing(xi));
+        x.contact_reaction_max = std::max(x.contact_reaction_max, d.reaction_in(e, xi, pressing(xi)));
       }
     }
   }

@@ -57,6 +57,10 @@ RitzModel::RitzModel(const fe::MemberModel& model, int modes, Topology topology,
   if (model.has_ground_gap())
     throw std::invalid_argument(
         "key 'foundation.gap': the moving-boundary model takes the ground at the member's axis (no ground gap)");
+  if (model.has_tension_modulus())
+    throw std::invalid_argument(
+        "key 'foundation.tension_modulus': the moving-boundary model takes a tensionless or bilateral foundation "
+        "(no modulus in tension)");
   topology_.validate();
   for (double value : {model.s_begin, model.s_end, model.membrane_stiffness, model.foundation_modulus,
                        model.foundation_begin, model.foundation_end})

@@ -126,6 +126,10 @@ struct Foundation {
   std::string gap_file;  // as written (gap_file), empty for an inline table or none
   // The key that gave the gap, for messages ("foundation.gap" or "foundation.gap_file").
   std::string gap_key() const { return gap_file.empty() ? "foundation.gap" : "foundation.gap_file"; }
+  // The key that gave the tension modulus, for messages; empty without one.
+  std::string tension_key() const {
+    return tension_modulus ? "foundation.tension_modulus" : tension_stiffness_parameter ? "foundation.tension_k" : "";
+  }
   // The bilinear foundation's modulus in tension (keys `tension_modulus` or `tension_k`).
   std::optional<double> tension_modulus;
   std::optional<double> tension_stiffness_parameter;

@@ -710,18 +710,22 @@ void read_gap_and_tension(const Section& s, Foundation& f) {
   if (!f.tensionless)
     s.fail(key, "not allowed with tensionless = false (a bilateral foundation resists tension with its full modulus)");
   // The compression moduli, of the kind the tension modulus must share.
-  std::vector<std::pair<std::optional<double>, std::optional<double>>> compression;  // (k, modulus)
-  if (f.segments.empty()) compression.emplace_back(f.stiffness_parameter, f.modulus);
-  for (const FoundationSegment& piece : f.segments) compression.emplace_back(piece.stiffness_parameter, piece.modulus);
+  std::vector<FoundationSegment> compression = f.segments;
+  if (f.segments.empty()) compression.push_back({f.from, f.to, f.stiffness_parameter, f.modulus});
   const double tension = f.tension_modulus ? *f.tension_modulus : *f.tension_stiffness_parameter;
-  for (const auto& [k, modulus] : compression) {
-    if (f.tension_modulus && !modulus)
+  for (const FoundationSegment& piece : compression) {
+    if (f.tension_modulus && !piece.modulus)
       s.fail(key, "expected 'tension_k' (nondimensional) for a foundation given by 'k', got 'tension_modulus'");
-    if (f.tension_stiffness_parameter && !k)
+    if (f.tension_stiffness_parameter && !piece.stiffness_parameter)
       s.fail(key, "expected 'tension_modulus' for a foundation given by 'modulus', got 'tension_k'");
-    const double c = k ? *k : *modulus;
-    if (tension > c)
+    const double c = piece.stiffness_parameter ? *piece.stiffness_parameter : *piece.modulus;
+    if (!piece.at_to && tension > c)
       s.fail(key, fmt::format("expected at most the compression modulus {} everywhere, got {}", c, tension));
+    // A linear piece: the tensionless part k(s) - K_t must stay positive over it (at a point where it
+    // vanished its flexibility 1/(k - K_t) would be infinite).
+    if (piece.at_to && !(tension < std::min(c, *piece.at_to)))
+      s.fail(key, fmt::format("expected below the compression modulus on a linear segment (its least value {}), got {}",
+                              std::min(c, *piece.at_to), tension));
   }
 }
 

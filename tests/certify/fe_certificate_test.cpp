@@ -562,3 +562,31 @@ TEST_CASE("ground gap: a limit-fitted answer is certified, one that ignores the 
                     check(bad, "complementarity").value}) > 1e-3);
   }
 }
+
+TEST_CASE("bilinear foundation: certified, and an answer that drops K_t is not", "[certify][issue12][tension]") {
+  // A free-free beam (kL^4/EI = 1e4) under a central force: its ends lift, where K_t pulls.
+  scene::Scene s = test::beam_scene(1.0, 1.0, EndSupport::free, EndSupport::free, 1e4);
+  s.loads = {test::point_force(0.5, 100.0)};
+  scene::Scene plain = s;
+  s.foundation.tension_stiffness_parameter = 2e3;
+  for (Method m : {Method::fast, Method::dual, Method::primal}) {
+    const test::Solved good = test::solve(s, m, 200);
+    REQUIRE(good.solution.summary.is_usable());
+    const certify::Certificate c = certify_solved(good);
+    INFO(c.message);
+    CHECK(c.passed);
+  }
+  // The tensionless answer (K_t dropped), certified as an answer to the bilinear scene.
+  test::Solved wrong = test::solve(s, Method::fast, 200);
+  const test::Solved dropped = test::solve(plain, Method::primal, 200);
+  REQUIRE(dropped.solution.summary.is_usable());
+  wrong.solution = dropped.solution;
+  // Its reactions are on k's nodes; the bilinear scene's tensionless part is k - K_t.
+  const certify::Certificate c = certify_solved(wrong);
+  INFO(c.message);
+  CHECK_FALSE(c.passed);
+  // The certificate's foundation force, K_t w everywhere plus the given reactions, no longer
+  // balances the load: 5 % off (the pull K_t w on the lifted ends and K_t w + r in contact), far
+  // above the balance's round-off tolerance (4e-8).
+  CHECK(check(c, "force_balance").value > 1e-2);
+}

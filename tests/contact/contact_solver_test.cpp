@@ -406,3 +406,131 @@ TEST_CASE("settled supports are a ground gap's twin: w = v + delta with v over g
     CHECK(test::relative_difference(a.solution.reaction, b.solution.reaction) <= 1e-9);
   }
 }
+
+namespace {
+// A free-free beam, k = 1e4 (kL^4/EI), tension_k = kt (none for kt < 0), loads `loads`.
+scene::Scene bilinear_beam(double kt, std::vector<scene::Load> loads) {
+  scene::Scene s = test::beam_scene(1.0, 1.0, EndSupport::free, EndSupport::free, 1e4);
+  if (kt >= 0.0) s.foundation.tension_stiffness_parameter = kt;
+  s.loads = std::move(loads);
+  return s;
+}
+// The length of the member where w < 0 (lifted off the ground at the axis), from the nodes.
+double lifted_length(const test::Solved& s) {
+  const fe::Discretisation& d = s.discretisation;
+  double length = 0.0;
+  for (int e = 0; e < d.mesh.elements(); ++e)
+    if (s.solution.displacement[d.deflection_dof(e)] < 0.0 && s.solution.displacement[d.deflection_dof(e + 1)] < 0.0)
+      length += d.mesh.element_size(e);
+  return length;
+}
+}  // namespace
+
+TEST_CASE("bilinear foundation: hand checks, limits K_t = k and K_t -> 0, every FE method",
+          "[contact][issue12][tension]") {
+  // A uniform load q on a free-free beam presses it down uniformly, w = q/k, whatever K_t: the
+  // cubic space holds the constant, so the FE answer is exact to round-off (1e-9 relative: K's
+  // condition at 200 elements times eps is ~1e-8 of the solve's scale, refined by fast).
+  for (Method m : {Method::fast, Method::primal}) {
+    const test::Solved uniform = test::solve(bilinear_beam(3e3, {test::uniform_load(0.0, 1.0, 5.0)}), m, 200);
+    REQUIRE(uniform.solution.summary.is_usable());
+    const fe::Discretisation& d = uniform.discretisation;
+    for (int node = 0; node <= 200; ++node)
+      CHECK(uniform.solution.displacement[d.deflection_dof(node)] == Approx(5.0 / 1e4).epsilon(1e-9));
+  }
+  // Over a uniform gap g (the ground 2e-4 below the axis) the beam settles by g more, w = g + q/k:
+  // K_t pulls only with its load K_t g (dead), or it would hold the beam up by K_t g / k.
+  {
+    scene::Scene trench = bilinear_beam(3e3, {test::uniform_load(0.0, 1.0, 5.0)});
+    trench.foundation.gap_at = {0.0, 1.0};
+    trench.foundation.gap_value = {2e-4, 2e-4};
+    const test::Solved settled = test::solve(trench, Method::fast, 200);
+    REQUIRE(settled.solution.summary.is_usable());
+    for (int node = 0; node <= 200; ++node)
+      CHECK(settled.solution.displacement[settled.discretisation.deflection_dof(node)] ==
+            Approx(2e-4 + 5.0 / 1e4).epsilon(1e-9));
+  }
+  // A central force on a long (kL^4 = 1e4) free-free beam lifts its ends off; K_t holds them
+  // down: the lift-off zone shortens as K_t grows, and the three FE methods agree.
+  const std::vector<scene::Load> central = {test::point_force(0.5, 100.0)};
+  double previous = 2.0;
+  for (double kt : {0.0, 1e2, 1e3, 5e3}) {
+    CAPTURE(kt);
+    const test::Solved fast = test::solve(bilinear_beam(kt, central), Method::fast, 200);
+    REQUIRE(fast.solution.summary.is_usable());
+    const double lifted = lifted_length(fast);
+    CHECK(lifted < previous);
+    previous = lifted;
+    // Dual is refused on the free-free beam only without K_t (K singular).
+    for (Method m :
+         kt > 0.0 ? std::vector<Method>{Method::dual, Method::primal} : std::vector<Method>{Method::primal}) {
+      const test::Solved other = test::solve(bilinear_beam(kt, central), m, 200);
+      REQUIRE(other.solution.summary.is_usable());
+      // Lemke's dense solves at 200 elements: round-off well below 1e-8 (as the LCP test above).
+      CHECK(test::relative_difference(other.solution.displacement, fast.solution.displacement) < 1e-8);
+    }
+  }
+  CHECK(previous > 0.0);  // still lifted at K_t = k/2
+
+  // K_t = k: the bilateral answer, exactly (the model becomes bilateral).
+  scene::Scene bilateral = bilinear_beam(-1.0, central);
+  bilateral.foundation.tensionless = false;
+  const test::Solved equal = test::solve(bilinear_beam(1e4, central), Method::fast, 200);
+  const test::Solved reference = test::solve(bilateral, Method::fast, 200);
+  CHECK(test::relative_difference(equal.solution.displacement, reference.solution.displacement) == 0.0);
+  // ... and K_t just below k, through the bilinear path: the tensionless part k - K_t = 1e-6 k
+  // changes w by O(1e-6) of max |w| (first order in the change of stiffness where w < 0).
+  const test::Solved near = test::solve(bilinear_beam(1e4 * (1.0 - 1e-6), central), Method::fast, 200);
+  REQUIRE(near.solution.summary.is_usable());
+  const double near_difference = test::relative_difference(near.solution.displacement, reference.solution.displacement);
+  CHECK(near_difference < 1e-5);
+  CHECK(near_difference > 0.0);
+
+  // K_t -> 0: the tensionless answer, the difference first order in K_t (linear: ten times K_t,
+  // about ten times the difference, the contact set unchanged).
+  const test::Solved tensionless = test::solve(bilinear_beam(-1.0, central), Method::primal, 200);
+  const double d1 =
+      test::relative_difference(test::solve(bilinear_beam(1e-4, central), Method::fast, 200).solution.displacement,
+                                tensionless.solution.displacement);
+  const double d2 =
+      test::relative_difference(test::solve(bilinear_beam(1e-3, central), Method::fast, 200).solution.displacement,
+                                tensionless.solution.displacement);
+  CHECK(d1 < 1e-6);
+  CHECK(d2 / d1 == Approx(10.0).epsilon(0.05));
+}
+
+TEST_CASE("bilinear foundation with springs and a linear modulus: the three stress blocks, every FE method agrees",
+          "[contact][issue12][tension][springs]") {
+  // The stresses come in three blocks (elements | Winkler | springs, fe/discretisation.hpp) and
+  // the linear piece's tensionless part k(s) - K_t is linear too: fast's mixed form must give the
+  // K-form methods' answer.
+  scene::Scene s = test::beam_scene(1.0, 1.0, EndSupport::free, EndSupport::free, 1.0);
+  s.foundation.stiffness_parameter.reset();
+  s.foundation.segments = {{0.0, 0.6, 3e3, std::nullopt, 1e3}, {0.6, 1.0, 1e3, std::nullopt}};
+  s.foundation.tension_stiffness_parameter = 400.0;
+  s.supports.left_detail = {true, 200.0, 0.0, 0.0};
+  s.supports.interior_springs.push_back({0.5, {true, 500.0, 20.0, 0.0}});
+  s.loads = {test::point_force(0.3, 5.0), test::point_moment(0.7, -2.2), test::point_force(0.95, -3.0)};
+  const fe::MemberModel model = fe::make_member_model(s);
+  REQUIRE(model.has_tension_modulus());
+  const test::Solved fast = test::solve(s, Method::fast, 100);
+  REQUIRE(fast.solution.summary.is_usable());
+  const fe::Discretisation& d = fast.discretisation;
+  REQUIRE(d.springs.size() == 3);  // left w, interior w and rotation
+  REQUIRE(d.stresses() == d.spring_stress(3));
+  // Both parts are seen: the beam lifts somewhere (K_t pulls) and presses elsewhere.
+  const Eigen::VectorXd w = d.expand_displacement(fast.solution.displacement);
+  double w_min = 0.0, w_max = 0.0;
+  for (int node = 0; node <= d.mesh.elements(); ++node)
+    w_min = std::min(w_min, w[d.deflection_dof(node)]), w_max = std::max(w_max, w[d.deflection_dof(node)]);
+  CHECK(w_min < 0.0);
+  CHECK(w_max > 0.0);
+  for (Method method : {Method::dual, Method::primal}) {
+    CAPTURE(scene::to_string(method));
+    const test::Solved other = test::solve(s, method, 100);
+    REQUIRE(other.solution.summary.is_usable());
+    // The same discrete problem: round-off of the dense LCP solves (~1e-12 of max |w| at this size).
+    CHECK(test::relative_difference(other.solution.displacement, fast.solution.displacement) < 1e-10);
+    CHECK(test::relative_difference(other.solution.reaction, fast.solution.reaction) < 1e-10);
+  }
+}

@@ -232,3 +232,44 @@ TEST_CASE("settlements: w = delta on the settled dof, the dead load -K u_f moves
   CHECK(d.ground_gap[0] < 0.0);                   // pushed into the ground at the end
   CHECK(d.ground_gap[d.reactions() / 2] == 0.0);  // the middle node's shapes do not reach the ends
 }
+
+TEST_CASE("bilinear foundation: the Winkler part K_t is in K and in its mixed form", "[fe][issue12][tension]") {
+  // k = 1e3 on 0.2..1 of a pinned-free beam, K_t = 400: C and T carry k - K_t, K carries K_t.
+  scene::Scene s = test::beam_scene(1.0, 1.0, EndSupport::pinned, EndSupport::free, 1e3);
+  s.foundation.from = 0.2;
+  s.loads = {test::point_force(0.5, 1.0)};
+  const fe::Discretisation plain = fe::discretise(fe::make_member_model(s), 10);
+  s.foundation.tension_stiffness_parameter = 400.0;
+  const fe::MemberModel model = fe::make_member_model(s);
+  REQUIRE(model.tensionless);
+  const fe::Discretisation d = fe::discretise(model, 10);
+  // Element 0..1 lie off the foundation: no Winkler stresses there.
+  CHECK(d.winkler_elements == std::vector<int>{2, 3, 4, 5, 6, 7, 8, 9});
+  CHECK(d.stresses() == d.stresses_per_element * 10 + fe::foundation_element::winkler_points * 8);
+  CHECK(d.element_modulus[5].begin == 600.0);
+  CHECK(d.element_modulus[5].end == 600.0);
+  CHECK(d.element_tension_modulus[5] == 400.0);
+  // T is that of k - K_t: it sums to 0.8 / 600.
+  CHECK(Eigen::MatrixXd(d.flexibility).sum() == Approx(0.8 / 600.0).epsilon(1e-12));
+  // K - K_plain applied to w = 1 is the force K_t integral N_w: summing its w rows gives K_t 0.8.
+  const Eigen::MatrixXd added = Eigen::MatrixXd(d.stiffness) - Eigen::MatrixXd(plain.stiffness);
+  Eigen::VectorXd translation = Eigen::VectorXd::Zero(d.dofs());
+  for (int node = 0; node <= 10; ++node) translation[d.deflection_dof(node)] = 1.0;
+  Eigen::VectorXd on_equations(d.equations);
+  for (int dof = 0; dof < d.dofs(); ++dof)
+    if (d.equation_of_dof[dof] >= 0) on_equations[d.equation_of_dof[dof]] = translation[dof];
+  // (The pinned end's w row is not an equation: the translation's force there is left out, and
+  // it is 0 since element 0 is off the foundation.)
+  CHECK(on_equations.dot(added * on_equations) == Approx(400.0 * 0.8).epsilon(1e-12));
+  // The mixed form carries K with the Winkler block exactly: G^T H^-1 G = K to round-off.
+  const Eigen::MatrixXd g(d.stress_coupling);
+  const Eigen::MatrixXd k = g.transpose() * d.compliance.cwiseInverse().asDiagonal() * g;
+  CHECK((k - Eigen::MatrixXd(d.stiffness)).norm() <= 1e-12 * Eigen::MatrixXd(d.stiffness).norm());
+  // K_t resists the pinned-free beam's rotation about its pin: K is regular now.
+  CHECK(plain.unstable_rigid_motions == 1);
+  CHECK(d.unstable_rigid_motions == 0);
+  // K_t = k: the bilateral foundation.
+  s.foundation.tension_stiffness_parameter = 1e3;
+  CHECK_FALSE(fe::make_member_model(s).tensionless);
+  CHECK(fe::make_member_model(s).tension_modulus == 0.0);
+}

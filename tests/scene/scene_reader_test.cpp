@@ -935,6 +935,13 @@ TEST_CASE("[foundation] gap, gap_file, tension_modulus, tension_k: malformed one
              Contains("key 'foundation.tension_k': expected 'tension_modulus' for a foundation given by 'modulus'"));
   CHECK(*parse_scene(edited(beam_scene, "k = 1.0e4\n", "modulus = 5.0\ntension_modulus = 5.0\n"), "scene.toml")
              .foundation.tension_modulus == 5.0);
+  // On a linear piece the tensionless part k(s) - K_t must stay positive: K_t below its least k.
+  const std::string linear = edited(
+      beam_scene, "k = 1.0e4\n", "tension_k = TK\n[[foundation.segments]]\nfrom = 0.0\nto = 2.0\nk = [3.0e3, 1.0e3]\n");
+  CHECK(*parse_scene(edited(linear, "TK", "999.0"), "scene.toml").foundation.tension_stiffness_parameter == 999.0);
+  CHECK_THAT(error_of(edited(linear, "TK", "1000.0")),
+             Contains("key 'foundation.tension_k': expected below the compression modulus on a linear segment (its "
+                      "least value 1000), got 1000"));
 }
 
 TEST_CASE("[supports] as tables: springs and settlements at the ends and inside", "[scene][issue12][supports]") {
