@@ -112,9 +112,13 @@ ContactTopology contact_topology(const fe::MemberModel& model, const fe::Discret
     topology.pieces.push_back({points.begin, points.end, true});
     return topology;
   }
+  // Contact where w > g, g the ground gap (0 without one): the cubics below are of w - g (g is
+  // linear in each element, which a Hermite cubic represents exactly; at a step of g each
+  // element has its own side's value, so the change across the step shows between its samples).
   double w_scale = 0.0;
   for (int node = 0; node < static_cast<int>(d.mesh.nodes.size()); ++node)
-    w_scale = std::max(w_scale, std::abs(displacement[d.deflection_dof(node)]));
+    w_scale = std::max(
+        {w_scale, std::abs(displacement[d.deflection_dof(node)]), std::abs(model.ground_gap(d.mesh.nodes[node]))});
   const double threshold = zero_deflection * w_scale;
 
   // w at the nodes and the cubics' extrema: monotone in between, so the signs there decide.
@@ -125,6 +129,10 @@ ContactTopology contact_topology(const fe::MemberModel& model, const fe::Discret
     const double s0 = d.mesh.nodes[e], h = d.mesh.element_size(e);
     if (s0 + 0.5 * h < points.begin || s0 + 0.5 * h > points.end) continue;
     element_dofs[e] = deflection_dofs(d, displacement, e);
+    if (model.has_ground_gap()) {
+      const double g0 = model.ground_gap_in(s0, h, 0.0), g1 = model.ground_gap_in(s0, h, 1.0);
+      element_dofs[e] -= Eigen::Vector4d(g0, (g1 - g0) / h, g1, (g1 - g0) / h);
+    }
     samples.push_back({s0, cubic_at(element_dofs[e], h, 0.0), e, 0.0});
     for (double xi : extrema(element_dofs[e], h))
       samples.push_back({s0 + xi * h, cubic_at(element_dofs[e], h, xi), e, xi});
@@ -137,7 +145,8 @@ ContactTopology contact_topology(const fe::MemberModel& model, const fe::Discret
   // element's cubic whose depth is quadratic in lambda - lambda_event: compared with the
   // threshold it would place the event late by ~sqrt(zero_deflection) relative (2e-6 on
   // simply_supported_end_moments). The end sample takes instead the cubic's leading term there
-  // (h w', or h^2 w''/2 at a clamped end), linear in lambda like the Ritz end event function.
+  // (h w', or h^2 w''/2 at a clamped end), linear in lambda like the Ritz end event function;
+  // only where w - g vanishes at the support (not where the ground or a settlement leaves a gap).
   const auto leading_term = [&](const Eigen::Vector4d& w_dofs, double h, bool at_begin) {
     const double w0 = w_dofs[0], t0 = h * w_dofs[1], w1 = w_dofs[2], t1 = h * w_dofs[3];
     const double a2 = 3.0 * (w1 - w0) - 2.0 * t0 - t1, a3 = 2.0 * (w0 - w1) + t0 + t1;
@@ -146,10 +155,12 @@ ContactTopology contact_topology(const fe::MemberModel& model, const fe::Discret
     return std::abs(first) > threshold ? first : second;
   };
   const double end_tol = 1e-12 * model.length();
-  if (points.begin_supported && std::abs(samples.front().s - points.begin) <= end_tol)
+  if (points.begin_supported && std::abs(samples.front().s - points.begin) <= end_tol &&
+      std::abs(samples.front().w) <= threshold)
     samples.front().w =
         leading_term(element_dofs[samples.front().element], d.mesh.element_size(samples.front().element), true);
-  if (points.end_supported && std::abs(samples.back().s - points.end) <= end_tol)
+  if (points.end_supported && std::abs(samples.back().s - points.end) <= end_tol &&
+      std::abs(samples.back().w) <= threshold)
     samples.back().w = leading_term(element_dofs[last], h_last, false);
 
   auto sign_of = [&](double w) { return w > threshold ? 1 : (w < -threshold ? -1 : 0); };

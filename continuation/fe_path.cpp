@@ -156,7 +156,9 @@ bool FePath::load_set(const ContactSet& set) {
   // A held node stays held while it is in the set (until the lift-off load).
   held_.resize(set.size(), false);
   for (std::size_t i = 0; i < set.size(); ++i) held_[i] = held_[i] && set[i];
-  state_.dead = system_.solve(d_.dead_load);
+  // The constant part of the path: the dead load and the gap offset c (the ground gap and the
+  // settled supports' -C u_f; their dead load -K u_f is in the dead load), not scaled by lambda.
+  state_.dead = system_.solve(d_.dead_load, d_.ground_gap);
   state_.live = system_.solve(d_.live_load);
   if (!(std::max(state_.dead.residual, state_.live.residual) <= acceptable_residual)) return false;
   state_.coupled_dead = d_.coupling * state_.dead.displacement;
@@ -207,7 +209,8 @@ void FePath::update_scales(double lambda) {
   for (double at : {lambda, lambda_end_}) {
     reaction_scale_ = std::max(reaction_scale_, state_.reaction(at).lpNorm<Eigen::Infinity>());
     gap_scale_ = std::max({gap_scale_, (state_.coupled_dead + at * state_.coupled_live).lpNorm<Eigen::Infinity>(),
-                           (state_.flexible_dead + at * state_.flexible_live).lpNorm<Eigen::Infinity>()});
+                           (state_.flexible_dead + at * state_.flexible_live).lpNorm<Eigen::Infinity>(),
+                           d_.ground_gap.size() > 0 ? d_.ground_gap.lpNorm<Eigen::Infinity>() : 0.0});
   }
 }
 
@@ -424,7 +427,11 @@ bool FePath::establish_start(double lambda) {
     message_ = "the bilateral system is singular: the structure is a mechanism even on the foundation";
     return false;
   }
-  const bool unloaded = d_.load(lambda).lpNorm<Eigen::Infinity>() == 0.0;
+  // Unloaded: no load, and no gap offset (a hump, a settlement) that decides a supported
+  // member's state at lambda_min (a member only the foundation holds floats at no load whatever
+  // the ground: the ray below gives its set).
+  const bool unloaded =
+      d_.load(lambda).lpNorm<Eigen::Infinity>() == 0.0 && (!d_.has_ground_gap() || !d_.structure_is_stable());
   if (!unloaded) {
     // Cheapest first: full contact, if every reaction it gives is compressive.
     if (load_set(ContactSet(m, true))) {
@@ -433,7 +440,10 @@ bool FePath::establish_start(double lambda) {
     }
   }
   // Unloaded at the start, F(lambda_min + t) = t F_live: the set along that ray.
-  const auto set = solved_set(unloaded ? lambda + direction_ : lambda);
+  // With a ground gap the set changes along the ray (its shape is not scale-free): the set
+  // just beyond lambda_min, where the gap keeps whatever it lifts lifted.
+  const double ray = d_.has_ground_gap() ? 1e-6 * span_ : 1.0;
+  const auto set = solved_set(unloaded ? lambda + ray * direction_ : lambda);
   if (!set) {
     if (termination_ == TraceTermination::no_equilibrium)
       message_ = fmt::format("no equilibrium at lambda = {:.10g}: {}", lambda, message_);

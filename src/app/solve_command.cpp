@@ -89,7 +89,7 @@ std::optional<Method> fallback_for(Method produced, Method requested, const fe::
   if (produced == Method::fast) {
     const Method lemke = d.structure_is_stable() ? Method::dual : Method::primal;
     const int size = lemke == Method::dual ? d.reactions() : 2 * d.equations + d.reactions();
-    if (size > contact::max_dense_lcp) return std::nullopt;
+    if (size > contact::max_fallback_lcp) return std::nullopt;  // minutes of dense Lemke: report fast's failure
     return lemke;
   }
   if (requested == Method::fast || requested == Method::automatic) return std::nullopt;  // fast already failed
@@ -210,16 +210,6 @@ io::SolveReport refused_report(const scene::Scene& scene, const fe::MemberModel&
 io::SolveReport fitted_report(const scene::Scene& scene, Method method, const SolveRequest& request, double tolerance) {
   const auto start = std::chrono::steady_clock::now();
   const fe::MemberModel model = fe::make_member_model(scene);
-  if (model.has_ground_gap())
-    throw InputError(
-        fmt::format("{}: key '{}': not implemented yet: a tolerance (the limit-fitted solve) with a ground "
-                    "gap; expected no tolerance (the node-based FE solve on the scene's mesh)",
-                    scene.source_name, scene.foundation.gap_key()));
-  if (model.has_settlements())
-    throw InputError(
-        fmt::format("{}: key 'supports': not implemented yet: a tolerance (the limit-fitted solve) with "
-                    "a settlement; expected no tolerance (the node-based FE solve on the scene's mesh)",
-                    scene.source_name));
   if (model.has_tension_modulus())
     throw InputError(
         fmt::format("{}: key '{}': not implemented yet: a tolerance (the limit-fitted solve) with a modulus in "
@@ -248,7 +238,7 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
       if (d0.equation_of_dof[dof] >= 0) on_equations[d0.equation_of_dof[dof]] = node_based.solution.displacement[dof];
     std::vector<bool> in_contact(d0.reactions());
     for (int i = 0; i < d0.reactions(); ++i) in_contact[i] = node_based.solution.reaction[i] > 0.0;
-    regions = contact::contact_intervals(d0, on_equations, in_contact);
+    regions = contact::contact_intervals(model, d0, on_equations, in_contact);
   }
   contact::ToleranceOptions options;
   options.tolerance = tolerance;
@@ -287,7 +277,7 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   contact::ContactSolution solution;
   solution.displacement = d.expand_displacement(answer.state.displacement);
   solution.reaction = answer.state.reaction;
-  solution.gap = d.flexibility * solution.reaction - d.coupling * answer.state.displacement;
+  solution.gap = d.gap_of(solution.reaction, answer.state.displacement);  // T r - C u + c
   contact::ContactSummary& summary = solution.summary;
   summary.termination = contact::ContactTermination::solved;
   summary.method = first.method;
@@ -308,7 +298,7 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   if (const certify::Check* backward = certificate.find(certify::check_name::backward_error))
     summary.residual = backward->value;
 
-  // Displayed: w from the answer, the reaction as k max(w, 0) on the contact elements (the
+  // Displayed: w from the answer, the reaction as k max(w - g, 0) on the contact elements (the
   // continuum's law on the converged w: h^4 like w, where the P1 reaction the certificate checks
   // is an L2 projection, h^2).
   const Eigen::VectorXd& all = solution.displacement;
@@ -318,7 +308,8 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   for (std::size_t i = 0; i < fields.reaction.size(); ++i) {
     const int e = std::min(static_cast<int>(i) / samples, d.mesh.elements() - 1);
     const double xi = std::clamp((fields.s[i] - d.mesh.nodes[e]) / d.mesh.element_size(e), 0.0, 1.0);
-    fields.reaction[i] = d.reaction_in(e, xi, fields.w[i] - model.ground_gap(fields.s[i]));
+    fields.reaction[i] =
+        d.reaction_in(e, xi, fields.w[i] - model.ground_gap_in(d.mesh.nodes[e], d.mesh.element_size(e), xi));
   }
   std::vector<post::Interval> contact_regions;
   for (const auto& c : answer.contact) contact_regions.push_back({c.begin, c.end});
@@ -327,17 +318,19 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   add_accuracy(report);
   io::attach_certificate(report, certificate, model);
   // Nodal reactions and the extremes as displayed (above).
-  const post::DeflectionExtremes x = post::deflection_extremes(d, all);
+  const post::DeflectionExtremes x = post::deflection_extremes(d, all, &model);
   const fe::Scales& scales = model.scales;
-  // Where the reaction jumps (two soils, a step of the gap) a node has two one-sided values: the
-  // table shows the larger, as make_report does.
+  // Where the reaction jumps (two soils, a step of the gap) a node has two one-sided values, each
+  // with its own side's k and g: the table shows the larger, as make_report does.
   for (int node = 0; node <= d.mesh.elements(); ++node) {
     std::optional<double> reaction;
-    const double w_minus_g = all[d.deflection_dof(node)] - model.ground_gap(d.mesh.nodes[node]);
-    for (int e : {node - 1, node})
-      if (e >= 0 && e < d.mesh.elements() && (d.foundation_on_element[e] || d.element_tension_modulus[e] > 0.0))
-        reaction = std::max(reaction.value_or(-std::numeric_limits<double>::infinity()),
-                            d.reaction_in(e, e < node ? 1.0 : 0.0, w_minus_g));
+    for (int e : {node - 1, node}) {
+      if (e < 0 || e >= d.mesh.elements() || !(d.foundation_on_element[e] || d.element_tension_modulus[e] > 0.0))
+        continue;
+      const double xi = e < node ? 1.0 : 0.0, g = model.ground_gap_in(d.mesh.nodes[e], d.mesh.element_size(e), xi);
+      reaction = std::max(reaction.value_or(-std::numeric_limits<double>::infinity()),
+                          d.reaction_in(e, xi, all[d.deflection_dof(node)] - g));
+    }
     report.nodes.reaction[node] = reaction.value_or(0.0) * scales.force_per_length();
   }
   report.w_max = x.w_max * scales.displacement();

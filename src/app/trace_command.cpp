@@ -188,19 +188,6 @@ std::vector<std::string> trace_path_names(const scene::Scene& scene, const Trace
   const scene::TraceSettings& t = trace_settings(scene);
   const scene::Method method = trace_method(scene, request);
   std::vector<std::string> names;
-  if (!scene.foundation.gap_at.empty())
-    throw InputError(
-        fmt::format("{}: key '{}': not implemented yet: the trace paths with a ground gap (the gap is a "
-                    "constant offset the paths do not carry yet); expected `liftoff solve` for this scene",
-                    scene.source_name, scene.foundation.gap_key()));
-  {
-    const scene::Supports& sp = scene.supports;
-    if (sp.left_detail.settlement != 0.0 || sp.right_detail.settlement != 0.0 || !sp.interior_settlement.empty())
-      throw InputError(
-          fmt::format("{}: key 'supports': not implemented yet: the trace paths with a settlement (a dead load and "
-                      "a constant gap offset the paths do not carry yet); expected `liftoff solve` for this scene",
-                      scene.source_name));
-  }
   // K_t = K_c (bilateral) is no refusal: make_member_model makes it the bilateral foundation.
   if (const liftoff::fe::MemberModel model = liftoff::fe::make_member_model(scene); model.has_tension_modulus())
     throw InputError(

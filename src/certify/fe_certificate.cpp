@@ -617,12 +617,21 @@ Certificate certify(const MemberModel& model, const Discretisation& d, const con
     // elements). The same holds at a support on a contact element, where w is held at 0, on any
     // answer: a fitted one whose contact covers the whole member (no limit, so it looks
     // node-based) solved that support's reaction bilaterally (a clamped end in contact).
+    // A fitted limit at a step of the ground gap (a trench wall) has w - g of either sign on each
+    // side (>= 0 on the contact side, <= 0 beyond): checked pointwise like any other point.
     const bool fitted = is_limit_fitted(model, d);
     std::vector<char> limit_node(d.mesh.nodes.size(), 0), w_held_at_zero(d.mesh.nodes.size(), 0);
+    double g_scale = 0.0;
+    for (double g : model.ground_gap_value) g_scale = std::max(g_scale, std::abs(g));
+    auto gap_steps_at = [&](int e) {  // between elements e and e + 1
+      const double left = model.ground_gap_in(d.mesh.nodes[e], d.mesh.element_size(e), 1.0),
+                   right = model.ground_gap_in(d.mesh.nodes[e + 1], d.mesh.element_size(e + 1), 0.0);
+      return std::abs(left - right) > 1e-9 * g_scale;
+    };
     if (fitted)
       for (int e = 0; e + 1 < d.mesh.elements(); ++e)
         if (on_foundation(d, e) != on_foundation(d, e + 1) && in_foundation_extent(model, d.mesh, e) &&
-            in_foundation_extent(model, d.mesh, e + 1))
+            in_foundation_extent(model, d.mesh, e + 1) && !gap_steps_at(e))
           limit_node[e + 1] = 1;
     for (std::size_t node = 0; node < d.mesh.nodes.size(); ++node)
       w_held_at_zero[node] = d.equation_of_dof[d.deflection_dof(static_cast<int>(node))] < 0;

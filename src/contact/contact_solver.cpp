@@ -406,12 +406,12 @@ ContactSolution solve_contact(const Discretisation& d, const ContactOptions& opt
       const Method fallback = d.structure_is_stable() ? Method::dual : Method::primal;
       const std::string why =
           fmt::format("the fast solver stopped ({}: {})", to_string(fast.summary.termination), fast.summary.message);
-      if (lcp_size_of(d, fallback) > max_dense_lcp) {
+      if (lcp_size_of(d, fallback) > max_fallback_lcp) {
         summary.termination = fast.summary.termination == ActiveSetTermination::singular_system
                                   ? ContactTermination::numerical_failure
                                   : ContactTermination::iteration_limit;
         summary.message = fmt::format("{}, and the {} LCP ({} unknowns) is too large for the Lemke fallback (limit {})",
-                                      why, scene::to_string(fallback), lcp_size_of(d, fallback), max_dense_lcp);
+                                      why, scene::to_string(fallback), lcp_size_of(d, fallback), max_fallback_lcp);
       } else {
         solve_by_lemke(fallback);
         summary.method = fallback;

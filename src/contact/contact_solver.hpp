@@ -83,6 +83,11 @@ struct ContactSolution {
 
 // Unknowns of the largest LCP handed to (dense) Lemke: 8000^2 doubles are 512 MB.
 inline constexpr int max_dense_lcp = 8000;
+// ... and of one it is handed automatically, as a fallback the user did not ask for: dense
+// Lemke's time grows like n^3 (about n pivots of O(n^2) each; measured 0.6 s at 800 unknowns,
+// 4.8 s at 1600), so an 8000-unknown fallback would run for ten minutes: beyond this a failed
+// fast answer is reported as such rather than left to a fallback that looks like a hang.
+inline constexpr int max_fallback_lcp = 2000;
 
 // What method = auto means for an FE solve, with the reason in words: fast, for every scene
 // (a bilateral foundation: one sparse solve, no LCP; a tensionless one: the sparse active-set

@@ -48,21 +48,25 @@ Eigen::Vector4d w_dofs(const fe::Discretisation& d, const VectorXd& all, int e) 
   return {all[dofs[0]], all[dofs[1]], all[dofs[2]], all[dofs[3]]};
 }
 
-double w_at(const fe::Discretisation& d, const VectorXd& all, int e, double xi) {
-  return fe::hermite_cubic(xi, d.mesh.element_size(e)).value.dot(w_dofs(d, all, e));
+// w - g at xi of element e: g is the ground gap, linear in the element (its table's points are
+// breakpoints; at a step each element has its own side's value). Without a model, g = 0.
+double w_at(const fe::Discretisation& d, const VectorXd& all, int e, double xi,
+            const fe::MemberModel* ground = nullptr) {
+  const double w = fe::hermite_cubic(xi, d.mesh.element_size(e)).value.dot(w_dofs(d, all, e));
+  return ground ? w - ground->ground_gap_in(d.mesh.nodes[e], d.mesh.element_size(e), xi) : w;
 }
 
-// The zero of w nearest element e: in e if w changes sign there, else in the nearest element
+// The zero of w - g nearest element e: in e if it changes sign there, else in the nearest element
 // (up to three away) where it does; else the middle of e. The discrete contact set follows the
 // weighted gaps, not w itself, so w's zero may lie an element or two beside the set's change.
-double zero_near_element(const fe::Discretisation& d, const VectorXd& all, int e) {
+double zero_near_element(const fe::Discretisation& d, const VectorXd& all, int e, const fe::MemberModel* ground) {
   for (int distance = 0; distance <= 3; ++distance) {
     for (int candidate : {e - distance, e + distance}) {
       if (candidate < 0 || candidate >= d.mesh.elements()) continue;
-      double lo = 0.0, hi = 1.0, w_lo = w_at(d, all, candidate, lo);
-      if (!(w_lo * w_at(d, all, candidate, hi) < 0.0)) continue;
+      double lo = 0.0, hi = 1.0, w_lo = w_at(d, all, candidate, lo, ground);
+      if (!(w_lo * w_at(d, all, candidate, hi, ground) < 0.0)) continue;
       for (int i = 0; i < 60; ++i) {
-        const double mid = 0.5 * (lo + hi), w_mid = w_at(d, all, candidate, mid);
+        const double mid = 0.5 * (lo + hi), w_mid = w_at(d, all, candidate, mid, ground);
         if ((w_mid > 0.0) == (w_lo > 0.0)) {
           lo = mid;
           w_lo = w_mid;
@@ -76,13 +80,28 @@ double zero_near_element(const fe::Discretisation& d, const VectorXd& all, int e
   return d.mesh.nodes[e] + 0.5 * d.mesh.element_size(e);
 }
 
+// The steps of the ground gap (a trench wall: two values at one position) inside the foundation.
+std::vector<double> ground_steps(const fe::MemberModel& model) {
+  std::vector<double> steps;
+  const auto& at = model.ground_gap_at;
+  for (std::size_t i = 1; i < at.size(); ++i)
+    if (at[i] - at[i - 1] <= 1e-12 * model.length() && model.ground_gap_value[i] != model.ground_gap_value[i - 1] &&
+        !model.is_foundation_edge(at[i]) && at[i] > model.foundation_begin && at[i] < model.foundation_end)
+      steps.push_back(at[i]);
+  return steps;
+}
+
 }  // namespace
 
-std::vector<ContactInterval> contact_intervals(const fe::Discretisation& d, const VectorXd& displacement,
-                                               const std::vector<bool>& in_contact) {
+namespace {
+
+// contact_intervals with the ground gap of `ground` (null: g = 0).
+std::vector<ContactInterval> intervals(const fe::MemberModel* ground, const fe::Discretisation& d,
+                                       const VectorXd& displacement, const std::vector<bool>& in_contact) {
   if (static_cast<int>(in_contact.size()) != d.reactions())
     throw std::invalid_argument("contact_intervals: one contact flag per reaction node expected");
   const VectorXd all = d.expand_displacement(displacement);
+  const std::vector<double> steps = ground ? ground_steps(*ground) : std::vector<double>{};
   std::vector<ContactInterval> regions;
   const int m = d.reactions();
   for (int i = 0; i < m; ++i) {
@@ -92,13 +111,14 @@ std::vector<ContactInterval> contact_intervals(const fe::Discretisation& d, cons
     const bool starts = i == 0 || !in_contact[i - 1] || d.reaction_nodes[i - 1] < node - 1;
     const bool ends = i == m - 1 || !in_contact[i + 1] || d.reaction_nodes[i + 1] > node + 1;
     // The lifted-off nodes on the foundation beyond the region, walked outwards (direction -1 or
-    // +1): the limit is the zero of w in the element where w turns negative. A node with w = 0
-    // exactly (a support holds it) or the foundation's end ends the region there (a limit at a
-    // support; the foundation's end is no limit). A lifted node may have w > 0 (its weighted gap
-    // integrates w over both its elements, negative on the far one): w's zero is then beyond it
+    // +1): the limit is the zero of w - g in the element where it turns negative. A node a support
+    // holds (w = 0, or its settlement) or the foundation's end ends the region there (a limit at a
+    // support; the foundation's end is no limit). A lifted node may have w > g (its weighted gap
+    // integrates w over both its elements, negative on the far one): the zero is then beyond it
     // (the free beam under a central load at 1280 elements: w = +2.4e-7 at the first lifted node,
-    // the limit put there was 8.1e-5 of the length off, against 7.8e-7 at 640 elements).
-    const auto w_of = [&](int at) { return all[d.deflection_dof(at)]; };
+    // the limit put there was 8.1e-5 of the length off, against 7.8e-7 at 640 elements). w - g is
+    // taken on the element walked across (a step of g at a node has a value on each side); where
+    // it is negative already at that element's near node, the sign changes across the step there.
     const auto limit_beyond = [&](int direction) {
       int at = node, index = i;
       for (;;) {
@@ -110,15 +130,23 @@ std::vector<ContactInterval> contact_intervals(const fe::Discretisation& d, cons
         if (next < 0 || next >= m || d.reaction_nodes[next] != at + direction) return d.mesh.nodes[at];
         at += direction;
         index = next;
-        const double w = w_of(at);
-        if (w == 0.0) return d.mesh.nodes[at];
-        if (w < 0.0) return zero_near_element(d, all, direction < 0 ? at : at - 1);
+        const int crossed = direction < 0 ? at : at - 1;
+        const double far = direction < 0 ? 0.0 : 1.0, w = w_at(d, all, crossed, far, ground);
+        if (all[d.deflection_dof(at)] == 0.0 || d.equation_of_dof[d.deflection_dof(at)] < 0) return d.mesh.nodes[at];
+        if (w < 0.0) {
+          const double near = d.mesh.nodes[at - direction];
+          const bool step_at_near = std::any_of(steps.begin(), steps.end(), [&](double s) {
+            return std::abs(s - near) <= 1e-12 * (d.mesh.nodes.back() - d.mesh.nodes.front());
+          });
+          if (step_at_near && w_at(d, all, crossed, 1.0 - far, ground) < 0.0) return near;
+          return zero_near_element(d, all, crossed, ground);
+        }
       }
     };
     if (starts) regions.push_back({limit_beyond(-1), 0.0});
     if (ends) regions.back().end = limit_beyond(+1);
   }
-  // Regions that now touch (one lifted node between them, at w >= 0) are one region.
+  // Regions that now touch (one lifted node between them, at w >= g) are one region.
   std::vector<ContactInterval> merged;
   for (const auto& r : regions) {
     if (!merged.empty() && r.begin <= merged.back().end)
@@ -127,6 +155,18 @@ std::vector<ContactInterval> contact_intervals(const fe::Discretisation& d, cons
       merged.push_back(r);
   }
   return merged;
+}
+
+}  // namespace
+
+std::vector<ContactInterval> contact_intervals(const fe::Discretisation& d, const VectorXd& displacement,
+                                               const std::vector<bool>& in_contact) {
+  return intervals(nullptr, d, displacement, in_contact);
+}
+
+std::vector<ContactInterval> contact_intervals(const fe::MemberModel& model, const fe::Discretisation& d,
+                                               const VectorXd& displacement, const std::vector<bool>& in_contact) {
+  return intervals(model.has_ground_gap() ? &model : nullptr, d, displacement, in_contact);
 }
 
 FittedResult solve_fitted_limits(const fe::MemberModel& model, double load_factor,
@@ -155,6 +195,13 @@ FittedResult solve_fitted_limits(const fe::MemberModel& model, double load_facto
   auto limit = [&](std::size_t k) -> double& {
     return refs[k].is_begin ? regions[refs[k].region].begin : regions[refs[k].region].end;
   };
+  // A limit at a step of the ground gap (a trench wall) is pinned there, not a Newton unknown,
+  // while w - g changes sign across the step (>= 0 on its contact side, <= 0 on the other).
+  const std::vector<double> steps = ground_steps(model);
+  std::vector<bool> pinned(refs.size(), false);
+  for (std::size_t k = 0; k < refs.size(); ++k)
+    for (double s : steps)
+      if (std::abs(limit(k) - s) <= tol) limit(k) = s, pinned[k] = true;
 
   FittedResult result;
   FittedSummary& summary = result.summary;
@@ -213,25 +260,53 @@ FittedResult solve_fitted_limits(const fe::MemberModel& model, double load_facto
     RefinementOptions refinement;
     refinement.target_error = 1e-13;
     refinement.residual = false;
-    result.state = system->solve(d.load(load_factor), refinement);
+    result.state = system->solve(d.load(load_factor), d.ground_gap, refinement);
     const VectorXd all = d.expand_displacement(result.state.displacement);
     double w_scale = 0.0;
     for (int node = 0; node <= d.mesh.elements(); ++node)
       w_scale = std::max(w_scale, std::abs(all[d.deflection_dof(node)]));
 
-    // Newton on w(t_k) = 0 with dF_k/dt_k = w'(t_k).
+    // Newton on w(t_k) - g(t_k) = 0 with dF_k/dt_k = w'(t_k) - g'(t_k). g is linear on each
+    // element beside the limit node: its value and slope from either side (they differ at a kink,
+    // where the mean slope is taken, and at a step, where the limit is pinned).
     std::vector<double> step(refs.size(), 0.0);
     double residual = 0.0, largest = 0.0;
     bool flat = false;
     for (std::size_t k = 0; k < refs.size(); ++k) {
       const int node = d.mesh.node_at(limit(k));
-      const double w = all[d.deflection_dof(node)], slope = all[d.slope_dof(node)];
-      residual = std::max(residual, std::abs(w));
+      const double w = all[d.deflection_dof(node)], w_slope = all[d.slope_dof(node)];
+      double g_side[2] = {0.0, 0.0}, g_slope[2] = {0.0, 0.0};  // left, right
+      for (int side = 0; side < 2; ++side) {
+        const int e = std::clamp(node - 1 + side, 0, d.mesh.elements() - 1);
+        const double a = d.mesh.nodes[e], h = d.mesh.element_size(e);
+        g_side[side] = model.ground_gap_in(a, h, e < node ? 1.0 : 0.0);
+        g_slope[side] = (model.ground_gap_in(a, h, 1.0) - model.ground_gap_in(a, h, 0.0)) / h;
+      }
+      const int contact_side = refs[k].is_begin ? 1 : 0;
+      double f = w - 0.5 * (g_side[0] + g_side[1]), slope = w_slope - 0.5 * (g_slope[0] + g_slope[1]);
+      if (pinned[k]) {
+        const double on_contact = w - g_side[contact_side], beyond = w - g_side[1 - contact_side];
+        if (on_contact >= 0.0 && beyond <= 0.0) continue;  // the limit is the step's
+        // The contact recedes from the step (w < g on its contact side) or passes it (w > g
+        // beyond): Newton on that side's g, from the step.
+        const int side = on_contact < 0.0 ? contact_side : 1 - contact_side;
+        f = w - g_side[side];
+        slope = w_slope - g_slope[side];
+        pinned[k] = false;
+      }
+      residual = std::max(residual, std::abs(f));
       if (!(std::abs(slope) > 0.0)) {
         flat = true;
         continue;
       }
-      step[k] = -w / slope;
+      step[k] = -f / slope;
+      // w - g rises into a contact region from its limit: (w - g)' >= 0 at a region's begin, <= 0
+      // at its end. With the other sign (a start far from the answer, or a limit whose answer is
+      // at a step of g, where w - g need not vanish) Newton's step points away from where the
+      // contact must go: step the same length the way the sign of w - g says instead (w > g:
+      // the region grows), to a step of g or until the iteration sees its root.
+      const double inward = refs[k].is_begin ? 1.0 : -1.0;  // into the region
+      if (slope * inward < 0.0) step[k] = (f > 0.0 ? -inward : inward) * std::abs(step[k]);
       largest = std::max(largest, std::abs(step[k]));
     }
     summary.limit_residual = w_scale > 0 ? residual / w_scale : 0.0;
@@ -270,7 +345,15 @@ FittedResult solve_fitted_limits(const fe::MemberModel& model, double load_facto
       const double room = step[k] > 0 ? 0.5 * (bound_hi[k] - limit(k)) : 0.5 * (limit(k) - bound_lo[k]);
       if (std::abs(step[k]) > room) shrink = std::min(shrink, room / std::abs(step[k]));
     }
-    for (std::size_t k = 0; k < refs.size(); ++k) limit(k) += shrink * step[k];
+    for (std::size_t k = 0; k < refs.size(); ++k) {
+      // A limit that would pass a step of the ground gap stops at it, pinned (checked above on
+      // the next solve).
+      const double from = limit(k), to = from + shrink * step[k];
+      limit(k) = to;
+      for (double s : steps)
+        if ((s - from) * (s - to) <= 0.0 && std::abs(s - from) > tol && std::abs(s - from) <= std::abs(limit(k) - from))
+          limit(k) = s, pinned[k] = true;
+    }
     ++summary.iterations;
     bool collapsed = false;
     for (const auto& r : regions) collapsed = collapsed || r.end - r.begin < 1e-9 * length;
@@ -298,9 +381,10 @@ FittedResult solve_fitted_limits(const fe::MemberModel& model, double load_facto
     // Beyond the foundation's extent nothing constrains w (an overhang, a void).
     const double middle = d.mesh.nodes[e] + 0.5 * d.mesh.element_size(e);
     if (model.foundation_modulus_at(middle) == 0.0) continue;
-    const double sign = d.foundation_on_element[e] ? 1.0 : -1.0;  // w >= 0 in contact, <= 0 off it
+    const double sign = d.foundation_on_element[e] ? 1.0 : -1.0;  // w >= g in contact, <= g off it
     for (int j = 1; j < options.samples_per_element; ++j)
-      worst_w = std::max(worst_w, -sign * w_at(d, all, e, static_cast<double>(j) / options.samples_per_element));
+      worst_w =
+          std::max(worst_w, -sign * w_at(d, all, e, static_cast<double>(j) / options.samples_per_element, &model));
   }
   for (int i = 0; i < d.reactions(); ++i) worst_r = std::max(worst_r, -result.state.reaction[i]);
   worst_w = w_scale > 0 ? worst_w / w_scale : 0.0;
@@ -309,7 +393,7 @@ FittedResult solve_fitted_limits(const fe::MemberModel& model, double load_facto
   if (worst_w > options.inequality_tolerance) {
     summary.termination = FittedTermination::inequalities_violated;
     summary.message = fmt::format(
-        "the limits solve w = 0, but w has the wrong sign inside an element by {:.1e} of max |w|: the contact "
+        "the limits solve w = g, but w - g has the wrong sign inside an element by {:.1e} of max |w|: the contact "
         "topology is not the answer's",
         worst_w);
     return result;

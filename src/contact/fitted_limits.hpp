@@ -9,13 +9,19 @@
 //    each segment between them uniform, with the requested total shared in proportion to length;
 //  - the foundation acts, bilaterally, on the whole elements of the contact regions and not at
 //    all on the lift-off elements (fe::discretise with a foundation mask);
-//  - the limits t_k solve w(t_k) = 0 by Newton's method with the diagonal Jacobian
-//    dF_k/dt_k = w'(t_k): moving a limit adds or removes foundation of intensity k w(t_k), which
-//    vanishes at the solution, so the off-diagonal terms and the rest of the diagonal are O(w(t))
-//    there and the iteration converges quadratically. Steps are kept inside the neighbouring
-//    limits and foundation ends (a limit never passes another);
-//  - then the contact inequalities are checked on the answer: w >= 0 on contact elements and
-//    w <= 0 on lift-off elements (each element's cubic sampled), r >= 0 at contact nodes.
+//  - the limits t_k solve w(t_k) = g(t_k) (g the ground gap, MemberModel::ground_gap; 0 without
+//    one) by Newton's method with the diagonal Jacobian dF_k/dt_k = w'(t_k) - g'(t_k): moving a
+//    limit adds or removes foundation of intensity k (w - g)(t_k), which vanishes at the solution,
+//    so the off-diagonal terms and the rest of the diagonal are O(w - g) there and the iteration
+//    converges quadratically. Steps are kept inside the neighbouring limits and foundation ends
+//    (a limit never passes another). g is linear within elements (its table's points, steps
+//    included, are breakpoints). A limit that reaches a step of g (a trench wall) stops there,
+//    pinned (not an unknown) while w - g changes sign across the step, and moves on by Newton
+//    on the side where it does not;
+//  - the gap offset of the discretisation (Discretisation::ground_gap: the gap and the settled
+//    supports' -C u_f; their dead load -K u_f is in the dead load) enters every solve;
+//  - then the contact inequalities are checked on the answer: w >= g on contact elements and
+//    w <= g on lift-off elements (each element's cubic sampled), r >= 0 at contact nodes.
 // With no kink inside any element, Hermite elements converge at their full order: the limit
 // error falls like h^4 (measured: contact/fitted_limits_test.cpp,
 // verification/bench/accuracy_bench.cpp limits), against ~h^2 and erratic with the node-based set.
@@ -53,7 +59,7 @@ struct FittedOptions {
 };
 
 enum class FittedTermination {
-  solved,                 // the limits solve w(t_k) = 0 to round-off and the inequalities hold
+  solved,                 // the limits solve w(t_k) = g(t_k) to round-off and the inequalities hold
   no_convergence,         // max_iterations steps without the step tolerance
   topology_changed,       // a region shrank to nothing or limits would cross
   inequalities_violated,  // converged, but w or r has the wrong sign somewhere: wrong topology
@@ -65,7 +71,7 @@ struct FittedSummary {
   FittedTermination termination = FittedTermination::no_convergence;
   std::string message;
   int iterations = -1;            // Newton steps (one factorisation and solve each)
-  double limit_residual = -1.0;   // max |w(t_k)| / max |w| at the end
+  double limit_residual = -1.0;   // max |w(t_k) - g(t_k)| / max |w| at the end (pinned limits: 0)
   double last_step = -1.0;        // max |t_k step| / length of the last step: the limits' round-off
   double worst_violation = -1.0;  // largest wrong-signed w (relative to max |w|) or r (to max r)
   bool is_usable() const { return termination == FittedTermination::solved; }
@@ -87,6 +93,11 @@ struct FittedResult {
 // end under weight is in contact up to the end, not a limit one element from it.
 // `displacement` on the equations.
 std::vector<ContactInterval> contact_intervals(const fe::Discretisation& d, const Eigen::VectorXd& displacement,
+                                               const std::vector<bool>& in_contact);
+// The same for a member with a ground gap g (MemberModel::ground_gap): the regions where w >= g,
+// limits at the zeros of w - g, or at a step of g (a trench wall) where w - g changes sign across it.
+std::vector<ContactInterval> contact_intervals(const fe::MemberModel& model, const fe::Discretisation& d,
+                                               const Eigen::VectorXd& displacement,
                                                const std::vector<bool>& in_contact);
 
 // The limit-fitted answer for F = F_dead + load_factor F_live, starting from `initial` (disjoint,

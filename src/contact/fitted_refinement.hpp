@@ -9,9 +9,9 @@
 //    angular span);
 //  - the deflection: max |w_2n - w_n| over 4 points per element of the finer mesh, relative to
 //    max |w|;
-//  - the foundation's reaction k max(w, 0): the change of w on the contact elements, relative to
-//    the largest w there (the continuum reaction is k w; the FE's P1 reaction, an L2 projection
-//    of k w on the contact elements, converges only like h^2 and is not what this promises).
+//  - the foundation's reaction k max(w - g, 0) (g the ground gap, 0 without one): the change of w
+//    on the contact elements, relative to the largest w - g there (the continuum reaction is k w; the FE's P1 reaction,
+//    an L2 projection of k w on the contact elements, converges only like h^2 and is not what this promises).
 // Each change d_j is turned into an error estimate of the finer answer by Richardson's rule at
 // the observed order: e = d_j / (2^p - 1), with p = log2(d_{j-1} / d_j) from the two last
 // changes, clamped to [1, 4] (4: Hermite cubics with every kink at a node converge at h^4, the
@@ -22,8 +22,8 @@
 // The round-off floor of a level: the least error its answer can claim whatever the mesh. w is
 // known to eps_w = max(16 eps, the solve's own error estimate) of max |w| (the mixed solve's
 // nodal error against the closed form stays at 1e-15 up to 1e6 elements: active_set_system.hpp),
-// so a limit, the zero of w, to eps_w max |w| / |w'(t_k)| (and to Newton's last step), and the
-// reaction k w to eps_w max |w| / max w on the contact elements. The largest of the three
+// so a limit, the zero of w - g, to eps_w max |w| / |w'(t_k)| (and to Newton's last step), and the
+// reaction k (w - g) to eps_w max |w| / max (w - g) on the contact elements. The largest of the three
 // (relative, like the estimates) is the smallest tolerance the sequence can honour; on the seed
 // beams 4e-14 (the reaction's: max |w| is 10 times the largest contact w), and the limit error
 // against the closed form falls monotonically to 3e-15 L (fitted_refinement_test.cpp).
@@ -43,8 +43,11 @@
 namespace liftoff::contact {
 
 struct ToleranceOptions {
-  double tolerance = 1e-8;      // wanted accuracy, relative (see above); in [1e-13, 0.1]
-  int initial_elements = 0;     // first mesh; 0: max(32, 4 beta L) (beta = (k/4)^(1/4))
+  double tolerance = 1e-8;  // wanted accuracy, relative (see above); in [1e-13, 0.1]
+  // First mesh; 0: max(32, 4 beta L) (beta = (k/4)^(1/4)). Raised, whatever is given, to put four
+  // elements on the shortest segment between breakpoints and the initial regions' ends (so that
+  // every segment's count doubles with the mesh, and its error shows in the changes).
+  int initial_elements = 0;
   int max_elements = 1 << 20;   // the cap: no mesh finer than this
   int samples_per_element = 4;  // of w, for the deflection and reaction changes
   FittedOptions fitted;         // elements is set per level

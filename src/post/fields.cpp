@@ -1,6 +1,7 @@
 #include "post/fields.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "fe/arch_element.hpp"
@@ -102,7 +103,8 @@ Fields sample_fields(const fe::MemberModel& model, const fe::Discretisation& d,
   return f;
 }
 
-DeflectionExtremes deflection_extremes(const fe::Discretisation& d, const Eigen::VectorXd& displacement) {
+DeflectionExtremes deflection_extremes(const fe::Discretisation& d, const Eigen::VectorXd& displacement,
+                                       const fe::MemberModel* ground) {
   DeflectionExtremes x;
   for (int e = 0; e < d.mesh.elements(); ++e) {
     const double h = d.mesh.element_size(e);
@@ -110,48 +112,63 @@ DeflectionExtremes deflection_extremes(const fe::Discretisation& d, const Eigen:
     const Eigen::Vector4d w_dofs(displacement[dofs[0]], displacement[dofs[1]], displacement[dofs[2]],
                                  displacement[dofs[3]]);
     auto w = [&](double xi) { return fe::hermite_cubic(xi, h).value.dot(w_dofs); };
-    // w'(xi) = a xi^2 + b xi + c, from its values at 0, 1/2, 1 (exact for a quadratic).
+    // The ground gap g, linear on the element (0 without one): the reaction is k (w - g).
+    const double g0 = ground ? ground->ground_gap_in(d.mesh.nodes[e], h, 0.0) : 0.0,
+                 g1 = ground ? ground->ground_gap_in(d.mesh.nodes[e], h, 1.0) : 0.0, gs = (g1 - g0) / h;
+    auto pressing = [&](double xi) { return w(xi) - ((1.0 - xi) * g0 + xi * g1); };
+    // w'(xi) = a xi^2 + b xi + c, from its values at 0, 1/2, 1 (exact for a quadratic); the zeros
+    // of w' - shift (shift = g' for w - g).
     const double d0 = fe::hermite_cubic(0.0, h).d1.dot(w_dofs), dm = fe::hermite_cubic(0.5, h).d1.dot(w_dofs),
                  d1 = fe::hermite_cubic(1.0, h).d1.dot(w_dofs);
-    const double a = 2.0 * (d0 + d1) - 4.0 * dm, b = 4.0 * dm - 3.0 * d0 - d1, c = d0;
-    double candidates[4] = {0.0, 1.0, -1.0, -1.0};
-    const double scale = std::abs(a) + std::abs(b) + std::abs(c);
-    if (std::abs(a) > 1e-14 * scale) {
-      const double disc = b * b - 4.0 * a * c;
-      if (disc >= 0.0) {  // the stable pair of roots
-        const double q = -0.5 * (b + std::copysign(std::sqrt(disc), b));
-        candidates[2] = q / a;
-        if (q != 0.0) candidates[3] = c / q;
+    const double a = 2.0 * (d0 + d1) - 4.0 * dm, b = 4.0 * dm - 3.0 * d0 - d1;
+    auto stationary = [&](double shift) {
+      const double c = d0 - shift;
+      std::array<double, 4> candidates{0.0, 1.0, -1.0, -1.0};
+      const double scale = std::abs(a) + std::abs(b) + std::abs(c);
+      if (std::abs(a) > 1e-14 * scale) {
+        const double disc = b * b - 4.0 * a * c;
+        if (disc >= 0.0) {  // the stable pair of roots
+          const double q = -0.5 * (b + std::copysign(std::sqrt(disc), b));
+          candidates[2] = q / a;
+          if (q != 0.0) candidates[3] = c / q;
+        }
+      } else if (b != 0.0) {
+        candidates[2] = -c / b;
       }
-    } else if (b != 0.0) {
-      candidates[2] = -c / b;
-    }
-    const fe::Discretisation::ElementModulus& k = d.element_modulus[e];
+      return candidates;
+    };
+    const std::array<double, 4> candidates = stationary(0.0);
     for (double xi : candidates) {
       if (!(xi >= 0.0 && xi <= 1.0)) continue;
       const double value = w(xi), s = d.mesh.nodes[e] + xi * h;
       if (value > x.w_max) x.w_max = value, x.s_at_w_max = s;
       if (value < x.w_min) x.w_min = value, x.s_at_w_min = s;
-      // (the ground at the axis: no gap on this path)
-      x.contact_reaction_max = std::max(x.contact_reaction_max, d.reaction_in(e, xi, value));
     }
-    // k linear on the element: k w is a quartic whose maximum moves off w's. Newton on
-    // (k w)' = 0 from w's candidates and the middle (k the whole modulus, the bilinear foundation's
-    // K_t included: where w > 0 the reaction is k w); every point kept is a value of the reaction,
-    // so the result never exceeds the true maximum and reaches it when Newton does.
+    // The reaction k max(w - g, 0) where the foundation acts, plus the bilinear foundation's
+    // K_t (w - g) (Discretisation::reaction_in).
+    const fe::Discretisation::ElementModulus& k = d.element_modulus[e];
+    const std::array<double, 4> pressing_candidates = gs == 0.0 ? candidates : stationary(gs);
+    for (double xi : pressing_candidates)
+      if (xi >= 0.0 && xi <= 1.0)
+        x.contact_reaction_max = std::max(x.contact_reaction_max, d.reaction_in(e, xi, pressing(xi)));
+    // k linear on the element: k (w - g) is a quartic whose maximum moves off w - g's. Newton on
+    // (k (w - g))' = 0 from w - g's candidates and the middle (k the whole modulus, the bilinear
+    // foundation's K_t included: where w > g the reaction is k (w - g)); every point kept is a
+    // value of the reaction, so the result never exceeds the true maximum and reaches it when
+    // Newton does.
     if (d.foundation_on_element[e] && k.begin != k.end) {
       const double dk = k.end - k.begin;  // per unit xi
       auto k_at = [&](double xi) { return k.at(xi) + d.element_tension_modulus[e]; };
-      for (double xi : {candidates[2], candidates[3], 0.5}) {
+      for (double xi : {pressing_candidates[2], pressing_candidates[3], 0.5}) {
         if (!(xi >= 0.0 && xi <= 1.0)) continue;
         for (int step = 0; step < 12; ++step) {
           const fe::HermiteCubic n = fe::hermite_cubic(xi, h);
-          const double wx = h * n.d1.dot(w_dofs), wxx = h * h * n.d2.dot(w_dofs);
-          const double g = dk * n.value.dot(w_dofs) + k_at(xi) * wx, dg = 2.0 * dk * wx + k_at(xi) * wxx;
+          const double px = h * (n.d1.dot(w_dofs) - gs), pxx = h * h * n.d2.dot(w_dofs);
+          const double g = dk * pressing(xi) + k_at(xi) * px, dg = 2.0 * dk * px + k_at(xi) * pxx;
           if (dg == 0.0) break;
           xi = std::clamp(xi - g / dg, 0.0, 1.0);
         }
-        x.contact_reaction_max = std::max(x.contact_reaction_max, d.reaction_in(e, xi, w(xi)));
+        x.contact_reaction_max = std::max(x.contact_reaction_max, d.reaction_in(e, xi, pressing(xi)));
       }
     }
   }

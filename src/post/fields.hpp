@@ -40,12 +40,13 @@ Fields sample_fields(const fe::MemberModel& model, const fe::Discretisation& d,
 // exactly (at its ends and at the zeros of w', a quadratic): a sampled maximum is off by
 // O(h_sample^2) relative to the curvature, which on a fine mesh is far above the discretisation
 // error (approach_slab_one_support: 2.3e-9 of max |w| at 100 elements against the closed form,
-// sampled). contact_reaction_max: the largest k w on the elements the foundation acts on (k linear
-// on an element: Newton on (k w)' = 0).
+// sampled). contact_reaction_max: the largest k (w - g) on the elements the foundation acts on
+// (g the ground gap of `ground`, 0 when null; k linear on an element: Newton on (k (w - g))' = 0).
 struct DeflectionExtremes {
   double w_max = -INFINITY, s_at_w_max = 0, w_min = INFINITY, s_at_w_min = 0, contact_reaction_max = 0;
 };
-DeflectionExtremes deflection_extremes(const fe::Discretisation& d, const Eigen::VectorXd& displacement);
+DeflectionExtremes deflection_extremes(const fe::Discretisation& d, const Eigen::VectorXd& displacement,
+                                       const fe::MemberModel* ground = nullptr);
 
 // Nodal reaction interpolated at s (zero off the foundation).
 double reaction_at(const fe::Discretisation& d, const Eigen::VectorXd& reaction, int element, double xi);

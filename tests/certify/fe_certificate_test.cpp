@@ -284,16 +284,17 @@ Fitted fitted_answer(const scene::Scene& s, int n, int iterations) {
   Fitted f;
   f.model = fe::make_member_model(s);
   const fe::Discretisation d = fe::discretise(f.model, n);
-  const auto fast = contact::solve_active_set(d, d.load(1.0), {});
+  const auto fast = contact::solve_active_set(d, d.load(1.0), {}, {}, d.ground_gap);
   REQUIRE(fast.summary.is_usable());
   contact::FittedOptions options;
   options.elements = n;
   options.max_iterations = iterations;
   f.result = contact::solve_fitted_limits(
-      f.model, 1.0, contact::contact_intervals(d, fast.state.displacement, fast.in_contact), options);
+      f.model, 1.0, contact::contact_intervals(f.model, d, fast.state.displacement, fast.in_contact), options);
   const fe::Discretisation& fd = f.result.discretisation;
-  f.solution.displacement = fd.expand(f.result.state.displacement);
+  f.solution.displacement = fd.expand_displacement(f.result.state.displacement);
   f.solution.reaction = f.result.state.reaction;
+  f.solution.gap = fd.gap_of(f.solution.reaction, f.result.state.displacement);
   f.solution.summary.method = Method::fast;
   return f;
 }
@@ -541,6 +542,45 @@ TEST_CASE("springs and settlements: certified, and an answer that dropped either
   const certify::Certificate refused = certify_solved(wrong);
   CHECK_FALSE(refused.passed);
   CHECK_FALSE(check(refused, certify::check_name::settlement).passed);
+}
+
+TEST_CASE("ground gap: a limit-fitted answer is certified, one that ignores the gap is not",
+          "[certify][fitted][issue12][gap]") {
+  // A pinned-clamped beam under its weight (q/k = 5e-4) over ground sloping from g = 1e-4 to
+  // 4e-4 (fitted_limits_test's sloping ground), and a free-free one spanning a trench whose walls
+  // (steps of g at 0.35 and 0.6) pin its limits.
+  scene::Scene sloping = test::beam_scene(1.0, 1.0, EndSupport::pinned, EndSupport::clamped, 2.0e3);
+  sloping.foundation.gap_at = {0.0, 1.0};
+  sloping.foundation.gap_value = {1.0e-4, 4.0e-4};
+  sloping.loads = {test::uniform_load(0.0, 1.0, 1.0)};
+  scene::Scene trench = test::beam_scene(1.0, 1.0, EndSupport::free, EndSupport::free, 1.0e4);
+  trench.foundation.gap_at = {0.0, 0.35, 0.35, 0.6, 0.6, 1.0};
+  trench.foundation.gap_value = {0.0, 0.0, 1.0e-3, 1.0e-3, 0.0, 0.0};
+  trench.loads = {test::uniform_load(0.0, 1.0, 1.0)};
+  for (const scene::Scene& s : {sloping, trench}) {
+    const Fitted good = fitted_answer(s, 320, 30);
+    CAPTURE(good.result.summary.message);
+    REQUIRE(good.result.summary.is_usable());
+    certify::CertifyOptions options;
+    options.discretisation_error = 1e-8;  // as a fitted sequence would estimate it
+    const certify::Certificate c = certify::certify(good.model, good.result.discretisation, good.solution, options);
+    CAPTURE(c.message);
+    CHECK(c.passed);
+    // The fitted answer of the same beam on level ground, certified as an answer to this one.
+    scene::Scene plain = s;
+    plain.foundation.gap_at.clear();
+    plain.foundation.gap_value.clear();
+    const Fitted ignoring = fitted_answer(plain, 320, 30);
+    REQUIRE(ignoring.result.summary.is_usable());
+    const certify::Certificate bad =
+        certify::certify(good.model, ignoring.result.discretisation, ignoring.solution, options);
+    CAPTURE(bad.message);
+    CHECK_FALSE(bad.passed);
+    // It presses where w < g (or is lifted where w > g) by a fraction of g: pointwise, far above
+    // the round-off tolerances (1e-13).
+    CHECK(std::max({check(bad, "penetration").value, check(bad, "separation").value,
+                    check(bad, "complementarity").value}) > 1e-3);
+  }
 }
 
 TEST_CASE("bilinear foundation: certified, and an answer that drops K_t is not", "[certify][issue12][tension]") {

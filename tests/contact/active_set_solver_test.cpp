@@ -166,6 +166,19 @@ TEST_CASE("when the fast solver stops, Lemke takes over and the summary says so"
   check_same_answer(solve_with(d, Method::fast), fallback, d);
 }
 
+TEST_CASE("a fast solver that stops on a large mesh is reported, not handed to minutes of dense Lemke",
+          "[contact][fast]") {
+  // 2100 elements: a dual LCP of 2101 unknowns, above max_fallback_lcp (dense Lemke ~ n^3: ~10 s
+  // here, ten minutes at max_dense_lcp). One set allowed: fast stops and nothing takes over.
+  const auto scene = test::shipped_scene("seed_beam_end_moments_central_load");
+  const auto d = fe::discretise(fe::make_member_model(scene), 2100);
+  REQUIRE(d.reactions() > contact::max_fallback_lcp);
+  const auto stopped = solve_with(d, Method::fast, 1);
+  CHECK_FALSE(stopped.summary.is_usable());
+  CHECK(stopped.summary.pivots <= 0);  // no Lemke pivot (-1: none counted)
+  CHECK_THAT(stopped.summary.message, Catch::Contains("too large for the Lemke fallback (limit 2000)"));
+}
+
 // The contact limits move by a fraction of the span from the bilateral start, not by a number
 // of elements, so the count of contact sets is a property of the problem, not of the mesh.
 // (Up to 5000 elements: near 1e4 round-off starts to own the Hermite system, see contact_solver.)

@@ -19,9 +19,9 @@ namespace {
 // The fast answer on n elements, as contact intervals: the starting topology of a fitted solve.
 std::vector<contact::ContactInterval> fast_intervals(const fe::MemberModel& model, int n) {
   const fe::Discretisation d = fe::discretise(model, n);
-  const auto fast = contact::solve_active_set(d, d.load(1.0), {});
+  const auto fast = contact::solve_active_set(d, d.load(1.0), {}, {}, d.ground_gap);
   REQUIRE(fast.summary.is_usable());
-  return contact::contact_intervals(d, fast.state.displacement, fast.in_contact);
+  return contact::contact_intervals(model, d, fast.state.displacement, fast.in_contact);
 }
 
 std::vector<double> exact_limits(const fe::MemberModel& model) {
@@ -177,5 +177,125 @@ TEST_CASE("node-based limits: a lifted node with w > 0 is walked past to w's zer
           walked |= all[d.deflection_dof(d.reaction_nodes[fast.in_contact[i] ? i + 1 : i])] > 0.0;
     }
     if (std::string(name) == "free beam, central load") CHECK(walked);
+  }
+}
+
+namespace {
+
+scene::Scene issue12_scene(const std::string& name) {
+  return scene::read_scene_file(std::string(LIFTOFF_SOURCE_DIR) + "/verification/dolfinx/scenes/issue12/" + name +
+                                ".toml");
+}
+
+// A pinned-clamped beam under its weight (q/k = 5e-4) over ground sloping linearly from
+// g = 1e-4 at x = 0 to 4e-4 at x = 1: it lifts off near both ends (w = 0 < g at the supports)
+// and rests on the ground between two limits that solve w = g with g' != 0.
+scene::Scene sloping_ground() {
+  auto s = test::beam_scene(1.0, 1.0, EndSupport::pinned, EndSupport::clamped, 2.0e3);
+  s.foundation.gap_at = {0.0, 1.0};
+  s.foundation.gap_value = {1.0e-4, 4.0e-4};
+  s.loads = {test::uniform_load(0.0, 1.0, 1.0)};
+  return s;
+}
+
+// The free-free beam of gap_trench.toml over a deeper trench (walls at 0.35 and 0.6, floor
+// g = 1e-3 out of reach): it spans the trench, resting on both banks up to the walls, where w - g
+// changes sign across the step (w > 0 on the bank, w < 1e-3 over the trench).
+scene::Scene deep_trench() {
+  auto s = test::beam_scene(1.0, 1.0, EndSupport::free, EndSupport::free, 1.0e4);
+  s.foundation.gap_at = {0.0, 0.35, 0.35, 0.6, 0.6, 1.0};
+  s.foundation.gap_value = {0.0, 0.0, 1.0e-3, 1.0e-3, 0.0, 0.0};
+  s.loads = {test::uniform_load(0.0, 1.0, 1.0)};
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("fitted limits with a ground gap converge at h^4 to the closed form", "[contact][fitted][issue12][gap]") {
+  // The sloping ground, and clamped ends settled by 1e-3 under a lifting force (their limits are
+  // those of the same beam over a hump g = -1e-3, settlement_clamped_gap.toml, which the closed
+  // form takes: settlements and the gap enter the fitted solve through the same offset).
+  const fe::MemberModel settled = fe::make_member_model(issue12_scene("settlement_clamped"));
+  const fe::MemberModel settled_twin = fe::make_member_model(issue12_scene("settlement_clamped_gap"));
+  REQUIRE(settled.has_settlements());
+  REQUIRE_FALSE(settled.has_ground_gap());
+  const fe::MemberModel sloping = fe::make_member_model(sloping_ground());
+  const std::tuple<const char*, const fe::MemberModel*, const fe::MemberModel*, int> cases[] = {
+      {"sloping ground", &sloping, &sloping, 40}, {"settled clamped ends", &settled, &settled_twin, 50}};
+  for (const auto& [name, model_ptr, twin, coarsest] : cases) {
+    CAPTURE(name);
+    const fe::MemberModel& model = *model_ptr;
+    std::vector<closed_form::Interval> guess;
+    for (const auto& r : fast_intervals(*twin, 400)) guess.push_back({r.begin, r.end});
+    const auto exact = closed_form::solve_tensionless(closed_form::problem_of(*twin), guess);
+    REQUIRE(exact.status == closed_form::TensionlessStatus::converged);
+    REQUIRE(exact.limits.size() == 2);
+    // Would the test see a solve that ignores the gap (or the settlement)? The same beam without
+    // it has other limits, far beyond the errors measured below.
+    fe::MemberModel plain = *twin;
+    plain.ground_gap_at.clear();
+    plain.ground_gap_value.clear();
+    std::vector<closed_form::Interval> plain_guess;
+    for (const auto& r : fast_intervals(plain, 400)) plain_guess.push_back({r.begin, r.end});
+    const auto without = closed_form::solve_tensionless(closed_form::problem_of(plain), plain_guess);
+    if (without.status == closed_form::TensionlessStatus::converged && without.limits.size() == exact.limits.size()) {
+      double shift = 0.0;
+      for (std::size_t k = 0; k < exact.limits.size(); ++k)
+        shift = std::max(shift, std::abs(without.limits[k] - exact.limits[k]));
+      CHECK(shift > 1e-3);
+    }
+    std::vector<double> h, error;
+    for (int n : {coarsest, 2 * coarsest, 4 * coarsest, 8 * coarsest}) {
+      CAPTURE(n);
+      contact::FittedOptions options;
+      options.elements = n;
+      const auto fitted = contact::solve_fitted_limits(model, 1.0, fast_intervals(model, n), options);
+      CAPTURE(fitted.summary.message);
+      REQUIRE(fitted.summary.is_usable());
+      REQUIRE(fitted.limits.size() == exact.limits.size());
+      double e = 0.0;
+      for (std::size_t k = 0; k < exact.limits.size(); ++k)
+        e = std::max(e, std::abs(fitted.limits[k] - exact.limits[k]));
+      CHECK(fitted.summary.last_step < 1e-3 * e);  // Newton at round-off, far below the error
+      if (!error.empty()) CHECK(e < error.back());
+      h.push_back(1.0 / n);
+      error.push_back(e);
+    }
+    // g is linear within elements and its kinks are nodes, so w - g has no kink inside an
+    // element: the Hermite order h^4 of the gap-free cases above (3.8..4.2 there, the same band).
+    const double order = test::observed_order(h, error);
+    std::printf("%s: fitted limit error %.2e at %d elements, observed order %.2f\n", name, error.back(), 8 * coarsest,
+                order);
+    CHECK(order > 3.8);
+    CHECK(order < 4.2);
+  }
+}
+
+TEST_CASE("a limit at a step of the ground gap is pinned at the trench wall", "[contact][fitted][issue12][gap]") {
+  const fe::MemberModel model = fe::make_member_model(deep_trench());
+  std::vector<closed_form::Interval> guess{{0.0, 0.35}, {0.6, 1.0}};
+  const auto exact = closed_form::solve_tensionless(closed_form::problem_of(model), guess);
+  REQUIRE(exact.status == closed_form::TensionlessStatus::converged);
+  // From the node-based regions, and from regions that end an element or two short of and
+  // beyond the walls: Newton passes onto the wall and stops there.
+  const std::vector<std::vector<contact::ContactInterval>> starts = {
+      fast_intervals(model, 200), {{0.0, 0.33}, {0.62, 1.0}}, {{0.0, 0.36}, {0.585, 1.0}}};
+  for (const auto& start : starts) {
+    CAPTURE(start.front().end, start.back().begin);
+    contact::FittedOptions options;
+    options.elements = 400;
+    const auto fitted = contact::solve_fitted_limits(model, 1.0, start, options);
+    CAPTURE(fitted.summary.message);
+    REQUIRE(fitted.summary.is_usable());
+    REQUIRE(fitted.limits.size() == 2);
+    // Pinned exactly at the walls (the breakpoints 0.35 and 0.6 of the mesh).
+    CHECK(fitted.limits[0] == 0.35);
+    CHECK(fitted.limits[1] == 0.6);
+    // w at the beam's ends against the closed form: the FE nodal error at 400 elements, about
+    // (beta h)^4 of w (beta h = 0.018: 1e-7) -- far below w - g's jump at the walls (1e-3).
+    const fe::Discretisation& d = fitted.discretisation;
+    const Eigen::VectorXd all = d.expand_displacement(fitted.state.displacement);
+    const double w_end = all[d.deflection_dof(0)], exact_end = exact.solution.deflection(0.0);
+    CHECK(std::abs(w_end - exact_end) < 1e-6 * std::abs(exact_end));
   }
 }

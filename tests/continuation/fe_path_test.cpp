@@ -566,3 +566,48 @@ TEST_CASE("FE path: every reported state passes the certificate, and a wrong con
     CHECK(wrong_caught == wrong_tried);
   }
 }
+
+TEST_CASE("a ground gap and settlements: the path from lambda = 0 ends where solve does", "[issue12][gap]") {
+  // The gap (and a settlement's dead load and gap offset) is the constant part of the path, not
+  // scaled by lambda: the state at lambda = 0 is the answer under them alone (w = 1e-3 at the
+  // settled ends, a free-free beam floating over the trench), and at lambda = 1 the path must end
+  // on the answer of `liftoff solve` on the same mesh: the same contact set, nodal w to the
+  // round-off of the two fixed-set solves (1e-12 of max |w| is 1e4 times that), contact regions
+  // at the same roots of the same cubics.
+  const std::string dir = std::string(LIFTOFF_SOURCE_DIR) + "/verification/dolfinx/scenes/issue12/";
+  // (Not interior_settlement: a free-free beam hung on a raised interior pin reaches no ground at
+  // small lambda, and its rotation about the pin is free there: the path cannot start at 0.)
+  for (const char* name :
+       {"gap_trench", "gap_file_seabed", "settlement_pinned", "settlement_clamped_gap", "settlement_clamped"}) {
+    CAPTURE(name);
+    const scene::Scene scene = scene::read_scene_file(dir + name + ".toml");
+    const int elements = 200;
+    TraceOptions options = options_for(0.0, 1.0, elements);
+    options.sample_points = node_positions(scene, elements);
+    const TraceResult result = continuation::trace_fe(scene, options);
+    INFO(result.summary.message);
+    REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
+    const auto solved = test::solve(scene, scene::Method::fast, elements, 1.0);
+    REQUIRE(solved.solution.summary.is_usable());
+    const NodalState exact = nodal_state(solved);
+    const TraceStep& end = result.steps.back();
+    CHECK(end.load_factor == 1.0);
+    CHECK(max_relative_difference(end.deflection, exact.w) < 1e-12);
+    CHECK(set_of(end) == lemke_contact_set(solved));
+    REQUIRE(end.contact_regions.size() == solved.regions.size());
+    for (std::size_t i = 0; i < solved.regions.size(); ++i) {
+      CHECK(end.contact_regions[i][0] == Approx(solved.model.user_from_s(solved.regions[i].begin)).epsilon(1e-9));
+      CHECK(end.contact_regions[i][1] == Approx(solved.model.user_from_s(solved.regions[i].end)).epsilon(1e-9));
+    }
+    // Would it fail if the path dropped the constant part? The answer without it (the same
+    // scene with no gap and no settlement) is another, by 1e6 times the tolerance above at least
+    // (6.4e-6 of max |w| measured for settlement_clamped_gap, where a lifting force dominates).
+    scene::Scene plain = scene;
+    plain.foundation.gap_at.clear();
+    plain.foundation.gap_value.clear();
+    plain.supports.left_detail.settlement = plain.supports.right_detail.settlement = 0.0;
+    for (double& s : plain.supports.interior_settlement) s = 0.0;
+    const auto without = test::solve(plain, scene::Method::fast, elements, 1.0);
+    if (without.solution.summary.is_usable()) CHECK(max_relative_difference(nodal_state(without).w, exact.w) > 1e-6);
+  }
+}

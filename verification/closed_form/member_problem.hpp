@@ -28,6 +28,10 @@ inline BeamProblem problem_of(const fe::MemberModel& model) {
       p.distributed_loads.push_back(
           {l.from - model.s_begin, l.to - model.s_begin, l.value, l.value + l.slope * (l.to - l.from)});
   }
+  for (std::size_t i = 0; i < model.ground_gap_at.size(); ++i) {  // the ground gap, a table in s
+    p.gap.at.push_back(model.ground_gap_at[i] - model.s_begin);
+    p.gap.value.push_back(model.ground_gap_value[i]);
+  }
   return p;
 }
 
