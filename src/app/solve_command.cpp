@@ -210,11 +210,6 @@ io::SolveReport refused_report(const scene::Scene& scene, const fe::MemberModel&
 io::SolveReport fitted_report(const scene::Scene& scene, Method method, const SolveRequest& request, double tolerance) {
   const auto start = std::chrono::steady_clock::now();
   const fe::MemberModel model = fe::make_member_model(scene);
-  if (model.has_tension_modulus())
-    throw InputError(
-        fmt::format("{}: key '{}': not implemented yet: a tolerance (the limit-fitted solve) with a modulus in "
-                    "tension; expected no tolerance (the node-based FE solve on the scene's mesh)",
-                    scene.source_name, scene.foundation.tension_key()));
   const int elements = request.elements.value_or(scene.solve.elements);
   FeResult node_based = solve_fe(scene, model, method, elements);
   const fe::Discretisation& d0 = node_based.discretisation;

@@ -188,12 +188,6 @@ std::vector<std::string> trace_path_names(const scene::Scene& scene, const Trace
   const scene::TraceSettings& t = trace_settings(scene);
   const scene::Method method = trace_method(scene, request);
   std::vector<std::string> names;
-  // K_t = K_c (bilateral) is no refusal: make_member_model makes it the bilateral foundation.
-  if (const liftoff::fe::MemberModel model = liftoff::fe::make_member_model(scene); model.has_tension_modulus())
-    throw InputError(
-        fmt::format("{}: key '{}': not implemented yet: the trace paths with a modulus in tension; expected "
-                    "`liftoff solve` for this scene",
-                    scene.source_name, scene.foundation.tension_key()));
   if (method != scene::Method::ritz) names.push_back("fe");
   if (method == scene::Method::ritz || method == scene::Method::all) {
     // As `solve --method ritz`: what the Ritz model cannot take is bad input for it (exit 2).

@@ -271,6 +271,59 @@ TEST_CASE("fitted limits with a ground gap converge at h^4 to the closed form", 
   }
 }
 
+TEST_CASE("fitted limits on a bilinear foundation converge at h^4 to the closed form",
+          "[contact][fitted][issue12][tension]") {
+  // tension_k.toml: pinned ends, end moments, k = 1e4, K_t = 1e3; and gap_file_seabed.toml (the
+  // surveyed seabed, a hump near x = 0.3) with K_t = 1e3 (K_t's dead load K_t g). The reaction is
+  // k (w - g) in contact, K_t (w - g) lifted: a kink at the limit only, where w = g, so the order
+  // of the tensionless cases holds.
+  const fe::MemberModel bilinear = fe::make_member_model(issue12_scene("tension_k"));
+  REQUIRE(bilinear.has_tension_modulus());
+  scene::Scene seabed = issue12_scene("gap_file_seabed");
+  seabed.foundation.tension_stiffness_parameter = 1e3;
+  const fe::MemberModel sloping = fe::make_member_model(seabed);
+  REQUIRE(sloping.has_ground_gap());
+  for (const fe::MemberModel* model : {&bilinear, &sloping}) {
+    CAPTURE(model->has_ground_gap());
+    std::vector<closed_form::Interval> guess;
+    for (const auto& r : fast_intervals(*model, 400)) guess.push_back({r.begin, r.end});
+    const auto exact = closed_form::solve_tensionless(closed_form::problem_of(*model), guess);
+    REQUIRE(exact.status == closed_form::TensionlessStatus::converged);
+    REQUIRE_FALSE(exact.limits.empty());
+    // Would the test see a solve that drops K_t? Without it the limits move far beyond the errors
+    // (checked below).
+    fe::MemberModel plain = *model;
+    plain.tension_modulus = 0.0;
+    const auto without = closed_form::solve_tensionless(closed_form::problem_of(plain), guess);
+    const bool comparable =
+        without.status == closed_form::TensionlessStatus::converged && without.limits.size() == exact.limits.size();
+    const double shift = comparable ? std::abs(without.limits[0] - exact.limits[0]) : 1.0;
+    std::vector<double> h, error;
+    for (int n : {40, 80, 160, 320}) {
+      CAPTURE(n);
+      contact::FittedOptions options;
+      options.elements = n;
+      const auto fitted = contact::solve_fitted_limits(*model, 1.0, fast_intervals(*model, n), options);
+      CAPTURE(fitted.summary.message);
+      REQUIRE(fitted.summary.is_usable());
+      REQUIRE(fitted.limits.size() == exact.limits.size());
+      double e = 0.0;
+      for (std::size_t k = 0; k < exact.limits.size(); ++k)
+        e = std::max(e, std::abs(fitted.limits[k] - exact.limits[k]));
+      CHECK(fitted.summary.last_step < 1e-3 * e);  // Newton at round-off, far below the error
+      if (!error.empty()) CHECK(e < error.back());
+      h.push_back(1.0 / n);
+      error.push_back(e);
+    }
+    const double order = test::observed_order(h, error);
+    std::printf("bilinear%s: fitted limit error %.2e at 320 elements, observed order %.2f\n",
+                model->has_ground_gap() ? " over the seabed" : "", error.back(), order);
+    CHECK(shift > 100.0 * error.front());  // even the coarsest fit would see K_t dropped
+    CHECK(order > 3.8);                    // the band of the cases above
+    CHECK(order < 4.2);
+  }
+}
+
 TEST_CASE("a limit at a step of the ground gap is pinned at the trench wall", "[contact][fitted][issue12][gap]") {
   const fe::MemberModel model = fe::make_member_model(deep_trench());
   std::vector<closed_form::Interval> guess{{0.0, 0.35}, {0.6, 1.0}};

@@ -611,3 +611,34 @@ TEST_CASE("a ground gap and settlements: the path from lambda = 0 ends where sol
     if (without.solution.summary.is_usable()) CHECK(max_relative_difference(nodal_state(without).w, exact.w) > 1e-6);
   }
 }
+
+TEST_CASE("a bilinear foundation: the path ends where solve does", "[issue12][tension]") {
+  // K_t (w - g) is a bilateral Winkler part: in K (and its load K_t g in the dead load), so the
+  // path's fixed-set solves carry it like the member's stiffness. tension_k.toml, and the seabed
+  // (gap_file) with K_t = 1e3: at lambda = 1 the path is on solve's answer, as above.
+  const std::string dir = std::string(LIFTOFF_SOURCE_DIR) + "/verification/dolfinx/scenes/issue12/";
+  for (const char* name : {"tension_k", "gap_file_seabed"}) {
+    CAPTURE(name);
+    scene::Scene scene = scene::read_scene_file(dir + name + ".toml");
+    scene.foundation.tension_stiffness_parameter = 1e3;
+    REQUIRE(fe::make_member_model(scene).has_tension_modulus());
+    const int elements = 200;
+    TraceOptions options = options_for(0.0, 1.0, elements);
+    options.sample_points = node_positions(scene, elements);
+    const TraceResult result = continuation::trace_fe(scene, options);
+    INFO(result.summary.message);
+    REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
+    const auto solved = test::solve(scene, scene::Method::fast, elements, 1.0);
+    REQUIRE(solved.solution.summary.is_usable());
+    const NodalState exact = nodal_state(solved);
+    const TraceStep& end = result.steps.back();
+    CHECK(end.load_factor == 1.0);
+    CHECK(max_relative_difference(end.deflection, exact.w) < 1e-12);
+    CHECK(set_of(end) == lemke_contact_set(solved));
+    // Would it fail if the path dropped K_t? The tensionless answer is another.
+    scene::Scene plain = scene;
+    plain.foundation.tension_stiffness_parameter.reset();
+    const auto without = test::solve(plain, scene::Method::fast, elements, 1.0);
+    if (without.solution.summary.is_usable()) CHECK(max_relative_difference(nodal_state(without).w, exact.w) > 1e-6);
+  }
+}

@@ -32,6 +32,7 @@ inline BeamProblem problem_of(const fe::MemberModel& model) {
     p.gap.at.push_back(model.ground_gap_at[i] - model.s_begin);
     p.gap.value.push_back(model.ground_gap_value[i]);
   }
+  p.tension_modulus = model.tension_modulus;  // the bilinear foundation's K_t (0: tensionless)
   return p;
 }
 
