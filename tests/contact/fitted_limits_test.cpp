@@ -187,6 +187,28 @@ scene::Scene issue12_scene(const std::string& name) {
                                 ".toml");
 }
 
+// Fitted solves on coarsest, 2x, 4x, 8x elements against exact limits: h = 1/n and the largest
+// limit error of each, with Newton at round-off (its last step far below the error) and the
+// errors decreasing.
+void fitted_study(const fe::MemberModel& model, const std::vector<double>& exact, int coarsest, std::vector<double>& h,
+                  std::vector<double>& error) {
+  for (int n : {coarsest, 2 * coarsest, 4 * coarsest, 8 * coarsest}) {
+    CAPTURE(n);
+    contact::FittedOptions options;
+    options.elements = n;
+    const auto fitted = contact::solve_fitted_limits(model, 1.0, fast_intervals(model, n), options);
+    CAPTURE(fitted.summary.message);
+    REQUIRE(fitted.summary.is_usable());
+    REQUIRE(fitted.limits.size() == exact.size());
+    double e = 0.0;
+    for (std::size_t k = 0; k < exact.size(); ++k) e = std::max(e, std::abs(fitted.limits[k] - exact[k]));
+    CHECK(fitted.summary.last_step < 1e-3 * e);  // Newton at round-off, far below the error
+    if (!error.empty()) CHECK(e < error.back());
+    h.push_back(1.0 / n);
+    error.push_back(e);
+  }
+}
+
 // A pinned-clamped beam under its weight (q/k = 5e-4) over ground sloping linearly from
 // g = 1e-4 at x = 0 to 4e-4 at x = 1: it lifts off near both ends (w = 0 < g at the supports)
 // and rests on the ground between two limits that solve w = g with g' != 0.
@@ -245,22 +267,7 @@ TEST_CASE("fitted limits with a ground gap converge at h^4 to the closed form", 
       CHECK(shift > 1e-3);
     }
     std::vector<double> h, error;
-    for (int n : {coarsest, 2 * coarsest, 4 * coarsest, 8 * coarsest}) {
-      CAPTURE(n);
-      contact::FittedOptions options;
-      options.elements = n;
-      const auto fitted = contact::solve_fitted_limits(model, 1.0, fast_intervals(model, n), options);
-      CAPTURE(fitted.summary.message);
-      REQUIRE(fitted.summary.is_usable());
-      REQUIRE(fitted.limits.size() == exact.limits.size());
-      double e = 0.0;
-      for (std::size_t k = 0; k < exact.limits.size(); ++k)
-        e = std::max(e, std::abs(fitted.limits[k] - exact.limits[k]));
-      CHECK(fitted.summary.last_step < 1e-3 * e);  // Newton at round-off, far below the error
-      if (!error.empty()) CHECK(e < error.back());
-      h.push_back(1.0 / n);
-      error.push_back(e);
-    }
+    fitted_study(model, exact.limits, coarsest, h, error);
     // g is linear within elements and its kinks are nodes, so w - g has no kink inside an
     // element: the Hermite order h^4 of the gap-free cases above (3.8..4.2 there, the same band).
     const double order = test::observed_order(h, error);
@@ -299,22 +306,7 @@ TEST_CASE("fitted limits on a bilinear foundation converge at h^4 to the closed 
         without.status == closed_form::TensionlessStatus::converged && without.limits.size() == exact.limits.size();
     const double shift = comparable ? std::abs(without.limits[0] - exact.limits[0]) : 1.0;
     std::vector<double> h, error;
-    for (int n : {40, 80, 160, 320}) {
-      CAPTURE(n);
-      contact::FittedOptions options;
-      options.elements = n;
-      const auto fitted = contact::solve_fitted_limits(*model, 1.0, fast_intervals(*model, n), options);
-      CAPTURE(fitted.summary.message);
-      REQUIRE(fitted.summary.is_usable());
-      REQUIRE(fitted.limits.size() == exact.limits.size());
-      double e = 0.0;
-      for (std::size_t k = 0; k < exact.limits.size(); ++k)
-        e = std::max(e, std::abs(fitted.limits[k] - exact.limits[k]));
-      CHECK(fitted.summary.last_step < 1e-3 * e);  // Newton at round-off, far below the error
-      if (!error.empty()) CHECK(e < error.back());
-      h.push_back(1.0 / n);
-      error.push_back(e);
-    }
+    fitted_study(*model, exact.limits, 40, h, error);
     const double order = test::observed_order(h, error);
     std::printf("bilinear%s: fitted limit error %.2e at 320 elements, observed order %.2f\n",
                 model->has_ground_gap() ? " over the seabed" : "", error.back(), order);
