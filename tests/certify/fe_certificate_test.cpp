@@ -346,6 +346,41 @@ TEST_CASE("a limit-fitted answer in contact up to a clamped end is certified", "
   CHECK(c.passed);
 }
 
+// The same on a stiff spring end (issue 12's spring_stiff): the spring holds w near 0 at the end
+// node (to its force over 1e10), the fitted P1 reaction there carries the clamp's artefact, and
+// the answer is certified. Its limit tends to the clamped twin's like 1 / stiffness (the end's
+// compliance; measured 1.1e-9 at 1e10, 1.1e-10 at 1e11 with --tolerance 1e-10): ten times
+// stiffer springs, ten times closer (the twins share their mesh, so their fitted errors cancel).
+TEST_CASE("a limit-fitted answer in contact up to a stiff spring end is certified", "[certify][fitted][springs]") {
+  scene::Scene s = test::beam_scene(1.0, 1.0, EndSupport::free, EndSupport::free, 2000.0);
+  s.supports.left_detail = {true, 1e10, 1e10, 0.0};
+  s.loads = {test::uniform_load(0.0, 1.0, 10.0), test::point_force(1.0, -4.0)};
+  const Fitted spring = fitted_answer(s, 160, 30);
+  REQUIRE(spring.result.summary.is_usable());
+  REQUIRE(spring.result.limits.size() == 1);
+  const fe::Discretisation& d = spring.result.discretisation;
+  REQUIRE(d.reaction_nodes.front() == 0);
+  CHECK(spring.solution.reaction[0] < 0.0);  // the artefact, as at a clamp
+  certify::CertifyOptions options;
+  options.discretisation_error = 1e-8;
+  const certify::Certificate c = certify::certify(spring.model, d, spring.solution, options);
+  CAPTURE(c.message);
+  CHECK(c.passed);
+
+  scene::Scene clamped = s, stiffer = s;
+  clamped.supports.left = EndSupport::clamped;
+  clamped.supports.left_detail = {};
+  stiffer.supports.left_detail = {true, 1e11, 1e11, 0.0};
+  const Fitted twin = fitted_answer(clamped, 160, 30), ten = fitted_answer(stiffer, 160, 30);
+  REQUIRE(twin.result.limits.size() == 1);
+  REQUIRE(ten.result.limits.size() == 1);
+  const double apart = std::abs(spring.result.limits[0] - twin.result.limits[0]),
+               closer = std::abs(ten.result.limits[0] - twin.result.limits[0]);
+  CAPTURE(apart, closer);
+  CHECK(apart < 1e-8);
+  CHECK(apart / closer == Approx(10.0).epsilon(0.05));
+}
+
 // Issue 12: vertical, horizontal and tangential arch loads. The certificate reads the loads again
 // in global components (certify/detail.cpp) and balances them against the foundation and the
 // supports: an answer computed with the loads misread as radial must fail, the right one pass.
