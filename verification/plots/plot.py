@@ -26,6 +26,7 @@ import argparse
 import math
 import os
 import sys
+import textwrap
 
 PROG = "liftoff plot"
 BAD_INPUT, OUTPUT_ERROR = 2, 4
@@ -761,7 +762,11 @@ def failure_lines(keys, failures, width):
             first_message = first_message.split(":", 1)[1].strip()
         cases = case_label(keys, first_values) + (f" and {len(items) - 1} more" if len(items) > 1 else "")
         line = f"  {method or 'case'}: {len(items)} x {termination} ({cases}): {first_message}"
-        lines.append(line if len(line) <= width else line[:width - 3] + "...")
+        wrapped = textwrap.wrap(line, width, initial_indent="", subsequent_indent="      ")
+        if len(wrapped) > 3:
+            wrapped = wrapped[:3]
+            wrapped[-1] = wrapped[-1][:width - 9] + " ..."
+        lines.extend(wrapped)
     return lines
 
 
