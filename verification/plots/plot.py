@@ -462,8 +462,9 @@ def plot_solve(path, f, prefix, output):
     axes[-1].set_xlim(begin, end)
     title = os.path.basename(r["scene_name"]) or os.path.basename(path)
     fig.suptitle(f"{title}: {r['method']} ({r['termination']})", fontsize=10, y=0.995)
-    fig.text(0.5, 0.972, "green: contact;  blank: lifted off;  hatched: no foundation;  dotted band: the foundation",
-             ha="center", va="top", fontsize=7, color="0.3")
+    fig.text(0.5, 0.972, ("the arch unrolled along theta;  " if arch else "") +
+             "loads toward the foundation point down;  green: contact;  blank: lifted off;  hatched: no foundation;  "
+             "dotted band: the foundation", ha="center", va="top", fontsize=7, color="0.3")
     fig.align_ylabels(list(axes) + ([scene_axis] if scene else []))
     fig.tight_layout(rect=(0, 0, 1, 0.975))
     fig.subplots_adjust(hspace=0.12)
