@@ -472,6 +472,9 @@ def plot_solve(path, f, prefix, output):
     if scene:
         place_scene_labels(fig, scene_axis, scene_labels)
     placer = LabelPlacer(fig)
+    for ax in axes:  # a legend is a label placed before the others
+        if ax.get_legend() is not None:
+            placer.boxes.append(ax.get_legend().get_window_extent(fig.canvas.get_renderer()))
     for ax, (key, _, unit) in zip(axes, diagrams):
         label_extremes(ax, placer, x, r[key], unit, where, position_unit)
     output.save(fig, prefix + "_diagrams.png")
@@ -592,6 +595,7 @@ def load_displacement(trace, out, output):
     fig.tight_layout()
     fig.canvas.draw()
     placer = LabelPlacer(fig)
+    placer.boxes.append(ax.get_legend().get_window_extent(fig.canvas.get_renderer()))
     for name, p in trace["paths"].items():
         color = TRACE_STYLES.get(name, ("black", "-"))[0]
         # Events at the same load factor and of the same kind (both ends of a symmetric member) are
