@@ -212,6 +212,14 @@ def main():
         check(not any(n.startswith("foreign_") for n in os.listdir(tmp)), "foreign file: no picture written")
         error(run(liftoff, "plot", os.path.join(tmp, "beam.h5"), "--normalise"), 2, "--normalise",
               "plot --normalise on a solve file")
+        # A Python without h5py (or matplotlib): the script says which module, exit 4. The module is
+        # hidden from the import system (sys.modules[name] = None makes `import name` fail).
+        script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "verification", "plots", "plot.py")
+        for module in ("h5py", "matplotlib"):
+            hide = (f"import sys, runpy; sys.modules[{module!r}] = None; sys.argv = ['plot.py', {h5!r}]; "
+                    f"runpy.run_path({script!r}, run_name='__main__')")
+            r = subprocess.run(["/usr/bin/python3", "-c", hide], capture_output=True, text=True, timeout=120)
+            error(r, 4, f"'{module}'", f"plot.py without {module}")
         nowhere = os.path.join(tmp, "no_such_directory", "p")
         error(run(liftoff, "plot", os.path.join(tmp, "beam.h5"), "--out", nowhere), 4, nowhere,
               "plot into a directory that does not exist")
