@@ -17,6 +17,7 @@
 #include <string_view>
 #include <thread>
 
+#include "app/plot_command.hpp"
 #include "app/solve_command.hpp"
 #include "app/sweep_command.hpp"
 #include "app/trace_command.hpp"
@@ -468,6 +469,16 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   trace_command->add_flag("--progress", trace.progress,
                           "Progress on stderr, a line per step, even when stderr is not a terminal");
 
+  PlotRequest plot;
+  CLI::App* plot_command =
+      app.add_subcommand("plot", "Draw the pictures of a result file (solve, trace or sweep --output) as PNG files");
+  plot_command->add_option("file", plot.file, "HDF5 file written by liftoff solve, trace or sweep")
+      ->required()
+      ->check(CLI::ExistingFile);
+  plot_command->add_option("--out", plot.out, "Prefix of the PNG files (default: the file's name without .h5)");
+  plot_command->add_flag("--normalise", plot.normalise,
+                         "Sweeps only: each case's curves divided by their own largest magnitude");
+
   const bool json_asked =
       std::any_of(argv + 1, argv + argc, [](const char* a) { return std::string_view(a) == "--json"; });
   RunContext context;
@@ -484,6 +495,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     const CLI::App* command = *solve_command   ? solve_command
                               : *sweep_command ? sweep_command
                               : *trace_command ? trace_command
+                              : *plot_command  ? plot_command
                                                : &app;
     err << "liftoff: " << message << " (see liftoff" << (command == &app ? "" : " " + command->get_name())
         << " --help)\n";
@@ -512,6 +524,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     return code(status);
   };
   try {
+    if (*plot_command) return run_plot(plot);
     if (*solve_command) return run_solve(solve, context, out, err);
     if (*sweep_command) return run_sweep_command(sweep, out, err);
     if (*trace_command) return run_trace_command(trace, context, out, err);

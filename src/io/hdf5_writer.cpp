@@ -156,6 +156,7 @@ void write_report(hid_t file, const SolveReport& r) {
 void write_file(const SolveReport& r, const std::filesystem::path& path, const std::string& version) {
   Handle file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose, path.string());
   write_string_attribute(file, "liftoff_version", version);
+  write_string_attribute(file, "kind", "solve");  // what `liftoff plot` draws: solve, trace or sweep
   write_report(file, r);
 }
 
@@ -163,6 +164,7 @@ void write_sweep_file(const std::vector<std::string>& keys, const std::vector<Sw
                       const std::filesystem::path& path, const std::string& version) {
   Handle file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose, path.string());
   write_string_attribute(file, "liftoff_version", version);
+  write_string_attribute(file, "kind", "sweep");
   std::string joined;
   for (const auto& key : keys) joined += (joined.empty() ? "" : ",") + key;
   write_string_attribute(file, "keys", joined);

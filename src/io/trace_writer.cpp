@@ -411,6 +411,7 @@ TraceWriter::TraceWriter(const std::filesystem::path& path, const TraceFileInfo&
   }
   f.each([&](hid_t id) {
     set_string_attribute(id, "liftoff_version", info.version);
+    set_string_attribute(id, "kind", "trace");  // what `liftoff plot` draws: solve, trace or sweep
     set_string_attribute(id, "scene_name", info.scene_name);
     set_string_attribute(id, "coordinate", info.coordinate);
     set_string_attribute(id, "sign_convention", sign_convention);

@@ -1,0 +1,906 @@
+#!/usr/bin/python3
+"""Pictures of any liftoff HDF5 file: a solve, a trace or a sweep (what `liftoff plot` runs).
+
+    /usr/bin/python3 verification/plots/plot.py FILE.h5 [--out PREFIX] [--normalise]
+
+The file's kind is its root attribute `kind` ("solve", "trace", "sweep"; files written before it
+existed are recognised by their layout). Writes, and prints the name of, each PNG:
+
+- solve: PREFIX_diagrams.png, the member with its supports, loads and foundation, then the
+  deflection w, the foundation pressure (reaction), the bending moment and the shear force (and
+  for arches the normal force) stacked against the position (arches: theta in degrees), contact
+  regions shaded, stretches with no foundation hatched, the largest and smallest value of each
+  diagram labelled with its position; arches also PREFIX_shape.png, the deformed arch in its plane.
+- trace: PREFIX_load_displacement.png and PREFIX_lift_off_map.png (plot_trace.py's figures).
+- sweep: PREFIX_deflection.png and PREFIX_reaction.png, every case overlaid, one panel per method
+  (plot_sweep.py's figures). Failed cases are left out and listed on the figure. --normalise
+  divides each case's curve by its own largest magnitude (max |w|, max reaction), to compare shapes.
+
+Units are the file's root attributes `units_length` and `units_force` when present (else "length"
+and "force"). w > 0 is into the foundation and is drawn downward, as the member moves; bending
+moment sagging positive; reaction compression positive. Exit codes as liftoff's: 2 the file is not
+a readable liftoff result, 4 a picture could not be written or a Python module is missing (no
+half-written PNG is left: each is written under a temporary name and renamed).
+"""
+import argparse
+import math
+import os
+import sys
+import textwrap
+
+PROG = "liftoff plot"
+BAD_INPUT, OUTPUT_ERROR = 2, 4
+
+
+def fail(code, message):
+    print(f"{PROG}: {message}", file=sys.stderr)
+    sys.exit(code)
+
+
+try:
+    import numpy as np
+    import h5py
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import matplotlib.colors
+    import matplotlib.transforms
+    from matplotlib.patches import FancyArrowPatch, Rectangle
+except ImportError as e:  # pragma: no cover - depends on the machine
+    module = getattr(e, "name", None) or str(e)
+    fail(OUTPUT_ERROR, f"cannot draw: the Python module '{module}' is missing (Debian: apt install "
+                       f"python3-matplotlib python3-h5py python3-numpy)")
+try:
+    import tomllib
+except ImportError:  # Python < 3.11: the scene drawing is skipped
+    tomllib = None
+
+
+def text(value):
+    return value.decode() if isinstance(value, bytes) else str(value)
+
+
+def units_of(attrs):
+    length = text(attrs["units_length"]) if "units_length" in attrs else "length"
+    force = text(attrs["units_force"]) if "units_force" in attrs else "force"
+    return length, force
+
+
+def file_kind(f):
+    """The file's kind: its `kind` attribute, else recognised by its layout; None if not liftoff's."""
+    if "kind" in f.attrs:
+        return text(f.attrs["kind"])
+    if "liftoff_version" not in f.attrs:
+        return None
+    if "keys" in f.attrs and "cases" in f:
+        return "sweep"
+    if "paths" in f.attrs:
+        return "trace"
+    if "structure" in f.attrs and "fields" in f:
+        return "solve"
+    return None
+
+
+class Output:
+    """The PNGs of one run: each saved under a temporary name, all renamed at the end; on a failure
+    every temporary is removed and the run exits 4."""
+
+    def __init__(self):
+        self.pending = []
+
+    def save(self, fig, path):
+        temporary = path + ".tmp"
+        try:
+            fig.savefig(temporary, dpi=120, format="png")
+        except Exception as e:  # noqa: BLE001 - any failure to write is the output's
+            self.abandon()
+            fail(OUTPUT_ERROR, f"{path}: cannot write the picture ({e})")
+        finally:
+            plt.close(fig)
+        self.pending.append((temporary, path))
+
+    def abandon(self):
+        for temporary, _ in self.pending:
+            try:
+                os.remove(temporary)
+            except OSError:
+                pass
+        self.pending = []
+
+    def finish(self):
+        for i, (temporary, path) in enumerate(self.pending):
+            try:
+                os.replace(temporary, path)
+            except OSError as e:
+                self.pending = self.pending[i:]
+                self.abandon()
+                fail(OUTPUT_ERROR, f"{path}: cannot write the picture ({e.strerror})")
+            print(path)
+        self.pending = []
+
+
+# ----------------------------------------------------------------------------------------------
+# Labels that do not overprint: each label tries a few offsets around its point and takes the
+# first whose box (in pixels) overlaps no label placed before; failing all, the farthest.
+
+class LabelPlacer:
+    OFFSETS = [(6, 4), (6, -12), (-6, 4), (-6, -12), (8, 16), (8, -24), (-8, 16), (-8, -24), (10, 30),
+               (10, -38), (-10, 30), (-10, -38), (12, 46), (-12, 46), (12, -54), (-12, -54)]
+
+    def __init__(self, fig):
+        self.fig = fig
+        self.boxes = []
+
+    def place(self, ax, label, xy, **kwargs):
+        renderer = self.fig.canvas.get_renderer()
+        axes_box = ax.get_window_extent(renderer)
+        best = None
+        for dx, dy in self.OFFSETS:
+            ha = "left" if dx >= 0 else "right"
+            va = "bottom" if dy >= 0 else "top"
+            a = ax.annotate(label, xy, textcoords="offset points", xytext=(dx, dy), ha=ha, va=va,
+                            annotation_clip=False, **kwargs)
+            box = a.get_window_extent(renderer).expanded(1.05, 1.1)
+            inside = (box.x0 >= axes_box.x0 - 2 and box.x1 <= axes_box.x1 + 2 and box.y0 >= axes_box.y0 - 2
+                      and box.y1 <= axes_box.y1 + 2)
+            if inside and not any(box.overlaps(b) for b in self.boxes):
+                self.boxes.append(box)
+                return a
+            if best is None and inside:
+                best = (dx, dy)
+            a.remove()
+        dx, dy = best or self.OFFSETS[0]
+        a = ax.annotate(label, xy, textcoords="offset points", xytext=(dx, dy), ha="left" if dx >= 0 else "right",
+                        va="bottom" if dy >= 0 else "top", annotation_clip=False,
+                        arrowprops=dict(arrowstyle="-", color="0.5", linewidth=0.5), **kwargs)
+        self.boxes.append(a.get_window_extent(renderer))
+        return a
+
+
+# ----------------------------------------------------------------------------------------------
+# The scene (stored in the file as TOML): foundation extents, supports and loads.
+
+def parse_scene(scene_text):
+    if tomllib is None or not scene_text:
+        return None
+    try:
+        return tomllib.loads(scene_text)
+    except tomllib.TOMLDecodeError:
+        return None
+
+
+def member_range(scene):
+    s = scene.get("structure", {})
+    if s.get("kind") == "arch":
+        gamma = float(s.get("half_angle_deg", 0.0))
+        return -gamma, gamma
+    return 0.0, float(s.get("length", 1.0))
+
+
+def foundation_pieces(scene):
+    """The foundation's pieces as (from, to) in the user's coordinate; None if unknown."""
+    if scene is None or "foundation" not in scene:
+        return None
+    begin, end = member_range(scene)
+    f = scene["foundation"]
+    if "segments" in f:
+        pieces = [(float(p.get("from", begin)), float(p.get("to", end))) for p in f["segments"]]
+    else:
+        pieces = [(float(f.get("from", begin)), float(f.get("to", end)))]
+    return sorted(pieces)
+
+
+def voids(pieces, begin, end):
+    """The stretches of [begin, end] with no foundation under them."""
+    if pieces is None:
+        return []
+    out, at = [], begin
+    for a, b in pieces:
+        if a > at:
+            out.append((at, a))
+        at = max(at, b)
+    if at < end:
+        out.append((at, end))
+    return [(a, b) for a, b in out if b - a > 1e-12 * max(1.0, abs(end - begin))]
+
+
+def gap_profile(scene):
+    """The ground gap g as (positions, values) from [foundation] gap, or None."""
+    if scene is None:
+        return None
+    gap = scene.get("foundation", {}).get("gap")
+    if not gap:
+        return None
+    at, value = [float(a) for a in gap.get("at", [])], [float(v) for v in gap.get("value", [])]
+    return (at, value) if at and len(at) == len(value) else None
+
+
+def shade_regions(ax, regions, pieces, begin, end, legend=False):
+    for i, (a, b) in enumerate(regions):
+        ax.axvspan(a, b, color="tab:green", alpha=0.12, linewidth=0, label="contact" if legend and i == 0 else None)
+    for i, (a, b) in enumerate(voids(pieces, begin, end)):
+        ax.axvspan(a, b, facecolor="none", edgecolor="0.75", hatch="//", linewidth=0,
+                   label="no foundation" if legend and i == 0 else None)
+
+
+def fmt(value):
+    """Four significant digits, without an exponent between 1e-3 and 1e7 (112500, not 1.125e+05)."""
+    value = float(value)
+    if value == 0.0 or not math.isfinite(value):
+        return f"{value:g}"
+    if 1e-3 <= abs(value) < 1e7:
+        return np.format_float_positional(value, precision=4, unique=False, fractional=False, trim="-")
+    return f"{value:.4g}"
+
+
+def draw_scene(ax, scene, regions, pieces, begin, end, units, arch):
+    """The member (y = 0), its foundation below, supports at their positions, loads above."""
+    length, force = units
+    span = end - begin
+    ax.set_ylim(-1.0, 1.6)
+    ax.set_yticks([])
+    ax.plot([begin, end], [0, 0], color="black", linewidth=3, solid_capstyle="butt", zorder=3)
+    for a, b in pieces or []:
+        ax.add_patch(Rectangle((a, -0.62), b - a, 0.42, facecolor="tan", edgecolor="saddlebrown", hatch="...",
+                               linewidth=0.6, alpha=0.6, zorder=1))
+    for a, b in regions:
+        ax.plot([a, b], [-0.2, -0.2], color="tab:green", linewidth=4, zorder=2)
+    supports = scene.get("supports", {})
+
+    def support(at, spec):
+        kind = spec if isinstance(spec, str) else spec.get("kind", "pinned")
+        label = []
+        if kind in ("pinned", "roller"):
+            ax.plot(at, -0.08, marker="^", markersize=12, color="black", zorder=4, clip_on=False)
+            if kind == "roller":
+                ax.plot(at, -0.3, marker="o", markersize=5, color="black", zorder=4, clip_on=False)
+        elif kind == "clamped":
+            ax.plot([at, at], [-0.7, 0.7], color="black", linewidth=5, zorder=4, solid_capstyle="butt")
+        elif kind == "spring":
+            zig = np.linspace(0, 1, 9)
+            ax.plot(at + 0.006 * span * np.where(np.arange(9) % 2 == 0, 0, 1) * np.sign(0.5 - zig + 1e-9)
+                    * (1 if at < begin + span / 2 else -1), -0.05 - 0.55 * zig, color="black", linewidth=1, zorder=4)
+            if isinstance(spec, dict) and spec.get("stiffness"):
+                label.append(f"k = {fmt(spec['stiffness'])}")
+            if isinstance(spec, dict) and spec.get("rotational_stiffness"):
+                label.append(f"k_r = {fmt(spec['rotational_stiffness'])}")
+        if isinstance(spec, dict) and spec.get("settlement"):
+            label.append(f"settles {fmt(spec['settlement'])} {length}")
+        if kind != "free":
+            label.insert(0, kind)
+            ax.text(at, -0.95, ", ".join(label), ha="center" if begin < at < end else
+                    ("left" if at == begin else "right"), va="bottom", fontsize=7)
+
+    for side, at in (("left", begin), ("right", end)):
+        if side in supports:
+            support(at, supports[side])
+    for entry in supports.get("interior", []):
+        if isinstance(entry, dict):
+            support(float(entry["at"]), entry)
+        else:
+            support(float(entry), "pinned")
+
+    # Loads: > 0 toward the foundation, drawn downward (arches: radial, unrolled along theta).
+    # Their labels are returned, to be placed once the layout is final (place_scene_labels).
+    labels = []
+
+    def label_at(x, message):
+        if labels and labels[-1][1] == message and "force" in message and " x " not in message:
+            labels[-1] = (labels[-1][0], message, labels[-1][2] + [x])  # equal point forces: one label
+        else:
+            labels.append((x, message, [x]))
+
+    loads = scene.get("loads", [])
+    if loads:
+        ax.set_ylim(-1.0, 1.3 + 0.25 * min(len(loads), 4))
+    for load in loads:
+        kind, value = load.get("kind"), load.get("value")
+        dead = " (dead)" if load.get("case") == "dead" else ""
+        direction = f" {load['direction']}" if arch and "direction" in load else ""
+        if kind == "force":
+            at = float(load["at"])
+            down = float(value) > 0
+            ax.add_patch(FancyArrowPatch((at, 0.95 if down else 0.08), (at, 0.08 if down else 0.95),
+                                         arrowstyle="-|>", mutation_scale=12, color="tab:red", linewidth=1.5, zorder=5))
+            label_at(at, f"{fmt(float(value))} {force}{direction}{dead}")
+        elif kind == "moment":
+            at = float(load["at"])
+            # counterclockwise positive: an arc over the point, head on the left for > 0
+            r = 0.025 * span
+            ccw = float(value) > 0
+            ax.add_patch(FancyArrowPatch((at + r, 0.25), (at - r, 0.25) if ccw else (at + r, 0.25),
+                                         connectionstyle="arc3,rad=0.9", arrowstyle="-|>", mutation_scale=10,
+                                         color="tab:purple", linewidth=1.3, zorder=5) if ccw else
+                         FancyArrowPatch((at - r, 0.25), (at + r, 0.25), connectionstyle="arc3,rad=-0.9",
+                                         arrowstyle="-|>", mutation_scale=10, color="tab:purple", linewidth=1.3,
+                                         zorder=5))
+            label_at(at, f"M = {fmt(float(value))} {force} {length}{dead}")
+        elif kind in ("uniform", "curvature"):
+            a, b = float(load.get("from", begin)), float(load.get("to", end))
+            if kind == "curvature":
+                ax.add_patch(Rectangle((a, 0.1), b - a, 0.25, facecolor="tab:cyan", alpha=0.25, linewidth=0))
+                label_at(0.5 * (a + b), f"curvature {fmt(float(value))} 1/{length}{dead}")
+                continue
+            q = float(value)
+            ax.add_patch(Rectangle((a, 0.1), b - a, 0.4, facecolor="tab:orange", alpha=0.25, linewidth=0, zorder=2))
+            for x in np.linspace(a, b, max(3, int(12 * (b - a) / span) + 1)):
+                ax.annotate("", (x, 0.1 if q > 0 else 0.5), (x, 0.5 if q > 0 else 0.1),
+                            arrowprops=dict(arrowstyle="-|>", color="tab:orange", linewidth=0.8), zorder=2)
+            label_at(0.5 * (a + b), f"q = {fmt(q)} {force}/{length}{direction}{dead}")
+        elif kind == "distributed":
+            at = [float(v) for v in load["at"]]
+            values = [float(v) for v in load["value"]]
+            top = max(abs(v) for v in values) or 1.0
+            ax.fill_between(at, 0.1, [0.1 + 0.4 * abs(v) / top for v in values], color="tab:orange", alpha=0.3,
+                            linewidth=0)
+            label_at(0.5 * (at[0] + at[-1]),
+                     f"q = {fmt(min(values))}..{fmt(max(values))} {force}/{length}{direction}{dead}")
+    return labels
+
+
+def place_scene_labels(fig, ax, labels):
+    """Each load's label above it, moved up a line while it would overprint one placed before."""
+    renderer = fig.canvas.get_renderer()
+    boxes = []
+    for x, message, xs in labels:
+        if len(xs) > 1:
+            message = f"{message} (each of {len(xs)})"
+            x = 0.5 * (min(xs) + max(xs))
+        lo, hi = ax.get_xlim()
+        ha = "left" if x < lo + 0.1 * (hi - lo) else "right" if x > hi - 0.1 * (hi - lo) else "center"
+        for level in range(12):
+            t = ax.text(x, 1.02, message, ha=ha, va="bottom", fontsize=7, clip_on=False,
+                        transform=ax.transData)
+            t.set_position((x, 1.02))
+            t.set_transform(ax.transData + matplotlib.transforms.ScaledTranslation(0, level * 11 / 72,
+                                                                                    fig.dpi_scale_trans))
+            box = t.get_window_extent(renderer).expanded(1.04, 1.0)
+            if not any(box.overlaps(b) for b in boxes) or level == 11:
+                boxes.append(box)
+                break
+            t.remove()
+
+# ----------------------------------------------------------------------------------------------
+# Solve files
+
+def read_solve(group):
+    def column(name):
+        path = "fields/" + name
+        return group[path][()] if path in group else None
+
+    regions = group["contact_regions"][()].reshape(-1, 2) if "contact_regions" in group else np.zeros((0, 2))
+    scene_text = text(group["scene"][()]) if "scene" in group else ""
+    return {"x": column("coordinate"), "w": column("w"), "u": column("u"), "reaction": column("reaction"),
+            "moment": column("bending_moment"), "shear": column("shear_force"), "normal": column("normal_force"),
+            "regions": [tuple(r) for r in regions], "coordinate": text(group.attrs.get("coordinate", "x")),
+            "structure": text(group.attrs.get("structure", "beam")), "scene_text": scene_text,
+            "scene_name": text(group.attrs.get("scene_name", "")), "method": text(group.attrs.get("method", "")),
+            "termination": text(group.attrs.get("termination", "")), "message": text(group.attrs.get("message", ""))}
+
+
+def label_extremes(ax, placer, x, y, unit, where, position_unit):
+    """Marks the largest and smallest value with its position (one label if they coincide)."""
+    if len(y) == 0:
+        return
+    scale = float(np.max(np.abs(y)))
+    picks = [int(np.argmax(y)), int(np.argmin(y))]
+    if scale == 0.0:
+        picks = picks[:1]
+    seen = []
+    for i in picks:
+        if i in seen:
+            continue
+        seen.append(i)
+        if scale > 0 and abs(y[i]) < 1e-3 * scale:
+            continue  # a zero extreme (the reaction where the member lifts, M at a free end) says nothing
+        ax.plot(x[i], y[i], "o", color="black", markersize=4, zorder=5)
+        placer.place(ax, f"{fmt(y[i])} {unit}\nat {where} = {fmt(x[i])}{position_unit}", (x[i], y[i]), fontsize=7,
+                     bbox=dict(boxstyle="round,pad=0.2", facecolor="white", edgecolor="0.7", alpha=0.9))
+
+
+def plot_solve(path, f, prefix, output):
+    r = read_solve(f)
+    if r["x"] is None or r["w"] is None:
+        fail(BAD_INPUT, f"{path}: the solve file has no fields (/fields/coordinate, /fields/w); expected a file "
+                        f"written by `liftoff solve --output`")
+    units = units_of(f.attrs)
+    length, force = units
+    arch = r["structure"] == "arch" or r["coordinate"] == "theta_deg"
+    scene = parse_scene(r["scene_text"])
+    x = r["x"]
+    begin, end = (member_range(scene) if scene else (float(x.min()), float(x.max())))
+    pieces = foundation_pieces(scene)
+    where = "theta" if arch else "x"
+    position_unit = " deg" if arch else f" {length}"
+    diagrams = [("w", f"deflection w [{length}]\n(> 0 into the foundation)", length),
+                ("reaction", f"foundation pressure\n[{force}/{length}]", f"{force}/{length}"),
+                ("moment", f"bending moment M\n[{force} {length}] (sagging > 0)", f"{force} {length}"),
+                ("shear", f"shear force V [{force}]", force)]
+    if arch and r["normal"] is not None:
+        diagrams.append(("normal", f"normal force N [{force}]", force))
+    diagrams = [d for d in diagrams if r[d[0]] is not None]
+    heights = ([1.1] if scene else []) + [1.0] * len(diagrams)
+    fig, axes = plt.subplots(len(heights), 1, sharex=True, figsize=(9, 1.9 * len(heights) + 0.8),
+                             gridspec_kw={"height_ratios": heights})
+    axes = list(np.atleast_1d(axes))
+    scene_axis, scene_labels = None, []
+    if scene:
+        scene_axis = axes[0]
+        scene_labels = draw_scene(scene_axis, scene, r["regions"], pieces, begin, end, units, arch)
+        scene_axis.set_ylabel("member,\nloads, supports", fontsize=8)
+        axes = axes[1:]
+    for ax, (key, ylabel, unit) in zip(axes, diagrams):
+        y = r[key]
+        shade_regions(ax, r["regions"], pieces, begin, end)
+        ax.plot(x, y, color="tab:blue", linewidth=1.4)
+        if key not in ("w", "normal"):
+            ax.fill_between(x, 0, y, color="tab:blue", alpha=0.08, linewidth=0)
+        ax.axhline(0.0, color="black", linewidth=0.6)
+        ax.set_ylabel(ylabel, fontsize=8)
+        ax.grid(True, alpha=0.3)
+        ax.tick_params(labelsize=8)
+        if key == "w":
+            gap = gap_profile(scene)
+            if gap:
+                at, value = gap
+                xs = [begin] + at + [end]
+                ys = [value[0]] + value + [value[-1]]
+                ax.plot(xs, ys, color="saddlebrown", linestyle="--", linewidth=1, label="ground (gap g)")
+            ax.invert_yaxis()  # w > 0 into the foundation: drawn downward
+            if gap:  # the shading is explained under the title; only the ground's line needs a key
+                ax.legend(handles=[ax.lines[-1]], fontsize=7, loc="best", framealpha=0.9)
+        # room for the labels of the extremes: 25 % margin above and below
+        lo, hi = float(np.min(y)), float(np.max(y))
+        pad = 0.3 * (hi - lo) if hi > lo else max(abs(hi), 1e-30)
+        if key == "w":
+            ax.set_ylim(hi + pad, lo - pad)
+        else:
+            ax.set_ylim(lo - pad, hi + pad)
+        ax.margins(x=0)
+    axes[-1].set_xlabel("theta (degrees from the crown)" if arch else f"x [{length}]")
+    axes[-1].set_xlim(begin, end)
+    title = os.path.basename(r["scene_name"]) or os.path.basename(path)
+    fig.suptitle(f"{title}: {r['method']} ({r['termination']})", fontsize=10, y=0.995)
+    fig.text(0.5, 0.972, ("the arch unrolled along theta;  " if arch else "") +
+             "loads toward the foundation point down;  green: contact;  blank: lifted off;  hatched: no foundation;  "
+             "dotted band: the foundation", ha="center", va="top", fontsize=7, color="0.3")
+    fig.align_ylabels(list(axes) + ([scene_axis] if scene else []))
+    fig.tight_layout(rect=(0, 0, 1, 0.975))
+    fig.subplots_adjust(hspace=0.12)
+    fig.canvas.draw()  # labels are placed on the final layout, in pixels
+    if scene:
+        place_scene_labels(fig, scene_axis, scene_labels)
+    placer = LabelPlacer(fig)
+    for ax in axes:  # a legend is a label placed before the others
+        if ax.get_legend() is not None:
+            placer.boxes.append(ax.get_legend().get_window_extent(fig.canvas.get_renderer()))
+    for ax, (key, _, unit) in zip(axes, diagrams):
+        label_extremes(ax, placer, x, r[key], unit, where, position_unit)
+    output.save(fig, prefix + "_diagrams.png")
+    if arch and r["w"] is not None:
+        plot_arch_shape(r, scene, units, prefix + "_shape.png", output)
+
+
+def plot_arch_shape(r, scene, units, out, output):
+    """The arch in its plane: unloaded (grey) and deformed (blue), displacements magnified."""
+    s = (scene or {}).get("structure", {})
+    radius = float(s.get("radius", 1.0))
+    theta = np.radians(r["x"])
+    w = r["w"]
+    u = r["u"] if r["u"] is not None else np.zeros_like(w)
+    # w > 0 into the foundation: toward the centre for a foundation inside the arch, outward for one outside
+    inward = (scene or {}).get("foundation", {}).get("side", "inside") != "outside"
+    largest = float(np.max(np.hypot(w, u))) or 1.0
+    magnification = 0.12 * radius / largest
+    radial = radius + (-w if inward else w) * magnification
+    px = radial * np.sin(theta) + u * magnification * np.cos(theta)
+    py = radial * np.cos(theta) - u * magnification * np.sin(theta)
+    deep = float(np.max(np.abs(r["x"]))) >= 60.0  # the centre is drawn only where it does not flatten the arch
+    xs = np.concatenate((radius * np.sin(theta), px, [0.0] if deep else []))
+    ys = np.concatenate((radius * np.cos(theta), py, [0.0] if deep else []))
+    aspect = (ys.max() - ys.min()) / max(xs.max() - xs.min(), 1e-30)
+    fig, ax = plt.subplots(figsize=(7, min(9.0, max(3.0, 6.2 * aspect + 1.4))))
+    ax.plot(radius * np.sin(theta), radius * np.cos(theta), color="0.6", linewidth=2, label="unloaded")
+    ax.plot(px, py, color="tab:blue", linewidth=1.5, label=f"deformed, displacements x {magnification:.3g}")
+    for a, b in r["regions"]:
+        t = np.radians(np.linspace(a, b, 50))
+        ax.plot(radius * np.sin(t), radius * np.cos(t), color="tab:green", linewidth=5, alpha=0.4)
+    ax.plot([], [], color="tab:green", linewidth=5, alpha=0.4, label="contact")
+    if deep:
+        ax.plot(0, 0, "+", color="black")
+    ax.set_aspect("equal")
+    ax.set_xlabel(f"[{units[0]}]")
+    ax.set_ylabel(f"[{units[0]}]")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8, loc="lower center" if deep else "best")
+    ax.set_title(f"{os.path.basename(r['scene_name'])}: deformed shape (foundation {'inside' if inward else 'outside'})",
+                 fontsize=10)
+    fig.tight_layout()
+    output.save(fig, out)
+
+
+# ----------------------------------------------------------------------------------------------
+# Trace files
+
+TRACE_STYLES = {"fe": ("tab:blue", "-"), "ritz": ("tab:red", "--"), "fe_refined": ("tab:green", ":")}
+KIND_MARKERS = {"lift_off_opens": "v", "contact_opens": "^", "region_vanishes": "x", "lift_off_vanishes": "+",
+                "limit_at_support": "s", "limit_at_load": "D", "limit_at_end": ">", "limit_point": "*"}
+
+
+def read_trace_path(group):
+    steps, events = group["steps"], group["events"]
+    # The per-step datasets may differ by one row after a kill: keep the steps they all hold.
+    n = min(len(steps[name]) for name in ("lambda", "monitor_deflection", "deflection", "reaction"))
+    lam = steps["lambda"][:n]
+    regions = [[] for _ in range(n)]
+    for step, a, b in steps["contact_regions"][()].reshape(-1, 3):
+        if 0 <= step < n:
+            regions[int(step)].append((a, b))
+    m = min(len(events[name]) for name in ("lambda", "kind", "at", "step"))
+    event_list = [(float(events["lambda"][i]), text(events["kind"][i]), float(events["at"][i]))
+                  for i in range(m) if 0 <= events["step"][i] < n]
+    return {"lambda": lam, "w": steps["monitor_deflection"][:n], "regions": regions, "events": event_list,
+            "monitor": float(group.attrs.get("monitor", np.nan)),
+            "termination": text(group.attrs.get("termination", "running"))}
+
+
+def read_trace(path):
+    """The trace, or its backup if the file was damaged by a kill; exits 2 if neither reads."""
+    for candidate in (path, path + ".backup"):
+        if not os.path.exists(candidate):
+            continue
+        try:
+            with h5py.File(candidate, "r") as f:
+                names = [p for p in text(f.attrs["paths"]).split(",") if p in f]
+                paths = {name: read_trace_path(f[name]) for name in names}
+                x = f["sample_points"][()]
+                scene_text = text(f["scene"][()]) if "scene" in f else ""
+                return {"paths": paths, "coordinate": text(f.attrs["coordinate"]), "begin": float(x.min()),
+                        "end": float(x.max()), "scene": text(f.attrs["scene_name"]), "units": units_of(f.attrs),
+                        "scene_toml": parse_scene(scene_text)}
+        except (OSError, KeyError) as e:
+            print(f"{PROG}: {candidate}: {e}", file=sys.stderr)
+    fail(BAD_INPUT, f"{path}: not a readable liftoff trace (expected the file of `liftoff trace --output`)")
+
+
+def event_name(kind):
+    return kind.replace("lift_off", "lift-off").replace("_", " ")
+
+
+def interpolate_w(p, lam):
+    """w at an event's lambda from the nearest recorded steps (a fold makes lambda non-monotonic)."""
+    if len(p["lambda"]) == 0:
+        return None
+    i = int(np.argmin(np.abs(p["lambda"] - lam)))
+    j = min(i + 1, len(p["lambda"]) - 1) if p["lambda"][i] < lam else max(i - 1, 0)
+    l0, l1 = p["lambda"][i], p["lambda"][j]
+    return p["w"][i] if l1 == l0 else p["w"][i] + (lam - l0) / (l1 - l0) * (p["w"][j] - p["w"][i])
+
+
+def load_displacement(trace, out, output):
+    length = trace["units"][0]
+    fig, ax = plt.subplots(figsize=(7, 5))
+    for name, p in trace["paths"].items():
+        color, style = TRACE_STYLES.get(name, ("black", "-"))
+        ax.plot(p["w"], p["lambda"], color=color, linestyle=style, label=f"{name} ({p['termination']})")
+    ax.axvline(0.0, color="black", linewidth=0.5)
+    ax.grid(True, alpha=0.3)
+    monitor = next(iter(trace["paths"].values()))["monitor"] if trace["paths"] else np.nan
+    where = f"theta = {fmt(monitor)} deg" if trace["coordinate"] == "theta_deg" else f"x = {fmt(monitor)}"
+    ax.set_xlabel(f"w at {where} [{length}] (> 0 into the foundation)")
+    ax.set_ylabel("load factor lambda")
+    ax.set_title(f"{os.path.basename(trace['scene'])}: load-displacement", fontsize=10)
+    ax.legend(fontsize=8, loc="best")
+    fig.tight_layout()
+    fig.canvas.draw()
+    placer = LabelPlacer(fig)
+    placer.boxes.append(ax.get_legend().get_window_extent(fig.canvas.get_renderer()))
+    for name, p in trace["paths"].items():
+        color = TRACE_STYLES.get(name, ("black", "-"))[0]
+        # Events at the same load factor and of the same kind (both ends of a symmetric member) are
+        # one point of this curve: one marker, one label.
+        merged = {}
+        for lam, kind, _ in p["events"]:
+            key = (round(lam, 9), kind)
+            merged[key] = merged.get(key, 0) + 1
+        for (lam, kind), count in merged.items():
+            w = interpolate_w(p, lam)
+            if w is None:
+                continue
+            ax.plot(w, lam, KIND_MARKERS.get(kind, "o"), color=color, markersize=7, markerfacecolor="none")
+            placer.place(ax, event_name(kind) + (f" (x{count})" if count > 1 else ""), (w, lam), fontsize=7,
+                         color=color)
+    output.save(fig, out)
+
+
+def lift_off_map(trace, out, output):
+    length = trace["units"][0]
+    names = list(trace["paths"]) or ["(no path)"]
+    scene = trace["scene_toml"]
+    pieces = foundation_pieces(scene)
+    fig, axes = plt.subplots(1, len(names), figsize=(5.6 * len(names), 5), sharey=True, squeeze=False)
+    for ax, name in zip(axes[0], names):
+        p = trace["paths"].get(name)
+        ax.set_xlim(trace["begin"], trace["end"])
+        ax.set_title(name, fontsize=10)
+        ax.set_xlabel("theta (degrees from the crown)" if trace["coordinate"] == "theta_deg" else f"x [{length}]")
+        ax.grid(True, alpha=0.3)
+        if p is None or len(p["lambda"]) == 0:
+            continue
+        color = TRACE_STYLES.get(name, ("black", "-"))[0]
+        lam, regions = p["lambda"], p["regions"]
+        for i, (a, b) in enumerate(voids(pieces, trace["begin"], trace["end"])):
+            ax.add_patch(Rectangle((a, lam.min()), b - a, lam.max() - lam.min(), facecolor="0.85", edgecolor="0.5",
+                                   hatch="//", linewidth=0, zorder=0, label="no foundation" if i == 0 else None))
+        # Runs of steps with the same number of contact regions: each region's limits drawn
+        # as curves in lambda and the region between them shaded.
+        start, first = 0, True
+        while start < len(lam):
+            stop = start
+            while stop + 1 < len(lam) and len(regions[stop + 1]) == len(regions[start]):
+                stop += 1
+            # Between two runs the topology changes somewhere inside one step: each run is
+            # continued, unchanged, to the middle of that step, so the map has no gap.
+            lo = 0.5 * (lam[start - 1] + lam[start]) if start > 0 else lam[start]
+            hi = 0.5 * (lam[stop] + lam[stop + 1]) if stop + 1 < len(lam) else lam[stop]
+            run_lambda = np.concatenate(([lo], lam[start:stop + 1], [hi]))
+            for k in range(len(regions[start])):
+                a = np.array([r[k][0] for r in regions[start:stop + 1]])
+                b = np.array([r[k][1] for r in regions[start:stop + 1]])
+                a = np.concatenate(([a[0]], a, [a[-1]]))
+                b = np.concatenate(([b[0]], b, [b[-1]]))
+                ax.fill_betweenx(run_lambda, a, b, color=color, alpha=0.3, linewidth=0,
+                                 label="contact" if first else None)
+                first = False
+                ax.plot(a, run_lambda, color=color, linewidth=0.8)
+                ax.plot(b, run_lambda, color=color, linewidth=0.8)
+            start = stop + 1
+        ax.add_patch(Rectangle((0, 0), 0, 0, facecolor="white", edgecolor="0.3", linewidth=0.6,
+                               label="lifted off (foundation, no contact)"))
+        ax.set_ylim(lam.min(), lam.max() + 0.02 * (lam.max() - lam.min() or 1.0))
+    axes[0][0].set_ylabel("load factor lambda")
+    fig.suptitle(f"{os.path.basename(trace['scene'])}: lift-off map", fontsize=10)
+    handles, labels = axes[0][0].get_legend_handles_labels()
+    if handles:
+        fig.legend(handles, labels, loc="lower center", ncol=len(handles), fontsize=8, frameon=False)
+    fig.tight_layout(rect=(0, 0.06, 1, 1))
+    fig.canvas.draw()
+    placer = LabelPlacer(fig)
+    for ax, name in zip(axes[0], names):
+        p = trace["paths"].get(name)
+        if p is None:
+            continue
+        for event_lambda, kind, at in p["events"]:
+            ax.plot(at, event_lambda, KIND_MARKERS.get(kind, "o"), color="black", markersize=6)
+            placer.place(ax, f"{event_name(kind)}, lambda = {event_lambda:.4g}", (at, event_lambda), fontsize=7,
+                         bbox=dict(boxstyle="round,pad=0.15", facecolor="white", edgecolor="none", alpha=0.8))
+    output.save(fig, out)
+
+
+def plot_trace(path, prefix, output):
+    trace = read_trace(path)
+    load_displacement(trace, prefix + "_load_displacement.png", output)
+    lift_off_map(trace, prefix + "_lift_off_map.png", output)
+
+
+# ----------------------------------------------------------------------------------------------
+# Sweep files
+
+SOLVED = ("solved", "converged")
+
+
+def usable(group):
+    """Whether a report in a sweep holds an answer: certified if it has a certificate, else solved."""
+    if "fields/w" not in group or "fields/coordinate" not in group:
+        return False
+    if "certificate" in group:
+        return int(group["certificate"].attrs.get("passed", 0)) == 1
+    return text(group.attrs.get("termination", "")) in SOLVED
+
+
+def read_sweep(f):
+    keys = text(f.attrs["keys"]).split(",")
+    values = f["values"][()].reshape(-1, len(keys))
+    cases, failures, methods_seen = [], [], []
+    for i, name in enumerate(sorted(f["cases"].keys())):
+        group = f["cases"][name]
+        methods = {}
+        if "error" in group.attrs:
+            failures.append((values[i], "", text(group.attrs["error"])))
+        for method in group.keys():
+            m = group[method]
+            if method not in methods_seen:
+                methods_seen.append(method)
+            if not usable(m):
+                failures.append((values[i], method, f"{text(m.attrs.get('termination', '?'))}: "
+                                                    f"{text(m.attrs.get('message', ''))}"))
+                continue
+            methods[method] = {"x": m["fields/coordinate"][()], "w": m["fields/w"][()],
+                               "reaction": m["fields/reaction"][()] if "fields/reaction" in m else None,
+                               "regions": m["contact_regions"][()],
+                               "coordinate": text(m.attrs.get("coordinate", "x"))}
+        scene = next((group[m]["scene"][()] for m in group.keys() if "scene" in group[m]), None)
+        cases.append((values[i], methods, text(scene) if scene is not None else None))
+    return keys, cases, failures, methods_seen
+
+
+def add_dolfinx(cases, elements):
+    """Solves every case's scene with the dolfinx reference and adds it as a method."""
+    import json
+    import subprocess
+    import tempfile
+
+    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "dolfinx", "penalty_reference.py")
+    with tempfile.TemporaryDirectory() as tmp:
+        for values, methods, scene in cases:
+            if scene is None:
+                continue
+            path, out = os.path.join(tmp, "case.toml"), os.path.join(tmp, "case.json")
+            with open(path, "w") as f:
+                f.write(scene)
+            p = subprocess.run(["/usr/bin/python3", script, path, "--elements", str(elements), "--json", out],
+                               capture_output=True, text=True)
+            if p.returncode != 0:
+                continue
+            with open(out) as f:
+                d = json.load(f)
+            methods["dolfinx"] = {"x": np.asarray(d["fields"]["coordinate"]), "w": np.asarray(d["fields"]["w"]),
+                                  "reaction": np.asarray(d["fields"]["reaction"]), "regions": d["contact_regions"],
+                                  "coordinate": d["coordinate"]}
+
+
+def case_label(keys, values):
+    return ", ".join(f"{k} = {fmt(v)}" for k, v in zip(keys, values))
+
+
+def failure_lines(keys, failures, width):
+    """The note of the cases not drawn: one line per method and termination, with a count."""
+    groups = {}
+    for values, method, message in failures:
+        termination = message.split(":", 1)[0] if method else "error"
+        groups.setdefault((method, termination), []).append((values, message))
+    lines = [f"not drawn: {len(failures)} answer{'s' if len(failures) != 1 else ''} without a solution"]
+    for (method, termination), items in groups.items():
+        first_values, first_message = items[0]
+        if method and ":" in first_message:
+            first_message = first_message.split(":", 1)[1].strip()
+        cases = case_label(keys, first_values) + (f" and {len(items) - 1} more" if len(items) > 1 else "")
+        line = f"  {method or 'case'}: {len(items)} x {termination} ({cases}): {first_message}"
+        wrapped = textwrap.wrap(line, width, initial_indent="", subsequent_indent="      ")
+        if len(wrapped) > 3:
+            wrapped = wrapped[:3]
+            wrapped[-1] = wrapped[-1][:width - 9] + " ..."
+        lines.extend(wrapped)
+    return lines
+
+
+def sweep_figure(keys, cases, failures, methods, field, ylabel, out, output, normalise, units, title):
+    length = units[0]
+    methods = [m for m in methods if any(m in c[1] for c in cases)]
+    if not methods:
+        return False
+    width = max(6.0, 4.6 * len(methods))
+    fig, axes = plt.subplots(1, len(methods), figsize=(width, 4.6), sharey=True, squeeze=False)
+    # One colour per case, the same in every panel; a legend up to 12 cases, else a colour bar of
+    # the first swept key.
+    drawn = [i for i, c in enumerate(cases) if any(m in c[1] for m in methods)]
+    many = len(drawn) > 12
+    first = np.array([cases[i][0][0] for i in drawn], dtype=float)
+    logscale = many and first.min() > 0 and first.max() > 100 * first.min()
+    norm = (matplotlib.colors.LogNorm if logscale else matplotlib.colors.Normalize)(first.min(), first.max())
+    colour = {i: (plt.cm.viridis(norm(cases[i][0][0])) if many else plt.cm.tab10(k % 10)) for k, i in enumerate(drawn)}
+    coordinate = "x"
+    handles = {}
+    for ax, method in zip(axes[0], methods):
+        for i, (values, results, _) in enumerate(cases):
+            if method not in results or results[method][field] is None:
+                continue
+            r = results[method]
+            y = np.asarray(r[field], dtype=float)
+            if normalise:
+                scale = float(np.max(np.abs(y)))
+                y = y / scale if scale > 0 else y
+            coordinate = r["coordinate"]
+            handles[i], = ax.plot(r["x"], y, color=colour[i], label=case_label(keys, values), linewidth=1.2)
+        ax.axhline(0.0, color="black", linewidth=0.5)
+        ax.set_xlabel("theta (degrees from the crown)" if coordinate == "theta_deg" else f"x [{length}]")
+        ax.set_title(method, fontsize=10)
+        ax.grid(True, alpha=0.3)
+    axes[0][0].set_ylabel(ylabel, fontsize=9)
+    if field == "w":
+        axes[0][0].invert_yaxis()  # w > 0 into the foundation: drawn downward
+    fig.suptitle(title, fontsize=10)
+    inches = fig.get_figheight()
+    bottom = 0.0
+    if failures:
+        lines = failure_lines(keys, failures, int(width * 16))
+        fig.text(0.01, 0.01, "\n".join(lines), fontsize=7, color="tab:red", va="bottom", ha="left")
+        bottom += (len(lines) * 0.14 + 0.1) / inches
+    if many:
+        bar = fig.colorbar(matplotlib.cm.ScalarMappable(norm=norm, cmap="viridis"), ax=list(axes[0]),
+                           orientation="horizontal", fraction=0.05, pad=0.0)
+        bar.set_label(keys[0], fontsize=8)
+        fig.tight_layout(rect=(0, bottom + 0.12, 1, 0.97))
+        bar.ax.set_position([0.3, bottom + 0.04, 0.4, 0.025])
+    else:
+        ordered = [handles[i] for i in sorted(handles)]
+        columns = min(len(ordered), max(1, int(width // 2.6)))
+        rows = -(-len(ordered) // columns)
+        fig.legend(ordered, [h.get_label() for h in ordered], loc="lower center", ncol=columns, fontsize=7,
+                   frameon=False, bbox_to_anchor=(0.5, bottom))
+        bottom += (rows * 0.17 + 0.05) / inches
+        fig.tight_layout(rect=(0, bottom, 1, 0.97))
+    output.save(fig, out)
+    return True
+
+
+def plot_sweep(path, f, prefix, output, normalise, dolfinx=False, dolfinx_elements=400):
+    keys, cases, failures, methods = read_sweep(f)
+    if dolfinx:
+        add_dolfinx(cases, dolfinx_elements)
+        methods = methods + ["dolfinx"]
+    units = units_of(f.attrs)
+    length, force = units
+    if normalise:
+        labels = ("w / max |w| of the case (> 0 into the foundation)", "reaction / max reaction of the case")
+    else:
+        labels = (f"deflection w [{length}] (> 0 into the foundation)", f"foundation pressure [{force}/{length}]")
+    title = f"{os.path.basename(path)}: {len(cases)} cases" + (", each curve over its own largest value"
+                                                                 if normalise else "")
+    drawn = sweep_figure(keys, cases, failures, methods, "w", labels[0], prefix + "_deflection.png", output, normalise,
+                         units, title)
+    if drawn:
+        sweep_figure(keys, cases, failures, methods, "reaction", labels[1], prefix + "_reaction.png", output,
+                     normalise, units, title)
+    else:
+        fail(BAD_INPUT, f"{path}: no case of the sweep has an answer to draw ({len(failures)} failed)")
+
+
+# ----------------------------------------------------------------------------------------------
+
+def main(argv=None, kind=None):
+    parser = argparse.ArgumentParser(prog=PROG, description=__doc__.splitlines()[0])
+    parser.add_argument("file", help="HDF5 file written by liftoff solve, trace or sweep (--output)")
+    parser.add_argument("--out", default=None, help="prefix of the PNG files (default: the file's name without .h5)")
+    parser.add_argument("--normalise", action="store_true",
+                        help="sweeps: divide each case's curve by its own largest magnitude")
+    parser.add_argument("--dolfinx", action="store_true", help="sweeps: add the dolfinx reference as a panel")
+    parser.add_argument("--dolfinx-elements", type=int, default=400)
+    args = parser.parse_args(argv)
+    path = args.file
+    prefix = args.out or (path[:-3] if path.endswith(".h5") else path)
+    if not os.path.isfile(path):
+        fail(BAD_INPUT, f"{path}: no such file; expected an HDF5 file written by liftoff")
+    output = Output()
+    try:
+        f = h5py.File(path, "r")
+    except OSError:
+        if os.path.exists(path + ".backup"):
+            f = None  # a trace damaged by a kill: read_trace takes its backup
+        else:
+            fail(BAD_INPUT, f"{path}: not an HDF5 file; expected a file written by `liftoff solve/trace/sweep --output`")
+    found = file_kind(f) if f is not None else "trace"
+    if kind is not None and found is not None and found != kind:
+        fail(BAD_INPUT, f"{path}: a {found} file; expected a {kind} file")
+    if found in ("solve", "trace", "sweep") and args.normalise and found != "sweep":
+        fail(BAD_INPUT, f"--normalise: {path} is a {found} file; expected a sweep file (--normalise draws sweeps only)")
+    if found is not None and found not in ("solve", "trace", "sweep"):
+        fail(BAD_INPUT, f"{path}: a liftoff file of kind '{found}', which plot cannot draw; expected a solve, trace or "
+                        f"sweep file")
+    if found == "solve":
+        plot_solve(path, f, prefix, output)
+    elif found == "sweep":
+        plot_sweep(path, f, prefix, output, args.normalise, args.dolfinx, args.dolfinx_elements)
+    elif found == "trace":
+        if f is not None:
+            f.close()
+        plot_trace(path, prefix, output)
+    else:
+        fail(BAD_INPUT, f"{path}: not a liftoff result file (no root attribute 'kind' or 'liftoff_version'); "
+                        f"expected a file written by `liftoff solve/trace/sweep --output`")
+    output.finish()
+
+
+if __name__ == "__main__":
+    main()
