@@ -529,20 +529,6 @@ std::string design_columns(const SolveReport& r) {
 }
 }  // namespace
 
-std::string fields_csv(const SolveReport& r) {
-  const FieldTable& f = r.fields;
-  const bool arch = r.kind == StructureKind::arch;
-  std::string out =
-      fmt::format("{},w,rotation,moment,shear,reaction{}\n", arch ? "theta_deg" : "x", arch ? ",u,normal_force" : "");
-  for (std::size_t i = 0; i < f.coordinate.size(); ++i) {
-    out += fmt::format("{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}", f.coordinate[i], f.w[i], f.rotation[i],
-                       f.bending_moment[i], f.shear_force[i], f.reaction[i]);
-    if (arch) out += fmt::format(",{:.17g},{:.17g}", f.u[i], f.normal_force[i]);
-    out += "\n";
-  }
-  return out;
-}
-
 std::string sweep_csv(const std::vector<std::string>& keys, const std::vector<SweepCase>& cases) {
   std::string out;
   for (const auto& key : keys) out += key + ",";

@@ -140,8 +140,4 @@ struct SweepCase {
 // reactions ("at:force:moment" joined by ';'), empty without a certified answer.
 std::string sweep_csv(const std::vector<std::string>& keys, const std::vector<SweepCase>& cases);
 
-// The sampled fields, one row per point: the coordinate (x, or theta_deg), w, rotation, moment,
-// shear, reaction (arches also u, normal_force), in the user's units.
-std::string fields_csv(const SolveReport& report);
-
 }  // namespace liftoff::io
