@@ -494,11 +494,28 @@ io::SolveReport ritz_report(const scene::Scene& scene, const SolveRequest& reque
       report.usable = false;
       report.message = "the ritz answer failed its certificate: " + certificate.message;
     }
-    if (report.usable)  // the extremes at the samples (the Ritz fields' own derivatives)
-      io::attach_design(report,
-                        post::design_from_samples(
-                            model, io::sample_fields(model, solution, request.samples_per_element * elements + 1)),
-                        model);
+    // Beams: V and M by statics with the Ritz reaction and the certificate's support reactions
+    // (the modal series' own derivatives do not converge at point loads: on the B70 sleeper they
+    // gave |V| 46.9 kN against the statics' 70.0 kN). Arches: none (the same series, no statics).
+    if (report.usable && model.kind == scene::StructureKind::beam) {
+      post::Fields f = io::sample_fields(model, solution, request.samples_per_element * elements + 1);
+      std::vector<double> limits;
+      for (const ritz::Piece& piece : solution.model->contact_pieces(solution.unknowns))
+        limits.insert(limits.end(), {piece.begin, piece.end});
+      std::vector<post::PointReaction> supports;
+      for (const certify::SupportReaction& s : certificate.support_reactions)
+        supports.push_back({s.at, s.force, s.moment});
+      const post::DesignValues design = post::recover_beam_statics(
+          model, [&](double s) { return solution.model->reaction(solution.unknowns, s); }, limits, supports,
+          options.load_factor, f);
+      io::attach_design(report, design, model);
+      if (report.fields.coordinate.size() == f.s.size()) {
+        for (std::size_t i = 0; i < f.s.size(); ++i) {
+          report.fields.shear_force[i] = f.shear_force[i] * model.scales.force();
+          report.fields.bending_moment[i] = f.bending_moment[i] * model.scales.moment();
+        }
+      }
+    }
   }
   report.time_s = seconds_since(start);
   return report;

@@ -243,6 +243,108 @@ DesignValues recover_beam_statics(const fe::MemberModel& model, const fe::Discre
   return out;
 }
 
+DesignValues recover_beam_statics(const fe::MemberModel& model, const std::function<double(double)>& reaction,
+                                  const std::vector<double>& reaction_breaks,
+                                  const std::vector<PointReaction>& supports, double load_factor, Fields& fields) {
+  DesignValues out;
+  out.from_statics = true;
+  // Concentrated actions by position: (s, jump of V, jump of M).
+  struct Jump {
+    double s, v, m;
+  };
+  std::vector<Jump> jumps;
+  double force_terms = 0.0, moment_terms = 0.0;
+  for (const fe::MemberLoad& load : model.loads) {
+    const double value = load.value * factor_of(load, load_factor);
+    if (load.kind == fe::LoadKind::force) jumps.push_back({load.at, -value, 0.0}), force_terms += std::abs(value);
+    if (load.kind == fe::LoadKind::moment) jumps.push_back({load.at, 0.0, -value}), moment_terms += std::abs(value);
+  }
+  for (const PointReaction& support : supports) {
+    jumps.push_back({support.s, support.force, -support.moment});
+    force_terms += std::abs(support.force);
+    moment_terms += std::abs(support.moment);
+  }
+  std::vector<double> points = fields.s;
+  for (const Jump& j : jumps) points.push_back(j.s);
+  for (const fe::MemberLoad& load : model.loads)
+    if (load.kind == fe::LoadKind::uniform) points.insert(points.end(), {load.from, load.to});
+  for (const fe::FoundationPiece& piece : model.pieces()) points.insert(points.end(), {piece.begin, piece.end});
+  points.insert(points.end(), reaction_breaks.begin(), reaction_breaks.end());
+  std::erase_if(points, [&](double s) { return !(s >= model.s_begin && s <= model.s_end); });
+  std::sort(points.begin(), points.end());
+  points.erase(std::unique(points.begin(), points.end()), points.end());
+
+  auto applied = [&](double s) {  // q at s inside an interval (load ranges end at breakpoints)
+    double q = 0.0;
+    for (const fe::MemberLoad& load : model.loads)
+      if (load.kind == fe::LoadKind::uniform && s >= load.from && s <= load.to)
+        q += factor_of(load, load_factor) * load.intensity(s);
+    return q;
+  };
+  // V and M at x in [a, b] from their values at a (no breakpoint inside).
+  auto advance = [&](double a, double x, double v, double m, bool count = false) {
+    double dv = 0.0, dm = 0.0;
+    for (const fe::GaussPoint& g : fe::gauss5) {
+      const double t = a + g.xi * (x - a), p = reaction(t) - applied(t), weight = g.weight * (x - a);
+      dv += weight * p;
+      dm += weight * (x - t) * p;
+      if (count) force_terms += weight * (std::abs(reaction(t)) + std::abs(applied(t)));
+    }
+    return std::pair{v + dv, m + v * (x - a) + dm};
+  };
+  double v = 0.0, m = 0.0;
+  std::vector<double> v_right(points.size()), m_right(points.size()), v_left(points.size()), m_left(points.size());
+  auto consider = [&](double value_v, double value_m, double s) {
+    keep_max(out.moment_max, value_m, s);
+    keep_min(out.moment_min, value_m, s);
+    keep_max(out.shear_max_abs, std::abs(value_v), s);
+  };
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    v_left[i] = v, m_left[i] = m;
+    if (i > 0) consider(v, m, points[i]);
+    for (const Jump& j : jumps)
+      if (j.s == points[i]) v += j.v, m += j.m;
+    v_right[i] = v, m_right[i] = m;
+    if (i + 1 == points.size()) break;
+    consider(v, m, points[i]);
+    if (model.foundation_modulus_at(points[i]) > 0.0) keep_max(out.pressure_max, reaction(points[i]), points[i]);
+    const double a = points[i], b = points[i + 1];
+    const auto [vb, mb] = advance(a, b, v, m, true);
+    if ((v < 0.0) != (vb < 0.0) && v != 0.0 && vb != 0.0) {  // V = 0 inside: M's extreme
+      double lo = a, hi = b;
+      for (int step = 0; step < 100; ++step) {
+        const double mid = 0.5 * (lo + hi);
+        if (mid <= lo || mid >= hi) break;
+        ((advance(a, mid, v, m).first < 0.0) == (v < 0.0) ? lo : hi) = mid;
+      }
+      const double root = 0.5 * (lo + hi);
+      consider(0.0, advance(a, root, v, m).second, root);
+    }
+    v = vb, m = mb;
+  }
+  if (model.foundation_modulus_at(points.back()) > 0.0)
+    keep_max(out.pressure_max, reaction(points.back()), points.back());
+  out.shear_closure = force_terms > 0.0 ? std::abs(v) / force_terms : 0.0;
+  const double moment_scale = force_terms * (model.s_end - model.s_begin) + moment_terms;
+  out.moment_closure = moment_scale > 0.0 ? std::abs(m) / moment_scale : 0.0;
+
+  // The samples: right of a point's jumps, the end left of its own.
+  std::vector<double> vs, ms;
+  for (std::size_t k = 0; k < fields.s.size(); ++k) {
+    const std::size_t i = std::lower_bound(points.begin(), points.end(), fields.s[k]) - points.begin();
+    const bool end = k + 1 == fields.s.size();
+    vs.push_back(end ? v_left[i] : v_right[i]);
+    ms.push_back(end ? m_left[i] : m_right[i]);
+  }
+  fields.shear_force = std::move(vs);
+  fields.bending_moment = std::move(ms);
+  // Uplift at the samples (the Ritz model's w between them is smooth).
+  const DesignValues sampled = design_from_samples(model, fields);
+  out.uplift_max = sampled.uplift_max;
+  if (!out.pressure_max.s) out.pressure_max = {0.0, std::nullopt};
+  return out;
+}
+
 DesignValues design_from_samples(const fe::MemberModel& model, const Fields& f) {
   DesignValues out;
   double scale = 0.0;

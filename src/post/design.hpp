@@ -22,10 +22,12 @@
 // -w): what separates the member from the soil, not its upward displacement from the unloaded
 // axis. No lift-off: uplift 0 with no position.
 //
-// Arches and Ritz answers: from sampled fields (design_from_samples), M and V as fields.hpp
-// recovers them, extremes at the samples only.
+// Ritz beams: the same statics with the Ritz reaction integrated by quadrature (below).
+// Arches: from sampled fields (design_from_samples), M and V as fields.hpp recovers them,
+// extremes at the samples only.
 
 #include <Eigen/Dense>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -64,7 +66,18 @@ DesignValues recover_beam_statics(const fe::MemberModel& model, const fe::Discre
                                   const contact::ContactSolution& solution, const std::vector<PointReaction>& supports,
                                   double load_factor, Fields* fields);
 
-// Design values from sampled fields (arches, Ritz): extremes at the samples.
+// Beams whose reaction is a function of s (the Ritz model's k w on its contact pieces): the
+// same statics with the reaction integrated by Gauss-Legendre's five points between
+// consecutive breakpoints (the samples, loads, supports, load ranges' and foundation pieces'
+// ends, and `reaction_breaks`: the contact limits, where the reaction has a kink). M's extremes
+// at the breakpoints and where V changes sign between them (bisection); |V| and the reaction's
+// at the breakpoints. Replaces fields.shear_force and bending_moment (a sample at a point
+// load's position takes the value right of it, the member's end the value left of its own).
+DesignValues recover_beam_statics(const fe::MemberModel& model, const std::function<double(double)>& reaction,
+                                  const std::vector<double>& reaction_breaks,
+                                  const std::vector<PointReaction>& supports, double load_factor, Fields& fields);
+
+// Design values from sampled fields (arches): extremes at the samples.
 DesignValues design_from_samples(const fe::MemberModel& model, const Fields& fields);
 
 }  // namespace liftoff::post
