@@ -61,6 +61,8 @@ MUST_ANSWER = {"fast", "auto"}
 FOOTING = "footing_eccentric_column"
 FOOTING_MOMENTS = [-600e3 + 100e3 * i for i in range(7)]  # lin:-600e3:0:7, issue 10
 PIPELINE = "pipeline_500m_uplift"
+SLEEPER = "sleeper_b70_ballast"
+DESIGN_KEYS = ("moment_max", "moment_min", "shear_max_abs")
 
 
 class Failures:
@@ -192,11 +194,29 @@ def footing_first_order(doc, samples=60001):
     rigid motion that keeps the pressure's change in equilibrium; the change of the contact
     limit (if inside) and of the pressure at its peak. Returns (rigid, d_limit, d_peak, ratio):
     ratio = the bending deflection against the rigid settlement range (must be small)."""
-    B, EI, K = doc["structure"]["length"], doc["structure"]["EI"], doc["foundation"]["modulus"]
+    B, K = doc["structure"]["length"], doc["foundation"]["modulus"]
     a, b, pa, pb = rigid_footing(doc)
     x = np.linspace(0.0, B, samples)
     inside = (x >= a) & (x <= b)
     p = np.where(inside, pa + (pb - pa) * (x - a) / (b - a), 0.0)
+    d = footing_flexibility(doc, x, p, inside)
+    w_rigid = p / K
+    ratio = (d[inside].max() - d[inside].min()) / max(w_rigid.max(), 1e-300)
+    d_limit = 0.0
+    if 0 < a:  # heel limit inside: w_rigid + d = 0 moves it by -d(a) / w_rigid'(a)
+        d_limit = -np.interp(a, x, d) / ((pb - pa) / (b - a) / K)
+    elif b < B:
+        d_limit = -np.interp(b, x, d) / ((pb - pa) / (b - a) / K)
+    peak_at = a if pa > pb else b
+    d_peak = K * np.interp(peak_at, x, d)
+    return (a, b, pa, pb), d_limit, d_peak, ratio
+
+
+def footing_flexibility(doc, x, p, inside):
+    """The first-order change d of w (footing_first_order): the footing's bending under the
+    loads and the rigid pressure p, plus the rigid motion that keeps K d self-equilibrated over
+    the rigid contact `inside`."""
+    EI = doc["structure"]["EI"]
 
     def integral(f):  # cumulative trapezoid from 0
         return np.concatenate([[0.0], np.cumsum((f[1:] + f[:-1]) / 2 * np.diff(x))])
@@ -215,17 +235,33 @@ def footing_first_order(doc, samples=60001):
     gram = np.array([[np.trapz(inside * u * v, x) for v in basis] for u in basis])
     rhs = -np.array([np.trapz(inside * w_bend * u, x) for u in basis])
     r0, r1 = np.linalg.solve(gram, rhs)
-    d = w_bend + r0 + r1 * x  # the change of w, with K d self-equilibrated over the contact
-    w_rigid = p / K
-    ratio = (d[inside].max() - d[inside].min()) / max(w_rigid.max(), 1e-300)
-    d_limit = 0.0
-    if 0 < a:  # heel limit inside: w_rigid + d = 0 moves it by -d(a) / w_rigid'(a)
-        d_limit = -np.interp(a, x, d) / ((pb - pa) / (b - a) / K)
-    elif b < B:
-        d_limit = -np.interp(b, x, d) / ((pb - pa) / (b - a) / K)
-    peak_at = a if pa > pb else b
-    d_peak = K * np.interp(peak_at, x, d)
-    return (a, b, pa, pb), d_limit, d_peak, ratio
+    return w_bend + r0 + r1 * x  # the change of w, with K d self-equilibrated over the contact
+
+
+def footing_design(doc, samples=60001):
+    """The footing's largest sagging moment and |V| from the rigid pressure, and from it plus the
+    first-order flexibility change K d over the rigid contact (footing_first_order's d). Returns
+    (rigid, corrected), each {"moment_max", "shear_max_abs"}."""
+    B, K = doc["structure"]["length"], doc["foundation"]["modulus"]
+    a, b, pa, pb = rigid_footing(doc)
+    x = np.linspace(0.0, B, samples)
+    inside = (x >= a) & (x <= b)
+    p = np.where(inside, pa + (pb - pa) * (x - a) / (b - a), 0.0)
+    d = footing_flexibility(doc, x, p, inside)
+
+    def statics(pressure):
+        dx = np.diff(x)
+        shear = np.concatenate([[0.0], np.cumsum((pressure[1:] + pressure[:-1]) / 2 * dx)])
+        for l in doc["loads"]:
+            if l["kind"] == "force":
+                shear = shear - l["value"] * (x > l["at"])
+        bending = np.concatenate([[0.0], np.cumsum((shear[1:] + shear[:-1]) / 2 * dx)])
+        for l in doc["loads"]:
+            if l["kind"] == "moment":
+                bending = bending - l["value"] * (x >= l["at"])
+        return {"moment_max": bending.max(), "shear_max_abs": np.abs(shear).max()}
+
+    return statics(p), statics(p + K * d * inside)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -282,6 +318,7 @@ def run_case(args, name, path, doc, fails):
             fails.check(obj.get("method_requested") == method, where,
                         f"method_requested is {obj.get('method_requested')!r}, not {method!r}")
             answers[method] = obj
+            check_statics(where, obj, fails)
         elif rc == 3:
             message = (obj or {}).get("message") or err
             # Dense Lemke on the primal LCP (K inside, condition ~N^4) may lose its pivots to
@@ -317,6 +354,12 @@ def run_case(args, name, path, doc, fails):
         fe = {"limits": [abs(f - c) for f, c in zip(limits(fine), limits(coarse))]}
         for key in ("w_max", "w_min", "max_reaction"):
             fe[key] = abs(fine[key] - coarse[key])
+        for key in DESIGN_KEYS:
+            if "design" in fine and "design" in coarse:
+                fe[key] = abs(fine["design"][key]["value"] - coarse["design"][key]["value"])
+        fe["support_reactions"] = [(abs(a["force"] - b["force"]), abs(a["moment"] - b["moment"]))
+                                   for a, b in zip(fine.get("support_reactions", []),
+                                                   coarse.get("support_reactions", []))]
         estimates["fe"] = fe
 
     entries = []  # (label, result limits, their estimates, values with estimates or None)
@@ -324,8 +367,10 @@ def run_case(args, name, path, doc, fails):
         if is_fe(obj):
             if "fe" in estimates:
                 e = estimates["fe"]
-                entries.append((method, limits(obj), e["limits"],
-                                {k: (obj[k], e[k]) for k in ("w_max", "w_min", "max_reaction")}))
+                values = {k: (obj[k], e[k]) for k in ("w_max", "w_min", "max_reaction")}
+                values.update({k: (obj["design"][k]["value"], e[k]) for k in DESIGN_KEYS
+                               if k in e and "design" in obj})
+                entries.append((method, limits(obj), e["limits"], values))
         else:
             e = obj.get("estimated_limit_error")
             if fails.check(e is not None, f"{name} {method}", "Ritz answer without estimated_limit_error"):
@@ -333,9 +378,11 @@ def run_case(args, name, path, doc, fails):
     if closed_form_applies(doc):
         rc, cf, err = run([args.closed_form, path])
         if fails.check(rc == 0, f"{name} closed form", f"exit {rc}: {err}"):
+            # Its moment extremes are exact (breakpoints and bisection on V); |V|'s largest is
+            # at a breakpoint (a point load, a support, a foundation's edge) on every shipped scene.
             entries.append(("closed form", limits(cf), [1e-10 * scale] * len(limits(cf)),
-                            {"w_max": (cf["w_max"], 1e-10 * abs(cf["w_max"])),
-                             "w_min": (cf["w_min"], 1e-10 * abs(cf["w_min"]))}))
+                            {k: (cf[k], 1e-10 * abs(cf[k]))
+                             for k in ("w_max", "w_min") + DESIGN_KEYS if k in cf}))
 
     # Agreement, every pair.
     for i, (la, va, ea, wa) in enumerate(entries):
@@ -359,8 +406,115 @@ def run_case(args, name, path, doc, fails):
 
     if name.startswith(FOOTING):
         hand_footing(name, doc, answers, estimates, fails)
+        hand_footing_design(name, doc, answers, estimates, fails)
     if name == PIPELINE:
         hand_pipeline(args, name, path, doc, n, fails)
+        hand_pipeline_design(name, doc, answers, estimates, fails)
+    if name == SLEEPER:
+        hand_sleeper_design(name, doc, answers, estimates, fails)
+
+
+def check_statics(where, obj, fails):
+    """Beams: the support forces plus the foundation's resultant equal the applied force, within
+    the certificate's own force-balance tolerance of the same terms; the statics of V and M close
+    at the far end within the same tolerance (the design block's closure)."""
+    if obj.get("structure") != "beam" or "certificate" not in obj:
+        return
+    c = obj["certificate"]
+    tolerance = next((k["tolerance"] for k in c["checks"] if k["name"] == "force_balance"), None)
+    supports = obj.get("support_reactions", [])
+    total = sum(s["force"] for s in supports) + c["foundation_resultant"] - c["applied_force"]
+    terms = sum(abs(s["force"]) for s in supports) + abs(c["foundation_resultant"]) + abs(c["applied_force"])
+    fails.check(tolerance is not None and abs(total) <= tolerance * terms, where,
+                f"supports + foundation - applied = {total:.3e} (allowed {tolerance} of {terms:.3e})")
+    fails.check("design" in obj, where, "no design values in the JSON")
+    closure = obj.get("design", {}).get("closure")
+    if closure is not None:  # FE: the free body's statics
+        fails.check(max(closure["shear"], closure["moment"]) <= tolerance, where,
+                    f"the statics do not close: {closure} (allowed {tolerance:.1e})")
+
+
+def design_check(where, obj, key, hand, allowed, fails):
+    got = obj["design"][key]["value"]
+    print(f"  hand: {where}: {key} {got:.7g} against {hand:.7g} (differ {abs(got - hand):.3g}, allowed {allowed:.3g})")
+    fails.check(abs(got - hand) <= allowed, where, f"{key} {got:.7g} against the hand value {hand:.7g},"
+                f" allowed {allowed:.3g}")
+
+
+def fe_estimate(estimates, key):
+    return estimates.get("fe", {}).get(key, 0.0)
+
+
+def hand_footing_design(name, doc, answers, estimates, fails):
+    """The largest moment and shear of the footing from the rigid pressure plus its first-order
+    flexibility correction (footing_first_order), within the correction's size plus 3 times the
+    FE estimate (the series' remainder taken no larger than its first term, as for the limit)."""
+    rigid, corrected = footing_design(doc)
+    for method, obj in answers.items():
+        if not is_fe(obj) or "design" not in obj:
+            continue
+        for key in ("moment_max", "shear_max_abs"):
+            design_check(f"{name} {method} vs rigid footing", obj, key, corrected[key],
+                         abs(corrected[key] - rigid[key]) + 3 * fe_estimate(estimates, key) + 1e-9 * abs(rigid[key]),
+                         fails)
+
+
+def hand_sleeper_design(name, doc, answers, estimates, fails):
+    """The sleeper's moments and shear from rigid statics (uniform pressure (2 P + W) / L), with a
+    bound of the flexibility's effect: the pressure departs from uniform by at most
+    K max|w - w_rigid| (the scene's Hetenyi deflections, 2.98 to 3.40 mm against 3.24 mm), which
+    moves a moment at x by at most that times x^2 / 2 and a shear by that times x."""
+    L, K = doc["structure"]["length"], doc["foundation"]["modulus"]
+    q = sum(l["value"] for l in doc["loads"] if l["kind"] == "uniform")
+    forces = [l for l in doc["loads"] if l["kind"] == "force"]
+    P, a = forces[0]["value"], forces[0]["at"]
+    p = (sum(l["value"] for l in forces) + q * L) / L
+    dp = K * max(abs(3.40e-3 - p / K), abs(2.98e-3 - p / K))  # the scene comment's deflections
+    c = L / 2
+    hand = {"moment_max": (p - q) * a ** 2 / 2, "moment_min": (p - q) * c ** 2 / 2 - P * (c - a),
+            "shear_max_abs": abs((p - q) * a - P)}
+    allowed = {"moment_max": dp * a ** 2 / 2, "moment_min": dp * c ** 2 / 2, "shear_max_abs": dp * a}
+    for method, obj in answers.items():
+        if not is_fe(obj) or "design" not in obj:
+            continue
+        for key in hand:
+            design_check(f"{name} {method} vs rigid sleeper", obj, key, hand[key],
+                         allowed[key] + 3 * fe_estimate(estimates, key), fails)
+
+
+def hand_pipeline_design(name, doc, answers, estimates, fails):
+    """The pipeline at lambda = 1: the clamped ends (250 m from the lift, e^-50) hold a
+    semi-infinite pipe settled q/K at w = 0, w' = 0: force q / beta, moment q / (2 beta^2)
+    (Hetenyi, exact); |V| largest F/2 either side of the lift (statics of the symmetric span,
+    exact); the hogging moment at the lift from the rigid-seabed span l = 3F/(4q): q l^2 / 6 -
+    ... = R0 l - q l^2 / 2 with R0 = q l / 3, good to the seabed's spreading of the touchdown load
+    over 1/beta: allowed a fraction 1/(beta l) of it."""
+    EI, K, L = doc["structure"]["EI"], doc["foundation"]["modulus"], doc["structure"]["length"]
+    q = sum(l["value"] for l in doc["loads"] if l["kind"] == "uniform")
+    F = -sum(l["value"] for l in doc["loads"] if l["kind"] == "force")
+    beta = (K / (4 * EI)) ** 0.25
+    ends = math.exp(-beta * L / 2)
+    span = 3 * F / (4 * q)
+    hogging = q * span / 3 * span - q * span ** 2 / 2
+    for method, obj in answers.items():
+        if not is_fe(obj) or "design" not in obj:
+            continue
+        where = f"{name} {method} vs Hetenyi"
+        supports = obj.get("support_reactions", [])
+        errors = estimates.get("fe", {}).get("support_reactions", [(0.0, 0.0)] * len(supports))
+        if fails.check(len(supports) == 2, where, f"{len(supports)} support reactions, expected 2"):
+            for s, (ef, em), sign in zip(supports, errors, (1, -1)):
+                for what, got, hand, e in (("force", s["force"], q / beta, ef),
+                                           ("moment", s["moment"], sign * q / (2 * beta ** 2), em)):
+                    allowed = 3 * e + ends * abs(hand) + 1e-9 * abs(hand)
+                    print(f"  hand: {where}: support at {s['at']:g} {what} {got:.7g} against {hand:.7g}"
+                          f" (allowed {allowed:.3g})")
+                    fails.check(abs(got - hand) <= allowed, where, f"support at {s['at']} {what} {got:.7g}"
+                                f" against {hand:.7g}, allowed {allowed:.3g}")
+        design_check(where, obj, "shear_max_abs", F / 2,
+                     3 * fe_estimate(estimates, "shear_max_abs") + 1e-9 * F, fails)
+        design_check(f"{name} {method} vs rigid seabed", obj, "moment_min", hogging,
+                     abs(hogging) / (beta * span) + 3 * fe_estimate(estimates, "moment_min"), fails)
 
 
 def hand_footing(name, doc, answers, estimates, fails):

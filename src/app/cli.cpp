@@ -24,6 +24,7 @@
 #include "core/error.hpp"
 #include "default_scene.hpp"
 #include "fe/member_model.hpp"
+#include "io/csv_writer.hpp"
 #include "io/hdf5_writer.hpp"
 #include "io/trace_writer.hpp"
 #include "scene/scene_reader.hpp"
@@ -171,7 +172,22 @@ struct SolveArguments {
   ProblemArguments problem;
   bool json = false;
   std::string output;
+  std::string csv_fields;  // --csv-fields
 };
+
+// The HDF5 file, then the fields CSV, of one usable report: a failure to write the CSV removes
+// the HDF5 file too, so a failed run leaves neither.
+void write_solve_outputs(const io::SolveReport& r, const SolveArguments& args) {
+  if (!args.output.empty()) io::write_hdf5(r, args.output, LIFTOFF_VERSION);
+  if (args.csv_fields.empty()) return;
+  try {
+    io::write_fields_csv(r, args.csv_fields);
+  } catch (const OutputError&) {
+    std::error_code ignored;
+    if (!args.output.empty()) std::filesystem::remove(args.output, ignored);
+    throw;
+  }
+}
 
 // `--method all`: every method side by side; exit 3 if one that applies failed. The HDF5 file,
 // if asked for, holds the first usable result (primal, dual, then Ritz); it is written before
@@ -190,10 +206,10 @@ int run_all(const scene::Scene& scene, const SolveRequest& request, const SolveA
     err << "liftoff: " << scene.source_name << ": " << r.method << ": " << r.message << "\n";
     failures += fmt::format("{}{}: {}", failures.empty() ? "" : "; ", r.method, r.message);
   }
-  if (failures.empty() && !args.output.empty())
+  if (failures.empty() && (!args.output.empty() || !args.csv_fields.empty()))
     for (const auto& r : reports)
       if (r.usable) {
-        io::write_hdf5(r, args.output, LIFTOFF_VERSION);
+        write_solve_outputs(r, args);
         break;
       }
   const ExitCode status = failures.empty() ? ExitCode::success : ExitCode::solver_failure;
@@ -325,24 +341,26 @@ int run_sweep_command(const SweepArguments& args, std::ostream& out, std::ostrea
 int run_solve(const SolveArguments& args, RunContext& context, std::ostream& out, std::ostream& err) {
   std::vector<RunFile> outputs;
   add_atomic_output(outputs, "--output", args.output);
+  add_atomic_output(outputs, "--csv-fields", args.csv_fields);
   check_files(scene_input(args.problem.scene_path), outputs);
   const scene::Scene scene = load_scene(args.problem.scene_path);
   if (!context.method_requested) context.method_requested = scene::to_string(scene.solve.method);
   SolveRequest request = make_request(args.problem);
-  request.fields = !args.output.empty();  // only the HDF5 file holds sampled fields
+  request.fields = !args.output.empty() || !args.csv_fields.empty();  // only these files hold sampled fields
 
   if (request.method.value_or(scene.solve.method) == scene::Method::all)
     return run_all(scene, request, args, context, out, err);
   const io::SolveReport report = solve_scene(scene, request);
   const ExitCode status = report.usable ? ExitCode::success : ExitCode::solver_failure;
   if (!report.usable) err << "liftoff: " << scene.source_name << ": " << report.message << "\n";
-  if (report.usable && !args.output.empty()) io::write_hdf5(report, args.output, LIFTOFF_VERSION);
+  if (report.usable) write_solve_outputs(report, args);
   if (args.json) {
     nlohmann::json j = io::to_json(report);
     add_run_keys(j, context, status);
     out << j.dump(2) << "\n";
   } else if (report.usable) {
-    out << io::text_summary(report) << (args.output.empty() ? "" : "  written       " + args.output + "\n");
+    out << io::text_summary(report) << (args.output.empty() ? "" : "  written       " + args.output + "\n")
+        << (args.csv_fields.empty() ? "" : "  written       " + args.csv_fields + "\n");
   }
   return code(status);
 }
@@ -438,6 +456,9 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   add_problem_options(solve_command, solve.problem);
   solve_command->add_flag("--json", solve.json, "Print one JSON object on stdout instead of the summary");
   solve_command->add_option("--output,-o", solve.output, "Write every field to this HDF5 file");
+  solve_command->add_option(
+      "--csv-fields", solve.csv_fields,
+      "Write the sampled fields to this CSV file (position, w, rotation, moment, shear, reaction)");
 
   SweepArguments sweep;
   CLI::App* sweep_command =

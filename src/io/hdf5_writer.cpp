@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <hdf5.h>
 
+#include <cmath>
 #include <system_error>
 
 #include "core/error.hpp"
@@ -90,6 +91,25 @@ void write_certificate(hid_t file, const SolveReport& r) {
   write_array(file, "support_reactions", rows, arch ? 4 : 3);
 }
 
+// /design (attributes: <name> and <name>_at for moment_max, moment_min, shear_max_abs,
+// pressure_max, uplift_max, NaN where there is no such point; from_statics; shear_closure and
+// moment_closure, -1 when not from statics).
+void write_design(hid_t file, const DesignTable& t) {
+  Handle group(H5Gcreate2(file, "design", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "design");
+  const std::pair<const char*, const DesignValue*> values[] = {{"moment_max", &t.moment_max},
+                                                               {"moment_min", &t.moment_min},
+                                                               {"shear_max_abs", &t.shear_max_abs},
+                                                               {"pressure_max", &t.pressure_max},
+                                                               {"uplift_max", &t.uplift_max}};
+  for (const auto& [name, v] : values) {
+    write_number_attribute(group, name, v->value);
+    write_number_attribute(group, (std::string(name) + "_at").c_str(), v->at.value_or(std::nan("")));
+  }
+  write_number_attribute(group, "from_statics", static_cast<int>(t.from_statics));
+  write_number_attribute(group, "shear_closure", t.shear_closure);
+  write_number_attribute(group, "moment_closure", t.moment_closure);
+}
+
 // One report under `file` (the file's root, or a group of a sweep).
 void write_report(hid_t file, const SolveReport& r) {
   write_string_attribute(file, "scene_name", r.scene_name);
@@ -120,6 +140,7 @@ void write_report(hid_t file, const SolveReport& r) {
   if (!r.nodes.coordinate.empty()) write_table(file, "nodes", r.nodes);
 
   if (r.certificate) write_certificate(file, r);
+  if (r.design) write_design(file, *r.design);
 
   Handle solver(H5Gcreate2(file, "solver", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "solver");
   write_number_attribute(solver, "residual", r.residual);

@@ -14,6 +14,9 @@
 //                     applied_force, applied_moment (arches also the _x components), and per check
 //                     <name> and <name>_tolerance (certify/certificate.hpp)
 //   /support_reactions  n x 3: at, force, moment (arches n x 4: + tangential), the user's units
+//   /design           attributes: moment_max, moment_min, shear_max_abs, pressure_max, uplift_max and
+//                     each's <name>_at (NaN: no such point), from_statics, shear_closure,
+//                     moment_closure (io/report.hpp's DesignTable, post/design.hpp)
 //   /solver           attributes: residual, time_s, method_reason; FE: elements, pivots,
 //                     lcp_size; Ritz: modes, newton_iterations, estimated_limit_error, topology,
 //                     and datasets amplitudes, residual_history

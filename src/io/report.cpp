@@ -177,7 +177,37 @@ void attach_certificate(SolveReport& report, const certify::Certificate& certifi
   report.certificate = std::move(c);
 }
 
+void attach_design(SolveReport& report, const post::DesignValues& design, const fe::MemberModel& model) {
+  const fe::Scales& scales = model.scales;
+  auto convert = [&](const post::Extreme& x, double factor) {
+    DesignValue v{x.value * factor, std::nullopt};
+    if (x.s) v.at = model.user_from_s(*x.s);
+    return v;
+  };
+  DesignTable t;
+  t.moment_max = convert(design.moment_max, scales.moment());
+  t.moment_min = convert(design.moment_min, scales.moment());
+  t.shear_max_abs = convert(design.shear_max_abs, scales.force());
+  t.pressure_max = convert(design.pressure_max, scales.force_per_length());
+  t.uplift_max = convert(design.uplift_max, scales.displacement());
+  t.shear_closure = design.shear_closure;
+  t.moment_closure = design.moment_closure;
+  t.from_statics = design.from_statics;
+  report.design = t;
+}
+
 namespace {
+
+nlohmann::json design_json(const DesignTable& t) {
+  auto one = [](const DesignValue& v) {
+    return nlohmann::json{{"value", v.value}, {"at", v.at ? nlohmann::json(*v.at) : nlohmann::json()}};
+  };
+  nlohmann::json j{{"moment_max", one(t.moment_max)},       {"moment_min", one(t.moment_min)},
+                   {"shear_max_abs", one(t.shear_max_abs)}, {"pressure_max", one(t.pressure_max)},
+                   {"uplift_max", one(t.uplift_max)},       {"from_statics", t.from_statics}};
+  if (t.from_statics) j["closure"] = {{"shear", t.shear_closure}, {"moment", t.moment_closure}};
+  return j;
+}
 
 nlohmann::json number_or_null(double value) { return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(); }
 
@@ -278,7 +308,10 @@ nlohmann::json to_json(const SolveReport& r) {
   if (r.certificate) {
     j["support_reactions"] = support_reactions_json(r);
     j["certificate"] = certificate_json(r);
+    j["foundation_resultant"] = {{"force", r.certificate_figures.foundation_resultant},
+                                 {"centroid", r.certificate_figures.foundation_centroid}};
   }
+  if (r.design) j["design"] = design_json(*r.design);
   j["sign_convention"] = sign_convention;
   if (!r.gauge_note.empty()) j["gauge"] = r.gauge_note;
   return j;
@@ -357,6 +390,31 @@ std::string certificate_lines(const SolveReport& r) {
   return out;
 }
 
+// The design values: the extremes with their positions, and how well the statics closed.
+std::string design_lines(const SolveReport& r) {
+  const DesignTable& t = *r.design;
+  const bool arch = r.kind == StructureKind::arch;
+  auto where = [&](const DesignValue& v) {
+    return v.at ? fmt::format(" at {} = {:.6g}{}", arch ? "theta" : "x", *v.at, arch ? " deg" : "") : std::string();
+  };
+  std::string out;
+  out += fmt::format("  moment        sagging max {:.6g}{}; hogging min {:.6g}{}\n", t.moment_max.value,
+                     where(t.moment_max), t.moment_min.value, where(t.moment_min));
+  out += fmt::format("  shear         max |V| {:.6g}{}\n", t.shear_max_abs.value, where(t.shear_max_abs));
+  out += fmt::format("  pressure      max {:.6g}{} (force per unit length)\n", t.pressure_max.value,
+                     where(t.pressure_max));
+  out += t.uplift_max.at ? fmt::format("  uplift        max {:.6g}{} (gap between member and ground, g - w)\n",
+                                       t.uplift_max.value, where(t.uplift_max))
+                         : std::string("  uplift        none (the member does not lift off the foundation)\n");
+  if (t.from_statics)
+    out += fmt::format(
+        "  statics       V and M from the free body; closure at the far end {:.1e} (shear), {:.1e} (moment)\n",
+        t.shear_closure, t.moment_closure);
+  else
+    out += "  statics       V and M from the fields' derivatives; extremes at the samples\n";
+  return out;
+}
+
 }  // namespace
 
 std::string text_summary(const SolveReport& r) {
@@ -397,6 +455,7 @@ std::string text_summary(const SolveReport& r) {
         r.observed_order, r.round_off_floor);
   }
   if (r.certificate) out += certificate_lines(r);
+  if (r.design) out += design_lines(r);
   if (!r.gauge_note.empty()) out += "  note          " + r.gauge_note + "\n";
   out += "  sign          w > 0 into the foundation\n";
   return out;
@@ -455,17 +514,34 @@ std::string side_by_side(const std::vector<SolveReport>& reports) {
   return out;
 }
 
+namespace {
+// The sweep's design columns (sweep_csv): empty without a certified answer.
+std::string design_columns(const SolveReport& r) {
+  if (!r.usable || !r.design) return std::string(10, ',');
+  std::string out;
+  for (const DesignValue* v : {&r.design->moment_max, &r.design->moment_min, &r.design->shear_max_abs,
+                               &r.design->pressure_max, &r.design->uplift_max})
+    out += fmt::format("{:.12g},{},", v->value, v->at ? fmt::format("{:.12g}", *v->at) : std::string());
+  std::string supports;
+  for (const certify::SupportReaction& s : r.certificate_figures.support_reactions)
+    supports += fmt::format("{}{:.12g}:{:.12g}:{:.12g}", supports.empty() ? "" : ";", s.at, s.force, s.moment);
+  return out + supports;
+}
+}  // namespace
+
 std::string sweep_csv(const std::vector<std::string>& keys, const std::vector<SweepCase>& cases) {
   std::string out;
   for (const auto& key : keys) out += key + ",";
-  out += "method,termination,certified,contact_regions,w_max,w_min,max_reaction,iterations,time_s\n";
+  out += "method,termination,certified,contact_regions,w_max,w_min,max_reaction,iterations,time_s,";
+  out += "moment_max,at_moment_max,moment_min,at_moment_min,shear_max_abs,at_shear_max_abs,pressure_max,";
+  out += "at_pressure_max,uplift_max,at_uplift_max,support_reactions\n";
   for (const SweepCase& c : cases) {
     std::string prefix;
     for (double v : c.values) prefix += fmt::format("{:.17g},", v);
     if (!c.error.empty()) {
       std::string error = c.error;
       std::replace(error.begin(), error.end(), '"', '\'');
-      out += prefix + fmt::format(",\"error: {}\",,,,,,,\n", error);
+      out += prefix + fmt::format(",\"error: {}\",,,,,,,{}\n", error, std::string(11, ','));
       continue;
     }
     for (const SolveReport& r : c.reports) {
@@ -480,8 +556,9 @@ std::string sweep_csv(const std::vector<std::string>& keys, const std::vector<Sw
       const std::string answer =
           r.usable ? fmt::format("{},{:.12g},{:.12g},{:.12g}", regions, r.w_max, r.w_min, r.max_reaction)
                    : std::string(",,,");
-      out += prefix + fmt::format("{},{},{},{},{},{:.6f}\n", r.method_requested.empty() ? r.method : r.method_requested,
-                                  r.termination, r.certified() ? "true" : "false", answer, iterations, r.time_s);
+      out += prefix + fmt::format("{},{},{},{},{},{:.6f},{}\n",
+                                  r.method_requested.empty() ? r.method : r.method_requested, r.termination,
+                                  r.certified() ? "true" : "false", answer, iterations, r.time_s, design_columns(r));
     }
   }
   return out;

@@ -17,6 +17,7 @@
 #include "fe/discretisation.hpp"
 #include "fe/member_model.hpp"
 #include "post/contact_regions.hpp"
+#include "post/design.hpp"
 #include "post/fields.hpp"
 #include "ritz/ritz_solver.hpp"
 #include "scene/scene.hpp"
@@ -30,6 +31,18 @@ inline constexpr const char* sign_convention =
 
 struct FieldTable {
   std::vector<double> coordinate, w, u, rotation, bending_moment, shear_force, normal_force, reaction;
+};
+
+// The design values (post/design.hpp) in the user's units: moments, shears, pressure (force per
+// length), uplift (length); `at` in the user's coordinate, none where there is no such point.
+struct DesignValue {
+  double value = 0.0;
+  std::optional<double> at;
+};
+struct DesignTable {
+  DesignValue moment_max, moment_min, shear_max_abs, pressure_max, uplift_max;
+  double shear_closure = -1.0, moment_closure = -1.0;  // relative; -1: not from statics
+  bool from_statics = false;
 };
 
 struct SolveReport {
@@ -79,10 +92,11 @@ struct SolveReport {
   std::vector<std::array<double, 2>> contact_regions;
   double w_max = 0, at_w_max = 0, w_min = 0, at_w_min = 0;
   double max_reaction = 0;
-  double time_s = 0;  // the whole solve: set-up, solver, post-processing
-  FieldTable fields;  // FE: sampled inside every element; Ritz: on a uniform grid (empty when
-                      // nothing asked for fields: SolveRequest::fields)
-  FieldTable nodes;   // FE only: at the mesh nodes (w, u, rotation, reaction)
+  double time_s = 0;                  // the whole solve: set-up, solver, post-processing
+  FieldTable fields;                  // FE: sampled inside every element; Ritz: on a uniform grid (empty when
+                                      // nothing asked for fields: SolveRequest::fields)
+  FieldTable nodes;                   // FE only: at the mesh nodes (w, u, rotation, reaction)
+  std::optional<DesignTable> design;  // certified answers only
 
   // The answer certificate (certify/certificate.hpp), in the user's units: check positions in the
   // user's coordinate, figures and support reactions converted. Absent when there was no answer.
@@ -93,6 +107,9 @@ struct SolveReport {
 
 // Stores the certificate in the report, converted to the user's units.
 void attach_certificate(SolveReport& report, const certify::Certificate& certificate, const fe::MemberModel& model);
+
+// Stores the design values in the report, converted to the user's units.
+void attach_design(SolveReport& report, const post::DesignValues& design, const fe::MemberModel& model);
 
 SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model, const fe::Discretisation& d,
                         const contact::ContactSolution& solution, const post::Fields& fields,
@@ -118,6 +135,9 @@ struct SweepCase {
 // One CSV row per case and method: the swept keys, method (as requested), termination, certified
 // (true/false), contact regions ("a..b;c..d"), w_max, w_min, max_reaction, iterations (pivots,
 // contact sets or Newton), time_s.
+// Then the design values (moment_max, at_moment_max, moment_min, at_moment_min, shear_max_abs,
+// at_shear_max_abs, pressure_max, at_pressure_max, uplift_max, at_uplift_max) and the support
+// reactions ("at:force:moment" joined by ';'), empty without a certified answer.
 std::string sweep_csv(const std::vector<std::string>& keys, const std::vector<SweepCase>& cases);
 
 }  // namespace liftoff::io

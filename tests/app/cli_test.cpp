@@ -603,3 +603,120 @@ TEST_CASE("cli: a tolerance on a member whose foundation covers part of it", "[a
   const double w_max = nlohmann::json::parse(plain.out)["w_max"].get<double>();
   CHECK(std::abs(j["w_max"].get<double>() - w_max) <= 1e-8 * std::abs(w_max));
 }
+
+TEST_CASE("cli: support reactions, design values and the foundation resultant in JSON and HDF5", "[app][design]") {
+  Scratch scratch;
+  // Pinned-pinned with an interior support and a lift-off: three reactions, a hogging moment.
+  const fs::path scene = scratch.write("supported.toml", R"(
+[structure]
+kind = "beam"
+length = 4.0
+EI = 2.0e3
+[supports]
+left = "pinned"
+right = "free"
+interior = [2.5]
+[foundation]
+k = 200.0
+[[loads]]
+kind = "force"
+at = 3.5
+value = 50.0
+[[loads]]
+kind = "uniform"
+value = 3.0
+[solve]
+elements = 80
+)");
+  const fs::path output = scratch.dir / "out.h5";
+  const Run r = run({"solve", scene.string(), "--json", "--output", output.string()});
+  REQUIRE(r.status == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  REQUIRE(j.contains("support_reactions"));
+  REQUIRE(j["support_reactions"].size() == 2);
+  double forces = 0.0, magnitude = 0.0;
+  for (const auto& s : j["support_reactions"]) {
+    CHECK(s.contains("at"));
+    CHECK(s.contains("moment"));
+    forces += s["force"].get<double>();
+    magnitude += std::abs(s["force"].get<double>());
+  }
+  // Supports + foundation = applied, within the certificate's own force-balance tolerance
+  // (relative to the same terms).
+  const auto& c = j["certificate"];
+  const double applied = c["applied_force"], resultant = j["foundation_resultant"]["force"];
+  double tolerance = 0.0;
+  for (const auto& check : c["checks"])
+    if (check["name"] == "force_balance") tolerance = check["tolerance"];
+  REQUIRE(tolerance > 0.0);
+  CHECK(std::abs(forces + resultant - applied) <= tolerance * (magnitude + std::abs(resultant) + std::abs(applied)));
+  CHECK(j["foundation_resultant"]["centroid"].get<double>() == c["foundation_centroid"].get<double>());
+  REQUIRE(j.contains("design"));
+  for (const char* name : {"moment_max", "moment_min", "shear_max_abs", "pressure_max", "uplift_max"}) {
+    INFO(name);
+    REQUIRE(j["design"].contains(name));
+    CHECK(j["design"][name].contains("value"));
+    CHECK(j["design"][name].contains("at"));
+  }
+  CHECK(j["design"]["moment_min"]["value"].get<double>() < 0.0);  // hogging over the interior support
+  CHECK(j["design"]["moment_max"]["value"].get<double>() > 0.0);
+  CHECK(j["design"]["from_statics"] == true);
+  // The summary prints them.
+  const Run summary = run({"solve", scene.string()});
+  CHECK_THAT(summary.out, Catch::Contains("  supports      x = 0") && Catch::Contains("  moment        sagging max") &&
+                              Catch::Contains("  shear         max |V|") && Catch::Contains("  uplift        "));
+
+  // HDF5: /design's attributes are the JSON's.
+  const fs::path script = scratch.write("read.py", R"(
+import sys, h5py
+f = h5py.File(sys.argv[1], "r")
+print(repr(float(f["design"].attrs["moment_min"])), repr(float(f["design"].attrs["moment_min_at"])), f["support_reactions"].shape[0])
+)");
+  const fs::path printed = scratch.dir / "h5py.txt";
+  REQUIRE(std::system(
+              ("/usr/bin/python3 " + script.string() + " " + output.string() + " > " + printed.string()).c_str()) == 0);
+  std::ifstream in(printed);
+  std::string value, at;
+  int supports = 0;
+  in >> value >> at >> supports;
+  CHECK(std::stod(value) == j["design"]["moment_min"]["value"].get<double>());
+  CHECK(std::stod(at) == j["design"]["moment_min"]["at"].get<double>());
+  CHECK(supports == 2);
+}
+
+TEST_CASE("cli: --csv-fields writes the sampled fields; an unwritable one is exit 4 and leaves nothing", "[app][csv]") {
+  Scratch scratch;
+  const fs::path scene = scratch.write("free.toml", free_beam(100.0, 1.0) + "[solve]\nelements = 20\n");
+  const fs::path csv = scratch.dir / "fields.csv";
+  const Run r = run({"solve", scene.string(), "--csv-fields", csv.string()});
+  REQUIRE(r.status == 0);
+  CHECK_FALSE(fs::exists(csv.string() + ".tmp"));
+  std::ifstream in(csv);
+  std::string header, line;
+  std::getline(in, header);
+  CHECK(header == "x,w,rotation,moment,shear,reaction");
+  std::vector<std::vector<double>> rows;
+  while (std::getline(in, line)) {
+    std::vector<double> row;
+    std::stringstream cells(line);
+    std::string cell;
+    while (std::getline(cells, cell, ',')) row.push_back(std::stod(cell));
+    CHECK(row.size() == 6);
+    rows.push_back(row);
+  }
+  // 16 samples per element (the default) plus the end.
+  CHECK(rows.size() == 20 * 16 + 1);
+  CHECK(rows.front()[0] == 0.0);
+  CHECK(rows.back()[0] == 1.0);
+  // Free ends: shear and moment from the statics vanish there (to round-off of the 0.5 peak).
+  CHECK(std::abs(rows.back()[4]) <= 1e-12);
+  CHECK(std::abs(rows.back()[3]) <= 1e-12);
+
+  // A directory that does not exist: exit 4, no file, no temporary, no HDF5 either.
+  const fs::path h5 = scratch.dir / "out.h5";
+  const Run bad = run({"solve", scene.string(), "--output", h5.string(), "--csv-fields", "/no/such/dir/f.csv"});
+  CHECK(bad.status == 4);
+  CHECK(one_line(bad.err));
+  CHECK_FALSE(fs::exists(h5));
+  CHECK_FALSE(fs::exists(h5.string() + ".tmp"));
+}

@@ -1,5 +1,6 @@
 // Parameter sweeps: the value grammar, the grid of cases, parallel runs equal to serial ones,
 // and the CSV and HDF5 outputs of `liftoff sweep`.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
@@ -69,10 +70,19 @@ TEST_CASE("sweep: the command writes the CSV and an HDF5 file with every case", 
   std::string header, line;
   std::getline(in, header);
   CHECK(header ==
-        "foundation.k,method,termination,certified,contact_regions,w_max,w_min,max_reaction,iterations,time_s");
+        "foundation.k,method,termination,certified,contact_regions,w_max,w_min,max_reaction,iterations,time_s,"
+        "moment_max,at_moment_max,moment_min,at_moment_min,shear_max_abs,at_shear_max_abs,pressure_max,"
+        "at_pressure_max,uplift_max,at_uplift_max,support_reactions");
   int rows = 0;
+  const auto columns = [](const std::string& text) { return std::count(text.begin(), text.end(), ','); };
   while (std::getline(in, line)) {
     ++rows;
+    CHECK(columns(line) == columns(header));
+    // The design values of a certified answer are filled in (moment_max is the 11th column).
+    std::stringstream cells(line);
+    std::string cell;
+    for (int i = 0; i < 11; ++i) std::getline(cells, cell, ',');
+    CHECK_FALSE(cell.empty());
     CHECK_THAT(line, Catch::Matchers::Contains(",solved,true,") || Catch::Matchers::Contains(",converged,true,"));
   }
   CHECK(rows == 8);  // two cases, four methods each

@@ -1,11 +1,11 @@
 // closed_form_reference SCENE.toml: the closed-form (segment-by-segment exact) solution of a beam
 // scene, as JSON on stdout: {"method": "closed-form", "status", "contact_regions", "w_max",
-// "at_w_max", "w_min", "at_w_min"}. It reads the scene with toml++ itself and shares no code
-// with liftoff. It reads issue 12's ground keys too: [foundation] from/to, [[foundation.segments]]
-// (from, to, modulus or k), gap = {at, value} or gap_file (two-column CSV, relative to the scene),
-// tension_modulus, and loads of kind "distributed" (at, value tables). Exit 2 (one line on stderr)
-// for a scene it does not cover: arches, interior point supports, a modulus varying within a
-// piece; exit 3 if the solve fails.
+// "at_w_max", "w_min", "at_w_min", "moment_max", "at_moment_max", "moment_min", "at_moment_min",
+// "shear_max_abs", "at_shear_max_abs"} (moments sagging positive, V = dM/dx, the user's units). It reads the scene with
+// toml++ itself and shares no code with liftoff. It reads issue 12's ground keys too: [foundation] from/to,
+// [[foundation.segments]] (from, to, modulus or k), gap = {at, value} or gap_file (two-column CSV, relative to the
+// scene), tension_modulus, and loads of kind "distributed" (at, value tables). Exit 2 (one line on stderr) for a scene
+// it does not cover: arches, interior point supports, a modulus varying within a piece; exit 3 if the solve fails.
 #include <toml++/toml.h>
 
 #include <cmath>
@@ -181,7 +181,41 @@ int main(int argc, char** argv) {
   }
   for (std::size_t i = 0; i < regions.size(); ++i)
     std::printf("%s[%.17g, %.17g]", i ? ", " : "", regions[i].start, regions[i].end);
-  std::printf("], \"w_max\": %.17g, \"at_w_max\": %.17g, \"w_min\": %.17g, \"at_w_min\": %.17g}\n", w_max, at_max,
-              w_min, at_min);
+  std::printf("], \"w_max\": %.17g, \"at_w_max\": %.17g, \"w_min\": %.17g, \"at_w_min\": %.17g", w_max, at_max, w_min,
+              at_min);
+  // Design values (issue 13): the bending moment's extremes at the breakpoints (both sides) and
+  // where the shear changes sign between samples (bisection to round-off), the largest |V| at
+  // the breakpoints and the samples (its sampling error O(dx^2 |V''|), dx = L / 20000).
+  double m_max = -INFINITY, m_min = INFINITY, v_max = 0, at_m_max = 0, at_m_min = 0, at_v_max = 0;
+  auto consider = [&](double x, Side side) {
+    const double m = solution.bending_moment(x, side), v = std::abs(solution.shear_force(x, side));
+    if (m > m_max) m_max = m, at_m_max = x;
+    if (m < m_min) m_min = m, at_m_min = x;
+    if (v > v_max) v_max = v, at_v_max = x;
+  };
+  for (double x : solution.breakpoints()) {
+    if (x > 0.0) consider(x, Side::left);
+    if (x < p.length) consider(x, Side::right);
+  }
+  for (int i = 0; i < samples; ++i) {
+    double a = p.length * i / samples, b = p.length * (i + 1) / samples;
+    consider(a, Side::right);
+    double va = solution.shear_force(a, Side::right);
+    if (va * solution.shear_force(b, Side::left) >= 0.0) continue;
+    for (int step = 0; step < 200; ++step) {
+      const double m = 0.5 * (a + b);
+      if (m <= a || m >= b) break;
+      const double vm = solution.shear_force(m);
+      if ((vm < 0.0) == (va < 0.0))
+        a = m, va = vm;
+      else
+        b = m;
+    }
+    consider(0.5 * (a + b), Side::right);
+  }
+  std::printf(
+      ", \"moment_max\": %.17g, \"at_moment_max\": %.17g, \"moment_min\": %.17g, \"at_moment_min\": %.17g, "
+      "\"shear_max_abs\": %.17g, \"at_shear_max_abs\": %.17g}\n",
+      m_max, at_m_max, m_min, at_m_min, v_max, at_v_max);
   return 0;
 }
