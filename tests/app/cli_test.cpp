@@ -58,7 +58,7 @@ EI = 3.0
 left = "pinned"
 right = "pinned"
 [foundation]
-k = 1.0e4
+nondimensional_k = 1.0e4
 [[loads]]
 kind = "force"
 at = 1.0
@@ -70,7 +70,7 @@ elements = 40
 // A free-free unit beam on a foundation k with a central force.
 std::string free_beam(double k, double force) {
   return "[structure]\nkind = \"beam\"\nlength = 1.0\nEI = 1.0\n[supports]\nleft = \"free\"\nright = \"free\"\n"
-         "[foundation]\nk = " +
+         "[foundation]\nnondimensional_k = " +
          std::to_string(k) + "\n[[loads]]\nkind = \"force\"\nat = 0.5\nvalue = " + std::to_string(force) + "\n";
 }
 
@@ -271,7 +271,7 @@ TEST_CASE("cli: an integer a double cannot hold is refused by key, not read as 1
   k.replace(k.find("k = 1.0e4"), 9, "k = 9007199254740993");
   const Run rk = run({"solve", scratch.write("bigk.toml", k).string()});
   CHECK(rk.status == 2);  // was exit 1, "solve_lemke: M contains NaN or Inf"
-  CHECK_THAT(rk.err, Catch::Matchers::Contains("key 'foundation.k'"));
+  CHECK_THAT(rk.err, Catch::Matchers::Contains("key 'foundation.nondimensional_k'"));
 }
 
 TEST_CASE("cli: an output never replaces the scene or another output; exit 2, nothing written", "[app][errors]") {
@@ -399,7 +399,7 @@ TEST_CASE("cli: --method all shows the scene's k and no counters for a refused m
   const fs::path free = scratch.write("free.toml", free_beam(5184.0, 1.0) + "[solve]\nelements = 40\n");
   const Run r = run({"solve", free.string(), "--method", "all", "--modes", "8"});
   REQUIRE(r.status == 0);
-  CHECK_THAT(r.out, Catch::Matchers::Contains("on a tensionless foundation, k = 5184\n"));
+  CHECK_THAT(r.out, Catch::Matchers::Contains("on a tensionless foundation, nondimensional k = 5184\n"));
   // The dual is refused: no "-1 elements", "-1 pivots" or residual -1.0e+00, but "-".
   CHECK_THAT(r.out, !Catch::Matchers::Contains(" -1 ") && !Catch::Matchers::Contains(" -1.0e+00"));
   std::istringstream lines(r.out);
