@@ -153,7 +153,7 @@ def closed_form_applies(doc):
     clamped, free; no springs, no settlements), no interior supports, the foundation whole or
     partial or in pieces with a constant modulus each (voids between them), a gap (table or
     file), tension_modulus, and force, moment, uniform and distributed loads. Not: a modulus
-    varying within a piece, tension_k, curvature loads (closed_form_reference does not read
+    varying within a piece, tension_nondimensional_k, curvature loads (closed_form_reference does not read
     those two keys, so it must not be asked)."""
     f = doc["foundation"]
     supports = doc["supports"]
@@ -162,8 +162,8 @@ def closed_form_applies(doc):
             and all(isinstance(supports.get(end), str) and supports[end] in ("pinned", "clamped", "free")
                     for end in ("left", "right"))
             and not supports.get("interior")
-            and not any(isinstance(p.get("modulus", p.get("k")), list) for p in pieces)
-            and "tension_k" not in f
+            and not any(isinstance(p.get("modulus", p.get("nondimensional_k", p.get("k"))), list) for p in pieces)
+            and "tension_k" not in f and "tension_nondimensional_k" not in f
             and all(load.get("kind") in ("force", "moment", "uniform", "distributed") for load in doc.get("loads", []))
             and not has_curvature(doc))
 

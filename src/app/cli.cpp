@@ -14,6 +14,7 @@
 #include <map>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string_view>
 #include <thread>
 
@@ -268,6 +269,25 @@ SolveRequest make_request(const ProblemArguments& args) {
   return request;
 }
 
+// A sweep's warnings on stderr (the CSV has no room for them): each distinct one once, with the
+// first case that gave it, at most `shown` lines.
+void print_sweep_warnings(const std::vector<io::SweepCase>& cases, std::ostream& err) {
+  constexpr std::size_t shown = 20;
+  std::set<std::string> seen;
+  std::size_t more = 0;
+  for (const auto& c : cases) {
+    if (c.reports.empty()) continue;
+    for (const std::string& warning : c.reports.front().warnings) {
+      if (!seen.insert(warning).second) continue;
+      if (seen.size() > shown)
+        ++more;
+      else
+        err << "liftoff: warning: " << c.reports.front().scene_name << ": " << warning << "\n";
+    }
+  }
+  if (more > 0) err << fmt::format("liftoff: warning: {} more warnings (each case's are in its JSON and HDF5)\n", more);
+}
+
 // `liftoff sweep`: CSV (to --csv, or stdout), HDF5 with every case (--output), progress on
 // stderr; exit 3 if a case failed (its error is in both outputs).
 int run_sweep_command(const SweepArguments& args, std::ostream& out, std::ostream& err) {
@@ -309,6 +329,7 @@ int run_sweep_command(const SweepArguments& args, std::ostream& out, std::ostrea
       throw OutputError(args.csv + ": cannot write the CSV summary");
     }
   }
+  print_sweep_warnings(cases, err);
   bool failed = false;
   int unsolved = 0, answers = 0;
   std::map<std::string, int> terminations;
@@ -465,7 +486,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       app.add_subcommand("sweep", "Solve one scene for every combination of values of some of its keys, in parallel");
   sweep_command
       ->add_option("--set", sweep.sets,
-                   "KEY=VALUES, e.g. foundation.k=10,100,1e3 or foundation.k=log:10:1e4:7 or loads[0].value=lin:0:1:5; "
+                   "KEY=VALUES, e.g. foundation.nondimensional_k=10,100,1e3 or foundation.modulus=log:1e6:1e8:7 or "
+                   "loads[0].value=lin:0:1:5; "
                    "repeat for a grid")
       ->required();
   add_problem_options(sweep_command, sweep.problem);

@@ -521,9 +521,7 @@ io::SolveReport ritz_report(const scene::Scene& scene, const SolveRequest& reque
   return report;
 }
 
-}  // namespace
-
-io::SolveReport solve_scene(const scene::Scene& scene, const SolveRequest& request) {
+io::SolveReport solve_scene_unscaled(const scene::Scene& scene, const SolveRequest& request) {
   const Method method = request.method.value_or(scene.solve.method);
   if (method == Method::all) throw std::invalid_argument("solve_scene: use solve_all_methods for Method::all");
   if (method == Method::automatic && !scene.ritz.topology.empty()) {
@@ -541,6 +539,15 @@ io::SolveReport solve_scene(const scene::Scene& scene, const SolveRequest& reque
   return fe_report(scene, method, request);
 }
 
+}  // namespace
+
+io::SolveReport solve_scene(const scene::Scene& scene, const SolveRequest& request) {
+  // Every report carries the units, the foundation's scale and the warnings (post/scale.hpp).
+  io::SolveReport report = solve_scene_unscaled(scene, request);
+  io::attach_scale(report, scene, fe::make_member_model(scene));
+  return report;
+}
+
 std::vector<io::SolveReport> solve_all_methods(const scene::Scene& scene, const SolveRequest& request) {
   std::vector<io::SolveReport> reports;
   auto refused = [&](Method method, const std::exception& e) {
@@ -551,6 +558,8 @@ std::vector<io::SolveReport> solve_all_methods(const scene::Scene& scene, const 
     r.method_requested = r.method;
     r.termination = "refused";
     r.message = e.what();
+    r.units = scene.units;
+    r.warnings = scene.warnings;
     return r;
   };
   for (Method method : {Method::primal, Method::dual, Method::fast, Method::ritz}) {

@@ -64,7 +64,7 @@ SweepParameter parse_sweep_parameter(const std::string& text) {
   if (p.key.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_-.[]") !=
       std::string::npos)
     throw InputError(
-        fmt::format("--set: expected KEY=VALUES with KEY a scene key such as foundation.k or "
+        fmt::format("--set: expected KEY=VALUES with KEY a scene key such as foundation.modulus or "
                     "loads[0].value (letters, digits, _, -, ., [ and ]), got '{}'",
                     escaped(p.key)));
   const std::string values = text.substr(equals + 1);

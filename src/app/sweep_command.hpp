@@ -1,6 +1,6 @@
 #pragma once
 // `liftoff sweep`: one scene solved for every combination of values of some of its keys
-// (`--set foundation.k=10,100,1e3`), the cases run in parallel on the machine's cores.
+// (`--set foundation.nondimensional_k=10,100,1e3`), the cases run in parallel on the machine's cores.
 
 #include <functional>
 #include <string>
@@ -12,7 +12,7 @@
 namespace liftoff::app {
 
 struct SweepParameter {
-  std::string key;  // a scene key: "foundation.k", "loads[0].value"
+  std::string key;  // a scene key: "foundation.modulus", "loads[0].value"
   std::vector<double> values;
 };
 

@@ -12,6 +12,7 @@
 #include "core/error.hpp"
 #include "fe/member_model.hpp"
 #include "io/trace_writer.hpp"
+#include "post/scale.hpp"
 #include "ritz/ritz_model.hpp"
 
 namespace liftoff::app {
@@ -254,6 +255,13 @@ TraceOutcome run_trace(const scene::Scene& scene, const TraceRequest& request, c
   outcome.output = request.output.string();
   outcome.monitor = options.monitor;
   outcome.sample_points = options.sample_points;
+  outcome.units = scene.units;
+  outcome.warnings = scene.warnings;
+  {  // the foundation's scale (no mesh resolution here: the paths choose their own meshes)
+    const fe::MemberModel model = fe::make_member_model(scene);
+    for (std::string& w : post::scale_warnings(scene, model, post::scale_figures(model)))
+      outcome.warnings.push_back(std::move(w));
+  }
 
   std::unique_ptr<io::TraceWriter> writer;
   if (request.resume) {
@@ -273,6 +281,8 @@ TraceOutcome run_trace(const scene::Scene& scene, const TraceRequest& request, c
     info.options = options_json;
     info.paths = names;
     info.sample_points = options.sample_points;
+    info.units = scene::unit_labels(scene.units);
+    info.units.insert(info.units.begin(), {"system", scene.units.system});
     writer = std::make_unique<io::TraceWriter>(request.output, info);
   }
 
@@ -376,11 +386,15 @@ nlohmann::json to_json(const TraceOutcome& outcome) {
   for (const PathTrace& p : outcome.paths) j["paths"].push_back(to_json(p));
   if (outcome.comparison) j["comparison"] = to_json(*outcome.comparison);
   if (outcome.discretisation_error) j["discretisation_error"] = to_json(*outcome.discretisation_error);
+  j["units"] = {{"system", outcome.units.system}};
+  for (const auto& [name, label] : scene::unit_labels(outcome.units)) j["units"][name] = label;
+  j["warnings"] = outcome.warnings;
   return j;
 }
 
 std::string text_summary(const TraceOutcome& outcome) {
   std::string out = fmt::format("scene         {}\nmonitor       w at {:.6g}\n", outcome.scene_name, outcome.monitor);
+  for (const std::string& warning : outcome.warnings) out += "WARNING       " + warning + "\n";
   for (const PathTrace& p : outcome.paths) {
     out += fmt::format("path {:<9}{}: {} steps{}, lambda {:.8g}{}\n", p.path,
                        continuation::to_string(p.summary.termination), p.steps.size(),

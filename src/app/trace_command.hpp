@@ -80,7 +80,9 @@ struct TraceOutcome {
   std::vector<PathTrace> paths;                         // in the order run: fe, ritz, fe_refined
   std::optional<EventComparison> comparison;            // fe against ritz (method "all")
   std::optional<EventComparison> discretisation_error;  // fe against fe_refined (refine)
-  bool usable() const;                                  // every path reached lambda_max
+  scene::Units units;                                   // the scene's [units] (labels)
+  std::vector<std::string> warnings;  // the scene reader's and the foundation scale's (post/scale.hpp)
+  bool usable() const;                // every path reached lambda_max
 };
 
 // TraceOptions from the scene's [trace] (and [solve], [ritz]) with the request's overrides.

@@ -110,6 +110,35 @@ void write_design(hid_t file, const DesignTable& t) {
   write_number_attribute(group, "moment_closure", t.moment_closure);
 }
 
+// units_system and units_<name> for every label of scene::unit_labels (units_length, units_force,
+// ...), empty strings when the scene states no units: what plots label their axes with.
+void write_units(hid_t object, const scene::Units& units) {
+  write_string_attribute(object, "units_system", units.system);
+  for (const auto& [name, label] : scene::unit_labels(units))
+    write_string_attribute(object, ("units_" + name).c_str(), label);
+}
+
+// scale_<figure> (post/scale.hpp; the stiffest piece's, with _min companions when the modulus
+// varies) and warnings (one per line, empty when none).
+void write_scale(hid_t object, const SolveReport& r) {
+  write_string_attribute(object, "warnings", fmt::format("{}", fmt::join(r.warnings, "\n")));
+  if (!r.scale) return;
+  const post::ScaleFigures& f = *r.scale;
+  write_number_attribute(object, "scale_nondimensional_k", f.k_max);
+  write_number_attribute(object, "scale_K", f.K_max);
+  write_number_attribute(object, "scale_beta", f.beta_max);
+  write_number_attribute(object, "scale_beta_L", f.beta_length_max);
+  write_number_attribute(object, "scale_characteristic_length", 1 / f.beta_max);
+  if (f.beta_h >= 0) write_number_attribute(object, "scale_beta_h", f.beta_h);
+  if (f.varies()) {
+    write_number_attribute(object, "scale_nondimensional_k_min", f.k_min);
+    write_number_attribute(object, "scale_K_min", f.K_min);
+    write_number_attribute(object, "scale_beta_min", f.beta_min);
+    write_number_attribute(object, "scale_beta_L_min", f.beta_length_min);
+    write_number_attribute(object, "scale_characteristic_length_max", 1 / f.beta_min);
+  }
+}
+
 // One report under `file` (the file's root, or a group of a sweep).
 void write_report(hid_t file, const SolveReport& r) {
   write_string_attribute(file, "scene_name", r.scene_name);
@@ -122,6 +151,8 @@ void write_report(hid_t file, const SolveReport& r) {
   write_string_attribute(file, "sign_convention", sign_convention);
   write_number_attribute(file, "tensionless", static_cast<int>(r.tensionless));
   write_number_attribute(file, "k", r.foundation_parameter);
+  write_units(file, r.units);
+  write_scale(file, r);
 
   {
     Handle type(H5Tcopy(H5T_C_S1), H5Tclose, "string type");
@@ -192,6 +223,12 @@ void write_sweep_file(const std::vector<std::string>& keys, const std::vector<Sw
   std::vector<double> values;
   for (const SweepCase& c : cases) values.insert(values.end(), c.values.begin(), c.values.end());
   write_array(file, "values", values, keys.size());
+  // The scene's units (labels only, the same for every case): from any case's report.
+  for (const SweepCase& c : cases)
+    if (!c.reports.empty()) {
+      write_units(file, c.reports.front().units);
+      break;
+    }
   Handle all(H5Gcreate2(file, "cases", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "cases");
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const std::string name = fmt::format("{:04d}", i);

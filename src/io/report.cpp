@@ -169,6 +169,15 @@ SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model,
   return r;
 }
 
+void attach_scale(SolveReport& report, const scene::Scene& scene, const fe::MemberModel& model) {
+  report.units = scene.units;
+  std::vector<double> mesh;  // FE: the nodes in s (Ritz: none)
+  for (const double x : report.nodes.coordinate) mesh.push_back(model.s_from_user(x));
+  report.scale = post::scale_figures(model, mesh);
+  report.warnings = scene.warnings;
+  for (std::string& w : post::scale_warnings(scene, model, *report.scale)) report.warnings.push_back(std::move(w));
+}
+
 void attach_certificate(SolveReport& report, const certify::Certificate& certificate, const fe::MemberModel& model) {
   certify::Certificate c = certificate;
   for (certify::Check& check : c.checks)
@@ -221,6 +230,36 @@ nlohmann::json support_reactions_json(const SolveReport& r) {
     all.push_back(one);
   }
   return all;
+}
+
+// {"system", "length", "force", "moment", ...}: the labels (empty strings when none are stated).
+nlohmann::json units_json(const scene::Units& units) {
+  nlohmann::json j{{"system", units.system}};
+  for (const auto& [name, label] : scene::unit_labels(units)) j[name] = label;
+  return j;
+}
+
+// The stiffest piece's figures (the shortest 1/beta), with every figure's range when the modulus
+// varies; beta_L is beta times the member's length (arches: the arc's, 2 gamma R).
+nlohmann::json scale_json(const post::ScaleFigures& f) {
+  nlohmann::json j{{"nondimensional_k", f.k_max},
+                   {"K", f.K_max},
+                   {"beta", f.beta_max},
+                   {"beta_L", f.beta_length_max},
+                   {"characteristic_length", 1 / f.beta_max},
+                   {"member_length", f.member_length}};
+  if (f.arch) j["beta_R"] = f.beta_radius_max;
+  if (f.beta_h >= 0) {
+    j["beta_h"] = f.beta_h;
+    j["element_size"] = f.element_size;
+  }
+  if (f.varies())
+    j["range"] = {{"nondimensional_k", {f.k_min, f.k_max}},
+                  {"K", {f.K_min, f.K_max}},
+                  {"beta", {f.beta_min, f.beta_max}},
+                  {"beta_L", {f.beta_length_min, f.beta_length_max}},
+                  {"characteristic_length", {1 / f.beta_max, 1 / f.beta_min}}};
+  return j;
 }
 
 nlohmann::json certificate_json(const SolveReport& r) {
@@ -314,6 +353,9 @@ nlohmann::json to_json(const SolveReport& r) {
   if (r.design) j["design"] = design_json(*r.design);
   j["sign_convention"] = sign_convention;
   if (!r.gauge_note.empty()) j["gauge"] = r.gauge_note;
+  j["units"] = units_json(r.units);
+  if (r.scale) j["scale"] = scale_json(*r.scale);
+  j["warnings"] = r.warnings;
   return j;
 }
 
@@ -348,6 +390,40 @@ std::string comparison_line(const SolveReport& r) {
 
 namespace {
 
+// " kN" after a figure, nothing when no units are stated.
+std::string with_unit(const std::string& label) { return label.empty() ? std::string() : " " + label; }
+
+// The units and the foundation's scale, a line each (post/scale.hpp says what the figures are).
+std::string scale_lines(const SolveReport& r) {
+  std::string out;
+  const scene::Units& u = r.units;
+  if (u.stated())
+    out += fmt::format("  units         {}force {}, length {}, moment {}, distributed force {}, modulus {}\n",
+                       u.system.empty() ? "" : u.system + ": ", u.force, u.length, u.moment(), u.distributed_force(),
+                       u.modulus());
+  if (!r.scale) return out;
+  const post::ScaleFigures& f = *r.scale;
+  const bool arch = r.kind == StructureKind::arch;
+  // "a" or "a..b" when the modulus varies (least..largest).
+  const auto range = [&](double least, double largest, const std::string& unit) {
+    return (f.varies() ? fmt::format("{:.4g}..{:.4g}", least, largest) : fmt::format("{:.4g}", largest)) +
+           with_unit(unit);
+  };
+  out +=
+      fmt::format("  scale         K = {}, beta = (K/4EI)^(1/4) = {}, beta {} = {}{}, 1/beta = {}\n",
+                  range(f.K_min, f.K_max, u.modulus()), range(f.beta_min, f.beta_max, u.inverse_length()),
+                  arch ? "S" : "L", range(f.beta_length_min, f.beta_length_max, ""),
+                  arch ? fmt::format(" (S = 2 gamma R), beta R = {}", range(f.beta_radius_min, f.beta_radius_max, ""))
+                       : std::string(),
+                  range(1 / f.beta_max, 1 / f.beta_min, u.length));
+  out += fmt::format(
+      "                nondimensional k = {} = {}{}\n", arch ? "K R^4/EI" : "K L^4/EI", range(f.k_min, f.k_max, ""),
+      f.beta_h >= 0
+          ? fmt::format("; mesh: beta h <= {:.3g} (h = {:.4g}{})", f.beta_h, f.element_size, with_unit(u.length))
+          : std::string());
+  return out;
+}
+
 // The certificate in two or three lines: the verdict with its largest figures, the resultants,
 // the support reactions.
 std::string certificate_lines(const SolveReport& r) {
@@ -372,18 +448,21 @@ std::string certificate_lines(const SolveReport& r) {
   } else {
     out += "  certificate   FAILED: " + c.message + "\n";
   }
-  const char* unit = arch ? " deg" : "";
-  out += fmt::format("  resultants    applied {:.6g}, moment {:.6g} about {}; foundation {:.6g} at {} = {:.6g}{}\n",
-                     u.applied_force, u.applied_moment, arch ? "the centre" : "the begin", u.foundation_resultant,
-                     arch ? "theta" : "x", u.foundation_centroid, unit);
+  const std::string unit = arch ? " deg" : with_unit(r.units.length);
+  const std::string force = with_unit(r.units.force), moment = with_unit(r.units.moment());
+  out +=
+      fmt::format("  resultants    applied {:.6g}{}, moment {:.6g}{} about {}; foundation {:.6g}{} at {} = {:.6g}{}\n",
+                  u.applied_force, force, u.applied_moment, moment, arch ? "the centre" : "the begin",
+                  u.foundation_resultant, force, arch ? "theta" : "x", u.foundation_centroid, unit);
   if (!u.support_reactions.empty()) {
     std::string supports;
     for (const certify::SupportReaction& s : u.support_reactions) {
-      supports += fmt::format("{}{} = {:.6g}{}: {}force {:.6g}", supports.empty() ? "" : "; ", arch ? "theta" : "x",
-                              s.at, unit, s.spring ? "spring " : "", s.force);
-      if (s.settlement != 0.0) supports += fmt::format(", settlement {:.6g}", s.settlement);
-      if (s.moment != 0.0) supports += fmt::format(", moment {:.6g}", s.moment);
-      if (arch && s.tangential != 0.0) supports += fmt::format(", tangential {:.6g}", s.tangential);
+      supports += fmt::format("{}{} = {:.6g}{}: {}force {:.6g}{}", supports.empty() ? "" : "; ", arch ? "theta" : "x",
+                              s.at, unit, s.spring ? "spring " : "", s.force, force);
+      if (s.settlement != 0.0)
+        supports += fmt::format(", settlement {:.6g}{}", s.settlement, with_unit(r.units.length));
+      if (s.moment != 0.0) supports += fmt::format(", moment {:.6g}{}", s.moment, moment);
+      if (arch && s.tangential != 0.0) supports += fmt::format(", tangential {:.6g}{}", s.tangential, force);
     }
     out += "  supports      " + supports + "\n";
   }
@@ -419,10 +498,12 @@ std::string design_lines(const SolveReport& r) {
 
 std::string text_summary(const SolveReport& r) {
   const bool arch = r.kind == StructureKind::arch;
-  const char* unit = arch ? " deg" : "";
+  const std::string unit = arch ? " deg" : with_unit(r.units.length);
   std::string out =
-      fmt::format("liftoff: {} ({}) on a {} foundation, k = {:.6g}\n", r.scene_name, scene::to_string(r.kind),
-                  r.tensionless ? "tensionless" : "bilateral", r.foundation_parameter);
+      fmt::format("liftoff: {} ({}) on a {} foundation, nondimensional k = {:.6g}\n", r.scene_name,
+                  scene::to_string(r.kind), r.tensionless ? "tensionless" : "bilateral", r.foundation_parameter);
+  for (const std::string& warning : r.warnings) out += "  WARNING       " + warning + "\n";
+  out += scale_lines(r);
   std::string why = r.method_reason;
   if (!r.method_requested.empty() && r.method_requested != r.method)
     why = "asked for " + r.method_requested + (why.empty() ? "" : "; " + why);
@@ -435,9 +516,11 @@ std::string text_summary(const SolveReport& r) {
     out += fmt::format("  contact       {} = {:.{}g}{} .. {:.{}g}{}\n", arch ? "theta" : "x", region[0], digits, unit,
                        region[1], digits, unit);
   if (r.comparison && r.usable && arch) out += comparison_line(r);
-  out += fmt::format("  w max         {:.6e} at {:.6g}{}\n", r.w_max, r.at_w_max, unit);
-  out += fmt::format("  w min         {:.6e} at {:.6g}{}\n", r.w_min, r.at_w_min, unit);
-  out += fmt::format("  max reaction  {:.6e} (force per unit length)\n", r.max_reaction);
+  const std::string length = with_unit(r.units.length);
+  out += fmt::format("  w max         {:.6e}{} at {:.6g}{}\n", r.w_max, length, r.at_w_max, unit);
+  out += fmt::format("  w min         {:.6e}{} at {:.6g}{}\n", r.w_min, length, r.at_w_min, unit);
+  out += fmt::format("  max reaction  {:.6e} {}\n", r.max_reaction,
+                     r.units.stated() ? r.units.distributed_force() : "(force per unit length)");
   out += fmt::format("  solver        {}\n", solver_line(r));
   if (r.estimated_limit_error >= 0 && r.modes >= 0)
     out += fmt::format("  modes         limits settled to {:.1e}{} (change from the previous N){}\n",
@@ -471,7 +554,12 @@ std::string side_by_side(const std::vector<SolveReport>& reports) {
   std::string out = fmt::format(
       "liftoff: {} ({}) on a {} foundation{}\n", reports.front().scene_name, scene::to_string(reports.front().kind),
       (known != reports.end() ? known->tensionless : reports.front().tensionless) ? "tensionless" : "bilateral",
-      known != reports.end() ? fmt::format(", k = {:.6g}", known->foundation_parameter) : std::string());
+      known != reports.end() ? fmt::format(", nondimensional k = {:.6g}", known->foundation_parameter) : std::string());
+  std::vector<std::string> warnings;  // every method's, each once
+  for (const SolveReport& r : reports)
+    for (const std::string& w : r.warnings)
+      if (std::find(warnings.begin(), warnings.end(), w) == warnings.end()) warnings.push_back(w);
+  for (const std::string& warning : warnings) out += "  WARNING       " + warning + "\n";
   auto row = [&](const std::string& label, auto cell) {
     out += fmt::format("  {:<16}", label);
     for (const auto& r : reports) out += fmt::format("{:>24}", cell(r));

@@ -19,6 +19,7 @@
 #include "post/contact_regions.hpp"
 #include "post/design.hpp"
 #include "post/fields.hpp"
+#include "post/scale.hpp"
 #include "ritz/ritz_solver.hpp"
 #include "scene/scene.hpp"
 
@@ -52,6 +53,12 @@ struct SolveReport {
   std::string coordinate_name;  // "x" or "theta_deg"
   bool tensionless = true;
   double foundation_parameter = 0.0;  // k = K l^4 / EI
+  scene::Units units;                 // the scene's [units]: labels for every output
+  // The foundation's scale (post/scale.hpp): K, beta, beta L, 1/beta, beta h; absent in a report
+  // of a method that did not run.
+  std::optional<post::ScaleFigures> scale;
+  // The scene reader's warnings (an old key name), then the scale's (post::scale_warnings).
+  std::vector<std::string> warnings;
 
   std::string method;            // the formulation that produced the answer: "dual", "primal", "fast", "ritz"
   std::string method_requested;  // what the user asked for: "auto", "dual", ... (keys --method all, sweeps)
@@ -104,6 +111,9 @@ struct SolveReport {
   certify::UserFigures certificate_figures;
   bool certified() const { return certificate && certificate->passed; }
 };
+
+// Stores the units, the scale figures (beta h from the report's mesh nodes) and every warning.
+void attach_scale(SolveReport& report, const scene::Scene& scene, const fe::MemberModel& model);
 
 // Stores the certificate in the report, converted to the user's units.
 void attach_certificate(SolveReport& report, const certify::Certificate& certificate, const fe::MemberModel& model);

@@ -419,6 +419,7 @@ TraceWriter::TraceWriter(const std::filesystem::path& path, const TraceFileInfo&
     std::string paths;
     for (const auto& p : info.paths) paths += (paths.empty() ? "" : ",") + p;
     set_string_attribute(id, "paths", paths);
+    for (const auto& [name, label] : info.units) set_string_attribute(id, ("units_" + name).c_str(), label);
     set_flag_attribute(id, "complete", false);
     write_text(id, "scene", info.scene_text);
     const hsize_t n = info.sample_points.size();

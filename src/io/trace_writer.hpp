@@ -16,7 +16,7 @@
 // Layout (README, "liftoff trace"):
 //   /                attributes: liftoff_version, scene_name, coordinate, sign_convention,
 //                    options (JSON), paths ("fe", "ritz" or "fe,ritz"), complete (0 until the
-//                    last path ends)
+//                    last path ends), units_<name> (TraceFileInfo::units)
 //   /scene           the scene's TOML text
 //   /sample_points   the points where w and r are recorded (user coordinate)
 //   /PATH/           one group per path run ("fe", "ritz", "fe_refined"); attributes complete,
@@ -30,6 +30,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "continuation/trace.hpp"
@@ -45,6 +46,9 @@ struct TraceFileInfo {
   std::string options;     // JSON text: what a resumed run must match
   std::vector<std::string> paths;
   std::vector<double> sample_points;
+  // The scene's units (scene::unit_labels: name, label), written as root attributes units_<name>
+  // (the solve file's); not read back.
+  std::vector<std::pair<std::string, std::string>> units;
 };
 
 // One path's part of a file, as read back.

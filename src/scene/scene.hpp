@@ -13,6 +13,8 @@
 #include <string_view>
 #include <vector>
 
+#include "scene/units.hpp"
+
 namespace liftoff::scene {
 
 enum class StructureKind { beam, arch };
@@ -95,20 +97,22 @@ struct Supports {
 };
 
 // One piece of the foundation ([[foundation.segments]]): its extent and its modulus, exactly one
-// of k (nondimensional) and modulus (force per length per length); constant, or linear from
+// of nondimensional_k (K l^4/EI; its old name `k` is read with a warning) and modulus (K, force
+// per length per length); constant, or linear from
 // `from` to `to` when given as [at from, at to].
 struct FoundationSegment {
   double from = 0.0;  // user coordinate, from < to
   double to = 0.0;
-  std::optional<double> stiffness_parameter;  // key "k" (at `from` when linear)
+  std::optional<double> stiffness_parameter;  // key "nondimensional_k" (at `from` when linear)
   std::optional<double> modulus;              // key "modulus" (at `from` when linear)
   std::optional<double> at_to{};              // linear: the k or modulus (as given) at `to`
 };
 
 struct Foundation {
-  // Exactly one of the two is given: k = K L^4/EI (beam) or K R^4/EI (arch), or K itself.
-  // Both absent when the foundation is given as segments.
-  std::optional<double> stiffness_parameter;  // key "k"
+  // Exactly one of the two is given: nondimensional_k = K L^4/EI (beam) or K R^4/EI (arch), or K
+  // itself. Both absent when the foundation is given as segments. (The old name of
+  // nondimensional_k, `k`, is read with a warning: engineers call the dimensional K "k".)
+  std::optional<double> stiffness_parameter;  // key "nondimensional_k"
   std::optional<double> modulus;              // key "modulus", force per length per length
   bool tensionless = true;                    // false: conventional bilateral foundation
   double from = 0.0;                          // extent of the foundation, user coordinate;
@@ -128,9 +132,12 @@ struct Foundation {
   std::string gap_key() const { return gap_file.empty() ? "foundation.gap" : "foundation.gap_file"; }
   // The key that gave the tension modulus, for messages; empty without one.
   std::string tension_key() const {
-    return tension_modulus ? "foundation.tension_modulus" : tension_stiffness_parameter ? "foundation.tension_k" : "";
+    return tension_modulus               ? "foundation.tension_modulus"
+           : tension_stiffness_parameter ? "foundation.tension_nondimensional_k"
+                                         : "";
   }
-  // The bilinear foundation's modulus in tension (keys `tension_modulus` or `tension_k`).
+  // The bilinear foundation's modulus in tension (keys `tension_modulus` or
+  // `tension_nondimensional_k`, old name `tension_k`).
   std::optional<double> tension_modulus;
   std::optional<double> tension_stiffness_parameter;
 };
@@ -210,6 +217,10 @@ struct Scene {
   RitzSettings ritz;
   std::optional<TraceSettings> trace;  // absent when the scene has no [trace] table
   std::optional<Comparison> compare;   // absent when the scene has no [compare] table
+  Units units;                         // [units]: labels only (none stated: all empty)
+  // What the reader accepted but the user should hear about (an old key name), one line each,
+  // "FILE:LINE: key 'PATH': ...": every output carries them (SolveReport::warnings).
+  std::vector<std::string> warnings;
 
   // Ends of the member in the user's coordinate: [0, L] or [-gamma, gamma] degrees.
   double begin() const;

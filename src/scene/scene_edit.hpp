@@ -7,7 +7,7 @@
 
 namespace liftoff::scene {
 
-// Sets the number at `key` ("foundation.k", "loads[1].value", "solve.elements") in the TOML
+// Sets the number at `key` ("foundation.modulus", "loads[1].value", "solve.elements") in the TOML
 // text and returns the new text (comments are not kept). The tables on the path must exist; the
 // last key may be new. An integer stays an integer when the new value is integral. Throws
 // InputError ("SOURCE: key 'KEY': ...") for a path that does not exist or is not a table.

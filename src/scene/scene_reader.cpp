@@ -45,8 +45,8 @@ const std::vector<TableSpec>& schema() {
       {"supports", false, {"left", "right", "interior"}},
       {"foundation",
        false,
-       {"k", "modulus", "tensionless", "from", "to", "segments", "side", "gap", "gap_file", "tension_modulus",
-        "tension_k"}},
+       {"nondimensional_k", "modulus", "tensionless", "from", "to", "segments", "side", "gap", "gap_file",
+        "tension_modulus", "tension_nondimensional_k", "k", "tension_k"}},
       {"loads", true, {"kind", "at", "value", "from", "to", "case", "direction", "per"}},
       {"solve", false, {"method", "elements", "tolerance"}},
       {"ritz", false, {"modes", "max_modes", "mode_tolerance", "topology", "limits"}},
@@ -55,6 +55,7 @@ const std::vector<TableSpec>& schema() {
        {"lambda_max", "lambda_min", "method", "control", "initial_step", "min_step", "max_step", "max_steps", "monitor",
         "samples", "refine"}},
       {"compare", false, {"source", "contact_half_angle_deg"}},
+      {"units", false, {"system", "length", "force"}},
   };
   return tables;
 }
@@ -247,6 +248,12 @@ class Section {
     const toml::node* node = find(key);
     const toml::source_region* where = node != nullptr ? &node->source() : path_.empty() ? nullptr : &table_.source();
     scene::fail(source_, where, path(key), problem);
+  }
+  // "FILE:LINE: key 'PATH'" of a present key, as fail() starts its message (for warnings).
+  std::string located(std::string_view key) const {
+    const toml::node* node = find(key);
+    const auto line = node != nullptr ? node->source().begin.line : 0;
+    return fmt::format("{}{}: key '{}'", source_, line > 0 ? fmt::format(":{}", line) : "", escaped(path(key)));
   }
   [[noreturn]] void wrong(std::string_view key, std::string_view expected, std::string_view hint = {}) const {
     fail(key, fmt::format("expected {}, got {}{}", expected, describe(*find(key)),
@@ -597,9 +604,27 @@ std::pair<double, double> read_extent(const Section& s, const Member& member) {
   return {from, to};
 }
 
-// One [[foundation.segments]] entry: from < to inside the member, exactly one of k and modulus.
-FoundationSegment read_segment(const Section& s, const Member& member) {
-  static const TableSpec spec{"foundation.segments", true, {"from", "to", "k", "modulus"}};
+// The key of a nondimensional modulus in `s`: `name` (nondimensional_k, tension_nondimensional_k),
+// or its old name (k, tension_k), read with a warning that says what it is and what the
+// dimensional K's key is: engineers call the subgrade modulus K "k", and k = 2.5e7 meant as
+// N/m^2 used to be read, silently, as K L^4/EI. Both names at once: refused.
+std::string_view renamed_key(const Section& s, std::string_view name, std::string_view old,
+                             std::vector<std::string>& warnings) {
+  const toml::node* node = s.find(old);
+  if (node == nullptr) return name;
+  if (s.find(name) != nullptr)
+    s.fail(old, fmt::format("expected one of '{}' and '{}' (its old name), got both", name, old));
+  warnings.push_back(fmt::format(
+      "{}: '{}' is the old name of '{}' (K l^4/EI, nondimensional; l = L for a beam, R for an arch): read as {} "
+      "= {}; the dimensional foundation modulus K (force per length per length) is 'modulus'",
+      s.located(old), old, name, name, describe(*node)));
+  return old;
+}
+
+// One [[foundation.segments]] entry: from < to inside the member, exactly one of nondimensional_k
+// and modulus.
+FoundationSegment read_segment(const Section& s, const Member& member, std::vector<std::string>& warnings) {
+  static const TableSpec spec{"foundation.segments", true, {"from", "to", "nondimensional_k", "modulus", "k"}};
   s.check_keys(spec);
   FoundationSegment piece;
   piece.from = s.required_number("from", member.position());
@@ -607,7 +632,7 @@ FoundationSegment read_segment(const Section& s, const Member& member) {
   if (!(piece.from < piece.to))
     s.fail("to", fmt::format("expected from < to, got from = {} and to = {}", piece.from, piece.to));
   // A number, or [at from, at to] for a linear variation (equal ends: constant).
-  auto value = [&](const char* key) -> std::optional<double> {
+  auto value = [&](std::string_view key) -> std::optional<double> {
     const toml::node* node = s.find(key);
     if (node == nullptr || !node->is_array()) return s.number(key, positive());
     const char* expected = "a number > 0, or two numbers > 0 [at from, at to] for a linear variation";
@@ -616,15 +641,17 @@ FoundationSegment read_segment(const Section& s, const Member& member) {
     if (ends[1] != ends[0]) piece.at_to = ends[1];
     return ends[0];
   };
-  piece.stiffness_parameter = value("k");
+  const std::string_view k = renamed_key(s, "nondimensional_k", "k", warnings);
+  piece.stiffness_parameter = value(k);
   piece.modulus = value("modulus");
   if (piece.stiffness_parameter && piece.modulus)
-    s.fail("modulus", "expected exactly one of 'k' and 'modulus', got both");
-  if (!piece.stiffness_parameter && !piece.modulus) s.missing("k", "exactly one of 'k' and 'modulus', a number > 0");
+    s.fail("modulus", fmt::format("expected exactly one of '{}' and 'modulus', got both", k));
+  if (!piece.stiffness_parameter && !piece.modulus)
+    s.missing("nondimensional_k", "exactly one of 'nondimensional_k' (K l^4/EI) and 'modulus' (K), a number > 0");
   return piece;
 }
 
-Foundation read_foundation_moduli(const Section& s, const Member& member);
+Foundation read_foundation_moduli(const Section& s, const Member& member, std::vector<std::string>& warnings);
 
 // A ground-gap table's positions: non-decreasing, each at most twice (a step).
 void check_gap_positions(const std::vector<double>& at, const std::function<void(std::string)>& fail) {
@@ -694,7 +721,7 @@ void read_gap_file(const Section& s, Foundation& f) {
 }
 
 // The ground gap and the bilinear foundation's tension modulus (after the compression moduli).
-void read_gap_and_tension(const Section& s, Foundation& f) {
+void read_gap_and_tension(const Section& s, Foundation& f, std::vector<std::string>& warnings) {
   if (s.find("gap") != nullptr && s.find("gap_file") != nullptr)
     s.fail("gap_file", "expected one of 'gap' and 'gap_file', got both");
   if (s.find("gap") != nullptr) read_gap_table(s, f);
@@ -702,11 +729,12 @@ void read_gap_and_tension(const Section& s, Foundation& f) {
 
   const Range non_negative{"a number >= 0", 0.0, inf};
   f.tension_modulus = s.number("tension_modulus", non_negative);
-  f.tension_stiffness_parameter = s.number("tension_k", non_negative);
+  const std::string_view tension_k = renamed_key(s, "tension_nondimensional_k", "tension_k", warnings);
+  f.tension_stiffness_parameter = s.number(tension_k, non_negative);
   if (!f.tension_modulus && !f.tension_stiffness_parameter) return;
-  const char* key = f.tension_modulus ? "tension_modulus" : "tension_k";
+  const std::string_view key = f.tension_modulus ? "tension_modulus" : tension_k;
   if (f.tension_modulus && f.tension_stiffness_parameter)
-    s.fail("tension_k", "expected one of 'tension_modulus' and 'tension_k', got both");
+    s.fail(tension_k, fmt::format("expected one of 'tension_modulus' and '{}', got both", tension_k));
   if (!f.tensionless)
     s.fail(key, "not allowed with tensionless = false (a bilateral foundation resists tension with its full modulus)");
   // The compression moduli, of the kind the tension modulus must share.
@@ -715,9 +743,10 @@ void read_gap_and_tension(const Section& s, Foundation& f) {
   const double tension = f.tension_modulus ? *f.tension_modulus : *f.tension_stiffness_parameter;
   for (const FoundationSegment& piece : compression) {
     if (f.tension_modulus && !piece.modulus)
-      s.fail(key, "expected 'tension_k' (nondimensional) for a foundation given by 'k', got 'tension_modulus'");
+      s.fail(key,
+             "expected 'tension_nondimensional_k' for a foundation given by 'nondimensional_k', got 'tension_modulus'");
     if (f.tension_stiffness_parameter && !piece.stiffness_parameter)
-      s.fail(key, "expected 'tension_modulus' for a foundation given by 'modulus', got 'tension_k'");
+      s.fail(key, fmt::format("expected 'tension_modulus' for a foundation given by 'modulus', got '{}'", key));
     const double c = piece.stiffness_parameter ? *piece.stiffness_parameter : *piece.modulus;
     if (!piece.at_to && tension > c)
       s.fail(key, fmt::format("expected at most the compression modulus {} everywhere, got {}", c, tension));
@@ -729,26 +758,26 @@ void read_gap_and_tension(const Section& s, Foundation& f) {
   }
 }
 
-Foundation read_foundation(const Section& s, const Member& member) {
-  Foundation f = read_foundation_moduli(s, member);
-  read_gap_and_tension(s, f);
+Foundation read_foundation(const Section& s, const Member& member, std::vector<std::string>& warnings) {
+  Foundation f = read_foundation_moduli(s, member, warnings);
+  read_gap_and_tension(s, f, warnings);
   return f;
 }
 
-Foundation read_foundation_moduli(const Section& s, const Member& member) {
+Foundation read_foundation_moduli(const Section& s, const Member& member, std::vector<std::string>& warnings) {
   Foundation f;
   f.tensionless = s.flag("tensionless").value_or(true);
   if (const toml::node* segments = s.find("segments"); segments != nullptr) {
     const toml::array* array = segments->as_array();
     if (array == nullptr || array->empty()) s.wrong("segments", "a non-empty array of tables [[foundation.segments]]");
-    for (const auto key : {"k", "modulus", "from", "to"})
+    for (const auto key : {"nondimensional_k", "k", "modulus", "from", "to"})
       s.refuse(key, "together with [[foundation.segments]] (each segment gives its own extent and modulus)");
     std::vector<std::pair<FoundationSegment, std::size_t>> pieces;
     for (std::size_t i = 0; i < array->size(); ++i) {
       const toml::node& item = *array->get(i);
       const std::string path = s.path(fmt::format("segments[{}]", i));
       if (!item.is_table()) s.wrong("segments", "an array of tables [[foundation.segments]]");
-      pieces.emplace_back(read_segment(Section(s.source(), *item.as_table(), path), member), i);
+      pieces.emplace_back(read_segment(Section(s.source(), *item.as_table(), path), member, warnings), i);
     }
     std::sort(pieces.begin(), pieces.end(), [](const auto& a, const auto& b) { return a.first.from < b.first.from; });
     for (std::size_t i = 1; i < pieces.size(); ++i) {
@@ -769,13 +798,14 @@ Foundation read_foundation_moduli(const Section& s, const Member& member) {
     f.to = f.segments.back().to;
     return f;
   }
-  f.stiffness_parameter = s.number("k", positive());
+  const std::string_view k = renamed_key(s, "nondimensional_k", "k", warnings);
+  f.stiffness_parameter = s.number(k, positive());
   f.modulus = s.number("modulus", positive());
   if (f.stiffness_parameter && f.modulus) {
-    s.fail("modulus", "expected exactly one of 'k' and 'modulus', got both");
+    s.fail("modulus", fmt::format("expected exactly one of '{}' and 'modulus', got both", k));
   }
   if (!f.stiffness_parameter && !f.modulus) {
-    s.missing("k", "exactly one of 'k' and 'modulus', a number > 0");
+    s.missing("nondimensional_k", "exactly one of 'nondimensional_k' (K l^4/EI) and 'modulus' (K), a number > 0");
   }
   std::tie(f.from, f.to) = read_extent(s, member);
   if (member.arch) {
@@ -973,6 +1003,36 @@ Comparison read_compare(const Section& s, const Structure& structure) {
   return c;
 }
 
+// [units]: system = "FORCE-LENGTH", or the free labels length and force; exactly one of the two
+// ways. Labels only: nothing numeric depends on them.
+Units read_units(const Section& s) {
+  const bool labels = s.find("length") != nullptr || s.find("force") != nullptr;
+  if (const toml::node* system = s.find("system"); system != nullptr) {
+    if (labels)
+      s.fail(s.find("length") != nullptr ? "length" : "force",
+             "expected either 'system' or the labels 'length' and 'force', got both ways");
+    const std::string expected = fmt::format("one of {}", unit_systems());
+    if (!system->is_string()) s.wrong("system", expected);
+    const std::optional<Units> units = units_of_system(system->as_string()->get());
+    if (!units) s.wrong("system", expected, "or give free labels: length = \"m\", force = \"kN\"");
+    return *units;
+  }
+  if (!labels) s.missing("system", fmt::format("one of {}, or the labels 'length' and 'force'", unit_systems()));
+  Units units;
+  for (const auto& [key, label] : {std::pair{"length", &units.length}, std::pair{"force", &units.force}}) {
+    const char* expected = "a label of 1 to 32 printable characters (e.g. \"m\", \"kN\")";
+    const toml::node* node = s.find(key);
+    if (node == nullptr) s.missing(key, fmt::format("{}, with the other label", expected));
+    const toml::value<std::string>* text = node->as_string();
+    if (text == nullptr || text->get().empty() || text->get().size() > 32 ||
+        std::any_of(text->get().begin(), text->get().end(),
+                    [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }))
+      s.wrong(key, expected);
+    *label = text->get();
+  }
+  return units;
+}
+
 }  // namespace
 
 Scene parse_scene(std::string_view toml_text, std::string source_name) {
@@ -997,7 +1057,7 @@ Scene parse_scene(std::string_view toml_text, std::string source_name) {
   scene.structure = read_structure(root.required_section("structure"));
   const Member member{scene.begin(), scene.end(), scene.structure.kind == StructureKind::arch};
   scene.supports = read_supports(root.required_section("supports"), member);
-  scene.foundation = read_foundation(root.required_section("foundation"), member);
+  scene.foundation = read_foundation(root.required_section("foundation"), member, scene.warnings);
   if (const toml::node* loads = root.find("loads")) {
     const toml::array& array = *loads->as_array();  // the shape is checked above
     for (std::size_t i = 0; i < array.size(); ++i) {
@@ -1012,6 +1072,7 @@ Scene parse_scene(std::string_view toml_text, std::string source_name) {
     if (!member.arch) root.refuse("compare", "for a beam (arches only: the contact half-angle around the crown)");
     scene.compare = read_compare(root.section("compare"), scene.structure);
   }
+  if (root.find("units") != nullptr) scene.units = read_units(root.section("units"));
   return scene;
 }
 

@@ -58,7 +58,7 @@ EI = 3.0
 left = "pinned"
 right = "pinned"
 [foundation]
-k = 1.0e4
+nondimensional_k = 1.0e4
 [[loads]]
 kind = "force"
 at = 1.0
@@ -70,7 +70,7 @@ elements = 40
 // A free-free unit beam on a foundation k with a central force.
 std::string free_beam(double k, double force) {
   return "[structure]\nkind = \"beam\"\nlength = 1.0\nEI = 1.0\n[supports]\nleft = \"free\"\nright = \"free\"\n"
-         "[foundation]\nk = " +
+         "[foundation]\nnondimensional_k = " +
          std::to_string(k) + "\n[[loads]]\nkind = \"force\"\nat = 0.5\nvalue = " + std::to_string(force) + "\n";
 }
 
@@ -271,7 +271,7 @@ TEST_CASE("cli: an integer a double cannot hold is refused by key, not read as 1
   k.replace(k.find("k = 1.0e4"), 9, "k = 9007199254740993");
   const Run rk = run({"solve", scratch.write("bigk.toml", k).string()});
   CHECK(rk.status == 2);  // was exit 1, "solve_lemke: M contains NaN or Inf"
-  CHECK_THAT(rk.err, Catch::Matchers::Contains("key 'foundation.k'"));
+  CHECK_THAT(rk.err, Catch::Matchers::Contains("key 'foundation.nondimensional_k'"));
 }
 
 TEST_CASE("cli: an output never replaces the scene or another output; exit 2, nothing written", "[app][errors]") {
@@ -399,7 +399,7 @@ TEST_CASE("cli: --method all shows the scene's k and no counters for a refused m
   const fs::path free = scratch.write("free.toml", free_beam(5184.0, 1.0) + "[solve]\nelements = 40\n");
   const Run r = run({"solve", free.string(), "--method", "all", "--modes", "8"});
   REQUIRE(r.status == 0);
-  CHECK_THAT(r.out, Catch::Matchers::Contains("on a tensionless foundation, k = 5184\n"));
+  CHECK_THAT(r.out, Catch::Matchers::Contains("on a tensionless foundation, nondimensional k = 5184\n"));
   // The dual is refused: no "-1 elements", "-1 pivots" or residual -1.0e+00, but "-".
   CHECK_THAT(r.out, !Catch::Matchers::Contains(" -1 ") && !Catch::Matchers::Contains(" -1.0e+00"));
   std::istringstream lines(r.out);
@@ -719,4 +719,111 @@ TEST_CASE("cli: --csv-fields writes the sampled fields; an unwritable one is exi
   CHECK(one_line(bad.err));
   CHECK_FALSE(fs::exists(h5));
   CHECK_FALSE(fs::exists(h5.string() + ".tmp"));
+
+// The issue's trap: the B70 sleeper (verification/scenes/engineering/sleeper_b70_ballast.toml) with
+// its modulus K = 2.5e7 N/m^2 written as the old nondimensional key k.
+const char* sleeper_trap = R"(
+[structure]
+kind = "beam"
+length = 2.6
+EI = 4.5e6
+[supports]
+left = "free"
+right = "free"
+[foundation]
+k = 2.5e7
+[[loads]]
+kind = "force"
+at = 0.55
+value = 125.0e3
+[[loads]]
+kind = "force"
+at = 2.05
+value = 125.0e3
+[units]
+system = "N-m"
+)";
+
+TEST_CASE("cli: units and the foundation's scale in the summary, JSON and HDF5; the trap warns", "[app][units]") {
+  Scratch scratch;
+  const fs::path scene = scratch.write("trap.toml", sleeper_trap);
+  const Run text = run({"solve", scene.string()});
+  REQUIRE(text.status == 0);
+  CHECK_THAT(text.out, Catch::Contains("  WARNING       " + scene.string() +
+                                       ":10: key 'foundation.k': 'k' is the "
+                                       "old name of 'nondimensional_k'"));
+  CHECK_THAT(text.out, Catch::Contains("  WARNING       foundation: nondimensional_k = 2.5e+07 (K L^4/EI) gives beta "
+                                       "L = 50") &&
+                           Catch::Contains("write modulus = 2.5e+07 instead"));
+  CHECK_THAT(text.out, Catch::Contains("  units         N-m: force N, length m, moment N m"));
+  CHECK_THAT(text.out, Catch::Contains("beta L = 50, 1/beta = 0.052 m"));
+  CHECK_THAT(text.out, Catch::Contains(" m at ") && Catch::Contains("max reaction") && Catch::Contains(" N/m\n"));
+
+  const fs::path output = scratch.dir / "trap.h5";
+  const Run r = run({"solve", scene.string(), "--json", "--output", output.string()});
+  REQUIRE(r.status == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  CHECK(j["units"]["length"] == "m");
+  CHECK(j["units"]["force"] == "N");
+  CHECK(j["units"]["modulus"] == "N/m^2");
+  CHECK(j["scale"]["beta_L"].get<double>() == Approx(50.0).epsilon(1e-14));  // (2.5e7/4)^(1/4), round-off
+  CHECK(j["scale"]["nondimensional_k"] == 2.5e7);
+  REQUIRE(j["warnings"].size() == 3);  // the old key, the likely mistake, a K no real bed has
+  CHECK_THAT(j["warnings"][1].get<std::string>(), Catch::Contains("write modulus = 2.5e+07 instead"));
+  const fs::path script = scratch.write("units.py", R"(
+import sys, h5py
+f = h5py.File(sys.argv[1], "r")
+print(f.attrs["units_length"], f.attrs["units_force"], f.attrs["units_moment"].replace(" ", "_"), "modulus = 2.5e+07" in f.attrs["warnings"], round(float(f.attrs["scale_beta_L"]), 9))
+)");
+  const fs::path printed = scratch.dir / "units.txt";
+  REQUIRE(std::system(
+              ("/usr/bin/python3 " + script.string() + " " + output.string() + " > " + printed.string()).c_str()) == 0);
+  std::ifstream in(printed);
+  std::string length, force, moment, warned, beta_L;
+  in >> length >> force >> moment >> warned >> beta_L;
+  CHECK(length == "m");
+  CHECK(force == "N");
+  CHECK(moment == "N_m");
+  CHECK(warned == "True");
+  CHECK(beta_L == "50.0");
+
+  // Written as `modulus` (what was meant): no warning, and full contact.
+  std::string meant = sleeper_trap;
+  meant.replace(meant.find("k = 2.5e7"), 9, "modulus = 2.5e7");
+  const Run fixed = run({"solve", scratch.write("meant.toml", meant).string(), "--json"});
+  REQUIRE(fixed.status == 0);
+  const auto m = nlohmann::json::parse(fixed.out);
+  CHECK(m["warnings"].empty());
+  CHECK(m["contact_regions"].size() == 1);
+}
+
+TEST_CASE("cli: a bad [units] is bad input: exit 2, one line naming the file and the key", "[app][units]") {
+  Scratch scratch;
+  std::string text = sleeper_trap;
+  text.replace(text.find("system = \"N-m\""), 14, "system = \"N-m\"\nforce = \"kN\"");
+  const fs::path scene = scratch.write("bad_units.toml", text);
+  const fs::path output = scratch.dir / "never.h5";
+  const Run r = run({"solve", scene.string(), "--output", output.string()});
+  CHECK(r.status == 2);
+  CHECK(one_line(r.err));
+  CHECK_THAT(r.err, Catch::Contains(scene.string() + ":21: key 'units.force': expected either 'system' or the "
+                                                     "labels 'length' and 'force', got both ways"));
+  CHECK_FALSE(fs::exists(output));
+}
+
+TEST_CASE("cli: sweeps edit the renamed key under either name and report warnings on stderr", "[app][units]") {
+  Scratch scratch;
+  const fs::path old_scene = scratch.write("old.toml", sleeper_trap);  // k = 2.5e7 (the old name)
+  // The new name edits the old key (no second key, which the reader would refuse).
+  const Run r = run({"sweep", old_scene.string(), "--set", "foundation.nondimensional_k=2.5e7,254", "--jobs", "1"});
+  REQUIRE(r.status == 0);
+  CHECK_THAT(r.err, Catch::Contains("liftoff: warning: ") && Catch::Contains("'k' is the old name"));
+  CHECK_THAT(r.err, Catch::Contains("foundation.nondimensional_k=2.5e+07]: foundation: nondimensional_k = 2.5e+07"));
+  CHECK_THAT(r.err, !Catch::Contains("nondimensional_k = 254 (K L^4/EI) gives"));  // the plausible case is quiet
+  // And the old name edits the new key.
+  std::string renamed = sleeper_trap;
+  renamed.replace(renamed.find("k = 2.5e7"), 9, "nondimensional_k = 2.5e7");
+  const Run n = run({"sweep", scratch.write("new.toml", renamed).string(), "--set", "foundation.k=254", "--jobs", "1"});
+  REQUIRE(n.status == 0);
+  CHECK_THAT(n.err, !Catch::Contains("warning"));
 }

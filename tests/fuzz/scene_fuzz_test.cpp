@@ -519,7 +519,7 @@ Case sweep_case(Random& random, int) {
   c.args = {"sweep", c.scene};
   // Stiffnesses keep their sign; loads may change theirs; elements stay integers.
   std::vector<std::string> keys{"structure.EI"};
-  for (const char* key : {"k", "modulus"})  // (none with [[foundation.segments]])
+  for (const char* key : {"nondimensional_k", "modulus"})  // (none with [[foundation.segments]])
     if (d.has("foundation", key)) keys.push_back(fmt::format("foundation.{}", key));
   int load = 0;
   for (const auto& t : d.tables)

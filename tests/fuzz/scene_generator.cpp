@@ -187,7 +187,7 @@ Draft valid_scene(Random& random, const SceneLimits& limits) {
   Table foundation{"foundation", false, {}};
   const double k = random.log_uniform(1e-1, 1e9);
   if (random.chance(0.6))
-    foundation.entries.push_back({"k", written(random, k)});
+    foundation.entries.push_back({"nondimensional_k", written(random, k)});
   else
     foundation.entries.push_back({"modulus", written(random, k * EI / std::pow(length_scale, 4))});
   if (random.chance(0.3))
@@ -212,9 +212,9 @@ Draft valid_scene(Random& random, const SceneLimits& limits) {
   const bool bilateral = std::any_of(foundation.entries.begin(), foundation.entries.end(),
                                      [](const Entry& e) { return e.key == "tensionless" && e.value == "false"; });
   if (!bilateral && random.chance(0.1)) {  // issue 12: the bilinear foundation, at most the compression modulus
-    const bool by_k = foundation.entries.front().key == "k";
+    const bool by_k = foundation.entries.front().key == "nondimensional_k";
     const double fraction = random.chance(0.2) ? 1.0 : random.uniform(0.0, 1.0);
-    foundation.entries.push_back({by_k ? "tension_k" : "tension_modulus",
+    foundation.entries.push_back({by_k ? "tension_nondimensional_k" : "tension_modulus",
                                   toml_number(fraction * (by_k ? k : k * EI / std::pow(length_scale, 4)))});
   }
   // Issue 12: sometimes the foundation as [[foundation.segments]] instead: pieces with voids
@@ -224,8 +224,8 @@ Draft valid_scene(Random& random, const SceneLimits& limits) {
   std::vector<double> piece_ends;
   if (random.chance(0.25)) {
     std::erase_if(foundation.entries, [](const Entry& e) {
-      return e.key == "k" || e.key == "modulus" || e.key == "from" || e.key == "to" || e.key == "tension_k" ||
-             e.key == "tension_modulus";  // a tension key names the pieces' kind
+      return e.key == "nondimensional_k" || e.key == "modulus" || e.key == "from" || e.key == "to" ||
+             e.key == "tension_nondimensional_k" || e.key == "tension_modulus";  // a tension key names the pieces' kind
     });
     const double span = d.end - d.begin;
     std::vector<double> at{d.begin, d.end};
@@ -244,7 +244,7 @@ Draft valid_scene(Random& random, const SceneLimits& limits) {
       std::string value = written(random, k_here * scale);
       if (random.chance(0.35))
         value = "[" + value + ", " + written(random, k_here * random.log_uniform(0.2, 5.0) * scale) + "]";
-      piece.entries.push_back({modulus ? "modulus" : "k", value});
+      piece.entries.push_back({modulus ? "modulus" : "nondimensional_k", value});
       if (random.chance(0.2)) std::reverse(piece.entries.begin(), piece.entries.end());
       segments.push_back(piece);
       piece_ends.push_back(at[i]);
@@ -409,8 +409,9 @@ const std::map<std::string, std::vector<std::string>>& schema_keys() {
       {"structure", {"kind", "length", "radius", "half_angle_deg", "EI", "EA"}},
       {"supports", {"left", "right", "interior"}},
       {"foundation",
-       {"k", "modulus", "tensionless", "from", "to", "side", "gap", "gap_file", "tension_modulus", "tension_k"}},
-      {"foundation.segments", {"from", "to", "k", "modulus"}},
+       {"nondimensional_k", "modulus", "tensionless", "from", "to", "side", "gap", "gap_file", "tension_modulus",
+        "tension_nondimensional_k"}},
+      {"foundation.segments", {"from", "to", "nondimensional_k", "modulus"}},
       {"loads", {"kind", "at", "value", "from", "to", "case", "direction", "per"}},
       {"solve", {"method", "elements"}},
       {"ritz", {"modes", "max_modes", "mode_tolerance", "topology", "limits"}},
@@ -506,7 +507,7 @@ std::string out_of_range(Random& random, const Draft& d, const Table& t, const E
     return random.pick(std::vector<std::string>{"0.0", "-1.5", "0", "-0.0", "-1e-300"});
   if (k == "half_angle_deg") return random.pick(std::vector<std::string>{"0.0", "180.0", "181", "-10.0", "360.0"});
   const bool foundation = t.name == "foundation" || t.name == "foundation.segments";
-  if (foundation && (k == "k" || k == "modulus"))
+  if (foundation && (k == "nondimensional_k" || k == "modulus"))
     return random.pick(std::vector<std::string>{"0.0", "-3.0", "0", "[0.0, 1.0]", "[1.0, -2.0]"});
   if (k == "at" || k == "monitor" || ((k == "from" || k == "to") && (t.name == "loads" || foundation))) return outside;
   if (k == "interior")
@@ -529,13 +530,15 @@ std::string out_of_range(Random& random, const Draft& d, const Table& t, const E
 Mutant malformed_segments(Random& random, Draft d) {
   std::erase_if(d.tables, [](const Table& t) { return t.name == "foundation.segments"; });
   Table& foundation = *d.find("foundation");
-  std::erase_if(foundation.entries,
-                [](const Entry& e) { return e.key == "k" || e.key == "modulus" || e.key == "from" || e.key == "to"; });
+  std::erase_if(foundation.entries, [](const Entry& e) {
+    return e.key == "nondimensional_k" || e.key == "modulus" || e.key == "from" || e.key == "to";
+  });
   const double span = d.end - d.begin, middle = d.begin + 0.5 * span;
   auto piece = [](double from, double to, const char* key, const char* value) {
     return Table{"foundation.segments", true, {{"from", toml_number(from)}, {"to", toml_number(to)}, {key, value}}};
   };
-  std::vector<Table> pieces{piece(d.begin, middle, "k", "100.0"), piece(middle, d.end, "modulus", "[2.0, 3.0]")};
+  std::vector<Table> pieces{piece(d.begin, middle, "nondimensional_k", "100.0"),
+                            piece(middle, d.end, "modulus", "[2.0, 3.0]")};
   Table& p = pieces[random.next() % 2];
   std::string what;
   switch (random.integer(0, 9)) {
@@ -556,7 +559,7 @@ Mutant malformed_segments(Random& random, Draft d) {
       what = "from >= to";
       break;
     case 3:
-      p.entries.push_back({p.entries[2].key == "k" ? "modulus" : "k", "1.0"});
+      p.entries.push_back({p.entries[2].key == "nondimensional_k" ? "modulus" : "nondimensional_k", "1.0"});
       what = "both k and modulus";
       break;
     case 4:
@@ -566,8 +569,8 @@ Mutant malformed_segments(Random& random, Draft d) {
       break;
     case 5:
       foundation.entries.push_back(
-          {random.pick(std::vector<std::string>{"k", "modulus", "from", "to"}), toml_number(d.begin)});
-      if (foundation.entries.back().key == "k" || foundation.entries.back().key == "modulus")
+          {random.pick(std::vector<std::string>{"nondimensional_k", "modulus", "from", "to"}), toml_number(d.begin)});
+      if (foundation.entries.back().key == "nondimensional_k" || foundation.entries.back().key == "modulus")
         foundation.entries.back().value = "10.0";
       what = "with [foundation] k, modulus, from or to";
       break;
@@ -621,12 +624,13 @@ Mutant mutate(Random& random, Draft d) {
         required.push_back({"structure", "length"});
       }
       if (const Table* piece = d.find("foundation.segments")) {  // the first piece's from, to, k or modulus
-        for (const char* key : {"from", "to", "k", "modulus"})
+        for (const char* key : {"from", "to", "nondimensional_k", "modulus"})
           if (d.has("foundation.segments", key) &&
               std::any_of(piece->entries.begin(), piece->entries.end(), [&](const Entry& e) { return e.key == key; }))
             required.push_back({"foundation.segments", key});
       } else {
-        required.push_back({"foundation", d.find("foundation", "k") != nullptr ? "k" : "modulus"});
+        required.push_back(
+            {"foundation", d.find("foundation", "nondimensional_k") != nullptr ? "nondimensional_k" : "modulus"});
       }
       if (random.chance(0.2)) {
         const std::string table = random.pick(std::vector<std::string>{"structure", "supports", "foundation"});
@@ -762,9 +766,10 @@ Mutant mutate(Random& random, Draft d) {
       if (random.chance(0.3)) {  // or the foundation's gap and tension keys
         Table& foundation = *d.find("foundation");
         std::erase_if(foundation.entries, [](const Entry& e) {
-          return e.key == "gap" || e.key == "tension_k" || e.key == "tension_modulus" || e.key == "tensionless";
+          return e.key == "gap" || e.key == "tension_nondimensional_k" || e.key == "tension_modulus" ||
+                 e.key == "tensionless";
         });
-        const bool by_k = !foundation.entries.empty() && foundation.entries.front().key == "k";
+        const bool by_k = !foundation.entries.empty() && foundation.entries.front().key == "nondimensional_k";
         const bool by_modulus = !foundation.entries.empty() && foundation.entries.front().key == "modulus";
         int kind = random.integer(0, 6);
         if (kind == 5 && !by_k && !by_modulus) kind = 4;  // segments: which tension key fits depends on them
@@ -776,11 +781,11 @@ Mutant mutate(Random& random, Draft d) {
           foundation.entries.push_back({"gap", "{ at = [0.5], value = [0.0] }", Type::positions});
           foundation.entries.push_back({"gap_file", "\"seabed.csv\"", Type::name});
         }
-        if (kind == 4) foundation.entries.push_back({by_k ? "tension_k" : "tension_modulus", "-1.0"});
-        if (kind == 5) foundation.entries.push_back({by_k ? "tension_modulus" : "tension_k", "0.5"});
+        if (kind == 4) foundation.entries.push_back({by_k ? "tension_nondimensional_k" : "tension_modulus", "-1.0"});
+        if (kind == 5) foundation.entries.push_back({by_k ? "tension_modulus" : "tension_nondimensional_k", "0.5"});
         if (kind == 6) {
           foundation.entries.push_back({"tensionless", "false", Type::flag});
-          foundation.entries.push_back({by_k ? "tension_k" : "tension_modulus", "0.0"});
+          foundation.entries.push_back({by_k ? "tension_nondimensional_k" : "tension_modulus", "0.0"});
         }
         return done("malformed gap or tension " + std::to_string(kind), true);
       }

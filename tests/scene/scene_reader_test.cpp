@@ -27,7 +27,7 @@ left = "pinned"
 right = "clamped"
 
 [foundation]
-k = 1.0e4
+nondimensional_k = 1.0e4
 
 [[loads]]
 kind = "force"
@@ -51,7 +51,7 @@ left = "pinned"
 right = "roller"
 
 [foundation]
-k = 1.0e4
+nondimensional_k = 1.0e4
 
 [[loads]]
 kind = "force"
@@ -232,7 +232,7 @@ right = "clamped"
 interior = [-5.0]
 
 [foundation]
-k = 1.0e4
+nondimensional_k = 1.0e4
 tensionless = true
 from = -8
 
@@ -307,7 +307,7 @@ TEST_CASE("a missing key names the table and its line", "[scene][errors]") {
 TEST_CASE("a value of the wrong type is refused", "[scene][errors]") {
   CHECK(error_of(edited(beam_scene, "EI = 1.0", "EI = \"stiff\"")) ==
         R"(scene.toml:4: key 'structure.EI': expected a number > 0, got "stiff")");
-  CHECK(error_of(edited(beam_scene, "k = 1.0e4", "k = 1.0e4\ntensionless = \"yes\"")) ==
+  CHECK(error_of(edited(beam_scene, "nondimensional_k = 1.0e4", "nondimensional_k = 1.0e4\ntensionless = \"yes\"")) ==
         R"(scene.toml:12: key 'foundation.tensionless': expected true or false, got "yes")");
   CHECK(error_of(edited(beam_scene, "left = \"pinned\"", "left = 1")) ==
         R"(scene.toml:7: key 'supports.left': expected "pinned", "clamped" or "free", got 1)");
@@ -330,7 +330,7 @@ TEST_CASE("an unknown key is refused, with a suggestion", "[scene][errors]") {
 TEST_CASE("an unknown table is refused", "[scene][errors]") {
   CHECK(error_of(beam_scene + "\n[solver]\nmethod = \"dual\"\n") ==
         "scene.toml:18: key 'solver': unknown table (did you mean 'solve'?); the tables of a scene "
-        "are [structure], [supports], [foundation], [[loads]], [solve], [ritz], [trace], [compare]");
+        "are [structure], [supports], [foundation], [[loads]], [solve], [ritz], [trace], [compare], [units]");
   CHECK_THAT(error_of("title = \"x\"\n" + beam_scene), StartsWith("scene.toml:1: key 'title': unknown key;"));
 }
 
@@ -363,8 +363,8 @@ TEST_CASE("stiffnesses and lengths must be positive", "[scene][errors]") {
   CHECK(error_of(edited(arch_scene, "half_angle_deg = 10.0", "half_angle_deg = 180")) ==
         "scene.toml:4: key 'structure.half_angle_deg': expected an angle in degrees in (0, 180), "
         "got 180");
-  CHECK(error_of(edited(beam_scene, "k = 1.0e4", "k = -3")) ==
-        "scene.toml:11: key 'foundation.k': expected a number > 0, got -3");
+  CHECK(error_of(edited(beam_scene, "nondimensional_k = 1.0e4", "nondimensional_k = -3")) ==
+        "scene.toml:11: key 'foundation.nondimensional_k': expected a number > 0, got -3");
 }
 
 TEST_CASE("keys of the other kind of structure are refused", "[scene][errors]") {
@@ -381,7 +381,7 @@ TEST_CASE("a load or support outside the member is refused", "[scene][errors]") 
         "scene.toml:15: key 'loads[0].at': expected a position in [0, 2], got -0.1");
   CHECK(error_of(edited(arch_scene, "at = 0.0", "at = 12")) ==
         "scene.toml:17: key 'loads[0].at': expected an angle in degrees in [-10, 10], got 12");
-  CHECK(error_of(edited(arch_scene, "k = 1.0e4", "k = 1.0e4\nto = -10.5")) ==
+  CHECK(error_of(edited(arch_scene, "nondimensional_k = 1.0e4", "nondimensional_k = 1.0e4\nto = -10.5")) ==
         "scene.toml:14: key 'foundation.to': expected an angle in degrees in [-10, 10], got -10.5");
   // The second load is loads[1].
   CHECK_THAT(error_of(beam_scene + "\n[[loads]]\nkind = \"moment\"\nat = 3\nvalue = 1\n"),
@@ -398,17 +398,18 @@ TEST_CASE("a load or support outside the member is refused", "[scene][errors]") 
 }
 
 TEST_CASE("the foundation needs exactly one of k and modulus", "[scene][errors]") {
-  CHECK(error_of(edited(beam_scene, "k = 1.0e4", "k = 1.0e4\nmodulus = 0.014")) ==
-        "scene.toml:12: key 'foundation.modulus': expected exactly one of 'k' and 'modulus', got both");
-  CHECK(error_of(edited(beam_scene, "k = 1.0e4", "")) ==
-        "scene.toml:10: key 'foundation.k': missing (expected exactly one of 'k' and 'modulus', a "
-        "number > 0)");
+  CHECK(error_of(edited(beam_scene, "nondimensional_k = 1.0e4", "nondimensional_k = 1.0e4\nmodulus = 0.014")) ==
+        "scene.toml:12: key 'foundation.modulus': expected exactly one of 'nondimensional_k' and 'modulus', got both");
+  CHECK(error_of(edited(beam_scene, "nondimensional_k = 1.0e4", "")) ==
+        "scene.toml:10: key 'foundation.nondimensional_k': missing (expected exactly one of 'nondimensional_k' (K "
+        "l^4/EI) and "
+        "'modulus' (K), a number > 0)");
 }
 
 TEST_CASE("an extent needs from < to", "[scene][errors]") {
-  CHECK(error_of(edited(beam_scene, "k = 1.0e4", "k = 1.0e4\nfrom = 0.8\nto = 0.2")) ==
+  CHECK(error_of(edited(beam_scene, "nondimensional_k = 1.0e4", "nondimensional_k = 1.0e4\nfrom = 0.8\nto = 0.2")) ==
         "scene.toml:13: key 'foundation.to': expected from < to, got from = 0.8 and to = 0.2");
-  CHECK(error_of(edited(beam_scene, "k = 1.0e4", "k = 1.0e4\nfrom = 2")) ==
+  CHECK(error_of(edited(beam_scene, "nondimensional_k = 1.0e4", "nondimensional_k = 1.0e4\nfrom = 2")) ==
         "scene.toml:12: key 'foundation.from': expected from < to, got from = 2 and to = 2");
   const std::string uniform = R"([[loads]]
 kind = "uniform"
@@ -455,8 +456,10 @@ TEST_CASE("integers read exactly where a double holds them, and are refused by k
   CHECK(error_of(edited(beam_scene, "value = 1.0", "value = -9007199254740993")) ==
         "scene.toml:16: key 'loads[0].value': expected a finite number, got -9007199254740993, an integer that a "
         "double cannot hold exactly (write it as a float, e.g. -9.0071992547409920e+15, to use the nearest double)");
-  CHECK_THAT(error_of(edited(beam_scene, "k = 1.0e4", "k = 9007199254740993")),
-             StartsWith("scene.toml:11: key 'foundation.k': expected a number > 0, got 9007199254740993, an integer"));
+  CHECK_THAT(
+      error_of(edited(beam_scene, "nondimensional_k = 1.0e4", "nondimensional_k = 9007199254740993")),
+      StartsWith(
+          "scene.toml:11: key 'foundation.nondimensional_k': expected a number > 0, got 9007199254740993, an integer"));
   // The largest int64 rounds up to 2^63, which is no int64: refused too.
   CHECK_THAT(
       error_of(edited(beam_scene, "EI = 1.0", "EI = 9223372036854775807")),
@@ -754,11 +757,12 @@ TEST_CASE("arch loads: direction and per, and where they are refused", "[scene][
 
 TEST_CASE("[foundation] side: inside or outside, arches only", "[scene][errors]") {
   CHECK(parse_scene(arch_scene, "scene.toml").foundation.side == FoundationSide::inside);
-  CHECK(parse_scene(edited(arch_scene, "k = 1.0e4", "k = 1.0e4\nside = \"outside\""), "scene.toml").foundation.side ==
-        FoundationSide::outside);
-  CHECK(error_of(edited(arch_scene, "k = 1.0e4", "k = 1.0e4\nside = \"above\"")) ==
+  CHECK(parse_scene(edited(arch_scene, "nondimensional_k = 1.0e4", "nondimensional_k = 1.0e4\nside = \"outside\""),
+                    "scene.toml")
+            .foundation.side == FoundationSide::outside);
+  CHECK(error_of(edited(arch_scene, "nondimensional_k = 1.0e4", "nondimensional_k = 1.0e4\nside = \"above\"")) ==
         "scene.toml:14: key 'foundation.side': expected \"inside\" or \"outside\", got \"above\"");
-  CHECK(error_of(edited(beam_scene, "k = 1.0e4", "k = 1.0e4\nside = \"outside\"")) ==
+  CHECK(error_of(edited(beam_scene, "nondimensional_k = 1.0e4", "nondimensional_k = 1.0e4\nside = \"outside\"")) ==
         "scene.toml:12: key 'foundation.side': not allowed for a beam (arches only: the foundation inside or outside "
         "the arch)");
 }
@@ -774,14 +778,14 @@ modulus = 4.0
 [[foundation.segments]]
 from = 0.0
 to = 0.5
-k = 20.0
+nondimensional_k = 20.0
 
 [[foundation.segments]]
 from = 0.5
 to = 1.0
 modulus = 2.0
 )";
-  const Scene s = parse_scene(edited(beam_scene, "k = 1.0e4\n", pieces), "scene.toml");
+  const Scene s = parse_scene(edited(beam_scene, "nondimensional_k = 1.0e4\n", pieces), "scene.toml");
   REQUIRE(s.foundation.segments.size() == 3);
   CHECK_FALSE(s.foundation.tensionless);
   CHECK(s.foundation.segments[0].from == 0.0);
@@ -799,14 +803,14 @@ TEST_CASE("[[foundation.segments]]: a modulus linear within a piece, [at from, a
 [[foundation.segments]]
 from = 1.0
 to = 2.0
-k = [20.0, 5.0]
+nondimensional_k = [20.0, 5.0]
 
 [[foundation.segments]]
 from = 0.0
 to = 1.0
 modulus = [3.0, 3.0]
 )";
-  const Scene s = parse_scene(edited(beam_scene, "k = 1.0e4\n", pieces), "scene.toml");
+  const Scene s = parse_scene(edited(beam_scene, "nondimensional_k = 1.0e4\n", pieces), "scene.toml");
   REQUIRE(s.foundation.segments.size() == 2);
   CHECK(*s.foundation.segments[0].modulus == 3.0);  // equal ends: constant
   CHECK_FALSE(s.foundation.segments[0].at_to.has_value());
@@ -816,10 +820,14 @@ modulus = [3.0, 3.0]
 }
 
 TEST_CASE("[[foundation.segments]]: malformed pieces are refused by key", "[scene][segments][errors]") {
-  auto with = [](const std::string& foundation) { return edited(beam_scene, "k = 1.0e4\n", foundation); };
+  auto with = [](const std::string& foundation) {
+    return edited(beam_scene, "nondimensional_k = 1.0e4\n", foundation);
+  };
   const std::string one = "\n[[foundation.segments]]\nfrom = 0.0\nto = 1.0\nmodulus = 3.0\n";
-  CHECK_THAT(error_of(with("k = 1.0\n" + one)),
-             StartsWith("scene.toml:11: key 'foundation.k': not allowed together with [[foundation.segments]]"));
+  CHECK_THAT(
+      error_of(with("nondimensional_k = 1.0\n" + one)),
+      StartsWith(
+          "scene.toml:11: key 'foundation.nondimensional_k': not allowed together with [[foundation.segments]]"));
   CHECK_THAT(error_of(with("from = 0.5\n" + one)), Contains("key 'foundation.from': not allowed together"));
   CHECK_THAT(error_of(with("\n[[foundation.segments]]\nfrom = 0.0\nto = 2.5\nmodulus = 3.0\n")),
              Contains("key 'foundation.segments[0].to': expected a position in [0, 2]"));
@@ -827,21 +835,23 @@ TEST_CASE("[[foundation.segments]]: malformed pieces are refused by key", "[scen
              Contains("key 'foundation.segments[0].to': expected from < to, got from = 1 and to = 0.5"));
   CHECK_THAT(error_of(with("\n[[foundation.segments]]\nfrom = 0.0\nto = 1.0\nmodulus = -3.0\n")),
              Contains("key 'foundation.segments[0].modulus': expected a number > 0, got -3"));
-  CHECK_THAT(error_of(with("\n[[foundation.segments]]\nfrom = 0.0\nto = 1.0\nmodulus = 3.0\nk = 1.0\n")),
-             Contains("key 'foundation.segments[0].modulus': expected exactly one of 'k' and 'modulus'"));
+  CHECK_THAT(
+      error_of(with("\n[[foundation.segments]]\nfrom = 0.0\nto = 1.0\nmodulus = 3.0\nnondimensional_k = 1.0\n")),
+      Contains("key 'foundation.segments[0].modulus': expected exactly one of 'nondimensional_k' and 'modulus'"));
   CHECK_THAT(error_of(with("\n[[foundation.segments]]\nfrom = 0.0\nto = 1.0\n")),
-             Contains("key 'foundation.segments[0].k': missing"));
+             Contains("key 'foundation.segments[0].nondimensional_k': missing"));
   const std::string linear = "a number > 0, or two numbers > 0 [at from, at to] for a linear variation";
   CHECK_THAT(error_of(with("\n[[foundation.segments]]\nfrom = 0.0\nto = 1.0\nmodulus = [3.0, 1.0, 2.0]\n")),
              Contains("key 'foundation.segments[0].modulus': expected " + linear));
-  CHECK_THAT(error_of(with("\n[[foundation.segments]]\nfrom = 0.0\nto = 1.0\nk = []\n")),
-             Contains("key 'foundation.segments[0].k': expected " + linear));
+  CHECK_THAT(error_of(with("\n[[foundation.segments]]\nfrom = 0.0\nto = 1.0\nnondimensional_k = []\n")),
+             Contains("key 'foundation.segments[0].nondimensional_k': expected " + linear));
   CHECK_THAT(error_of(with("\n[[foundation.segments]]\nfrom = 0.0\nto = 1.0\nmodulus = [3.0, 0.0]\n")),
              Contains("key 'foundation.segments[0].modulus[1]': expected a number > 0, got 0"));
-  CHECK_THAT(error_of(with("\n[[foundation.segments]]\nfrom = 0.0\nto = 1.0\nk = [3.0, \"soft\"]\n")),
-             Contains("key 'foundation.segments[0].k[1]': expected a number > 0"));
-  CHECK_THAT(error_of(with("\n[[foundation.segments]]\nfrom = 0.0\nto = 1.0\nk = [3.0, 1.0]\nmodulus = 2.0\n")),
-             Contains("key 'foundation.segments[0].modulus': expected exactly one of 'k' and 'modulus'"));
+  CHECK_THAT(error_of(with("\n[[foundation.segments]]\nfrom = 0.0\nto = 1.0\nnondimensional_k = [3.0, \"soft\"]\n")),
+             Contains("key 'foundation.segments[0].nondimensional_k[1]': expected a number > 0"));
+  CHECK_THAT(
+      error_of(with("\n[[foundation.segments]]\nfrom = 0.0\nto = 1.0\nnondimensional_k = [3.0, 1.0]\nmodulus = 2.0\n")),
+      Contains("key 'foundation.segments[0].modulus': expected exactly one of 'nondimensional_k' and 'modulus'"));
   CHECK_THAT(error_of(with("\n[[foundation.segments]]\nfrom = 0.0\nto = 1.0\nmodulus = 3.0\nmodulos = 1.0\n")),
              Contains("key 'foundation.segments[0].modulos': unknown key (did you mean 'modulus'?)"));
   CHECK_THAT(error_of(with(one + "\n[[foundation.segments]]\nfrom = 0.8\nto = 1.5\nmodulus = 3.0\n")),
@@ -851,7 +861,9 @@ TEST_CASE("[[foundation.segments]]: malformed pieces are refused by key", "[scen
 }
 
 TEST_CASE("[foundation] gap and gap_file: the ground's distance below the axis", "[scene][issue12][gap]") {
-  auto with = [](const std::string& keys) { return edited(beam_scene, "k = 1.0e4\n", "k = 1.0e4\n" + keys); };
+  auto with = [](const std::string& keys) {
+    return edited(beam_scene, "nondimensional_k = 1.0e4\n", "nondimensional_k = 1.0e4\n" + keys);
+  };
   const Scene s =
       parse_scene(with("gap = { at = [0.0, 1.0, 1.0, 2.0], value = [0.0, 1e-3, -2e-3, 0.0] }\n"), "scene.toml");
   CHECK(s.foundation.gap_at == std::vector<double>{0.0, 1.0, 1.0, 2.0});
@@ -897,9 +909,11 @@ TEST_CASE("[foundation] gap and gap_file: the ground's distance below the axis",
   std::filesystem::remove_all(dir);
 }
 
-TEST_CASE("[foundation] gap, gap_file, tension_modulus, tension_k: malformed ones are refused by key",
+TEST_CASE("[foundation] gap, gap_file, tension_modulus, tension_nondimensional_k: malformed ones are refused by key",
           "[scene][issue12][gap][errors]") {
-  auto with = [](const std::string& keys) { return edited(beam_scene, "k = 1.0e4\n", "k = 1.0e4\n" + keys); };
+  auto with = [](const std::string& keys) {
+    return edited(beam_scene, "nondimensional_k = 1.0e4\n", "nondimensional_k = 1.0e4\n" + keys);
+  };
   CHECK(error_of(with("gap = { at = [0.0, 1.0, 0.5], value = [0.0, 0.0, 0.0] }\n")) ==
         "scene.toml:12: key 'foundation.gap.at': expected non-decreasing positions (a repeated one is a step), got "
         "at[2] = 0.5 after at[1] = 1");
@@ -918,30 +932,38 @@ TEST_CASE("[foundation] gap, gap_file, tension_modulus, tension_k: malformed one
   CHECK_THAT(error_of(with("gap_file = 3\n")),
              Contains("key 'foundation.gap_file': expected the name of a two-column"));
 
-  CHECK(*parse_scene(with("tension_k = 1.0e3\n"), "scene.toml").foundation.tension_stiffness_parameter == 1.0e3);
-  CHECK_THAT(error_of(with("tension_k = -1.0\n")),
-             Contains("key 'foundation.tension_k': expected a number >= 0, got -1"));
-  CHECK_THAT(
-      error_of(with("tension_k = 2.0e4\n")),
-      Contains("key 'foundation.tension_k': expected at most the compression modulus 10000 everywhere, got 20000"));
+  CHECK(*parse_scene(with("tension_nondimensional_k = 1.0e3\n"), "scene.toml").foundation.tension_stiffness_parameter ==
+        1.0e3);
+  CHECK_THAT(error_of(with("tension_nondimensional_k = -1.0\n")),
+             Contains("key 'foundation.tension_nondimensional_k': expected a number >= 0, got -1"));
+  CHECK_THAT(error_of(with("tension_nondimensional_k = 2.0e4\n")),
+             Contains("key 'foundation.tension_nondimensional_k': expected at most the compression modulus 10000 "
+                      "everywhere, got 20000"));
   CHECK_THAT(error_of(with("tension_modulus = 1.0\n")),
-             Contains("key 'foundation.tension_modulus': expected 'tension_k' (nondimensional) for a foundation given "
-                      "by 'k'"));
-  CHECK_THAT(error_of(with("tension_k = 1.0\ntension_modulus = 1.0\n")),
-             Contains("key 'foundation.tension_k': expected one of 'tension_modulus' and 'tension_k', got both"));
-  CHECK_THAT(error_of(with("tensionless = false\ntension_k = 1.0\n")),
-             Contains("key 'foundation.tension_k': not allowed with tensionless = false"));
-  CHECK_THAT(error_of(edited(beam_scene, "k = 1.0e4\n", "modulus = 5.0\ntension_k = 1.0\n")),
-             Contains("key 'foundation.tension_k': expected 'tension_modulus' for a foundation given by 'modulus'"));
-  CHECK(*parse_scene(edited(beam_scene, "k = 1.0e4\n", "modulus = 5.0\ntension_modulus = 5.0\n"), "scene.toml")
+             Contains("key 'foundation.tension_modulus': expected 'tension_nondimensional_k' for a foundation given by "
+                      "'nondimensional_k', got 'tension_modulus'"));
+  CHECK_THAT(error_of(with("tension_nondimensional_k = 1.0\ntension_modulus = 1.0\n")),
+             Contains("key 'foundation.tension_nondimensional_k': expected one of 'tension_modulus' and "
+                      "'tension_nondimensional_k', got both"));
+  CHECK_THAT(error_of(with("tensionless = false\ntension_nondimensional_k = 1.0\n")),
+             Contains("key 'foundation.tension_nondimensional_k': not allowed with tensionless = false"));
+  CHECK_THAT(
+      error_of(edited(beam_scene, "nondimensional_k = 1.0e4\n", "modulus = 5.0\ntension_nondimensional_k = 1.0\n")),
+      Contains(
+          "key 'foundation.tension_nondimensional_k': expected 'tension_modulus' for a foundation given by 'modulus'"));
+  CHECK(*parse_scene(edited(beam_scene, "nondimensional_k = 1.0e4\n", "modulus = 5.0\ntension_modulus = 5.0\n"),
+                     "scene.toml")
              .foundation.tension_modulus == 5.0);
   // On a linear piece the tensionless part k(s) - K_t must stay positive: K_t below its least k.
-  const std::string linear = edited(
-      beam_scene, "k = 1.0e4\n", "tension_k = TK\n[[foundation.segments]]\nfrom = 0.0\nto = 2.0\nk = [3.0e3, 1.0e3]\n");
+  const std::string linear = edited(beam_scene, "nondimensional_k = 1.0e4\n",
+                                    "tension_nondimensional_k = TK\n[[foundation.segments]]\nfrom = 0.0\nto = "
+                                    "2.0\nnondimensional_k = [3.0e3, 1.0e3]\n");
   CHECK(*parse_scene(edited(linear, "TK", "999.0"), "scene.toml").foundation.tension_stiffness_parameter == 999.0);
-  CHECK_THAT(error_of(edited(linear, "TK", "1000.0")),
-             Contains("key 'foundation.tension_k': expected below the compression modulus on a linear segment (its "
-                      "least value 1000), got 1000"));
+  CHECK_THAT(
+      error_of(edited(linear, "TK", "1000.0")),
+      Contains(
+          "key 'foundation.tension_nondimensional_k': expected below the compression modulus on a linear segment (its "
+          "least value 1000), got 1000"));
 }
 
 TEST_CASE("[supports] as tables: springs and settlements at the ends and inside", "[scene][issue12][supports]") {
@@ -1009,4 +1031,82 @@ TEST_CASE("[supports] tables: malformed springs and settlements are refused by k
   CHECK_THAT(error_of(interior("1.0, { at = 1.0, kind = \"spring\", stiffness = 1.0 }")),
              Contains("key 'supports.interior[1]': expected distinct positions, got 1 twice"));
   CHECK_THAT(error_of(interior("\"middle\"")), Contains("key 'supports.interior[0]': expected a position"));
+}
+
+TEST_CASE("[units]: a system or the free labels length and force, labels only", "[scene][units]") {
+  CHECK_FALSE(parse_scene(beam_scene, "scene.toml").units.stated());  // none: every label empty
+  for (const auto& [name, label] : unit_labels(parse_scene(beam_scene, "scene.toml").units)) CHECK(label.empty());
+
+  const Scene kn_m = parse_scene(beam_scene + "\n[units]\nsystem = \"kN-m\"\n", "scene.toml");
+  CHECK(kn_m.units.system == "kN-m");
+  CHECK(kn_m.units.force == "kN");
+  CHECK(kn_m.units.length == "m");
+  CHECK(kn_m.units.moment() == "kN m");
+  CHECK(kn_m.units.distributed_force() == "kN/m");
+  CHECK(kn_m.units.modulus() == "kN/m^2");
+  CHECK(kn_m.units.bending_stiffness() == "kN m^2");
+  CHECK(*kn_m.units.newtons() == 1e3);
+  CHECK(*kn_m.units.metres() == 1.0);
+  // Labels only: the scene's numbers are what they were.
+  CHECK(*kn_m.foundation.stiffness_parameter == *parse_scene(beam_scene, "scene.toml").foundation.stiffness_parameter);
+
+  const Scene kip_ft = parse_scene(beam_scene + "\n[units]\nsystem = \"kip-ft\"\n", "scene.toml");
+  CHECK(*kip_ft.units.metres() == 0.3048);
+  CHECK(*kip_ft.units.newtons() == 4448.2216152605);
+
+  const Scene labels = parse_scene(beam_scene + "\n[units]\nlength = \"furlong\"\nforce = \"kN\"\n", "scene.toml");
+  CHECK(labels.units.system.empty());
+  CHECK(labels.units.modulus() == "kN/furlong^2");
+  CHECK_FALSE(labels.units.metres());  // not a known unit: no SI size
+}
+
+TEST_CASE("[units]: anything but exactly one of the two ways is refused by key", "[scene][units][errors]") {
+  // The [units] header is line 18 of beam_scene + "\n[units]\n...".
+  const auto with = [](const std::string& keys) { return beam_scene + "\n[units]\n" + keys; };
+  CHECK_THAT(error_of(with("system = \"N-furlong\"\n")),
+             StartsWith("scene.toml:19: key 'units.system': expected one of \"N-m\", \"N-cm\", \"N-mm\"") &&
+                 Contains("\"kip-ft\", got \"N-furlong\" (or give free labels: length = \"m\", force = \"kN\")"));
+  CHECK(error_of(with("system = \"N-m\"\nlength = \"m\"\n")) ==
+        "scene.toml:20: key 'units.length': expected either 'system' or the labels 'length' and 'force', got both "
+        "ways");
+  CHECK_THAT(error_of(with("length = \"m\"\n")),
+             StartsWith("scene.toml:18: key 'units.force': missing (expected a label of 1 to 32 printable"));
+  CHECK_THAT(error_of(with("")), StartsWith("scene.toml:18: key 'units.system': missing (expected one of \"N-m\""));
+  CHECK_THAT(error_of(with("length = 3\nforce = \"N\"\n")),
+             StartsWith("scene.toml:19: key 'units.length': expected a label of 1 to 32 printable characters"));
+  CHECK_THAT(error_of(with("system = 1\n")), StartsWith("scene.toml:19: key 'units.system': expected one of"));
+  CHECK_THAT(error_of(with("mass = \"kg\"\n")), StartsWith("scene.toml:19: key 'units.mass': unknown key"));
+  CHECK_THAT(error_of("units = \"N-m\"\n" + beam_scene), Contains("key 'units': expected a table [units]"));
+}
+
+TEST_CASE("the old names k and tension_k read as nondimensional_k and tension_nondimensional_k, with a warning",
+          "[scene][units]") {
+  CHECK(parse_scene(beam_scene, "scene.toml").warnings.empty());  // the new name: no warning
+  const std::string old = edited(beam_scene, "nondimensional_k = 1.0e4", "k = 1.0e4");
+  const Scene s = parse_scene(old, "scene.toml");
+  CHECK(*s.foundation.stiffness_parameter == 1.0e4);
+  REQUIRE(s.warnings.size() == 1);
+  // Where, what the key means now, and the dimensional K's key.
+  CHECK_THAT(s.warnings[0],
+             StartsWith("scene.toml:11: key 'foundation.k': 'k' is the old name of 'nondimensional_k' (K l^4/EI, "
+                        "nondimensional") &&
+                 Contains("read as nondimensional_k = 10000.0") &&
+                 Contains("the dimensional foundation modulus K (force per length per length) is 'modulus'"));
+  CHECK(error_of(edited(old, "k = 1.0e4", "k = 1.0e4\nnondimensional_k = 1.0e4")) ==
+        "scene.toml:11: key 'foundation.k': expected one of 'nondimensional_k' and 'k' (its old name), got both");
+  CHECK(error_of(edited(old, "k = 1.0e4", "k = 1.0e4\nmodulus = 2.0")) ==
+        "scene.toml:12: key 'foundation.modulus': expected exactly one of 'k' and 'modulus', got both");
+
+  const Scene tension = parse_scene(edited(old, "k = 1.0e4", "k = 1.0e4\ntension_k = 10.0"), "scene.toml");
+  CHECK(*tension.foundation.tension_stiffness_parameter == 10.0);
+  REQUIRE(tension.warnings.size() == 2);
+  CHECK_THAT(tension.warnings[1], StartsWith("scene.toml:12: key 'foundation.tension_k': 'tension_k' is the old "
+                                             "name of 'tension_nondimensional_k'"));
+
+  const Scene segments = parse_scene(
+      edited(beam_scene, "nondimensional_k = 1.0e4\n", "\n[[foundation.segments]]\nfrom = 0.0\nto = 2.0\nk = 5.0\n"),
+      "scene.toml");
+  CHECK(*segments.foundation.segments.at(0).stiffness_parameter == 5.0);
+  REQUIRE(segments.warnings.size() == 1);
+  CHECK_THAT(segments.warnings[0], Contains("key 'foundation.segments[0].k': 'k' is the old name"));
 }

@@ -154,11 +154,22 @@ def _gap_positions(sc, at, where):
     return [p if sc["kind"] == "beam" else p * DEG for p in at]
 
 
+# liftoff's scene keys nondimensional_k and tension_nondimensional_k (K l^4/EI) were k and tension_k;
+# this reference reads the old names, so a scene's new ones are mapped onto them (a scene with both
+# is refused by liftoff's reader).
+def _old_names(table):
+    renamed = {"nondimensional_k": "k", "tension_nondimensional_k": "tension_k"}
+    return {renamed.get(key, key): value for key, value in table.items()}
+
+
 def _read_foundation(sc, fd, scene_path):
     if fd is None:
         raise SceneError("table [foundation] is required")
     if not isinstance(fd, dict):
         raise SceneError("key 'foundation': expected a table")
+    fd = _old_names(fd)
+    if isinstance(fd.get("segments"), list):
+        fd["segments"] = [_old_names(seg) if isinstance(seg, dict) else seg for seg in fd["segments"]]
     _known(fd, ("k", "modulus", "from", "to", "tensionless", "segments", "gap", "gap_file", "tension_modulus",
                 "tension_k", "side"), "foundation")
     kscale = sc["EI"] / sc["ref_length"] ** 4          # K per unit of k

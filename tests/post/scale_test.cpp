@@ -1,0 +1,162 @@
+// Tests of src/post/scale.*: the foundation's scale figures against their definitions, and each
+// warning fires on the scene it is for and stays silent on the control beside it.
+
+#include "post/scale.hpp"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include "scene/scene_reader.hpp"
+#include "support/scenes.hpp"
+
+using namespace liftoff;
+using Catch::Matchers::Contains;
+
+namespace {
+
+// The B70 sleeper of verification/scenes/engineering/sleeper_b70_ballast.toml (N, m): L = 2.6,
+// EI = 4.5e6, on a foundation written as `foundation` (one line), two rail-seat loads.
+scene::Scene sleeper(const std::string& foundation, const std::string& units = "") {
+  const std::string text = R"([structure]
+kind = "beam"
+length = 2.6
+EI = 4.5e6
+
+[supports]
+left = "free"
+right = "free"
+
+[foundation]
+)" + foundation + R"(
+
+[[loads]]
+kind = "force"
+at = 0.55
+value = 125.0e3
+
+[[loads]]
+kind = "force"
+at = 2.05
+value = 125.0e3
+)" + units;
+  return scene::parse_scene(text, "sleeper.toml");
+}
+
+std::vector<std::string> warnings_of(const scene::Scene& s, int elements = 0) {
+  const fe::MemberModel model = fe::make_member_model(s);
+  std::vector<double> mesh;
+  for (int i = 0; i <= elements && elements > 0; ++i)  // uniform, as [solve] elements makes it
+    mesh.push_back(model.s_begin + (model.s_end - model.s_begin) * i / elements);
+  return post::scale_warnings(s, model, post::scale_figures(model, mesh));
+}
+
+// Each figure is a handful of roundings of its definition: 1e-14 relative is ~50 ulps.
+constexpr double round_off = 1e-14;
+
+}  // namespace
+
+TEST_CASE("scale: K, beta, beta L, 1/beta and k of a beam follow their definitions", "[post][scale]") {
+  const scene::Scene s = sleeper("modulus = 3.0e7");
+  const post::ScaleFigures f = post::scale_figures(fe::make_member_model(s));
+  const double K = 3.0e7, EI = 4.5e6, L = 2.6, beta = std::pow(K / (4 * EI), 0.25);
+  CHECK(f.K_max == Approx(K).epsilon(round_off));
+  CHECK(f.k_max == Approx(K * std::pow(L, 4) / EI).epsilon(round_off));
+  CHECK(f.beta_max == Approx(beta).epsilon(round_off));
+  CHECK(f.beta_length_max == Approx(beta * L).epsilon(round_off));
+  CHECK(f.characteristic_length() == Approx(1 / beta).epsilon(round_off));
+  CHECK(f.beta_max == Approx(1.136).epsilon(1e-3));  // the scene's hand calculation: 1.136 1/m
+  CHECK_FALSE(f.varies());
+  CHECK(f.beta_h < 0);  // no mesh given
+}
+
+TEST_CASE("scale: an arch's figures are beta R = (k/4)^(1/4) and beta S over its length", "[post][scale]") {
+  const scene::Scene s = test::shipped_scene("seed_arch_pinned");  // R = 100, gamma = 10 deg, k = 1e6
+  const post::ScaleFigures f = post::scale_figures(fe::make_member_model(s));
+  const double beta_R = std::pow(1e6 / 4, 0.25), gamma = 10 * M_PI / 180;
+  CHECK(f.arch);
+  CHECK(f.beta_radius_max == Approx(beta_R).epsilon(round_off));
+  CHECK(f.beta_max == Approx(beta_R / 100).epsilon(round_off));
+  CHECK(f.beta_length_max == Approx(beta_R * 2 * gamma).epsilon(round_off));
+  CHECK(f.member_length == Approx(2 * gamma * 100).epsilon(round_off));
+  CHECK(f.K_max == Approx(1e6 * 1.4 / 1e8).epsilon(round_off));  // K = k EI / R^4
+}
+
+TEST_CASE("scale: segments give the least and the largest of every figure", "[post][scale]") {
+  const scene::Scene s = sleeper(
+      "\n[[foundation.segments]]\nfrom = 0.0\nto = 1.0\nmodulus = 2.0e7\n"
+      "\n[[foundation.segments]]\nfrom = 1.0\nto = 2.6\nmodulus = [3.0e7, 8.0e7]\n");
+  const post::ScaleFigures f = post::scale_figures(fe::make_member_model(s));
+  CHECK(f.varies());
+  CHECK(f.K_min == Approx(2.0e7).epsilon(round_off));
+  CHECK(f.K_max == Approx(8.0e7).epsilon(round_off));
+  CHECK(f.beta_min == Approx(std::pow(2.0e7 / (4 * 4.5e6), 0.25)).epsilon(round_off));
+  CHECK(f.beta_max == Approx(std::pow(8.0e7 / (4 * 4.5e6), 0.25)).epsilon(round_off));
+}
+
+TEST_CASE("scale: k = 2.5e7 meant as N/m^2 on a sleeper is named as the likely mistake", "[post][scale][warnings]") {
+  // The issue's trap: read as K L^4/EI it gives beta L = 50 (two tiny contact patches); read as
+  // K = 2.5e7 N/m^2 it gives K L^4/EI = 254 and beta L = 2.82 (full contact).
+  const auto trap = warnings_of(sleeper("nondimensional_k = 2.5e7"));
+  REQUIRE(trap.size() == 1);
+  CHECK_THAT(trap[0], Contains("nondimensional_k = 2.5e+07 (K L^4/EI) gives beta L = 50") &&
+                          Contains("write modulus = 2.5e+07 instead (that gives K L^4/EI = 254 and beta L = 2.82)"));
+  // With [units] the modulus it implies, 2.5e12 N/m^2, is also beyond any real bed.
+  const auto with_units = warnings_of(sleeper("nondimensional_k = 2.5e7", "\n[units]\nsystem = \"N-m\"\n"));
+  REQUIRE(with_units.size() == 2);
+  CHECK_THAT(with_units[0], Contains("(N/m^2), write modulus = 2.5e+07 instead"));
+  CHECK_THAT(with_units[1], Contains("K = 2.46e+12 N/m^2 is outside the moduli of real beds"));
+  // The controls: the same number as the modulus, and a nondimensional k of the same beam that a
+  // dimensional reading would make no more plausible, say nothing.
+  CHECK(warnings_of(sleeper("modulus = 2.5e7", "\n[units]\nsystem = \"N-m\"\n")).empty());
+  CHECK(warnings_of(sleeper("nondimensional_k = 254.0")).empty());
+  // A nondimensional k on a member whose l^4/EI is 1 reads the same either way: no warning.
+  CHECK(warnings_of(
+            scene::parse_scene("[structure]\nkind = \"beam\"\nlength = 1.0\nEI = 1.0\n[supports]\nleft = \"pinned\"\n"
+                               "right = \"pinned\"\n[foundation]\nnondimensional_k = 1e8\n",
+                               "unit.toml"))
+            .empty());
+}
+
+TEST_CASE("scale: a modulus that reads like a nondimensional k, and a practically rigid member",
+          "[post][scale][warnings]") {
+  // modulus = 30 on the sleeper: K L^4/EI = 3e-4, beta L = 0.0934; as nondimensional_k beta L = 1.65.
+  const auto w = warnings_of(sleeper("modulus = 30.0"));
+  REQUIRE(w.size() == 2);
+  CHECK_THAT(w[0], Contains("modulus = 30 (force per length per length) gives K L^4/EI = 0.000305 and beta L = "
+                            "0.0934; if 30 is the nondimensional K L^4/EI, write nondimensional_k = 30 instead"));
+  CHECK_THAT(w[1], Contains("beta L = 0.0934 < 0.1: the member is practically rigid"));
+}
+
+TEST_CASE("scale: a mesh that does not resolve 1/beta is named, with the elements it needs",
+          "[post][scale][warnings]") {
+  // beta L = (k/4)^(1/4) = 10 on a beam with l^4/EI = 1: 5 elements give beta h = 2, 20 give 0.5.
+  const scene::Scene s = scene::parse_scene(
+      "[structure]\nkind = \"beam\"\nlength = 1.0\nEI = 1.0\n[supports]\nleft = \"pinned\"\n"
+      "right = \"pinned\"\n[foundation]\nnondimensional_k = 4e4\n",
+      "unit.toml");
+  const post::ScaleFigures f = post::scale_figures(fe::make_member_model(s), {0.0, 0.2, 0.4, 0.6, 0.8, 1.0});
+  CHECK(f.beta_h == Approx(2.0).epsilon(round_off));
+  CHECK(f.element_size == Approx(0.2).epsilon(round_off));
+  const auto coarse = warnings_of(s, 5);
+  REQUIRE(coarse.size() == 1);
+  CHECK_THAT(coarse[0], Contains("beta h = 2 > 1") && Contains("use at least 10 elements"));
+  CHECK(warnings_of(s, 20).empty());
+}
+
+TEST_CASE("scale: the shipped scenes warn of nothing", "[post][scale][warnings]") {
+  // Every scene shipped in verification/scenes (the seed's and the engineering corpus): the new
+  // key names (no reader warning) and sensible scales, on the scene's own element count.
+  const std::filesystem::path root = std::string(LIFTOFF_SOURCE_DIR) + "/verification/scenes";
+  int scenes = 0;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(root)) {
+    if (entry.path().extension() != ".toml") continue;
+    const scene::Scene s = scene::read_scene_file(entry.path());
+    INFO(entry.path());
+    CHECK(s.warnings.empty());
+    CHECK(warnings_of(s, s.solve.elements).empty());
+    ++scenes;
+  }
+  CHECK(scenes >= 20);
+}
