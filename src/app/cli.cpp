@@ -19,6 +19,7 @@
 #include <thread>
 
 #include "app/plot_command.hpp"
+#include "app/envelope_command.hpp"
 #include "app/solve_command.hpp"
 #include "app/sweep_command.hpp"
 #include "app/trace_command.hpp"
@@ -26,6 +27,7 @@
 #include "default_scene.hpp"
 #include "fe/member_model.hpp"
 #include "io/csv_writer.hpp"
+#include "io/envelope_report.hpp"
 #include "io/hdf5_writer.hpp"
 #include "io/trace_writer.hpp"
 #include "scene/scene_reader.hpp"
@@ -463,6 +465,52 @@ int run_trace_command(const TraceArguments& args, RunContext& context, std::ostr
   return code(ExitCode::solver_failure);
 }
 
+struct EnvelopeArguments {
+  ProblemArguments problem;
+  std::string json;
+  std::string hdf5;
+  int samples = 401;
+  bool cold = false;
+};
+
+// `liftoff envelope`: the summary on stdout, the JSON (--json FILE) and HDF5 (--hdf5 FILE) files;
+// exit 3 if a case failed (the envelope is then incomplete, and says so in every output).
+int run_envelope_command(const EnvelopeArguments& args, std::ostream& out, std::ostream& err) {
+  std::vector<RunFile> outputs;
+  add_atomic_output(outputs, "--hdf5", args.hdf5);
+  add_atomic_output(outputs, "--json", args.json);
+  check_files(scene_input(args.problem.scene_path), outputs);
+  const scene::Scene scene = load_scene(args.problem.scene_path);
+  EnvelopeRequest request;
+  request.solve = make_request(args.problem);
+  if (request.solve.method == scene::Method::all)
+    throw InputError("--method: expected one method for envelope (dual, primal, fast, auto or ritz), got all");
+  request.samples = args.samples;
+  request.warm_start = !args.cold;
+  const io::EnvelopeReport report = run_envelope(scene, request);
+  // The HDF5 file first, then the JSON: a failure to write either leaves neither.
+  if (!args.hdf5.empty()) io::write_envelope_hdf5(report, args.hdf5, LIFTOFF_VERSION);
+  if (!args.json.empty()) {
+    const std::filesystem::path temporary = io::temporary_path(args.json);
+    std::ofstream file(temporary);
+    nlohmann::json j = io::to_json(report);
+    j["exit_code"] = code(report.complete() ? ExitCode::success : ExitCode::solver_failure);
+    file << j.dump(2) << "\n";
+    file.close();
+    std::error_code error;
+    if (!file || (std::filesystem::rename(temporary, args.json, error), error)) {
+      std::filesystem::remove(temporary, error);
+      if (!args.hdf5.empty()) std::filesystem::remove(args.hdf5, error);
+      throw OutputError(args.json + ": cannot write the JSON file");
+    }
+  }
+  out << io::text_summary(report);
+  if (report.complete()) return code(ExitCode::success);
+  err << fmt::format("liftoff: {}: envelope: {} of {} cases not certified; the envelope is incomplete\n",
+                     scene.source_name, report.failed_cases(), report.cases.size());
+  return code(ExitCode::solver_failure);
+}
+
 }  // namespace
 
 int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
@@ -521,6 +569,20 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   plot_command->add_option("--out", plot.out, "Prefix of the PNG files (default: the file's name without .h5)");
   plot_command->add_flag("--normalise", plot.normalise,
                          "Sweeps only: each case's curves divided by their own largest magnitude");
+  EnvelopeArguments envelope;
+  CLI::App* envelope_command = app.add_subcommand(
+      "envelope",
+      "Solve every load combination ([[combinations]]) and moving-load position ([moving]): envelopes, governing "
+      "cases, lift-off map");
+  add_problem_options(envelope_command, envelope.problem);
+  envelope_command->get_option("scene")->required()->description(
+      "Scene file (TOML) with [[combinations]] and/or a [moving] table; required");
+  envelope_command->add_option("--json", envelope.json, "Write the envelope as JSON to this file");
+  envelope_command->add_option("--hdf5", envelope.hdf5, "Write the envelope to this HDF5 file");
+  envelope_command->add_option("--samples", envelope.samples, "Points of the envelope grid along the member")
+      ->check(CLI::Range(2, 1'000'000));
+  envelope_command->add_flag("--no-warm-start", envelope.cold,
+                             "Start every position from the solver's default contact set (to measure the warm start)");
 
   const bool json_asked =
       std::any_of(argv + 1, argv + argc, [](const char* a) { return std::string_view(a) == "--json"; });
@@ -535,11 +597,12 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     // One line, as every other error (CLI11's own adds a second).
     std::string message = e.what();
     std::replace(message.begin(), message.end(), '\n', ' ');
-    const CLI::App* command = *solve_command   ? solve_command
-                              : *sweep_command ? sweep_command
-                              : *trace_command ? trace_command
-                              : *plot_command  ? plot_command
-                                               : &app;
+    const CLI::App* command = *solve_command      ? solve_command
+                              : *sweep_command    ? sweep_command
+                              : *trace_command    ? trace_command
+                              : *plot_command     ? plot_command
+                              : *envelope_command ? envelope_command
+                                                  : &app;
     err << "liftoff: " << message << " (see liftoff" << (command == &app ? "" : " " + command->get_name())
         << " --help)\n";
     // --json asked for and the command line refused: still one object on stdout.
@@ -557,7 +620,10 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     return code(ExitCode::bad_input);
   }
 
-  const ProblemArguments& problem = *solve_command ? solve.problem : *sweep_command ? sweep.problem : trace.problem;
+  const ProblemArguments& problem = *solve_command      ? solve.problem
+                                    : *sweep_command    ? sweep.problem
+                                    : *envelope_command ? envelope.problem
+                                                        : trace.problem;
   context.scene = problem.scene_path.empty() ? std::string(default_scene_name) : problem.scene_path;
   if (!problem.method.empty()) context.method_requested = problem.method;
   const bool json = (*solve_command && solve.json) || (*trace_command && trace.json);
@@ -571,6 +637,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     if (*solve_command) return run_solve(solve, context, out, err);
     if (*sweep_command) return run_sweep_command(sweep, out, err);
     if (*trace_command) return run_trace_command(trace, context, out, err);
+    if (*envelope_command) return run_envelope_command(envelope, out, err);
   } catch (const InputError& e) {
     return fail("bad_input", e.what(), ExitCode::bad_input);
   } catch (const SolverFailure& e) {

@@ -52,7 +52,8 @@ struct FeResult {
 // cannot be balanced by compressive foundation reactions (certify/resultant_check.hpp), else the
 // contact solve. Throws SolverFailure (a refused formulation) with the scene's name.
 contact::ContactSolution contact_answer(const scene::Scene& scene, const fe::MemberModel& model,
-                                        const fe::Discretisation& d, Method method) {
+                                        const fe::Discretisation& d, Method method,
+                                        std::vector<bool> initial_contact = {}) {
   const certify::ResultantCheck resultant = certify::check_resultant(model, d);
   if (!resultant.balanced) {
     contact::ContactSolution none;
@@ -68,6 +69,7 @@ contact::ContactSolution contact_answer(const scene::Scene& scene, const fe::Mem
   }
   contact::ContactOptions options;
   options.method = method;
+  options.initial_contact = std::move(initial_contact);
   try {
     return contact::solve_contact(d, options);
   } catch (const SolverFailure& e) {
@@ -75,10 +77,29 @@ contact::ContactSolution contact_answer(const scene::Scene& scene, const fe::Mem
   }
 }
 
-FeResult solve_fe(const scene::Scene& scene, const fe::MemberModel& model, Method method, int elements) {
+// The warm start's first contact set on d: the reaction nodes inside the regions (user
+// coordinate, a relative 1e-9 of the length around each end). Empty where it does not apply.
+std::vector<bool> warm_start_set(const fe::MemberModel& model, const fe::Discretisation& d,
+                                 const std::optional<std::vector<std::array<double, 2>>>& regions) {
+  if (!regions || !d.tensionless) return {};
+  const double margin = 1e-9 * (model.s_end - model.s_begin);
+  std::vector<bool> in_contact(d.reactions(), false);
+  for (int i = 0; i < d.reactions(); ++i) {
+    const double s = d.mesh.nodes[d.reaction_nodes[i]];
+    for (const auto& [begin, end] : *regions) {
+      const double a = model.s_from_user(begin), b = model.s_from_user(end);
+      if (s >= std::min(a, b) - margin && s <= std::max(a, b) + margin) in_contact[i] = true;
+    }
+  }
+  return in_contact;
+}
+
+FeResult solve_fe(const scene::Scene& scene, const fe::MemberModel& model, Method method, int elements,
+                  const std::optional<std::vector<std::array<double, 2>>>& warm_start = std::nullopt) {
   FeResult fe;
   fe.discretisation = discretise(scene, model, elements);
-  fe.solution = contact_answer(scene, model, fe.discretisation, method);
+  fe.solution =
+      contact_answer(scene, model, fe.discretisation, method, warm_start_set(model, fe.discretisation, warm_start));
   fe.regions = post::contact_regions(model, fe.discretisation, fe.solution.displacement);
   return fe;
 }
@@ -124,7 +145,8 @@ std::optional<post::DesignValues> design_values(const fe::MemberModel& model, co
 io::SolveReport fe_report(const scene::Scene& scene, Method method, const SolveRequest& request) {
   const auto start = std::chrono::steady_clock::now();
   const fe::MemberModel model = fe::make_member_model(scene);
-  FeResult fe = solve_fe(scene, model, method, request.elements.value_or(scene.solve.elements));
+  FeResult fe =
+      solve_fe(scene, model, method, request.elements.value_or(scene.solve.elements), request.initial_contact_regions);
   const fe::Discretisation& d = fe.discretisation;
 
   // The certificate; a failed one means a fallback, or a failure that names the check.

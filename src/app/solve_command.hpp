@@ -2,6 +2,7 @@
 // `liftoff solve`: scene -> member model -> (mesh, assembly, contact LCP) or (Ritz model,
 // Newton) -> fields and contact regions -> report. One verb per stage, as in the source.
 
+#include <array>
 #include <optional>
 #include <vector>
 
@@ -17,6 +18,12 @@ struct SolveRequest {
   std::optional<double> tolerance;      // overrides [solve] tolerance
   int samples_per_element = 16;         // field samples inside each element (Ritz: as many in all)
   bool fields = true;                   // sample the fields (false: only the extremes they give)
+  // A warm start: the contact regions (user coordinate) of a nearby solve, e.g. the previous
+  // position of a moving load (app/envelope_command.hpp). Taken by an FE solve on the scene's mesh
+  // (no tolerance) that runs fast on a tensionless foundation: its first contact set is the
+  // reaction nodes inside these regions. Absent: the solver's default start. It changes the
+  // work (report.active_set_iterations, factorisations), never the answer.
+  std::optional<std::vector<std::array<double, 2>>> initial_contact_regions;
 };
 
 // Sampled fields are capped at this many points (HDF5 and memory stay O(1e7) bytes per field):

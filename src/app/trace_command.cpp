@@ -34,6 +34,14 @@ const scene::TraceSettings& trace_settings(const scene::Scene& scene) {
   if (!t.lambda_max)
     throw InputError(fmt::format("{}{}: key 'trace.lambda_max': missing (expected a number > lambda_min = {})",
                                  scene.source_name, t.line > 0 ? fmt::format(":{}", t.line) : "", t.lambda_min));
+  // A free load case (for [[combinations]]) has no place in F_dead + lambda F_live: refused, not
+  // guessed (README, "Load cases").
+  for (std::size_t i = 0; i < scene.loads.size(); ++i)
+    if (scene.loads[i].case_name != "dead" && scene.loads[i].case_name != "live")
+      throw InputError(fmt::format(
+          "{}: key 'loads[{}].case': expected \"dead\" or \"live\" for `liftoff trace` (F = F_dead + lambda "
+          "F_live), got \"{}\" (free case names are for [[combinations]] and `liftoff envelope`)",
+          scene.source_name, i, scene.loads[i].case_name));
   return t;
 }
 

@@ -388,7 +388,15 @@ ContactSolution solve_contact(const Discretisation& d, const ContactOptions& opt
     // On a large uniform mesh the first set comes from a coarser mesh's answer: the limits then
     // start within a coarse element of their place (2-3 sets here instead of 10 or more).
     CoarseStart start;
-    if (d.uniform_member) start = coarse_start(*d.uniform_member, d, options.load_factor, options.active_set);
+    if (!options.initial_contact.empty()) {
+      if (static_cast<int>(options.initial_contact.size()) != d.reactions())
+        throw std::invalid_argument(
+            fmt::format("ContactOptions::initial_contact: expected {} flags (one per reaction node), got {}",
+                        d.reactions(), options.initial_contact.size()));
+      start.initial = options.initial_contact;
+    } else if (d.uniform_member) {
+      start = coarse_start(*d.uniform_member, d, options.load_factor, options.active_set);
+    }
     ActiveSetResult fast = solve_active_set(d, load / load_scale, options.active_set, std::move(start.initial), offset);
     if (start.levels > 1 && fast.summary.is_usable())
       fast.summary.message += fmt::format(", started from a coarser mesh's set ({} sets on {} coarser meshes)",

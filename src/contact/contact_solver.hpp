@@ -18,6 +18,7 @@
 
 #include <Eigen/Dense>
 #include <string>
+#include <vector>
 
 #include "contact/active_set_solver.hpp"
 #include "fe/discretisation.hpp"
@@ -33,7 +34,13 @@ struct ContactOptions {
   double load_factor = 1.0;  // lambda: F = F_dead + lambda F_live
   lcp::LemkeOptions lemke;
   ActiveSetOptions active_set;  // method = fast
-  void validate() const;        // throws std::invalid_argument naming the field
+  // method = fast (or auto) on a tensionless foundation: the first contact set, one flag per
+  // reaction node of the discretisation solved (a warm start: a nearby problem's answer, as
+  // `liftoff envelope` carries from one load position to the next); empty: the default start (a
+  // coarser mesh's set on large uniform meshes, else every node in contact). Any set is a valid
+  // start: it changes the work, never the answer. A wrong size is refused (std::invalid_argument).
+  std::vector<bool> initial_contact;
+  void validate() const;  // throws std::invalid_argument naming the field
 };
 
 enum class ContactTermination {

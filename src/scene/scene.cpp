@@ -100,3 +100,13 @@ double Scene::end() const {
 }
 
 }  // namespace liftoff::scene
+
+namespace liftoff::scene {
+
+double Combination::factor_of(std::string_view case_name) const {
+  for (const auto& [name, factor] : factors)
+    if (name == case_name) return factor;
+  return 0.0;
+}
+
+}  // namespace liftoff::scene

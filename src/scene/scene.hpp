@@ -153,6 +153,10 @@ struct Load {
   std::vector<double> table_at;
   std::vector<double> table_value;
   LoadCase load_case = LoadCase::live;
+  // The load case as written (key `case`): "dead", "live" or a free name ("G", "Q", "W") that
+  // [[combinations]] factor. `solve` and `sweep` apply every load once, whatever its case; `trace`
+  // takes "dead" and "live" only (a free name is refused there: it has no lambda of its own).
+  std::string case_name = "live";
   LoadDirection direction = LoadDirection::radial;  // arches only (key `direction`)
   LoadBasis per = LoadBasis::arc;                   // arches, vertical uniform loads (key `per`)
 };
@@ -206,6 +210,26 @@ struct Comparison {
   double contact_half_angle_deg = 0.0;
 };
 
+// [[combinations]]: a named combination of the load cases with partial factors, e.g. "ULS" with
+// G = 1.35, Q = 1.5. A case the combination does not name has factor 0 (it is not in the
+// combination); every name must be the case of a load or of [moving]. `liftoff envelope` solves
+// each combination as its own problem (contact is nonlinear: never superposed).
+struct Combination {
+  std::string name;
+  std::vector<std::pair<std::string, double>> factors;  // (case, factor >= 0), as written
+  double factor_of(std::string_view case_name) const;   // 0 when the case is not named
+};
+
+// [moving]: a load group (an axle set, a crane's wheels) at a sequence of lead positions. Each
+// load is a point force or moment acting at lead + offset; the group at every position lies on
+// the member (the reader checks). `liftoff envelope` solves every position (with every
+// combination, when there are any), on top of the scene's [[loads]].
+struct MovingLoads {
+  std::vector<Load> group;         // kind force or moment; `at` holds the offset from the lead
+  std::vector<double> positions;   // lead positions, ascending (from..to by step, or `positions`)
+  std::string case_name = "live";  // the group's load case (key `case`), for [[combinations]]
+};
+
 struct Scene {
   std::string source_name;  // file path, or "<default scene>"
   std::string text;         // the TOML text, stored in every output so results describe themselves
@@ -221,6 +245,8 @@ struct Scene {
   // What the reader accepted but the user should hear about (an old key name), one line each,
   // "FILE:LINE: key 'PATH': ...": every output carries them (SolveReport::warnings).
   std::vector<std::string> warnings;
+  std::vector<Combination> combinations;  // [[combinations]] (`liftoff envelope` only)
+  std::optional<MovingLoads> moving;      // [moving] (`liftoff envelope` only)
 
   // Ends of the member in the user's coordinate: [0, L] or [-gamma, gamma] degrees.
   double begin() const;

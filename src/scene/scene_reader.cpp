@@ -56,6 +56,8 @@ const std::vector<TableSpec>& schema() {
         "samples", "refine"}},
       {"compare", false, {"source", "contact_half_angle_deg"}},
       {"units", false, {"system", "length", "force"}},
+      {"combinations", true, {"name", "factors"}},
+      {"moving", false, {"loads", "from", "to", "step", "positions", "case"}},
   };
   return tables;
 }
@@ -882,6 +884,20 @@ void read_load_direction(const Section& s, const Member& member, Load& load) {
   }
 }
 
+// `case`: "dead", "live" (the default) or a free name for [[combinations]] ("G", "Q", "W").
+std::string read_case_name(const Section& s) {
+  const toml::node* node = s.find("case");
+  if (node == nullptr) return "live";
+  const char* expected = "\"dead\", \"live\" or a load case name of letters, digits, '_' and '-' (\"G\", \"Q\")";
+  if (!node->is_string()) s.wrong("case", expected);
+  const std::string& name = node->as_string()->get();
+  const bool word = !name.empty() && name.size() <= 64 && std::all_of(name.begin(), name.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_' || c == '-';
+  });
+  if (!word) s.wrong("case", expected);
+  return name;
+}
+
 Load read_load(const Section& s, const Member& member) {
   Load load;
   load.kind = s.required_choice(
@@ -901,9 +917,124 @@ Load read_load(const Section& s, const Member& member) {
     load.at = s.required_number("at", member.position());
   }
   if (load.kind != LoadKind::distributed) load.value = s.required_number("value", any_number());
-  load.load_case = s.choice("case", {LoadCase::live, LoadCase::dead}).value_or(LoadCase::live);
+  load.case_name = read_case_name(s);
+  load.load_case = load.case_name == "dead" ? LoadCase::dead : LoadCase::live;
   read_load_direction(s, member, load);
   return load;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Load cases, [[combinations]] and [moving] (`liftoff envelope`).
+
+// The most lead positions one [moving] table may give (each is a solve).
+constexpr std::size_t max_moving_positions = 100'000;
+
+// All the load cases the scene's loads and its moving group name, in order of appearance.
+std::vector<std::string> case_names(const std::vector<Load>& loads, const std::optional<MovingLoads>& moving) {
+  std::vector<std::string> names;
+  const auto add = [&](const std::string& name) {
+    if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+  };
+  for (const Load& load : loads) add(load.case_name);
+  if (moving) add(moving->case_name);
+  return names;
+}
+
+// [moving]: `loads`, an array of {kind = "force" | "moment", offset, value}; the lead positions
+// as `positions` (ascending) or `from`, `to`, `step`; the group's `case`.
+MovingLoads read_moving(const Section& s, const Member& member) {
+  MovingLoads moving;
+  moving.case_name = read_case_name(s);
+  const toml::node* loads = s.find("loads");
+  const char* expected_group =
+      "a non-empty array of loads {kind = \"force\" or \"moment\", offset = <from the lead position>, value = ...}";
+  if (loads == nullptr) s.missing("loads", expected_group);
+  const toml::array* array = loads->as_array();
+  if (array == nullptr || array->empty()) s.wrong("loads", expected_group);
+  static const TableSpec group_spec{"moving.loads", true, {"kind", "offset", "value"}};
+  for (std::size_t i = 0; i < array->size(); ++i) {
+    const toml::node& item = *array->get(i);
+    const std::string item_path = fmt::format("moving.loads[{}]", i);
+    if (!item.is_table())
+      fail(s.source(), &item.source(), item_path,
+           fmt::format("expected a table {{kind, offset, value}}, got {}", describe(item)));
+    const Section one(s.source(), *item.as_table(), item_path);
+    one.check_keys(group_spec);
+    Load load;
+    load.kind = one.required_choice("kind", {LoadKind::force, LoadKind::moment});
+    load.at = one.required_number("offset", any_number());
+    load.value = one.required_number("value", any_number());
+    load.case_name = moving.case_name;
+    load.load_case = moving.case_name == "dead" ? LoadCase::dead : LoadCase::live;
+    moving.group.push_back(load);
+  }
+  double lowest = inf, highest = -inf;
+  for (const Load& load : moving.group) {
+    lowest = std::min(lowest, load.at);
+    highest = std::max(highest, load.at);
+  }
+  if (highest - lowest > member.end - member.begin)
+    s.fail("loads", fmt::format("expected a group no longer than the member ({}), got offsets spanning {}",
+                                member.end - member.begin, highest - lowest));
+  // Lead positions that keep every load of the group on the member.
+  const Range on_member{fmt::format("a lead position in [{}, {}] (every load of the group, at lead + offset, on the "
+                                    "member {})",
+                                    member.begin - lowest, member.end - highest, member.interval(false)),
+                        member.begin - lowest,
+                        member.end - highest,
+                        false,
+                        false,
+                        member.tolerance()};
+  if (s.find("positions") != nullptr) {
+    for (const auto key : {"from", "to", "step"}) s.refuse(key, "with 'positions' (give one or the other)");
+    moving.positions = s.number_array("positions", on_member, "a non-empty array of lead positions");
+    if (!std::is_sorted(moving.positions.begin(), moving.positions.end()))
+      s.wrong("positions", "lead positions in ascending order");
+  } else {
+    const double from = s.required_number("from", on_member);
+    const Range above_from{fmt::format("a lead position in [from = {}, {}]", from, member.end - highest),
+                           from,
+                           member.end - highest,
+                           false,
+                           false,
+                           member.tolerance()};
+    const double to = s.required_number("to", above_from);
+    const double step = s.required_number("step", positive());
+    const double count = std::floor((to - from) / step + 1e-9) + 1.0;
+    if (!(count <= static_cast<double>(max_moving_positions)))
+      s.fail("step", fmt::format("expected at most {} lead positions, got {:.0f} from {} to {} by {}",
+                                 max_moving_positions, count, from, to, step));
+    for (int i = 0; i < static_cast<int>(count); ++i) moving.positions.push_back(std::min(from + i * step, to));
+    // The last position is `to` itself when the step does not divide to - from: the group's end.
+    if (to - moving.positions.back() > member.tolerance()) moving.positions.push_back(to);
+  }
+  if (moving.positions.size() > max_moving_positions)
+    s.wrong("positions", fmt::format("at most {} lead positions", max_moving_positions));
+  return moving;
+}
+
+Combination read_combination(const Section& s, const std::vector<std::string>& cases) {
+  Combination c;
+  const toml::node* name = s.find("name");
+  if (name == nullptr) s.missing("name", "a non-empty string naming the combination (\"ULS\", \"SLS\")");
+  if (!name->is_string() || name->as_string()->get().empty()) s.wrong("name", "a non-empty string");
+  c.name = name->as_string()->get();
+  const toml::node* factors = s.find("factors");
+  const std::string expected = fmt::format("a table of partial factors by load case, e.g. {{ {} = 1.35 }}",
+                                           cases.empty() ? std::string("G") : cases.front());
+  if (factors == nullptr) s.missing("factors", expected);
+  if (!factors->is_table() || factors->as_table()->empty()) s.wrong("factors", expected);
+  const Section table = s.section("factors");
+  std::vector<std::string_view> known(cases.begin(), cases.end());
+  for (const auto& [key, node] : *factors->as_table()) {
+    if (std::find(cases.begin(), cases.end(), key.str()) == cases.end())
+      fail(s.source(), &key.source(), table.path(key.str()),
+           fmt::format("unknown load case{}; the cases of this scene's loads are {}", suggestion(key.str(), known),
+                       cases.empty() ? std::string("none") : joined(known)));
+    const Range factor{"a partial factor >= 0", 0.0, inf};
+    c.factors.emplace_back(std::string(key.str()), table.number_at(node, table.path(key.str()), factor));
+  }
+  return c;
 }
 
 SolveSettings read_solve(const Section& s) {
@@ -1073,6 +1204,18 @@ Scene parse_scene(std::string_view toml_text, std::string source_name) {
     scene.compare = read_compare(root.section("compare"), scene.structure);
   }
   if (root.find("units") != nullptr) scene.units = read_units(root.section("units"));
+  if (root.find("moving") != nullptr) scene.moving = read_moving(root.section("moving"), member);
+  if (const toml::node* combinations = root.find("combinations")) {
+    const std::vector<std::string> cases = case_names(scene.loads, scene.moving);
+    const toml::array& array = *combinations->as_array();  // the shape is checked above
+    for (std::size_t i = 0; i < array.size(); ++i) {
+      const Section c(source, *array.get(i)->as_table(), fmt::format("combinations[{}]", i));
+      scene.combinations.push_back(read_combination(c, cases));
+      for (std::size_t j = 0; j < i; ++j)
+        if (scene.combinations[j].name == scene.combinations[i].name)
+          c.wrong("name", fmt::format("a name not used by an earlier combination (combinations[{}])", j));
+    }
+  }
   return scene;
 }
 

@@ -330,7 +330,8 @@ TEST_CASE("an unknown key is refused, with a suggestion", "[scene][errors]") {
 TEST_CASE("an unknown table is refused", "[scene][errors]") {
   CHECK(error_of(beam_scene + "\n[solver]\nmethod = \"dual\"\n") ==
         "scene.toml:18: key 'solver': unknown table (did you mean 'solve'?); the tables of a scene "
-        "are [structure], [supports], [foundation], [[loads]], [solve], [ritz], [trace], [compare], [units]");
+        "are [structure], [supports], [foundation], [[loads]], [solve], [ritz], [trace], [compare], [units], "
+        "[[combinations]], [moving]");
   CHECK_THAT(error_of("title = \"x\"\n" + beam_scene), StartsWith("scene.toml:1: key 'title': unknown key;"));
 }
 
@@ -343,8 +344,10 @@ TEST_CASE("an unknown value of a choice is refused", "[scene][errors]") {
   CHECK(
       error_of(edited(beam_scene, "kind = \"force\"", "kind = \"torque\"")) ==
       R"(scene.toml:14: key 'loads[0].kind': expected "force", "moment", "uniform", "distributed" or "curvature", got "torque")");
-  CHECK(error_of(edited(beam_scene, "value = 1.0", "value = 1.0\ncase = \"permanent\"")) ==
-        R"(scene.toml:17: key 'loads[0].case': expected "live" or "dead", got "permanent")");
+  // A free case name is a load case for [[combinations]]; a name that is no word is refused.
+  CHECK(
+      error_of(edited(beam_scene, "value = 1.0", "value = 1.0\ncase = \"perm anent\"")) ==
+      R"(scene.toml:17: key 'loads[0].case': expected "dead", "live" or a load case name of letters, digits, '_' and '-' ("G", "Q"), got "perm anent")");
 }
 
 TEST_CASE("stiffnesses and lengths must be positive", "[scene][errors]") {
@@ -1109,4 +1112,67 @@ TEST_CASE("the old names k and tension_k read as nondimensional_k and tension_no
   CHECK(*segments.foundation.segments.at(0).stiffness_parameter == 5.0);
   REQUIRE(segments.warnings.size() == 1);
   CHECK_THAT(segments.warnings[0], Contains("key 'foundation.segments[0].k': 'k' is the old name"));
+TEST_CASE("load cases by name, [[combinations]] and [moving] are read", "[scene][envelope]") {
+  const Scene s = parse_scene(beam_scene + R"(case = "G"
+[moving]
+case = "Q"
+loads = [{ kind = "force", offset = 0.0, value = 2.0 }, { kind = "moment", offset = 0.5, value = -1.0 }]
+from = 0.0
+to = 1.4
+step = 0.5
+[[combinations]]
+name = "ULS"
+factors = { G = 1.35, Q = 1.5 }
+)",
+                              "scene.toml");
+  CHECK(s.loads[0].case_name == "G");
+  CHECK(s.loads[0].load_case == LoadCase::live);  // solve applies it once, as any load
+  REQUIRE(s.moving);
+  CHECK(s.moving->case_name == "Q");
+  REQUIRE(s.moving->group.size() == 2);
+  CHECK(s.moving->group[1].kind == LoadKind::moment);
+  CHECK(s.moving->group[1].at == 0.5);
+  // from..to by step, and `to` itself where the step does not divide the range (the group's end).
+  CHECK(s.moving->positions == std::vector<double>{0.0, 0.5, 1.0, 1.4});
+  REQUIRE(s.combinations.size() == 1);
+  CHECK(s.combinations[0].factor_of("G") == 1.35);
+  CHECK(s.combinations[0].factor_of("Q") == 1.5);
+  CHECK(s.combinations[0].factor_of("W") == 0.0);  // a case not named is not in the combination
+}
+
+TEST_CASE("combinations and moving loads: mistakes are refused with their key", "[scene][envelope]") {
+  const std::string with_case = beam_scene + "case = \"G\"\n";
+  // A typo'd case in a combination: the key, and the cases the scene has.
+  CHECK_THAT(error_of(with_case + "[[combinations]]\nname = \"ULS\"\nfactors = { G = 1.35, Qk = 1.5 }\n"),
+             StartsWith("scene.toml:20: key 'combinations[0].factors.Qk': unknown load case") && Contains("G"));
+  CHECK_THAT(error_of(with_case + "[[combinations]]\nname = \"ULS\"\nfactors = { G = -1.0 }\n"),
+             Contains("key 'combinations[0].factors.G'") && Contains(">= 0"));
+  CHECK_THAT(error_of(with_case + "[[combinations]]\nfactors = { G = 1.0 }\n"),
+             Contains("key 'combinations[0].name': missing"));
+  CHECK_THAT(error_of(with_case + "[[combinations]]\nname = \"A\"\nfactors = { G = 1.0 }\n[[combinations]]\nname = "
+                                  "\"A\"\nfactors = { G = 2.0 }\n"),
+             Contains("key 'combinations[1].name'") && Contains("not used by an earlier"));
+  CHECK_THAT(error_of(beam_scene + "case = \"\"\n"), Contains("key 'loads[0].case'"));
+
+  const std::string group = "[moving]\nloads = [{ kind = \"force\", offset = 0.0, value = 1.0 }]\n";
+  CHECK_THAT(error_of(beam_scene + group + "from = 0.0\nto = 1.0\nstep = -0.5\n"),
+             Contains("key 'moving.step': expected a number > 0, got -0.5"));
+  CHECK_THAT(error_of(beam_scene + "[moving]\nloads = []\nfrom = 0.0\nto = 1.0\nstep = 0.5\n"),
+             Contains("key 'moving.loads': expected a non-empty array"));
+  CHECK_THAT(error_of(beam_scene + "[moving]\nfrom = 0.0\nto = 1.0\nstep = 0.5\n"),
+             Contains("key 'moving.loads': missing"));
+  CHECK_THAT(error_of(beam_scene + "[moving]\nloads = [{ kind = \"uniform\", offset = 0.0, value = 1.0 }]\npositions "
+                                   "= [0.5]\n"),
+             Contains("key 'moving.loads[0].kind'"));
+  CHECK_THAT(error_of(beam_scene + "[moving]\nloads = [{ kind = \"force\", at = 0.0, value = 1.0 }]\npositions = "
+                                   "[0.5]\n"),
+             Contains("key 'moving.loads[0].at': unknown key"));
+  // The group must stay on the member: a lead position that puts a load beyond the end.
+  CHECK_THAT(error_of(beam_scene + "[moving]\nloads = [{ kind = \"force\", offset = 0.0, value = 1.0 }, { kind = "
+                                   "\"force\", offset = 1.0, value = 1.0 }]\nfrom = 0.0\nto = 1.5\nstep = 0.5\n"),
+             Contains("key 'moving.to'") && Contains("[from = 0, 1]"));
+  CHECK_THAT(error_of(beam_scene + group + "positions = [1.0, 0.5]\n"),
+             Contains("key 'moving.positions'") && Contains("ascending"));
+  CHECK_THAT(error_of(beam_scene + group + "positions = [0.5]\nstep = 0.5\n"),
+             Contains("key 'moving.step': not allowed with 'positions'"));
 }

@@ -1,0 +1,262 @@
+// `liftoff envelope` as a library call and through the command line: combinations solved (and
+// shown not to superpose on a tensionless foundation, to superpose on a bilateral one), a moving
+// bogie's envelopes and governing positions, the warm start's answers equal to the cold start's,
+// a failed case reported and the envelope marked incomplete (exit 3).
+
+#include "app/envelope_command.hpp"
+
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "app/cli.hpp"
+#include "core/error.hpp"
+#include "scene/scene_reader.hpp"
+#include "support/scenes.hpp"
+
+using namespace liftoff;
+
+namespace {
+
+scene::Scene engineering(const std::string& name) { return test::shipped_scene("engineering/" + name); }
+
+const scene::Combination& combination(const scene::Scene& s, const std::string& name) {
+  for (const auto& c : s.combinations)
+    if (c.name == name) return c;
+  FAIL("no combination " << name);
+  throw;
+}
+
+io::SolveReport solve_case(const scene::Scene& s, const scene::Combination* c, int elements) {
+  app::SolveRequest request;
+  request.elements = elements;
+  io::SolveReport r = app::solve_scene(app::case_scene(s, c, std::nullopt), request);
+  REQUIRE(r.certified());
+  return r;
+}
+
+double max_of(const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); }
+
+// The footing's ULS solved, against 1.35 G + 1.5 Q of the single-case answers, node by node (the
+// three meshes are one: every load is at x = 1.8). Returns max |difference| / max |r_ULS|.
+struct Superposition {
+  double difference;   // max over nodes of |r_ULS - (1.35 r_G + 1.5 r_Q)| / max r_ULS
+  double round_off;    // the three answers' measured round-off (relative), summed
+  double peak_solved;  // toe pressure of the solved ULS
+  double peak_superposed;
+};
+Superposition superposition(const scene::Scene& s, int elements) {
+  const scene::Combination g{"G", {{"G", 1.0}}}, q{"Q", {{"Q", 1.0}}};
+  const io::SolveReport uls = solve_case(s, &combination(s, "ULS"), elements);
+  const io::SolveReport rg = solve_case(s, &g, elements), rq = solve_case(s, &q, elements);
+  REQUIRE(uls.nodes.coordinate == rg.nodes.coordinate);
+  REQUIRE(uls.nodes.coordinate == rq.nodes.coordinate);
+  Superposition out{0.0, 0.0, 0.0, 0.0};
+  const double scale = max_of(uls.nodes.reaction);
+  for (std::size_t i = 0; i < uls.nodes.reaction.size(); ++i) {
+    const double sum = 1.35 * rg.nodes.reaction[i] + 1.5 * rq.nodes.reaction[i];
+    out.difference = std::max(out.difference, std::abs(uls.nodes.reaction[i] - sum) / scale);
+  }
+  for (const auto* r : {&uls, &rg, &rq}) out.round_off += std::max(r->certificate->round_off_estimate, 0.0);
+  out.peak_solved = uls.nodes.reaction.back();
+  out.peak_superposed = 1.35 * rg.nodes.reaction.back() + 1.5 * rq.nodes.reaction.back();
+  return out;
+}
+
+struct Run {
+  int status;
+  std::string out, err;
+};
+Run run(std::vector<std::string> args) {
+  args.insert(args.begin(), "liftoff");
+  std::vector<const char*> argv;
+  for (const auto& a : args) argv.push_back(a.c_str());
+  std::ostringstream out, err;
+  const int status = app::run_cli(static_cast<int>(argv.size()), argv.data(), out, err);
+  return {status, out.str(), err.str()};
+}
+
+}  // namespace
+
+TEST_CASE("a combination applies each load with its case's factor, 0 for a case it does not name", "[app][envelope]") {
+  const auto s = engineering("footing_eccentric_combinations");
+  const scene::Scene uls = app::case_scene(s, &combination(s, "ULS"), std::nullopt);
+  REQUIRE(uls.loads.size() == 4);
+  CHECK(uls.loads[0].value == 1.35 * 600e3);
+  CHECK(uls.loads[2].value == 1.5 * 300e3);
+  CHECK(uls.combinations.empty());
+  const scene::Scene g = app::case_scene(s, &combination(s, "G"), std::nullopt);
+  CHECK(g.loads.size() == 2);  // Q left out
+}
+
+TEST_CASE("combinations are solved: on a tensionless footing superposition is wrong, on a bilateral one exact",
+          "[app][envelope]") {
+  auto s = engineering("footing_eccentric_combinations");
+  // Tensionless: the difference against the discretisation error (the ULS toe pressure's change
+  // from 100 to 200 elements, an upper bound for the 200-element answer's error at order >= 1).
+  const Superposition coarse = superposition(s, 100), fine = superposition(s, 200);
+  const double discretisation = std::abs(fine.peak_solved - coarse.peak_solved) / fine.peak_solved;
+  CHECK(fine.difference > 100.0 * discretisation);
+  // The figures of the scene's comment: superposing overstates the toe pressure by ~10 %.
+  CHECK(fine.peak_superposed / fine.peak_solved - 1.0 > 0.05);
+  INFO("superposed " << fine.peak_superposed << ", solved " << fine.peak_solved);
+
+  // Bilateral: the problem is linear, the same code must superpose to round-off (each answer's
+  // own measured round-off, times 10 for the sum of three and the factors).
+  s.foundation.tensionless = false;
+  const Superposition linear = superposition(s, 100);
+  CHECK(linear.difference <= 10.0 * linear.round_off + 1e-14);
+  CHECK(linear.difference < 1e-9);  // and far below the tensionless difference
+}
+
+TEST_CASE("envelope over combinations: every case certified, the ULS governs the footing", "[app][envelope]") {
+  const auto s = engineering("footing_eccentric_combinations");
+  const io::EnvelopeReport r = app::run_envelope(s, {});
+  REQUIRE(r.cases.size() == 3);
+  CHECK(r.complete());
+  CHECK(r.cases[2].label() == "ULS");
+  CHECK(r.design.pressure_max.governing == 2);
+  CHECK(r.design.pressure_max.at == Approx(3.0));
+  CHECK(r.design.moment_max.governing == 2);
+  CHECK(r.design.moment_max.at == Approx(1.8));
+  // The envelope bounds every case's field at the grid points (it is their max and min).
+  const io::FieldTable& uls = r.cases[2].report.fields;
+  REQUIRE(!r.coordinate.empty());
+  CHECK(max_of(r.pressure_max) <= r.design.pressure_max.value);
+  CHECK(max_of(r.pressure_max) >= 0.99 * max_of(uls.reaction));  // the grid misses the peak by < 1 %
+  // The contact limit of each combination: G full, SLS and ULS lift off near 0.4 (rigid 0.40, 0.436).
+  CHECK(r.cases[0].report.contact_regions.size() == 1);
+  CHECK(r.cases[0].report.contact_regions[0][0] == Approx(0.0));
+  CHECK(r.cases[1].report.contact_regions[0][0] == Approx(0.40).margin(0.05));
+  CHECK(r.cases[2].report.contact_regions[0][0] == Approx(0.436).margin(0.05));
+}
+
+TEST_CASE("a moving bogie: envelopes, governing positions, and the warm start changes the work, not the answers",
+          "[app][envelope]") {
+  auto s = engineering("rail_moving_bogie");
+  REQUIRE(s.moving);
+  s.moving->positions = {5.1, 5.4, 5.7, 6.0, 6.3, 11.1, 11.4, 21.9, 22.2};
+  app::EnvelopeRequest warm;
+  const io::EnvelopeReport a = app::run_envelope(s, warm);
+  app::EnvelopeRequest cold = warm;
+  cold.warm_start = false;
+  const io::EnvelopeReport b = app::run_envelope(s, cold);
+  REQUIRE(a.complete());
+  REQUIRE(b.complete());
+  CHECK(a.cases[1].warm_started);
+  CHECK_FALSE(a.cases[0].warm_started);
+  CHECK_FALSE(b.cases[1].warm_started);
+  for (std::size_t k = 0; k < a.cases.size(); ++k) {
+    // The same contact set gives the same linear system: answers equal to its round-off.
+    const auto& ra = a.cases[k].report.contact_regions;
+    const auto& rb = b.cases[k].report.contact_regions;
+    REQUIRE(ra.size() == rb.size());
+    for (std::size_t i = 0; i < ra.size(); ++i) {
+      CHECK(ra[i][0] == Approx(rb[i][0]).epsilon(1e-12));
+      CHECK(ra[i][1] == Approx(rb[i][1]).epsilon(1e-12));
+    }
+    CHECK(a.cases[k].report.w_max == Approx(b.cases[k].report.w_max).epsilon(1e-9));
+  }
+  // Consecutive positions 0.3 m apart: the warm start needs fewer contact sets in all.
+  CHECK(a.contact_sets() < b.contact_sets());
+  // Interior positions (lead 5.1..11.4: both ends > 3 decay lengths away): the hand calculation of
+  // the scene's comment, w under a wheel 2.20 mm and M under a wheel 21.8 kN m (the infinite
+  // beam's, within the tensionless and finite-length corrections, a few per cent).
+  const io::SolveReport& interior = a.cases[5].report;
+  CHECK(interior.w_max == Approx(2.20e-3).epsilon(0.03));
+  CHECK(max_of(interior.fields.bending_moment) == Approx(21.8e3).epsilon(0.03));
+  // The trailing wheel at the free end (lead 22.2) governs the hogging moment, 0.7-0.8 m from the end.
+  CHECK(a.design.moment_min.governing == 8);
+  CHECK(a.design.moment_min.at == Approx(24.0 - 0.75).margin(0.1));
+  CHECK(a.design.moment_min.value == Approx(-34.8e3).epsilon(0.05));
+}
+
+TEST_CASE("a case that fails is reported, and the envelope is incomplete (exit 3)", "[app][envelope]") {
+  // A free member that only the foundation holds, with a Q moment alone that no compressive
+  // foundation can balance: the combination "Q" has no equilibrium.
+  const std::string text = R"([structure]
+kind = "beam"
+length = 3.0
+EI = 5.4e8
+[supports]
+left = "free"
+right = "free"
+[foundation]
+modulus = 3.0e7
+[[loads]]
+kind = "force"
+at = 1.5
+value = 600e3
+case = "G"
+[[loads]]
+kind = "moment"
+at = 1.5
+value = -2000e3
+case = "Q"
+[[combinations]]
+name = "G"
+factors = { G = 1.0 }
+[[combinations]]
+name = "Q"
+factors = { Q = 1.0 }
+)";
+  const auto dir = std::filesystem::temp_directory_path() / "liftoff_envelope_test";
+  std::filesystem::create_directories(dir);
+  const auto scene_file = dir / "failing.toml";
+  std::ofstream(scene_file) << text;
+  const io::EnvelopeReport r = app::run_envelope(scene::read_scene_file(scene_file), {});
+  REQUIRE(r.cases.size() == 2);
+  CHECK(r.cases[0].passed());
+  CHECK_FALSE(r.cases[1].passed());
+  CHECK_FALSE(r.complete());
+  CHECK(r.design.pressure_max.governing == 0);  // the envelope of what was certified
+
+  const auto json_file = dir / "failing.json";
+  const Run cli = run({"envelope", scene_file.string(), "--json", json_file.string()});
+  CHECK(cli.status == 3);
+  CHECK_THAT(cli.out, Catch::Contains("INCOMPLETE") && Catch::Contains("FAILED"));
+  CHECK_THAT(cli.err, Catch::Contains("1 of 2 cases not certified"));
+  const nlohmann::json j = nlohmann::json::parse(std::ifstream(json_file));
+  CHECK(j["complete"] == false);
+  CHECK(j["cases"][1]["certified"] == false);
+  CHECK(j["exit_code"] == 3);
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("cli: envelope writes the summary, JSON and HDF5; refuses a scene with nothing to envelope",
+          "[app][envelope]") {
+  const auto dir = std::filesystem::temp_directory_path() / "liftoff_envelope_cli_test";
+  std::filesystem::create_directories(dir);
+  const std::string scene =
+      std::string(LIFTOFF_SOURCE_DIR) + "/verification/scenes/engineering/footing_eccentric_combinations.toml";
+  const Run ok = run({"envelope", scene, "--json", (dir / "e.json").string(), "--hdf5", (dir / "e.h5").string()});
+  CHECK(ok.status == 0);
+  CHECK_THAT(ok.out, Catch::Contains("pressure_max") && Catch::Contains("governed by ULS"));
+  const nlohmann::json j = nlohmann::json::parse(std::ifstream(dir / "e.json"));
+  CHECK(j["kind"] == "envelope");
+  CHECK(j["design"]["pressure_max"]["governing"] == "ULS");
+  CHECK(j["cases"].size() == 3);
+  CHECK(std::filesystem::exists(dir / "e.h5"));
+  CHECK_FALSE(std::filesystem::exists(dir / "e.h5.tmp"));
+
+  const Run none = run(
+      {"envelope", std::string(LIFTOFF_SOURCE_DIR) + "/verification/scenes/engineering/footing_eccentric_column.toml"});
+  CHECK(none.status == 2);
+  CHECK_THAT(none.err, Catch::Contains("key 'combinations'"));
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("trace refuses a free load case name with its key", "[app][envelope]") {
+  const auto s = engineering("footing_eccentric_combinations");
+  const auto dir = std::filesystem::temp_directory_path() / "liftoff_envelope_trace_test";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "t.toml") << s.text << "\n[trace]\nlambda_max = 2.0\n";
+  const Run r = run({"trace", (dir / "t.toml").string()});
+  CHECK(r.status == 2);
+  CHECK_THAT(r.err, Catch::Contains("key 'loads[0].case'") && Catch::Contains("\"G\""));
+  std::filesystem::remove_all(dir);
+}
