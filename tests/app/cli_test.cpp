@@ -719,6 +719,7 @@ TEST_CASE("cli: --csv-fields writes the sampled fields; an unwritable one is exi
   CHECK(one_line(bad.err));
   CHECK_FALSE(fs::exists(h5));
   CHECK_FALSE(fs::exists(h5.string() + ".tmp"));
+}
 
 // The issue's trap: the B70 sleeper (verification/scenes/engineering/sleeper_b70_ballast.toml) with
 // its modulus K = 2.5e7 N/m^2 written as the old nondimensional key k.

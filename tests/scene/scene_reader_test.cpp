@@ -1112,6 +1112,8 @@ TEST_CASE("the old names k and tension_k read as nondimensional_k and tension_no
   CHECK(*segments.foundation.segments.at(0).stiffness_parameter == 5.0);
   REQUIRE(segments.warnings.size() == 1);
   CHECK_THAT(segments.warnings[0], Contains("key 'foundation.segments[0].k': 'k' is the old name"));
+}
+
 TEST_CASE("load cases by name, [[combinations]] and [moving] are read", "[scene][envelope]") {
   const Scene s = parse_scene(beam_scene + R"(case = "G"
 [moving]
