@@ -473,17 +473,23 @@ std::string certificate_lines(const SolveReport& r) {
 std::string design_lines(const SolveReport& r) {
   const DesignTable& t = *r.design;
   const bool arch = r.kind == StructureKind::arch;
+  const std::string length = arch ? " deg" : with_unit(r.units.length);
   auto where = [&](const DesignValue& v) {
-    return v.at ? fmt::format(" at {} = {:.6g}{}", arch ? "theta" : "x", *v.at, arch ? " deg" : "") : std::string();
+    return v.at ? fmt::format(" at {} = {:.6g}{}", arch ? "theta" : "x", *v.at, length) : std::string();
   };
+  const std::string moment = with_unit(r.units.moment()), force = with_unit(r.units.force),
+                    pressure =
+                        r.units.force.empty() ? " (force per unit length)" : with_unit(r.units.distributed_force()),
+                    gap = with_unit(r.units.length);
   std::string out;
-  out += fmt::format("  moment        sagging max {:.6g}{}; hogging min {:.6g}{}\n", t.moment_max.value,
-                     where(t.moment_max), t.moment_min.value, where(t.moment_min));
-  out += fmt::format("  shear         max |V| {:.6g}{}\n", t.shear_max_abs.value, where(t.shear_max_abs));
-  out += fmt::format("  pressure      max {:.6g}{} (force per unit length)\n", t.pressure_max.value,
-                     where(t.pressure_max));
-  out += t.uplift_max.at ? fmt::format("  uplift        max {:.6g}{} (gap between member and ground, g - w)\n",
-                                       t.uplift_max.value, where(t.uplift_max))
+  // The smallest moment is a hogging one only when it is negative (a member sagging throughout
+  // has its least moment, 0, at a free end).
+  out += fmt::format("  moment        max {:.6g}{}{}; min {:.6g}{}{} (sagging > 0)\n", t.moment_max.value, moment,
+                     where(t.moment_max), t.moment_min.value, moment, where(t.moment_min));
+  out += fmt::format("  shear         max |V| {:.6g}{}{}\n", t.shear_max_abs.value, force, where(t.shear_max_abs));
+  out += fmt::format("  pressure      max {:.6g}{}{}\n", t.pressure_max.value, pressure, where(t.pressure_max));
+  out += t.uplift_max.at ? fmt::format("  uplift        max {:.6g}{}{} (gap between member and ground, g - w)\n",
+                                       t.uplift_max.value, gap, where(t.uplift_max))
                          : std::string("  uplift        none (the member does not lift off the foundation)\n");
   if (t.from_statics)
     out += fmt::format(

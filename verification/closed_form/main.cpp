@@ -90,7 +90,11 @@ int main(int argc, char** argv) {
   p.bending_stiffness = scene["structure"]["EI"].value_or(0.0);
   p.left = end(path, scene["supports"]["left"].value_or(std::string()));
   p.right = end(path, scene["supports"]["right"].value_or(std::string()));
-  if (auto k = scene["foundation"]["k"].value<double>())
+  // The nondimensional K l^4/EI is `nondimensional_k` (`k`, its old name, still read).
+  const auto nondimensional = [](const auto& table) {
+    return table["nondimensional_k"] ? table["nondimensional_k"] : table["k"];
+  };
+  if (auto k = nondimensional(scene["foundation"]).value<double>())
     p.foundation_modulus = *k * p.bending_stiffness / std::pow(p.length, 4);
   else
     p.foundation_modulus = scene["foundation"]["modulus"].value_or(0.0);
@@ -103,9 +107,9 @@ int main(int argc, char** argv) {
     for (const toml::node& node : *pieces) {
       const toml::table& piece = *node.as_table();
       FoundationSegment f{piece["from"].value_or(0.0), piece["to"].value_or(p.length), 0.0};
-      if (piece["modulus"].as_array() || piece["k"].as_array())
+      if (piece["modulus"].as_array() || nondimensional(piece).as_array())
         refuse(path, "foundation.segments: a modulus varying within a piece is not covered");
-      if (auto k = piece["k"].value<double>())
+      if (auto k = nondimensional(piece).value<double>())
         f.modulus = *k * k_scale;
       else
         f.modulus = piece["modulus"].value_or(0.0);
