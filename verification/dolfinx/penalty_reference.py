@@ -92,6 +92,16 @@ def _string(table, key, where, allowed, default):
     return v
 
 
+def _case_factor(case, lam):
+    """The factor on a load of this case at load factor lam: live loads scale, dead ones do not;
+    a named case has no meaning under a load factor other than 1."""
+    if case == "live":
+        return lam
+    if case == "dead" or lam == 1.0:
+        return 1.0
+    raise SceneError(f"load case {case!r}: only 'dead' and 'live' loads can take a load factor ({lam})")
+
+
 def _known(table, keys, where):
     """A key this reference does not read would be ignored silently and change the problem:
     refuse it (the tables of numerics, [solve], [ritz], [trace], [compare], are not read)."""
@@ -296,7 +306,11 @@ def _read_loads(sc, raw):
             raise SceneError(f"key '{where}': expected a table")
         _known(ld, ("kind", "value", "at", "from", "to", "case", "direction", "per"), where)
         lk = _string(ld, "kind", where, ("force", "moment", "uniform", "distributed", "curvature"), None)
-        case = _string(ld, "case", where, ("live", "dead"), "live")
+        # "dead" and "live" (scaled by the load factor), or a named load case of liftoff's
+        # [[combinations]]: applied once, as liftoff's solve does (with a load factor, refused).
+        case = ld.get("case", "live")
+        if not isinstance(case, str) or not case:
+            raise SceneError(f"key '{where}.case': expected a non-empty string, got {case!r}")
         item = {"kind": lk, "case": case}
         if not arch:
             for key in ("direction", "per"):
@@ -701,7 +715,7 @@ class Model:
         q_line = {key: np.zeros((nc, 2)) for key in ("radial", "arc", "projection")}
         kT = fem.Function(V0)
         for ld in sc["loads"]:
-            fac = lam if ld["case"] == "live" else 1.0
+            fac = _case_factor(ld["case"], lam)
             if ld["kind"] in ("uniform", "distributed"):
                 qa, qb = cell_linear(lambda x: table_value(ld["at"], ld["values"], x, "zero"), xa, xb)
                 key = "radial" if ld["direction"] == "radial" else ld["per"]
@@ -815,7 +829,7 @@ class Model:
         for ld in sc["loads"]:
             if ld["kind"] not in ("force", "moment"):
                 continue
-            fac = lam if ld["case"] == "live" else 1.0
+            fac = _case_factor(ld["case"], lam)
             P = fac * ld["value"]
             v = self._vertex_at(ld["at"])
             if ld["kind"] == "force":
