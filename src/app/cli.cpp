@@ -18,8 +18,8 @@
 #include <string_view>
 #include <thread>
 
-#include "app/plot_command.hpp"
 #include "app/envelope_command.hpp"
+#include "app/plot_command.hpp"
 #include "app/solve_command.hpp"
 #include "app/sweep_command.hpp"
 #include "app/trace_command.hpp"
