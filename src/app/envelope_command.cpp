@@ -78,6 +78,7 @@ io::EnvelopeReport run_envelope(const scene::Scene& scene, const EnvelopeRequest
                     scene.source_name));
   io::EnvelopeReport out;
   out.scene_name = scene.source_name;
+  out.units = scene.units;
   out.scene_text = scene.text;
   out.coordinate_name = scene.structure.kind == scene::StructureKind::beam ? "x" : "theta_deg";
   out.tensionless = scene.foundation.tensionless;

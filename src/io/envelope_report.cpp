@@ -9,6 +9,7 @@
 
 #include "core/error.hpp"
 #include "io/hdf5_handle.hpp"
+#include "io/hdf5_units.hpp"
 #include "io/hdf5_writer.hpp"
 
 namespace liftoff::io {
@@ -57,6 +58,7 @@ nlohmann::json to_json(const EnvelopeReport& r) {
   j["coordinate"] = r.coordinate_name;
   j["sign_convention"] = sign_convention;
   j["tensionless"] = r.tensionless;
+  j["units"] = units_json(r.units);
   j["complete"] = r.complete();
   j["failed_cases"] = r.failed_cases();
   j["warm_start"] = r.warm_start;
@@ -112,9 +114,18 @@ std::string text_summary(const EnvelopeReport& r) {
   std::string s = fmt::format("liftoff envelope: {}\n", r.scene_name);
   s += fmt::format("  cases         {} solved, {} certified{}\n", r.cases.size(), r.cases.size() - r.failed_cases(),
                    r.complete() ? "" : fmt::format(" (INCOMPLETE: {} failed, listed below)", r.failed_cases()));
+  const bool arch = r.coordinate_name != "x";
+  const auto with_unit = [](const std::string& label) { return label.empty() ? label : " " + label; };
+  const std::string at_unit = arch ? "" : with_unit(r.units.length);
   for (const auto& [name, e] : extremes(r)) {
     if (e->governing < 0) continue;
-    s += fmt::format("  {:<13} {:<12.6g} at {} = {:<10.6g} governed by {}\n", name, e->value, r.coordinate_name, e->at,
+    const std::string_view n = name;
+    const std::string unit = n.starts_with("moment")     ? r.units.moment()
+                             : n.starts_with("shear")    ? r.units.force
+                             : n.starts_with("pressure") ? r.units.distributed_force()
+                                                         : r.units.length;
+    s += fmt::format("  {:<13} {} at {} = {:.6g}{}, governed by {}\n", name,
+                     fmt::format("{:.6g}{}", e->value, with_unit(unit)), r.coordinate_name, e->at, at_unit,
                      r.cases[e->governing].label());
   }
   int warm = 0;
@@ -179,6 +190,7 @@ void write_file(const EnvelopeReport& r, const std::filesystem::path& path, cons
   string_attribute(file, "sign_convention", sign_convention);
   number_attribute(file, "complete", r.complete() ? 1.0 : 0.0);
   number_attribute(file, "warm_start", r.warm_start ? 1.0 : 0.0);
+  write_units(file, r.units);
   {
     Handle type(H5Tcopy(H5T_C_S1), H5Tclose, "string type");
     check(H5Tset_size(type, H5T_VARIABLE), "scene");

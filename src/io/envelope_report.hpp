@@ -42,6 +42,7 @@ struct EnvelopeReport {
   std::string scene_text;
   std::string coordinate_name;  // "x" or "theta_deg"
   bool tensionless = true;
+  scene::Units units;      // the scene's [units]: labels of every figure
   bool warm_start = true;  // consecutive positions started from the previous contact set
   std::vector<EnvelopeCase> cases;
   // The grid and the envelopes along it (certified cases only).
@@ -64,7 +65,8 @@ struct EnvelopeReport {
 nlohmann::json to_json(const EnvelopeReport& report);
 std::string text_summary(const EnvelopeReport& report);
 // Layout (README, "liftoff envelope"): root attributes kind = "envelope", liftoff_version,
-// scene_name, coordinate, sign_convention, complete, warm_start; /scene (TOML text);
+// scene_name, coordinate, sign_convention, complete, warm_start, units_system and units_<name>
+// (as in a solve file); /scene (TOML text);
 // /envelope/{coordinate, w_max, w_min, pressure_max, pressure_min, moment_max, moment_min,
 // shear_max, shear_min}; /extremes (attributes <name>_value, <name>_at, <name>_governing as the
 // case's label); /cases: datasets position (n, NaN without [moving]), certified (0/1),

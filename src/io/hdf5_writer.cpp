@@ -8,6 +8,7 @@
 
 #include "core/error.hpp"
 #include "io/hdf5_handle.hpp"
+#include "io/hdf5_units.hpp"
 
 namespace liftoff::io {
 
@@ -108,14 +109,6 @@ void write_design(hid_t file, const DesignTable& t) {
   write_number_attribute(group, "from_statics", static_cast<int>(t.from_statics));
   write_number_attribute(group, "shear_closure", t.shear_closure);
   write_number_attribute(group, "moment_closure", t.moment_closure);
-}
-
-// units_system and units_<name> for every label of scene::unit_labels (units_length, units_force,
-// ...), empty strings when the scene states no units: what plots label their axes with.
-void write_units(hid_t object, const scene::Units& units) {
-  write_string_attribute(object, "units_system", units.system);
-  for (const auto& [name, label] : scene::unit_labels(units))
-    write_string_attribute(object, ("units_" + name).c_str(), label);
 }
 
 // scale_<figure> (post/scale.hpp; the stiffest piece's, with _min companions when the modulus
@@ -261,6 +254,12 @@ void write_atomically(const std::filesystem::path& path, Write write) {
 }
 
 }  // namespace
+
+void write_units(hid_t object, const scene::Units& units) {
+  write_string_attribute(object, "units_system", units.system);
+  for (const auto& [name, label] : scene::unit_labels(units))
+    write_string_attribute(object, ("units_" + name).c_str(), label);
+}
 
 std::filesystem::path temporary_path(const std::filesystem::path& path) {
   std::filesystem::path temporary = path;

@@ -233,11 +233,6 @@ nlohmann::json support_reactions_json(const SolveReport& r) {
 }
 
 // {"system", "length", "force", "moment", ...}: the labels (empty strings when none are stated).
-nlohmann::json units_json(const scene::Units& units) {
-  nlohmann::json j{{"system", units.system}};
-  for (const auto& [name, label] : scene::unit_labels(units)) j[name] = label;
-  return j;
-}
 
 // The stiffest piece's figures (the shortest 1/beta), with every figure's range when the modulus
 // varies; beta_L is beta times the member's length (arches: the arc's, 2 gamma R).
@@ -290,6 +285,12 @@ nlohmann::json certificate_json(const SolveReport& r) {
 }
 
 }  // namespace
+
+nlohmann::json units_json(const scene::Units& units) {
+  nlohmann::json j{{"system", units.system}};
+  for (const auto& [name, label] : scene::unit_labels(units)) j[name] = label;
+  return j;
+}
 
 nlohmann::json to_json(const SolveReport& r) {
   nlohmann::json j;

@@ -131,6 +131,8 @@ SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model,
 post::Fields sample_fields(const fe::MemberModel& model, const ritz::RitzSolution& solution, int samples);
 
 nlohmann::json to_json(const SolveReport& report);
+// The JSON `units` object: {"system": ..., "<name>": label} for every label of scene::unit_labels.
+nlohmann::json units_json(const scene::Units& units);
 std::string text_summary(const SolveReport& report);
 // Several methods on one scene, one column each (`--method all`).
 std::string side_by_side(const std::vector<SolveReport>& reports);

@@ -175,6 +175,66 @@ TEST_CASE("a moving bogie: envelopes, governing positions, and the warm start ch
   CHECK(a.design.moment_min.value == Approx(-34.8e3).epsilon(0.05));
 }
 
+TEST_CASE("a tandem axle across a slab: interior positions are Hetenyi's, a joint governs and lifts the slab off",
+          "[app][envelope]") {
+  const auto s = engineering("slab_moving_tandem");
+  REQUIRE(s.moving);
+  const io::EnvelopeReport r = app::run_envelope(s, app::EnvelopeRequest{});
+  REQUIRE(r.complete());
+  REQUIRE(r.cases.size() == 47);
+  // The scene's data, for the closed form (N, m; per metre width).
+  const double EI = 2.2e7, K = 4.0e7, P = 100e3, s_axles = 1.2, q = 5.0e3, L = 15.0;
+  const double beta = std::pow(K / (4 * EI), 0.25);
+  const auto eta = [](double u) { return std::exp(-u) * (std::cos(u) + std::sin(u)); };
+  const auto mu = [](double u) { return std::exp(-u) * (std::cos(u) - std::sin(u)); };
+  // Interior: the lead axle at 6.9 m, both axles 6.9 m from a joint (beta d = 5.7). The slab is in
+  // contact everywhere (the wave's trough lifts it by less than the self-weight settles it), so the
+  // answer is the bilateral one, which differs from the infinite beam's by the free joints' waves,
+  // of relative size e^(-beta d); the mesh (beta h = 0.04, cubic elements) adds far less.
+  const io::EnvelopeCase& middle = r.cases[23];
+  REQUIRE(middle.position);
+  CHECK(*middle.position == Approx(6.9));
+  REQUIRE(middle.report.contact_regions.size() == 1);
+  CHECK(middle.report.contact_regions[0][0] == Approx(0.0).margin(1e-12));
+  CHECK(middle.report.contact_regions[0][1] == Approx(L));
+  const double end_effect = 4 * std::exp(-beta * 6.9);
+  const double w_axle = P * beta / (2 * K) * (1 + eta(beta * s_axles)) + q / K;
+  const double m_axle = P / (4 * beta) * (1 + mu(beta * s_axles));
+  CAPTURE(w_axle, m_axle, end_effect);
+  const auto& nodes = middle.report.nodes;
+  const auto axle =
+      std::find_if(nodes.coordinate.begin(), nodes.coordinate.end(), [](double x) { return std::abs(x - 6.9) < 1e-9; });
+  REQUIRE(axle != nodes.coordinate.end());
+  CHECK(nodes.w[axle - nodes.coordinate.begin()] == Approx(w_axle).epsilon(end_effect));
+  // The axles are closer than pi / (2 beta): the slab sinks most midway between them.
+  const double w_midway = P * beta / K * eta(beta * s_axles / 2) + q / K;
+  CHECK(middle.report.w_max == Approx(w_midway).epsilon(end_effect));
+  CHECK(max_of(middle.report.fields.bending_moment) == Approx(m_axle).epsilon(end_effect));
+  // At a joint the slab is softest: the lead axle on the joint (or the trailing axle on the far
+  // one, its mirror image) governs w_max. Bilateral semi-infinite beam, by reciprocity:
+  // w(0) = 2 P beta / K (1 + e^(-beta s) cos(beta s)) + q / K; the lift-off 2..4 m in (below)
+  // lets the end sink a little more, by a few per cent.
+  const double w_joint = 2 * P * beta / K * (1 + std::exp(-beta * s_axles) * std::cos(beta * s_axles)) + q / K;
+  CAPTURE(w_joint, r.design.w_max.value);
+  const double governing_w = *r.cases[r.design.w_max.governing].position;
+  CHECK((governing_w == Approx(0.0) || governing_w == Approx(L - s_axles)));
+  CHECK(r.design.w_max.value >= w_joint * (1 - end_effect));
+  CHECK(r.design.w_max.value == Approx(w_joint).epsilon(0.05));
+  // ... and lifts it off inside the end's negative half-wave, where
+  // 2 P beta / K e^(-beta x) cos(beta x) < 0: pi / (2 beta) < x < 3 pi / (2 beta).
+  const io::EnvelopeCase& at_joint = r.cases[0];
+  REQUIRE(at_joint.report.contact_regions.size() == 2);
+  const double gap_from = at_joint.report.contact_regions[0][1], gap_to = at_joint.report.contact_regions[1][0];
+  CAPTURE(gap_from, gap_to);
+  CHECK(gap_from > M_PI / (2 * beta));
+  CHECK(gap_to < 3 * M_PI / (2 * beta));
+  CHECK(gap_to > gap_from);
+  // The joints govern the hogging too: beyond the interior's -10.1 kN m (the scene's comment).
+  const double governing_m = *r.cases[r.design.moment_min.governing].position;
+  CHECK((governing_m < 2 * s_axles || governing_m > L - 3 * s_axles));
+  CHECK(r.design.moment_min.value < -10.1e3);
+}
+
 TEST_CASE("a case that fails is reported, and the envelope is incomplete (exit 3)", "[app][envelope]") {
   // A free member that only the foundation holds, with a Q moment alone that no compressive
   // foundation can balance: the combination "Q" has no equilibrium.
