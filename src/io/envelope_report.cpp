@@ -8,6 +8,7 @@
 #include <system_error>
 
 #include "core/error.hpp"
+#include "io/hdf5_attributes.hpp"
 #include "io/hdf5_handle.hpp"
 #include "io/hdf5_units.hpp"
 #include "io/hdf5_writer.hpp"
@@ -156,40 +157,19 @@ namespace {
 
 using hdf5::check;
 using hdf5::Handle;
-
-void string_attribute(hid_t object, const std::string& name, const std::string& value) {
-  Handle type(H5Tcopy(H5T_C_S1), H5Tclose, "string type");
-  check(H5Tset_size(type, H5T_VARIABLE), name);
-  check(H5Tset_cset(type, H5T_CSET_UTF8), name);
-  Handle space(H5Screate(H5S_SCALAR), H5Sclose, "dataspace");
-  Handle attribute(H5Acreate2(object, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose, name);
-  const char* text = value.c_str();
-  check(H5Awrite(attribute, type, &text), name);
-}
-
-void number_attribute(hid_t object, const std::string& name, double value) {
-  Handle space(H5Screate(H5S_SCALAR), H5Sclose, "dataspace");
-  Handle attribute(H5Acreate2(object, name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
-                   name);
-  check(H5Awrite(attribute, H5T_NATIVE_DOUBLE, &value), name);
-}
-
-void array(hid_t group, const char* name, const std::vector<double>& values, hsize_t columns = 1) {
-  const hsize_t dims[2] = {values.size() / columns, columns};
-  Handle space(H5Screate_simple(columns == 1 ? 1 : 2, dims, nullptr), H5Sclose, name);
-  Handle dataset(H5Dcreate2(group, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose, name);
-  if (!values.empty()) check(H5Dwrite(dataset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), name);
-}
+using hdf5::write_array;
+using hdf5::write_number_attribute;
+using hdf5::write_string_attribute;
 
 void write_file(const EnvelopeReport& r, const std::filesystem::path& path, const std::string& version) {
   Handle file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose, path.string());
-  string_attribute(file, "kind", "envelope");
-  string_attribute(file, "liftoff_version", version);
-  string_attribute(file, "scene_name", r.scene_name);
-  string_attribute(file, "coordinate", r.coordinate_name);
-  string_attribute(file, "sign_convention", sign_convention);
-  number_attribute(file, "complete", r.complete() ? 1.0 : 0.0);
-  number_attribute(file, "warm_start", r.warm_start ? 1.0 : 0.0);
+  write_string_attribute(file, "kind", "envelope");
+  write_string_attribute(file, "liftoff_version", version);
+  write_string_attribute(file, "scene_name", r.scene_name);
+  write_string_attribute(file, "coordinate", r.coordinate_name);
+  write_string_attribute(file, "sign_convention", sign_convention);
+  write_number_attribute(file, "complete", r.complete() ? 1.0 : 0.0);
+  write_number_attribute(file, "warm_start", r.warm_start ? 1.0 : 0.0);
   write_units(file, r.units);
   {
     Handle type(H5Tcopy(H5T_C_S1), H5Tclose, "string type");
@@ -211,15 +191,15 @@ void write_file(const EnvelopeReport& r, const std::filesystem::path& path, cons
                                                                           {"moment_min", &r.moment_min},
                                                                           {"shear_max", &r.shear_max},
                                                                           {"shear_min", &r.shear_min}};
-    for (const auto& [name, values] : columns) array(group, name, *values);
+    for (const auto& [name, values] : columns) write_array(group, name, *values);
   }
   {
     Handle group(H5Gcreate2(file, "extremes", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "extremes");
     for (const auto& [name, e] : extremes(r)) {
       if (e->governing < 0) continue;
-      number_attribute(group, std::string(name) + "_value", e->value);
-      number_attribute(group, std::string(name) + "_at", e->at);
-      string_attribute(group, std::string(name) + "_governing", r.cases[e->governing].label());
+      write_number_attribute(group, std::string(name) + "_value", e->value);
+      write_number_attribute(group, std::string(name) + "_at", e->at);
+      write_string_attribute(group, std::string(name) + "_governing", r.cases[e->governing].label());
     }
   }
   {
@@ -231,17 +211,18 @@ void write_file(const EnvelopeReport& r, const std::filesystem::path& path, cons
       certified.push_back(c.passed() ? 1.0 : 0.0);
       sets.push_back(c.report.active_set_iterations);
       factorisations.push_back(c.report.factorisations);
-      string_attribute(group, fmt::format("label_{:04d}", k), c.label());
-      string_attribute(group, fmt::format("termination_{:04d}", k), c.error.empty() ? c.report.termination : "refused");
+      write_string_attribute(group, fmt::format("label_{:04d}", k), c.label());
+      write_string_attribute(group, fmt::format("termination_{:04d}", k),
+                             c.error.empty() ? c.report.termination : "refused");
       if (c.passed())
         for (const auto& [a, b] : c.report.contact_regions) regions.insert(regions.end(), {double(k), a, b});
     }
-    array(group, "position", position);
-    array(group, "certified", certified);
-    array(group, "contact_sets", sets);
-    array(group, "factorisations", factorisations);
+    write_array(group, "position", position);
+    write_array(group, "certified", certified);
+    write_array(group, "contact_sets", sets);
+    write_array(group, "factorisations", factorisations);
     Handle map(H5Gcreate2(file, "liftoff_map", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "liftoff_map");
-    array(map, "regions", regions, 3);
+    write_array(map, "regions", regions, 3);
   }
 }
 

@@ -7,6 +7,7 @@
 #include <system_error>
 
 #include "core/error.hpp"
+#include "io/hdf5_attributes.hpp"
 #include "io/hdf5_handle.hpp"
 #include "io/hdf5_units.hpp"
 
@@ -16,38 +17,10 @@ namespace {
 
 using hdf5::check;
 using hdf5::Handle;
-
-// Variable-length UTF-8, which h5py returns as str.
-void write_string_attribute(hid_t object, const char* name, const std::string& value) {
-  Handle type(H5Tcopy(H5T_C_S1), H5Tclose, "string type");
-  check(H5Tset_size(type, H5T_VARIABLE), name);
-  check(H5Tset_cset(type, H5T_CSET_UTF8), name);
-  Handle space(H5Screate(H5S_SCALAR), H5Sclose, "dataspace");
-  Handle attribute(H5Acreate2(object, name, type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose, name);
-  const char* text = value.c_str();
-  check(H5Awrite(attribute, type, &text), name);
-}
-
-template <typename T>
-void write_number_attribute(hid_t object, const char* name, T value) {
-  const hid_t type = std::is_integral_v<T> ? H5T_NATIVE_LLONG : H5T_NATIVE_DOUBLE;
-  Handle space(H5Screate(H5S_SCALAR), H5Sclose, "dataspace");
-  Handle attribute(H5Acreate2(object, name, type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose, name);
-  if constexpr (std::is_integral_v<T>) {
-    const long long v = value;
-    check(H5Awrite(attribute, type, &v), name);
-  } else {
-    const double v = value;
-    check(H5Awrite(attribute, type, &v), name);
-  }
-}
-
-void write_array(hid_t group, const char* name, const std::vector<double>& values, hsize_t columns = 1) {
-  const hsize_t dims[2] = {values.size() / columns, columns};
-  Handle space(H5Screate_simple(columns == 1 ? 1 : 2, dims, nullptr), H5Sclose, name);
-  Handle dataset(H5Dcreate2(group, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose, name);
-  if (!values.empty()) check(H5Dwrite(dataset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), name);
-}
+using hdf5::write_array;
+using hdf5::write_number_attribute;
+using hdf5::write_string_attribute;
+using hdf5::write_text;
 
 void write_table(hid_t file, const char* group_name, const FieldTable& t) {
   Handle group(H5Gcreate2(file, group_name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, group_name);
@@ -80,8 +53,8 @@ void write_certificate(hid_t file, const SolveReport& r) {
     write_number_attribute(group, "applied_force_x", u.applied_force_x);
   }
   for (const certify::Check& check : c.checks) {
-    write_number_attribute(group, check.name.c_str(), check.value);
-    write_number_attribute(group, (check.name + "_tolerance").c_str(), check.tolerance);
+    write_number_attribute(group, check.name, check.value);
+    write_number_attribute(group, check.name + "_tolerance", check.tolerance);
   }
   const bool arch = r.kind == scene::StructureKind::arch;
   std::vector<double> rows;
@@ -104,7 +77,7 @@ void write_design(hid_t file, const DesignTable& t) {
                                                                {"uplift_max", &t.uplift_max}};
   for (const auto& [name, v] : values) {
     write_number_attribute(group, name, v->value);
-    write_number_attribute(group, (std::string(name) + "_at").c_str(), v->at.value_or(std::nan("")));
+    write_number_attribute(group, std::string(name) + "_at", v->at.value_or(std::nan("")));
   }
   write_number_attribute(group, "from_statics", static_cast<int>(t.from_statics));
   write_number_attribute(group, "shear_closure", t.shear_closure);
@@ -147,14 +120,7 @@ void write_report(hid_t file, const SolveReport& r) {
   write_units(file, r.units);
   write_scale(file, r);
 
-  {
-    Handle type(H5Tcopy(H5T_C_S1), H5Tclose, "string type");
-    check(H5Tset_size(type, std::max<std::size_t>(1, r.scene_text.size())), "scene");
-    check(H5Tset_cset(type, H5T_CSET_UTF8), "scene");
-    Handle space(H5Screate(H5S_SCALAR), H5Sclose, "scene");
-    Handle dataset(H5Dcreate2(file, "scene", type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose, "scene");
-    check(H5Dwrite(dataset, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, r.scene_text.c_str()), "scene");
-  }
+  write_text(file, "scene", r.scene_text);
 
   std::vector<double> regions;
   for (const auto& region : r.contact_regions) regions.insert(regions.end(), region.begin(), region.end());
@@ -257,8 +223,7 @@ void write_atomically(const std::filesystem::path& path, Write write) {
 
 void write_units(hid_t object, const scene::Units& units) {
   write_string_attribute(object, "units_system", units.system);
-  for (const auto& [name, label] : scene::unit_labels(units))
-    write_string_attribute(object, ("units_" + name).c_str(), label);
+  for (const auto& [name, label] : scene::unit_labels(units)) write_string_attribute(object, "units_" + name, label);
 }
 
 std::filesystem::path temporary_path(const std::filesystem::path& path) {

@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "core/error.hpp"
+#include "io/hdf5_attributes.hpp"
 #include "io/hdf5_handle.hpp"
 #include "io/report.hpp"
 
@@ -23,67 +24,14 @@ namespace {
 
 using hdf5::check;
 using hdf5::Handle;
-
-Handle string_type(bool variable, std::size_t size = 1) {
-  Handle type(H5Tcopy(H5T_C_S1), H5Tclose, "string type");
-  check(H5Tset_size(type, variable ? H5T_VARIABLE : std::max<std::size_t>(1, size)), "string type");
-  check(H5Tset_cset(type, H5T_CSET_UTF8), "string type");
-  return type;
-}
+using hdf5::read_number_attribute;
+using hdf5::read_string_attribute;
+using hdf5::string_type;
+using hdf5::write_number_attribute;
+using hdf5::write_string_attribute;
+using hdf5::write_text;
 
 bool exists(hid_t location, const std::string& name) { return H5Lexists(location, name.c_str(), H5P_DEFAULT) > 0; }
-
-// Attributes are replaced when they exist (complete, termination are written twice).
-void set_string_attribute(hid_t object, const char* name, const std::string& value) {
-  if (H5Aexists(object, name) > 0) check(H5Adelete(object, name), name);
-  Handle type = string_type(true);
-  Handle space(H5Screate(H5S_SCALAR), H5Sclose, "dataspace");
-  Handle attribute(H5Acreate2(object, name, type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose, name);
-  const char* text = value.c_str();
-  check(H5Awrite(attribute, type, &text), name);
-}
-
-void set_number_attribute(hid_t object, const char* name, double value) {
-  Handle space(H5Screate(H5S_SCALAR), H5Sclose, "dataspace");
-  if (H5Aexists(object, name) > 0) {
-    Handle attribute(H5Aopen(object, name, H5P_DEFAULT), H5Aclose, name);
-    check(H5Awrite(attribute, H5T_NATIVE_DOUBLE, &value), name);
-    return;
-  }
-  Handle attribute(H5Acreate2(object, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose, name);
-  check(H5Awrite(attribute, H5T_NATIVE_DOUBLE, &value), name);
-}
-
-void set_flag_attribute(hid_t object, const char* name, bool value) {
-  const long long v = value ? 1 : 0;
-  if (H5Aexists(object, name) > 0) {
-    Handle attribute(H5Aopen(object, name, H5P_DEFAULT), H5Aclose, name);
-    check(H5Awrite(attribute, H5T_NATIVE_LLONG, &v), name);
-    return;
-  }
-  Handle space(H5Screate(H5S_SCALAR), H5Sclose, "dataspace");
-  Handle attribute(H5Acreate2(object, name, H5T_STD_I64LE, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose, name);
-  check(H5Awrite(attribute, H5T_NATIVE_LLONG, &v), name);
-}
-
-std::string string_attribute(hid_t object, const char* name) {
-  if (H5Aexists(object, name) <= 0) return {};
-  Handle attribute(H5Aopen(object, name, H5P_DEFAULT), H5Aclose, name);
-  Handle type = string_type(true);
-  char* text = nullptr;
-  check(H5Aread(attribute, type, &text), name);
-  std::string value = text != nullptr ? text : "";
-  H5free_memory(text);
-  return value;
-}
-
-double number_attribute(hid_t object, const char* name) {
-  if (H5Aexists(object, name) <= 0) return 0.0;
-  Handle attribute(H5Aopen(object, name, H5P_DEFAULT), H5Aclose, name);
-  double value = 0.0;
-  check(H5Aread(attribute, H5T_NATIVE_DOUBLE, &value), name);
-  return value;
-}
 
 // ---------------------------------------------------------------------------------------------
 // Extendible datasets: `columns` == 0 for one value per row.
@@ -175,13 +123,6 @@ std::vector<std::string> read_strings(hid_t location, const std::string& name) {
   return values;
 }
 
-void write_text(hid_t location, const char* name, const std::string& text) {
-  Handle type = string_type(false, text.size());
-  Handle space(H5Screate(H5S_SCALAR), H5Sclose, name);
-  Handle dataset(H5Dcreate2(location, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose, name);
-  check(H5Dwrite(dataset, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, text.c_str()), name);
-}
-
 std::string read_text(hid_t location, const char* name) {
   Handle dataset(H5Dopen2(location, name, H5P_DEFAULT), H5Dclose, name);
   Handle type(H5Dget_type(dataset), H5Tclose, name);
@@ -223,10 +164,10 @@ TracePathRecord read_path_record(hid_t id, const std::string& name, std::size_t 
   const auto events = [&](const char* d) { return name + "/events/" + d; };
   Handle group(H5Gopen2(id, name.c_str(), H5P_DEFAULT), H5Gclose, name);
   TracePathRecord record;
-  record.complete = number_attribute(group, "complete") != 0.0;
-  record.termination = string_attribute(group, "termination");
-  record.message = string_attribute(group, "message");
-  record.monitor = number_attribute(group, "monitor");
+  record.complete = read_number_attribute(group, "complete") != 0.0;
+  record.termination = read_string_attribute(group, "termination");
+  record.message = read_string_attribute(group, "message");
+  record.monitor = read_number_attribute(group, "monitor");
   const std::vector<double> lambda = read_doubles(id, steps("lambda"));
   const std::vector<double> monitor = read_doubles(id, steps("monitor_deflection"));
   const std::vector<double> iterations = read_doubles(id, steps("iterations"));
@@ -281,11 +222,11 @@ bool whole(const TracePathRecord& record) {
 
 TraceFileInfo read_info(hid_t id) {
   TraceFileInfo info;
-  info.version = string_attribute(id, "liftoff_version");
-  info.scene_name = string_attribute(id, "scene_name");
-  info.coordinate = string_attribute(id, "coordinate");
-  info.options = string_attribute(id, "options");
-  info.paths = split_paths(string_attribute(id, "paths"));
+  info.version = read_string_attribute(id, "liftoff_version");
+  info.scene_name = read_string_attribute(id, "scene_name");
+  info.coordinate = read_string_attribute(id, "coordinate");
+  info.options = read_string_attribute(id, "options");
+  info.paths = split_paths(read_string_attribute(id, "paths"));
   info.scene_text = read_text(id, "scene");
   info.sample_points = read_doubles(id, "sample_points");
   return info;
@@ -327,7 +268,7 @@ std::optional<TraceFileRecord> read_checked(const std::filesystem::path& path) {
     if (H5Aexists(file, "paths") <= 0 || !exists(file, "scene")) return std::nullopt;
     TraceFileRecord record;
     record.info = read_info(file);
-    record.complete = number_attribute(file, "complete") != 0.0;
+    record.complete = read_number_attribute(file, "complete") != 0.0;
     for (const std::string& name : record.info.paths) {
       if (!exists(file, name)) continue;
       record.paths.emplace_back(name, read_path_record(file, name, record.info.sample_points.size()));
@@ -410,17 +351,17 @@ TraceWriter::TraceWriter(const std::filesystem::path& path, const TraceFileInfo&
     }
   }
   f.each([&](hid_t id) {
-    set_string_attribute(id, "liftoff_version", info.version);
-    set_string_attribute(id, "kind", "trace");  // what `liftoff plot` draws: solve, trace or sweep
-    set_string_attribute(id, "scene_name", info.scene_name);
-    set_string_attribute(id, "coordinate", info.coordinate);
-    set_string_attribute(id, "sign_convention", sign_convention);
-    set_string_attribute(id, "options", info.options);
+    write_string_attribute(id, "liftoff_version", info.version);
+    write_string_attribute(id, "kind", "trace");  // what `liftoff plot` draws: solve, trace or sweep
+    write_string_attribute(id, "scene_name", info.scene_name);
+    write_string_attribute(id, "coordinate", info.coordinate);
+    write_string_attribute(id, "sign_convention", sign_convention);
+    write_string_attribute(id, "options", info.options);
     std::string paths;
     for (const auto& p : info.paths) paths += (paths.empty() ? "" : ",") + p;
-    set_string_attribute(id, "paths", paths);
-    for (const auto& [name, label] : info.units) set_string_attribute(id, ("units_" + name).c_str(), label);
-    set_flag_attribute(id, "complete", false);
+    write_string_attribute(id, "paths", paths);
+    for (const auto& [name, label] : info.units) write_string_attribute(id, "units_" + name, label);
+    write_number_attribute(id, "complete", false);
     write_text(id, "scene", info.scene_text);
     const hsize_t n = info.sample_points.size();
     Handle space(H5Screate_simple(1, &n, nullptr), H5Sclose, "sample_points");
@@ -477,8 +418,8 @@ void TraceWriter::begin_path(const std::string& name, double monitor) {
   const std::size_t samples = file_->samples;
   file_->each([&](hid_t id) {
     Handle group(H5Gcreate2(id, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, name);
-    set_flag_attribute(group, "complete", false);
-    set_number_attribute(group, "monitor", monitor);
+    write_number_attribute(group, "complete", false);
+    write_number_attribute(group, "monitor", monitor);
     Handle steps(H5Gcreate2(group, "steps", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "steps");
     for (const char* d : {"lambda", "monitor_deflection", "iterations"}) create_rows(steps, d, H5T_IEEE_F64LE, 0);
     for (const char* d : {"deflection", "reaction"}) create_rows(steps, d, H5T_IEEE_F64LE, samples);
@@ -530,14 +471,14 @@ void TraceWriter::append_event(const std::string& name, const TraceEvent& event)
 void TraceWriter::end_path(const std::string& name, const continuation::TraceSummary& summary) {
   file_->each([&](hid_t id) {
     Handle group(H5Gopen2(id, name.c_str(), H5P_DEFAULT), H5Gclose, name);
-    set_string_attribute(group, "termination", std::string(continuation::to_string(summary.termination)));
-    set_string_attribute(group, "message", summary.message);
-    set_flag_attribute(group, "complete", summary.termination == continuation::TraceTermination::completed);
+    write_string_attribute(group, "termination", std::string(continuation::to_string(summary.termination)));
+    write_string_attribute(group, "message", summary.message);
+    write_number_attribute(group, "complete", summary.termination == continuation::TraceTermination::completed);
   });
 }
 
 void TraceWriter::finish() {
-  file_->each([&](hid_t id) { set_flag_attribute(id, "complete", true); });
+  file_->each([&](hid_t id) { write_number_attribute(id, "complete", true); });
 }
 
 TraceFileRecord read_trace_file(const std::filesystem::path& path) {

@@ -14,40 +14,18 @@
 #include <string>
 #include <vector>
 
+#include "support/cli.hpp"
+#include "support/scratch.hpp"
+
 namespace fs = std::filesystem;
 
+using namespace liftoff::test;  // support/: the CLI runner, the scratch directory
+
 namespace {
-
-struct Run {
-  int status;
-  std::string out, err;
-};
-
-Run run(std::vector<std::string> args) {
-  args.insert(args.begin(), "liftoff");
-  std::vector<const char*> argv;
-  for (const auto& a : args) argv.push_back(a.c_str());
-  std::ostringstream out, err;
-  const int status = liftoff::app::run_cli(static_cast<int>(argv.size()), argv.data(), out, err);
-  return {status, out.str(), err.str()};
-}
 
 std::string scene_path(const std::string& name) {
   return std::string(LIFTOFF_SOURCE_DIR) + "/verification/scenes/" + name + ".toml";
 }
-
-// A scratch directory, removed at the end of the test.
-struct Scratch {
-  fs::path dir = fs::temp_directory_path() / ("liftoff_cli_test_" + std::to_string(::getpid()));
-  Scratch() { fs::create_directories(dir); }
-  ~Scratch() { fs::remove_all(dir); }
-  fs::path write(const std::string& name, const std::string& text) const {
-    std::ofstream(dir / name) << text;
-    return dir / name;
-  }
-};
-
-bool one_line(const std::string& s) { return !s.empty() && s.find('\n') == s.size() - 1; }
 
 const char* valid_beam = R"(
 [structure]
@@ -77,13 +55,13 @@ std::string free_beam(double k, double force) {
 }  // namespace
 
 TEST_CASE("cli: help and version exit 0", "[app]") {
-  CHECK(run({"--help"}).status == 0);
-  CHECK(run({"solve", "--help"}).status == 0);
-  CHECK_THAT(run({"solve", "--help"}).out, Catch::Matchers::Contains("--method"));
+  CHECK(run_cli({"--help"}).status == 0);
+  CHECK(run_cli({"solve", "--help"}).status == 0);
+  CHECK_THAT(run_cli({"solve", "--help"}).out, Catch::Matchers::Contains("--method"));
 }
 
 TEST_CASE("cli: solve with no scene runs the seed arch", "[app]") {
-  const Run r = run({"solve", "--json"});
+  const Run r = run_cli({"solve", "--json"});
   REQUIRE(r.status == 0);
   const auto j = nlohmann::json::parse(r.out);  // stdout is exactly one JSON object
   CHECK(j["structure"] == "arch");
@@ -93,10 +71,11 @@ TEST_CASE("cli: solve with no scene runs the seed arch", "[app]") {
     CHECK(j.contains(key));
   // The summary sets the seed paper's contact half-angle (the scene's [compare]) beside ours.
   const double half_angle = (j["contact_regions"][0][1].get<double>() - j["contact_regions"][0][0].get<double>()) / 2;
-  CHECK_THAT(run({"solve"}).out, Catch::Matchers::Contains(fmt::format("compare       contact half-angle {:.4g} deg; "
-                                                                       "Silveira, Pereira & Goncalves (2008), sec. 5 "
-                                                                       "gives 3.73 deg",
-                                                                       half_angle)));
+  CHECK_THAT(run_cli({"solve"}).out,
+             Catch::Matchers::Contains(fmt::format("compare       contact half-angle {:.4g} deg; "
+                                                   "Silveira, Pereira & Goncalves (2008), sec. 5 "
+                                                   "gives 3.73 deg",
+                                                   half_angle)));
 }
 
 TEST_CASE("cli: a malformed scene is one line naming file and key, exit 2, no output", "[app]") {
@@ -105,7 +84,7 @@ TEST_CASE("cli: a malformed scene is one line naming file and key, exit 2, no ou
   bad.replace(bad.find("EI = 3.0"), 8, "EI = -3.0");
   const fs::path scene = scratch.write("bad.toml", bad);
   const fs::path output = scratch.dir / "out.h5";
-  const Run r = run({"solve", scene.string(), "--output", output.string()});
+  const Run r = run_cli({"solve", scene.string(), "--output", output.string()});
   CHECK(r.status == 2);
   CHECK(one_line(r.err));
   CHECK_THAT(r.err, Catch::Matchers::Contains(scene.string()) && Catch::Matchers::Contains("structure.EI"));
@@ -114,10 +93,10 @@ TEST_CASE("cli: a malformed scene is one line naming file and key, exit 2, no ou
 }
 
 TEST_CASE("cli: bad command-line values exit 2", "[app]") {
-  CHECK(run({"solve", scene_path("seed_arch_pinned"), "--method", "fastest"}).status == 2);
-  CHECK(run({"solve", scene_path("seed_arch_pinned"), "--elements", "0"}).status == 2);
-  CHECK(run({"solve", "/no/such/scene.toml"}).status == 2);
-  CHECK(run({"frobnicate"}).status == 2);
+  CHECK(run_cli({"solve", scene_path("seed_arch_pinned"), "--method", "fastest"}).status == 2);
+  CHECK(run_cli({"solve", scene_path("seed_arch_pinned"), "--elements", "0"}).status == 2);
+  CHECK(run_cli({"solve", "/no/such/scene.toml"}).status == 2);
+  CHECK(run_cli({"frobnicate"}).status == 2);
 }
 
 TEST_CASE("cli: a solver failure has its own exit code and a reason, no output", "[app]") {
@@ -126,14 +105,14 @@ TEST_CASE("cli: a solver failure has its own exit code and a reason, no output",
   const fs::path scene =
       scratch.write("lift.toml", free_beam(100.0, -1.0) + "[solve]\nmethod = \"primal\"\nelements = 10\n");
   const fs::path output = scratch.dir / "out.h5";
-  const Run r = run({"solve", scene.string(), "--output", output.string()});
+  const Run r = run_cli({"solve", scene.string(), "--output", output.string()});
   CHECK(r.status == 3);
   CHECK(one_line(r.err));
   CHECK_THAT(r.err, Catch::Matchers::Contains("no equilibrium"));
   CHECK_FALSE(fs::exists(output));
   // The dual form is refused for a free beam with a pointer to auto and fast.
   const fs::path pressed = scratch.write("press.toml", free_beam(100.0, 1.0));
-  const Run dual = run({"solve", pressed.string(), "--method", "dual"});
+  const Run dual = run_cli({"solve", pressed.string(), "--method", "dual"});
   CHECK(dual.status == 3);
   CHECK_THAT(dual.err, Catch::Matchers::Contains("\"auto\"") && Catch::Matchers::Contains("\"fast\""));
 }
@@ -141,7 +120,7 @@ TEST_CASE("cli: a solver failure has its own exit code and a reason, no output",
 TEST_CASE("cli: an unwritable output is exit 4 and leaves nothing", "[app]") {
   Scratch scratch;
   const fs::path scene = scratch.write("ok.toml", valid_beam);
-  const Run r = run({"solve", scene.string(), "--output", "/no/such/dir/out.h5"});
+  const Run r = run_cli({"solve", scene.string(), "--output", "/no/such/dir/out.h5"});
   CHECK(r.status == 4);
   CHECK(one_line(r.err));
 }
@@ -150,7 +129,7 @@ TEST_CASE("cli: the HDF5 file is complete and readable by h5py and h5dump", "[ap
   Scratch scratch;
   const fs::path scene = scratch.write("ok.toml", valid_beam);
   const fs::path output = scratch.dir / "out.h5";
-  const Run r = run({"solve", scene.string(), "--json", "--output", output.string()});
+  const Run r = run_cli({"solve", scene.string(), "--json", "--output", output.string()});
   REQUIRE(r.status == 0);
   REQUIRE(fs::exists(output));
   CHECK_FALSE(fs::exists(output.string() + ".tmp"));
@@ -188,7 +167,7 @@ print(regions.shape[0], repr(float(regions[0][0])), repr(float(w.max())), f.attr
 }
 
 TEST_CASE("cli: the Ritz method reports modes, iterations and amplitudes", "[app][ritz]") {
-  const Run r = run({"solve", scene_path("seed_beam_end_moments"), "--method", "ritz", "--modes", "24", "--json"});
+  const Run r = run_cli({"solve", scene_path("seed_beam_end_moments"), "--method", "ritz", "--modes", "24", "--json"});
   REQUIRE(r.status == 0);
   const auto j = nlohmann::json::parse(r.out);
   CHECK(j["method"] == "ritz");
@@ -200,8 +179,8 @@ TEST_CASE("cli: the Ritz method reports modes, iterations and amplitudes", "[app
 }
 
 TEST_CASE("cli: --method all runs primal, dual, fast and Ritz side by side", "[app][ritz]") {
-  const Run r = run({"solve", scene_path("seed_beam_end_moments_central_load"), "--method", "all", "--elements", "60",
-                     "--modes", "16", "--json"});
+  const Run r = run_cli({"solve", scene_path("seed_beam_end_moments_central_load"), "--method", "all", "--elements",
+                         "60", "--modes", "16", "--json"});
   REQUIRE(r.status == 0);
   const auto j = nlohmann::json::parse(r.out);
   REQUIRE(j["methods"].size() == 4);
@@ -209,14 +188,14 @@ TEST_CASE("cli: --method all runs primal, dual, fast and Ritz side by side", "[a
   CHECK(j["methods"][1]["method"] == "dual");
   CHECK(j["methods"][2]["method"] == "fast");
   CHECK(j["methods"][3]["method"] == "ritz");
-  const Run text = run({"solve", scene_path("seed_beam_end_moments_central_load"), "--method", "all", "--elements",
-                        "60", "--modes", "16"});
+  const Run text = run_cli({"solve", scene_path("seed_beam_end_moments_central_load"), "--method", "all", "--elements",
+                            "60", "--modes", "16"});
   CHECK_THAT(text.out, Catch::Matchers::Contains("contact 2 begin"));
 
   // A free-free beam: the dual is refused, the others run, and that is not a failure.
   Scratch scratch;
   const fs::path scene = scratch.write("free.toml", free_beam(5184.0, 1.0));
-  const Run free = run({"solve", scene.string(), "--method", "all", "--elements", "40", "--modes", "24", "--json"});
+  const Run free = run_cli({"solve", scene.string(), "--method", "all", "--elements", "40", "--modes", "24", "--json"});
   CHECK(free.status == 0);
   const auto f = nlohmann::json::parse(free.out);
   CHECK(f["methods"][1]["termination"] == "refused");
@@ -229,7 +208,7 @@ TEST_CASE("cli: the Ritz method refuses interior point supports, exit 2", "[app]
   std::string text = valid_beam;
   text.replace(text.find("right = \"pinned\""), 16, "right = \"pinned\"\ninterior = [0.5]");
   const fs::path scene = scratch.write("interior.toml", text);
-  const Run r = run({"solve", scene.string(), "--method", "ritz"});
+  const Run r = run_cli({"solve", scene.string(), "--method", "ritz"});
   CHECK(r.status == 2);
   CHECK(one_line(r.err));
   CHECK_THAT(r.err, Catch::Matchers::Contains("interior point supports"));
@@ -262,14 +241,14 @@ TEST_CASE("cli: an integer a double cannot hold is refused by key, not read as 1
   Scratch scratch;
   std::string text = valid_beam;
   text.replace(text.find("value = 1.0"), 11, "value = -9007199254740993");
-  const Run r = run({"solve", scratch.write("big.toml", text).string(), "--method", "fast"});
+  const Run r = run_cli({"solve", scratch.write("big.toml", text).string(), "--method", "fast"});
   CHECK(r.status == 2);  // was exit 0 with w = 0
   CHECK(one_line(r.err));
   CHECK_THAT(r.err, Catch::Matchers::Contains("key 'loads[0].value'") &&
                         Catch::Matchers::Contains("an integer that a double cannot hold exactly"));
   std::string k = valid_beam;
   k.replace(k.find("k = 1.0e4"), 9, "k = 9007199254740993");
-  const Run rk = run({"solve", scratch.write("bigk.toml", k).string()});
+  const Run rk = run_cli({"solve", scratch.write("bigk.toml", k).string()});
   CHECK(rk.status == 2);  // was exit 1, "solve_lemke: M contains NaN or Inf"
   CHECK_THAT(rk.err, Catch::Matchers::Contains("key 'foundation.nondimensional_k'"));
 }
@@ -283,25 +262,25 @@ TEST_CASE("cli: an output never replaces the scene or another output; exit 2, no
   fs::create_hard_link(scene, hard);
   for (const std::string& output : {scene.string(), (scratch.dir / ".." / scratch.dir.filename() / "s.toml").string(),
                                     link.string(), hard.string()}) {
-    const Run r = run({"solve", scene.string(), "--method", "fast", "--output", output});
+    const Run r = run_cli({"solve", scene.string(), "--method", "fast", "--output", output});
     CHECK(r.status == 2);  // was exit 0 with the scene replaced by the HDF5 file
     CHECK(r.err == "liftoff: --output '" + output + "': the same file as the scene '" + scene.string() +
                        "'; expected an output that is neither an input nor another output of this run (nothing was "
                        "written)\n");
     CHECK(file_text(scene) == valid_beam);
-    const Run j = run({"solve", scene.string(), "--output", output, "--json"});
+    const Run j = run_cli({"solve", scene.string(), "--output", output, "--json"});
     CHECK(one_object(j)["termination"] == "bad_input");
   }
   // The temporary name the HDF5 file is written under is an output too.
   const fs::path tmp_scene = scratch.write("t.h5.tmp", valid_beam);
-  const Run t = run({"solve", tmp_scene.string(), "--output", (scratch.dir / "t.h5").string()});
+  const Run t = run_cli({"solve", tmp_scene.string(), "--output", (scratch.dir / "t.h5").string()});
   CHECK(t.status == 2);
   CHECK_THAT(t.err, Catch::Matchers::Contains("its temporary file '" + tmp_scene.string() +
                                               "' is the same file as the scene"));
   CHECK(file_text(tmp_scene) == valid_beam);
   CHECK_FALSE(fs::exists(scratch.dir / "t.h5"));
   // `--method all` writes through the same check.
-  CHECK(run({"solve", scene.string(), "--method", "all", "--output", scene.string()}).status == 2);
+  CHECK(run_cli({"solve", scene.string(), "--method", "all", "--output", scene.string()}).status == 2);
   CHECK(file_text(scene) == valid_beam);
 
   // Nor does an output replace what is not a regular file (the rename would put the HDF5 file in
@@ -310,13 +289,13 @@ TEST_CASE("cli: an output never replaces the scene or another output; exit 2, no
   const fs::path pipe = scratch.dir / "pipe", dir = scratch.dir / "dir";
   REQUIRE(::mkfifo(pipe.c_str(), 0600) == 0);
   fs::create_directory(dir);
-  Run p = run({"solve", scene.string(), "--output", pipe.string()});
+  Run p = run_cli({"solve", scene.string(), "--output", pipe.string()});
   CHECK(p.status == 2);
   CHECK(p.err == "liftoff: --output '" + pipe.string() +
                      "': is a named pipe; expected the name of a regular file, new or to be replaced (nothing was "
                      "written)\n");
   CHECK(fs::is_fifo(pipe));
-  p = run({"solve", scene.string(), "--output", dir.string()});
+  p = run_cli({"solve", scene.string(), "--output", dir.string()});
   CHECK(p.status == 2);
   CHECK_THAT(p.err, Catch::Matchers::Contains("is a directory"));
   CHECK(fs::is_empty(dir));
@@ -327,7 +306,7 @@ TEST_CASE("cli: --json prints exactly one object for every outcome", "[app][erro
   Scratch scratch;
   const fs::path good = scratch.write("good.toml", valid_beam);
   // Solved: the report, with the keys of a failure object too.
-  Run r = run({"solve", good.string(), "--method", "fast", "--json"});
+  Run r = run_cli({"solve", good.string(), "--method", "fast", "--json"});
   REQUIRE(r.status == 0);
   nlohmann::json j = one_object(r);
   CHECK(j["method_requested"] == "fast");
@@ -338,26 +317,27 @@ TEST_CASE("cli: --json prints exactly one object for every outcome", "[app][erro
   std::string bad = valid_beam;
   bad.replace(bad.find("EI = 3.0"), 8, "EI = -3.0");
   const fs::path bad_scene = scratch.write("bad.toml", bad);
-  r = run({"solve", bad_scene.string(), "--json"});
+  r = run_cli({"solve", bad_scene.string(), "--json"});
   CHECK(r.status == 2);
   j = one_object(r);
   CHECK(j["termination"] == "bad_input");
   CHECK(j["method_requested"].is_null());
   CHECK(j["scene"] == bad_scene.string());
   CHECK(j["message"] == r.err.substr(9, r.err.size() - 10));  // stderr: "liftoff: MESSAGE\n"
-  CHECK(one_object(run({"solve", bad_scene.string(), "--json", "--method", "primal"}))["method_requested"] == "primal");
+  CHECK(one_object(run_cli({"solve", bad_scene.string(), "--json", "--method", "primal"}))["method_requested"] ==
+        "primal");
 
   // Bad command line (exit 2, refused by the parser), a scene that does not exist.
-  r = run({"solve", good.string(), "--json", "--elements", "0"});
+  r = run_cli({"solve", good.string(), "--json", "--elements", "0"});
   CHECK(r.status == 2);
   CHECK(one_object(r)["termination"] == "bad_input");
-  r = run({"solve", "/no/such/scene.toml", "--json"});
+  r = run_cli({"solve", "/no/such/scene.toml", "--json"});
   CHECK(r.status == 2);
   CHECK(one_object(r)["scene"].is_null());
 
   // A refused formulation (exit 3): the dual form on a member only the foundation holds.
   const fs::path free = scratch.write("free.toml", free_beam(100.0, 1.0) + "[solve]\nelements = 10\n");
-  r = run({"solve", free.string(), "--method", "dual", "--json"});
+  r = run_cli({"solve", free.string(), "--method", "dual", "--json"});
   CHECK(r.status == 3);
   j = one_object(r);
   CHECK(j["termination"] == "refused");
@@ -367,7 +347,7 @@ TEST_CASE("cli: --json prints exactly one object for every outcome", "[app][erro
   // A solver failure (exit 3): no equilibrium, with what the solver knows.
   const fs::path lift =
       scratch.write("lift.toml", free_beam(100.0, -1.0) + "[solve]\nmethod = \"primal\"\nelements = 10\n");
-  r = run({"solve", lift.string(), "--json"});
+  r = run_cli({"solve", lift.string(), "--json"});
   CHECK(r.status == 3);
   j = one_object(r);
   CHECK(j["method_requested"] == "primal");
@@ -376,16 +356,16 @@ TEST_CASE("cli: --json prints exactly one object for every outcome", "[app][erro
   CHECK(j["elements"] == 10);
 
   // The output cannot be written (exit 4): one object, the failure's, and no file.
-  r = run({"solve", good.string(), "--json", "--output", "/no/such/dir/out.h5"});
+  r = run_cli({"solve", good.string(), "--json", "--output", "/no/such/dir/out.h5"});
   CHECK(r.status == 4);
   CHECK(one_object(r)["termination"] == "output_error");
-  r = run({"solve", good.string(), "--json", "--method", "all", "--elements", "20", "--modes", "8", "--output",
-           "/no/such/dir/out.h5"});
+  r = run_cli({"solve", good.string(), "--json", "--method", "all", "--elements", "20", "--modes", "8", "--output",
+               "/no/such/dir/out.h5"});
   CHECK(r.status == 4);
   CHECK(one_object(r)["termination"] == "output_error");
 
   // --method all: one object with the run's keys and every method.
-  r = run({"solve", free.string(), "--json", "--method", "all", "--modes", "8"});
+  r = run_cli({"solve", free.string(), "--json", "--method", "all", "--modes", "8"});
   CHECK(r.status == 0);
   j = one_object(r);
   CHECK(j["method_requested"] == "all");
@@ -397,7 +377,7 @@ TEST_CASE("cli: --method all shows the scene's k and no counters for a refused m
   // Primal is listed first; with k known only from the methods that ran, a refused first column
   // once made the header read k = 0.
   const fs::path free = scratch.write("free.toml", free_beam(5184.0, 1.0) + "[solve]\nelements = 40\n");
-  const Run r = run({"solve", free.string(), "--method", "all", "--modes", "8"});
+  const Run r = run_cli({"solve", free.string(), "--method", "all", "--modes", "8"});
   REQUIRE(r.status == 0);
   CHECK_THAT(r.out, Catch::Matchers::Contains("on a tensionless foundation, nondimensional k = 5184\n"));
   // The dual is refused: no "-1 elements", "-1 pivots" or residual -1.0e+00, but "-".
@@ -407,17 +387,18 @@ TEST_CASE("cli: --method all shows the scene's k and no counters for a refused m
   while (std::getline(lines, line))
     if (line.rfind("  size", 0) == 0) CHECK(line.find("     -") != std::string::npos);
   // The JSON of a refused method carries the scene's k too.
-  const auto j = nlohmann::json::parse(run({"solve", free.string(), "--method", "all", "--modes", "8", "--json"}).out);
+  const auto j =
+      nlohmann::json::parse(run_cli({"solve", free.string(), "--method", "all", "--modes", "8", "--json"}).out);
   CHECK(j["methods"][1]["termination"] == "refused");
   CHECK(j["methods"][1]["k"] == 5184.0);
 }
 
 TEST_CASE("cli: trace needs a scene with [trace], and its help says so", "[app][trace]") {
-  const Run help = run({"trace", "--help"});
+  const Run help = run_cli({"trace", "--help"});
   CHECK(help.status == 0);
   CHECK_THAT(help.out, Catch::Matchers::Contains("with a [trace] table"));
   CHECK_THAT(help.out, !Catch::Matchers::Contains("default: "));
-  const Run none = run({"trace"});
+  const Run none = run_cli({"trace"});
   CHECK(none.status == 2);
   CHECK(one_line(none.err));
 }
@@ -434,8 +415,8 @@ TEST_CASE("cli: --tolerance gives limits within it, with the estimates and the m
       {"auto", "200"}, {"fast", "200"}, {"dual", "60"}, {"primal", "40"}};
   for (const auto& [method, elements] : runs) {
     CAPTURE(method);
-    const Run r = run({"solve", scene_path("seed_beam_end_moments"), "--method", method, "--elements", elements,
-                       "--tolerance", "1e-8", "--json"});
+    const Run r = run_cli({"solve", scene_path("seed_beam_end_moments"), "--method", method, "--elements", elements,
+                           "--tolerance", "1e-8", "--json"});
     CAPTURE(r.err);
     REQUIRE(r.status == 0);
     const auto j = nlohmann::json::parse(r.out);
@@ -457,7 +438,7 @@ TEST_CASE("cli: --tolerance gives limits within it, with the estimates and the m
     for (std::size_t i = 1; i < meshes.size(); ++i) CHECK(meshes[i] > meshes[i - 1]);
   }
   // The summary says it too.
-  const Run text = run({"solve", scene_path("seed_beam_end_moments"), "--tolerance", "1e-8"});
+  const Run text = run_cli({"solve", scene_path("seed_beam_end_moments"), "--tolerance", "1e-8"});
   CHECK(text.status == 0);
   CHECK(text.out.find("accuracy      tolerance 1.0e-08") != std::string::npos);
 }
@@ -465,7 +446,7 @@ TEST_CASE("cli: --tolerance gives limits within it, with the estimates and the m
 TEST_CASE("cli: a bad tolerance is exit 2 naming the option or the key", "[app][tolerance][errors]") {
   for (const char* bad : {"0", "-1e-8", "nan", "0.2", "1e-14", "tight"}) {
     CAPTURE(bad);
-    const Run r = run({"solve", scene_path("seed_beam_end_moments"), "--tolerance", bad});
+    const Run r = run_cli({"solve", scene_path("seed_beam_end_moments"), "--tolerance", bad});
     CHECK(r.status == 2);
     CHECK(r.err.find("--tolerance") != std::string::npos);
     CHECK(r.err.find("expected a number in [1e-13, 0.1]") != std::string::npos);
@@ -476,12 +457,12 @@ TEST_CASE("cli: a bad tolerance is exit 2 naming the option or the key", "[app][
   for (const char* bad : {"0.0", "1e-20", "0.5", "\"fine\""}) {
     CAPTURE(bad);
     const fs::path scene = scratch.write("bad_tolerance.toml", text + "tolerance = " + bad + "\n");
-    const Run r = run({"solve", scene.string()});
+    const Run r = run_cli({"solve", scene.string()});
     CHECK(r.status == 2);
     CHECK(one_line(r.err));
     CHECK(r.err.find("solve.tolerance") != std::string::npos);
   }
-  const Run trace = run({"trace", scene_path("seed_beam_end_moments"), "--tolerance", "1e-8"});
+  const Run trace = run_cli({"trace", scene_path("seed_beam_end_moments"), "--tolerance", "1e-8"});
   CHECK(trace.status == 2);
 }
 
@@ -490,7 +471,7 @@ TEST_CASE("cli: a tolerance the Ritz modes cannot reach is refused, exit 3, with
   std::ifstream in(scene_path("seed_beam_end_moments"));
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const fs::path scene = scratch.write("few_modes.toml", text + "tolerance = 1e-12\n[ritz]\nmax_modes = 16\n");
-  const Run r = run({"solve", scene.string(), "--method", "ritz", "--json"});
+  const Run r = run_cli({"solve", scene.string(), "--method", "ritz", "--json"});
   CHECK(r.status == 3);
   const auto j = nlohmann::json::parse(r.out);
   CHECK(j["termination"] == "tolerance_not_reached");
@@ -504,7 +485,7 @@ TEST_CASE("cli: tolerances below 1e-10 are reached on the seed beam, and the rou
   // 1e-11). The floor is the reaction's: 16 eps times max |w| over the largest contact w (10
   // times smaller), 4e-14, far below 1e-11; the exact limit (closed form, 12 digits) is within it.
   const double exact_limit = 0.802388873075;
-  const Run r = run({"solve", scene_path("seed_beam_end_moments"), "--tolerance", "1e-11", "--json"});
+  const Run r = run_cli({"solve", scene_path("seed_beam_end_moments"), "--tolerance", "1e-11", "--json"});
   CAPTURE(r.err);
   REQUIRE(r.status == 0);
   const auto j = nlohmann::json::parse(r.out);
@@ -513,12 +494,12 @@ TEST_CASE("cli: tolerances below 1e-10 are reached on the seed beam, and the rou
   CHECK(floor > 0);
   CHECK(floor < 1e-11);
   CHECK(std::abs(j["contact_regions"][0][0].get<double>() - exact_limit) <= 1e-11);
-  const Run text = run({"solve", scene_path("seed_beam_end_moments"), "--tolerance", "1e-11"});
+  const Run text = run_cli({"solve", scene_path("seed_beam_end_moments"), "--tolerance", "1e-11"});
   CHECK(text.status == 0);
   CHECK(text.out.find("round-off floor") != std::string::npos);
   // The pinned arch's changes stop decreasing near 1e-11 (at 16384 elements): 1e-13 is below its
   // floor, refused with the floor in the message and the JSON.
-  const Run arch = run({"solve", scene_path("seed_arch_pinned"), "--tolerance", "1e-13", "--json"});
+  const Run arch = run_cli({"solve", scene_path("seed_arch_pinned"), "--tolerance", "1e-13", "--json"});
   CHECK(arch.status == 3);
   const auto a = nlohmann::json::parse(arch.out);
   CHECK(a["termination"] == "tolerance_not_reached");
@@ -533,7 +514,7 @@ TEST_CASE("cli: a tolerance below the Ritz model's round-off is refused as such,
   // 1e-8 needs 128 modes on the seed beam, whose round-off (eps times the Jacobian's condition)
   // is 1.5e-5 there: not a failed answer but a tolerance the Ritz model cannot honour.
   const Run r =
-      run({"solve", scene_path("seed_beam_end_moments"), "--method", "ritz", "--tolerance", "1e-8", "--json"});
+      run_cli({"solve", scene_path("seed_beam_end_moments"), "--method", "ritz", "--tolerance", "1e-8", "--json"});
   CHECK(r.status == 3);
   const auto j = nlohmann::json::parse(r.out);
   CHECK(j["termination"] == "tolerance_not_reached");
@@ -555,7 +536,7 @@ TEST_CASE("cli: a limit-fitted answer clamped in contact passes its certificate"
   // the reaction is checked pointwise (w >= 0 on contact elements) instead, as at the limits.
   const std::string path =
       std::string(LIFTOFF_SOURCE_DIR) + "/verification/scenes/engineering/pipeline_500m_uplift.toml";
-  const Run r = run({"solve", path, "--tolerance", "1e-6", "--json"});
+  const Run r = run_cli({"solve", path, "--tolerance", "1e-6", "--json"});
   CAPTURE(r.err);
   REQUIRE(r.status == 0);
   const auto j = nlohmann::json::parse(r.out);
@@ -569,7 +550,7 @@ TEST_CASE("cli: a tolerance settles the Ritz model's deflection and reaction too
   // The limits settle first (3e-6 L at 32 modes on the seed beam) while w and the reaction near
   // the limits still move by 5e-6 and 6e-5: a tolerance promises all three.
   const Run r =
-      run({"solve", scene_path("seed_beam_end_moments"), "--method", "ritz", "--tolerance", "1e-4", "--json"});
+      run_cli({"solve", scene_path("seed_beam_end_moments"), "--method", "ritz", "--tolerance", "1e-4", "--json"});
   CAPTURE(r.err);
   REQUIRE(r.status == 0);
   const auto j = nlohmann::json::parse(r.out);
@@ -578,7 +559,7 @@ TEST_CASE("cli: a tolerance settles the Ritz model's deflection and reaction too
   CHECK(j["estimated_w_error"].get<double>() <= 1e-4);
   CHECK(j["estimated_reaction_error"].get<double>() <= 1e-4);
   // Against the limit-fitted FE answer at 1e-10 (its true error ~1e-12): w_max within the tolerance.
-  const Run fe = run({"solve", scene_path("seed_beam_end_moments"), "--tolerance", "1e-10", "--json"});
+  const Run fe = run_cli({"solve", scene_path("seed_beam_end_moments"), "--tolerance", "1e-10", "--json"});
   REQUIRE(fe.status == 0);
   const auto f = nlohmann::json::parse(fe.out);
   const double w_max = f["w_max"].get<double>();
@@ -593,12 +574,12 @@ TEST_CASE("cli: a tolerance on a member whose foundation covers part of it", "[a
   // plain solve on 3200 elements (discretisation error ~h^4 there, below 1e-9 relative).
   const std::string path =
       std::string(LIFTOFF_SOURCE_DIR) + "/verification/scenes/engineering/approach_slab_one_support.toml";
-  const Run r = run({"solve", path, "--tolerance", "1e-8", "--json"});
+  const Run r = run_cli({"solve", path, "--tolerance", "1e-8", "--json"});
   CAPTURE(r.err);
   REQUIRE(r.status == 0);
   const auto j = nlohmann::json::parse(r.out);
   CHECK(j["certificate"]["passed"].get<bool>());
-  const Run plain = run({"solve", path, "--elements", "3200", "--json"});
+  const Run plain = run_cli({"solve", path, "--elements", "3200", "--json"});
   REQUIRE(plain.status == 0);
   const double w_max = nlohmann::json::parse(plain.out)["w_max"].get<double>();
   CHECK(std::abs(j["w_max"].get<double>() - w_max) <= 1e-8 * std::abs(w_max));
@@ -629,7 +610,7 @@ value = 3.0
 elements = 80
 )");
   const fs::path output = scratch.dir / "out.h5";
-  const Run r = run({"solve", scene.string(), "--json", "--output", output.string()});
+  const Run r = run_cli({"solve", scene.string(), "--json", "--output", output.string()});
   REQUIRE(r.status == 0);
   const auto j = nlohmann::json::parse(r.out);
   REQUIRE(j.contains("support_reactions"));
@@ -662,7 +643,7 @@ elements = 80
   CHECK(j["design"]["moment_max"]["value"].get<double>() > 0.0);
   CHECK(j["design"]["from_statics"] == true);
   // The summary prints them.
-  const Run summary = run({"solve", scene.string()});
+  const Run summary = run_cli({"solve", scene.string()});
   CHECK_THAT(summary.out, Catch::Contains("  supports      x = 0") && Catch::Contains("  moment        max ") &&
                               Catch::Contains("  shear         max |V|") && Catch::Contains("  uplift        "));
 
@@ -688,7 +669,7 @@ TEST_CASE("cli: --csv-fields writes the sampled fields; an unwritable one is exi
   Scratch scratch;
   const fs::path scene = scratch.write("free.toml", free_beam(100.0, 1.0) + "[solve]\nelements = 20\n");
   const fs::path csv = scratch.dir / "fields.csv";
-  const Run r = run({"solve", scene.string(), "--csv-fields", csv.string()});
+  const Run r = run_cli({"solve", scene.string(), "--csv-fields", csv.string()});
   REQUIRE(r.status == 0);
   CHECK_FALSE(fs::exists(csv.string() + ".tmp"));
   std::ifstream in(csv);
@@ -714,7 +695,7 @@ TEST_CASE("cli: --csv-fields writes the sampled fields; an unwritable one is exi
 
   // A directory that does not exist: exit 4, no file, no temporary, no HDF5 either.
   const fs::path h5 = scratch.dir / "out.h5";
-  const Run bad = run({"solve", scene.string(), "--output", h5.string(), "--csv-fields", "/no/such/dir/f.csv"});
+  const Run bad = run_cli({"solve", scene.string(), "--output", h5.string(), "--csv-fields", "/no/such/dir/f.csv"});
   CHECK(bad.status == 4);
   CHECK(one_line(bad.err));
   CHECK_FALSE(fs::exists(h5));
@@ -748,7 +729,7 @@ system = "N-m"
 TEST_CASE("cli: units and the foundation's scale in the summary, JSON and HDF5; the trap warns", "[app][units]") {
   Scratch scratch;
   const fs::path scene = scratch.write("trap.toml", sleeper_trap);
-  const Run text = run({"solve", scene.string()});
+  const Run text = run_cli({"solve", scene.string()});
   REQUIRE(text.status == 0);
   CHECK_THAT(text.out, Catch::Contains("  WARNING       " + scene.string() +
                                        ":10: key 'foundation.k': 'k' is the "
@@ -761,7 +742,7 @@ TEST_CASE("cli: units and the foundation's scale in the summary, JSON and HDF5; 
   CHECK_THAT(text.out, Catch::Contains(" m at ") && Catch::Contains("max reaction") && Catch::Contains(" N/m\n"));
 
   const fs::path output = scratch.dir / "trap.h5";
-  const Run r = run({"solve", scene.string(), "--json", "--output", output.string()});
+  const Run r = run_cli({"solve", scene.string(), "--json", "--output", output.string()});
   REQUIRE(r.status == 0);
   const auto j = nlohmann::json::parse(r.out);
   CHECK(j["units"]["length"] == "m");
@@ -791,7 +772,7 @@ print(f.attrs["units_length"], f.attrs["units_force"], f.attrs["units_moment"].r
   // Written as `modulus` (what was meant): no warning, and full contact.
   std::string meant = sleeper_trap;
   meant.replace(meant.find("k = 2.5e7"), 9, "modulus = 2.5e7");
-  const Run fixed = run({"solve", scratch.write("meant.toml", meant).string(), "--json"});
+  const Run fixed = run_cli({"solve", scratch.write("meant.toml", meant).string(), "--json"});
   REQUIRE(fixed.status == 0);
   const auto m = nlohmann::json::parse(fixed.out);
   CHECK(m["warnings"].empty());
@@ -804,7 +785,7 @@ TEST_CASE("cli: a bad [units] is bad input: exit 2, one line naming the file and
   text.replace(text.find("system = \"N-m\""), 14, "system = \"N-m\"\nforce = \"kN\"");
   const fs::path scene = scratch.write("bad_units.toml", text);
   const fs::path output = scratch.dir / "never.h5";
-  const Run r = run({"solve", scene.string(), "--output", output.string()});
+  const Run r = run_cli({"solve", scene.string(), "--output", output.string()});
   CHECK(r.status == 2);
   CHECK(one_line(r.err));
   CHECK_THAT(r.err, Catch::Contains(scene.string() + ":21: key 'units.force': expected either 'system' or the "
@@ -816,7 +797,7 @@ TEST_CASE("cli: sweeps edit the renamed key under either name and report warning
   Scratch scratch;
   const fs::path old_scene = scratch.write("old.toml", sleeper_trap);  // k = 2.5e7 (the old name)
   // The new name edits the old key (no second key, which the reader would refuse).
-  const Run r = run({"sweep", old_scene.string(), "--set", "foundation.nondimensional_k=2.5e7,254", "--jobs", "1"});
+  const Run r = run_cli({"sweep", old_scene.string(), "--set", "foundation.nondimensional_k=2.5e7,254", "--jobs", "1"});
   REQUIRE(r.status == 0);
   CHECK_THAT(r.err, Catch::Contains("liftoff: warning: ") && Catch::Contains("'k' is the old name"));
   CHECK_THAT(r.err, Catch::Contains("foundation.nondimensional_k=2.5e+07]: foundation: nondimensional_k = 2.5e+07"));
@@ -824,7 +805,8 @@ TEST_CASE("cli: sweeps edit the renamed key under either name and report warning
   // And the old name edits the new key.
   std::string renamed = sleeper_trap;
   renamed.replace(renamed.find("k = 2.5e7"), 9, "nondimensional_k = 2.5e7");
-  const Run n = run({"sweep", scratch.write("new.toml", renamed).string(), "--set", "foundation.k=254", "--jobs", "1"});
+  const Run n =
+      run_cli({"sweep", scratch.write("new.toml", renamed).string(), "--set", "foundation.k=254", "--jobs", "1"});
   REQUIRE(n.status == 0);
   CHECK_THAT(n.err, !Catch::Contains("warning"));
 }

@@ -16,9 +16,13 @@
 #include "app/cli.hpp"
 #include "core/error.hpp"
 #include "scene/scene_reader.hpp"
+#include "support/cli.hpp"
 #include "support/scenes.hpp"
+#include "support/scratch.hpp"
 
 using namespace liftoff;
+
+using namespace liftoff::test;  // support/: the CLI runner, the scratch directory
 
 namespace {
 
@@ -65,19 +69,6 @@ Superposition superposition(const scene::Scene& s, int elements) {
   out.peak_solved = uls.nodes.reaction.back();
   out.peak_superposed = 1.35 * rg.nodes.reaction.back() + 1.5 * rq.nodes.reaction.back();
   return out;
-}
-
-struct Run {
-  int status;
-  std::string out, err;
-};
-Run run(std::vector<std::string> args) {
-  args.insert(args.begin(), "liftoff");
-  std::vector<const char*> argv;
-  for (const auto& a : args) argv.push_back(a.c_str());
-  std::ostringstream out, err;
-  const int status = app::run_cli(static_cast<int>(argv.size()), argv.data(), out, err);
-  return {status, out.str(), err.str()};
 }
 
 }  // namespace
@@ -264,8 +255,8 @@ factors = { G = 1.0 }
 name = "Q"
 factors = { Q = 1.0 }
 )";
-  const auto dir = std::filesystem::temp_directory_path() / "liftoff_envelope_test";
-  std::filesystem::create_directories(dir);
+  const Scratch scratch;
+  const auto& dir = scratch.dir;
   const auto scene_file = dir / "failing.toml";
   std::ofstream(scene_file) << text;
   const io::EnvelopeReport r = app::run_envelope(scene::read_scene_file(scene_file), {});
@@ -276,7 +267,7 @@ factors = { Q = 1.0 }
   CHECK(r.design.pressure_max.governing == 0);  // the envelope of what was certified
 
   const auto json_file = dir / "failing.json";
-  const Run cli = run({"envelope", scene_file.string(), "--json", json_file.string()});
+  const Run cli = run_cli({"envelope", scene_file.string(), "--json", json_file.string()});
   CHECK(cli.status == 3);
   CHECK_THAT(cli.out, Catch::Contains("INCOMPLETE") && Catch::Contains("FAILED"));
   CHECK_THAT(cli.err, Catch::Contains("1 of 2 cases not certified"));
@@ -284,16 +275,15 @@ factors = { Q = 1.0 }
   CHECK(j["complete"] == false);
   CHECK(j["cases"][1]["certified"] == false);
   CHECK(j["exit_code"] == 3);
-  std::filesystem::remove_all(dir);
 }
 
 TEST_CASE("cli: envelope writes the summary, JSON and HDF5; refuses a scene with nothing to envelope",
           "[app][envelope]") {
-  const auto dir = std::filesystem::temp_directory_path() / "liftoff_envelope_cli_test";
-  std::filesystem::create_directories(dir);
+  const Scratch scratch;
+  const auto& dir = scratch.dir;
   const std::string scene =
       std::string(LIFTOFF_SOURCE_DIR) + "/verification/scenes/engineering/footing_eccentric_combinations.toml";
-  const Run ok = run({"envelope", scene, "--json", (dir / "e.json").string(), "--hdf5", (dir / "e.h5").string()});
+  const Run ok = run_cli({"envelope", scene, "--json", (dir / "e.json").string(), "--hdf5", (dir / "e.h5").string()});
   CHECK(ok.status == 0);
   CHECK_THAT(ok.out, Catch::Contains("pressure_max") && Catch::Contains("governed by ULS"));
   const nlohmann::json j = nlohmann::json::parse(std::ifstream(dir / "e.json"));
@@ -303,20 +293,18 @@ TEST_CASE("cli: envelope writes the summary, JSON and HDF5; refuses a scene with
   CHECK(std::filesystem::exists(dir / "e.h5"));
   CHECK_FALSE(std::filesystem::exists(dir / "e.h5.tmp"));
 
-  const Run none = run(
+  const Run none = run_cli(
       {"envelope", std::string(LIFTOFF_SOURCE_DIR) + "/verification/scenes/engineering/footing_eccentric_column.toml"});
   CHECK(none.status == 2);
   CHECK_THAT(none.err, Catch::Contains("key 'combinations'"));
-  std::filesystem::remove_all(dir);
 }
 
 TEST_CASE("trace refuses a free load case name with its key", "[app][envelope]") {
   const auto s = engineering("footing_eccentric_combinations");
-  const auto dir = std::filesystem::temp_directory_path() / "liftoff_envelope_trace_test";
-  std::filesystem::create_directories(dir);
+  const Scratch scratch;
+  const auto& dir = scratch.dir;
   std::ofstream(dir / "t.toml") << s.text << "\n[trace]\nlambda_max = 2.0\n";
-  const Run r = run({"trace", (dir / "t.toml").string()});
+  const Run r = run_cli({"trace", (dir / "t.toml").string()});
   CHECK(r.status == 2);
   CHECK_THAT(r.err, Catch::Contains("key 'loads[0].case'") && Catch::Contains("\"G\""));
-  std::filesystem::remove_all(dir);
 }

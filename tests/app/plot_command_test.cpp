@@ -12,34 +12,14 @@
 #include <vector>
 
 #include "app/cli.hpp"
+#include "support/cli.hpp"
+#include "support/scratch.hpp"
 
 namespace fs = std::filesystem;
 
-namespace {
+using namespace liftoff::test;  // support/: the CLI runner, the scratch directory
 
-struct Run {
-  int status;
-  std::string out, err;
-};
-
-Run run(std::vector<std::string> args) {
-  args.insert(args.begin(), "liftoff");
-  std::vector<const char*> argv;
-  for (const auto& a : args) argv.push_back(a.c_str());
-  std::ostringstream out, err;
-  const int status = liftoff::app::run_cli(static_cast<int>(argv.size()), argv.data(), out, err);
-  return {status, out.str(), err.str()};
-}
-
-struct Scratch {
-  fs::path dir = fs::temp_directory_path() / ("liftoff_plot_test_" + std::to_string(::getpid()));
-  Scratch() { fs::create_directories(dir); }
-  ~Scratch() { fs::remove_all(dir); }
-};
-
-bool one_line(const std::string& s) { return !s.empty() && s.find('\n') == s.size() - 1; }
-
-}  // namespace
+namespace {}  // namespace
 
 TEST_CASE("plot: the script's command line passes the file, --out and --normalise through", "[app][plot]") {
   using liftoff::app::PlotRequest;
@@ -54,11 +34,11 @@ TEST_CASE("plot: the script's command line passes the file, --out and --normalis
 }
 
 TEST_CASE("plot: no file, or a missing one, is exit 2 in one line before anything runs", "[app][plot][errors]") {
-  const Run none = run({"plot"});
+  const Run none = run_cli({"plot"});
   CHECK(none.status == 2);
   CHECK(one_line(none.err));
   CHECK(none.err.find("plot --help") != std::string::npos);
-  const Run missing = run({"plot", "/nonexistent/r.h5"});
+  const Run missing = run_cli({"plot", "/nonexistent/r.h5"});
   CHECK(missing.status == 2);
   CHECK(one_line(missing.err));
   CHECK(missing.err.find("/nonexistent/r.h5") != std::string::npos);
@@ -67,9 +47,9 @@ TEST_CASE("plot: no file, or a missing one, is exit 2 in one line before anythin
 TEST_CASE("plot: a solve file is drawn, its PNG named after --out", "[app][plot]") {
   Scratch scratch;
   const std::string h5 = (scratch.dir / "arch.h5").string();
-  REQUIRE(run({"solve", "--output", h5}).status == 0);
+  REQUIRE(run_cli({"solve", "--output", h5}).status == 0);
   const std::string prefix = (scratch.dir / "fig").string();
-  const Run r = run({"plot", h5, "--out", prefix});
+  const Run r = run_cli({"plot", h5, "--out", prefix});
   INFO(r.err);
   REQUIRE(r.status == 0);
   // A figure of five diagrams and the scene at 120 dpi is over 100 kB; an empty one a few kB.

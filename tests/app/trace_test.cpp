@@ -25,6 +25,9 @@
 #include "core/error.hpp"
 #include "io/trace_writer.hpp"
 #include "scene/scene_reader.hpp"
+#include "support/cli.hpp"
+#include "support/scenes.hpp"
+#include "support/scratch.hpp"
 
 using namespace liftoff;
 using continuation::EventKind;
@@ -33,17 +36,9 @@ using continuation::TraceOptions;
 using continuation::TraceStep;
 namespace fs = std::filesystem;
 
-namespace {
+using namespace liftoff::test;  // support/: the CLI runner, the scratch directory
 
-struct Scratch {
-  fs::path dir = fs::temp_directory_path() / ("liftoff_trace_test_" + std::to_string(::getpid()));
-  Scratch() { fs::create_directories(dir); }
-  ~Scratch() { fs::remove_all(dir); }
-  fs::path write(const std::string& name, const std::string& text) const {
-    std::ofstream(dir / name) << text;
-    return dir / name;
-  }
-};
+namespace {
 
 // A free-free beam, dead uniform load, live upward central force (continuation/scenes has the
 // physics); `trace` is the [trace] table's body.
@@ -141,22 +136,6 @@ void check_same_events(const std::vector<TraceEvent>& a, const std::vector<Trace
     CHECK(a[i].at == b[i].at);
   }
 }
-
-struct Run {
-  int status;
-  std::string out, err;
-};
-
-Run cli(std::vector<std::string> args) {
-  args.insert(args.begin(), "liftoff");
-  std::vector<const char*> argv;
-  for (const auto& a : args) argv.push_back(a.c_str());
-  std::ostringstream out, err;
-  const int status = app::run_cli(static_cast<int>(argv.size()), argv.data(), out, err);
-  return {status, out.str(), err.str()};
-}
-
-bool one_line(const std::string& s) { return !s.empty() && s.find('\n') == s.size() - 1; }
 
 // Runs `child` in a forked process whose stderr is a pipe; reads the pipe's lines until
 // `enough(line)` says so, then kills the child with SIGKILL. Returns false if the child ended
@@ -473,8 +452,7 @@ TEST_CASE("trace: a run killed with SIGKILL leaves a readable file of finished s
 TEST_CASE("trace: the test scenes read, with a [trace] table", "[app][trace]") {
   for (const char* name : {"free_free_uplift", "simply_supported_end_moments", "region_split"}) {
     CAPTURE(name);
-    const scene::Scene s =
-        scene::read_scene_file(std::string(LIFTOFF_SOURCE_DIR) + "/continuation/scenes/" + name + ".toml");
+    const scene::Scene s = test::continuation_scene(name);
     const TraceOptions o = app::trace_options(s, {});
     CHECK(o.lambda_max > o.lambda_min);
     CHECK(app::trace_path_names(s, {}) == std::vector<std::string>{"fe"});
@@ -485,12 +463,12 @@ TEST_CASE("trace CLI: bad input exits 2 with one line and writes no file", "[app
   Scratch scratch;
   const std::string h5 = (scratch.dir / "t.h5").string();
   const std::string no_table = scratch.write("no_table.toml", beam_with_trace("")).string();
-  Run r = cli({"trace", no_table, "-o", h5});
+  Run r = run_cli({"trace", no_table, "-o", h5});
   CHECK(r.status == 2);
   CHECK(one_line(r.err));
   CHECK_THAT(r.err, Catch::Matchers::Contains("key 'trace': missing"));
   const std::string no_max = scratch.write("no_max.toml", beam_with_trace("samples = 11\n")).string();
-  r = cli({"trace", no_max, "--json", "-o", h5});
+  r = run_cli({"trace", no_max, "--json", "-o", h5});
   CHECK(r.status == 2);
   CHECK(one_line(r.err));
   CHECK_THAT(r.err, Catch::Matchers::Contains("no_max.toml:21: key 'trace.lambda_max': missing"));
@@ -502,20 +480,20 @@ TEST_CASE("trace CLI: bad input exits 2 with one line and writes no file", "[app
   CHECK(failure["method_requested"] == "auto");  // [solve] method of beam_with_trace
   CHECK("liftoff: " + failure["message"].get<std::string>() + "\n" == r.err);
   const std::string bad = scratch.write("bad.toml", beam_with_trace("lambda_max = 1\nsamples = 1\n")).string();
-  r = cli({"trace", bad, "-o", h5});
+  r = run_cli({"trace", bad, "-o", h5});
   CHECK(r.status == 2);
   CHECK_THAT(r.err, Catch::Matchers::Contains("key 'trace.samples'"));
   const std::string good = scratch.write("good.toml", beam_with_trace("lambda_max = 1\n")).string();
-  r = cli({"trace", good, "--resume"});
+  r = run_cli({"trace", good, "--resume"});
   CHECK(r.status == 2);
   CHECK_THAT(r.err, Catch::Matchers::Contains("--resume: needs --output"));
-  r = cli({"trace", good, "--resume", "-o", h5});
+  r = run_cli({"trace", good, "--resume", "-o", h5});
   CHECK(r.status == 2);
-  CHECK(cli({"trace", good, "--method", "fastest"}).status == 2);
+  CHECK(run_cli({"trace", good, "--method", "fastest"}).status == 2);
   CHECK_FALSE(fs::exists(h5));
   // `solve` ignores [trace]: a scene without lambda_max still solves.
-  CHECK(cli({"solve", no_max}).status == 0);
-  CHECK(cli({"trace", "--help"}).status == 0);
+  CHECK(run_cli({"solve", no_max}).status == 0);
+  CHECK(run_cli({"trace", "--help"}).status == 0);
 }
 
 TEST_CASE("trace: the Ritz path refuses interior supports as bad input, before any file", "[app][trace][errors]") {
@@ -537,7 +515,7 @@ TEST_CASE("trace: the Ritz path refuses interior supports as bad input, before a
   Scratch scratch;
   const std::string scene_file = scratch.write("interior.toml", text).string();
   const std::string h5 = (scratch.dir / "t.h5").string();
-  const Run r = cli({"trace", scene_file, "-o", h5, "--json"});
+  const Run r = run_cli({"trace", scene_file, "-o", h5, "--json"});
   CHECK(r.status == 2);
   CHECK(one_line(r.err));
   CHECK(nlohmann::json::parse(r.out)["exit_code"] == 2);
@@ -576,7 +554,7 @@ TEST_CASE("trace: the sample points lie on the member, both ends exact", "[app][
       "[structure]\nkind = \"beam\"\nlength = 0.013\nEI = 1.0\n[supports]\nleft = \"pinned\"\nright = \"pinned\"\n"
       "[foundation]\nk = 1.0e4\n[[loads]]\nkind = \"force\"\nat = 0.0065\nvalue = 1.0\n"
       "[trace]\nlambda_max = 2.0\nmethod = \"ritz\"\n";
-  const Run r = cli({"trace", scratch.write("short.toml", text).string(), "--modes", "8"});
+  const Run r = run_cli({"trace", scratch.write("short.toml", text).string(), "--modes", "8"});
   CHECK(r.status == 0);
   CHECK(r.err.empty());
 }
@@ -597,7 +575,7 @@ TEST_CASE("trace CLI: every test scene traces, with --json events and steps, and
   for (const char* name : {"free_free_uplift", "simply_supported_end_moments", "region_split"}) {
     CAPTURE(name);
     const std::string h5 = (scratch.dir / (std::string(name) + ".h5")).string();
-    const Run r = cli({"trace", shipped(name), "--json", "-o", h5});
+    const Run r = run_cli({"trace", shipped(name), "--json", "-o", h5});
     INFO(r.err);
     REQUIRE(r.status == 0);
     const nlohmann::json j = nlohmann::json::parse(r.out);
@@ -635,7 +613,7 @@ std::optional<nlohmann::json> event_between(const nlohmann::json& path, double l
 TEST_CASE("trace CLI: the FE path puts the test scenes' events between the fixed-load solutions",
           "[app][trace][real_paths]") {
   {
-    const Run r = cli({"trace", shipped("free_free_uplift"), "--json"});
+    const Run r = run_cli({"trace", shipped("free_free_uplift"), "--json"});
     REQUIRE(r.status == 0);
     const nlohmann::json j = nlohmann::json::parse(r.out);
     CHECK(j["events"][0]["kind"] == "lift_off_opens");
@@ -644,7 +622,7 @@ TEST_CASE("trace CLI: the FE path puts the test scenes' events between the fixed
     CHECK(j["events"][0]["lambda"].get<double>() < 6.0);
   }
   {
-    const Run r = cli({"trace", shipped("region_split"), "--json"});
+    const Run r = run_cli({"trace", shipped("region_split"), "--json"});
     REQUIRE(r.status == 0);
     const nlohmann::json j = nlohmann::json::parse(r.out);
     const auto split = event_between(j, 6.7, 7.0, 5.0, 10.0 / 200);
@@ -654,7 +632,7 @@ TEST_CASE("trace CLI: the FE path puts the test scenes' events between the fixed
     CHECK(event_between(j, 8.6, 8.8, 10.0, 1e-9).has_value());
   }
   {
-    const Run r = cli({"trace", shipped("simply_supported_end_moments"), "--json"});
+    const Run r = run_cli({"trace", shipped("simply_supported_end_moments"), "--json"});
     REQUIRE(r.status == 0);
     const nlohmann::json j = nlohmann::json::parse(r.out);
     CHECK(event_between(j, 0.20, 0.21, 0.0, 6.0 / 400).has_value());
@@ -680,7 +658,7 @@ TEST_CASE("trace CLI: the Ritz path killed with SIGKILL keeps its steps and resu
          "samples = 1001\n";
   const std::string scene = scratch.write("uplift.toml", text).string();
   const std::string whole = (scratch.dir / "whole.h5").string(), killed = (scratch.dir / "killed.h5").string();
-  REQUIRE(cli({"trace", scene, "-o", whole}).status == 0);
+  REQUIRE(run_cli({"trace", scene, "-o", whole}).status == 0);
   const io::TracePathRecord expected = io::read_trace_file(whole).paths[0].second;
 
   const bool interrupted = kill_midway(
@@ -694,7 +672,7 @@ TEST_CASE("trace CLI: the Ritz path killed with SIGKILL keeps its steps and resu
   CHECK_FALSE(partial.complete);
   const std::vector<double> finished = lambdas(partial.paths[0].second);
   REQUIRE(finished.size() >= 20);
-  REQUIRE(cli({"trace", scene, "-o", killed, "--resume"}).status == 0);
+  REQUIRE(run_cli({"trace", scene, "-o", killed, "--resume"}).status == 0);
   const io::TracePathRecord done = io::read_trace_file(killed).paths[0].second;
   const std::vector<double> all = lambdas(done), reference = lambdas(expected);
   REQUIRE(all.size() == reference.size());

@@ -3,7 +3,7 @@
 #include <catch2/catch.hpp>
 #include <cstdio>
 
-#include "closed_form/beam_on_foundation.hpp"
+#include "closed_form/scene_problem.hpp"
 #include "core/error.hpp"
 #include "post/fields.hpp"
 #include "support/scenes.hpp"
@@ -14,33 +14,6 @@ using scene::EndSupport;
 using scene::Method;
 
 namespace {
-
-closed_form::EndCondition end_condition(EndSupport s) {
-  switch (s) {
-    case EndSupport::clamped:
-      return closed_form::EndCondition::clamped;
-    case EndSupport::free:
-      return closed_form::EndCondition::free;
-    default:
-      return closed_form::EndCondition::pinned;
-  }
-}
-
-// The same beam as the closed-form reference sees it (dimensional, L = length).
-closed_form::BeamProblem reference_problem(const scene::Scene& s) {
-  closed_form::BeamProblem p;
-  p.length = s.structure.length;
-  p.bending_stiffness = s.structure.bending_stiffness;
-  p.foundation_modulus = *s.foundation.stiffness_parameter * p.bending_stiffness / std::pow(p.length, 4);
-  p.left = end_condition(s.supports.left);
-  p.right = end_condition(s.supports.right);
-  for (const auto& l : s.loads) {
-    if (l.kind == scene::LoadKind::force) p.forces.push_back({l.at, l.value});
-    if (l.kind == scene::LoadKind::moment) p.moments.push_back({l.at, l.value});
-    if (l.kind == scene::LoadKind::uniform) p.uniform_loads.push_back({l.from, l.to, l.value});
-  }
-  return p;
-}
 
 // Largest nodal deflection error against the reference, relative to max |w|.
 double deflection_error(const test::Solved& s, const closed_form::BeamSolution& reference) {
@@ -62,7 +35,7 @@ TEST_CASE("bilateral foundation: FE converges to Hetenyi's closed-form beam", "[
   // beta L = 5: neither short nor long; asymmetric loads of every kind.
   scene::Scene s = test::beam_scene(1.0, 1.0, left, right, 4 * std::pow(5.0, 4), /*tensionless=*/false);
   s.loads = {test::point_force(0.3, 1.0), test::point_moment(0.5, 0.2), test::uniform_load(0.6, 0.9, 2.0)};
-  const auto reference = closed_form::solve_bilateral(reference_problem(s));
+  const auto reference = closed_form::solve_bilateral(closed_form::problem_of(s));
 
   std::vector<double> h, error;
   for (int n : {10, 20, 40, 80, 160}) {
@@ -84,7 +57,7 @@ TEST_CASE("bilateral foundation: FE converges to Hetenyi's closed-form beam", "[
 TEST_CASE("tensionless seed beams: contact limits converge to the closed form", "[contact][seed]") {
   const std::string name = GENERATE("seed_beam_end_moments", "seed_beam_end_moments_central_load");
   const scene::Scene s = test::shipped_scene(name);
-  const closed_form::BeamProblem problem = reference_problem(s);
+  const closed_form::BeamProblem problem = closed_form::problem_of(s);
   const test::Solved coarse = test::solve(s, Method::dual, 40);
   std::vector<closed_form::Interval> guess;
   for (const auto& r : coarse.regions) guess.push_back({r.begin, r.end});

@@ -43,10 +43,6 @@ using continuation::TraceResult;
 
 namespace {
 
-scene::Scene scene_named(const std::string& name) {
-  return scene::read_scene_file(std::string(LIFTOFF_SOURCE_DIR) + "/continuation/scenes/" + name + ".toml");
-}
-
 TraceResult fe_run(const scene::Scene& s, int elements, double lambda_max) {
   TraceOptions o = app::trace_options(s, {});
   o.elements = elements;
@@ -156,7 +152,7 @@ std::vector<bool> set_at(const TraceResult& r, const TraceEvent& e) {
 
 TEST_CASE("footing trace: the heel lifts off at every mesh from 50 to 400 elements, at the closed form's load",
           "[continuation][mesh]") {
-  const scene::Scene s = scene_named("footing_trace");
+  const scene::Scene s = test::continuation_scene("footing_trace");
   const double exact = exact_heel_load();
   // Just past the heel event (1.554; the rigid footing's 1.6): the event falls on the first
   // breakpoint, so the run covers the segments on both sides of it.
@@ -199,7 +195,7 @@ TEST_CASE("footing trace: the heel lifts off at every mesh from 50 to 400 elemen
 
 TEST_CASE("footing trace: the contact limit reaches the column at the closed form's load on a dense sample of meshes",
           "[continuation][mesh]") {
-  const scene::Scene s = scene_named("footing_trace");
+  const scene::Scene s = test::continuation_scene("footing_trace");
   const double exact = exact_column_load();
   const double lambda_max = 6.5;  // past the event (6.395; rigid 6.4)
   const auto model = fe::make_member_model(s);
@@ -237,7 +233,7 @@ TEST_CASE("footing trace: the contact limit reaches the column at the closed for
 }
 
 TEST_CASE("region_split: no mesh adds an event at the load or fails to start", "[continuation][mesh]") {
-  const scene::Scene s = scene_named("region_split");
+  const scene::Scene s = test::continuation_scene("region_split");
   // At these odd meshes the nodes are shared unevenly between the load's sides, the zone
   // opened a discretisation error off the load and its limit crossed the load at once (a
   // limit_at_load event 5e-10 after the opening). It opens at the load now.

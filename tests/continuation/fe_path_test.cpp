@@ -509,8 +509,7 @@ TEST_CASE("FE path: every reported state passes the certificate, and a wrong con
   // the path's 1e-8, signs to the same 1e-8 on the member's scale); the same state with one contact
   // node dropped from the set must fail (a reaction forced to zero where the member presses in).
   for (const char* name : {"arch_culvert", "footing_trace"}) {
-    const scene::Scene s =
-        scene::read_scene_file(std::string(LIFTOFF_SOURCE_DIR) + "/continuation/scenes/" + name + ".toml");
+    const scene::Scene s = test::continuation_scene(name);
     TraceOptions o = app::trace_options(s, {});
     o.elements = 60;
     const TraceResult r = continuation::trace_fe(s, o);

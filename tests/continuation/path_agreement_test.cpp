@@ -30,10 +30,11 @@
 #include <vector>
 
 #include "app/trace_command.hpp"
-#include "closed_form/beam_on_foundation.hpp"
+#include "closed_form/scene_problem.hpp"
 #include "continuation/fe_path.hpp"
 #include "continuation/ritz_path.hpp"
 #include "scene/scene_reader.hpp"
+#include "support/scenes.hpp"
 
 using namespace liftoff;
 using continuation::EventKind;
@@ -45,10 +46,6 @@ namespace {
 
 constexpr double fe_safety = 3.0, ritz_safety = 1.0;
 constexpr int ritz_modes = 32, ritz_fewer_modes = 16;
-
-scene::Scene scene_named(const std::string& name) {
-  return scene::read_scene_file(std::string(LIFTOFF_SOURCE_DIR) + "/continuation/scenes/" + name + ".toml");
-}
 
 TraceOptions options_for(const scene::Scene& s) { return app::trace_options(s, {}); }
 
@@ -94,7 +91,7 @@ struct Agreement {
 
 // Both paths, their estimates and the pairing; asserts everything the issue asks of one scene.
 Agreement check_agreement(const std::string& name) {
-  const scene::Scene s = scene_named(name);
+  const scene::Scene s = test::continuation_scene(name);
   const double length = std::abs(s.end() - s.begin());
   Agreement g;
   g.fe = fe_run(s, options_for(s).elements);
@@ -141,55 +138,16 @@ double observed_order(double coarse, double medium, double fine) {
   return std::log2(std::abs(coarse - medium) / std::abs(medium - fine));
 }
 
-closed_form::BeamProblem beam_of(const scene::Scene& s) {
-  closed_form::BeamProblem p;
-  p.length = s.structure.length;
-  p.bending_stiffness = s.structure.bending_stiffness;
-  p.foundation_modulus =
-      *s.foundation.stiffness_parameter * p.bending_stiffness / std::pow(p.length, 4);  // k = K L^4/EI
-  auto end = [](scene::EndSupport e) {
-    return e == scene::EndSupport::free     ? closed_form::EndCondition::free
-           : e == scene::EndSupport::pinned ? closed_form::EndCondition::pinned
-                                            : closed_form::EndCondition::clamped;
-  };
-  p.left = end(s.supports.left);
-  p.right = end(s.supports.right);
-  return p;
-}
-
-// The scene's loads of one case, scaled, on the closed-form beam.
-void add_loads(closed_form::BeamProblem& p, const scene::Scene& s, scene::LoadCase which, double factor) {
-  for (const scene::Load& load : s.loads) {
-    if (load.load_case != which) continue;
-    switch (load.kind) {
-      case scene::LoadKind::force:
-        p.forces.push_back({load.at, factor * load.value});
-        break;
-      case scene::LoadKind::moment:
-        p.moments.push_back({load.at, factor * load.value});
-        break;
-      case scene::LoadKind::uniform:
-        p.uniform_loads.push_back({load.from, load.to, factor * load.value});
-        break;
-      case scene::LoadKind::distributed:  // the path scenes have none
-      case scene::LoadKind::curvature:
-        FAIL("a path scene with a distributed or curvature load: not covered by this test");
-        break;
-    }
-  }
-}
-
+// The scene on the closed-form beam: the dead loads once and the live ones times lambda.
 closed_form::BeamProblem loads_of(const scene::Scene& s, double load_factor) {
-  closed_form::BeamProblem p = beam_of(s);
-  add_loads(p, s, scene::LoadCase::dead, 1.0);
-  add_loads(p, s, scene::LoadCase::live, load_factor);
-  return p;
+  return closed_form::problem_of(s, {.dead = 1.0, .live = load_factor});
 }
 
+// The scene's loads of one case alone.
 closed_form::BeamProblem one_case(const scene::Scene& s, scene::LoadCase which) {
-  closed_form::BeamProblem p = beam_of(s);
-  add_loads(p, s, which, 1.0);
-  return p;
+  return closed_form::problem_of(s, which == scene::LoadCase::dead
+                                        ? closed_form::CaseFactors{.dead = 1.0, .live = 0.0}
+                                        : closed_form::CaseFactors{.dead = 0.0, .live = 1.0});
 }
 
 }  // namespace
@@ -197,7 +155,7 @@ closed_form::BeamProblem one_case(const scene::Scene& s, scene::LoadCase which) 
 TEST_CASE("free_free_uplift: both paths open the central zone at one load, the closed form's",
           "[continuation][agreement]") {
   const Agreement g = check_agreement("free_free_uplift");
-  const scene::Scene s = scene_named("free_free_uplift");
+  const scene::Scene s = test::continuation_scene("free_free_uplift");
   // In full contact the solution is the bilateral one, affine in lambda: the zone opens where
   // w(5) = w_dead(5) + lambda w_live(5) = 0.
   const double w_dead = closed_form::solve_bilateral(one_case(s, scene::LoadCase::dead)).deflection(5.0);
@@ -230,7 +188,7 @@ TEST_CASE(
   CHECK(g.fe.events[2].kind == EventKind::region_vanishes);
   // The first: the bilateral solution's slope at the pinned end x = 0 changes sign (a
   // lift-off zone opens there), w'(0) = w'_dead(0) + lambda w'_live(0) = 0.
-  const scene::Scene s = scene_named("simply_supported_end_moments");
+  const scene::Scene s = test::continuation_scene("simply_supported_end_moments");
   const double slope_dead = closed_form::solve_bilateral(one_case(s, scene::LoadCase::dead)).slope(0.0);
   const double slope_live = closed_form::solve_bilateral(one_case(s, scene::LoadCase::live)).slope(0.0);
   const double exact = -slope_dead / slope_live;
@@ -266,7 +224,7 @@ TEST_CASE(
 TEST_CASE("region_split: the split and the limits reaching the free ends at one load on both paths",
           "[continuation][agreement]") {
   const Agreement g = check_agreement("region_split");
-  const scene::Scene s = scene_named("region_split");
+  const scene::Scene s = test::continuation_scene("region_split");
   REQUIRE(g.fe.events.size() == 3);
   CHECK(g.fe.events[0].kind == EventKind::lift_off_opens);
   CHECK(g.fe.events[1].kind == EventKind::limit_at_end);
@@ -348,7 +306,7 @@ TEST_CASE("region_split at 40 modes: a limit reaching a free end is removed, not
   // At 40 modes round-off separates the two ends' events by 4e-6 in lambda, and w(0) reached
   // zero with the limit still 4e-7 L from it: the path opened a contact zone at x = 0, and the
   // limits then ran off the foundation (regions from x = -0.1).
-  const scene::Scene s = scene_named("region_split");
+  const scene::Scene s = test::continuation_scene("region_split");
   const TraceResult ritz = ritz_run(s, 40);
   const TraceResult fe = fe_run(s, options_for(s).elements);
   REQUIRE(ritz.events.size() == fe.events.size());

@@ -309,10 +309,6 @@ TEST_CASE("ritz path: on a long beam two lift-off zones open together at beta x 
 
 namespace {
 
-scene::Scene continuation_scene(const std::string& name) {
-  return scene::read_scene_file(std::string(LIFTOFF_SOURCE_DIR) + "/continuation/scenes/" + name + ".toml");
-}
-
 // What `liftoff trace` would take from the scene's [trace] table, `samples` points along it.
 TraceOptions scene_options(const scene::Scene& s, int samples) {
   TraceOptions o;
@@ -374,7 +370,7 @@ double resolution_error(double beta_length, int modes) {
 
 TEST_CASE("ritz path: the pipeline lifts off at Hetenyi's load, as the FE path says, and no step pulls",
           "[ritz_path][issue10]") {
-  scene::Scene s = continuation_scene("pipeline_uplift");
+  scene::Scene s = test::continuation_scene("pipeline_uplift");
   // The scene runs to lambda = 3 (tests/stress/ritz_path_stress_test.cpp); the lift-off at 0.2
   // and the zone's first growth are what this test needs, at a fraction of the time.
   s.trace->lambda_max = 0.5;
@@ -418,7 +414,7 @@ TEST_CASE("ritz path: the pipeline lifts off at Hetenyi's load, as the FE path s
 
 TEST_CASE("ritz path: too few modes for the pipeline's beta L are refused before any work, with the number needed",
           "[ritz_path][issue10]") {
-  scene::Scene s = continuation_scene("pipeline_uplift");
+  scene::Scene s = test::continuation_scene("pipeline_uplift");
   TraceOptions options = scene_options(s, 11);
   const double beta_length =
       std::pow(*s.foundation.modulus / (4.0 * s.structure.bending_stiffness), 0.25) * s.structure.length;
@@ -446,7 +442,7 @@ TEST_CASE("ritz path: too few modes for the pipeline's beta L are refused before
 }
 
 TEST_CASE("ritz path: the arch culvert's events agree with the FE path's, and no step pulls", "[ritz_path][issue10]") {
-  const scene::Scene s = continuation_scene("arch_culvert");
+  const scene::Scene s = test::continuation_scene("arch_culvert");
   TraceOptions options = scene_options(s, 321);  // every half degree
   // Ritz: 72 modes, its error estimated by the change from 36 (with an error falling like
   // N^-q, q >= 1, the change bounds the error of the larger N); FE: 200 elements, its error the
@@ -490,7 +486,7 @@ TEST_CASE("ritz path: a path that cannot be refined where its topology turns bac
   // openings in steps too long to resolve them: its topology turns back in lambda there (as the
   // unchecked path did, wandering from 0.5117 back to 0.4045). It stops with solver_failure
   // saying so; what it kept is a contact solution at every step, up to where it stopped.
-  scene::Scene s = continuation_scene("arch_culvert");
+  scene::Scene s = test::continuation_scene("arch_culvert");
   TraceOptions options = scene_options(s, 321);
   options.initial_step = options.min_step = options.max_step = 0.1;
   options.modes = 36;

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "closed_form/beam_on_foundation.hpp"
+#include "closed_form/scene_problem.hpp"
 #include "contact/active_set_solver.hpp"
 #include "contact/fitted_limits.hpp"
 #include "fe/discretisation.hpp"
@@ -22,32 +22,8 @@ namespace {
 
 scene::Scene engineering(const std::string& name) { return test::shipped_scene("engineering/" + name); }
 
-// The closed-form problem of a beam scene in the user's units, read from the scene itself (not
-// from liftoff's member model, so a wrong piece there shows).
-cf::BeamProblem exact_problem(const scene::Scene& s) {
-  cf::BeamProblem p;
-  p.length = s.structure.length;
-  p.bending_stiffness = s.structure.bending_stiffness;
-  auto end = [](scene::EndSupport e) {
-    return e == scene::EndSupport::clamped ? cf::EndCondition::clamped
-           : e == scene::EndSupport::free  ? cf::EndCondition::free
-                                           : cf::EndCondition::pinned;
-  };
-  p.left = end(s.supports.left);
-  p.right = end(s.supports.right);
-  const double k_scale = p.bending_stiffness / std::pow(p.length, 4);
-  for (const auto& piece : s.foundation.segments)
-    p.foundation_segments.push_back(
-        {piece.from, piece.to, piece.modulus ? *piece.modulus : *piece.stiffness_parameter * k_scale});
-  for (const auto& l : s.loads) {
-    if (l.kind == scene::LoadKind::force) p.forces.push_back({l.at, l.value});
-    if (l.kind == scene::LoadKind::uniform) p.uniform_loads.push_back({l.from, l.to, l.value});
-  }
-  return p;
-}
-
 cf::TensionlessResult exact_answer(const scene::Scene& s) {
-  const auto exact = cf::solve_tensionless_auto(exact_problem(s));
+  const auto exact = cf::solve_tensionless_auto(cf::problem_of(s));
   INFO(exact.message);
   REQUIRE(exact.status == cf::TensionlessStatus::converged);
   return exact;
@@ -195,7 +171,7 @@ TEST_CASE("foundation pieces: two reactions where k jumps, so bilateral nodal w 
     CAPTURE(name);
     scene::Scene s = engineering(name);
     s.foundation.tensionless = false;
-    const cf::BeamSolution exact = cf::solve_bilateral(exact_problem(s));
+    const cf::BeamSolution exact = cf::solve_bilateral(cf::problem_of(s));
     std::vector<double> h, error;
     for (int n : {26, 52, 104, 208}) {
       const test::Solved fe = test::solve(s, scene::Method::fast, n);

@@ -10,6 +10,7 @@
 #include <fstream>
 
 #include "core/error.hpp"
+#include "support/scratch.hpp"
 
 using namespace liftoff;
 using continuation::EventKind;
@@ -17,13 +18,9 @@ using continuation::TraceEvent;
 using continuation::TraceStep;
 namespace fs = std::filesystem;
 
-namespace {
+using namespace liftoff::test;  // support/: the scratch directory
 
-struct Scratch {
-  fs::path dir = fs::temp_directory_path() / ("liftoff_trace_writer_test_" + std::to_string(::getpid()));
-  Scratch() { fs::create_directories(dir); }
-  ~Scratch() { fs::remove_all(dir); }
-};
+namespace {
 
 io::TraceFileInfo info() {
   io::TraceFileInfo i;

@@ -9,43 +9,19 @@
 #include <random>
 #include <vector>
 
+#include "support/gauss_legendre.hpp"
+
 using namespace liftoff::ritz;
 
 namespace {
 
 constexpr double pi = std::numbers::pi;
 
-// Gauss-Legendre rule of `n` points on [-1, 1] by Newton's method on P_n (exact to round-off).
-struct Rule {
-  std::vector<double> x, w;
-};
-Rule gauss_legendre(int n) {
-  Rule r;
-  for (int i = 1; i <= n; ++i) {
-    double x = std::cos(pi * (i - 0.25) / (n + 0.5)), dp = 0.0;
-    for (int it = 0; it < 100; ++it) {
-      double p0 = 1.0, p1 = x;
-      for (int k = 2; k <= n; ++k) {
-        const double p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
-        p0 = p1;
-        p1 = p2;
-      }
-      dp = n * (x * p1 - p0) / (x * x - 1.0);
-      const double dx = p1 / dp;
-      x -= dx;
-      if (std::abs(dx) < 1e-16) break;
-    }
-    r.x.push_back(x);
-    r.w.push_back(2.0 / ((1.0 - x * x) * dp * dp));
-  }
-  return r;
-}
-
 // Composite 20-point Gauss with panels short enough that each holds less than one radian of
 // the fastest oscillation: the quadrature error is far below round-off.
 template <typename F>
 double quadrature(F f, double a, double b, double omega) {
-  static const Rule rule = gauss_legendre(20);
+  static const liftoff::test::GaussRule rule = liftoff::test::gauss_legendre(20);
   const int panels = std::max(8, static_cast<int>(std::ceil(std::abs(b - a) * omega)) + 8);
   const double h = (b - a) / panels;
   double sum = 0.0;

@@ -7,9 +7,8 @@
 #include <cstdio>
 
 #include "answer_check.hpp"
-#include "closed_form/beam_on_foundation.hpp"
+#include "closed_form/scene_problem.hpp"
 #include "contact/active_set_system.hpp"
-#include "seed_beams.hpp"
 #include "support/scenes.hpp"
 #include "support/solve.hpp"
 
@@ -24,8 +23,6 @@ constexpr double contract = 1e-6;
 double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
-
-using test::seed_problem;
 
 // Largest nodal deflection error against a closed-form solution, relative to max |w| (beam
 // with L = 1: s = x).
@@ -83,7 +80,7 @@ TEST_CASE("long stress: the fast solver at a million elements on the seed beams"
     const test::Solved coarse = test::solve(s, Method::dual, 100);
     std::vector<closed_form::Interval> guess;
     for (const auto& r : coarse.regions) guess.push_back({r.begin, r.end});
-    const auto exact = closed_form::solve_tensionless(seed_problem(s), guess);
+    const auto exact = closed_form::solve_tensionless(closed_form::problem_of(s), guess);
     REQUIRE(exact.status == closed_form::TensionlessStatus::converged);
     for (int elements : {10000, 100000, 1000000}) {
       const auto start = std::chrono::steady_clock::now();
@@ -169,7 +166,7 @@ TEST_CASE("long stress: dense dual Lemke at 1000 and 2000 elements and k from 1e
     const test::Solved coarse = test::solve(s, Method::dual, 100);
     std::vector<closed_form::Interval> guess;
     for (const auto& r : coarse.regions) guess.push_back({r.begin, r.end});
-    const auto exact = closed_form::solve_tensionless(seed_problem(s), guess);
+    const auto exact = closed_form::solve_tensionless(closed_form::problem_of(s), guess);
     REQUIRE(exact.status == closed_form::TensionlessStatus::converged);
     for (int elements : {1000, 2000}) {
       const auto start = std::chrono::steady_clock::now();

@@ -14,14 +14,14 @@
 #include "fe/member_model.hpp"
 #include "ritz/ritz_solver.hpp"
 #include "scene/scene_reader.hpp"
+#include "support/scenes.hpp"
 
 using namespace liftoff;
 using namespace liftoff::continuation;
 
 TEST_CASE("ritz path stress: the pipeline to lambda = 3, every step a contact solution, the end as the FE path's",
           "[ritz_path][stress]") {
-  const scene::Scene s =
-      scene::read_scene_file(std::string(LIFTOFF_SOURCE_DIR) + "/continuation/scenes/pipeline_uplift.toml");
+  const scene::Scene s = test::continuation_scene("pipeline_uplift");
   TraceOptions options;
   options.lambda_max = *s.trace->lambda_max;
   options.monitor = 250.0;

@@ -14,9 +14,8 @@
 #include <cstdio>
 
 #include "app/solve_command.hpp"
-#include "closed_form/beam_on_foundation.hpp"
+#include "closed_form/scene_problem.hpp"
 #include "ritz/ritz_solver.hpp"
-#include "seed_beams.hpp"
 #include "support/scenes.hpp"
 
 using namespace liftoff;
@@ -31,7 +30,7 @@ struct PoorStart {
 
 // The closed-form contact limits of a shipped beam scene (x / L), from the FE's regions.
 std::vector<double> closed_form_limits(const scene::Scene& s, const io::SolveReport& good) {
-  const closed_form::BeamProblem p = test::seed_problem(s);
+  const closed_form::BeamProblem p = closed_form::problem_of(s);
   std::vector<closed_form::Interval> guess;
   for (const auto& r : good.contact_regions) guess.push_back({r[0], r[1]});
   const auto exact = closed_form::solve_tensionless(p, guess);

@@ -1,5 +1,6 @@
 #pragma once
-// Helpers shared by the tests: shipped scenes by name, and small scenes built in code.
+// Helpers shared by the tests: shipped scenes by name (verification/scenes, and the trace tests'
+// continuation/scenes), and small scenes built in code.
 
 #include <string>
 
@@ -10,6 +11,10 @@ namespace liftoff::test {
 
 inline scene::Scene shipped_scene(const std::string& name) {
   return scene::read_scene_file(std::string(LIFTOFF_SOURCE_DIR) + "/verification/scenes/" + name + ".toml");
+}
+
+inline scene::Scene continuation_scene(const std::string& name) {
+  return scene::read_scene_file(std::string(LIFTOFF_SOURCE_DIR) + "/continuation/scenes/" + name + ".toml");
 }
 
 // A beam of length L with EI, the given supports and foundation parameter k, no loads.

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "closed_form/beam_on_foundation.hpp"
+#include "support/gauss_legendre.hpp"
 
 namespace cf = liftoff::closed_form;
 
@@ -14,35 +15,10 @@ namespace {
 
 const double kPi = std::acos(-1.0);
 
-// Gauss-Legendre nodes/weights on [-1, 1] (Newton on P_n).
-struct Gauss {
-  std::vector<double> x, w;
-  explicit Gauss(int n) {
-    for (int i = 1; i <= n; ++i) {
-      double z = std::cos(kPi * (i - 0.25) / (n + 0.5));
-      double dp = 0.0;
-      for (int it = 0; it < 100; ++it) {
-        double p0 = 1.0, p1 = z;
-        for (int k = 2; k <= n; ++k) {
-          const double p2 = ((2.0 * k - 1.0) * z * p1 - (k - 1.0) * p0) / k;
-          p0 = p1;
-          p1 = p2;
-        }
-        dp = n * (z * p1 - p0) / (z * z - 1.0);
-        const double dz = p1 / dp;
-        z -= dz;
-        if (std::abs(dz) < 1e-16) break;
-      }
-      x.push_back(z);
-      w.push_back(2.0 / ((1.0 - z * z) * dp * dp));
-    }
-  }
-};
-
 // int_0^L f(x) g(x) dx where f is smooth on each segment of the solution (pieces of length
 // <= 0.25 / beta or L / 64).
 double integrate(const cf::BeamSolution& s, const std::function<double(double)>& f) {
-  static const Gauss g(12);
+  static const liftoff::test::GaussRule g = liftoff::test::gauss_legendre(12);
   double total = 0.0;
   const auto& bp = s.breakpoints();
   const double piece = s.beta() > 0.0 ? std::min(0.25 / s.beta(), s.length() / 64.0) : s.length() / 64.0;
@@ -81,6 +57,32 @@ cf::BeamProblem free_free_central(double beta_L, double P, double beta = 1.0, do
   pr.left = pr.right = cf::EndCondition::free;
   pr.forces = {{pr.length / 2.0, P}};
   return pr;
+}
+
+// The limit equations' Jacobian for two contact regions against central differences (h = 1e-6):
+// the largest |J - J_fd| and the largest |J|.
+struct JacobianError {
+  double worst = 0.0, scale = 0.0;
+};
+JacobianError limit_jacobian_error(const cf::BeamProblem& pr, const std::vector<cf::Interval>& regions) {
+  const auto eq = cf::limit_equations(pr, regions);
+  REQUIRE(eq.limits.size() == 4);
+  const double h = 1e-6;
+  JacobianError error;
+  for (std::size_t j = 0; j < 4; ++j) {
+    auto shifted = [&](double d) {
+      std::vector<double> t = eq.limits;
+      t[j] += d;
+      return cf::limit_equations(pr, {{t[0], t[1]}, {t[2], t[3]}}).residuals;
+    };
+    const auto fp = shifted(h), fm = shifted(-h);
+    for (std::size_t k = 0; k < 4; ++k) {
+      const double fd = (fp[k] - fm[k]) / (2 * h);
+      error.worst = std::max(error.worst, std::abs(fd - eq.jacobian[k][j]));
+      error.scale = std::max(error.scale, std::abs(eq.jacobian[k][j]));
+    }
+  }
+  return error;
 }
 
 // Minimum of w over [0, L]: grid then golden section around the best sample.
@@ -332,24 +334,7 @@ TEST_CASE("tensionless: exact limit Jacobian against finite differences", "[clos
   cf::BeamProblem pr = free_free_central(7.0, 1.0);
   pr.forces.push_back({5.1, 0.4});
   pr.uniform_loads = {{0.0, 7.0, 0.05}};
-  const std::vector<cf::Interval> regions = {{1.3, 4.6}, {5.5, 6.4}};
-  const auto eq = cf::limit_equations(pr, regions);
-  REQUIRE(eq.limits.size() == 4);
-  const double h = 1e-6;
-  double worst = 0.0, scale = 0.0;
-  for (std::size_t j = 0; j < 4; ++j) {
-    auto shifted = [&](double d) {
-      std::vector<double> t = eq.limits;
-      t[j] += d;
-      return cf::limit_equations(pr, {{t[0], t[1]}, {t[2], t[3]}}).residuals;
-    };
-    const auto fp = shifted(h), fm = shifted(-h);
-    for (std::size_t k = 0; k < 4; ++k) {
-      const double fd = (fp[k] - fm[k]) / (2 * h);
-      worst = std::max(worst, std::abs(fd - eq.jacobian[k][j]));
-      scale = std::max(scale, std::abs(eq.jacobian[k][j]));
-    }
-  }
+  const auto [worst, scale] = limit_jacobian_error(pr, {{1.3, 4.6}, {5.5, 6.4}});
   std::printf("[limit Jacobian] max |J - J_fd| / max|J| = %.2e\n", worst / scale);
   CHECK(worst < 1e-7 * scale);
 }
@@ -893,24 +878,7 @@ TEST_CASE("ground: limit Jacobian with a gap, two soils and K_t against finite d
   pr.foundation_segments = {{0.0, 5.0, 4.0}, {5.0, 7.0, 9.0}};
   pr.gap = {{0.0, 3.0, 7.0}, {0.02, -0.01, 0.03}};
   pr.tension_modulus = 0.5;
-  const std::vector<cf::Interval> regions = {{1.3, 4.6}, {5.5, 6.4}};
-  const auto eq = cf::limit_equations(pr, regions);
-  REQUIRE(eq.limits.size() == 4);
-  const double h = 1e-6;
-  double worst = 0.0, scale = 0.0;
-  for (std::size_t j = 0; j < 4; ++j) {
-    auto shifted = [&](double d) {
-      std::vector<double> t = eq.limits;
-      t[j] += d;
-      return cf::limit_equations(pr, {{t[0], t[1]}, {t[2], t[3]}}).residuals;
-    };
-    const auto fp = shifted(h), fm = shifted(-h);
-    for (std::size_t k = 0; k < 4; ++k) {
-      const double fd = (fp[k] - fm[k]) / (2 * h);
-      worst = std::max(worst, std::abs(fd - eq.jacobian[k][j]));
-      scale = std::max(scale, std::abs(eq.jacobian[k][j]));
-    }
-  }
+  const auto [worst, scale] = limit_jacobian_error(pr, {{1.3, 4.6}, {5.5, 6.4}});
   std::printf("[ground limit Jacobian] max |J - J_fd| / max|J| = %.2e\n", worst / scale);
   CHECK(worst < 1e-7 * scale);
 }

@@ -39,7 +39,7 @@
 #include <string>
 #include <vector>
 
-#include "closed_form/beam_on_foundation.hpp"
+#include "closed_form/scene_problem.hpp"
 #include "contact/active_set_system.hpp"
 #include "contact/contact_solver.hpp"
 #include "core/error.hpp"
@@ -90,26 +90,6 @@ struct Reference {
   double w_max = 0.0;
 };
 
-closed_form::BeamProblem closed_form_problem(const scene::Scene& s) {
-  closed_form::BeamProblem p;
-  p.length = s.structure.length;
-  p.bending_stiffness = s.structure.bending_stiffness;
-  p.foundation_modulus = *s.foundation.stiffness_parameter * p.bending_stiffness / std::pow(p.length, 4);
-  auto end = [](scene::EndSupport e) {
-    return e == scene::EndSupport::clamped ? closed_form::EndCondition::clamped
-           : e == scene::EndSupport::free  ? closed_form::EndCondition::free
-                                           : closed_form::EndCondition::pinned;
-  };
-  p.left = end(s.supports.left);
-  p.right = end(s.supports.right);
-  for (const auto& l : s.loads) {
-    if (l.kind == scene::LoadKind::force) p.forces.push_back({l.at, l.value});
-    if (l.kind == scene::LoadKind::moment) p.moments.push_back({l.at, l.value});
-    if (l.kind == scene::LoadKind::uniform) p.uniform_loads.push_back({l.from, l.to, l.value});
-  }
-  return p;
-}
-
 // The maximum of a smooth function on [a, b]: dense samples, then bisection on its derivative
 // around the best sample.
 template <class F, class DF>
@@ -133,7 +113,7 @@ double maximum_of(F f, DF df, double a, double b, int samples) {
 Reference exact_reference(const scene::Scene& s, const std::vector<post::Interval>& guess_regions) {
   std::vector<closed_form::Interval> guess;
   for (const auto& r : guess_regions) guess.push_back({r.begin, r.end});
-  const auto exact = closed_form::solve_tensionless(closed_form_problem(s), guess);
+  const auto exact = closed_form::solve_tensionless(closed_form::problem_of(s), guess);
   if (exact.status != closed_form::TensionlessStatus::converged)
     throw std::runtime_error("the closed form did not converge: " + exact.message);
   Reference ref;

@@ -4,6 +4,7 @@
 // liftoff_closed_form itself stays independent of liftoff's code.
 
 #include "closed_form/beam_on_foundation.hpp"
+#include "closed_form/scene_problem.hpp"
 #include "fe/member_model.hpp"
 
 namespace liftoff::closed_form {
@@ -12,13 +13,8 @@ inline BeamProblem problem_of(const fe::MemberModel& model) {
   BeamProblem p;
   p.length = model.length();
   p.foundation_modulus = model.foundation_modulus;
-  auto end = [](scene::EndSupport e) {
-    return e == scene::EndSupport::clamped ? EndCondition::clamped
-           : e == scene::EndSupport::free  ? EndCondition::free
-                                           : EndCondition::pinned;
-  };
-  p.left = end(model.left);
-  p.right = end(model.right);
+  p.left = end_condition_of(model.left);
+  p.right = end_condition_of(model.right);
   for (const auto& l : model.loads) {  // positions from the member's begin
     if (l.kind == scene::LoadKind::force) p.forces.push_back({l.at - model.s_begin, l.value});
     if (l.kind == scene::LoadKind::moment) p.moments.push_back({l.at - model.s_begin, l.value});
