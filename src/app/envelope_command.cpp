@@ -80,6 +80,7 @@ io::EnvelopeReport run_envelope(const scene::Scene& scene, const EnvelopeRequest
   out.scene_name = scene.source_name;
   out.scene_text = scene.text;
   out.coordinate_name = scene.structure.kind == scene::StructureKind::beam ? "x" : "theta_deg";
+  out.units = scene.units;
   out.tensionless = scene.foundation.tensionless;
   out.warm_start = request.warm_start;
 

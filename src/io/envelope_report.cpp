@@ -179,6 +179,8 @@ void write_file(const EnvelopeReport& r, const std::filesystem::path& path, cons
   string_attribute(file, "sign_convention", sign_convention);
   number_attribute(file, "complete", r.complete() ? 1.0 : 0.0);
   number_attribute(file, "warm_start", r.warm_start ? 1.0 : 0.0);
+  string_attribute(file, "units_system", r.units.system);
+  for (const auto& [name, label] : scene::unit_labels(r.units)) string_attribute(file, "units_" + name, label);
   {
     Handle type(H5Tcopy(H5T_C_S1), H5Tclose, "string type");
     check(H5Tset_size(type, H5T_VARIABLE), "scene");
@@ -208,6 +210,7 @@ void write_file(const EnvelopeReport& r, const std::filesystem::path& path, cons
       number_attribute(group, std::string(name) + "_value", e->value);
       number_attribute(group, std::string(name) + "_at", e->at);
       string_attribute(group, std::string(name) + "_governing", r.cases[e->governing].label());
+      number_attribute(group, std::string(name) + "_case", e->governing);
     }
   }
   {
@@ -221,6 +224,7 @@ void write_file(const EnvelopeReport& r, const std::filesystem::path& path, cons
       factorisations.push_back(c.report.factorisations);
       string_attribute(group, fmt::format("label_{:04d}", k), c.label());
       string_attribute(group, fmt::format("termination_{:04d}", k), c.error.empty() ? c.report.termination : "refused");
+      string_attribute(group, fmt::format("message_{:04d}", k), c.error.empty() ? c.report.message : c.error);
       if (c.passed())
         for (const auto& [a, b] : c.report.contact_regions) regions.insert(regions.end(), {double(k), a, b});
     }
@@ -228,6 +232,20 @@ void write_file(const EnvelopeReport& r, const std::filesystem::path& path, cons
     array(group, "certified", certified);
     array(group, "contact_sets", sets);
     array(group, "factorisations", factorisations);
+    // Each certified combination's own samples, for pictures of every case beside the envelope;
+    // not a moving load's positions (hundreds of cases, megabytes each hundred: the envelopes say it).
+    Handle fields(H5Gcreate2(group, "fields", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "fields");
+    for (std::size_t k = 0; k < r.cases.size(); ++k) {
+      const FieldTable& f = r.cases[k].report.fields;
+      if (!r.cases[k].passed() || r.cases[k].position || f.coordinate.empty()) continue;
+      const std::string name = fmt::format("{:04d}", k);
+      Handle one(H5Gcreate2(fields, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, name);
+      array(one, "coordinate", f.coordinate);
+      array(one, "w", f.w);
+      array(one, "reaction", f.reaction);
+      array(one, "bending_moment", f.bending_moment);
+      array(one, "shear_force", f.shear_force);
+    }
     Handle map(H5Gcreate2(file, "liftoff_map", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "liftoff_map");
     array(map, "regions", regions, 3);
   }

@@ -41,6 +41,7 @@ struct EnvelopeReport {
   std::string scene_name;
   std::string scene_text;
   std::string coordinate_name;  // "x" or "theta_deg"
+  scene::Units units;           // the scene's [units]: the labels of every output
   bool tensionless = true;
   bool warm_start = true;  // consecutive positions started from the previous contact set
   std::vector<EnvelopeCase> cases;
@@ -64,11 +65,15 @@ struct EnvelopeReport {
 nlohmann::json to_json(const EnvelopeReport& report);
 std::string text_summary(const EnvelopeReport& report);
 // Layout (README, "liftoff envelope"): root attributes kind = "envelope", liftoff_version,
-// scene_name, coordinate, sign_convention, complete, warm_start; /scene (TOML text);
+// scene_name, coordinate, sign_convention, complete, warm_start, units_system and units_<name>
+// (as a solve file's); /scene (TOML text);
 // /envelope/{coordinate, w_max, w_min, pressure_max, pressure_min, moment_max, moment_min,
 // shear_max, shear_min}; /extremes (attributes <name>_value, <name>_at, <name>_governing as the
-// case's label); /cases: datasets position (n, NaN without [moving]), certified (0/1),
-// contact_sets, factorisations, and string attributes label_NNNN, termination_NNNN;
+// case's label, <name>_case its index); /cases: datasets position (n, NaN without [moving]),
+// certified (0/1), contact_sets, factorisations, and string attributes label_NNNN,
+// termination_NNNN, message_NNNN; /cases/fields/NNNN/{coordinate, w, reaction, bending_moment,
+// shear_force}: each certified case's own samples when there is no [moving] (the plot draws
+// every combination's curves);
 // /liftoff_map: regions (r x 3: case index, begin, end). Written under a temporary name and
 // renamed (OutputError on failure).
 void write_envelope_hdf5(const EnvelopeReport& report, const std::filesystem::path& path, const std::string& version);
