@@ -33,6 +33,7 @@ half-written PNG is left: each is written under a temporary name and renamed).
 import argparse
 import math
 import os
+import re
 import sys
 import textwrap
 
@@ -53,6 +54,7 @@ try:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     import matplotlib.colors
+    import matplotlib.ticker
     import matplotlib.transforms
     from matplotlib.patches import FancyArrowPatch, Rectangle
 except ImportError as e:  # pragma: no cover - depends on the machine
@@ -140,11 +142,13 @@ class LabelPlacer:
         self.fig = fig
         self.boxes = []
 
-    def place(self, ax, label, xy, **kwargs):
+    def place(self, ax, label, xy, below=False, **kwargs):
+        """below: try the offsets under the point first (a minimum's label, away from the curve)."""
         renderer = self.fig.canvas.get_renderer()
         axes_box = ax.get_window_extent(renderer)
         best = None
-        for dx, dy in self.OFFSETS:
+        offsets = sorted(self.OFFSETS, key=lambda o: o[1] >= 0) if below else self.OFFSETS
+        for dx, dy in offsets:
             ha = "left" if dx >= 0 else "right"
             va = "bottom" if dy >= 0 else "top"
             a = ax.annotate(label, xy, textcoords="offset points", xytext=(dx, dy), ha=ha, va=va,
@@ -158,7 +162,7 @@ class LabelPlacer:
             if best is None and inside:
                 best = (dx, dy)
             a.remove()
-        dx, dy = best or self.OFFSETS[0]
+        dx, dy = best or offsets[0]
         a = ax.annotate(label, xy, textcoords="offset points", xytext=(dx, dy), ha="left" if dx >= 0 else "right",
                         va="bottom" if dy >= 0 else "top", annotation_clip=False,
                         arrowprops=dict(arrowstyle="-", color="0.5", linewidth=0.5), **kwargs)
@@ -990,7 +994,7 @@ def plot_envelope(path, f, prefix, output):
                 ax.add_patch(Rectangle((begin, row - 0.35), end - begin, 0.7, facecolor="none", edgecolor="tab:red",
                                        hatch="xx", linewidth=0.6))
                 ax.text(0.5 * (begin + end), row, "failed: not in the envelopes", ha="center", va="center",
-                        fontsize=7, color="tab:red", bbox=dict(facecolor="white", edgecolor="none", pad=1))
+                        fontsize=7, color="tab:red", zorder=5, bbox=dict(facecolor="white", edgecolor="none", pad=2))
                 continue
             ax.add_patch(Rectangle((begin, row - 0.35), end - begin, 0.7, facecolor="none", edgecolor="0.3",
                                    linewidth=0.6))
@@ -1007,21 +1011,24 @@ def plot_envelope(path, f, prefix, output):
         high, low = env[key]
         for a, b in voids(pieces, begin, end):
             ax.axvspan(a, b, facecolor="none", edgecolor="0.75", hatch="//", linewidth=0)
+        # The envelopes bold and pale under each case's thin curve, which stays visible where it governs.
+        ax.plot(x, high, color="0.25", alpha=0.45 if per_case else 1.0, linewidth=3.5 if per_case else 1.8,
+                label="envelope (max, min)", zorder=2)
+        ax.plot(x, low, color="0.25", alpha=0.45 if per_case else 1.0, linewidth=3.5 if per_case else 1.8, zorder=2)
         if per_case:
             for c in certified:
-                ax.plot(c["fields"]["x"], c["fields"][key], color=colours[c["label"]], linewidth=0.9,
-                        label=c["label"])
+                ax.plot(c["fields"]["x"], c["fields"][key], color=colours[c["label"]], linewidth=1.1,
+                        label=c["label"], zorder=3)
         else:
             ax.fill_between(x, low, high, color="tab:blue", alpha=0.15, linewidth=0,
-                            label="between the envelopes (every position)")
-        ax.plot(x, high, color="black", linewidth=2.0, label="envelope (max, min)")
-        ax.plot(x, low, color="black", linewidth=2.0)
+                            label="between the envelopes (every lead position)")
+        ax.yaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: fmt(v)))
         ax.axhline(0.0, color="black", linewidth=0.6)
         ax.set_ylabel(ylabel, fontsize=8)
         ax.grid(True, alpha=0.3)
         ax.tick_params(labelsize=8)
         lo, hi = float(np.min(low)), float(np.max(high))
-        pad = 0.35 * (hi - lo) if hi > lo else max(abs(hi), 1e-30)
+        pad = 0.4 * (hi - lo) if hi > lo else max(abs(hi), 1e-30)  # room for the labels
         if key == "w":
             ax.set_ylim(hi + pad, lo - pad)  # w > 0 into the foundation: drawn downward
         else:
@@ -1034,8 +1041,21 @@ def plot_envelope(path, f, prefix, output):
     what = f"{count} lead positions" if moving else f"{count} combination{'s' if count != 1 else ''}"
     fig.suptitle(f"{title}: envelopes over {what}" + ("" if env["complete"] else " (INCOMPLETE)"), fontsize=10,
                  y=0.995)
-    fig.text(0.5, 0.975, "bold: the envelopes (largest and smallest over the cases at each point);  labels: the "
-             "extremes and the case that governs each;  hatched: no foundation", ha="center", va="top", fontsize=7,
+    notes = ["bold: the envelopes (largest and smallest over the cases at each point)",
+             "labels: the extremes and the case that governs each"]
+    if contact_rows:
+        notes.append("top: each case's contact in its colour, blank lifted off")
+    if moving and len(positions) > 1:
+        steps = np.diff(np.sort(positions[np.isfinite(positions)]))
+        steps = steps[steps > 0]
+        if len(steps):
+            notes.append(f"lead positions {fmt(np.min(steps))} {'deg' if arch else length} apart (the teeth: "
+                         f"peaks under the loads between positions are not sampled)"
+                         if np.max(steps) - np.min(steps) < 1e-9 * max(1.0, np.max(steps)) else
+                         f"lead positions {fmt(np.min(steps))} to {fmt(np.max(steps))} apart")
+    if voids(pieces, begin, end):
+        notes.append("hatched: no foundation")
+    fig.text(0.5, 0.975, "\n".join(textwrap.wrap(";  ".join(notes), 150)), ha="center", va="top", fontsize=7,
              color="0.3")
     inches = fig.get_figheight()
     if lines:
@@ -1054,9 +1074,15 @@ def plot_envelope(path, f, prefix, output):
             if scale > 0 and abs(value) < 1e-3 * scale:
                 continue  # a zero extreme (no pressure where the member lifts) says nothing
             ax.plot(at, value, "o", color="black", markersize=4, zorder=5)
-            placer.place(ax, f"{fmt(value)} {unit} at {where} = {fmt(at)}{position_unit}\n{governing}", (at, value),
-                         fontsize=7, bbox=dict(boxstyle="round,pad=0.2", facecolor="white", edgecolor="0.7",
-                                               alpha=0.9))
+            if moving:  # "lead at 4.2" with its unit
+                governing = re.sub(r"lead at (\S+)$", lambda m: f"lead at {m.group(1)}{position_unit}", governing)
+            # A label under a point in the lower half of the axes (a minimum; w's maximum, drawn
+            # downward), above one in the upper half: off the curves, into the margin kept for it.
+            middle = 0.5 * sum(ax.get_window_extent().intervaly)
+            below = ax.transData.transform((at, value))[1] < middle
+            placer.place(ax, f"{fmt(value)} {unit} at {where} = {fmt(at)}{position_unit}, governed by {governing}",
+                         (at, value), below=below, fontsize=7,
+                         bbox=dict(boxstyle="round,pad=0.2", facecolor="white", edgecolor="0.7", alpha=0.9))
     output.save(fig, prefix + "_envelopes.png")
     if moving:
         envelope_lift_off_map(env, scene, pieces, begin, end, prefix + "_lift_off_map.png", output)
@@ -1156,7 +1182,7 @@ def main(argv=None, kind=None):
     if kind is not None and found is not None and found != kind:
         fail(BAD_INPUT, f"{path}: a {found} file; expected a {kind} file")
     if found in ("solve", "trace", "envelope") and args.normalise:
-        fail(BAD_INPUT, f"--normalise: {path} is a {found} file; expected a sweep file (--normalise draws sweeps only)")
+        fail(BAD_INPUT, f"--normalise: {path} is {'an' if found[0] in 'aeiou' else 'a'} {found} file; expected a sweep file (--normalise draws sweeps only)")
     if found is not None and found not in ("solve", "trace", "sweep", "envelope"):
         fail(BAD_INPUT, f"{path}: a liftoff file of kind '{found}', which plot cannot draw; expected a solve, trace, "
                         f"sweep or envelope file")
