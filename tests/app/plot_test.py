@@ -172,9 +172,9 @@ system = "kN-m"
 """
 
 VOID_GREY = (217, 217, 217)  # plot.py's "no foundation" face colour, 0.85
-NOTE_RED = (214, 39, 40)
+NOTE_RED = (214, 39, 40)  # tab:red, the note of the failed cases (three cases drawn: blue, orange, green)
 CONTACT_GREEN = (160, 212, 160)  # tab:green (44, 160, 44) at alpha 0.45 on white: the lift-off map's contact
-CASE_BLUE, CASE_ORANGE = (31, 119, 180), (255, 127, 14)  # tab:blue, tab:orange: the first two cases' curves  # tab:red, the note of the failed cases (three cases drawn: blue, orange, green)
+CASE_BLUE, CASE_ORANGE = (31, 119, 180), (255, 127, 14)  # tab:blue, tab:orange: the first two cases' curves
 
 
 def drew(result, expected, what):

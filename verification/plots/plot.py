@@ -924,21 +924,36 @@ def governing_extremes(env, key):
             for n, sign in names if n in env["extremes"]]
 
 
+def combination_of(label):
+    """The combination's name in a case label ("ULS, lead at 4.2" -> "ULS"; "lead at 4.2" -> "")."""
+    if label.startswith("lead at "):
+        return ""
+    return label.rsplit(", lead at ", 1)[0]
+
+
 def envelope_failure_lines(env, width):
+    """The note of the cases left out: one line per combination and termination, with a count and
+    the first case's message."""
     failed = [c for c in env["cases"] if not c["certified"]]
     if not failed:
         return []
-    lines = [f"not in the envelopes: {len(failed)} of {len(env['cases'])} case{'s' if len(env['cases']) != 1 else ''}"
-             f" failed (the envelopes are incomplete)"]
-    for c in failed[:4]:
-        wrapped = textwrap.wrap(f"  {c['label']}: {c['termination']}: {c['message']}", width,
+    total = len(env["cases"])
+    lines = [f"not in the envelopes: {len(failed)} of {total} case{'s' if total != 1 else ''} failed (the "
+             f"envelopes are incomplete)"]
+    groups = {}
+    for c in failed:
+        groups.setdefault((combination_of(c["label"]), c["termination"]), []).append(c)
+    for (_, termination), cases in list(groups.items())[:4]:
+        first = cases[0]
+        which = first["label"] + (f" and {len(cases) - 1} more" if len(cases) > 1 else "")
+        wrapped = textwrap.wrap(f"  {len(cases)} x {termination} ({which}): {first['message']}", width,
                                 subsequent_indent="      ")
         if len(wrapped) > 2:
             wrapped = wrapped[:2]
             wrapped[-1] = wrapped[-1][:width - 4] + " ..."
         lines.extend(wrapped)
-    if len(failed) > 4:
-        lines.append(f"  and {len(failed) - 4} more (the summary lists them all)")
+    if len(groups) > 4:
+        lines.append("  and more (the summary of `liftoff envelope` lists every case)")
     return lines
 
 
@@ -978,7 +993,7 @@ def plot_envelope(path, f, prefix, output):
     lines = envelope_failure_lines(env, 120)
     note = (len(lines) * 0.14 + 0.15) if lines else 0.0
     legend_rows = -(-len(certified) // 4) if per_case else 1
-    bottom = note + 0.2 * legend_rows + 0.25
+    bottom = note + 0.2 * legend_rows + 0.12
     fig, axes = plt.subplots(len(heights), 1, sharex=True, figsize=(9, 2.0 * sum(heights) + 0.9 + bottom),
                              gridspec_kw={"height_ratios": heights})
     axes = list(np.atleast_1d(axes))
@@ -1038,7 +1053,11 @@ def plot_envelope(path, f, prefix, output):
     axes[-1].set_xlim(begin, end)
     title = os.path.basename(env["scene_name"]) or os.path.basename(path)
     count = len(env["cases"])
-    what = f"{count} lead positions" if moving else f"{count} combination{'s' if count != 1 else ''}"
+    names = list(dict.fromkeys(combination_of(c["label"]) for c in env["cases"]))
+    if moving and len(names) > 1:
+        what = f"{len(names)} combinations x {count // len(names)} lead positions"
+    else:
+        what = f"{count} lead positions" if moving else f"{count} combination{'s' if count != 1 else ''}"
     fig.suptitle(f"{title}: envelopes over {what}" + ("" if env["complete"] else " (INCOMPLETE)"), fontsize=10,
                  y=0.995)
     notes = ["bold: the envelopes (largest and smallest over the cases at each point)",
@@ -1094,11 +1113,7 @@ def envelope_lift_off_map(env, scene, pieces, begin, end, out, output):
     length = env["units"][0]
     arch = env["coordinate"] == "theta_deg"
     unit = "deg" if arch else length
-    combinations = []
-    for c in env["cases"]:
-        name = c["label"].rsplit(", lead at", 1)[0] if ", lead at" in c["label"] else ""
-        if name not in combinations:
-            combinations.append(name)
+    combinations = list(dict.fromkeys(combination_of(c["label"]) for c in env["cases"]))
     fig, axes = plt.subplots(1, len(combinations), figsize=(max(7.0, 4.6 * len(combinations)), 6.4), sharey=True,
                              squeeze=False)
     group = moving_group(scene)
@@ -1106,8 +1121,7 @@ def envelope_lift_off_map(env, scene, pieces, begin, end, out, output):
     lo, hi = float(np.nanmin(positions)), float(np.nanmax(positions))
     failed_any = False
     for ax, name in zip(axes[0], combinations):
-        cases = [c for c in env["cases"]
-                 if (c["label"].rsplit(", lead at", 1)[0] if ", lead at" in c["label"] else "") == name]
+        cases = [c for c in env["cases"] if combination_of(c["label"]) == name]
         p = np.array([c["position"] for c in cases])
         # Each position's row reaches half-way to its neighbours.
         edges = np.concatenate(([p[0] - 0.5 * (p[1] - p[0]) if len(p) > 1 else p[0] - 0.5],
@@ -1138,8 +1152,9 @@ def envelope_lift_off_map(env, scene, pieces, begin, end, out, output):
             ax.set_title(name, fontsize=10)
     axes[0][0].set_ylabel(f"lead position of the moving group [{unit}]")
     title = os.path.basename(env["scene_name"])
-    fig.suptitle(f"{title}: lift-off map of the moving load ({len(env['cases'])} positions, {fmt(lo)} to {fmt(hi)} "
-                 f"{unit})", fontsize=10)
+    per = len(env["cases"]) // len(combinations)
+    fig.suptitle(f"{title}: lift-off map of the moving load ({per} lead positions, {fmt(lo)} to {fmt(hi)} {unit}"
+                 + (f"; {len(combinations)} combinations" if len(combinations) > 1 else "") + ")", fontsize=10)
     handles = [Rectangle((0, 0), 1, 1, facecolor="tab:green", alpha=0.45, label="contact"),
                Rectangle((0, 0), 1, 1, facecolor="white", edgecolor="0.3", linewidth=0.6,
                          label="lifted off (foundation, no contact)")]
@@ -1159,7 +1174,8 @@ def envelope_lift_off_map(env, scene, pieces, begin, end, out, output):
 
 def main(argv=None, kind=None):
     parser = argparse.ArgumentParser(prog=PROG, description=__doc__.splitlines()[0])
-    parser.add_argument("file", help="HDF5 file written by liftoff solve, trace or sweep (--output) or envelope (--hdf5)")
+    parser.add_argument("file",
+                        help="HDF5 file written by liftoff solve, trace or sweep (--output) or envelope (--hdf5)")
     parser.add_argument("--out", default=None, help="prefix of the PNG files (default: the file's name without .h5)")
     parser.add_argument("--normalise", action="store_true",
                         help="sweeps: divide each case's curve by its own largest magnitude")
@@ -1177,12 +1193,15 @@ def main(argv=None, kind=None):
         if os.path.exists(path + ".backup"):
             f = None  # a trace damaged by a kill: read_trace takes its backup
         else:
-            fail(BAD_INPUT, f"{path}: not an HDF5 file; expected a file written by `liftoff solve/trace/sweep --output` or `liftoff envelope --hdf5`")
+            fail(BAD_INPUT, f"{path}: not an HDF5 file; expected a file written by `liftoff solve/trace/sweep "
+                            f"--output` or `liftoff envelope --hdf5`")
     found = file_kind(f) if f is not None else "trace"
     if kind is not None and found is not None and found != kind:
         fail(BAD_INPUT, f"{path}: a {found} file; expected a {kind} file")
     if found in ("solve", "trace", "envelope") and args.normalise:
-        fail(BAD_INPUT, f"--normalise: {path} is {'an' if found[0] in 'aeiou' else 'a'} {found} file; expected a sweep file (--normalise draws sweeps only)")
+        article = "an" if found[0] in "aeiou" else "a"
+        fail(BAD_INPUT, f"--normalise: {path} is {article} {found} file; expected a sweep file (--normalise draws "
+                        f"sweeps only)")
     if found is not None and found not in ("solve", "trace", "sweep", "envelope"):
         fail(BAD_INPUT, f"{path}: a liftoff file of kind '{found}', which plot cannot draw; expected a solve, trace, "
                         f"sweep or envelope file")
@@ -1198,7 +1217,8 @@ def main(argv=None, kind=None):
         plot_trace(path, prefix, output)
     else:
         fail(BAD_INPUT, f"{path}: not a liftoff result file (no root attribute 'kind' or 'liftoff_version'); "
-                        f"expected a file written by `liftoff solve/trace/sweep --output` or `liftoff envelope --hdf5`")
+                        f"expected a file written by `liftoff solve/trace/sweep --output` or "
+                        f"`liftoff envelope --hdf5`")
     output.finish()
 
 
