@@ -72,8 +72,9 @@ def text(value):
 
 
 def units_of(attrs):
-    length = text(attrs["units_length"]) if "units_length" in attrs else "length"
-    force = text(attrs["units_force"]) if "units_force" in attrs else "force"
+    # Empty labels (a scene without [units]) are no units either.
+    length = (text(attrs["units_length"]) if "units_length" in attrs else "") or "length"
+    force = (text(attrs["units_force"]) if "units_force" in attrs else "") or "force"
     return length, force
 
 
