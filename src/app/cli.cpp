@@ -561,9 +561,9 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
                           "Progress on stderr, a line per step, even when stderr is not a terminal");
 
   PlotRequest plot;
-  CLI::App* plot_command =
-      app.add_subcommand("plot", "Draw the pictures of a result file (solve, trace or sweep --output) as PNG files");
-  plot_command->add_option("file", plot.file, "HDF5 file written by liftoff solve, trace or sweep")
+  CLI::App* plot_command = app.add_subcommand(
+      "plot", "Draw the pictures of a result file (solve, trace or sweep --output; envelope --hdf5) as PNG files");
+  plot_command->add_option("file", plot.file, "HDF5 file written by liftoff solve, trace, sweep or envelope")
       ->required()
       ->check(CLI::ExistingFile);
   plot_command->add_option("--out", plot.out, "Prefix of the PNG files (default: the file's name without .h5)");

@@ -1,5 +1,5 @@
 #pragma once
-// `liftoff plot FILE.h5`: the pictures of a result file (solve, trace or sweep), drawn by one
+// `liftoff plot FILE.h5`: the pictures of a result file (solve, trace, sweep or envelope), drawn by one
 // Python script, verification/plots/plot.py, run with the interpreter fixed at configure time
 // (CMake cache variable LIFTOFF_PYTHON, Debian's /usr/bin/python3: it has matplotlib and h5py).
 // The script prints each PNG it wrote on stdout and a one-line error on stderr; its exit code

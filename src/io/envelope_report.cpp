@@ -200,6 +200,7 @@ void write_file(const EnvelopeReport& r, const std::filesystem::path& path, cons
       write_number_attribute(group, std::string(name) + "_value", e->value);
       write_number_attribute(group, std::string(name) + "_at", e->at);
       write_string_attribute(group, std::string(name) + "_governing", r.cases[e->governing].label());
+      write_number_attribute(group, std::string(name) + "_case", e->governing);
     }
   }
   {
@@ -214,6 +215,7 @@ void write_file(const EnvelopeReport& r, const std::filesystem::path& path, cons
       write_string_attribute(group, fmt::format("label_{:04d}", k), c.label());
       write_string_attribute(group, fmt::format("termination_{:04d}", k),
                              c.error.empty() ? c.report.termination : "refused");
+      write_string_attribute(group, fmt::format("message_{:04d}", k), c.error.empty() ? c.report.message : c.error);
       if (c.passed())
         for (const auto& [a, b] : c.report.contact_regions) regions.insert(regions.end(), {double(k), a, b});
     }
@@ -221,6 +223,20 @@ void write_file(const EnvelopeReport& r, const std::filesystem::path& path, cons
     write_array(group, "certified", certified);
     write_array(group, "contact_sets", sets);
     write_array(group, "factorisations", factorisations);
+    // Each certified combination's own samples, for pictures of every case beside the envelope;
+    // not a moving load's positions (hundreds of cases, megabytes each hundred: the envelopes say it).
+    Handle fields(H5Gcreate2(group, "fields", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "fields");
+    for (std::size_t k = 0; k < r.cases.size(); ++k) {
+      const FieldTable& f = r.cases[k].report.fields;
+      if (!r.cases[k].passed() || r.cases[k].position || f.coordinate.empty()) continue;
+      const std::string name = fmt::format("{:04d}", k);
+      Handle one(H5Gcreate2(fields, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, name);
+      write_array(one, "coordinate", f.coordinate);
+      write_array(one, "w", f.w);
+      write_array(one, "reaction", f.reaction);
+      write_array(one, "bending_moment", f.bending_moment);
+      write_array(one, "shear_force", f.shear_force);
+    }
     Handle map(H5Gcreate2(file, "liftoff_map", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "liftoff_map");
     write_array(map, "regions", regions, 3);
   }

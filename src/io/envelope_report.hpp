@@ -41,8 +41,8 @@ struct EnvelopeReport {
   std::string scene_name;
   std::string scene_text;
   std::string coordinate_name;  // "x" or "theta_deg"
+  scene::Units units;           // the scene's [units]: the labels of every output
   bool tensionless = true;
-  scene::Units units;      // the scene's [units]: labels of every figure
   bool warm_start = true;  // consecutive positions started from the previous contact set
   std::vector<EnvelopeCase> cases;
   // The grid and the envelopes along it (certified cases only).
@@ -69,8 +69,11 @@ std::string text_summary(const EnvelopeReport& report);
 // (as in a solve file); /scene (TOML text);
 // /envelope/{coordinate, w_max, w_min, pressure_max, pressure_min, moment_max, moment_min,
 // shear_max, shear_min}; /extremes (attributes <name>_value, <name>_at, <name>_governing as the
-// case's label); /cases: datasets position (n, NaN without [moving]), certified (0/1),
-// contact_sets, factorisations, and string attributes label_NNNN, termination_NNNN;
+// case's label, <name>_case its index); /cases: datasets position (n, NaN without [moving]),
+// certified (0/1), contact_sets, factorisations, and string attributes label_NNNN,
+// termination_NNNN, message_NNNN; /cases/fields/NNNN/{coordinate, w, reaction, bending_moment,
+// shear_force}: each certified case's own samples when there is no [moving] (the plot draws
+// every combination's curves);
 // /liftoff_map: regions (r x 3: case index, begin, end). Written under a temporary name and
 // renamed (OutputError on failure).
 void write_envelope_hdf5(const EnvelopeReport& report, const std::filesystem::path& path, const std::string& version);

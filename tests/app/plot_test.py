@@ -6,7 +6,11 @@
 Writes a solve, a trace and a sweep file with liftoff itself, draws each with `liftoff plot`, and
 checks what a user would notice first: the exit code, the PNG files named on stdout (and nothing
 else, no .tmp left), that each picture has ink on it, that "no foundation" is drawn (its grey)
-only where the scene has a void, and that a sweep with a failed case carries the red note. Then
+only where the scene has a void, and that a sweep with a failed case carries the red note. Envelope
+files (`liftoff envelope --hdf5`): a moving load draws its envelopes and its lift-off map against
+the lead position (the void grey, contact green, the file's units stored for the axes), load
+combinations with a failed case draw their envelopes with every case's own curve and the red note
+(and no lift-off map). Then
 the errors: a missing file, a file that is not HDF5, an HDF5 file that is not liftoff's, and
 --normalise on a solve file are exit 2 with one line on stderr naming the file; an output prefix
 in a directory that does not exist is exit 4 with nothing written.
@@ -110,8 +114,67 @@ to = 12.0
 modulus = 2.0e7""", """[foundation]
 modulus = 2.0e7""")
 
+# A pair of loads rolled over the trench, and load combinations of which one (the uplift W, -2e6
+# away from the foundation, which the single pin cannot hold) has no equilibrium.
+MOVING = BEAM.split("[[loads]]")[0] + """
+[[loads]]
+kind = "uniform"
+value = 5.0e3
+case = "dead"
+
+[moving]
+loads = [{ kind = "force", offset = 0.0, value = 200e3 }, { kind = "force", offset = 1.5, value = 200e3 }]
+from = 0.0
+to = 10.5
+step = 0.5
+
+[solve]
+elements = 120
+
+[units]
+system = "N-m"
+"""
+COMBINATIONS = WHOLE.split("[[loads]]")[0] + """
+[[loads]]
+kind = "uniform"
+value = 5.0e3
+case = "G"
+
+[[loads]]
+kind = "force"
+at = 9.0
+value = 200e3
+case = "Q"
+
+[[loads]]
+kind = "force"
+at = 9.0
+value = -2e6
+case = "W"
+
+[[combinations]]
+name = "G"
+factors = { G = 1.0 }
+
+[[combinations]]
+name = "ULS"
+factors = { G = 1.35, Q = 1.5 }
+
+[[combinations]]
+name = "uplift"
+factors = { G = 1.0, W = 1.0 }
+
+[solve]
+elements = 120
+
+[units]
+system = "kN-m"
+"""
+
 VOID_GREY = (217, 217, 217)  # plot.py's "no foundation" face colour, 0.85
 NOTE_RED = (214, 39, 40)  # tab:red, the note of the failed cases (three cases drawn: blue, orange, green)
+CONTACT_GREEN = (160, 212, 160)  # tab:green (44, 160, 44) at alpha 0.45 on white: the lift-off map's contact
+CASE_BLUE, CASE_ORANGE = (31, 119, 180), (255, 127, 14)  # tab:blue, tab:orange: the first two cases' curves
 
 
 def drew(result, expected, what):
@@ -196,6 +259,51 @@ def main():
         prefix = os.path.join(tmp, "normalised")
         drew(run(liftoff, "plot", h5, "--normalise", "--out", prefix),
              [prefix + "_deflection.png", prefix + "_reaction.png"], "plot sweep --normalise")
+
+        # envelope of a moving load: the envelopes and the lift-off map against the lead position
+        scene = os.path.join(tmp, "moving.toml")
+        with open(scene, "w") as f:
+            f.write(MOVING)
+        h5 = os.path.join(tmp, "moving.h5")
+        r = run(liftoff, "envelope", scene, "--hdf5", h5)
+        check(r.returncode == 0, f"envelope moving: exit 0 ({r.stderr.strip()})")
+        with h5py.File(h5) as f:
+            check(f.attrs.get("kind") == "envelope", "envelope file: root attribute kind = envelope")
+            check(text(f.attrs.get("units_length", "")) == "m" and text(f.attrs.get("units_force", "")) == "N",
+                  "envelope file: units_length = m, units_force = N (what the axes say)")
+            check(len(f["cases/certified"]) == 22 and all(f["cases/certified"][()] == 1),
+                  "envelope file: the 22 lead positions certified")
+        pictures = [os.path.join(tmp, "moving_envelopes.png"), os.path.join(tmp, "moving_lift_off_map.png")]
+        drew(run(liftoff, "plot", h5), pictures, "plot envelope (moving)")
+        # The trench, 2 of 12 length units over every lead position, fills about 40 000 pixels of the
+        # map; contact (green at alpha 0.45 on white) most of the rest.
+        grey = count_colour(pictures[1], VOID_GREY)
+        check(grey > 10000, f"envelope lift-off map: the trench drawn as 'no foundation' ({grey} grey pixels)")
+        green = count_colour(pictures[1], CONTACT_GREEN, tolerance=4)
+        check(green > 50000, f"envelope lift-off map: contact drawn ({green} green pixels)")
+
+        # load combinations, one of which fails: drawn without it, with the red note
+        scene = os.path.join(tmp, "combinations.toml")
+        with open(scene, "w") as f:
+            f.write(COMBINATIONS)
+        h5 = os.path.join(tmp, "combinations.h5")
+        r = run(liftoff, "envelope", scene, "--hdf5", h5)
+        check(r.returncode == 3, f"envelope with a failing combination: exit 3 (got {r.returncode})")
+        with h5py.File(h5) as f:
+            check(list(f["cases/certified"][()]) == [1, 1, 0], "envelope file: the uplift combination failed")
+            check(sorted(f["cases/fields"]) == ["0000", "0001"], "envelope file: the certified combinations' own "
+                  f"fields stored, for their curves (got {sorted(f['cases/fields'])})")
+        prefix = os.path.join(tmp, "combinations")
+        drew(run(liftoff, "plot", h5, "--out", prefix), [prefix + "_envelopes.png"],
+             "plot envelope (combinations, one failed)")
+        check(not os.path.exists(prefix + "_lift_off_map.png"), "combinations: no lift-off map against a position")
+        red = count_colour(prefix + "_envelopes.png", NOTE_RED, tolerance=10)
+        check(red > 100, f"combinations: the failed case's note is on the figure ({red} red pixels)")
+        # Each certified case's own curve in its colour (tab:blue, tab:orange) beside the bold envelope.
+        for name, rgb in (("G", CASE_BLUE), ("ULS", CASE_ORANGE)):
+            n = count_colour(prefix + "_envelopes.png", rgb, tolerance=10)
+            check(n > 300, f"combinations: case {name}'s own curves drawn ({n} pixels of its colour)")
+        error(run(liftoff, "plot", h5, "--normalise"), 2, "--normalise", "plot --normalise on an envelope file")
 
         # errors
         missing = os.path.join(tmp, "missing.h5")

@@ -1,9 +1,9 @@
 #!/usr/bin/python3
-"""Pictures of any liftoff HDF5 file: a solve, a trace or a sweep (what `liftoff plot` runs).
+"""Pictures of any liftoff HDF5 file: a solve, a trace, a sweep or an envelope (what `liftoff plot` runs).
 
     /usr/bin/python3 verification/plots/plot.py FILE.h5 [--out PREFIX] [--normalise]
 
-The file's kind is its root attribute `kind` ("solve", "trace", "sweep"; files written before it
+The file's kind is its root attribute `kind` ("solve", "trace", "sweep", "envelope"; files written before it
 existed are recognised by their layout). Writes, and prints the name of, each PNG:
 
 - solve: PREFIX_diagrams.png, the member with its supports, loads and foundation, then the
@@ -15,6 +15,14 @@ existed are recognised by their layout). Writes, and prints the name of, each PN
 - sweep: PREFIX_deflection.png and PREFIX_reaction.png, every case overlaid, one panel per method
   (plot_sweep.py's figures). Failed cases are left out and listed on the figure. --normalise
   divides each case's curve by its own largest magnitude (max |w|, max reaction), to compare shapes.
+- envelope (`liftoff envelope SCENE --hdf5 FILE`): PREFIX_envelopes.png, the envelopes (largest
+  and smallest over the cases at each point) of w, the foundation pressure, the bending moment and
+  the shear stacked along the member, bold; each extreme labelled with its position and the case
+  that governs it (the lead position, or the combination). Combinations: each case's own curve
+  thin, in its colour, and a row per case on top with its contact regions. A moving load: the band
+  between the envelopes, and PREFIX_lift_off_map.png, the contact regions against the lead
+  position (contact, lifted off, no foundation and failed positions drawn differently; the group's
+  loads dotted). Failed cases are left out of the envelopes and listed in red.
 
 Units are the file's root attributes `units_length` and `units_force` when present (else "length"
 and "force"). w > 0 is into the foundation and is drawn downward, as the member moves; bending
@@ -25,6 +33,7 @@ half-written PNG is left: each is written under a temporary name and renamed).
 import argparse
 import math
 import os
+import re
 import sys
 import textwrap
 
@@ -45,6 +54,7 @@ try:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     import matplotlib.colors
+    import matplotlib.ticker
     import matplotlib.transforms
     from matplotlib.patches import FancyArrowPatch, Rectangle
 except ImportError as e:  # pragma: no cover - depends on the machine
@@ -62,8 +72,9 @@ def text(value):
 
 
 def units_of(attrs):
-    length = text(attrs["units_length"]) if "units_length" in attrs else "length"
-    force = text(attrs["units_force"]) if "units_force" in attrs else "force"
+    # Empty labels (a scene without [units]) are no units either.
+    length = (text(attrs["units_length"]) if "units_length" in attrs else "") or "length"
+    force = (text(attrs["units_force"]) if "units_force" in attrs else "") or "force"
     return length, force
 
 
@@ -132,11 +143,13 @@ class LabelPlacer:
         self.fig = fig
         self.boxes = []
 
-    def place(self, ax, label, xy, **kwargs):
+    def place(self, ax, label, xy, below=False, **kwargs):
+        """below: try the offsets under the point first (a minimum's label, away from the curve)."""
         renderer = self.fig.canvas.get_renderer()
         axes_box = ax.get_window_extent(renderer)
         best = None
-        for dx, dy in self.OFFSETS:
+        offsets = sorted(self.OFFSETS, key=lambda o: o[1] >= 0) if below else self.OFFSETS
+        for dx, dy in offsets:
             ha = "left" if dx >= 0 else "right"
             va = "bottom" if dy >= 0 else "top"
             a = ax.annotate(label, xy, textcoords="offset points", xytext=(dx, dy), ha=ha, va=va,
@@ -150,7 +163,7 @@ class LabelPlacer:
             if best is None and inside:
                 best = (dx, dy)
             a.remove()
-        dx, dy = best or self.OFFSETS[0]
+        dx, dy = best or offsets[0]
         a = ax.annotate(label, xy, textcoords="offset points", xytext=(dx, dy), ha="left" if dx >= 0 else "right",
                         va="bottom" if dy >= 0 else "top", annotation_clip=False,
                         arrowprops=dict(arrowstyle="-", color="0.5", linewidth=0.5), **kwargs)
@@ -858,10 +871,312 @@ def plot_sweep(path, f, prefix, output, normalise, dolfinx=False, dolfinx_elemen
 
 
 # ----------------------------------------------------------------------------------------------
+# Envelope files (`liftoff envelope SCENE --hdf5 FILE`)
+
+def read_envelope(path, f):
+    """The envelope file: its envelopes, cases (label, lead position, termination, own fields) and
+    lift-off map; exits 2 when it is not one."""
+    try:
+        e = f["envelope"]
+        cases = f["cases"]
+        n = len(cases["certified"])
+        position = cases["position"][()] if n else np.zeros(0)
+        certified = cases["certified"][()] if n else np.zeros(0)
+        regions = f["liftoff_map/regions"][()].reshape(-1, 3) if "liftoff_map/regions" in f else np.zeros((0, 3))
+        out = {"x": e["coordinate"][()], "coordinate": text(f.attrs.get("coordinate", "x")),
+               "scene_name": text(f.attrs.get("scene_name", "")), "units": units_of(f.attrs),
+               "scene": parse_scene(text(f["scene"][()])) if "scene" in f else None,
+               "complete": int(f.attrs.get("complete", 0)) == 1, "cases": []}
+        for key, name in (("w", "w"), ("reaction", "pressure"), ("moment", "moment"), ("shear", "shear")):
+            out[key] = (e[name + "_max"][()], e[name + "_min"][()])
+        for k in range(n):
+            one = {"label": text(cases.attrs.get(f"label_{k:04d}", f"case {k}")),
+                   "position": float(position[k]), "certified": int(certified[k]) == 1,
+                   "termination": text(cases.attrs.get(f"termination_{k:04d}", "")),
+                   "message": text(cases.attrs.get(f"message_{k:04d}", "")), "regions": [], "fields": None}
+            group = f"cases/fields/{k:04d}"
+            if group in f:
+                g = f[group]
+                one["fields"] = {"x": g["coordinate"][()], "w": g["w"][()], "reaction": g["reaction"][()],
+                                 "moment": g["bending_moment"][()], "shear": g["shear_force"][()]}
+            out["cases"].append(one)
+        for k, a, b in regions:
+            if 0 <= int(k) < n:
+                out["cases"][int(k)]["regions"].append((float(a), float(b)))
+        out["extremes"] = {}
+        if "extremes" in f:
+            attrs = f["extremes"].attrs
+            for name in ("w_max", "uplift_max", "pressure_max", "moment_max", "moment_min", "shear_max_abs"):
+                if name + "_value" in attrs:
+                    out["extremes"][name] = (float(attrs[name + "_value"]), float(attrs[name + "_at"]),
+                                             text(attrs[name + "_governing"]))
+    except KeyError as error:
+        fail(BAD_INPUT, f"{path}: an envelope file without {error}; expected the file of "
+                        f"`liftoff envelope SCENE --hdf5 FILE`")
+    return out
+
+
+def governing_extremes(env, key):
+    """The summary's extremes (/extremes) on one diagram, each as (value, position, governing case):
+    the picture labels what the summary prints, no more."""
+    names = {"w": (("w_max", 1.0), ("uplift_max", -1.0)), "reaction": (("pressure_max", 1.0),),
+             "moment": (("moment_max", 1.0), ("moment_min", 1.0)), "shear": (("shear_max_abs", 1.0),)}[key]
+    return [(sign * env["extremes"][n][0], env["extremes"][n][1], env["extremes"][n][2])
+            for n, sign in names if n in env["extremes"]]
+
+
+def combination_of(label):
+    """The combination's name in a case label ("ULS, lead at 4.2" -> "ULS"; "lead at 4.2" -> "")."""
+    if label.startswith("lead at "):
+        return ""
+    return label.rsplit(", lead at ", 1)[0]
+
+
+def envelope_failure_lines(env, width):
+    """The note of the cases left out: one line per combination and termination, with a count and
+    the first case's message."""
+    failed = [c for c in env["cases"] if not c["certified"]]
+    if not failed:
+        return []
+    total = len(env["cases"])
+    lines = [f"not in the envelopes: {len(failed)} of {total} case{'s' if total != 1 else ''} failed (the "
+             f"envelopes are incomplete)"]
+    groups = {}
+    for c in failed:
+        groups.setdefault((combination_of(c["label"]), c["termination"]), []).append(c)
+    for (_, termination), cases in list(groups.items())[:4]:
+        first = cases[0]
+        which = first["label"] + (f" and {len(cases) - 1} more" if len(cases) > 1 else "")
+        wrapped = textwrap.wrap(f"  {len(cases)} x {termination} ({which}): {first['message']}", width,
+                                subsequent_indent="      ")
+        if len(wrapped) > 2:
+            wrapped = wrapped[:2]
+            wrapped[-1] = wrapped[-1][:width - 4] + " ..."
+        lines.extend(wrapped)
+    if len(groups) > 4:
+        lines.append("  and more (the summary of `liftoff envelope` lists every case)")
+    return lines
+
+
+def moving_group(scene):
+    """The moving group's offsets from the lead position, and its load case; None without [moving]."""
+    moving = (scene or {}).get("moving")
+    if not moving:
+        return None
+    return [float(load.get("offset", 0.0)) for load in moving.get("loads", [])], moving.get("case", "live")
+
+
+def plot_envelope(path, f, prefix, output):
+    env = read_envelope(path, f)
+    length, force = env["units"]
+    arch = env["coordinate"] == "theta_deg"
+    scene = env["scene"]
+    x = env["x"]
+    if len(x) == 0:
+        fail(BAD_INPUT, f"{path}: no case of the envelope was certified: nothing to draw "
+                        f"({len(env['cases'])} failed; the summary of `liftoff envelope` says why)")
+    begin, end = member_range(scene) if scene else (float(x.min()), float(x.max()))
+    pieces = foundation_pieces(scene)
+    positions = np.array([c["position"] for c in env["cases"]])
+    moving = bool(np.any(np.isfinite(positions)))
+    where = "theta" if arch else "x"
+    position_unit = " deg" if arch else f" {length}"
+    certified = [c for c in env["cases"] if c["certified"] and c["fields"] is not None]
+    # Per case curves: thin, one colour each, when the cases are few (combinations); a moving load's
+    # dozens of positions are the band between the envelopes.
+    per_case = not moving and len(certified) <= 12
+    diagrams = [("w", f"deflection w [{length}]\n(> 0 into the foundation)", length),
+                ("reaction", f"foundation pressure\n[{force}/{length}]", f"{force}/{length}"),
+                ("moment", f"bending moment M\n[{force} {length}] (sagging > 0)", f"{force} {length}"),
+                ("shear", f"shear force V [{force}]", force)]
+    contact_rows = not moving  # combinations: a row per case with its contact regions on top
+    heights = ([0.25 + 0.22 * len(env["cases"])] if contact_rows else []) + [1.0] * len(diagrams)
+    lines = envelope_failure_lines(env, 120)
+    note = (len(lines) * 0.14 + 0.15) if lines else 0.0
+    legend_rows = -(-len(certified) // 4) if per_case else 1
+    bottom = note + 0.2 * legend_rows + 0.12
+    fig, axes = plt.subplots(len(heights), 1, sharex=True, figsize=(9, 2.0 * sum(heights) + 0.9 + bottom),
+                             gridspec_kw={"height_ratios": heights})
+    axes = list(np.atleast_1d(axes))
+    colours = {c["label"]: plt.cm.tab10(i % 10) for i, c in enumerate(certified)}
+    if contact_rows:
+        ax = axes.pop(0)
+        for i, c in enumerate(env["cases"]):
+            row = len(env["cases"]) - 1 - i
+            for a, b in voids(pieces, begin, end):
+                ax.add_patch(Rectangle((a, row - 0.35), b - a, 0.7, facecolor="0.85", edgecolor="0.5", hatch="//",
+                                       linewidth=0))
+            if not c["certified"]:
+                ax.add_patch(Rectangle((begin, row - 0.35), end - begin, 0.7, facecolor="none", edgecolor="tab:red",
+                                       hatch="xx", linewidth=0.6))
+                ax.text(0.5 * (begin + end), row, "failed: not in the envelopes", ha="center", va="center",
+                        fontsize=7, color="tab:red", zorder=5, bbox=dict(facecolor="white", edgecolor="none", pad=2))
+                continue
+            ax.add_patch(Rectangle((begin, row - 0.35), end - begin, 0.7, facecolor="none", edgecolor="0.3",
+                                   linewidth=0.6))
+            for a, b in c["regions"]:
+                ax.add_patch(Rectangle((a, row - 0.35), b - a, 0.7, facecolor=colours.get(c["label"], "tab:green"),
+                                       alpha=0.55, linewidth=0))
+        ax.set_ylim(-0.6, len(env["cases"]) - 0.4)
+        ax.set_yticks(range(len(env["cases"])))
+        ax.set_yticklabels([c["label"] for c in reversed(env["cases"])], fontsize=8)
+        ax.tick_params(axis="y", length=0)
+        ax.set_ylabel("contact\nby case", fontsize=8)
+        contact_axis = ax
+    for ax, (key, ylabel, unit) in zip(axes, diagrams):
+        high, low = env[key]
+        for a, b in voids(pieces, begin, end):
+            ax.axvspan(a, b, facecolor="none", edgecolor="0.75", hatch="//", linewidth=0)
+        # The envelopes bold and pale under each case's thin curve, which stays visible where it governs.
+        ax.plot(x, high, color="0.25", alpha=0.45 if per_case else 1.0, linewidth=3.5 if per_case else 1.8,
+                label="envelope (max, min)", zorder=2)
+        ax.plot(x, low, color="0.25", alpha=0.45 if per_case else 1.0, linewidth=3.5 if per_case else 1.8, zorder=2)
+        if per_case:
+            for c in certified:
+                ax.plot(c["fields"]["x"], c["fields"][key], color=colours[c["label"]], linewidth=1.1,
+                        label=c["label"], zorder=3)
+        else:
+            ax.fill_between(x, low, high, color="tab:blue", alpha=0.15, linewidth=0,
+                            label="between the envelopes (every lead position)")
+        ax.yaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: fmt(v)))
+        ax.axhline(0.0, color="black", linewidth=0.6)
+        ax.set_ylabel(ylabel, fontsize=8)
+        ax.grid(True, alpha=0.3)
+        ax.tick_params(labelsize=8)
+        lo, hi = float(np.min(low)), float(np.max(high))
+        pad = 0.4 * (hi - lo) if hi > lo else max(abs(hi), 1e-30)  # room for the labels
+        if key == "w":
+            ax.set_ylim(hi + pad, lo - pad)  # w > 0 into the foundation: drawn downward
+        else:
+            ax.set_ylim(lo - pad, hi + pad)
+        ax.margins(x=0)
+    axes[-1].set_xlabel("theta (degrees from the crown)" if arch else f"x [{length}]")
+    axes[-1].set_xlim(begin, end)
+    title = os.path.basename(env["scene_name"]) or os.path.basename(path)
+    count = len(env["cases"])
+    names = list(dict.fromkeys(combination_of(c["label"]) for c in env["cases"]))
+    if moving and len(names) > 1:
+        what = f"{len(names)} combinations x {count // len(names)} lead positions"
+    else:
+        what = f"{count} lead positions" if moving else f"{count} combination{'s' if count != 1 else ''}"
+    fig.suptitle(f"{title}: envelopes over {what}" + ("" if env["complete"] else " (INCOMPLETE)"), fontsize=10,
+                 y=0.995)
+    notes = ["bold: the envelopes (largest and smallest over the cases at each point)",
+             "labels: the extremes and the case that governs each"]
+    if contact_rows:
+        notes.append("top: each case's contact in its colour, blank lifted off")
+    if moving and len(positions) > 1:
+        steps = np.diff(np.sort(positions[np.isfinite(positions)]))
+        steps = steps[steps > 0]
+        if len(steps):
+            notes.append(f"lead positions {fmt(np.min(steps))} {'deg' if arch else length} apart (the teeth: "
+                         f"peaks under the loads between positions are not sampled)"
+                         if np.max(steps) - np.min(steps) < 1e-9 * max(1.0, np.max(steps)) else
+                         f"lead positions {fmt(np.min(steps))} to {fmt(np.max(steps))} apart")
+    if voids(pieces, begin, end):
+        notes.append("hatched: no foundation")
+    fig.text(0.5, 0.975, "\n".join(textwrap.wrap(";  ".join(notes), 150)), ha="center", va="top", fontsize=7,
+             color="0.3")
+    inches = fig.get_figheight()
+    if lines:
+        fig.text(0.01, 0.005, "\n".join(lines), fontsize=7, color="tab:red", va="bottom", ha="left")
+    handles, labels = axes[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=min(4, len(handles)), fontsize=7, frameon=False,
+               bbox_to_anchor=(0.5, note / inches))
+    fig.align_ylabels(axes + ([contact_axis] if contact_rows else []))
+    fig.tight_layout(rect=(0, bottom / inches, 1, 1 - 0.35 / inches))
+    fig.subplots_adjust(hspace=0.12)
+    fig.canvas.draw()
+    placer = LabelPlacer(fig)
+    for ax, (key, _, unit) in zip(axes, diagrams):
+        scale = max(float(np.max(np.abs(env[key][0]))), float(np.max(np.abs(env[key][1]))))
+        for value, at, governing in governing_extremes(env, key):
+            if scale > 0 and abs(value) < 1e-3 * scale:
+                continue  # a zero extreme (no pressure where the member lifts) says nothing
+            ax.plot(at, value, "o", color="black", markersize=4, zorder=5)
+            if moving:  # "lead at 4.2" with its unit
+                governing = re.sub(r"lead at (\S+)$", lambda m: f"lead at {m.group(1)}{position_unit}", governing)
+            # A label under a point in the lower half of the axes (a minimum; w's maximum, drawn
+            # downward), above one in the upper half: off the curves, into the margin kept for it.
+            middle = 0.5 * sum(ax.get_window_extent().intervaly)
+            below = ax.transData.transform((at, value))[1] < middle
+            placer.place(ax, f"{fmt(value)} {unit} at {where} = {fmt(at)}{position_unit}, governed by {governing}",
+                         (at, value), below=below, fontsize=7,
+                         bbox=dict(boxstyle="round,pad=0.2", facecolor="white", edgecolor="0.7", alpha=0.9))
+    output.save(fig, prefix + "_envelopes.png")
+    if moving:
+        envelope_lift_off_map(env, scene, pieces, begin, end, prefix + "_lift_off_map.png", output)
+
+
+def envelope_lift_off_map(env, scene, pieces, begin, end, out, output):
+    """x along the member, the lead position up: contact green, lifted off white, no foundation
+    hatched grey, failed positions crossed red; the group's loads as dotted lines (lead + offset)."""
+    length = env["units"][0]
+    arch = env["coordinate"] == "theta_deg"
+    unit = "deg" if arch else length
+    combinations = list(dict.fromkeys(combination_of(c["label"]) for c in env["cases"]))
+    fig, axes = plt.subplots(1, len(combinations), figsize=(max(7.0, 4.6 * len(combinations)), 6.4), sharey=True,
+                             squeeze=False)
+    group = moving_group(scene)
+    positions = np.array([c["position"] for c in env["cases"]])
+    lo, hi = float(np.nanmin(positions)), float(np.nanmax(positions))
+    failed_any = False
+    for ax, name in zip(axes[0], combinations):
+        cases = [c for c in env["cases"] if combination_of(c["label"]) == name]
+        p = np.array([c["position"] for c in cases])
+        # Each position's row reaches half-way to its neighbours.
+        edges = np.concatenate(([p[0] - 0.5 * (p[1] - p[0]) if len(p) > 1 else p[0] - 0.5],
+                                0.5 * (p[1:] + p[:-1]),
+                                [p[-1] + 0.5 * (p[-1] - p[-2]) if len(p) > 1 else p[0] + 0.5]))
+        for a, b in voids(pieces, begin, end):
+            ax.add_patch(Rectangle((a, edges[0]), b - a, edges[-1] - edges[0], facecolor="0.85", edgecolor="0.5",
+                                   hatch="//", linewidth=0, zorder=0))
+        for i, c in enumerate(cases):
+            if not c["certified"]:
+                failed_any = True
+                ax.add_patch(Rectangle((begin, edges[i]), end - begin, edges[i + 1] - edges[i], facecolor="none",
+                                       edgecolor="tab:red", hatch="xx", linewidth=0, zorder=1))
+                continue
+            for a, b in c["regions"]:
+                ax.add_patch(Rectangle((a, edges[i]), b - a, edges[i + 1] - edges[i], facecolor="tab:green",
+                                       alpha=0.45, linewidth=0, zorder=1))
+        if group:
+            offsets, _ = group
+            for k, offset in enumerate(offsets):
+                ax.plot(p + offset, p, color="tab:red", linestyle=":", linewidth=1.2, zorder=3,
+                        label="the group's loads (lead + offset)" if k == 0 else None)
+        ax.set_xlim(begin, end)
+        ax.set_ylim(edges[0], edges[-1])
+        ax.set_xlabel("theta (degrees from the crown)" if arch else f"x [{length}]")
+        ax.grid(True, alpha=0.3)
+        if name:
+            ax.set_title(name, fontsize=10)
+    axes[0][0].set_ylabel(f"lead position of the moving group [{unit}]")
+    title = os.path.basename(env["scene_name"])
+    per = len(env["cases"]) // len(combinations)
+    fig.suptitle(f"{title}: lift-off map of the moving load ({per} lead positions, {fmt(lo)} to {fmt(hi)} {unit}"
+                 + (f"; {len(combinations)} combinations" if len(combinations) > 1 else "") + ")", fontsize=10)
+    handles = [Rectangle((0, 0), 1, 1, facecolor="tab:green", alpha=0.45, label="contact"),
+               Rectangle((0, 0), 1, 1, facecolor="white", edgecolor="0.3", linewidth=0.6,
+                         label="lifted off (foundation, no contact)")]
+    if voids(pieces, begin, end):
+        handles.append(Rectangle((0, 0), 1, 1, facecolor="0.85", edgecolor="0.5", hatch="//", linewidth=0,
+                                 label="no foundation"))
+    if failed_any:
+        handles.append(Rectangle((0, 0), 1, 1, facecolor="none", edgecolor="tab:red", hatch="xx", linewidth=0,
+                                 label="failed (not in the envelopes)"))
+    handles += [h for h in axes[0][0].get_legend_handles_labels()[0]]
+    fig.legend(handles=handles, loc="lower center", ncol=min(len(handles), 3), fontsize=8, frameon=False)
+    fig.tight_layout(rect=(0, 0.08 if len(handles) <= 3 else 0.11, 1, 1))
+    output.save(fig, out)
+
+
+# ----------------------------------------------------------------------------------------------
 
 def main(argv=None, kind=None):
     parser = argparse.ArgumentParser(prog=PROG, description=__doc__.splitlines()[0])
-    parser.add_argument("file", help="HDF5 file written by liftoff solve, trace or sweep (--output)")
+    parser.add_argument("file",
+                        help="HDF5 file written by liftoff solve, trace or sweep (--output) or envelope (--hdf5)")
     parser.add_argument("--out", default=None, help="prefix of the PNG files (default: the file's name without .h5)")
     parser.add_argument("--normalise", action="store_true",
                         help="sweeps: divide each case's curve by its own largest magnitude")
@@ -879,17 +1194,22 @@ def main(argv=None, kind=None):
         if os.path.exists(path + ".backup"):
             f = None  # a trace damaged by a kill: read_trace takes its backup
         else:
-            fail(BAD_INPUT, f"{path}: not an HDF5 file; expected a file written by `liftoff solve/trace/sweep --output`")
+            fail(BAD_INPUT, f"{path}: not an HDF5 file; expected a file written by `liftoff solve/trace/sweep "
+                            f"--output` or `liftoff envelope --hdf5`")
     found = file_kind(f) if f is not None else "trace"
     if kind is not None and found is not None and found != kind:
         fail(BAD_INPUT, f"{path}: a {found} file; expected a {kind} file")
-    if found in ("solve", "trace", "sweep") and args.normalise and found != "sweep":
-        fail(BAD_INPUT, f"--normalise: {path} is a {found} file; expected a sweep file (--normalise draws sweeps only)")
-    if found is not None and found not in ("solve", "trace", "sweep"):
-        fail(BAD_INPUT, f"{path}: a liftoff file of kind '{found}', which plot cannot draw; expected a solve, trace or "
-                        f"sweep file")
+    if found in ("solve", "trace", "envelope") and args.normalise:
+        article = "an" if found[0] in "aeiou" else "a"
+        fail(BAD_INPUT, f"--normalise: {path} is {article} {found} file; expected a sweep file (--normalise draws "
+                        f"sweeps only)")
+    if found is not None and found not in ("solve", "trace", "sweep", "envelope"):
+        fail(BAD_INPUT, f"{path}: a liftoff file of kind '{found}', which plot cannot draw; expected a solve, trace, "
+                        f"sweep or envelope file")
     if found == "solve":
         plot_solve(path, f, prefix, output)
+    elif found == "envelope":
+        plot_envelope(path, f, prefix, output)
     elif found == "sweep":
         plot_sweep(path, f, prefix, output, args.normalise, args.dolfinx, args.dolfinx_elements)
     elif found == "trace":
@@ -898,7 +1218,8 @@ def main(argv=None, kind=None):
         plot_trace(path, prefix, output)
     else:
         fail(BAD_INPUT, f"{path}: not a liftoff result file (no root attribute 'kind' or 'liftoff_version'); "
-                        f"expected a file written by `liftoff solve/trace/sweep --output`")
+                        f"expected a file written by `liftoff solve/trace/sweep --output` or "
+                        f"`liftoff envelope --hdf5`")
     output.finish()
 
 
