@@ -304,26 +304,12 @@ bool FePath::resolve_by_solve(double lambda) {
 const Eigen::MatrixXd& FePath::free_motions() {
   const int k = d_.unstable_rigid_motions, n = d_.equations;
   if (k == 0 || free_motions_.cols() == k || free_motions_failed_) return free_motions_;
-  // The member's rigid motions that leave every fixed dof (supports, gauge) at rest, on the
-  // equations. Built from the exact motions, not from K's kernel: near the load that lifts the
-  // member off, the loads' work on these motions is a tiny residue of large, nearly balancing
-  // terms, which a kernel computed to eps cond(K) would drown.
-  const Eigen::MatrixXd motions = fe::rigid_motions(model_, d_);
-  std::vector<int> fixed;
-  for (int dof = 0; dof < d_.dofs(); ++dof)
-    if (d_.equation_of_dof[dof] < 0) fixed.push_back(dof);
-  Eigen::MatrixXd kernel = Eigen::MatrixXd::Identity(motions.cols(), motions.cols());
-  if (!fixed.empty()) {
-    Eigen::MatrixXd at_fixed(fixed.size(), motions.cols());
-    for (std::size_t i = 0; i < fixed.size(); ++i) at_fixed.row(i) = motions.row(fixed[i]);
-    Eigen::FullPivLU<Eigen::MatrixXd> lu(at_fixed);
-    lu.setThreshold(1e-10);
-    kernel = lu.rank() == motions.cols() ? Eigen::MatrixXd(motions.cols(), 0) : Eigen::MatrixXd(lu.kernel());
-  }
-  const Eigen::MatrixXd free = motions * kernel;
-  Eigen::MatrixXd z(n, free.cols());
-  for (int dof = 0; dof < d_.dofs(); ++dof)
-    if (d_.equation_of_dof[dof] >= 0) z.row(d_.equation_of_dof[dof]) = free.row(dof);
+  // The member's rigid motions that leave every fixed dof (supports, gauge) and spring at rest, on
+  // the equations, as discretise found them once (fe/discretisation.hpp). Built from the exact
+  // motions, not from K's kernel: near the load that lifts the member off, the loads' work on
+  // these motions is a tiny residue of large, nearly balancing terms, which a kernel computed to
+  // eps cond(K) would drown.
+  const Eigen::MatrixXd& z = d_.free_rigid_motions;
   const double largest = std::max(1.0, d_.stiffness.diagonal().cwiseAbs().maxCoeff());
   if (z.cols() != k ||
       !((d_.stiffness * z).lpNorm<Eigen::Infinity>() <= 1e-8 * largest * z.lpNorm<Eigen::Infinity>())) {

@@ -5,11 +5,13 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <tuple>
 
 #include "core/error.hpp"
 #include "fe/arch_element.hpp"
 #include "fe/arch_loads.hpp"
 #include "fe/beam_element.hpp"
+#include "fe/element.hpp"
 #include "fe/foundation_element.hpp"
 #include "fe/shape_functions.hpp"
 
@@ -184,6 +186,12 @@ Eigen::MatrixXd kernel(const Eigen::MatrixXd& a, int columns) {
   return lu.kernel();
 }
 
+// The beam or arch element of length h (element.hpp).
+std::unique_ptr<const LinearElement> member_element(const MemberModel& model, double h) {
+  if (model.kind == StructureKind::beam) return std::make_unique<const BeamElement>(h);
+  return std::make_unique<const ArchElement>(h, model.membrane_stiffness, model.foundation_outside);
+}
+
 struct Assembly {
   Triplets stiffness, coupling, flexibility, stress_coupling;
   Eigen::VectorXd ground_gap;  // reactions
@@ -208,9 +216,8 @@ Assembly assemble(const MemberModel& model, const Discretisation& d) {
     const double h = mesh.element_size(e);
     const double middle = mesh.nodes[e] + 0.5 * h;
     const std::vector<int> dofs = d.element_dofs(e);
-    const Eigen::MatrixXd k =
-        beam ? Eigen::MatrixXd(beam_element::stiffness(h))
-             : Eigen::MatrixXd(arch_element::stiffness(h, model.membrane_stiffness, model.foundation_outside));
+    const auto element = member_element(model, h);
+    const Eigen::MatrixXd& k = element->stiffness();
     for (int i = 0; i < k.rows(); ++i)
       for (int j = 0; j < k.cols(); ++j) a.stiffness.emplace_back(dofs[i], dofs[j], k(i, j));
     const Eigen::MatrixXd g = beam ? Eigen::MatrixXd(beam_element::stress_coupling(h))
@@ -345,13 +352,45 @@ std::string describe_rigid_motions(StructureKind kind, int count) {
 
 }  // namespace
 
+StructuralElements structural_elements(const MemberModel& model, const Discretisation& d) {
+  StructuralElements set;
+  std::size_t winkler_index = 0;  // winkler_elements is in element order
+  for (int e = 0; e < d.mesh.elements(); ++e) {
+    const double h = d.mesh.element_size(e);
+    std::vector<int> dofs = d.element_dofs(e);
+    set.elements.push_back(member_element(model, h));
+    set.dofs.push_back(dofs);
+    if (winkler_index < d.winkler_elements.size() && d.winkler_elements[winkler_index] == e) {
+      ++winkler_index;
+      set.elements.push_back(std::make_unique<const WinklerElement>(h, d.element_tension_modulus[e]));
+      dofs.resize(4);
+      set.dofs.push_back(std::move(dofs));
+    }
+  }
+  for (const Discretisation::SpringRow& spring : d.springs) {
+    const int m = static_cast<int>(spring.on.size());
+    Eigen::VectorXd a(m);
+    std::vector<int> dofs(m);
+    for (int i = 0; i < m; ++i) std::tie(dofs[i], a[i]) = spring.on[i];
+    set.elements.push_back(std::make_unique<const LinearElement>(spring.stiffness * a * a.transpose()));
+    set.dofs.push_back(std::move(dofs));
+  }
+  return set;
+}
+
 Discretisation discretise(const MemberModel& model, int elements) {
   Discretisation d = discretise(model, make_mesh(model, elements));
   d.uniform_member = std::make_shared<const MemberModel>(model);
   return d;
 }
 
-Discretisation discretise(const MemberModel& model, Mesh mesh, std::vector<bool> foundation_on_element) {
+namespace {
+
+// ---- the stages of discretise, in order ------------------------------------------------------
+
+// Mesh stage: the member on `mesh`: the foundation under each element, the reaction unknowns,
+// the springs' rows. No dof is numbered yet (equation_of_dof: every dof, all 0).
+Discretisation lay_out(const MemberModel& model, Mesh mesh, std::vector<bool> foundation_on_element) {
   Discretisation d;
   d.kind = model.kind;
   d.mesh = std::move(mesh);
@@ -360,8 +399,7 @@ Discretisation discretise(const MemberModel& model, Mesh mesh, std::vector<bool>
   d.foundation_outside = model.kind == StructureKind::arch && model.foundation_outside;
   d.stresses_per_element = model.kind == StructureKind::beam ? beam_element::stresses : arch_element::stresses;
   const int elements = d.mesh.elements();
-  const int n = dof_count(model.kind, elements);
-  d.equation_of_dof.assign(n, 0);
+  d.equation_of_dof.assign(dof_count(model.kind, elements), 0);
   for (double s : mesh_breakpoints(model))
     if (d.mesh.node_at(s) < 0) throw std::invalid_argument("discretise: the mesh lacks a node at a breakpoint");
 
@@ -390,24 +428,30 @@ Discretisation discretise(const MemberModel& model, Mesh mesh, std::vector<bool>
     if (left || right) d.reaction_nodes.push_back(node);
     if (left && right && jumps[node]) d.reaction_nodes.push_back(node);
   }
-
   d.springs = spring_rows(model, d);
-  Assembly a = assemble(model, d);
-  const SparseMatrix coupling_all = to_sparse(d.reactions(), n, a.coupling, nullptr, nullptr);
+  return d;
+}
 
-  // Settlements: u = u_f + v with u_f the prescribed w at the settled supports, so K v = F - K u_f
-  // (a dead load: the ground moves the supports whatever the live load) and the gap is offset
-  // by -C u_f (added to the ground gap c, not scaled by lambda either).
+// Settlements: u = u_f + v with u_f the prescribed w at the settled supports, so K v = F - K u_f
+// (a dead load: the ground moves the supports whatever the live load) and the gap is offset
+// by -C u_f (added to the ground gap c, not scaled by lambda either).
+void apply_settlements(const MemberModel& model, Discretisation& d, Assembly& a) {
   d.prescribed = prescribed_displacement(model, d);
-  if (!d.prescribed.isZero(0.0)) {
-    for (const auto& t : a.stiffness) a.dead_load[t.row()] -= t.value() * d.prescribed[t.col()];
-    a.ground_gap -= coupling_all * d.prescribed;  // where the foundation reaches a settled support
-  }
+  if (d.prescribed.isZero(0.0)) return;
+  for (const auto& t : a.stiffness) a.dead_load[t.row()] -= t.value() * d.prescribed[t.col()];
+  // Where the foundation reaches a settled support.
+  a.ground_gap -= to_sparse(d.reactions(), d.dofs(), a.coupling, nullptr, nullptr) * d.prescribed;
+}
 
-  // Rigid motions left free by the supports, split into those the foundation sees and those
-  // it cannot (C m = 0).
+// Dof-map stage: supports, the rigid motions they leave free (the member's rigid motions are
+// computed here, once, and kept in d.member_rigid_motions for every later user), the mechanisms the loads
+// would drive (an error), the gauge, and the numbering of the equations. It reads the assembly on
+// every dof: whether a free motion is a mechanism depends on the loads and on C.
+void number_dofs(const MemberModel& model, Discretisation& d, const Assembly& a) {
+  const int n = d.dofs();
   std::vector<int> fixed = supported_dofs(model, d);
-  const Eigen::MatrixXd modes = rigid_motions(model, d);
+  d.member_rigid_motions = rigid_motions(model, d);
+  const Eigen::MatrixXd& modes = d.member_rigid_motions;
   // A spring restrains whatever motion stretches it, like a fixed dof.
   auto free_motions = [&](const std::vector<int>& fixed_dofs) {
     Eigen::MatrixXd at_fixed = Eigen::MatrixXd::Zero(fixed_dofs.size() + d.springs.size(), modes.cols());
@@ -417,8 +461,12 @@ Discretisation discretise(const MemberModel& model, Mesh mesh, std::vector<bool>
         at_fixed.row(fixed_dofs.size() + i) += coefficient * modes.row(dof);
     return Eigen::MatrixXd(modes * kernel(at_fixed, static_cast<int>(modes.cols())));
   };
+  // Rigid motions left free by the supports, split into those the foundation sees and those
+  // it cannot (C m = 0).
   const Eigen::MatrixXd motions = free_motions(fixed);
+  Eigen::MatrixXd left_free(n, 0);
   if (motions.cols() > 0) {
+    const SparseMatrix coupling_all = to_sparse(d.reactions(), n, a.coupling, nullptr, nullptr);
     const Eigen::MatrixXd seen = coupling_all * motions;
     const Eigen::MatrixXd unseen =
         motions * kernel(seen / std::max(1e-300, seen.cwiseAbs().maxCoeff()), static_cast<int>(motions.cols()));
@@ -447,17 +495,16 @@ Discretisation discretise(const MemberModel& model, Mesh mesh, std::vector<bool>
           arch ? "the arch is" : "the member is", arch ? "rotate rigidly about its centre" : "move rigidly",
           arch ? "theta" : "x", model.user_from_s(d.position_of_dof(gauge)), arch ? " deg" : "");
     }
-    Eigen::MatrixXd left_free = free_motions(fixed);
+    left_free = free_motions(fixed);
     if (left_free.cols() > 0 && !d.winkler_elements.empty()) {
       // The Winkler part of a bilinear foundation resists, in K, every motion that moves w on it.
       const SparseMatrix g = to_sparse(static_cast<int>(a.compliance.size()), n, a.stress_coupling, nullptr, nullptr);
       const Eigen::MatrixXd g_m = g * left_free;
-      const Eigen::MatrixXd seen = g_m.bottomRows(g_m.rows() - d.element_stresses());
-      left_free =
-          left_free * kernel(seen / std::max(1e-300, seen.cwiseAbs().maxCoeff()), static_cast<int>(left_free.cols()));
+      const Eigen::MatrixXd seen_by_winkler = g_m.bottomRows(g_m.rows() - d.element_stresses());
+      left_free = left_free * kernel(seen_by_winkler / std::max(1e-300, seen_by_winkler.cwiseAbs().maxCoeff()),
+                                     static_cast<int>(left_free.cols()));
     }
     d.unstable_rigid_motions = static_cast<int>(left_free.cols());
-    d.free_rigid_motions = left_free;  // on every dof here; restricted to the equations below
     if (!d.structure_is_stable())
       d.stability_note = fmt::format("the supports leave {} that only the foundation resists",
                                      describe_rigid_motions(model.kind, d.unstable_rigid_motions));
@@ -466,7 +513,13 @@ Discretisation discretise(const MemberModel& model, Mesh mesh, std::vector<bool>
   for (int dof : fixed) d.equation_of_dof[dof] = -1;
   for (int dof = 0; dof < n; ++dof)
     if (d.equation_of_dof[dof] >= 0) d.equation_of_dof[dof] = d.equations++;
+  d.free_rigid_motions.resize(d.equations, d.unstable_rigid_motions);
+  for (int dof = 0; dof < n && d.unstable_rigid_motions > 0; ++dof)
+    if (d.equation_of_dof[dof] >= 0) d.free_rigid_motions.row(d.equation_of_dof[dof]) = left_free.row(dof);
+}
 
+// Assembly, last part: the matrices and loads on the equations.
+void restrict_to_equations(Discretisation& d, Assembly a) {
   d.stiffness = to_sparse(d.equations, d.equations, std::move(a.stiffness), &d.equation_of_dof, &d.equation_of_dof);
   d.coupling = to_sparse(d.reactions(), d.equations, std::move(a.coupling), nullptr, &d.equation_of_dof);
   d.flexibility = to_sparse(d.reactions(), d.reactions(), std::move(a.flexibility), nullptr, nullptr);
@@ -474,18 +527,27 @@ Discretisation discretise(const MemberModel& model, Mesh mesh, std::vector<bool>
                                 nullptr, &d.equation_of_dof);
   d.compliance = std::move(a.compliance);
   d.ground_gap = std::move(a.ground_gap);
-  Eigen::MatrixXd on_equations(d.equations, d.unstable_rigid_motions);
-  for (int dof = 0; dof < n && d.unstable_rigid_motions > 0; ++dof)
-    if (d.equation_of_dof[dof] >= 0) on_equations.row(d.equation_of_dof[dof]) = d.free_rigid_motions.row(dof);
-  d.free_rigid_motions = std::move(on_equations);
   d.dead_load = Eigen::VectorXd::Zero(d.equations);
   d.live_load = Eigen::VectorXd::Zero(d.equations);
-  for (int dof = 0; dof < n; ++dof) {
+  for (int dof = 0; dof < d.dofs(); ++dof) {
     const int eq = d.equation_of_dof[dof];
     if (eq < 0) continue;
     d.dead_load[eq] = a.dead_load[dof];
     d.live_load[eq] = a.live_load[dof];
   }
+}
+
+}  // namespace
+
+// The stages in order, as deal.II's step-3 runs make_grid, setup_system, assemble_system. The
+// element loop runs on every dof before the equations are numbered, because the dof map needs
+// the loads and C to tell a mechanism (an error) from a gauge.
+Discretisation discretise(const MemberModel& model, Mesh mesh, std::vector<bool> foundation_on_element) {
+  Discretisation d = lay_out(model, std::move(mesh), std::move(foundation_on_element));
+  Assembly a = assemble(model, d);
+  apply_settlements(model, d, a);
+  number_dofs(model, d, a);
+  restrict_to_equations(d, std::move(a));
   return d;
 }
 

@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "fe/element.hpp"
 #include "fe/foundation_element.hpp"
 #include "fe/member_model.hpp"
 #include "fe/mesh.hpp"
@@ -97,7 +98,9 @@ class Discretisation {
   Eigen::VectorXd prescribed;
   // Which elements the foundation acts on (the member's extent, or the contact elements of a
   // limit-fitted solve), and the rigid motions the supports leave free, on the equations
-  // (columns; the kernel of K, empty when the structure is stable).
+  // (columns; the kernel of K, empty when the structure is stable). free_rigid_motions is computed
+  // once, from the exact motions (member_rigid_motions), not from K: users share it rather than
+  // recompute it (continuation/fe_path.cpp orthonormalises it).
   std::vector<bool> foundation_on_element;
   // The foundation's tensionless part under each element at its two nodes (linear between them;
   // 0 in a void and beyond the foundation), whether or not the foundation acts on it in this
@@ -112,6 +115,8 @@ class Discretisation {
   std::vector<ElementModulus> element_modulus;
   std::vector<double> element_tension_modulus;
   Eigen::MatrixXd free_rigid_motions;
+  // The member's in-plane rigid motions on every dof, whatever the supports (rigid_motions()).
+  Eigen::MatrixXd member_rigid_motions;
   Eigen::VectorXd dead_load;  // equations
   Eigen::VectorXd live_load;
   double foundation_modulus = 0.0;  // the largest k (MemberModel::foundation_modulus)
@@ -161,6 +166,16 @@ class Discretisation {
   double position_of_dof(int dof) const;
 };
 
+// discretise runs one verb per stage (deal.II step-3's make_grid, setup_system,
+// assemble_system), each a function in discretisation.cpp:
+//  1. lay_out: the member on the mesh: the foundation under each element, the reaction
+//     unknowns, the springs;
+//  2. assemble: the element loop on every dof (element.hpp's beam or arch element, the Winkler
+//     part, the foundation's C and T, the loads), then the settlements as loads;
+//  3. number_dofs, the dof map: supports, the member's rigid motions (once) and those left free,
+//     mechanisms, the gauge, the equations; it reads the assembly, since the loads decide whether
+//     a free motion is a mechanism or a gauge;
+//  4. restrict_to_equations: K, C, T, G, H and the loads on the equations.
 // Throws InputError for a mechanism the loads drive (see above).
 Discretisation discretise(const MemberModel& model, int elements);
 // The same on a given mesh (it must have a node at every mesh_breakpoints(model) point), with the
@@ -168,6 +183,18 @@ Discretisation discretise(const MemberModel& model, int elements);
 // an element in a void is ignored); reaction nodes are the nodes of those elements. Limit-fitted solves put the
 // foundation on whole contact elements this way.
 Discretisation discretise(const MemberModel& model, Mesh mesh, std::vector<bool> foundation_on_element = {});
+
+// The member's structural elements through the element seam (element.hpp), with their global
+// dofs in each element's local order: one beam or arch element per mesh element, a Winkler
+// element on each of winkler_elements (on the element's first four dofs, the Hermite dofs of w),
+// a linear element k a a^T per spring (on its `on` dofs). Their tangents summed on the equations
+// are `stiffness` (to round-off: the sums run in another order); a SparseAssembler
+// (sparse_assembler.hpp) built on them re-assembles it in place.
+struct StructuralElements {
+  std::vector<std::unique_ptr<const Element>> elements;
+  std::vector<std::vector<int>> dofs;
+};
+StructuralElements structural_elements(const MemberModel& model, const Discretisation& d);
 
 // The in-plane rigid motions of the member, on every dof (columns), whatever the supports:
 // beams translation and rotation, arches two translations and the rotation about the centre.

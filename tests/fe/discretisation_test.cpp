@@ -337,3 +337,39 @@ TEST_CASE("bilinear foundation: the Winkler part K_t is in K and in its mixed fo
   CHECK_FALSE(fe::make_member_model(s).tensionless);
   CHECK(fe::make_member_model(s).tension_modulus == 0.0);
 }
+
+TEST_CASE("rigid motions are computed once: the member's, and those the supports leave free", "[fe][stability]") {
+  // A free-free beam, a beam on one pin and a free arch: the shared motions are the member's
+  // rigid motions, and the free ones (on the equations) are motions K does not strain.
+  scene::Scene free_free = test::beam_scene(1.0, 1.0, EndSupport::free, EndSupport::free, 1e3);
+  free_free.loads = {test::point_force(0.5, 1.0)};
+  scene::Scene pinned_free = free_free;
+  pinned_free.supports.left = EndSupport::pinned;
+  scene::Scene arch = test::shipped_scene("seed_arch_pinned");
+  arch.supports.left = arch.supports.right = EndSupport::free;
+  for (const scene::Scene& s : {free_free, pinned_free, arch}) {
+    const fe::MemberModel model = fe::make_member_model(s);
+    const fe::Discretisation d = fe::discretise(model, 20);
+    CAPTURE(d.kind == fe::StructureKind::arch, d.unstable_rigid_motions);
+    CHECK(d.member_rigid_motions == fe::rigid_motions(model, d));
+    const Eigen::MatrixXd& z = d.free_rigid_motions;
+    REQUIRE(z.rows() == d.equations);
+    REQUIRE(z.cols() == d.unstable_rigid_motions);
+    REQUIRE(z.cols() > 0);
+    // Beams: K z = 0 but for the round-off of rows summing up to ~12 terms of size |K|max |z|max.
+    // Arches: the motions' cos and sin are interpolated by the element's polynomials, whose error
+    // strains it slightly (1.6e-13 relative at 20 elements): the 1e-8 relative test fe_path.cpp
+    // applies before it uses them.
+    const double scale = Eigen::MatrixXd(d.stiffness).cwiseAbs().maxCoeff() * z.cwiseAbs().maxCoeff();
+    const double allowed =
+        d.kind == fe::StructureKind::beam ? 64 * std::numeric_limits<double>::epsilon() * scale : 1e-8 * scale;
+    CHECK((d.stiffness * z).cwiseAbs().maxCoeff() <= allowed);
+    // On the equations they are the member's motions: expanded, each is a combination of those.
+    Eigen::MatrixXd expanded(d.dofs(), z.cols());
+    for (int m = 0; m < z.cols(); ++m) expanded.col(m) = d.expand(z.col(m));
+    const Eigen::MatrixXd& modes = d.member_rigid_motions;
+    const Eigen::MatrixXd fit = modes.colPivHouseholderQr().solve(expanded);
+    CHECK((modes * fit - expanded).cwiseAbs().maxCoeff() <= 1e-12 * expanded.cwiseAbs().maxCoeff());
+  }
+  CHECK(fe::discretise(fe::make_member_model(pinned_free), 20).free_rigid_motions.cols() == 1);
+}
