@@ -1,5 +1,11 @@
 #include "continuation/trace.hpp"
 
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
 namespace liftoff::continuation {
 
 std::string_view to_string(EventKind kind) {
@@ -38,6 +44,29 @@ std::string_view to_string(TraceTermination termination) {
       return "solver_failure";
   }
   return "unknown";
+}
+
+void TraceOptions::validate(double member_begin, double member_end) const {
+  const auto fail = [](const std::string& what) { throw std::invalid_argument("TraceOptions." + what); };
+  try {
+    arc_length.validate();
+  } catch (const std::invalid_argument& e) {  // named as a field of the trace's options
+    const std::string what = e.what(), prefix = "ArcLengthOptions.";
+    fail("arc_length." + (what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what));
+  }
+  if (!(event_tolerance > 0)) fail(fmt::format("event_tolerance: expected > 0, got {}", event_tolerance));
+  if (elements < 1) fail(fmt::format("elements: expected >= 1, got {}", elements));
+  if (contact_method == scene::Method::ritz || contact_method == scene::Method::all)
+    fail(fmt::format("contact_method: expected dual, primal, fast or automatic, got {}",
+                     scene::to_string(contact_method)));
+  if (modes < 0) fail(fmt::format("modes: expected >= 0 (0: automatic), got {}", modes));
+  const double lo = std::min(member_begin, member_end), hi = std::max(member_begin, member_end);
+  for (double p : sample_points)
+    if (!(p >= lo && p <= hi)) fail(fmt::format("sample_points: expected positions in [{}, {}], got {}", lo, hi, p));
+  if (!(monitor >= lo && monitor <= hi))
+    fail(fmt::format("monitor: expected a position in [{}, {}], got {}", lo, hi, monitor));
+  if (resume_from && !std::isfinite(resume_from->load_factor))
+    fail("resume_from: the step's load factor must be finite");
 }
 
 }  // namespace liftoff::continuation
