@@ -601,7 +601,7 @@ void FePath::finish(TraceTermination termination, std::string message, double la
 TraceResult FePath::run() {
   const auto start = std::chrono::steady_clock::now();
   TraceSummary& summary = result_.summary;
-  summary.path = "fe";
+  summary.path = PathKind::fe;
   summary.pivots = 0;
   const int m = d_.reactions();
 

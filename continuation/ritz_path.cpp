@@ -1120,7 +1120,7 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
 
 TraceResult RitzTracer::run() {
   const auto clock = std::chrono::steady_clock::now();
-  result_.summary.path = "ritz";
+  result_.summary.path = PathKind::ritz;
   validate();
   enrichment_ = choose_enrichment();
   resolution_ = resolution();

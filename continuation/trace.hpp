@@ -20,6 +20,7 @@
 
 #include "continuation/arclength.hpp"
 #include "continuation/path_control.hpp"
+#include "core/enum_names.hpp"
 #include "scene/scene.hpp"
 
 namespace liftoff::continuation {
@@ -98,10 +99,14 @@ enum class TraceTermination {
 };
 std::string_view to_string(TraceTermination);
 
+// Which path produced a trace (its name, "fe" or "ritz", is the HDF5 group's and the JSON's).
+enum class PathKind { fe, ritz };
+std::string_view to_string(PathKind);
+
 struct TraceSummary {
   TraceTermination termination = TraceTermination::solver_failure;
   std::string message;
-  std::string path;  // "fe" or "ritz"
+  PathKind path = PathKind::fe;
   int steps = 0;
   int rejected_steps = 0;
   int corrector_iterations = 0;  // Ritz
@@ -129,3 +134,13 @@ struct TraceSink {
 };
 
 }  // namespace liftoff::continuation
+
+namespace liftoff {
+// The names' one table is in trace.cpp (core/enum_names.hpp).
+template <>
+std::optional<continuation::EventKind> from_string(std::string_view);
+template <>
+std::optional<continuation::TraceTermination> from_string(std::string_view);
+template <>
+std::optional<continuation::PathKind> from_string(std::string_view);
+}  // namespace liftoff

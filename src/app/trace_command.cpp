@@ -80,11 +80,9 @@ PathTrace from_record(const std::string& name, const io::TracePathRecord& record
   for (TraceStep& s : p.steps) s.deflection.clear(), s.reaction.clear();
   p.events = record.events;
   p.resumed_steps = static_cast<int>(p.steps.size());
-  p.summary.path = name == "ritz" ? "ritz" : "fe";
-  p.summary.termination = TraceTermination::solver_failure;
-  for (const TraceTermination t : {TraceTermination::completed, TraceTermination::no_equilibrium,
-                                   TraceTermination::step_too_small, TraceTermination::step_limit})
-    if (continuation::to_string(t) == record.termination) p.summary.termination = t;
+  p.summary.path = name == "ritz" ? continuation::PathKind::ritz : continuation::PathKind::fe;
+  // Read back through the one table; a path that never ended (no termination yet) failed.
+  p.summary.termination = from_string<TraceTermination>(record.termination).value_or(TraceTermination::solver_failure);
   p.summary.message = record.message;
   p.summary.steps = static_cast<int>(p.steps.size());
   if (!p.steps.empty()) p.summary.final_load_factor = p.steps.back().load_factor;

@@ -15,21 +15,17 @@ using Eigen::MatrixXd;
 using Eigen::VectorXd;
 using fe::Discretisation;
 
-std::string_view to_string(ContactTermination t) {
-  switch (t) {
-    case ContactTermination::solved:
-      return "solved";
-    case ContactTermination::no_equilibrium:
-      return "no_equilibrium";
-    case ContactTermination::pivot_limit:
-      return "pivot_limit";
-    case ContactTermination::iteration_limit:
-      return "iteration_limit";
-    case ContactTermination::numerical_failure:
-      return "numerical_failure";
-  }
-  return "unknown";
-}
+namespace {
+constexpr EnumName<ContactTermination> contact_termination_names[] = {
+    {ContactTermination::solved, "solved"},
+    {ContactTermination::no_equilibrium, "no_equilibrium"},
+    {ContactTermination::pivot_limit, "pivot_limit"},
+    {ContactTermination::iteration_limit, "iteration_limit"},
+    {ContactTermination::numerical_failure, "numerical_failure"},
+};
+}  // namespace
+
+std::string_view to_string(ContactTermination t) { return name_in<ContactTermination>(contact_termination_names, t); }
 
 void ContactOptions::validate() const {
   if (!std::isfinite(load_factor)) throw std::invalid_argument("ContactOptions::load_factor must be finite");
@@ -483,3 +479,10 @@ ContactSolution solve_contact(const Discretisation& d, const ContactOptions& opt
 }
 
 }  // namespace liftoff::contact
+
+namespace liftoff {
+template <>
+std::optional<contact::ContactTermination> from_string(std::string_view name) {
+  return value_in<contact::ContactTermination>(contact::contact_termination_names, name);
+}
+}  // namespace liftoff

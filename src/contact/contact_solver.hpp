@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "contact/active_set_solver.hpp"
+#include "core/enum_names.hpp"
 #include "fe/discretisation.hpp"
 #include "lcp/lemke.hpp"
 #include "scene/scene.hpp"
@@ -127,3 +128,8 @@ MethodChoice choose_fe_method(const fe::Discretisation& discretisation);
 ContactSolution solve_contact(const fe::Discretisation& discretisation, const ContactOptions& options);
 
 }  // namespace liftoff::contact
+
+namespace liftoff {
+template <>  // the names' one table is in contact_solver.cpp
+std::optional<contact::ContactTermination> from_string(std::string_view);
+}  // namespace liftoff

@@ -83,7 +83,7 @@ struct SyntheticPath {
                     std::lround((o.resume_from->load_factor - o.arc_length.lambda_min) / o.arc_length.max_step)) +
                 1;
       continuation::TraceResult result;
-      result.summary.path = "synthetic";
+      result.summary.path = continuation::PathKind::fe;  // a synthetic stand-in for either path
       const double event_at[2] = {o.arc_length.lambda_min + 0.3 * range, o.arc_length.lambda_min + 0.7 * range};
       for (int i = first; i <= n; ++i) {
         if (stop_after >= 0 && i - first == stop_after) throw Interrupted("stopped");
