@@ -30,7 +30,7 @@
 #include <string_view>
 #include <vector>
 
-#include "continuation/trace.hpp"
+#include "continuation/path_control.hpp"
 #include "nonlinear/newton.hpp"
 
 namespace liftoff::continuation {

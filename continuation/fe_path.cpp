@@ -77,11 +77,12 @@ class FePath {
  private:
   // One factorisation of the fixed-set system for `set`, and the dead and live solves.
   bool load_set(const ContactSet& set);
-  // The contact set the contact solver finds at lambda: the sparse active-set solver (fast),
-  // with Lemke as its own fallback. Dense Lemke first, as method auto would pick for a member
-  // only the foundation holds, fails numerically at some meshes (region_split at 195 to 199,
-  // 269 to 271 and 295 to 299 elements: "z0 left the basis ... residual 4.7e-06"), and the set
-  // is all the path takes from it. Empty on failure (termination_ and message_ set).
+  // The contact set the contact solver finds at lambda: options.contact_method's Lemke LCP
+  // when it names one (dual, primal), else the sparse active-set solver (fast), with Lemke as
+  // its own fallback. Dense Lemke first, as method auto would pick for a member only the
+  // foundation holds, fails numerically at some meshes (region_split at 195 to 199, 269 to 271
+  // and 295 to 299 elements: "z0 left the basis ... residual 4.7e-06"), and the set is all the
+  // path takes from it. Empty on failure (termination_ and message_ set).
   std::optional<ContactSet> solved_set(double lambda);
   bool establish_start(double lambda);
   // Reaction of a node in the set, gap of one out of it, at lambda; and its rate along the path.
@@ -170,9 +171,12 @@ bool FePath::load_set(const ContactSet& set) {
 
 std::optional<ContactSet> FePath::solved_set(double lambda) {
   contact::ContactOptions options;
-  options.method = scene::Method::fast;
+  const scene::Method asked = options_.contact_method;
+  options.method = asked == scene::Method::dual || asked == scene::Method::primal ? asked : scene::Method::fast;
   options.load_factor = lambda;
   const contact::ContactSolution solution = contact::solve_contact(d_, options);
+  ++result_.summary.contact_solves;
+  result_.summary.contact_method = solution.summary.method;
   result_.summary.pivots += std::max(solution.summary.pivots, 0);
   pivots_since_step_ += std::max(solution.summary.pivots, 0);
   if (solution.summary.termination == contact::ContactTermination::no_equilibrium) {
@@ -583,14 +587,14 @@ void FePath::finish(TraceTermination termination, std::string message, double la
 TraceResult FePath::run() {
   const auto start = std::chrono::steady_clock::now();
   TraceSummary& summary = result_.summary;
-  summary.path = "fe";
+  summary.path = PathKind::fe;
   summary.pivots = 0;
   const int m = d_.reactions();
 
-  direction_ = options_.lambda_max >= options_.lambda_min ? 1.0 : -1.0;
-  lambda_end_ = options_.lambda_max;
-  span_ = std::max(std::abs(options_.lambda_max - options_.lambda_min), 1e-300);
-  double lambda = options_.resume_from ? options_.resume_from->load_factor : options_.lambda_min;
+  direction_ = options_.arc_length.lambda_max >= options_.arc_length.lambda_min ? 1.0 : -1.0;
+  lambda_end_ = options_.arc_length.lambda_max;
+  span_ = std::max(std::abs(options_.arc_length.lambda_max - options_.arc_length.lambda_min), 1e-300);
+  double lambda = options_.resume_from ? options_.resume_from->load_factor : options_.arc_length.lambda_min;
 
   auto done = [&]() {
     summary.factorisations = system_.factorisations();
@@ -726,9 +730,10 @@ TraceResult FePath::run() {
       step.state.assign(set_.begin(), set_.end());
       emit_step(std::move(step));
       lambda = breakpoint;
-      if (result_.summary.steps >= options_.max_steps) {
+      if (result_.summary.steps >= options_.arc_length.max_steps) {
         finish(TraceTermination::step_limit,
-               fmt::format("max_steps = {} reached at lambda = {:.10g}", options_.max_steps, lambda), lambda);
+               fmt::format("max_steps = {} reached at lambda = {:.10g}", options_.arc_length.max_steps, lambda),
+               lambda);
         return done();
       }
     }
@@ -741,12 +746,7 @@ TraceResult FePath::run() {
 }  // namespace
 
 TraceResult trace_fe(const scene::Scene& scene, const TraceOptions& options, const TraceSink& sink) {
-  if (!std::isfinite(options.lambda_min) || !std::isfinite(options.lambda_max))
-    throw std::invalid_argument("TraceOptions::lambda_min and lambda_max must be finite");
-  if (options.elements < 1) throw std::invalid_argument("TraceOptions::elements must be at least 1");
-  if (!(options.event_tolerance > 0.0)) throw std::invalid_argument("TraceOptions::event_tolerance must be > 0");
-  if (options.resume_from && !std::isfinite(options.resume_from->load_factor))
-    throw std::invalid_argument("TraceOptions::resume_from: the step's load factor must be finite");
+  options.validate(scene.begin(), scene.end());
   FePath path(scene, options, sink);
   return path.run();
 }
@@ -771,9 +771,10 @@ EventErrors estimate_event_errors(const scene::Scene& scene, const TraceOptions&
     std::size_t best_index = 0;
     for (std::size_t j = 0; j < refined.events.size(); ++j) {
       if (used[j] || refined.events[j].kind != event.kind) continue;
-      const double distance = std::abs(refined.events[j].load_factor - event.load_factor) /
-                                  std::max(std::abs(options.lambda_max - options.lambda_min), 1e-300) +
-                              std::abs(refined.events[j].at - event.at) / length;
+      const double distance =
+          std::abs(refined.events[j].load_factor - event.load_factor) /
+              std::max(std::abs(options.arc_length.lambda_max - options.arc_length.lambda_min), 1e-300) +
+          std::abs(refined.events[j].at - event.at) / length;
       if (distance < best) {
         best = distance;
         best_index = j;

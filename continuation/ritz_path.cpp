@@ -155,7 +155,9 @@ class RitzTracer {
   Resolution resolution() const;
   ResumeState starting_state();
   PathFollower make_follower(const RitzModel& model) const;
-  double lambda_size() const { return std::max({std::abs(options_.lambda_min), std::abs(options_.lambda_max), 1.0}); }
+  double lambda_size() const {
+    return std::max({std::abs(options_.arc_length.lambda_min), std::abs(options_.arc_length.lambda_max), 1.0});
+  }
   double force_scale(const RitzModel& model) const;
   // The follower's amplitude scale for a topology that starts at p (see make_follower), and p's
   // tangent in the metric of that scale.
@@ -236,24 +238,7 @@ class RitzTracer {
 };
 
 // --------------------------------------------------------------------------------------------
-void RitzTracer::validate() const {
-  const auto fail = [](const std::string& what) { throw std::invalid_argument("TraceOptions." + what); };
-  if (!(std::isfinite(options_.lambda_min) && std::isfinite(options_.lambda_max) &&
-        options_.lambda_min < options_.lambda_max))
-    fail(fmt::format("lambda_min, lambda_max: expected finite with lambda_min < lambda_max, got {} and {}",
-                     options_.lambda_min, options_.lambda_max));
-  if (!(options_.event_tolerance > 0)) fail("event_tolerance: expected > 0");
-  if (options_.modes < 0) fail(fmt::format("modes: expected >= 0 (0: automatic), got {}", options_.modes));
-  if (!(options_.min_step > 0 && options_.min_step <= options_.initial_step &&
-        options_.initial_step <= options_.max_step))
-    fail(fmt::format("initial_step: expected 0 < min_step <= initial_step <= max_step, got {} <= {} <= {}",
-                     options_.min_step, options_.initial_step, options_.max_step));
-  const double lo = std::min(scene_.begin(), scene_.end()), hi = std::max(scene_.begin(), scene_.end());
-  for (double p : options_.sample_points)
-    if (!(p >= lo && p <= hi)) fail(fmt::format("sample_points: expected positions in [{}, {}], got {}", lo, hi, p));
-  if (!(options_.monitor >= lo && options_.monitor <= hi))
-    fail(fmt::format("monitor: expected a position in [{}, {}], got {}", lo, hi, options_.monitor));
-}
+void RitzTracer::validate() const { options_.validate(scene_.begin(), scene_.end()); }
 
 int RitzTracer::modes_for_trace(const ritz::RitzSolution& start) const {
   if (options_.modes > 0) return options_.modes;
@@ -353,10 +338,10 @@ ResumeState RitzTracer::starting_state() {
   // The topology at lambda_min: from the scene, or from the FE + LCP solution there. Without
   // load at lambda_min (no dead load, lambda_min = 0) w vanishes and every topology fits, so
   // the path starts one initial_step later, where the loads define it.
-  const bool unloaded = options_.lambda_min == 0.0 &&
+  const bool unloaded = options_.arc_length.lambda_min == 0.0 &&
                         std::all_of(member_.loads.begin(), member_.loads.end(),
                                     [](const fe::MemberLoad& l) { return l.load_case != fe::LoadCase::dead; });
-  const double lambda_start = unloaded ? options_.initial_step : options_.lambda_min;
+  const double lambda_start = unloaded ? options_.arc_length.initial_step : options_.arc_length.lambda_min;
   // Refuse before any work: the given N, or the most automatic modes could take.
   check_resolution(options_.modes > 0      ? options_.modes
                    : scene_.ritz.modes > 0 ? scene_.ritz.modes
@@ -397,7 +382,7 @@ ResumeState RitzTracer::starting_state() {
     throw StartFailure("the Ritz solution at lambda_min failed: " + start.summary.message);
   state.point.x = start.unknowns;
   state.point.lambda = lambda_start;
-  state.next_step = options_.initial_step;
+  state.next_step = options_.arc_length.initial_step;
   return state;
 }
 
@@ -456,14 +441,8 @@ PathFollower RitzTracer::make_follower(const RitzModel& model) const {
   problem.residual_scale = VectorXd::Constant(n, 1.0 / force_scale);
   problem.residual_scale.tail(n - a).setConstant(1.0 / amplitude_scale);
 
-  ArcLengthOptions o;
-  o.control = options_.control;
-  o.lambda_min = options_.lambda_min;
-  o.lambda_max = options_.lambda_max;
-  o.initial_step = options_.initial_step;
-  o.min_step = options_.min_step;
-  o.max_step = options_.max_step;
-  o.max_steps = std::max(options_.max_steps - result_.summary.steps, 1);  // what the whole path has left
+  ArcLengthOptions o = options_.arc_length;
+  o.max_steps = std::max(options_.arc_length.max_steps - result_.summary.steps, 1);  // what the whole path has left
   o.fold_tolerance = options_.event_tolerance;
   o.locate_folds = false;  // the observer does it, so that fold events reach the sink in order
   return PathFollower(std::move(problem), o);
@@ -939,7 +918,7 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
     // lengthening) would shrink the steps in lambda: the metric is rescaled (see rescale) and
     // the follow restarted from here.
     const double next = follower.next_step(ds, to.iterations);
-    if (to.lambda < options_.lambda_max && to.tangent_lambda > 0 &&
+    if (to.lambda < options_.arc_length.lambda_max && to.tangent_lambda > 0 &&
         lambda_size() * to.tangent_x.head(model.amplitudes()).lpNorm<Eigen::Infinity>() / to.tangent_lambda >
             4.0 * amplitude_scale_) {
       rescale(model, to);
@@ -1141,7 +1120,7 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
 
 TraceResult RitzTracer::run() {
   const auto clock = std::chrono::steady_clock::now();
-  result_.summary.path = "ritz";
+  result_.summary.path = PathKind::ritz;
   validate();
   enrichment_ = choose_enrichment();
   resolution_ = resolution();
@@ -1219,11 +1198,11 @@ TraceResult RitzTracer::run() {
   };
   const auto step_limit = [&] {
     return finish(TraceTermination::step_limit,
-                  fmt::format("step limit: max_steps = {} steps recorded, lambda = {:.10g}; {}", options_.max_steps,
-                              result_.summary.final_load_factor, figures()));
+                  fmt::format("step limit: max_steps = {} steps recorded, lambda = {:.10g}; {}",
+                              options_.arc_length.max_steps, result_.summary.final_load_factor, figures()));
   };
   while (true) {
-    if (result_.summary.steps >= options_.max_steps) return step_limit();
+    if (result_.summary.steps >= options_.arc_length.max_steps) return step_limit();
     const PathFollower follower = make_follower(*model_);
     const ArcLengthResult path = follow(*model_, follower, *start, step);
     result_.summary.rejected_steps += path.rejected_steps;
@@ -1241,10 +1220,11 @@ TraceResult RitzTracer::run() {
                       fmt::format("lambda = {:.10g} reached: {}{}", result_.summary.final_load_factor, figures(),
                                   resolution_note()));
       case ArcLengthTermination::step_rejected:
-        return finish(TraceTermination::solver_failure,
-                      fmt::format("no contact solution beyond lambda = {:.10g} (the step was refined down to min_step "
-                                  "= {:.3g}): {}; {}",
-                                  result_.summary.final_load_factor, options_.min_step, rejection_, figures()));
+        return finish(
+            TraceTermination::solver_failure,
+            fmt::format("no contact solution beyond lambda = {:.10g} (the step was refined down to min_step "
+                        "= {:.3g}): {}; {}",
+                        result_.summary.final_load_factor, options_.arc_length.min_step, rejection_, figures()));
       case ArcLengthTermination::step_too_small:
         return finish(TraceTermination::step_too_small, fmt::format("{}; {}", path.message, figures()));
       case ArcLengthTermination::step_limit:

@@ -18,6 +18,9 @@
 #include <string_view>
 #include <vector>
 
+#include "continuation/arclength.hpp"
+#include "continuation/path_control.hpp"
+#include "core/enum_names.hpp"
 #include "scene/scene.hpp"
 
 namespace liftoff::continuation {
@@ -59,18 +62,21 @@ struct TraceStep {
   std::vector<double> state;
 };
 
-enum class PathControl { arc_length, load };  // pseudo-arc-length (default) or plain load control
-
+// The options of one trace, nested as BifurcationKit nests them: the path follower's (which
+// hold the corrector's Newton options), then the models' own. One struct, filled once from the
+// scene (app/trace_command.hpp), validated once by validate().
 struct TraceOptions {
-  double lambda_min = 0.0;
-  double lambda_max = 1.0;
-  PathControl control = PathControl::arc_length;
-  double initial_step = 0.05;  // in lambda (Ritz path; the FE path has no step length)
-  double min_step = 1e-8;
-  double max_step = 0.25;
-  int max_steps = 10000;
-  double event_tolerance = 1e-10;     // events located to this in lambda
-  int elements = 200;                 // FE path
+  // The range [lambda_min, lambda_max], the control, the step bounds, max_steps (recorded steps
+  // of the whole path) and the corrector. The Ritz path follows its branches with them (its
+  // fold_tolerance is event_tolerance, its direction increasing lambda); the FE path, exact, has
+  // no step length and takes the range and max_steps alone.
+  ArcLengthOptions arc_length;
+  double event_tolerance = 1e-10;  // events located to this in lambda
+  int elements = 200;              // FE path
+  // FE path: the contact solver of its full solves (the start when full contact is infeasible, a
+  // degenerate breakpoint): dual or primal, Lemke on that LCP; fast or automatic, the sparse
+  // active-set solver (Lemke its own fallback). ritz and all are not contact solvers (refused).
+  scene::Method contact_method = scene::Method::automatic;
   int modes = 0;                      // Ritz path: 0 = automatic as in [ritz]
   double monitor = 0.0;               // user coordinate of the load-displacement curve's w
   std::vector<double> sample_points;  // user coordinates at which w and r are recorded
@@ -78,6 +84,10 @@ struct TraceOptions {
   // from its lambda and state. It reports neither that step nor any event at or below its
   // lambda again: they are in the file already.
   std::optional<TraceStep> resume_from;
+  // The rules both paths hold to; member_begin, member_end: the member's ends in the user
+  // coordinate (the monitor and the sample points lie between them). Throws
+  // std::invalid_argument "TraceOptions.<field>: expected ..., got ...".
+  void validate(double member_begin, double member_end) const;
 };
 
 enum class TraceTermination {
@@ -89,15 +99,22 @@ enum class TraceTermination {
 };
 std::string_view to_string(TraceTermination);
 
+// Which path produced a trace (its name, "fe" or "ritz", is the HDF5 group's and the JSON's).
+enum class PathKind { fe, ritz };
+std::string_view to_string(PathKind);
+
 struct TraceSummary {
   TraceTermination termination = TraceTermination::solver_failure;
   std::string message;
-  std::string path;  // "fe" or "ritz"
+  PathKind path = PathKind::fe;
   int steps = 0;
   int rejected_steps = 0;
   int corrector_iterations = 0;  // Ritz
   int pivots = 0;                // FE
   int factorisations = 0;
+  int contact_solves = 0;  // FE: full contact solves (the start, degenerate breakpoints)
+  // FE: the formulation the last contact solve used (ContactSummary::method); automatic if none ran.
+  scene::Method contact_method = scene::Method::automatic;
   double final_load_factor = 0.0;
   double time_s = 0.0;
   bool is_usable() const { return termination == TraceTermination::completed; }
@@ -117,3 +134,13 @@ struct TraceSink {
 };
 
 }  // namespace liftoff::continuation
+
+namespace liftoff {
+// The names' one table is in trace.cpp (core/enum_names.hpp).
+template <>
+std::optional<continuation::EventKind> from_string(std::string_view);
+template <>
+std::optional<continuation::TraceTermination> from_string(std::string_view);
+template <>
+std::optional<continuation::PathKind> from_string(std::string_view);
+}  // namespace liftoff

@@ -80,11 +80,9 @@ PathTrace from_record(const std::string& name, const io::TracePathRecord& record
   for (TraceStep& s : p.steps) s.deflection.clear(), s.reaction.clear();
   p.events = record.events;
   p.resumed_steps = static_cast<int>(p.steps.size());
-  p.summary.path = name == "ritz" ? "ritz" : "fe";
-  p.summary.termination = TraceTermination::solver_failure;
-  for (const TraceTermination t : {TraceTermination::completed, TraceTermination::no_equilibrium,
-                                   TraceTermination::step_too_small, TraceTermination::step_limit})
-    if (continuation::to_string(t) == record.termination) p.summary.termination = t;
+  p.summary.path = name == "ritz" ? continuation::PathKind::ritz : continuation::PathKind::fe;
+  // Read back through the one table; a path that never ended (no termination yet) failed.
+  p.summary.termination = from_string<TraceTermination>(record.termination).value_or(TraceTermination::solver_failure);
   p.summary.message = record.message;
   p.summary.steps = static_cast<int>(p.steps.size());
   if (!p.steps.empty()) p.summary.final_load_factor = p.steps.back().load_factor;
@@ -173,15 +171,20 @@ bool TraceOutcome::usable() const {
 TraceOptions trace_options(const scene::Scene& scene, const TraceRequest& request) {
   const scene::TraceSettings& t = trace_settings(scene);
   TraceOptions o;
-  o.lambda_min = t.lambda_min;
-  o.lambda_max = *t.lambda_max;
-  o.control =
+  continuation::ArcLengthOptions& a = o.arc_length;
+  a.lambda_min = t.lambda_min;
+  a.lambda_max = *t.lambda_max;
+  a.control =
       t.control == scene::TraceControl::load ? continuation::PathControl::load : continuation::PathControl::arc_length;
-  o.initial_step = t.initial_step;
-  o.min_step = t.min_step;
-  o.max_step = t.max_step;
-  o.max_steps = t.max_steps;
+  a.initial_step = t.initial_step;
+  a.min_step = t.min_step;
+  a.max_step = t.max_step;
+  a.max_steps = t.max_steps;
   o.elements = trace_elements(scene, request);
+  // The FE path's contact solver: the method asked for, automatic when it names no FE solver
+  // ("all": the FE path beside the Ritz one; "ritz": the FE path does not run).
+  const scene::Method method = trace_method(scene, request);
+  o.contact_method = method == scene::Method::all || method == scene::Method::ritz ? scene::Method::automatic : method;
   o.modes = request.modes.value_or(scene.ritz.modes);
   o.monitor = monitor_point(scene);
   // Uniform, with both ends exact: begin + (end - begin) i / (n - 1) can round one ulp past the
@@ -309,16 +312,7 @@ TraceOutcome run_trace(const scene::Scene& scene, const TraceRequest& request, c
       }
       writer->begin_path(name, options.monitor);
     }
-    scene::Scene path_scene = scene;  // the FE path reads the formulation from [solve]
     if (name == "fe_refined") path_options.elements = 2 * options.elements;
-    path_scene.solve.elements = path_options.elements;
-    if (name != "ritz") {
-      const scene::Method method = trace_method(scene, request);
-      if (method != scene::Method::all)
-        path_scene.solve.method = method;
-      else if (path_scene.solve.method == scene::Method::all || path_scene.solve.method == scene::Method::ritz)
-        path_scene.solve.method = scene::Method::automatic;
-    }
 
     const std::size_t resumed_events = trace.events.size();
     continuation::TraceSink sink;
@@ -329,7 +323,7 @@ TraceOutcome run_trace(const scene::Scene& scene, const TraceRequest& request, c
       kept.reaction.clear();
       trace.steps.push_back(std::move(kept));
       if (request.progress)
-        request.progress({name, step.load_factor, options.lambda_min, options.lambda_max,
+        request.progress({name, step.load_factor, options.arc_length.lambda_min, options.arc_length.lambda_max,
                           static_cast<int>(trace.steps.size()), static_cast<int>(trace.events.size())});
     };
     sink.on_event = [&](const TraceEvent& event) {
@@ -339,7 +333,7 @@ TraceOutcome run_trace(const scene::Scene& scene, const TraceRequest& request, c
     const TracePath& path = name == "ritz" ? paths.ritz : paths.fe;
     continuation::TraceResult result;
     try {
-      result = path(path_scene, path_options, sink);
+      result = path(scene, path_options, sink);
     } catch (...) {
       // Refused before its first step (a mechanism, a scene the Ritz model cannot take): no
       // half-written file is left behind. Once steps are written they are kept, to resume.

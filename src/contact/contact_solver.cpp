@@ -15,21 +15,17 @@ using Eigen::MatrixXd;
 using Eigen::VectorXd;
 using fe::Discretisation;
 
-std::string_view to_string(ContactTermination t) {
-  switch (t) {
-    case ContactTermination::solved:
-      return "solved";
-    case ContactTermination::no_equilibrium:
-      return "no_equilibrium";
-    case ContactTermination::pivot_limit:
-      return "pivot_limit";
-    case ContactTermination::iteration_limit:
-      return "iteration_limit";
-    case ContactTermination::numerical_failure:
-      return "numerical_failure";
-  }
-  return "unknown";
-}
+namespace {
+constexpr EnumName<ContactTermination> contact_termination_names[] = {
+    {ContactTermination::solved, "solved"},
+    {ContactTermination::no_equilibrium, "no_equilibrium"},
+    {ContactTermination::pivot_limit, "pivot_limit"},
+    {ContactTermination::iteration_limit, "iteration_limit"},
+    {ContactTermination::numerical_failure, "numerical_failure"},
+};
+}  // namespace
+
+std::string_view to_string(ContactTermination t) { return name_in<ContactTermination>(contact_termination_names, t); }
 
 void ContactOptions::validate() const {
   if (!std::isfinite(load_factor)) throw std::invalid_argument("ContactOptions::load_factor must be finite");
@@ -169,7 +165,16 @@ struct LcpOutcome {
   Unknowns unknowns;
   lcp::LemkeSummary lemke;
   int size = 0;
+  Eigen::VectorXd ray;     // Lemke's ray without z0 (ray termination only)
+  double q_dot_ray = 0.0;  // q^T ray
 };
+
+// Lemke's ray, z0 dropped, with q^T dz: the certificate of no equilibrium.
+void keep_ray(const lcp::LemkeResult& result, const VectorXd& q, LcpOutcome& outcome) {
+  if (result.summary.termination != lcp::LemkeTermination::ray || result.ray.size() != q.size() + 1) return;
+  outcome.ray = result.ray.head(q.size());
+  outcome.q_dot_ray = q.dot(outcome.ray);
+}
 
 // Lemke's answer is a contact set; its numbers are taken from the sparse fixed-set system, and the
 // set is an answer only if its signs hold there.
@@ -263,6 +268,7 @@ LcpOutcome solve_dual(const Discretisation& d, const VectorXd& load, const Vecto
   // of two large vectors carries eps times their size, so its equilibrium residual was up to
   // 1e-12 of the row terms where a backward-stable solve leaves a few eps.
   outcome.unknowns.displacement = stiffness.solve(load - d.coupling.transpose() * result.z);
+  keep_ray(result, q, outcome);
   if (result.complementary) settle_contact_set(d, load, offset, result.basic_z, "dual", outcome);
   return outcome;
 }
@@ -284,6 +290,7 @@ LcpOutcome solve_primal(const Discretisation& d, const VectorXd& load, const Vec
   outcome.size = 2 * n + m;
   outcome.unknowns.displacement = result.z.head(n) - result.z.segment(n, n);
   outcome.unknowns.reaction = result.z.tail(m);
+  keep_ray(result, q, outcome);
   if (result.complementary) {
     std::vector<int> contact_nodes;  // the reactions among the basic z: (u+, u-, r)
     for (int i : result.basic_z)
@@ -370,6 +377,10 @@ ContactSolution solve_contact(const Discretisation& d, const ContactOptions& opt
     summary.lcp_size = outcome.size;
     summary.termination = termination_of(outcome.lemke);
     summary.message = explain(summary.termination, outcome.lemke);
+    if (summary.termination == ContactTermination::no_equilibrium && outcome.ray.size() > 0)
+      solution.no_equilibrium_certificate = NoEquilibriumCertificate{method, outcome.ray, outcome.q_dot_ray};
+    else
+      solution.no_equilibrium_certificate.reset();
   };
 
   if (load_scale == 0.0) {
@@ -468,3 +479,10 @@ ContactSolution solve_contact(const Discretisation& d, const ContactOptions& opt
 }
 
 }  // namespace liftoff::contact
+
+namespace liftoff {
+template <>
+std::optional<contact::ContactTermination> from_string(std::string_view name) {
+  return value_in<contact::ContactTermination>(contact::contact_termination_names, name);
+}
+}  // namespace liftoff

@@ -17,10 +17,12 @@
 // dense: one larger than max_dense_lcp unknowns is refused (SolverFailure pointing to fast).
 
 #include <Eigen/Dense>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "contact/active_set_solver.hpp"
+#include "core/enum_names.hpp"
 #include "fe/discretisation.hpp"
 #include "lcp/lemke.hpp"
 #include "scene/scene.hpp"
@@ -81,11 +83,25 @@ struct ContactSummary {
   std::string brief_report() const;
 };
 
+// The evidence of no_equilibrium when a Lemke ray ended the solve (lcp/lemke.hpp): the ray dz
+// of the LCP solved (artificial z0 dropped, |dz|_inf = 1), which Lemke checked as a proof that
+// the LCP has no solution (dz >= 0, M^T dz <= 0, q^T dz < 0: dz^T (q + M z) < 0 for every
+// z >= 0). Dual: dz = dr, one per reaction node. Primal: dz = (du+, du-, dr) over the equations;
+// du = du+ - du- is a motion of the member along which the loads do work that no compressive
+// foundation reaction resists (the member lifts off).
+struct NoEquilibriumCertificate {
+  Method formulation = Method::primal;  // the LCP whose ray it is: dual or primal
+  Eigen::VectorXd ray;                  // dz in the LCP's unknowns
+  double q_dot_ray = 0.0;               // q^T dz < 0, q with the loads scaled to unit size as solved
+};
+
 struct ContactSolution {
   Eigen::VectorXd displacement;  // nondimensional, on every dof (fixed dofs 0)
   Eigen::VectorXd reaction;      // nondimensional nodal reactions, one per reaction node
   Eigen::VectorXd gap;           // T r - C u + c, the weighted gap at the reaction nodes
   ContactSummary summary;
+  // Set exactly when summary.termination is no_equilibrium from Lemke's ray.
+  std::optional<NoEquilibriumCertificate> no_equilibrium_certificate;
 };
 
 // Unknowns of the largest LCP handed to (dense) Lemke: 8000^2 doubles are 512 MB.
@@ -112,3 +128,8 @@ MethodChoice choose_fe_method(const fe::Discretisation& discretisation);
 ContactSolution solve_contact(const fe::Discretisation& discretisation, const ContactOptions& options);
 
 }  // namespace liftoff::contact
+
+namespace liftoff {
+template <>  // the names' one table is in contact_solver.cpp
+std::optional<contact::ContactTermination> from_string(std::string_view);
+}  // namespace liftoff

@@ -130,6 +130,14 @@ void write_report(hid_t file, const SolveReport& r) {
   if (!r.nodes.coordinate.empty()) write_table(file, "nodes", r.nodes);
 
   if (r.certificate) write_certificate(file, r);
+  if (const auto& c = r.no_equilibrium_certificate) {  // Lemke's ray: the proof of no equilibrium
+    Handle group(H5Gcreate2(file, "no_equilibrium_certificate", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
+                 "no_equilibrium_certificate");
+    write_string_attribute(group, "kind", "lemke_ray");
+    write_string_attribute(group, "formulation", c->formulation);
+    write_number_attribute(group, "q_dot_ray", c->q_dot_ray);
+    write_array(group, "ray", c->ray);
+  }
   if (r.design) write_design(file, *r.design);
 
   Handle solver(H5Gcreate2(file, "solver", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "solver");

@@ -77,6 +77,10 @@ SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model,
   r.active_set_iterations = summary.iterations;
   r.factorisations = summary.factorisations;
   r.gauge_note = d.gauge_note;
+  if (const auto& c = solution.no_equilibrium_certificate)
+    r.no_equilibrium_certificate =
+        SolveReport::RayCertificate{std::string(scene::to_string(c->formulation)),
+                                    std::vector<double>(c->ray.data(), c->ray.data() + c->ray.size()), c->q_dot_ray};
 
   const fe::Scales& scales = model.scales;
   FieldTable& n = r.nodes;
@@ -320,6 +324,9 @@ nlohmann::json to_json(const SolveReport& r) {
     if (r.factorisations >= 0) j["factorisations"] = r.factorisations;
     if (r.limit_fitted) j["limit_fitted"] = true;
   }
+  if (const auto& c = r.no_equilibrium_certificate)
+    j["no_equilibrium_certificate"] = {
+        {"kind", "lemke_ray"}, {"formulation", c->formulation}, {"q_dot_ray", c->q_dot_ray}, {"ray", c->ray}};
   if (r.tolerance >= 0) {
     j["tolerance"] = r.tolerance;
     j["round_off_floor"] = r.round_off_floor >= 0 ? nlohmann::json(r.round_off_floor) : nullptr;
@@ -516,6 +523,9 @@ std::string text_summary(const SolveReport& r) {
     why = "asked for " + r.method_requested + (why.empty() ? "" : "; " + why);
   out += fmt::format("  method        {}{}\n", r.method, why.empty() ? "" : " (" + why + ")");
   out += fmt::format("  result        {}: {}\n", r.termination, r.message);
+  if (const auto& c = r.no_equilibrium_certificate)
+    out += fmt::format("  certificate   Lemke ray of the {} LCP ({} unknowns, q.ray = {:.3e} < 0): no equilibrium\n",
+                       c->formulation, c->ray.size(), c->q_dot_ray);
   if (r.contact_regions.empty()) out += "  contact       none\n";
   // Digits enough for the tolerance asked for (8 significant by default).
   const int digits = r.tolerance > 0 ? std::max(8, static_cast<int>(std::ceil(-std::log10(r.tolerance))) + 2) : 8;

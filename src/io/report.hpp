@@ -94,6 +94,15 @@ struct SolveReport {
   std::vector<double> amplitudes;
   std::vector<double> residual_history;
 
+  // FE, no_equilibrium from a Lemke ray: the ray as the certificate (contact_solver.hpp,
+  // NoEquilibriumCertificate), nondimensional like the LCP it proves infeasible.
+  struct RayCertificate {
+    std::string formulation;  // "dual" or "primal": the LCP whose ray it is
+    std::vector<double> ray;  // dz >= 0, |dz|_inf = 1
+    double q_dot_ray = 0.0;   // q^T dz < 0
+  };
+  std::optional<RayCertificate> no_equilibrium_certificate;
+
   std::string gauge_note;
   std::optional<scene::Comparison> comparison;  // the scene's [compare]: set beside the answer
   std::vector<std::array<double, 2>> contact_regions;

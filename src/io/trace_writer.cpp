@@ -134,10 +134,7 @@ std::string read_text(hid_t location, const char* name) {
 }
 
 EventKind event_kind(const std::string& name) {
-  using K = EventKind;
-  for (const K k : {K::lift_off_opens, K::contact_opens, K::region_vanishes, K::lift_off_vanishes, K::limit_at_support,
-                    K::limit_at_load, K::limit_at_end, K::limit_point})
-    if (continuation::to_string(k) == name) return k;
+  if (const auto kind = from_string<EventKind>(name)) return *kind;
   throw OutputError("unknown event kind '" + name + "' in the trace file");
 }
 

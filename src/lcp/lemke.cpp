@@ -188,19 +188,16 @@ void LemkeOptions::validate() const {
         fmt::format("LemkeOptions.pivot_tolerance: expected a finite number in (0, 1), got {}", pivot_tolerance));
 }
 
-std::string_view to_string(LemkeTermination t) {
-  switch (t) {
-    case LemkeTermination::solution:
-      return "solution";
-    case LemkeTermination::ray:
-      return "ray";
-    case LemkeTermination::pivot_limit:
-      return "pivot_limit";
-    case LemkeTermination::numerical_failure:
-      return "numerical_failure";
-  }
-  return "unknown";
-}
+namespace {
+constexpr EnumName<LemkeTermination> lemke_termination_names[] = {
+    {LemkeTermination::solution, "solution"},
+    {LemkeTermination::ray, "ray"},
+    {LemkeTermination::pivot_limit, "pivot_limit"},
+    {LemkeTermination::numerical_failure, "numerical_failure"},
+};
+}  // namespace
+
+std::string_view to_string(LemkeTermination t) { return name_in<LemkeTermination>(lemke_termination_names, t); }
 
 std::string LemkeSummary::brief_report() const {
   return fmt::format(
@@ -383,3 +380,10 @@ LemkeResult solve_lemke(const MatrixXd& M, const VectorXd& q, const LemkeOptions
 }
 
 }  // namespace liftoff::lcp
+
+namespace liftoff {
+template <>
+std::optional<lcp::LemkeTermination> from_string(std::string_view name) {
+  return value_in<lcp::LemkeTermination>(lcp::lemke_termination_names, name);
+}
+}  // namespace liftoff

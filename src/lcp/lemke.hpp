@@ -32,6 +32,8 @@
 #include <string_view>
 #include <vector>
 
+#include "core/enum_names.hpp"
+
 namespace liftoff::lcp {
 
 struct LemkeOptions {
@@ -112,3 +114,8 @@ struct LemkeResult {
 LemkeResult solve_lemke(const Eigen::MatrixXd& M, const Eigen::VectorXd& q, const LemkeOptions& options = {});
 
 }  // namespace liftoff::lcp
+
+namespace liftoff {
+template <>  // the names' one table is in lemke.cpp
+std::optional<lcp::LemkeTermination> from_string(std::string_view);
+}  // namespace liftoff

@@ -188,8 +188,9 @@ struct RitzSettings {
 struct TraceSettings {
   std::optional<double> lambda_max;  // required by `liftoff trace` (the reader checks > lambda_min)
   double lambda_min = 0.0;
-  std::optional<Method> method;  // ritz: the Ritz path; dual/primal/auto: the FE path; all:
-                                 // both, events side by side. Absent: [solve] method
+  std::optional<Method> method;  // ritz: the Ritz path; dual/primal/fast/auto: the FE path, with
+                                 // that contact solver; all: both, events side by side (FE: auto).
+                                 // Absent: [solve] method
   TraceControl control = TraceControl::arc_length;
   double initial_step = 0.05;  // in lambda (Ritz path); min_step <= initial_step <= max_step
   double min_step = 1e-8;

@@ -70,19 +70,21 @@ struct SyntheticPath {
   app::TracePath path() {
     return [this](const scene::Scene& scene, const TraceOptions& o, const continuation::TraceSink& sink) {
       calls.push_back(o);
-      const double range = o.lambda_max - o.lambda_min, length = scene.end() - scene.begin();
-      const int n = static_cast<int>(std::ceil(range / o.max_step - 1e-9));
+      const double range = o.arc_length.lambda_max - o.arc_length.lambda_min, length = scene.end() - scene.begin();
+      const int n = static_cast<int>(std::ceil(range / o.arc_length.max_step - 1e-9));
       int first = 0;
       if (o.resume_from)
-        first = static_cast<int>(std::lround((o.resume_from->load_factor - o.lambda_min) / o.max_step)) + 1;
+        first = static_cast<int>(
+                    std::lround((o.resume_from->load_factor - o.arc_length.lambda_min) / o.arc_length.max_step)) +
+                1;
       continuation::TraceResult result;
-      result.summary.path = "synthetic";
-      const double event_at[2] = {o.lambda_min + 0.3 * range, o.lambda_min + 0.7 * range};
+      result.summary.path = continuation::PathKind::fe;  // a synthetic stand-in for either path
+      const double event_at[2] = {o.arc_length.lambda_min + 0.3 * range, o.arc_length.lambda_min + 0.7 * range};
       for (int i = first; i <= n; ++i) {
         if (stop_after >= 0 && i - first == stop_after) throw Interrupted("stopped");
         std::this_thread::sleep_for(delay);
-        const double lambda = std::min(o.lambda_max, o.lambda_min + i * o.max_step);
-        const double c = length * (1 - 0.5 * (lambda - o.lambda_min) / range);
+        const double lambda = std::min(o.arc_length.lambda_max, o.arc_length.lambda_min + i * o.arc_length.max_step);
+        const double c = length * (1 - 0.5 * (lambda - o.arc_length.lambda_min) / range);
         TraceStep s;
         s.load_factor = lambda;
         s.contact_regions = {{scene.begin(), scene.begin() + c}};
@@ -96,11 +98,11 @@ struct SyntheticPath {
         s.state = {lambda, c};
         sink.on_step(s);
         result.steps.push_back(s);
-        const double previous = o.lambda_min + (i - 1) * o.max_step;
+        const double previous = o.arc_length.lambda_min + (i - 1) * o.arc_length.max_step;
         for (int e = 0; e < 2; ++e) {
           if (i == 0 || !(previous < event_at[e] && event_at[e] <= lambda)) continue;
           const TraceEvent event{event_at[e], e == 0 ? EventKind::lift_off_opens : EventKind::limit_at_load,
-                                 scene.begin() + length * (1 - 0.5 * (event_at[e] - o.lambda_min) / range),
+                                 scene.begin() + length * (1 - 0.5 * (event_at[e] - o.arc_length.lambda_min) / range),
                                  "synthetic event " + std::to_string(e)};
           sink.on_event(event);
           result.events.push_back(event);
@@ -192,13 +194,13 @@ TEST_CASE("trace: options come from [trace], [solve] and [ritz], with the reques
       "lambda_min = 1\nlambda_max = 3\ncontrol = \"load\"\ninitial_step = 0.02\n"
       "min_step = 1e-4\nmax_step = 0.1\nmax_steps = 77\nsamples = 5\n");
   const TraceOptions o = app::trace_options(s, {});
-  CHECK(o.lambda_min == 1);
-  CHECK(o.lambda_max == 3);
-  CHECK(o.control == continuation::PathControl::load);
-  CHECK(o.initial_step == 0.02);
-  CHECK(o.min_step == 1e-4);
-  CHECK(o.max_step == 0.1);
-  CHECK(o.max_steps == 77);
+  CHECK(o.arc_length.lambda_min == 1);
+  CHECK(o.arc_length.lambda_max == 3);
+  CHECK(o.arc_length.control == continuation::PathControl::load);
+  CHECK(o.arc_length.initial_step == 0.02);
+  CHECK(o.arc_length.min_step == 1e-4);
+  CHECK(o.arc_length.max_step == 0.1);
+  CHECK(o.arc_length.max_steps == 77);
   CHECK(o.elements == 50);
   CHECK(o.modes == 0);
   CHECK(o.monitor == 4.0);  // the first live point force
@@ -221,6 +223,49 @@ TEST_CASE("trace: options come from [trace], [solve] and [ritz], with the reques
   CHECK(app::trace_path_names(s, request) == std::vector<std::string>{"fe", "ritz"});
   CHECK(app::trace_path_names(scene_with_trace("lambda_max = 1\nrefine = true\n"), request) ==
         std::vector<std::string>{"fe", "ritz", "fe_refined"});
+}
+
+TEST_CASE("trace: [trace] method reaches the FE path as its contact solver", "[app][trace]") {
+  const auto contact_method = [](const char* trace, const app::TraceRequest& request = {}) {
+    return app::trace_options(scene_with_trace(trace), request).contact_method;
+  };
+  CHECK(contact_method("lambda_max = 1\nmethod = \"dual\"\n") == scene::Method::dual);
+  CHECK(contact_method("lambda_max = 1\nmethod = \"primal\"\n") == scene::Method::primal);
+  CHECK(contact_method("lambda_max = 1\nmethod = \"fast\"\n") == scene::Method::fast);
+  // "all" runs the FE path beside the Ritz one: automatic for it.
+  CHECK(contact_method("lambda_max = 1\nmethod = \"all\"\n") == scene::Method::automatic);
+  app::TraceRequest request;
+  request.method = scene::Method::primal;
+  CHECK(contact_method("lambda_max = 1\nmethod = \"dual\"\n", request) == scene::Method::primal);
+
+  // Run through the app, the FE path reports the formulation it solved with: a simply supported
+  // beam (dual needs a stable structure) whose live end moments have lifted its left end off by
+  // lambda_min = 5, so the start is not full contact and needs a contact solve.
+  const auto run = [](const char* method) {
+    const std::string text = fmt::format(
+        "[structure]\nkind = \"beam\"\nlength = 1.0\nEI = 1.0\n[supports]\nleft = \"pinned\"\nright = \"pinned\"\n"
+        "[foundation]\nnondimensional_k = 1.0e4\n[[loads]]\nkind = \"uniform\"\nvalue = 100.0\ncase = \"dead\"\n"
+        "[[loads]]\nkind = \"moment\"\nat = 0.0\nvalue = 1.0\n[[loads]]\nkind = \"moment\"\nat = 1.0\nvalue = 1.0\n"
+        "[solve]\nelements = 80\n[trace]\nlambda_min = 5\nlambda_max = 6\nmethod = \"{}\"\n",
+        method);
+    return app::run_trace(scene::parse_scene(text, "pinned.toml"), {});
+  };
+  const app::TraceOutcome dual = run("dual"), primal = run("primal"), fast = run("fast");
+  for (const app::TraceOutcome* o : {&dual, &primal, &fast}) {
+    REQUIRE(o->paths.size() == 1);
+    INFO(o->paths[0].summary.message);
+    CHECK(o->paths[0].summary.contact_solves >= 1);
+  }
+  CHECK(dual.paths[0].summary.contact_method == scene::Method::dual);
+  CHECK(primal.paths[0].summary.contact_method == scene::Method::primal);
+  CHECK(fast.paths[0].summary.contact_method == scene::Method::fast);
+  // Same answer whichever solver found the start.
+  REQUIRE(dual.paths[0].events.size() == fast.paths[0].events.size());
+  REQUIRE(primal.paths[0].events.size() == fast.paths[0].events.size());
+  for (std::size_t i = 0; i < fast.paths[0].events.size(); ++i) {
+    CHECK(dual.paths[0].events[i].load_factor == Approx(fast.paths[0].events[i].load_factor).epsilon(1e-9));
+    CHECK(primal.paths[0].events[i].load_factor == Approx(fast.paths[0].events[i].load_factor).epsilon(1e-9));
+  }
 }
 
 TEST_CASE("trace: no [trace] or no lambda_max is a one-line error naming the key", "[app][trace][errors]") {
@@ -454,7 +499,7 @@ TEST_CASE("trace: the test scenes read, with a [trace] table", "[app][trace]") {
     CAPTURE(name);
     const scene::Scene s = test::continuation_scene(name);
     const TraceOptions o = app::trace_options(s, {});
-    CHECK(o.lambda_max > o.lambda_min);
+    CHECK(o.arc_length.lambda_max > o.arc_length.lambda_min);
     CHECK(app::trace_path_names(s, {}) == std::vector<std::string>{"fe"});
   }
 }

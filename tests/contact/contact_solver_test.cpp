@@ -137,6 +137,45 @@ TEST_CASE("loads that lift a free beam off entirely: no equilibrium, in words", 
   CHECK_THAT(result.solution.summary.message, Catch::Matchers::Contains("no equilibrium"));
 }
 
+TEST_CASE("no equilibrium carries Lemke's ray as its certificate, checked here in the LCP's terms",
+          "[contact][lcp][certificate]") {
+  scene::Scene s = test::beam_scene(1.0, 1.0, EndSupport::free, EndSupport::free, 1e3);
+  s.loads = {test::point_force(0.5, -1.0)};  // pulls the beam away from the foundation
+  const test::Solved result = test::solve(s, Method::primal, 20);
+  REQUIRE(result.solution.summary.termination == contact::ContactTermination::no_equilibrium);
+  REQUIRE(result.solution.no_equilibrium_certificate.has_value());
+  const contact::NoEquilibriumCertificate& c = *result.solution.no_equilibrium_certificate;
+  CHECK(c.formulation == Method::primal);
+  const fe::Discretisation& d = result.discretisation;
+  const int n = d.equations, m = d.reactions();
+  REQUIRE(c.ray.size() == 2 * n + m);
+  // The primal LCP as contact_solver.hpp states it, with the loads scaled to unit size.
+  const Eigen::MatrixXd k(d.stiffness), cc(d.coupling), t(d.flexibility);
+  Eigen::MatrixXd lcp(2 * n + m, 2 * n + m);
+  lcp << k, -k, cc.transpose(), -k, k, -cc.transpose(), -cc, cc, t;
+  const Eigen::VectorXd load = d.load(1.0) / d.load(1.0).lpNorm<Eigen::Infinity>();
+  Eigen::VectorXd q(2 * n + m);
+  q << -load, load, Eigen::VectorXd::Zero(m);
+  // dz >= 0, |dz|_inf = 1, M^T dz <= 0 and q^T dz < 0, each against the round-off of its terms.
+  CHECK(c.ray.minCoeff() >= 0.0);
+  CHECK(c.ray.lpNorm<Eigen::Infinity>() == Approx(1.0));
+  // Row by row against its terms |M^T| |dz|: Lemke drops column entries below 1e-12 of the
+  // largest, and the basis' condition at 20 elements (~1e3) scales that.
+  const Eigen::VectorXd terms = lcp.transpose().cwiseAbs() * c.ray;
+  const Eigen::VectorXd product = lcp.transpose() * c.ray;
+  for (int i = 0; i < product.size(); ++i) CHECK(product[i] <= 1e-9 * terms[i] + 1e-300);
+  CHECK(c.q_dot_ray == Approx(q.dot(c.ray)).epsilon(1e-12));
+  CHECK(c.q_dot_ray < -1e-3);
+  // Its motion du = du+ - du- is one along which the loads do work: the member lifts off.
+  const Eigen::VectorXd du = c.ray.head(n) - c.ray.segment(n, n);
+  CHECK(load.dot(du) > 1e-3);
+  // A solved problem carries none.
+  s.loads = {test::point_force(0.5, 1.0)};
+  const test::Solved pressed = test::solve(s, Method::primal, 20);
+  REQUIRE(pressed.solution.summary.is_usable());
+  CHECK_FALSE(pressed.solution.no_equilibrium_certificate.has_value());
+}
+
 TEST_CASE("zero load: zero answer, no pivots", "[contact]") {
   const scene::Scene s = test::beam_scene(1.0, 1.0, EndSupport::pinned, EndSupport::pinned, 1e4);
   for (Method m : {Method::dual, Method::primal}) {

@@ -46,7 +46,7 @@ namespace {
 TraceResult fe_run(const scene::Scene& s, int elements, double lambda_max) {
   TraceOptions o = app::trace_options(s, {});
   o.elements = elements;
-  o.lambda_max = lambda_max;
+  o.arc_length.lambda_max = lambda_max;
   return continuation::trace_fe(s, o);
 }
 
@@ -281,7 +281,7 @@ TEST_CASE("a member about to tip over: the path stops where round-off decides it
   for (int n : {200, 340, 362, 393}) {
     CAPTURE(n);
     TraceOptions o;
-    o.lambda_max = 6.0;
+    o.arc_length.lambda_max = 6.0;
     o.elements = n;
     const TraceResult r = continuation::trace_fe(s, o);
     INFO(r.summary.message);

@@ -62,8 +62,8 @@ scene::Scene central_region_split() {
 
 TraceOptions options_for(double lambda_min, double lambda_max, int elements) {
   TraceOptions o;
-  o.lambda_min = lambda_min;
-  o.lambda_max = lambda_max;
+  o.arc_length.lambda_min = lambda_min;
+  o.arc_length.lambda_max = lambda_max;
   o.elements = elements;
   return o;
 }
@@ -271,11 +271,12 @@ void check_events_against_lemke(const scene::Scene& scene, const TraceOptions& o
     CAPTURE(event.description, event.load_factor);
     // Closer to the event than any other event or the ends of the range, but far above the
     // tolerance it was located to.
-    double room = std::min(event.load_factor - options.lambda_min, options.lambda_max - event.load_factor);
+    double room =
+        std::min(event.load_factor - options.arc_length.lambda_min, options.arc_length.lambda_max - event.load_factor);
     for (const auto& other : result.events)
       if (other.load_factor != event.load_factor)
         room = std::min(room, std::abs(other.load_factor - event.load_factor));
-    const double offset = std::min(1e-5 * (options.lambda_max - options.lambda_min), 0.25 * room);
+    const double offset = std::min(1e-5 * (options.arc_length.lambda_max - options.arc_length.lambda_min), 0.25 * room);
     REQUIRE(offset > 1e3 * options.event_tolerance);
     const auto before = lemke_topology(scene, options.elements, event.load_factor - offset);
     const auto after = lemke_topology(scene, options.elements, event.load_factor + offset);

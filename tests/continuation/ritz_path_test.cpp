@@ -51,8 +51,8 @@ double closed_form_lift_off_load() {
 
 TraceOptions options_for(int modes) {
   TraceOptions o;
-  o.lambda_min = 0.0;
-  o.lambda_max = 8.0;
+  o.arc_length.lambda_min = 0.0;
+  o.arc_length.lambda_max = 8.0;
   o.modes = modes;
   o.monitor = 5.0;
   o.sample_points = {0.0, 2.5, 5.0};
@@ -101,8 +101,8 @@ TEST_CASE("ritz path: the lift-off zone grows symmetrically past the first lift-
   INFO(r.summary.message);
   REQUIRE(r.summary.termination == TraceTermination::completed);
   REQUIRE(streamed.size() == r.steps.size());
-  CHECK(r.steps.front().load_factor == options.lambda_min);
-  CHECK(r.steps.back().load_factor == options.lambda_max);
+  CHECK(r.steps.front().load_factor == options.arc_length.lambda_min);
+  CHECK(r.steps.back().load_factor == options.arc_length.lambda_max);
   // Only the one event on this range: the zone grows from the centre without reaching the ends.
   REQUIRE(r.events.size() == 1);
   const double lambda_star = r.events.front().load_factor;
@@ -195,9 +195,9 @@ TEST_CASE("ritz path: a resumed trace reproduces the original", "[ritz_path]") {
 
 TEST_CASE("ritz path: load control and arc-length agree where both apply", "[ritz_path]") {
   TraceOptions options = options_for(16);
-  options.control = PathControl::load;
+  options.arc_length.control = PathControl::load;
   const TraceResult load = trace_ritz(lift_off_beam(), options);
-  options.control = PathControl::arc_length;
+  options.arc_length.control = PathControl::arc_length;
   const TraceResult arc = trace_ritz(lift_off_beam(), options);
   REQUIRE(load.summary.termination == TraceTermination::completed);
   REQUIRE(arc.summary.termination == TraceTermination::completed);
@@ -208,7 +208,7 @@ TEST_CASE("ritz path: load control and arc-length agree where both apply", "[rit
 
 TEST_CASE("ritz path: bad options are refused with the field named", "[ritz_path]") {
   TraceOptions options = options_for(16);
-  options.lambda_max = options.lambda_min;
+  options.arc_length.lambda_max = options.arc_length.lambda_min;
   CHECK_THROWS_WITH(trace_ritz(lift_off_beam(), options), Catch::Contains("lambda_max"));
   options = options_for(16);
   options.sample_points = {11.0};
@@ -222,7 +222,7 @@ TEST_CASE("ritz path: the end regions shrink to nothing when the pull equals the
   // Statics: the foundation's resultant is q L - lambda, so the contact regions at the ends
   // vanish at lambda = q L = 10 and beyond it nothing holds the free-free beam.
   TraceOptions options = options_for(16);
-  options.lambda_max = 12.0;
+  options.arc_length.lambda_max = 12.0;
   const TraceResult r = trace_ritz(lift_off_beam(), options);
   INFO(r.summary.message);
   CHECK(r.summary.termination == TraceTermination::no_equilibrium);
@@ -246,7 +246,7 @@ TEST_CASE("ritz path: live loads alone scale the solution, the topology stays (s
   // starts one initial_step above lambda_min = 0 (at 0 every topology fits w = 0).
   const scene::Scene arch = test::shipped_scene("seed_arch_roller");
   TraceOptions options;
-  options.lambda_max = 1.0;
+  options.arc_length.lambda_max = 1.0;
   options.modes = 32;
   options.monitor = 0.0;  // the crown
   const TraceResult r = trace_ritz(arch, options);
@@ -254,7 +254,7 @@ TEST_CASE("ritz path: live loads alone scale the solution, the topology stays (s
   REQUIRE(r.summary.termination == TraceTermination::completed);
   CHECK(r.events.empty());
   REQUIRE(r.steps.size() >= 3);
-  CHECK(r.steps.front().load_factor == options.initial_step);
+  CHECK(r.steps.front().load_factor == options.arc_length.initial_step);
   const TraceStep& last = r.steps.back();
   REQUIRE(last.contact_regions.size() == 1);
   for (const TraceStep& step : r.steps) {
@@ -279,7 +279,7 @@ TEST_CASE("ritz path: on a long beam two lift-off zones open together at beta x 
   std::vector<TraceEvent> first_events[2];
   for (int n : {0, 1}) {
     TraceOptions options;
-    options.lambda_max = 1.5;
+    options.arc_length.lambda_max = 1.5;
     options.modes = n == 0 ? 64 : 128;
     options.monitor = 0.5;
     const TraceResult r = trace_ritz(s, options);
@@ -312,8 +312,8 @@ namespace {
 // What `liftoff trace` would take from the scene's [trace] table, `samples` points along it.
 TraceOptions scene_options(const scene::Scene& s, int samples) {
   TraceOptions o;
-  o.lambda_min = s.trace->lambda_min;
-  o.lambda_max = *s.trace->lambda_max;
+  o.arc_length.lambda_min = s.trace->lambda_min;
+  o.arc_length.lambda_max = *s.trace->lambda_max;
   o.monitor = 0.5 * (s.begin() + s.end());
   for (int i = 0; i < samples; ++i) o.sample_points.push_back(s.begin() + (s.end() - s.begin()) * i / (samples - 1));
   return o;
@@ -488,7 +488,7 @@ TEST_CASE("ritz path: a path that cannot be refined where its topology turns bac
   // saying so; what it kept is a contact solution at every step, up to where it stopped.
   scene::Scene s = test::continuation_scene("arch_culvert");
   TraceOptions options = scene_options(s, 321);
-  options.initial_step = options.min_step = options.max_step = 0.1;
+  options.arc_length.initial_step = options.arc_length.min_step = options.arc_length.max_step = 0.1;
   options.modes = 36;
   const TraceResult r = trace_ritz(s, options);
   INFO(r.summary.message);
@@ -496,10 +496,10 @@ TEST_CASE("ritz path: a path that cannot be refined where its topology turns bac
   CHECK(r.summary.message.find("turned back in lambda") != std::string::npos);
   CHECK(r.summary.message.find(std::to_string(r.steps.size()) + " steps") != std::string::npos);
   REQUIRE(!r.steps.empty());
-  CHECK(r.steps.back().load_factor < options.lambda_max);
+  CHECK(r.steps.back().load_factor < options.arc_length.lambda_max);
   check_contact_solutions(r, options.sample_points);
   // Its events are those of the free run up to there (the first pair, at 0.4037).
-  options.initial_step = 0.05, options.min_step = 1e-8, options.max_step = 0.25;
+  options.arc_length.initial_step = 0.05, options.arc_length.min_step = 1e-8, options.arc_length.max_step = 0.25;
   const TraceResult free = trace_ritz(s, options);
   REQUIRE(free.summary.termination == TraceTermination::completed);
   REQUIRE(r.events.size() <= free.events.size());
@@ -527,9 +527,9 @@ TEST_CASE("ritz path: a state of the wrong topology is refused, naming the inequ
   forged.state_topology = fmt::format("1 0 {}", modes);  // full contact
   forged.state.assign(2 * amplitudes + 3, 0.0);
   std::copy(lifted.state.begin(), lifted.state.begin() + static_cast<std::ptrdiff_t>(amplitudes), forged.state.begin());
-  forged.state[2 * amplitudes] = 1.0;                       // tangent: lambda only
-  forged.state[2 * amplitudes + 1] = options.initial_step;  // next step
-  forged.state[2 * amplitudes + 2] = lifted.state.back();   // amplitude scale
+  forged.state[2 * amplitudes] = 1.0;                                  // tangent: lambda only
+  forged.state[2 * amplitudes + 1] = options.arc_length.initial_step;  // next step
+  forged.state[2 * amplitudes + 2] = lifted.state.back();              // amplitude scale
   TraceOptions resumed = options;
   resumed.resume_from = forged;
   const TraceResult r = trace_ritz(lift_off_beam(), resumed);

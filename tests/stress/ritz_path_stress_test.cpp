@@ -23,7 +23,7 @@ TEST_CASE("ritz path stress: the pipeline to lambda = 3, every step a contact so
           "[ritz_path][stress]") {
   const scene::Scene s = test::continuation_scene("pipeline_uplift");
   TraceOptions options;
-  options.lambda_max = *s.trace->lambda_max;
+  options.arc_length.lambda_max = *s.trace->lambda_max;
   options.monitor = 250.0;
   for (int i = 0; i <= 500; ++i) options.sample_points.push_back(i);  // every metre
   const TraceResult ritz = trace_ritz(s, options);
@@ -64,7 +64,7 @@ TEST_CASE("ritz path stress: the pipeline to lambda = 3, every step a contact so
   // solve of the same state with half the modes (with an error falling like N^-q, q >= 1, the
   // change bounds the error of the larger N).
   const TraceStep& end = ritz.steps.back();
-  REQUIRE(end.load_factor == options.lambda_max);
+  REQUIRE(end.load_factor == options.arc_length.lambda_max);
   REQUIRE(end.contact_regions.size() == 2);
   const double a_ritz = end.contact_regions[0][1];
   CHECK(std::abs(end.contact_regions[1][0] - (500.0 - a_ritz)) < 1e-9 * 500.0);  // symmetric
@@ -86,7 +86,7 @@ TEST_CASE("ritz path stress: the pipeline to lambda = 3, every step a contact so
   const fe::MemberModel member = fe::make_member_model(s);
   ritz::RitzOptions half;
   half.modes = modes / 2;
-  half.load_factor = options.lambda_max;
+  half.load_factor = options.arc_length.lambda_max;
   const ritz::RitzSolution coarse =
       ritz::solve_ritz(member, {true, 2}, {member.s_from_user(a_ritz), member.s_from_user(500.0 - a_ritz)}, half);
   INFO(coarse.summary.message);
