@@ -19,10 +19,23 @@
 #include <stdexcept>
 #include <utility>
 
+#include "nonlinear/bordered_solver.hpp"
+#include "nonlinear/linear_solver.hpp"
+
 namespace liftoff::continuation {
 
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
+
+// The follower's linear algebra and KINSOL adapters, made on first use (a follower that only
+// answers tangent() never builds KINSOL) and shared by the follower's copies.
+struct PathFollower::Workspace {
+  std::unique_ptr<nonlinear::LinearSolver> g_x;           // G_x of the fixed-lambda solves
+  std::unique_ptr<nonlinear::LinearSolver> bordered_g_x;  // G_x inside the bordered system
+  std::unique_ptr<nonlinear::BorderedSolver> bordered;    // corrector and tangent
+  std::unique_ptr<nonlinear::NewtonSolver> fixed_lambda;  // over g_x
+  std::unique_ptr<nonlinear::NewtonSolver> corrector;     // over bordered
+};
 
 std::string_view to_string(ArcLengthTermination t) {
   switch (t) {
@@ -103,6 +116,42 @@ PathFollower::PathFollower(PathProblem problem, ArcLengthOptions options)
   options_.validate();
   options_.corrector.validate(problem_.unknowns + 1);
   scale_ = problem_.unknown_scale.size() ? problem_.unknown_scale : VectorXd(VectorXd::Ones(problem_.unknowns));
+  workspace_ = std::make_shared<Workspace>();
+}
+
+PathFollower::Workspace& PathFollower::workspace() const {
+  Workspace& w = *workspace_;
+  if (!w.bordered) {
+    const int n = problem_.unknowns;
+    const auto g_x = [&]() -> std::unique_ptr<nonlinear::LinearSolver> {
+      if (problem_.sparse_jacobian) return std::make_unique<nonlinear::SparseLu>(n);
+      return std::make_unique<nonlinear::DenseLu>(n);
+    };
+    w.g_x = g_x();
+    w.bordered_g_x = g_x();
+    w.bordered = std::make_unique<nonlinear::BorderedSolver>(*w.bordered_g_x);
+  }
+  return w;
+}
+
+int PathFollower::newton_setups() const {
+  const Workspace& w = *workspace_;
+  return (w.fixed_lambda ? w.fixed_lambda->setups() : 0) + (w.corrector ? w.corrector->setups() : 0);
+}
+
+bool PathFollower::fill_jacobian(const VectorXd& x, double lambda, nonlinear::LinearSolver& g_x) const {
+  const int n = problem_.unknowns;
+  if (problem_.sparse_jacobian) {
+    Eigen::SparseMatrix<double>& m = static_cast<nonlinear::SparseLu&>(g_x).matrix();
+    const bool accepted = problem_.sparse_jacobian(x, lambda, m);
+    if (m.rows() != n || m.cols() != n)
+      throw std::invalid_argument(fmt::format(
+          "PathProblem.sparse_jacobian: the callback resized G_x from {0}x{0} to {1}x{2}; it must keep the size", n,
+          m.rows(), m.cols()));
+    m.makeCompressed();
+    return accepted && m.coeffs().allFinite();
+  }
+  return evaluate_jacobian(x, lambda, static_cast<nonlinear::DenseLu&>(g_x).matrix());
 }
 
 double PathFollower::scaled_dot(const VectorXd& a, const VectorXd& b) const {
@@ -141,33 +190,25 @@ bool PathFollower::evaluate_lambda_derivative(const VectorXd& x, double lambda, 
 std::optional<std::pair<VectorXd, double>> PathFollower::tangent(const VectorXd& x, double lambda,
                                                                  const PathPoint* reference) const {
   const int n = problem_.unknowns;
-  MatrixXd bordered = MatrixXd::Zero(n + 1, n + 1);
-  MatrixXd g_x;
+  if (reference && reference->tangent_x.size() != n)
+    throw std::invalid_argument(fmt::format("PathFollower::tangent: the reference tangent has size {}, expected {}",
+                                            reference->tangent_x.size(), n));
+  nonlinear::BorderedSolver& bordered = *workspace().bordered;
+  bordered.zero();
   VectorXd g_lambda;
-  if (!evaluate_jacobian(x, lambda, g_x) || !evaluate_lambda_derivative(x, lambda, g_lambda)) return std::nullopt;
-  bordered.topLeftCorner(n, n) = g_x;
-  bordered.topRightCorner(n, 1) = g_lambda;
+  if (!fill_jacobian(x, lambda, bordered.inner()) || !evaluate_lambda_derivative(x, lambda, g_lambda))
+    return std::nullopt;
+  bordered.column() = g_lambda;
   if (reference) {
-    if (reference->tangent_x.size() != n)
-      throw std::invalid_argument(fmt::format("PathFollower::tangent: the reference tangent has size {}, expected {}",
-                                              reference->tangent_x.size(), n));
-    bordered.bottomLeftCorner(1, n) = (scale_.array().square() * reference->tangent_x.array()).matrix().transpose();
-    bordered(n, n) = reference->tangent_lambda;
+    bordered.row() = scale_.array().square() * reference->tangent_x.array();
+    bordered.corner() = reference->tangent_lambda;
   } else {
-    bordered(n, n) = options_.direction;
+    bordered.corner() = options_.direction;
   }
-  VectorXd rhs = VectorXd::Zero(n + 1);
-  rhs(n) = 1.0;
-  // Equilibrate rows, then columns (a Ritz Jacobian's diagonal spans (N pi)^4), so that the
-  // singularity test sees the problem's own condition, not its units.
-  const VectorXd rows = bordered.rowwise().lpNorm<Eigen::Infinity>().cwiseMax(1e-300).cwiseInverse();
-  bordered = rows.asDiagonal() * bordered;
-  const VectorXd cols = bordered.colwise().lpNorm<Eigen::Infinity>().transpose().cwiseMax(1e-300).cwiseInverse();
-  bordered = bordered * cols.asDiagonal();
-  const Eigen::PartialPivLU<MatrixXd> lu(bordered);
-  if (!(lu.rcond() > 1e3 * std::numeric_limits<double>::epsilon())) return std::nullopt;
-  VectorXd t = cols.asDiagonal() * lu.solve(rows.asDiagonal() * rhs);
-  if (!t.allFinite()) return std::nullopt;
+  if (bordered.factorise() != nonlinear::Factorisation::ok) return std::nullopt;
+  VectorXd t = VectorXd::Zero(n + 1);
+  t(n) = 1.0;
+  if (!bordered.solve(t) || !t.allFinite()) return std::nullopt;
   const VectorXd t_x = t.head(n);
   const double norm = std::sqrt(scaled_dot(t_x, t_x) + t(n) * t(n));
   if (!(norm > 0)) return std::nullopt;
@@ -183,9 +224,11 @@ std::optional<PathPoint> PathFollower::start(VectorXd x, double lambda, nonlinea
   newton.unknown_scale = scale_;
   newton.residual_scale = problem_.residual_scale;
   newton.constraints = problem_.constraints;
-  const nonlinear::NewtonSummary s = nonlinear::solve_newton(
+  Workspace& w = workspace();
+  if (!w.fixed_lambda) w.fixed_lambda = std::make_unique<nonlinear::NewtonSolver>(*w.g_x);
+  const nonlinear::NewtonSummary s = w.fixed_lambda->solve(
       [&](const VectorXd& z, VectorXd& g) { return problem_.residual(z, lambda, g); },
-      [&](const VectorXd& z, const VectorXd&, MatrixXd& j) { return evaluate_jacobian(z, lambda, j); }, x, newton);
+      [&](const VectorXd& z, const VectorXd&) { return fill_jacobian(z, lambda, *w.g_x); }, x, newton);
   if (summary) *summary = s;
   if (!s.is_usable()) return std::nullopt;
   const auto t = tangent(x, lambda, orientation ? &*orientation : nullptr);
@@ -225,15 +268,15 @@ StepOutcome PathFollower::step(const PathPoint& from, double ds) const {
     f(n) = weights.dot(y.head(n) - from.x) + from.tangent_lambda * (y(n) - from.lambda) - ds;
     return true;
   };
-  const auto jacobian = [&](const VectorXd& y, const VectorXd&, MatrixXd& j) {
-    MatrixXd g_x;
-    VectorXd g_lambda;
-    if (!evaluate_jacobian(y.head(n), y(n), g_x) || !evaluate_lambda_derivative(y.head(n), y(n), g_lambda))
+  Workspace& w = workspace();
+  nonlinear::BorderedSolver& bordered = *w.bordered;
+  VectorXd g_lambda;
+  const auto jacobian = [&](const VectorXd& y, const VectorXd&) {  // zeroed by the adapter
+    if (!fill_jacobian(y.head(n), y(n), bordered.inner()) || !evaluate_lambda_derivative(y.head(n), y(n), g_lambda))
       return false;
-    j.topLeftCorner(n, n) = g_x;
-    j.topRightCorner(n, 1) = g_lambda;
-    j.bottomLeftCorner(1, n) = weights.transpose();
-    j(n, n) = from.tangent_lambda;
+    bordered.column() = g_lambda;
+    bordered.row() = weights;
+    bordered.corner() = from.tangent_lambda;
     return true;
   };
   nonlinear::NewtonOptions newton = options_.corrector;
@@ -254,7 +297,8 @@ StepOutcome PathFollower::step(const PathPoint& from, double ds) const {
       }
     }
   }
-  outcome.corrector = nonlinear::solve_newton(residual, jacobian, z, newton);
+  if (!w.corrector) w.corrector = std::make_unique<nonlinear::NewtonSolver>(bordered);
+  outcome.corrector = w.corrector->solve(residual, jacobian, z, newton);
   if (!outcome.corrector.is_usable()) return outcome;
   const auto t = tangent(z.head(n), z(n), &from);
   if (!t) return outcome;

@@ -6,11 +6,21 @@
 //     |(dx, dlambda)|^2 = |D dx|^2 + dlambda^2,   D = diag(PathProblem::unknown_scale),
 // so that a step length ds is comparable to a change of lambda. One step from a point P:
 //  - predictor: (x, lambda) = P + ds (t_x, t_lambda);
-//  - corrector: Newton (nonlinear::solve_newton, KINSOL) on the bordered system
+//  - corrector: Newton (nonlinear::NewtonSolver, KINSOL) on the bordered system
 //        G(x, lambda) = 0,   t_x . D^2 (x - x_P) + t_lambda (lambda - lambda_P) - ds = 0
 //    (arc length), or on G(x, lambda_P + ds) = 0 (load control: lambda fixed, x unknown);
 //  - the new tangent solves [G_x G_lambda; t_P^T] t = [0; 1], normalised, so it keeps the
 //    sense of t_P: the branch is followed consistently through folds.
+// Linear algebra: the bordered corrector and tangent systems are never factorised as such;
+// nonlinear::BorderedSolver solves them by block elimination with the factors of G_x (two
+// solves and a scalar, plus one refinement step), falling back to a dense bordered LU only
+// where G_x is singular (at a fold) and n + 1 <= BorderedSolver::dense_fallback_limit; above
+// that limit such a system counts as singular (see bordered_solver.hpp). G_x is dense
+// (nonlinear::DenseLu, the Ritz models) unless the problem gives sparse_jacobian (then
+// nonlinear::SparseLu, symbolic analysis once per follower: the FE models).
+// Set up once: a follower owns its KINSOL adapters (one for the fixed-lambda solves, one for
+// the bordered corrector) and its linear solvers, made on first use and shared by its copies,
+// so that locate's many corrector solves rebuild nothing (newton_setups() counts them).
 // Step length: halved when the corrector fails; after a success scaled by
 // target_iterations / iterations (at most doubled, at least halved), clamped to
 // [min_step, max_step]. A failure at min_step ends the run (step_too_small), which is where
@@ -24,7 +34,9 @@
 // topology, with an observer that locates its events between steps and stops at them.
 
 #include <Eigen/Dense>
+#include <Eigen/SparseCore>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -42,6 +54,10 @@ struct PathProblem {
   int unknowns = 0;  // n
   std::function<bool(const Eigen::VectorXd& x, double lambda, Eigen::VectorXd& g)> residual;
   std::function<bool(const Eigen::VectorXd& x, double lambda, Eigen::MatrixXd& g_x)> jacobian;
+  // Alternative to jacobian for large models: dG/dx written into a sparse matrix whose pattern
+  // the callback keeps from call to call (values zeroed on entry; on the first call it is
+  // empty, n x n, and the callback builds the pattern). When set, jacobian is not used.
+  std::function<bool(const Eigen::VectorXd& x, double lambda, Eigen::SparseMatrix<double>& g_x)> sparse_jacobian;
   std::function<bool(const Eigen::VectorXd& x, double lambda, Eigen::VectorXd& g_lambda)> lambda_derivative;
   Eigen::VectorXd unknown_scale;   // D: 1 / typical |x_i| (empty: ones)
   Eigen::VectorXd residual_scale;  // 1 / typical |G_i| for the corrector's test (empty: ones)
@@ -163,8 +179,15 @@ class PathFollower {
   // options.direction). nullopt if the bordered system is singular.
   std::optional<std::pair<Eigen::VectorXd, double>> tangent(const Eigen::VectorXd& x, double lambda,
                                                             const PathPoint* reference) const;
+  // KINSOL setups made by this follower and its copies so far (at most 2: one adapter for
+  // the fixed-lambda solves, one for the bordered corrector).
+  int newton_setups() const;
 
  private:
+  struct Workspace;  // the linear solvers and KINSOL adapters, made on first use
+  Workspace& workspace() const;
+  // dG/dx at (x, lambda) into the G_x solver's matrix (dense or sparse).
+  bool fill_jacobian(const Eigen::VectorXd& x, double lambda, nonlinear::LinearSolver& g_x) const;
   bool evaluate_jacobian(const Eigen::VectorXd& x, double lambda, Eigen::MatrixXd& g_x) const;
   bool evaluate_lambda_derivative(const Eigen::VectorXd& x, double lambda, Eigen::VectorXd& g_lambda) const;
   double scaled_dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const;
@@ -172,6 +195,7 @@ class PathFollower {
   PathProblem problem_;
   ArcLengthOptions options_;
   Eigen::VectorXd scale_;  // D
+  std::shared_ptr<Workspace> workspace_;
 };
 
 }  // namespace liftoff::continuation

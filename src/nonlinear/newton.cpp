@@ -26,10 +26,11 @@
 #include <kinsol/kinsol.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
-#include <sunlinsol/sunlinsol_dense.h>
-#include <sunmatrix/sunmatrix_dense.h>
+#include <sundials/sundials_linearsolver.h>
+#include <sundials/sundials_matrix.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -79,18 +80,18 @@ bool same_point(const VectorXd& a, const double* b) { return (a.array() == Const
 // the iteration allocates nothing), the residual history and everything a summary needs.
 class Problem {
  public:
-  Problem(const Residual& residual, const Jacobian& jacobian, int n, VectorXd residual_scale)
+  Problem(const Residual& residual, const JacobianFill& jacobian, LinearSolver& solver, VectorXd residual_scale)
       : residual_(residual),
         jacobian_(jacobian),
-        n_(n),
+        solver_(solver),
+        n_(solver.size()),
         residual_scale_(std::move(residual_scale)),
-        x_(n),
-        f_(n),
-        f_given_(n),
-        jacobian_matrix_(n, n),
-        last_x_(n),
-        last_f_(n),
-        recorded_x_(n) {}
+        x_(n_),
+        f_(n_),
+        f_given_(n_),
+        last_x_(n_),
+        last_f_(n_),
+        recorded_x_(n_) {}
 
   int n() const { return n_; }
 
@@ -127,31 +128,37 @@ class Problem {
     return 0;
   }
 
-  // dF/dx at x into the column-major n x n array jacobian; f = F(x). Records r(x) in the
-  // history. Returns 0 on success, 1 if the user refused or the result is unusable (see
-  // jacobian_problem()). Throws what the user's callback throws.
-  int jacobian(const double* x, const double* f, double* jacobian) {
+  // dF/dx at x into the linear solver's matrix (zeroed by KINSOL just before, through the
+  // SUNMatrix's zero op); f = F(x). Records r(x) in the history. Returns 0 on success, 1 if the
+  // user refused (see jacobian_problem()). Throws what the user's callback throws.
+  int jacobian(const double* x, const double* f) {
     record(x, scaled_norm(f));
     x_ = ConstVectorMap(x, n_);
     f_given_ = ConstVectorMap(f, n_);
-    jacobian_matrix_.setZero();
     ++jacobian_calls_;
-    const bool accepted = jacobian_(x_, f_given_, jacobian_matrix_);
-    if (jacobian_matrix_.rows() != n_ || jacobian_matrix_.cols() != n_)
-      throw std::invalid_argument(fmt::format(
-          "solve_newton: the Jacobian callback resized the matrix from {0}x{0} to {1}x{2}; it must keep the size", n_,
-          jacobian_matrix_.rows(), jacobian_matrix_.cols()));
-    if (!accepted) {
+    if (!jacobian_(x_, f_given_)) {
       jacobian_problem_ = "the Jacobian callback refused the current iterate";
       return 1;
     }
-    if (!jacobian_matrix_.allFinite()) {
-      jacobian_problem_ = "the Jacobian callback returned NaN or Inf";
-      return 1;
-    }
-    Eigen::Map<MatrixXd>(jacobian, n_, n_) = jacobian_matrix_;
     return 0;
   }
+
+  // Factorises the filled matrix (KINSOL's linear-solver setup). Returns 0, or a positive
+  // number (KINSOL then fails with KIN_LSETUP_FAIL) with the reason kept for the summary.
+  int factorise() {
+    switch (solver_.factorise()) {
+      case Factorisation::ok:
+        return 0;
+      case Factorisation::not_finite:
+        jacobian_problem_ = "the Jacobian callback returned NaN or Inf";
+        return 1;
+      case Factorisation::singular:
+        break;
+    }
+    return solver_.zero_pivot() > 0 ? static_cast<int>(solver_.zero_pivot()) : 1;
+  }
+  LinearSolver& solver() { return solver_; }
+  VectorXd& solve_work() { return solve_work_; }
 
   // The one-shot cache for KINSOL's first residual call (see the top of this file).
   void cache_initial(const VectorXd& x, const VectorXd& f) {
@@ -184,11 +191,11 @@ class Problem {
 
  private:
   const Residual& residual_;
-  const Jacobian& jacobian_;
+  const JacobianFill& jacobian_;
+  LinearSolver& solver_;
   int n_;
   VectorXd residual_scale_;
-  VectorXd x_, f_, f_given_;
-  MatrixXd jacobian_matrix_;
+  VectorXd x_, f_, f_given_, solve_work_;
   VectorXd last_x_, last_f_;
   bool last_evaluation_valid_ = false;
   VectorXd initial_x_, initial_f_;
@@ -213,20 +220,83 @@ static int kinsol_residual(N_Vector u, N_Vector f, void* user_data) {
   }
 }
 
-static int kinsol_jacobian(N_Vector u, N_Vector fu, SUNMatrix jacobian, void* user_data, N_Vector /*tmp1*/,
+static int kinsol_jacobian(N_Vector u, N_Vector fu, SUNMatrix /*jacobian*/, void* user_data, N_Vector /*tmp1*/,
                            N_Vector /*tmp2*/) {
   auto& problem = *static_cast<Problem*>(user_data);
   if (problem.pending_exception) return -1;
   try {
-    return problem.jacobian(N_VGetArrayPointer(u), N_VGetArrayPointer(fu), SUNDenseMatrix_Data(jacobian));
+    return problem.jacobian(N_VGetArrayPointer(u), N_VGetArrayPointer(fu));
   } catch (...) {
     problem.pending_exception = std::current_exception();
     return -1;
   }
 }
 
+// The SUNMatrix KINSOL hands around is a stand-in for the seam's matrix: its content is the
+// LinearSolver, its only working operation zero() (KINSOL zeroes a direct solver's matrix
+// before each Jacobian evaluation). The Jacobian callback fills the seam's matrix itself.
+static SUNMatrix_ID seam_matrix_id(SUNMatrix) { return SUNMATRIX_CUSTOM; }
+static int seam_matrix_zero(SUNMatrix matrix) {
+  static_cast<LinearSolver*>(matrix->content)->zero();
+  return 0;
+}
+static void seam_matrix_destroy(SUNMatrix matrix) {
+  matrix->content = nullptr;
+  SUNMatFreeEmpty(matrix);
+}
+
+// The SUNLinearSolver that calls the seam: a direct solver (so KINSOL takes J p = -F as exact
+// for its line search), set up by factorising, solving with the factors. Its content is the
+// Problem of the current solve, rebound by every NewtonSolver::solve.
+struct SeamContent {
+  Problem* problem = nullptr;
+  long last_flag = 0;
+};
+static SUNLinearSolver_Type seam_solver_type(SUNLinearSolver) { return SUNLINEARSOLVER_DIRECT; }
+static SUNLinearSolver_ID seam_solver_id(SUNLinearSolver) { return SUNLINEARSOLVER_CUSTOM; }
+static int seam_solver_initialize(SUNLinearSolver) { return SUNLS_SUCCESS; }
+static int seam_solver_setup(SUNLinearSolver solver, SUNMatrix) {
+  auto& content = *static_cast<SeamContent*>(solver->content);
+  try {
+    content.last_flag = content.problem->factorise();
+  } catch (...) {
+    content.problem->pending_exception = std::current_exception();
+    content.last_flag = -1;
+  }
+  return static_cast<int>(content.last_flag);
+}
+static int seam_solver_solve(SUNLinearSolver solver, SUNMatrix, N_Vector x, N_Vector b, realtype) {
+  auto& content = *static_cast<SeamContent*>(solver->content);
+  LinearSolver& seam = content.problem->solver();
+  try {
+    Eigen::VectorXd& work = content.problem->solve_work();
+    work = ConstVectorMap(N_VGetArrayPointer(b), seam.size());
+    if (!seam.solve(work) || !work.allFinite()) {
+      content.last_flag = SUNLS_PACKAGE_FAIL_UNREC;
+      return SUNLS_PACKAGE_FAIL_UNREC;
+    }
+    Eigen::Map<VectorXd>(N_VGetArrayPointer(x), seam.size()) = work;
+  } catch (...) {
+    content.problem->pending_exception = std::current_exception();
+    content.last_flag = SUNLS_PACKAGE_FAIL_UNREC;
+    return SUNLS_PACKAGE_FAIL_UNREC;
+  }
+  content.last_flag = SUNLS_SUCCESS;
+  return SUNLS_SUCCESS;
+}
+static sunindextype seam_solver_last_flag(SUNLinearSolver solver) {
+  return static_cast<sunindextype>(static_cast<SeamContent*>(solver->content)->last_flag);
+}
+static int seam_solver_free(SUNLinearSolver solver) {
+  if (solver == nullptr) return SUNLS_SUCCESS;
+  solver->content = nullptr;  // owned by the adapter
+  SUNLinSolFreeEmpty(solver);
+  return SUNLS_SUCCESS;
+}
+
 static void kinsol_error_handler(int error_code, const char* module, const char* function, char* message,
                                  void* user_data) {
+  if (user_data == nullptr) return;  // between solves, or during setup: the flag tells
   auto& problem = *static_cast<Problem*>(user_data);
   try {
     if (problem.kinsol_messages.size() < max_kinsol_messages)
@@ -244,13 +314,13 @@ struct SetupFailure : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Owns every SUNDIALS handle of one solve. Members are declared in creation order, so they
-// are destroyed in reverse (KINSOL memory first, the context last), also when construction
-// throws half-way.
+// Owns every SUNDIALS handle of one NewtonSolver: created once, reused by every solve. Members
+// are declared in creation order, so they are destroyed in reverse (KINSOL memory first, the
+// context last), also when construction throws half-way.
 class Kinsol {
  public:
-  Kinsol(Problem& problem, const NewtonOptions& options) {
-    const int n = problem.n();
+  explicit Kinsol(LinearSolver& seam) {
+    const int n = seam.size();
     SUNContext context = nullptr;
     if (SUNContext_Create(nullptr, &context) != 0 || context == nullptr) throw SetupFailure("SUNContext_Create failed");
     context_.reset(context);
@@ -258,31 +328,57 @@ class Kinsol {
     u_.reset(new_vector(n, "the unknowns"));
     u_scale_.reset(new_vector(n, "unknown_scale"));
     f_scale_.reset(new_vector(n, "residual_scale"));
-    fill(u_scale_.get(), options.unknown_scale);
-    fill(f_scale_.get(), options.residual_scale);
-    if (options.constraints.size() > 0) {
-      constraints_.reset(new_vector(n, "constraints"));
-      fill(constraints_.get(), options.constraints.cast<double>());
-    }
-    jacobian_.reset(SUNDenseMatrix(n, n, context_.get()));
-    if (!jacobian_) throw SetupFailure("SUNDenseMatrix failed to allocate the Jacobian");
-    linear_solver_.reset(SUNLinSol_Dense(u_.get(), jacobian_.get(), context_.get()));
-    if (!linear_solver_) throw SetupFailure("SUNLinSol_Dense failed to create the dense LU solver");
+    constraints_.reset(new_vector(n, "constraints"));
+
+    SUNMatrix matrix = SUNMatNewEmpty(context_.get());
+    if (!matrix) throw SetupFailure("SUNMatNewEmpty failed to allocate the Jacobian's stand-in");
+    matrix_.reset(matrix);
+    matrix->content = &seam;
+    matrix->ops->getid = seam_matrix_id;
+    matrix->ops->zero = seam_matrix_zero;
+    matrix->ops->destroy = seam_matrix_destroy;
+
+    SUNLinearSolver solver = SUNLinSolNewEmpty(context_.get());
+    if (!solver) throw SetupFailure("SUNLinSolNewEmpty failed to allocate the linear solver");
+    linear_solver_.reset(solver);
+    solver->content = &content_;
+    solver->ops->gettype = seam_solver_type;
+    solver->ops->getid = seam_solver_id;
+    solver->ops->initialize = seam_solver_initialize;
+    solver->ops->setup = seam_solver_setup;
+    solver->ops->solve = seam_solver_solve;
+    solver->ops->lastflag = seam_solver_last_flag;
+    solver->ops->free = seam_solver_free;
 
     kinsol_.reset(KINCreate(context_.get()));
     if (!kinsol_) throw SetupFailure("KINCreate failed");
     void* kin = kinsol_.get();
+    check(KINSetErrHandlerFn(kin, kinsol_error_handler, nullptr), "KINSetErrHandlerFn");
+    check(KINInit(kin, kinsol_residual, u_.get()), "KINInit");
+    check(KINSetLinearSolver(kin, linear_solver_.get(), matrix_.get()), "KINSetLinearSolver");
+    check(KINSetJacFn(kin, kinsol_jacobian), "KINSetJacFn");
+    check(KINSetMaxSetupCalls(kin, 1), "KINSetMaxSetupCalls");  // a fresh Jacobian at every iterate
+  }
+
+  // Binds the solve's problem and options (cheap: no allocation).
+  void configure(Problem& problem, const NewtonOptions& options) {
+    void* kin = kinsol_.get();
+    content_.problem = &problem;
+    content_.last_flag = 0;
+    fill(u_scale_.get(), options.unknown_scale);
+    fill(f_scale_.get(), options.residual_scale);
     check(KINSetErrHandlerFn(kin, kinsol_error_handler, &problem), "KINSetErrHandlerFn");
     check(KINSetUserData(kin, &problem), "KINSetUserData");
-    check(KINInit(kin, kinsol_residual, u_.get()), "KINInit");
-    check(KINSetLinearSolver(kin, linear_solver_.get(), jacobian_.get()), "KINSetLinearSolver");
-    check(KINSetJacFn(kin, kinsol_jacobian), "KINSetJacFn");
     check(KINSetFuncNormTol(kin, options.residual_tolerance), "KINSetFuncNormTol");
     check(KINSetScaledStepTol(kin, options.step_tolerance), "KINSetScaledStepTol");
     check(KINSetNumMaxIters(kin, options.max_iterations), "KINSetNumMaxIters");
-    check(KINSetMaxSetupCalls(kin, 1), "KINSetMaxSetupCalls");  // a fresh Jacobian at every iterate
-    if (options.max_newton_step > 0.0) check(KINSetMaxNewtonStep(kin, options.max_newton_step), "KINSetMaxNewtonStep");
-    if (constraints_) check(KINSetConstraints(kin, constraints_.get()), "KINSetConstraints");
+    check(KINSetMaxNewtonStep(kin, options.max_newton_step), "KINSetMaxNewtonStep");  // 0: KINSOL's default
+    if (options.constraints.size() > 0) {
+      fill(constraints_.get(), options.constraints.cast<double>());
+      check(KINSetConstraints(kin, constraints_.get()), "KINSetConstraints");
+    } else {
+      check(KINSetConstraints(kin, nullptr), "KINSetConstraints");
+    }
     strategy_ = options.globalisation == Globalisation::line_search ? KIN_LINESEARCH : KIN_NONE;
   }
 
@@ -294,13 +390,17 @@ class Kinsol {
     return flag;
   }
 
+  // Unbinds the problem (it dies with the solve).
+  void release() {
+    content_.problem = nullptr;
+    KINSetUserData(kinsol_.get(), nullptr);
+    KINSetErrHandlerFn(kinsol_.get(), kinsol_error_handler, nullptr);
+  }
+
   int iterations() const { return counter(KINGetNumNonlinSolvIters); }
   int backtracks() const { return counter(KINGetNumBacktrackOps); }
-  // Column (1-based) of the zero pivot if the last LU factorisation failed, else 0.
-  long zero_pivot_column() const {
-    const long flag = static_cast<long>(SUNLinSolLastFlag(linear_solver_.get()));
-    return flag > 0 ? flag : 0;
-  }
+  // Column (1-based) of the zero pivot if the last factorisation failed, else 0.
+  long zero_pivot_column() const { return content_.last_flag > 0 ? content_.last_flag : 0; }
 
  private:
   struct ContextDeleter {
@@ -340,14 +440,17 @@ class Kinsol {
     return get(kinsol_.get(), &value) == KIN_SUCCESS ? static_cast<int>(value) : -1;
   }
 
+  SeamContent content_;
   // Creation order; destruction runs backwards.
   std::unique_ptr<std::remove_pointer_t<SUNContext>, ContextDeleter> context_;
   VectorHandle u_, u_scale_, f_scale_, constraints_;
-  std::unique_ptr<std::remove_pointer_t<SUNMatrix>, MatrixDeleter> jacobian_;
+  std::unique_ptr<std::remove_pointer_t<SUNMatrix>, MatrixDeleter> matrix_;
   std::unique_ptr<std::remove_pointer_t<SUNLinearSolver>, SolverDeleter> linear_solver_;
   std::unique_ptr<void, KinsolDeleter> kinsol_;
   int strategy_ = KIN_LINESEARCH;
 };
+
+std::atomic<long> kinsol_setups{0};
 
 // What a KINSOL flag means for the user: the termination and a message in words.
 struct Outcome {
@@ -551,17 +654,48 @@ std::string NewtonSummary::brief_report() const {
       time_s * 1e3);
 }
 
-NewtonSummary solve_newton(const Residual& residual, const Jacobian& jacobian, VectorXd& x,
-                           const NewtonOptions& options) {
+struct NewtonSolver::Impl {
+  explicit Impl(LinearSolver& seam) : solver(seam) {
+    try {
+      kinsol = std::make_unique<Kinsol>(seam);
+      ++kinsol_setups;
+      ++setups;
+    } catch (const SetupFailure& failure) {
+      setup_failure = failure.what();
+    }
+  }
+  LinearSolver& solver;
+  std::unique_ptr<Kinsol> kinsol;
+  std::string setup_failure;
+  int setups = 0, solves = 0;
+};
+
+NewtonSolver::NewtonSolver(LinearSolver& linear_solver) : impl_(std::make_unique<Impl>(linear_solver)) {}
+NewtonSolver::~NewtonSolver() = default;
+NewtonSolver::NewtonSolver(NewtonSolver&&) noexcept = default;
+NewtonSolver& NewtonSolver::operator=(NewtonSolver&&) noexcept = default;
+
+LinearSolver& NewtonSolver::linear_solver() const { return impl_->solver; }
+int NewtonSolver::size() const { return impl_->solver.size(); }
+int NewtonSolver::setups() const { return impl_->setups; }
+int NewtonSolver::solves() const { return impl_->solves; }
+long NewtonSolver::total_setups() { return kinsol_setups.load(); }
+
+NewtonSummary NewtonSolver::solve(const Residual& residual, const JacobianFill& jacobian, VectorXd& x,
+                                  const NewtonOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   if (!residual || !jacobian) throw std::invalid_argument("solve_newton: the residual or Jacobian callback is empty");
   if (x.size() == 0) throw std::invalid_argument("solve_newton: the initial guess x is empty");
   const int n = static_cast<int>(x.size());
+  if (n != size())
+    throw std::invalid_argument(
+        fmt::format("NewtonSolver::solve: x has size {}, but the linear solver was set up for {} unknowns", n, size()));
   options.validate(n);
   check_initial_guess(x, options);
+  ++impl_->solves;
 
   NewtonSummary summary;
-  Problem problem(residual, jacobian, n,
+  Problem problem(residual, jacobian, impl_->solver,
                   options.residual_scale.size() ? options.residual_scale : VectorXd(VectorXd::Ones(n)));
   const auto finish = [&](NewtonTermination termination, std::string message, int flag) {
     summary.termination = termination;
@@ -596,22 +730,31 @@ NewtonSummary solve_newton(const Residual& residual, const Jacobian& jacobian, V
   }
   problem.cache_initial(x, f0);
 
-  // 2. KINSOL. A callback's exception is rethrown only here, after the C frames are gone; x
-  //    is assigned only once everything that may throw has run.
-  std::unique_ptr<Kinsol> kinsol;
-  try {
-    kinsol = std::make_unique<Kinsol>(problem, options);
-  } catch (const SetupFailure& failure) {
+  // 2. KINSOL, set up once by the constructor and bound to this solve's problem and options. A
+  //    callback's exception is rethrown only here, after the C frames are gone; x is assigned
+  //    only once everything that may throw has run.
+  const auto setup_failed = [&](const std::string& why) {
     summary.iterations = summary.backtracks = 0;
     summary.final_residual = r0;
-    return finish(NewtonTermination::setup_failed,
-                  fmt::format("setup failed: {}; KINSOL could not be configured", failure.what()), KIN_MEM_FAIL);
+    return finish(NewtonTermination::setup_failed, fmt::format("setup failed: {}; KINSOL could not be configured", why),
+                  KIN_MEM_FAIL);
+  };
+  if (!impl_->kinsol) return setup_failed(impl_->setup_failure);
+  Kinsol& kinsol = *impl_->kinsol;
+  struct Release {  // the problem dies with this solve: unbind it on every path
+    Kinsol& kinsol;
+    ~Release() { kinsol.release(); }
+  } release{kinsol};
+  try {
+    kinsol.configure(problem, options);
+  } catch (const SetupFailure& failure) {
+    return setup_failed(failure.what());
   }
   VectorXd x_final = x;
-  const int flag = kinsol->solve(x_final);
+  const int flag = kinsol.solve(x_final);
   if (problem.pending_exception) std::rethrow_exception(problem.pending_exception);
-  summary.iterations = kinsol->iterations();
-  summary.backtracks = kinsol->backtracks();
+  summary.iterations = kinsol.iterations();
+  summary.backtracks = kinsol.backtracks();
 
   // 3. The residual at the returned x, and the last history entry.
   if (const VectorXd* last_f = problem.last_residual_at(x_final.data())) {
@@ -623,8 +766,27 @@ NewtonSummary solve_newton(const Residual& residual, const Jacobian& jacobian, V
   if (std::isfinite(summary.final_residual)) problem.record(x_final.data(), summary.final_residual);
   x = x_final;
 
-  Outcome outcome = interpret(flag, summary, options, problem, kinsol->zero_pivot_column());
+  Outcome outcome = interpret(flag, summary, options, problem, kinsol.zero_pivot_column());
   return finish(outcome.termination, std::move(outcome.message), flag);
+}
+
+NewtonSummary solve_newton(const Residual& residual, const Jacobian& jacobian, VectorXd& x,
+                           const NewtonOptions& options) {
+  if (!residual || !jacobian) throw std::invalid_argument("solve_newton: the residual or Jacobian callback is empty");
+  if (x.size() == 0) throw std::invalid_argument("solve_newton: the initial guess x is empty");
+  const int n = static_cast<int>(x.size());
+  DenseLu lu(n);
+  NewtonSolver newton(lu);
+  const JacobianFill fill = [&](const VectorXd& z, const VectorXd& f) {
+    MatrixXd& matrix = lu.matrix();
+    const bool accepted = jacobian(z, f, matrix);
+    if (matrix.rows() != n || matrix.cols() != n)
+      throw std::invalid_argument(fmt::format(
+          "solve_newton: the Jacobian callback resized the matrix from {0}x{0} to {1}x{2}; it must keep the size", n,
+          matrix.rows(), matrix.cols()));
+    return accepted;
+  };
+  return newton.solve(residual, fill, x, options);
 }
 
 }  // namespace liftoff::nonlinear

@@ -1,8 +1,9 @@
 #pragma once
-// Newton's method for a square system F(x) = 0 with a dense analytic Jacobian, run by SUNDIALS
-// KINSOL (line search or full steps, dense LU). Model-independent: the Ritz model's equilibrium
-// (modal amplitudes and contact-limit coordinates) and the corrector of a pseudo-arc-length
-// continuation (a bordered system) both come here. This is the only place that calls SUNDIALS.
+// Newton's method for a square system F(x) = 0 with an analytic Jacobian, run by SUNDIALS
+// KINSOL (line search or full steps) over a linear-solver seam (nonlinear/linear_solver.hpp:
+// dense LU for Ritz, sparse LU for FE, a bordered solver for arc length). Model-independent: the Ritz model's
+// equilibrium (modal amplitudes and contact-limit coordinates) and the corrector of a pseudo-arc-length continuation (a
+// bordered system) both come here. This is the only place that calls SUNDIALS.
 //
 // The callbacks:
 //  - Residual(x, f) writes F(x) into f (sized n on entry; keep the size). It returns false when
@@ -13,7 +14,9 @@
 //    An f with NaN or Inf counts as a rejection.
 //  - Jacobian(x, f, J) writes dF/dx at x into J (n x n, zeroed on entry); f = F(x) is given so
 //    that shared work need not be redone. Returning false, or a non-finite J, ends the solve
-//    with linear_solver_failed.
+//    with linear_solver_failed. With NewtonSolver the Jacobian is a JacobianFill(x, f) that
+//    writes dF/dx into the matrix of the adapter's LinearSolver (zeroed on entry, its pattern
+//    kept), under the same rules; the adapter then factorises it and solves with the factors.
 //  - An exception thrown by either callback ends the solve and propagates out of solve_newton
 //    unchanged (same type); x is then left as it was on entry.
 //
@@ -21,14 +24,18 @@
 
 #include <Eigen/Dense>
 #include <functional>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "nonlinear/linear_solver.hpp"
 
 namespace liftoff::nonlinear {
 
 using Residual = std::function<bool(const Eigen::VectorXd& x, Eigen::VectorXd& f)>;
 using Jacobian = std::function<bool(const Eigen::VectorXd& x, const Eigen::VectorXd& f, Eigen::MatrixXd& jacobian)>;
+using JacobianFill = std::function<bool(const Eigen::VectorXd& x, const Eigen::VectorXd& f)>;
 
 enum class Globalisation {
   line_search,  // KIN_LINESEARCH: backtrack along the Newton direction until |F| decreases enough
@@ -91,11 +98,43 @@ struct NewtonSummary {
   std::string brief_report() const;  // one line
 };
 
+// The KINSOL adapter, set up once and solved many times (as OSQP's osqp_setup / osqp_solve).
+// The constructor creates the SUNDIALS context, the vectors, the KINSOL memory and a
+// SUNLinearSolver that calls `linear_solver` (factorise at every iterate, then solve); every
+// solve() rebinds the callbacks and options and allocates nothing in SUNDIALS. The linear
+// solver is the caller's and must outlive the adapter; its size fixes n. A setup that fails
+// (out of memory) is reported by every solve as setup_failed. Not thread-safe; not copyable.
+class NewtonSolver {
+ public:
+  explicit NewtonSolver(LinearSolver& linear_solver);
+  ~NewtonSolver();
+  NewtonSolver(NewtonSolver&&) noexcept;
+  NewtonSolver& operator=(NewtonSolver&&) noexcept;
+
+  // As solve_newton below, with the Jacobian filled into linear_solver()'s matrix. x must have
+  // size() entries (else std::invalid_argument).
+  NewtonSummary solve(const Residual& residual, const JacobianFill& jacobian, Eigen::VectorXd& x,
+                      const NewtonOptions& options = {});
+
+  LinearSolver& linear_solver() const;
+  int size() const;
+  int setups() const;  // KINSOL setups of this adapter: 1 (0 if the setup failed)
+  int solves() const;  // calls of solve() that passed the checks of use
+  // KINSOL setups by every adapter of the process so far: lets a test prove that a loop of
+  // solves (event location, say) reuses its adapter instead of rebuilding KINSOL.
+  static long total_setups();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 // Solves F(x) = 0 from the initial guess x, which receives the last accepted iterate (the root
 // when converged) whatever the outcome, except when a callback throws. If x already satisfies
 // residual_tolerance, returns converged with 0 iterations. Misuse throws std::invalid_argument:
 // invalid options (see validate), an empty x, NaN or Inf in x, x violating the constraints.
 // Never throws for an outcome: see summary.termination.
+// A one-shot convenience: a DenseLu and a NewtonSolver made for this solve only.
 NewtonSummary solve_newton(const Residual& residual, const Jacobian& jacobian, Eigen::VectorXd& x,
                            const NewtonOptions& options = {});
 

@@ -12,6 +12,7 @@
 
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <vector>
 
 using namespace liftoff::continuation;
 using Eigen::MatrixXd;
@@ -60,10 +61,15 @@ TEST_CASE("arc-length follows the shallow truss through both folds", "[arclength
   options.initial_step = 0.02;
   options.max_step = 0.1;
   const PathFollower follower(shallow_truss(analytic), options);
+  const long setups_before = liftoff::nonlinear::NewtonSolver::total_setups();
   const auto start = follower.start(VectorXd::Zero(2), 0.0);
   REQUIRE(start);
   const ArcLengthResult result = follower.follow(*start);
   INFO(result.brief_report() << "; " << result.message);
+  // Set up once: the whole run (every corrector, landing and fold location solve) used the
+  // follower's two KINSOL adapters, built once each.
+  CHECK(follower.newton_setups() == 2);
+  CHECK(liftoff::nonlinear::NewtonSolver::total_setups() - setups_before == 2);
   REQUIRE(result.termination == ArcLengthTermination::completed);
   CHECK(result.points.back().lambda == options.lambda_max);  // landed on exactly
 
@@ -147,9 +153,48 @@ TEST_CASE("locate finds where an event function changes sign along a step", "[ar
   // w = 0.02 somewhere on this step (w runs from 0 to about 0.047 along it).
   const auto event = [](const PathPoint& p) { return p.x(0) - 0.02; };
   REQUIRE(event(*step.point) > 0);
+  const long setups_before = liftoff::nonlinear::NewtonSolver::total_setups();
   const auto located = follower.locate(*start, *step.point, event, 1e-12);
   REQUIRE(located);
   CHECK(std::abs(located->lambda - truss_force(0.02)) < 1e-11);
+  // Event location reuses the follower's corrector: its many solves built no KINSOL.
+  CHECK(liftoff::nonlinear::NewtonSolver::total_setups() == setups_before);
+  CHECK(follower.newton_setups() == 2);
+}
+
+TEST_CASE("a sparse G_x (PathProblem::sparse_jacobian) follows the same path as the dense one", "[arclength]") {
+  ArcLengthOptions options;
+  options.lambda_min = -1.0;
+  options.lambda_max = 0.5;
+  options.initial_step = 0.02;
+  options.max_step = 0.1;
+  PathProblem sparse = shallow_truss(true);
+  sparse.jacobian = nullptr;
+  sparse.sparse_jacobian = [](const VectorXd& x, double, Eigen::SparseMatrix<double>& j) {
+    if (j.nonZeros() == 0) {  // the pattern, once
+      const std::vector<Eigen::Triplet<double>> all = {{0, 0, 1.0}, {0, 1, 1.0}, {1, 0, 1.0}, {1, 1, 1.0}};
+      j.setFromTriplets(all.begin(), all.end());
+    }
+    j.coeffRef(0, 0) = truss_stiffness(x(0)) + spring;
+    j.coeffRef(0, 1) = -spring;
+    j.coeffRef(1, 0) = -spring;
+    j.coeffRef(1, 1) = spring;
+    return true;
+  };
+  const PathFollower dense_follower(shallow_truss(true), options), sparse_follower(sparse, options);
+  const ArcLengthResult a = dense_follower.follow(*dense_follower.start(VectorXd::Zero(2), 0.0));
+  const ArcLengthResult b = sparse_follower.follow(*sparse_follower.start(VectorXd::Zero(2), 0.0));
+  REQUIRE(a.termination == ArcLengthTermination::completed);
+  REQUIRE(b.termination == ArcLengthTermination::completed);
+  REQUIRE(a.points.size() == b.points.size());
+  REQUIRE(b.folds.size() == 2);
+  // The same steps, to the corrector's tolerance (1e-11) times the steps' sensitivity.
+  for (std::size_t i = 0; i < a.points.size(); ++i) {
+    CHECK(std::abs(a.points[i].lambda - b.points[i].lambda) < 1e-9);
+    CHECK((a.points[i].x - b.points[i].x).lpNorm<Eigen::Infinity>() < 1e-9);
+  }
+  for (std::size_t i = 0; i < 2; ++i) CHECK(std::abs(a.folds[i].lambda - b.folds[i].lambda) < 1e-9);
+  CHECK(sparse_follower.newton_setups() == 2);
 }
 
 TEST_CASE("arc-length options are validated", "[arclength]") {
