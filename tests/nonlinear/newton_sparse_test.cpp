@@ -8,6 +8,7 @@
 
 #include "fe/discretisation.hpp"
 #include "fe/member_model.hpp"
+#include "fe/mixed_form.hpp"
 #include "nonlinear/linear_solver.hpp"
 #include "nonlinear/newton.hpp"
 #include "support/scenes.hpp"
@@ -47,7 +48,7 @@ double inverse_norm_estimate(const nonlinear::LinearSolver& b, const nonlinear::
   return estimate;
 }
 
-// The FE model in the mixed form the fast contact solver uses (fe/discretisation.hpp):
+// The FE model in the mixed form the fast contact solver uses (fe/mixed_form.hpp):
 // unknowns z = (sigma, u), the element stress resultants and the displacements, and the
 // linear residual
 //     R(z) = [ H sigma - G u ]      so that G^T H^-1 G u = K u = f at the root.
@@ -59,18 +60,8 @@ Run solve_beam(int elements) {
   s.loads = {test::uniform_load(0.0, 1.0, 1.0), test::point_force(0.3, 0.5)};
   const fe::Discretisation d = fe::discretise(fe::make_member_model(s), elements);
   REQUIRE(d.structure_is_stable());  // pinned-pinned: K alone is nonsingular
-  const SparseMatrix& g = d.stress_coupling;
   const int m = d.stresses(), e = d.equations, n = m + e;
-  std::vector<Eigen::Triplet<double>> entries;
-  entries.reserve(static_cast<std::size_t>(m + 2 * g.nonZeros()));
-  for (int i = 0; i < m; ++i) entries.emplace_back(i, i, d.compliance(i));
-  for (int j = 0; j < g.outerSize(); ++j)
-    for (SparseMatrix::InnerIterator it(g, j); it; ++it) {
-      entries.emplace_back(static_cast<int>(it.row()), m + static_cast<int>(it.col()), -it.value());
-      entries.emplace_back(m + static_cast<int>(it.col()), static_cast<int>(it.row()), it.value());
-    }
-  SparseMatrix jacobian_matrix(n, n);
-  jacobian_matrix.setFromTriplets(entries.begin(), entries.end());
+  const SparseMatrix jacobian_matrix = fe::mixed_matrix(d);
   VectorXd rhs = VectorXd::Zero(n);
   rhs.tail(e) = d.load(1.0);
 

@@ -16,9 +16,12 @@
 //   pipeline  the tensionless 500 m pipeline at 1e3 .. 1e6 elements by fast (nested): its
 //             equilibrium and contact conditions from the assembled K form, its deflection and
 //             limits against the closed form; then the limit-fitted solve.
+//   newton    Newton over the sparse linear-solver seam (issue 14) on the long member's linear FE
+//             residual, N = 1e4 .. 1e6: time against one direct sparse solve, a second solve with
+//             the same KINSOL adapter, factor nonzeros per unknown, peak memory, fitted exponent.
 //
 // Speed is a benchmark, never a test: nothing here asserts. Run from the build directory:
-//   verification/bench/liftoff_accuracy_bench [roundoff] [ratio] [arch] [limits] [pipeline] [--max-elements N]
+//   verification/bench/liftoff_accuracy_bench [roundoff] [ratio] [arch] [limits] [pipeline] [newton] [--max-elements N]
 
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -44,6 +47,9 @@
 #include "contact/fitted_limits.hpp"
 #include "fe/discretisation.hpp"
 #include "fe/member_model.hpp"
+#include "fe/mixed_form.hpp"
+#include "nonlinear/linear_solver.hpp"
+#include "nonlinear/newton.hpp"
 #include "post/contact_regions.hpp"
 #include "scene/scene.hpp"
 #include "scene/scene_reader.hpp"
@@ -539,6 +545,120 @@ void pipeline_section(int max_elements) {
   }
 }
 
+// ---- newton ---------------------------------------------------------------------------------
+
+// Newton over the sparse linear-solver seam (nonlinear/newton.hpp, linear_solver.hpp) on the
+// linear FE residual of the long member in mixed form (fe/mixed_form.hpp), bilateral so that the
+// residual is linear: it must cost what one direct sparse solve costs, times the iterations, and
+// grow like n. Columns: one Eigen SparseLU analyse + factorise + solve (the floor); a NewtonSolver
+// set up and solved (KINSOL set-up, SparseLu analysis, one factorisation per iteration); a second
+// solve with the same adapter (no set-up, no analysis); the factor's nonzeros per unknown; the
+// peak memory of a child process doing discretise + one Newton solve.
+void newton_section(int max_elements) {
+  scene::Scene bilateral_scene = long_member();
+  bilateral_scene.foundation.tensionless = false;
+  const fe::MemberModel model = fe::make_member_model(bilateral_scene);
+  std::printf(
+      "\nnewton: Newton over the sparse seam on the long member's linear FE residual (mixed form, bilateral),\n"
+      "  in-process medians; peak memory of a child doing discretise + one Newton solve\n");
+  std::printf("  %8s %9s %9s %9s %9s %6s %6s %6s %9s %8s\n", "N", "unknowns", "direct s", "newton s", "again s",
+              "ratio", "iters", "nnz/n", "|dz|/|z|", "peak MB");
+  std::vector<double> sizes, times;
+  for (int n : {10000, 100000, 1000000}) {
+    if (n > max_elements) break;
+    const int repeats = n <= 10000 ? 7 : n <= 100000 ? 5 : 3;
+    const fe::Discretisation d = fe::discretise(model, n);
+    const Eigen::SparseMatrix<double> matrix = fe::mixed_matrix(d);
+    const int m = d.stresses(), unknowns = static_cast<int>(matrix.rows());
+    VectorXd rhs = VectorXd::Zero(unknowns);
+    rhs.tail(d.equations) = d.load(1.0);
+    VectorXd typical(unknowns);
+    std::vector<double> direct_s, newton_s, again_s;
+    VectorXd z_direct, z_newton;
+    nonlinear::NewtonSummary summary;
+    nonlinear::NewtonOptions last_options;
+    long factor_nonzeros = 0;
+    for (int r = -1; r < repeats; ++r) {  // r = -1: warm-up, not recorded
+      auto start = std::chrono::steady_clock::now();
+      Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> direct(matrix);
+      z_direct = direct.solve(rhs);
+      const double t_direct = seconds_since(start);
+      if (r == -1) {
+        typical.head(m).setConstant(std::max(z_direct.head(m).lpNorm<Eigen::Infinity>(), 1e-300));
+        typical.tail(d.equations).setConstant(std::max(z_direct.tail(d.equations).lpNorm<Eigen::Infinity>(), 1e-300));
+      }
+      const VectorXd row_size =
+          (Eigen::SparseMatrix<double>(matrix.cwiseAbs()) * typical).array() + rhs.cwiseAbs().array();
+      nonlinear::NewtonOptions options;
+      options.residual_scale = row_size.cwiseInverse();
+      options.unknown_scale = typical.cwiseInverse();
+      options.max_newton_step = 10.0 * std::sqrt(static_cast<double>(unknowns));
+      const nonlinear::Residual residual = [&](const VectorXd& z, VectorXd& f) {
+        f.noalias() = matrix * z;
+        f -= rhs;
+        return true;
+      };
+      start = std::chrono::steady_clock::now();
+      nonlinear::SparseLu lu(unknowns);
+      nonlinear::NewtonSolver newton(lu);
+      const nonlinear::JacobianFill fill = [&](const VectorXd&, const VectorXd&) {
+        if (lu.matrix().nonZeros() == 0)
+          lu.matrix() = matrix;
+        else
+          std::copy(matrix.valuePtr(), matrix.valuePtr() + matrix.nonZeros(), lu.matrix().valuePtr());
+        return true;
+      };
+      last_options = options;
+      z_newton = VectorXd::Zero(unknowns);
+      summary = newton.solve(residual, fill, z_newton, options);
+      const double t_newton = seconds_since(start);
+      start = std::chrono::steady_clock::now();
+      VectorXd z_again = VectorXd::Zero(unknowns);
+      newton.solve(residual, fill, z_again, options);
+      const double t_again = seconds_since(start);
+      factor_nonzeros = lu.factor_nonzeros();
+      if (r >= 0) direct_s.push_back(t_direct), newton_s.push_back(t_newton), again_s.push_back(t_again);
+    }
+    std::fflush(stdout);  // the child inherits unflushed output
+    const auto [peak_mb, child_s] = in_child([&] {
+      const fe::Discretisation dc = fe::discretise(model, n);
+      const Eigen::SparseMatrix<double> mc = fe::mixed_matrix(dc);
+      VectorXd b = VectorXd::Zero(mc.rows());
+      b.tail(dc.equations) = dc.load(1.0);
+      nonlinear::SparseLu lu(static_cast<int>(mc.rows()));
+      nonlinear::NewtonSolver newton(lu);
+      VectorXd z = VectorXd::Zero(mc.rows());
+      newton.solve(
+          [&](const VectorXd& x, VectorXd& f) {
+            f.noalias() = mc * x;
+            f -= b;
+            return true;
+          },
+          [&](const VectorXd&, const VectorXd&) {
+            lu.matrix() = mc;
+            return true;
+          },
+          z, last_options);
+    });
+    (void)child_s;
+    auto median = [](std::vector<double> v) {
+      std::sort(v.begin(), v.end());
+      return v[v.size() / 2];
+    };
+    const double td = median(direct_s), tn = median(newton_s), ta = median(again_s);
+    sizes.push_back(unknowns), times.push_back(tn);
+    std::printf("  %8d %9d %9.4f %9.4f %9.4f %6.2f %6d %6.1f %9.1e %8.0f%s\n", n, unknowns, td, tn, ta, tn / td,
+                summary.iterations, static_cast<double>(factor_nonzeros) / unknowns,
+                (z_newton - z_direct).lpNorm<Eigen::Infinity>() / z_direct.lpNorm<Eigen::Infinity>(), peak_mb,
+                summary.is_usable() ? "" : " (Newton: NOT CONVERGED)");
+    std::fflush(stdout);
+  }
+  if (sizes.size() >= 2) {
+    const double exponent = std::log(times.back() / times.front()) / std::log(sizes.back() / sizes.front());
+    std::printf("  fitted exponent of Newton's time in the unknowns: %.2f (1 = O(n))\n", exponent);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -550,7 +670,7 @@ int main(int argc, char** argv) {
     else
       sections.push_back(argv[i]);
   }
-  if (sections.empty()) sections = {"roundoff", "ratio", "arch", "limits", "pipeline"};
+  if (sections.empty()) sections = {"roundoff", "ratio", "arch", "limits", "pipeline", "newton"};
   for (const auto& s : sections) {
     if (s == "roundoff") {
       roundoff_section(max_elements);
@@ -563,8 +683,11 @@ int main(int argc, char** argv) {
       limits_section(max_elements);
     else if (s == "pipeline")
       pipeline_section(max_elements);
+    else if (s == "newton")
+      newton_section(max_elements);
     else {
-      std::fprintf(stderr, "liftoff_accuracy_bench: unknown section '%s' (roundoff, ratio, arch, limits, pipeline)\n",
+      std::fprintf(stderr,
+                   "liftoff_accuracy_bench: unknown section '%s' (roundoff, ratio, arch, limits, pipeline, newton)\n",
                    s.c_str());
       return 2;
     }
