@@ -57,8 +57,19 @@ def count_colour(path, rgb, tolerance=3):
     return int(np.sum(np.all(np.abs(p - np.array(rgb)) <= tolerance, axis=2)))
 
 
-# A beam on two soils with a void between them (a trench), a pinned left end, a point force, a
-# moment, a dead uniform load: every kind of thing the solve picture draws.
+# Two soils with a void between them (a trench).
+TWO_SOILS = """[[foundation.segments]]
+from = 0.0
+to = 5.0
+modulus = 2.0e7
+
+[[foundation.segments]]
+from = 7.0
+to = 12.0
+modulus = 2.0e7"""
+
+# A beam on TWO_SOILS, a pinned left end, a point force, a moment, a dead uniform load: every kind
+# of thing the solve picture draws.
 BEAM = """
 [structure]
 kind = "beam"
@@ -69,15 +80,7 @@ EI = 2.0e7
 left = "pinned"
 right = "free"
 
-[[foundation.segments]]
-from = 0.0
-to = 5.0
-modulus = 2.0e7
-
-[[foundation.segments]]
-from = 7.0
-to = 12.0
-modulus = 2.0e7
+""" + TWO_SOILS + """
 
 [[loads]]
 kind = "uniform"
@@ -103,15 +106,7 @@ monitor = 9.0
 """
 
 # The same member on one foundation everywhere: its lift-off map has no void.
-WHOLE = BEAM.replace("""[[foundation.segments]]
-from = 0.0
-to = 5.0
-modulus = 2.0e7
-
-[[foundation.segments]]
-from = 7.0
-to = 12.0
-modulus = 2.0e7""", """[foundation]
+WHOLE = BEAM.replace(TWO_SOILS, """[foundation]
 modulus = 2.0e7""")
 
 # A pair of loads rolled over the trench, and load combinations of which one (the uplift W, -2e6
