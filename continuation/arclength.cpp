@@ -19,6 +19,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "core/enum_names.hpp"
 #include "nonlinear/bordered_solver.hpp"
 #include "nonlinear/linear_solver.hpp"
 
@@ -37,24 +38,20 @@ struct PathFollower::Workspace {
   std::unique_ptr<nonlinear::NewtonSolver> corrector;     // over bordered
 };
 
+namespace {
+constexpr EnumName<ArcLengthTermination> arc_length_termination_names[] = {
+    {ArcLengthTermination::completed, "completed"},
+    {ArcLengthTermination::stopped_by_observer, "stopped_by_observer"},
+    {ArcLengthTermination::step_too_small, "step_too_small"},
+    {ArcLengthTermination::step_limit, "step_limit"},
+    {ArcLengthTermination::step_rejected, "step_rejected"},
+    {ArcLengthTermination::start_failed, "start_failed"},
+    {ArcLengthTermination::singular_tangent, "singular_tangent"},
+};
+}  // namespace
+
 std::string_view to_string(ArcLengthTermination t) {
-  switch (t) {
-    case ArcLengthTermination::completed:
-      return "completed";
-    case ArcLengthTermination::stopped_by_observer:
-      return "stopped_by_observer";
-    case ArcLengthTermination::step_too_small:
-      return "step_too_small";
-    case ArcLengthTermination::step_limit:
-      return "step_limit";
-    case ArcLengthTermination::step_rejected:
-      return "step_rejected";
-    case ArcLengthTermination::start_failed:
-      return "start_failed";
-    case ArcLengthTermination::singular_tangent:
-      return "singular_tangent";
-  }
-  return "unknown";
+  return name_in<ArcLengthTermination>(arc_length_termination_names, t);
 }
 
 std::string ArcLengthResult::brief_report() const {

@@ -195,11 +195,7 @@ def footing_first_order(doc, samples=60001):
     limit (if inside) and of the pressure at its peak. Returns (rigid, d_limit, d_peak, ratio):
     ratio = the bending deflection against the rigid settlement range (must be small)."""
     B, K = doc["structure"]["length"], doc["foundation"]["modulus"]
-    a, b, pa, pb = rigid_footing(doc)
-    x = np.linspace(0.0, B, samples)
-    inside = (x >= a) & (x <= b)
-    p = np.where(inside, pa + (pb - pa) * (x - a) / (b - a), 0.0)
-    d = footing_flexibility(doc, x, p, inside)
+    (a, b, pa, pb), x, inside, p, d = footing_flexibility(doc, samples)
     w_rigid = p / K
     ratio = (d[inside].max() - d[inside].min()) / max(w_rigid.max(), 1e-300)
     d_limit = 0.0
@@ -212,11 +208,16 @@ def footing_first_order(doc, samples=60001):
     return (a, b, pa, pb), d_limit, d_peak, ratio
 
 
-def footing_flexibility(doc, x, p, inside):
-    """The first-order change d of w (footing_first_order): the footing's bending under the
-    loads and the rigid pressure p, plus the rigid motion that keeps K d self-equilibrated over
-    the rigid contact `inside`."""
-    EI = doc["structure"]["EI"]
+def footing_flexibility(doc, samples):
+    """The rigid footing (rigid_footing) sampled at `samples` points x over its length, and the
+    first-order change d of w (footing_first_order): the footing's bending under the loads and
+    the rigid pressure p, plus the rigid motion that keeps K d self-equilibrated over the rigid
+    contact `inside`. Returns ((a, b, pa, pb), x, inside, p, d)."""
+    B, EI = doc["structure"]["length"], doc["structure"]["EI"]
+    a, b, pa, pb = rigid_footing(doc)
+    x = np.linspace(0.0, B, samples)
+    inside = (x >= a) & (x <= b)
+    p = np.where(inside, pa + (pb - pa) * (x - a) / (b - a), 0.0)
 
     def integral(f):  # cumulative trapezoid from 0
         return np.concatenate([[0.0], np.cumsum((f[1:] + f[:-1]) / 2 * np.diff(x))])
@@ -235,19 +236,16 @@ def footing_flexibility(doc, x, p, inside):
     gram = np.array([[np.trapz(inside * u * v, x) for v in basis] for u in basis])
     rhs = -np.array([np.trapz(inside * w_bend * u, x) for u in basis])
     r0, r1 = np.linalg.solve(gram, rhs)
-    return w_bend + r0 + r1 * x  # the change of w, with K d self-equilibrated over the contact
+    d = w_bend + r0 + r1 * x  # the change of w, with K d self-equilibrated over the contact
+    return (a, b, pa, pb), x, inside, p, d
 
 
 def footing_design(doc, samples=60001):
     """The footing's largest sagging moment and |V| from the rigid pressure, and from it plus the
     first-order flexibility change K d over the rigid contact (footing_first_order's d). Returns
     (rigid, corrected), each {"moment_max", "shear_max_abs"}."""
-    B, K = doc["structure"]["length"], doc["foundation"]["modulus"]
-    a, b, pa, pb = rigid_footing(doc)
-    x = np.linspace(0.0, B, samples)
-    inside = (x >= a) & (x <= b)
-    p = np.where(inside, pa + (pb - pa) * (x - a) / (b - a), 0.0)
-    d = footing_flexibility(doc, x, p, inside)
+    K = doc["foundation"]["modulus"]
+    _, x, inside, p, d = footing_flexibility(doc, samples)
 
     def statics(pressure):
         dx = np.diff(x)

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/require.hpp"
+
 namespace liftoff::certify {
 
 const Check* Certificate::find(std::string_view name) const {
@@ -18,14 +20,13 @@ const Check* Certificate::first_failure() const {
 }
 
 void CertifyOptions::validate() const {
-  if (!std::isfinite(load_factor)) throw std::invalid_argument("CertifyOptions::load_factor must be finite");
-  if (samples_per_element < 1) throw std::invalid_argument("CertifyOptions::samples_per_element must be >= 1");
-  if (!(sign_floor >= 0.0 && sign_floor < 1e-3))
-    throw std::invalid_argument("CertifyOptions::sign_floor must be in [0, 1e-3)");
-  if (!(backward_tolerance >= 0.0 && backward_tolerance < 1.0))
-    throw std::invalid_argument("CertifyOptions::backward_tolerance must be in [0, 1)");
-  if (std::isnan(discretisation_error))
-    throw std::invalid_argument("CertifyOptions::discretisation_error must be a number (negative: none)");
+  require(std::isfinite(load_factor), "CertifyOptions::load_factor", "must be finite");
+  require(samples_per_element >= 1, "CertifyOptions::samples_per_element", "must be >= 1");
+  require(sign_floor >= 0.0 && sign_floor < 1e-3, "CertifyOptions::sign_floor", "must be in [0, 1e-3)");
+  require(backward_tolerance >= 0.0 && backward_tolerance < 1.0, "CertifyOptions::backward_tolerance",
+          "must be in [0, 1)");
+  require(!std::isnan(discretisation_error), "CertifyOptions::discretisation_error",
+          "must be a number (negative: none)");
 }
 
 UserFigures user_figures(const Certificate& c, const fe::MemberModel& model) {

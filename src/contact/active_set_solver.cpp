@@ -9,34 +9,33 @@
 #include <stdexcept>
 #include <unordered_set>
 
+#include "core/enum_names.hpp"
+#include "core/require.hpp"
 #include "fe/shape_functions.hpp"
 
 namespace liftoff::contact {
 
 using Eigen::VectorXd;
 
+namespace {
+constexpr EnumName<ActiveSetTermination> active_set_termination_names[] = {
+    {ActiveSetTermination::solved, "solved"},
+    {ActiveSetTermination::iteration_limit, "iteration_limit"},
+    {ActiveSetTermination::cycling, "cycling"},
+    {ActiveSetTermination::singular_system, "singular_system"},
+};
+}  // namespace
+
 std::string_view to_string(ActiveSetTermination t) {
-  switch (t) {
-    case ActiveSetTermination::solved:
-      return "solved";
-    case ActiveSetTermination::iteration_limit:
-      return "iteration_limit";
-    case ActiveSetTermination::cycling:
-      return "cycling";
-    case ActiveSetTermination::singular_system:
-      return "singular_system";
-  }
-  return "unknown";
+  return name_in<ActiveSetTermination>(active_set_termination_names, t);
 }
 
 void ActiveSetOptions::validate() const {
-  if (max_iterations < 1) throw std::invalid_argument("ActiveSetOptions::max_iterations must be at least 1");
-  if (block_retries < -1)
-    throw std::invalid_argument("ActiveSetOptions::block_retries must be -1 (no safeguard) or >= 0");
-  if (!(sign_tolerance >= 0.0 && sign_tolerance < 1e-3))
-    throw std::invalid_argument("ActiveSetOptions::sign_tolerance must be in [0, 1e-3)");
-  if (!(intermediate_error >= 0.0 && intermediate_error <= 1e-6))
-    throw std::invalid_argument("ActiveSetOptions::intermediate_error must be in [0, 1e-6]");
+  require(max_iterations >= 1, "ActiveSetOptions::max_iterations", "must be at least 1");
+  require(block_retries >= -1, "ActiveSetOptions::block_retries", "must be -1 (no safeguard) or >= 0");
+  require(sign_tolerance >= 0.0 && sign_tolerance < 1e-3, "ActiveSetOptions::sign_tolerance", "must be in [0, 1e-3)");
+  require(intermediate_error >= 0.0 && intermediate_error <= 1e-6, "ActiveSetOptions::intermediate_error",
+          "must be in [0, 1e-6]");
 }
 
 namespace {
@@ -178,10 +177,9 @@ ActiveSetResult solve_active_set(const fe::Discretisation& d, const VectorXd& lo
 }
 
 void NestedOptions::validate() const {
-  if (coarsening < 2) throw std::invalid_argument("NestedOptions::coarsening must be at least 2");
-  if (min_elements < 1) throw std::invalid_argument("NestedOptions::min_elements must be at least 1");
-  if (!(elements_per_decay_length > 0.0))
-    throw std::invalid_argument("NestedOptions::elements_per_decay_length must be positive");
+  require(coarsening >= 2, "NestedOptions::coarsening", "must be at least 2");
+  require(min_elements >= 1, "NestedOptions::min_elements", "must be at least 1");
+  require(elements_per_decay_length > 0.0, "NestedOptions::elements_per_decay_length", "must be positive");
 }
 
 namespace {

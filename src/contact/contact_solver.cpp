@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "core/error.hpp"
+#include "core/require.hpp"
 
 namespace liftoff::contact {
 
@@ -28,9 +29,9 @@ constexpr EnumName<ContactTermination> contact_termination_names[] = {
 std::string_view to_string(ContactTermination t) { return name_in<ContactTermination>(contact_termination_names, t); }
 
 void ContactOptions::validate() const {
-  if (!std::isfinite(load_factor)) throw std::invalid_argument("ContactOptions::load_factor must be finite");
-  if (method != Method::dual && method != Method::primal && method != Method::fast && method != Method::automatic)
-    throw std::invalid_argument("ContactOptions::method must be dual, primal, fast or auto (an FE formulation)");
+  require(std::isfinite(load_factor), "ContactOptions::load_factor", "must be finite");
+  require(method == Method::dual || method == Method::primal || method == Method::fast || method == Method::automatic,
+          "ContactOptions::method", "must be dual, primal, fast or auto (an FE formulation)");
   lemke.validate();
   active_set.validate();
 }

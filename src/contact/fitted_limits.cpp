@@ -7,6 +7,8 @@
 #include <optional>
 #include <stdexcept>
 
+#include "core/enum_names.hpp"
+#include "core/require.hpp"
 #include "fe/mesh.hpp"
 #include "fe/shape_functions.hpp"
 
@@ -14,30 +16,25 @@ namespace liftoff::contact {
 
 using Eigen::VectorXd;
 
-std::string_view to_string(FittedTermination t) {
-  switch (t) {
-    case FittedTermination::solved:
-      return "solved";
-    case FittedTermination::no_convergence:
-      return "no_convergence";
-    case FittedTermination::topology_changed:
-      return "topology_changed";
-    case FittedTermination::inequalities_violated:
-      return "inequalities_violated";
-    case FittedTermination::singular_system:
-      return "singular_system";
-  }
-  return "unknown";
-}
+namespace {
+constexpr EnumName<FittedTermination> fitted_termination_names[] = {
+    {FittedTermination::solved, "solved"},
+    {FittedTermination::no_convergence, "no_convergence"},
+    {FittedTermination::topology_changed, "topology_changed"},
+    {FittedTermination::inequalities_violated, "inequalities_violated"},
+    {FittedTermination::singular_system, "singular_system"},
+};
+}  // namespace
+
+std::string_view to_string(FittedTermination t) { return name_in<FittedTermination>(fitted_termination_names, t); }
 
 void FittedOptions::validate() const {
-  if (elements < 1) throw std::invalid_argument("FittedOptions::elements must be at least 1");
-  if (max_iterations < 1) throw std::invalid_argument("FittedOptions::max_iterations must be at least 1");
-  if (!(step_tolerance > 0.0 && step_tolerance < 1e-3))
-    throw std::invalid_argument("FittedOptions::step_tolerance must be in (0, 1e-3)");
-  if (!(inequality_tolerance >= 0.0 && inequality_tolerance < 1e-2))
-    throw std::invalid_argument("FittedOptions::inequality_tolerance must be in [0, 1e-2)");
-  if (samples_per_element < 1) throw std::invalid_argument("FittedOptions::samples_per_element must be at least 1");
+  require(elements >= 1, "FittedOptions::elements", "must be at least 1");
+  require(max_iterations >= 1, "FittedOptions::max_iterations", "must be at least 1");
+  require(step_tolerance > 0.0 && step_tolerance < 1e-3, "FittedOptions::step_tolerance", "must be in (0, 1e-3)");
+  require(inequality_tolerance >= 0.0 && inequality_tolerance < 1e-2, "FittedOptions::inequality_tolerance",
+          "must be in [0, 1e-2)");
+  require(samples_per_element >= 1, "FittedOptions::samples_per_element", "must be at least 1");
 }
 
 namespace {

@@ -7,6 +7,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "core/enum_names.hpp"
+#include "core/require.hpp"
 #include "fe/mesh.hpp"
 #include "fe/shape_functions.hpp"
 
@@ -14,26 +16,24 @@ namespace liftoff::contact {
 
 using Eigen::VectorXd;
 
+namespace {
+constexpr EnumName<ToleranceTermination> tolerance_termination_names[] = {
+    {ToleranceTermination::reached, "reached"},
+    {ToleranceTermination::cap_reached, "cap_reached"},
+    {ToleranceTermination::round_off, "round_off"},
+    {ToleranceTermination::fitted_failed, "fitted_failed"},
+};
+}  // namespace
+
 std::string_view to_string(ToleranceTermination t) {
-  switch (t) {
-    case ToleranceTermination::reached:
-      return "reached";
-    case ToleranceTermination::cap_reached:
-      return "cap_reached";
-    case ToleranceTermination::round_off:
-      return "round_off";
-    case ToleranceTermination::fitted_failed:
-      return "fitted_failed";
-  }
-  return "unknown";
+  return name_in<ToleranceTermination>(tolerance_termination_names, t);
 }
 
 void ToleranceOptions::validate() const {
-  if (!(tolerance >= 1e-13 && tolerance <= 0.1))
-    throw std::invalid_argument("ToleranceOptions::tolerance must be in [1e-13, 0.1]");
-  if (initial_elements < 0) throw std::invalid_argument("ToleranceOptions::initial_elements must be >= 0");
-  if (max_elements < 2) throw std::invalid_argument("ToleranceOptions::max_elements must be at least 2");
-  if (samples_per_element < 1) throw std::invalid_argument("ToleranceOptions::samples_per_element must be at least 1");
+  require(tolerance >= 1e-13 && tolerance <= 0.1, "ToleranceOptions::tolerance", "must be in [1e-13, 0.1]");
+  require(initial_elements >= 0, "ToleranceOptions::initial_elements", "must be >= 0");
+  require(max_elements >= 2, "ToleranceOptions::max_elements", "must be at least 2");
+  require(samples_per_element >= 1, "ToleranceOptions::samples_per_element", "must be at least 1");
   fitted.validate();
 }
 

@@ -41,6 +41,8 @@
 #include <type_traits>
 #include <utility>
 
+#include "core/enum_names.hpp"
+
 namespace liftoff::nonlinear {
 
 namespace {
@@ -614,37 +616,29 @@ void NewtonOptions::validate(int n) const {
                       constraints(i)));
 }
 
-std::string_view to_string(Globalisation g) {
-  switch (g) {
-    case Globalisation::line_search:
-      return "line_search";
-    case Globalisation::none:
-      return "none";
-  }
-  return "unknown";
-}
+namespace {
+constexpr EnumName<Globalisation> globalisation_names[] = {
+    {Globalisation::line_search, "line_search"},
+    {Globalisation::none, "none"},
+};
+}  // namespace
 
-std::string_view to_string(NewtonTermination t) {
-  switch (t) {
-    case NewtonTermination::converged:
-      return "converged";
-    case NewtonTermination::step_below_tolerance:
-      return "step_below_tolerance";
-    case NewtonTermination::line_search_failed:
-      return "line_search_failed";
-    case NewtonTermination::iteration_limit:
-      return "iteration_limit";
-    case NewtonTermination::linear_solver_failed:
-      return "linear_solver_failed";
-    case NewtonTermination::residual_failed:
-      return "residual_failed";
-    case NewtonTermination::setup_failed:
-      return "setup_failed";
-    case NewtonTermination::other_failure:
-      return "other_failure";
-  }
-  return "unknown";
-}
+std::string_view to_string(Globalisation g) { return name_in<Globalisation>(globalisation_names, g); }
+
+namespace {
+constexpr EnumName<NewtonTermination> newton_termination_names[] = {
+    {NewtonTermination::converged, "converged"},
+    {NewtonTermination::step_below_tolerance, "step_below_tolerance"},
+    {NewtonTermination::line_search_failed, "line_search_failed"},
+    {NewtonTermination::iteration_limit, "iteration_limit"},
+    {NewtonTermination::linear_solver_failed, "linear_solver_failed"},
+    {NewtonTermination::residual_failed, "residual_failed"},
+    {NewtonTermination::setup_failed, "setup_failed"},
+    {NewtonTermination::other_failure, "other_failure"},
+};
+}  // namespace
+
+std::string_view to_string(NewtonTermination t) { return name_in<NewtonTermination>(newton_termination_names, t); }
 
 std::string NewtonSummary::brief_report() const {
   return fmt::format(

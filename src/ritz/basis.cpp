@@ -8,6 +8,8 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "core/enum_names.hpp"
+
 namespace liftoff::ritz {
 
 // Why the families are complete.
@@ -137,17 +139,13 @@ bool canonical(DeflectionEnd left, DeflectionEnd right) {
          (left == D::hinge && right == D::free);
 }
 
-std::string_view name(DeflectionEnd e) {
-  switch (e) {
-    case DeflectionEnd::hinge:
-      return "w = 0";
-    case DeflectionEnd::clamp:
-      return "w = w' = 0";
-    case DeflectionEnd::free:
-      return "free";
-  }
-  return "";
-}
+constexpr EnumName<DeflectionEnd> deflection_end_names[] = {
+    {DeflectionEnd::hinge, "w = 0"},
+    {DeflectionEnd::clamp, "w = w' = 0"},
+    {DeflectionEnd::free, "free"},
+};
+
+std::string_view name(DeflectionEnd e) { return name_in<DeflectionEnd>(deflection_end_names, e); }
 
 // The w family in s for the given end conditions: canonical family, mirrored if needed, mapped
 // from xi to s.

@@ -8,33 +8,32 @@
 #include <limits>
 #include <stdexcept>
 
+#include "core/enum_names.hpp"
+#include "core/require.hpp"
+
 namespace liftoff::ritz {
 
 using Eigen::VectorXd;
 
-std::string_view to_string(RitzTermination t) {
-  switch (t) {
-    case RitzTermination::converged:
-      return "converged";
-    case RitzTermination::newton_failed:
-      return "newton_failed";
-    case RitzTermination::inequalities_violated:
-      return "inequalities_violated";
-    case RitzTermination::modes_not_converged:
-      return "modes_not_converged";
-    case RitzTermination::no_starting_point:
-      return "no_starting_point";
-  }
-  return "unknown";
-}
+namespace {
+constexpr EnumName<RitzTermination> ritz_termination_names[] = {
+    {RitzTermination::converged, "converged"},
+    {RitzTermination::newton_failed, "newton_failed"},
+    {RitzTermination::inequalities_violated, "inequalities_violated"},
+    {RitzTermination::modes_not_converged, "modes_not_converged"},
+    {RitzTermination::no_starting_point, "no_starting_point"},
+};
+}  // namespace
+
+std::string_view to_string(RitzTermination t) { return name_in<RitzTermination>(ritz_termination_names, t); }
 
 void RitzOptions::validate() const {
-  if (modes < 0) throw std::invalid_argument("RitzOptions::modes must be >= 0 (0: automatic)");
-  if (max_modes < 1) throw std::invalid_argument("RitzOptions::max_modes must be >= 1");
-  if (!(mode_tolerance > 0)) throw std::invalid_argument("RitzOptions::mode_tolerance must be > 0");
-  if (!(field_tolerance >= 0)) throw std::invalid_argument("RitzOptions::field_tolerance must be >= 0");
-  if (!std::isfinite(load_factor)) throw std::invalid_argument("RitzOptions::load_factor must be finite");
-  if (!(inequality_tolerance > 0)) throw std::invalid_argument("RitzOptions::inequality_tolerance must be > 0");
+  require(modes >= 0, "RitzOptions::modes", "must be >= 0 (0: automatic)");
+  require(max_modes >= 1, "RitzOptions::max_modes", "must be >= 1");
+  require(mode_tolerance > 0, "RitzOptions::mode_tolerance", "must be > 0");
+  require(field_tolerance >= 0, "RitzOptions::field_tolerance", "must be >= 0");
+  require(std::isfinite(load_factor), "RitzOptions::load_factor", "must be finite");
+  require(inequality_tolerance > 0, "RitzOptions::inequality_tolerance", "must be > 0");
 }
 
 std::string RitzSummary::brief_report() const {

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "support/cli.hpp"
+#include "support/scenes.hpp"
 #include "support/scratch.hpp"
 
 namespace fs = std::filesystem;
@@ -704,27 +705,7 @@ TEST_CASE("cli: --csv-fields writes the sampled fields; an unwritable one is exi
 
 // The issue's trap: the B70 sleeper (verification/scenes/engineering/sleeper_b70_ballast.toml) with
 // its modulus K = 2.5e7 N/m^2 written as the old nondimensional key k.
-const char* sleeper_trap = R"(
-[structure]
-kind = "beam"
-length = 2.6
-EI = 4.5e6
-[supports]
-left = "free"
-right = "free"
-[foundation]
-k = 2.5e7
-[[loads]]
-kind = "force"
-at = 0.55
-value = 125.0e3
-[[loads]]
-kind = "force"
-at = 2.05
-value = 125.0e3
-[units]
-system = "N-m"
-)";
+const std::string sleeper_trap = sleeper_b70("k = 2.5e7", "[units]\nsystem = \"N-m\"\n");
 
 TEST_CASE("cli: units and the foundation's scale in the summary, JSON and HDF5; the trap warns", "[app][units]") {
   Scratch scratch;

@@ -57,8 +57,19 @@ def count_colour(path, rgb, tolerance=3):
     return int(np.sum(np.all(np.abs(p - np.array(rgb)) <= tolerance, axis=2)))
 
 
-# A beam on two soils with a void between them (a trench), a pinned left end, a point force, a
-# moment, a dead uniform load: every kind of thing the solve picture draws.
+# Two soils with a void between them (a trench).
+TWO_SOILS = """[[foundation.segments]]
+from = 0.0
+to = 5.0
+modulus = 2.0e7
+
+[[foundation.segments]]
+from = 7.0
+to = 12.0
+modulus = 2.0e7"""
+
+# A beam on TWO_SOILS, a pinned left end, a point force, a moment, a dead uniform load: every kind
+# of thing the solve picture draws.
 BEAM = """
 [structure]
 kind = "beam"
@@ -69,15 +80,7 @@ EI = 2.0e7
 left = "pinned"
 right = "free"
 
-[[foundation.segments]]
-from = 0.0
-to = 5.0
-modulus = 2.0e7
-
-[[foundation.segments]]
-from = 7.0
-to = 12.0
-modulus = 2.0e7
+""" + TWO_SOILS + """
 
 [[loads]]
 kind = "uniform"
@@ -103,15 +106,7 @@ monitor = 9.0
 """
 
 # The same member on one foundation everywhere: its lift-off map has no void.
-WHOLE = BEAM.replace("""[[foundation.segments]]
-from = 0.0
-to = 5.0
-modulus = 2.0e7
-
-[[foundation.segments]]
-from = 7.0
-to = 12.0
-modulus = 2.0e7""", """[foundation]
+WHOLE = BEAM.replace(TWO_SOILS, """[foundation]
 modulus = 2.0e7""")
 
 # A pair of loads rolled over the trench, and load combinations of which one (the uplift W, -2e6
@@ -192,6 +187,20 @@ def drew(result, expected, what):
             check(fraction > 0.02, f"{what}: {os.path.basename(path)} has ink on {100 * fraction:.1f} % of its pixels")
 
 
+def wrote(liftoff, code, kind, what, h5, *args):
+    """`liftoff ARGS` exited with `code` and wrote h5, a liftoff file of root attribute kind = `kind`."""
+    r = run(liftoff, *args)
+    check(r.returncode == code, f"{what}: exit {code} (got {r.returncode}: {r.stderr.strip()})")
+    with h5py.File(h5) as f:
+        check(f.attrs.get("kind") == kind, f"{what}: root attribute kind = {kind}")
+
+
+def write(path, text):
+    with open(path, "w") as f:
+        f.write(text)
+    return path
+
+
 def error(result, code, name, what):
     lines = result.stderr.strip().splitlines()
     check(result.returncode == code, f"{what}: exit {code} (got {result.returncode})")
@@ -208,18 +217,11 @@ def main():
         os.makedirs(args.keep, exist_ok=True)
     with tempfile.TemporaryDirectory() as scratch:
         tmp = args.keep or scratch
-        beam, whole = os.path.join(tmp, "beam.toml"), os.path.join(tmp, "whole.toml")
-        with open(beam, "w") as f:
-            f.write(BEAM)
-        with open(whole, "w") as f:
-            f.write(WHOLE)
+        beam, whole = write(os.path.join(tmp, "beam.toml"), BEAM), write(os.path.join(tmp, "whole.toml"), WHOLE)
 
         # solve: a beam, and the default scene (an arch: diagrams against theta and its shape)
         h5 = os.path.join(tmp, "beam.h5")
-        r = run(liftoff, "solve", beam, "--output", h5)
-        check(r.returncode == 0, f"solve beam: exit 0 ({r.stderr.strip()})")
-        with h5py.File(h5) as f:
-            check(f.attrs.get("kind") == "solve", "solve file: root attribute kind = solve")
+        wrote(liftoff, 0, "solve", "solve beam", h5, "solve", beam, "--output", h5)
         drew(run(liftoff, "plot", h5), [os.path.join(tmp, "beam_diagrams.png")], "plot solve")
         arch = os.path.join(tmp, "arch.h5")
         check(run(liftoff, "solve", "--output", arch).returncode == 0, "solve default arch: exit 0")
@@ -230,10 +232,7 @@ def main():
         # trace: with a void (hatched grey on the lift-off map) and without (no grey)
         for name, scene, void in (("trace_void", beam, True), ("trace_whole", whole, False)):
             h5 = os.path.join(tmp, name + ".h5")
-            r = run(liftoff, "trace", scene, "--output", h5)
-            check(r.returncode == 0, f"{name}: trace exit 0 ({r.stderr.strip()})")
-            with h5py.File(h5) as f:
-                check(f.attrs.get("kind") == "trace", f"{name}: root attribute kind = trace")
+            wrote(liftoff, 0, "trace", f"{name}: trace", h5, "trace", scene, "--output", h5)
             pictures = [os.path.join(tmp, name + "_load_displacement.png"), os.path.join(tmp, name + "_lift_off_map.png")]
             drew(run(liftoff, "plot", h5), pictures, f"plot {name}")
             grey = count_colour(pictures[1], VOID_GREY)
@@ -245,11 +244,10 @@ def main():
         # sweep with fast and one failing case: the force of -2e6 (away from the foundation) lifts
         # the pinned-free beam off, which its one pin cannot hold: no equilibrium
         h5 = os.path.join(tmp, "sweep.h5")
-        r = run(liftoff, "sweep", whole, "--set", "loads[1].value=-2e6,100e3,200e3,300e3", "--method", "fast",
-                "--jobs", "1", "--output", h5, "--csv", os.path.join(tmp, "sweep.csv"))
-        check(r.returncode == 3, f"sweep with a failing case: exit 3 (got {r.returncode})")
+        wrote(liftoff, 3, "sweep", "sweep with a failing case", h5, "sweep", whole, "--set",
+              "loads[1].value=-2e6,100e3,200e3,300e3", "--method", "fast", "--jobs", "1", "--output", h5, "--csv",
+              os.path.join(tmp, "sweep.csv"))
         with h5py.File(h5) as f:
-            check(f.attrs.get("kind") == "sweep", "sweep file: root attribute kind = sweep")
             failed = [c for c in f["cases"] if text(f["cases"][c]["fast"].attrs["termination"]) != "solved"]
             check(len(failed) == 1, f"sweep: exactly one case failed (got {failed})")
         pictures = [os.path.join(tmp, "sweep_deflection.png"), os.path.join(tmp, "sweep_reaction.png")]
@@ -261,14 +259,10 @@ def main():
              [prefix + "_deflection.png", prefix + "_reaction.png"], "plot sweep --normalise")
 
         # envelope of a moving load: the envelopes and the lift-off map against the lead position
-        scene = os.path.join(tmp, "moving.toml")
-        with open(scene, "w") as f:
-            f.write(MOVING)
         h5 = os.path.join(tmp, "moving.h5")
-        r = run(liftoff, "envelope", scene, "--hdf5", h5)
-        check(r.returncode == 0, f"envelope moving: exit 0 ({r.stderr.strip()})")
+        wrote(liftoff, 0, "envelope", "envelope moving", h5, "envelope",
+              write(os.path.join(tmp, "moving.toml"), MOVING), "--hdf5", h5)
         with h5py.File(h5) as f:
-            check(f.attrs.get("kind") == "envelope", "envelope file: root attribute kind = envelope")
             check(text(f.attrs.get("units_length", "")) == "m" and text(f.attrs.get("units_force", "")) == "N",
                   "envelope file: units_length = m, units_force = N (what the axes say)")
             check(len(f["cases/certified"]) == 22 and all(f["cases/certified"][()] == 1),
@@ -283,12 +277,9 @@ def main():
         check(green > 50000, f"envelope lift-off map: contact drawn ({green} green pixels)")
 
         # load combinations, one of which fails: drawn without it, with the red note
-        scene = os.path.join(tmp, "combinations.toml")
-        with open(scene, "w") as f:
-            f.write(COMBINATIONS)
         h5 = os.path.join(tmp, "combinations.h5")
-        r = run(liftoff, "envelope", scene, "--hdf5", h5)
-        check(r.returncode == 3, f"envelope with a failing combination: exit 3 (got {r.returncode})")
+        wrote(liftoff, 3, "envelope", "envelope with a failing combination", h5, "envelope",
+              write(os.path.join(tmp, "combinations.toml"), COMBINATIONS), "--hdf5", h5)
         with h5py.File(h5) as f:
             check(list(f["cases/certified"][()]) == [1, 1, 0], "envelope file: the uplift combination failed")
             check(sorted(f["cases/fields"]) == ["0000", "0001"], "envelope file: the certified combinations' own "
@@ -308,9 +299,7 @@ def main():
         # errors
         missing = os.path.join(tmp, "missing.h5")
         error(run(liftoff, "plot", missing), 2, "missing.h5", "plot a missing file")
-        not_hdf5 = os.path.join(tmp, "scene.h5")
-        with open(not_hdf5, "w") as f:
-            f.write(BEAM)
+        not_hdf5 = write(os.path.join(tmp, "scene.h5"), BEAM)
         error(run(liftoff, "plot", not_hdf5), 2, not_hdf5, "plot a file that is not HDF5")
         foreign = os.path.join(tmp, "foreign.h5")
         with h5py.File(foreign, "w") as f:

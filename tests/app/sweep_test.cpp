@@ -12,7 +12,9 @@
 #include "app/cli.hpp"
 #include "app/sweep_command.hpp"
 #include "core/error.hpp"
+#include "support/cli.hpp"
 #include "support/scenes.hpp"
+#include "support/scratch.hpp"
 
 using namespace liftoff;
 
@@ -56,8 +58,8 @@ TEST_CASE("sweep: every combination, in order, in parallel as in series", "[app]
 
 TEST_CASE("sweep: the command writes the CSV and an HDF5 file with every case", "[app][sweep]") {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / ("liftoff_sweep_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const test::Scratch scratch("liftoff_sweep_test");
+  const fs::path& dir = scratch.dir;
   const std::string scene = std::string(LIFTOFF_SOURCE_DIR) + "/verification/scenes/seed_beam_end_moments.toml";
   const std::string h5 = (dir / "sweep.h5").string(), csv = (dir / "sweep.csv").string();
   const char* argv[] = {"liftoff",  "sweep", scene.c_str(), "--set", "foundation.k=1e2,1e4",
@@ -101,7 +103,6 @@ TEST_CASE("sweep: the command writes the CSV and an HDF5 file with every case", 
   CHECK(std::system(plot.c_str()) == 0);
   CHECK(fs::file_size(dir / "fig_deflection.png") > 10000);
   CHECK(fs::file_size(dir / "fig_reaction.png") > 10000);
-  fs::remove_all(dir);
 }
 
 TEST_CASE("sweep: a grid of more than max_sweep_cases cases is refused before any work", "[app][sweep][errors]") {
@@ -138,17 +139,13 @@ TEST_CASE("sweep: a key swept twice, or one that is no scene key, is refused on 
 
 TEST_CASE("sweep CLI: bad keys, huge grids and clashing outputs exit 2 and write nothing", "[app][sweep][errors]") {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / ("liftoff_sweep_cli_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const test::Scratch scratch("liftoff_sweep_cli_test");
+  const fs::path& dir = scratch.dir;
   const std::string scene = std::string(LIFTOFF_SOURCE_DIR) + "/verification/scenes/seed_beam_end_moments.toml";
   const auto run = [](std::vector<std::string> args, std::string* err_text = nullptr) {
-    args.insert(args.begin(), "liftoff");
-    std::vector<const char*> argv;
-    for (const auto& a : args) argv.push_back(a.c_str());
-    std::ostringstream out, err;
-    const int status = app::run_cli(static_cast<int>(argv.size()), argv.data(), out, err);
-    if (err_text) *err_text = err.str();
-    return status;
+    const test::Run r = test::run_cli(std::move(args));
+    if (err_text) *err_text = r.err;
+    return r.status;
   };
   std::string err;
   // std::stoi on the index was exit 1.
@@ -173,19 +170,19 @@ TEST_CASE("sweep CLI: bad keys, huge grids and clashing outputs exit 2 and write
   std::ifstream copy(scene_copy), original(scene);
   CHECK(std::string(std::istreambuf_iterator<char>(copy), {}) ==
         std::string(std::istreambuf_iterator<char>(original), {}));
-  fs::remove_all(dir);
 }
 
 TEST_CASE("sweep: --method all keys the HDF5 groups by the method asked for, even after a fallback", "[app][sweep]") {
   // Issue 10: fast falling back to dual Lemke on this beam labelled its answer dual, so the sweep
   // created the group "dual" twice and failed with exit 4.
   namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / ("liftoff_sweep_fallback_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  const fs::path scene = dir / "pinned.toml";
-  std::ofstream(scene) << "[structure]\nkind = \"beam\"\nlength = 1.0\nEI = 1.0\n[supports]\nleft = \"pinned\"\n"
-                          "right = \"pinned\"\n[foundation]\nk = 1e8\n[[loads]]\nkind = \"moment\"\nat = 0.27\n"
-                          "value = 1.0\n[solve]\nelements = 150\n";
+  const test::Scratch scratch("liftoff_sweep_fallback");
+  const fs::path& dir = scratch.dir;
+  const fs::path scene =
+      scratch.write("pinned.toml",
+                    "[structure]\nkind = \"beam\"\nlength = 1.0\nEI = 1.0\n[supports]\nleft = \"pinned\"\n"
+                    "right = \"pinned\"\n[foundation]\nk = 1e8\n[[loads]]\nkind = \"moment\"\nat = 0.27\n"
+                    "value = 1.0\n[solve]\nelements = 150\n");
   const std::string h5 = (dir / "s.h5").string(), csv = (dir / "s.csv").string(), path = scene.string();
   const char* argv[] = {"liftoff", "sweep",    path.c_str(), "--set",     "loads[0].value=1", "--method", "all",
                         "-o",      h5.c_str(), "--csv",      csv.c_str(), "--modes",          "8"};
@@ -196,5 +193,4 @@ TEST_CASE("sweep: --method all keys the HDF5 groups by the method asked for, eve
       "assert sorted(f['cases']['0000'].keys())==['dual','fast','primal','ritz']; "
       "assert f['cases/0000/fast'].attrs['method_requested']=='fast'";
   CHECK(std::system(("/usr/bin/python3 -c \"" + script + "\" " + h5).c_str()) == 0);
-  fs::remove_all(dir);
 }

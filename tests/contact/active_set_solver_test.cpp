@@ -235,17 +235,26 @@ TEST_CASE("auto: fast for every FE scene, stable or not, small or large", "[cont
   CHECK(solved.summary.method_reason == contact::choose_fe_method(fe::discretise(stable, 200)).reason);
 }
 
-TEST_CASE("nested iteration: a coarser mesh's contact set starts this one, same answer in fewer sets here",
-          "[contact][fast][nested]") {
-  // A long member with seven lift-off zones (beta L = 1000, self-weight, uplift forces of five
-  // times the Hetenyi lift-off force 2 q / beta): from the bilateral start the limits creep by
-  // about a node per block step (11 sets at 1e4 elements); from the contact set of 1000 elements
-  // carried over, 2 sets (verification/bench/accuracy_bench.cpp ratio).
+namespace {
+
+// A long member with seven lift-off zones (beta L = 1000, self-weight, uplift forces of five
+// times the Hetenyi lift-off force 2 q / beta).
+scene::Scene seven_lift_off_zones() {
   const double beta = 1000.0;
   auto s = test::beam_scene(1.0, 1.0, EndSupport::pinned, EndSupport::pinned, 4.0 * std::pow(beta, 4));
   s.loads = {test::uniform_load(0.0, 1.0, 1.0, scene::LoadCase::dead)};
   for (double x : {0.11, 0.23, 0.37, 0.5, 0.61, 0.77, 0.9}) s.loads.push_back(test::point_force(x, -10.0 / beta));
-  const auto model = fe::make_member_model(s);
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("nested iteration: a coarser mesh's contact set starts this one, same answer in fewer sets here",
+          "[contact][fast][nested]") {
+  // seven_lift_off_zones: from the bilateral start the limits creep by about a node per block step
+  // (11 sets at 1e4 elements); from the contact set of 1000 elements carried over, 2 sets
+  // (verification/bench/accuracy_bench.cpp ratio).
+  const auto model = fe::make_member_model(seven_lift_off_zones());
   const auto d = fe::discretise(model, 10000);
   const auto plain = contact::solve_active_set(d, d.load(1.0), {});
   const auto nested = contact::solve_active_set_nested(model, d, 1.0, {});
@@ -264,11 +273,7 @@ TEST_CASE("fast through solve_contact: a large uniform mesh starts from a coarse
   // The long member of the test above: discretise(model, N) keeps the member, so solve_contact
   // (as `liftoff solve`) takes the nested start without being asked; a mesh it did not make
   // (fitted limits, a given mesh) has no member and starts from the bilateral set.
-  const double beta = 1000.0;
-  auto s = test::beam_scene(1.0, 1.0, EndSupport::pinned, EndSupport::pinned, 4.0 * std::pow(beta, 4));
-  s.loads = {test::uniform_load(0.0, 1.0, 1.0, scene::LoadCase::dead)};
-  for (double x : {0.11, 0.23, 0.37, 0.5, 0.61, 0.77, 0.9}) s.loads.push_back(test::point_force(x, -10.0 / beta));
-  const auto model = fe::make_member_model(s);
+  const auto model = fe::make_member_model(seven_lift_off_zones());
   const auto d = fe::discretise(model, 10000);
   REQUIRE(d.uniform_member);
   const auto fast = solve_with(d, Method::fast);

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "support/lemke_answers.hpp"
 #include "support/scenes.hpp"
 #include "support/solve.hpp"
 
@@ -25,71 +26,21 @@ using contact::ContactTermination;
 using scene::EndSupport;
 using scene::Method;
 
-namespace {
-
-constexpr double eps = std::numeric_limits<double>::epsilon();
-
-// The footing of issue 10: B = 3 m, EI = 5.4e8 N m^2, K = 3e7 N/m^2, a column of 800 kN with a
-// moment at x = 1.8 m (clockwise negative).
-scene::Scene footing(double moment) {
-  scene::Scene s = test::beam_scene(3.0, 5.4e8, EndSupport::free, EndSupport::free, 0.0);
-  s.foundation.stiffness_parameter.reset();
-  s.foundation.modulus = 3.0e7;
-  s.loads = {test::point_force(1.8, 800e3), test::point_moment(1.8, moment)};
-  return s;
-}
-
-std::vector<bool> contact_flags(const test::Solved& s) {
-  std::vector<bool> flags;
-  for (double r : s.solution.reaction) flags.push_back(r > 0.0);
-  return flags;
-}
-
-// A Lemke answer against fast's on the same mesh: either a refusal naming the check, or the same
-// contact set and the same u and r. Both come from the same sparse system on the same set, so they
-// may differ by what iterative refinement leaves: 10 times fast's own error estimate (the margin
-// the sign tests use), or a few eps where that is below round-off.
-void require_fast_or_refusal(const test::Solved& lemke, const test::Solved& fast) {
-  const contact::ContactSummary& summary = lemke.solution.summary;
-  CAPTURE(summary.brief_report(), summary.message, fast.solution.summary.brief_report());
-  REQUIRE(fast.solution.summary.is_usable());
-  if (!summary.is_usable()) {
-    CHECK(summary.termination == ContactTermination::numerical_failure);
-    CHECK_THAT(summary.message, Catch::Matchers::Contains("is not the answer"));
-    return;
-  }
-  CHECK(contact_flags(lemke) == contact_flags(fast));
-  const double tolerance = 10.0 * std::max(fast.solution.summary.error_estimate, 4.0 * eps);
-  CHECK(test::relative_difference(lemke.solution.displacement, fast.solution.displacement) <= tolerance);
-  CHECK(test::relative_difference(lemke.solution.reaction, fast.solution.reaction) <= tolerance);
-  REQUIRE(lemke.regions.size() == fast.regions.size());
-  for (std::size_t i = 0; i < lemke.regions.size(); ++i) {
-    // A limit is interpolated from nodal deflections: their relative difference times an element.
-    double h = 0.0;
-    for (int e = 0; e < lemke.discretisation.mesh.elements(); ++e)
-      h = std::max(h, lemke.discretisation.mesh.element_size(e));
-    CHECK(lemke.regions[i].begin == Approx(fast.regions[i].begin).margin(h * tolerance + 4.0 * eps));
-    CHECK(lemke.regions[i].end == Approx(fast.regions[i].end).margin(h * tolerance + 4.0 * eps));
-  }
-}
-
-}  // namespace
-
 TEST_CASE("primal Lemke on the footing of issue 10: fast's answer or a refusal", "[contact][lcp][primal]") {
   const auto [moment, elements] =
       GENERATE(table<double, int>({{-400e3, 40}, {-400e3, 80}, {-600e3, 80}, {-500e3, 60}, {0.0, 60}}));
   CAPTURE(moment, elements);
-  const scene::Scene s = footing(moment);
+  const scene::Scene s = test::issue10_footing(moment);
   const test::Solved primal = test::solve(s, Method::primal, elements);
   const test::Solved fast = test::solve(s, Method::fast, elements);
-  require_fast_or_refusal(primal, fast);
+  test::require_fast_or_refusal(primal, fast);
   // Where Lemke's final contact set was right (all but the one-node miss at -600 kN m, 80
   // elements), the answer is now returned, whatever sign its u+/u- split had.
   if (!(moment == -600e3 && elements == 80)) CHECK(primal.solution.summary.is_usable());
 }
 
 TEST_CASE("a wrong final contact set is refused with the node and the sign that fail", "[contact][lcp][primal]") {
-  const test::Solved primal = test::solve(footing(-600e3), Method::primal, 80);
+  const test::Solved primal = test::solve(test::issue10_footing(-600e3), Method::primal, 80);
   const contact::ContactSummary& summary = primal.solution.summary;
   CAPTURE(summary.message);
   // Before the fix Lemke ended here one node off the answer; should a better Lemke find the right
@@ -111,7 +62,7 @@ TEST_CASE("dual Lemke on pinned beams: fast's answer, re-solved", "[contact][lcp
   const int elements = GENERATE(40, 120);
   const test::Solved dual = test::solve(s, Method::dual, elements);
   const test::Solved fast = test::solve(s, Method::fast, elements);
-  require_fast_or_refusal(dual, fast);
+  test::require_fast_or_refusal(dual, fast);
   CHECK(dual.solution.summary.is_usable());
   CHECK_THAT(dual.solution.summary.message, !Catch::Matchers::Contains("not the answer"));
 }
@@ -122,7 +73,7 @@ TEST_CASE("the residual of a floating member sees its global balance", "[contact
   // round-off balances to a few eps times what the rows of K u round to (the stored K annihilates
   // rigid motions only to its own rounding): 1e-10 here, where the wrong primal answer of issue 10
   // was off by 3.5e-2. So the residual of an accepted answer bounds its global balance error.
-  const test::Solved fast = test::solve(footing(-400e3), Method::fast, 40);
+  const test::Solved fast = test::solve(test::issue10_footing(-400e3), Method::fast, 40);
   REQUIRE(fast.solution.summary.is_usable());
   const fe::Discretisation& d = fast.discretisation;
   const Eigen::VectorXd r = fast.solution.reaction;

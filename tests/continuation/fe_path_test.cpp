@@ -567,6 +567,35 @@ TEST_CASE("FE path: every reported state passes the certificate, and a wrong con
   }
 }
 
+namespace {
+
+// The path of `scene` from lambda = 0 to 1 on `elements` elements, and solve's answer (fast) at
+// lambda = 1 on the same mesh: the path ends on it, with the same contact set and nodal w to the
+// round-off of the two fixed-set solves (1e-12 of max |w| is 1e4 times that).
+struct PathEnd {
+  TraceStep end;
+  test::Solved solved;
+  NodalState exact;
+};
+
+PathEnd path_ends_on_solve(const scene::Scene& scene, int elements) {
+  TraceOptions options = options_for(0.0, 1.0, elements);
+  options.sample_points = node_positions(scene, elements);
+  const TraceResult result = continuation::trace_fe(scene, options);
+  INFO(result.summary.message);
+  REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
+  test::Solved solved = test::solve(scene, scene::Method::fast, elements, 1.0);
+  REQUIRE(solved.solution.summary.is_usable());
+  const NodalState exact = nodal_state(solved);
+  const TraceStep& end = result.steps.back();
+  CHECK(end.load_factor == 1.0);
+  CHECK(max_relative_difference(end.deflection, exact.w) < 1e-12);
+  CHECK(set_of(end) == lemke_contact_set(solved));
+  return {end, std::move(solved), exact};
+}
+
+}  // namespace
+
 TEST_CASE("a ground gap and settlements: the path from lambda = 0 ends where solve does", "[issue12][gap]") {
   // The gap (and a settlement's dead load and gap offset) is the constant part of the path, not
   // scaled by lambda: the state at lambda = 0 is the answer under them alone (w = 1e-3 at the
@@ -582,22 +611,13 @@ TEST_CASE("a ground gap and settlements: the path from lambda = 0 ends where sol
     CAPTURE(name);
     const scene::Scene scene = scene::read_scene_file(dir + name + ".toml");
     const int elements = 200;
-    TraceOptions options = options_for(0.0, 1.0, elements);
-    options.sample_points = node_positions(scene, elements);
-    const TraceResult result = continuation::trace_fe(scene, options);
-    INFO(result.summary.message);
-    REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
-    const auto solved = test::solve(scene, scene::Method::fast, elements, 1.0);
-    REQUIRE(solved.solution.summary.is_usable());
-    const NodalState exact = nodal_state(solved);
-    const TraceStep& end = result.steps.back();
-    CHECK(end.load_factor == 1.0);
-    CHECK(max_relative_difference(end.deflection, exact.w) < 1e-12);
-    CHECK(set_of(end) == lemke_contact_set(solved));
-    REQUIRE(end.contact_regions.size() == solved.regions.size());
+    const PathEnd path = path_ends_on_solve(scene, elements);
+    const test::Solved& solved = path.solved;
+    const NodalState& exact = path.exact;
+    REQUIRE(path.end.contact_regions.size() == solved.regions.size());
     for (std::size_t i = 0; i < solved.regions.size(); ++i) {
-      CHECK(end.contact_regions[i][0] == Approx(solved.model.user_from_s(solved.regions[i].begin)).epsilon(1e-9));
-      CHECK(end.contact_regions[i][1] == Approx(solved.model.user_from_s(solved.regions[i].end)).epsilon(1e-9));
+      CHECK(path.end.contact_regions[i][0] == Approx(solved.model.user_from_s(solved.regions[i].begin)).epsilon(1e-9));
+      CHECK(path.end.contact_regions[i][1] == Approx(solved.model.user_from_s(solved.regions[i].end)).epsilon(1e-9));
     }
     // Would it fail if the path dropped the constant part? The answer without it (the same
     // scene with no gap and no settlement) is another, by 1e6 times the tolerance above at least
@@ -623,18 +643,7 @@ TEST_CASE("a bilinear foundation: the path ends where solve does", "[issue12][te
     scene.foundation.tension_stiffness_parameter = 1e3;
     REQUIRE(fe::make_member_model(scene).has_tension_modulus());
     const int elements = 200;
-    TraceOptions options = options_for(0.0, 1.0, elements);
-    options.sample_points = node_positions(scene, elements);
-    const TraceResult result = continuation::trace_fe(scene, options);
-    INFO(result.summary.message);
-    REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
-    const auto solved = test::solve(scene, scene::Method::fast, elements, 1.0);
-    REQUIRE(solved.solution.summary.is_usable());
-    const NodalState exact = nodal_state(solved);
-    const TraceStep& end = result.steps.back();
-    CHECK(end.load_factor == 1.0);
-    CHECK(max_relative_difference(end.deflection, exact.w) < 1e-12);
-    CHECK(set_of(end) == lemke_contact_set(solved));
+    const NodalState exact = path_ends_on_solve(scene, elements).exact;
     // Would it fail if the path dropped K_t? The tensionless answer is another.
     scene::Scene plain = scene;
     plain.foundation.tension_stiffness_parameter.reset();

@@ -36,6 +36,7 @@
 
 #include "fuzz/process.hpp"
 #include "fuzz/scene_generator.hpp"
+#include "support/scratch.hpp"
 
 namespace fs = std::filesystem;
 using liftoff::fuzz::Draft;
@@ -379,21 +380,15 @@ std::vector<Finding> check(const Case& c, const Ended& e, const fs::path& dir) {
 struct Campaign {
   explicit Campaign(std::string name) : family(std::move(name)) {}
   std::string family;
-  fs::path root = fs::temp_directory_path() / fmt::format("liftoff_fuzz_{}", ::getpid());
+  liftoff::test::Scratch scratch{"liftoff_fuzz_" + family};  // removed with all it holds when the family ends
   std::map<std::string, int> rules, exits;
   std::map<std::string, int> messages;  // first words of exit-2/3 messages of valid scenes, to read
   int failed_cases = 0, run = 0;
   double seconds = 0.0;
   std::string details;
 
-  ~Campaign() {
-    std::error_code ignored;
-    fs::remove_all(root / family, ignored);
-    fs::remove(root, ignored);  // the last family out removes the root
-  }
-
   void execute(int index, const Case& c) {
-    const fs::path dir = root / family / "run", capture = root / family / "capture";
+    const fs::path dir = scratch.dir / "run", capture = scratch.dir / "capture";
     fs::remove_all(dir);
     fs::create_directories(dir);
     fs::create_directories(capture);

@@ -1,14 +1,13 @@
 // The fields CSV: its columns for beams and arches, and no file after a failure.
 #include "io/csv_writer.hpp"
 
-#include <unistd.h>
-
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
 
 #include "core/error.hpp"
 #include "io/hdf5_writer.hpp"
+#include "support/scratch.hpp"
 
 using namespace liftoff;
 
@@ -40,15 +39,13 @@ TEST_CASE("fields CSV: a header and one row per sample, every digit kept", "[io]
 
 TEST_CASE("fields CSV: written whole or not at all", "[io][csv]") {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / ("liftoff_csv_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  const fs::path path = dir / "fields.csv";
+  const test::Scratch scratch("liftoff_csv_test");
+  const fs::path path = scratch.dir / "fields.csv";
   io::write_fields_csv(two_points(scene::StructureKind::beam), path);
   CHECK(fs::exists(path));
   CHECK_FALSE(fs::exists(io::temporary_path(path)));
-  const fs::path missing = dir / "no_such_dir" / "fields.csv";
+  const fs::path missing = scratch.dir / "no_such_dir" / "fields.csv";
   CHECK_THROWS_AS(io::write_fields_csv(two_points(scene::StructureKind::beam), missing), OutputError);
   CHECK_FALSE(fs::exists(missing));
   CHECK_FALSE(fs::exists(io::temporary_path(missing)));
-  fs::remove_all(dir);
 }

@@ -17,31 +17,9 @@ using Catch::Matchers::Contains;
 namespace {
 
 // The B70 sleeper of verification/scenes/engineering/sleeper_b70_ballast.toml (N, m): L = 2.6,
-// EI = 4.5e6, on a foundation written as `foundation` (one line), two rail-seat loads.
+// EI = 4.5e6, on a foundation written as `foundation` (its lines), two rail-seat loads.
 scene::Scene sleeper(const std::string& foundation, const std::string& units = "") {
-  const std::string text = R"([structure]
-kind = "beam"
-length = 2.6
-EI = 4.5e6
-
-[supports]
-left = "free"
-right = "free"
-
-[foundation]
-)" + foundation + R"(
-
-[[loads]]
-kind = "force"
-at = 0.55
-value = 125.0e3
-
-[[loads]]
-kind = "force"
-at = 2.05
-value = 125.0e3
-)" + units;
-  return scene::parse_scene(text, "sleeper.toml");
+  return scene::parse_scene(test::sleeper_b70(foundation, units), "sleeper.toml");
 }
 
 std::vector<std::string> warnings_of(const scene::Scene& s, int elements = 0) {

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "support/scratch.hpp"
 
 using namespace liftoff::scene;
 using Catch::Matchers::Contains;
@@ -504,8 +505,8 @@ TEST_CASE("user strings are escaped so the message stays on one line", "[scene][
 }
 
 TEST_CASE("read_scene_file reads a file and reports one it cannot read", "[scene][file]") {
-  const auto directory = std::filesystem::temp_directory_path() / "liftoff_scene_reader_test";
-  std::filesystem::create_directories(directory);
+  const liftoff::test::Scratch scratch("liftoff_scene_reader_test");
+  const auto& directory = scratch.dir;
   const auto path = directory / "beam.toml";
   std::ofstream(path) << beam_scene;
 
@@ -527,7 +528,6 @@ TEST_CASE("read_scene_file reads a file and reports one it cannot read", "[scene
   std::ofstream(odd) << edited(beam_scene, "EI = 1.0", "EI = -1");
   REQUIRE_THROWS_WITH(read_scene_file(odd), (directory / "two\\nlines.toml").string() +
                                                 ":4: key 'structure.EI': expected a number > 0, got -1");
-  std::filesystem::remove_all(directory);
 }
 
 TEST_CASE("the [ritz] table: modes, topology and initial limits", "[scene][ritz]") {
@@ -876,20 +876,14 @@ TEST_CASE("[foundation] gap and gap_file: the ground's distance below the axis",
   CHECK(parse_scene(with("gap = { at = [-5.0], value = [1e-3] }\n"), "scene.toml").foundation.gap_at.size() == 1);
 
   // A survey file next to the scene: a header, semicolons, commas and whitespace, a blank line.
-  const auto dir = std::filesystem::temp_directory_path() / "liftoff_gap_file_test";
-  std::filesystem::create_directories(dir);
-  {
-    std::ofstream csv(dir / "bed.csv");
-    csv << "position; gap\n-1.0; 0.0\n\n0.5, -1e-3\n 1.5\t2e-3\n";
-  }
+  const liftoff::test::Scratch scratch("liftoff_gap_file_test");
+  const auto& dir = scratch.dir;
+  scratch.write("bed.csv", "position; gap\n-1.0; 0.0\n\n0.5, -1e-3\n 1.5\t2e-3\n");
   const Scene f = parse_scene(with("gap_file = \"bed.csv\"\n"), (dir / "scene.toml").string());
   CHECK(f.foundation.gap_at == std::vector<double>{-1.0, 0.5, 1.5});
   CHECK(f.foundation.gap_value == std::vector<double>{0.0, -1e-3, 2e-3});
   CHECK(f.foundation.gap_key() == "foundation.gap_file");
-  {
-    std::ofstream csv(dir / "bad.csv");
-    csv << "x,g\n0.0, 0.0\n0.5, oops\n";
-  }
+  scratch.write("bad.csv", "x,g\n0.0, 0.0\n0.5, oops\n");
   CHECK_THAT(error_of(with("gap_file = \"bad.csv\"\n")),
              Contains("key 'foundation.gap_file': cannot read"));  // relative to the scene's directory: none here
   try {
@@ -899,17 +893,13 @@ TEST_CASE("[foundation] gap and gap_file: the ground's distance below the axis",
     CHECK_THAT(e.what(), Contains("key 'foundation.gap_file': "));
     CHECK_THAT(e.what(), Contains("bad.csv:3: expected two finite numbers (position, gap), got \"0.5, oops\""));
   }
-  {
-    std::ofstream csv(dir / "decreasing.csv");
-    csv << "1.0 0.0\n0.5 0.0\n";
-  }
+  scratch.write("decreasing.csv", "1.0 0.0\n0.5 0.0\n");
   try {
     parse_scene(with("gap_file = \"decreasing.csv\"\n"), (dir / "scene.toml").string());
     FAIL("decreasing.csv was accepted");
   } catch (const liftoff::InputError& e) {
     CHECK_THAT(e.what(), Contains("expected non-decreasing positions"));
   }
-  std::filesystem::remove_all(dir);
 }
 
 TEST_CASE("[foundation] gap, gap_file, tension_modulus, tension_nondimensional_k: malformed ones are refused by key",

@@ -15,6 +15,7 @@
 #include "certify/certificate.hpp"
 #include "closed_form/beam_on_foundation.hpp"
 #include "support/scenes.hpp"
+#include "support/scratch.hpp"
 #include "support/solve.hpp"
 
 using namespace liftoff;
@@ -232,10 +233,8 @@ TEST_CASE("stress: a load that lifts a free beam off entirely has no equilibrium
     CHECK_THAT(fe.solution.summary.message, Catch::Matchers::Contains("no equilibrium"));
   }
   // The command line says so in words, with exit code 3 and nothing on stdout.
-  namespace fs = std::filesystem;
-  const fs::path scene_file =
-      fs::temp_directory_path() / ("liftoff_stress_lift_off_" + std::to_string(::getpid()) + ".toml");
-  std::ofstream(scene_file) << R"([structure]
+  const test::Scratch scratch("liftoff_stress_lift_off");
+  const std::filesystem::path scene_file = scratch.write("scene.toml", R"([structure]
 kind = "beam"
 length = 1.0
 EI = 1.0
@@ -248,12 +247,11 @@ k = 1.0e4
 kind = "force"
 at = 0.5
 value = -1.0
-)";
+)");
   const std::string path = scene_file.string();
   std::vector<const char*> argv = {"liftoff", "solve", path.c_str(), "--method", "primal", "--elements", "40"};
   std::ostringstream out, err;
   const int status = app::run_cli(static_cast<int>(argv.size()), argv.data(), out, err);
-  fs::remove(scene_file);
   CAPTURE(out.str(), err.str());
   CHECK(status == 3);
   CHECK_THAT(err.str(), Catch::Matchers::Contains("no equilibrium"));

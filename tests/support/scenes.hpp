@@ -61,4 +61,30 @@ inline scene::Load uniform_load(double from, double to, double value, scene::Loa
   return l;
 }
 
+// The B70 sleeper of verification/scenes/engineering/sleeper_b70_ballast.toml (N, m) as scene
+// text: L = 2.6, EI = 4.5e6, free ends, two rail-seat loads of 125 kN; the [foundation] table
+// holds the lines `foundation` (its first on line 10), and `tail` follows the loads (line 19 on).
+inline std::string sleeper_b70(const std::string& foundation, const std::string& tail = "") {
+  return R"(
+[structure]
+kind = "beam"
+length = 2.6
+EI = 4.5e6
+[supports]
+left = "free"
+right = "free"
+[foundation]
+)" + foundation +
+         R"(
+[[loads]]
+kind = "force"
+at = 0.55
+value = 125.0e3
+[[loads]]
+kind = "force"
+at = 2.05
+value = 125.0e3
+)" + tail;
+}
+
 }  // namespace liftoff::test

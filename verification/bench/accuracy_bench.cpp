@@ -169,6 +169,15 @@ VectorXd solve_k_form(const fe::Discretisation& d, const VectorXd& load) {
   return x.head(n);
 }
 
+// The bilateral answer (every reaction node in contact): variant 'c' the mixed form, LU of the
+// active-set system; otherwise the K form (solve_k_form).
+VectorXd bilateral_displacement(const fe::Discretisation& d, const VectorXd& load, char variant) {
+  if (variant != 'c') return solve_k_form(d, load);
+  contact::ActiveSetSystem system(d);
+  system.factorise(std::vector<bool>(d.reactions(), true));
+  return system.solve(load).displacement;
+}
+
 // ---- roundoff -------------------------------------------------------------------------------
 
 void roundoff_section(int max_elements) {
@@ -195,14 +204,7 @@ void roundoff_section(int max_elements) {
         const fe::Discretisation d = fe::discretise(model, mesh);
         const VectorXd f = d.load(1.0);
         const auto start = std::chrono::steady_clock::now();
-        VectorXd u;
-        if (variant == 'c') {
-          contact::ActiveSetSystem system(d);
-          system.factorise(std::vector<bool>(d.reactions(), true));
-          u = system.solve(f).displacement;
-        } else {
-          u = solve_k_form(d, f);
-        }
+        const VectorXd u = bilateral_displacement(d, f, variant);
         std::printf("  %.1e (%6.2f s)        ", nodal_error(d, u, exact), seconds_since(start));
         std::fflush(stdout);
       }
@@ -229,14 +231,7 @@ void arch_roundoff(int max_elements) {
       for (int level = 0; level < 2; ++level) {
         const fe::Discretisation d = fe::discretise(model, n << level);
         const VectorXd f = d.load(1.0);
-        VectorXd u;
-        if (variant == 'c') {
-          contact::ActiveSetSystem system(d);
-          system.factorise(std::vector<bool>(d.reactions(), true));
-          u = system.solve(f).displacement;
-        } else {
-          u = solve_k_form(d, f);
-        }
+        const VectorXd u = bilateral_displacement(d, f, variant);
         const VectorXd all = d.expand(u);
         w[level].resize(n + 1);
         for (int node = 0; node <= n; ++node) w[level][node] = all[d.deflection_dof(node << level)];

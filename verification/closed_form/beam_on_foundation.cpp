@@ -9,6 +9,7 @@
 #include <limits>
 #include <memory>
 #include <sstream>
+#include <utility>
 
 namespace liftoff::closed_form {
 
@@ -868,18 +869,16 @@ std::vector<Interval> contact_regions(const BeamSolution& sol, int samples_per_s
 }
 
 std::string to_string(TensionlessStatus status) {
-  switch (status) {
-    case TensionlessStatus::converged:
-      return "converged";
-    case TensionlessStatus::no_convergence:
-      return "no convergence";
-    case TensionlessStatus::inequalities_violated:
-      return "inequalities violated";
-    case TensionlessStatus::singular_system:
-      return "singular system";
-    case TensionlessStatus::invalid_input:
-      return "invalid input";
-  }
+  // One table of names (this library stays independent of liftoff's core/enum_names.hpp).
+  constexpr std::pair<TensionlessStatus, const char*> names[] = {
+      {TensionlessStatus::converged, "converged"},
+      {TensionlessStatus::no_convergence, "no convergence"},
+      {TensionlessStatus::inequalities_violated, "inequalities violated"},
+      {TensionlessStatus::singular_system, "singular system"},
+      {TensionlessStatus::invalid_input, "invalid input"},
+  };
+  for (const auto& [value, name] : names)
+    if (value == status) return name;
   return "unknown";
 }
 

@@ -412,6 +412,23 @@ def label_extremes(ax, placer, x, y, unit, where, position_unit):
                      bbox=dict(boxstyle="round,pad=0.2", facecolor="white", edgecolor="0.7", alpha=0.9))
 
 
+def value_limits(ax, key, lo, hi, room):
+    """The value axis from lo to hi with `room` times the range added above and below (the whole
+    value if the range is empty); w (> 0 into the foundation) drawn downward. No x margins."""
+    pad = room * (hi - lo) if hi > lo else max(abs(hi), 1e-30)
+    if key == "w":
+        ax.set_ylim(hi + pad, lo - pad)
+    else:
+        ax.set_ylim(lo - pad, hi + pad)
+    ax.margins(x=0)
+
+
+def position_axis(ax, arch, length, begin, end):
+    """The bottom panel's position axis: theta along an arch, x in the length unit along a beam."""
+    ax.set_xlabel("theta (degrees from the crown)" if arch else f"x [{length}]")
+    ax.set_xlim(begin, end)
+
+
 def plot_solve(path, f, prefix, output):
     r = read_solve(f)
     if r["x"] is None or r["w"] is None:
@@ -464,15 +481,8 @@ def plot_solve(path, f, prefix, output):
             if gap:  # the shading is explained under the title; only the ground's line needs a key
                 ax.legend(handles=[ax.lines[-1]], fontsize=7, loc="best", framealpha=0.9)
         # room for the labels of the extremes: 25 % margin above and below
-        lo, hi = float(np.min(y)), float(np.max(y))
-        pad = 0.3 * (hi - lo) if hi > lo else max(abs(hi), 1e-30)
-        if key == "w":
-            ax.set_ylim(hi + pad, lo - pad)
-        else:
-            ax.set_ylim(lo - pad, hi + pad)
-        ax.margins(x=0)
-    axes[-1].set_xlabel("theta (degrees from the crown)" if arch else f"x [{length}]")
-    axes[-1].set_xlim(begin, end)
+        value_limits(ax, key, float(np.min(y)), float(np.max(y)), 0.3)
+    position_axis(axes[-1], arch, length, begin, end)
     title = os.path.basename(r["scene_name"]) or os.path.basename(path)
     fig.suptitle(f"{title}: {r['method']} ({r['termination']})", fontsize=10, y=0.995)
     fig.text(0.5, 0.972, ("the arch unrolled along theta;  " if arch else "") +
@@ -1043,15 +1053,8 @@ def plot_envelope(path, f, prefix, output):
         ax.set_ylabel(ylabel, fontsize=8)
         ax.grid(True, alpha=0.3)
         ax.tick_params(labelsize=8)
-        lo, hi = float(np.min(low)), float(np.max(high))
-        pad = 0.4 * (hi - lo) if hi > lo else max(abs(hi), 1e-30)  # room for the labels
-        if key == "w":
-            ax.set_ylim(hi + pad, lo - pad)  # w > 0 into the foundation: drawn downward
-        else:
-            ax.set_ylim(lo - pad, hi + pad)
-        ax.margins(x=0)
-    axes[-1].set_xlabel("theta (degrees from the crown)" if arch else f"x [{length}]")
-    axes[-1].set_xlim(begin, end)
+        value_limits(ax, key, float(np.min(low)), float(np.max(high)), 0.4)  # room for the labels
+    position_axis(axes[-1], arch, length, begin, end)
     title = os.path.basename(env["scene_name"]) or os.path.basename(path)
     count = len(env["cases"])
     names = list(dict.fromkeys(combination_of(c["label"]) for c in env["cases"]))
