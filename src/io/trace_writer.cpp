@@ -16,9 +16,9 @@
 
 namespace liftoff::io {
 
-using continuation::EventKind;
-using continuation::TraceEvent;
-using continuation::TraceStep;
+using path::EventKind;
+using path::TraceEvent;
+using path::TraceStep;
 
 namespace {
 
@@ -458,19 +458,19 @@ void TraceWriter::append_event(const std::string& name, const TraceEvent& event)
   file_->each([&](hid_t id) {
     const auto steps = static_cast<double>(row_count(id, name + "/steps/lambda"));
     append_doubles(id, events("lambda"), {event.load_factor}, 1);
-    append_string(id, events("kind"), std::string(continuation::to_string(event.kind)));
+    append_string(id, events("kind"), std::string(path::to_string(event.kind)));
     append_doubles(id, events("at"), {event.at}, 1);
     append_string(id, events("description"), event.description);
     append_doubles(id, events("step"), {std::max(0.0, steps - 1)}, 1);
   });
 }
 
-void TraceWriter::end_path(const std::string& name, const continuation::TraceSummary& summary) {
+void TraceWriter::end_path(const std::string& name, const path::TraceSummary& summary) {
   file_->each([&](hid_t id) {
     Handle group(H5Gopen2(id, name.c_str(), H5P_DEFAULT), H5Gclose, name);
-    write_string_attribute(group, "termination", std::string(continuation::to_string(summary.termination)));
+    write_string_attribute(group, "termination", std::string(path::to_string(summary.termination)));
     write_string_attribute(group, "message", summary.message);
-    write_number_attribute(group, "complete", summary.termination == continuation::TraceTermination::completed);
+    write_number_attribute(group, "complete", summary.termination == path::TraceTermination::completed);
   });
 }
 

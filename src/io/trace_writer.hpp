@@ -33,7 +33,7 @@
 #include <utility>
 #include <vector>
 
-#include "continuation/trace.hpp"
+#include "path/trace.hpp"
 
 namespace liftoff::io {
 
@@ -57,8 +57,8 @@ struct TracePathRecord {
   std::string termination;  // empty until the path ends
   std::string message;
   double monitor = 0.0;
-  std::vector<continuation::TraceStep> steps;
-  std::vector<continuation::TraceEvent> events;
+  std::vector<path::TraceStep> steps;
+  std::vector<path::TraceEvent> events;
 };
 
 // The whole file as read back.
@@ -83,9 +83,9 @@ class TraceWriter {
 
   // Creates the path's group if it is not there yet.
   void begin_path(const std::string& name, double monitor);
-  void append_step(const std::string& name, const continuation::TraceStep& step);
-  void append_event(const std::string& name, const continuation::TraceEvent& event);
-  void end_path(const std::string& name, const continuation::TraceSummary& summary);
+  void append_step(const std::string& name, const path::TraceStep& step);
+  void append_event(const std::string& name, const path::TraceEvent& event);
+  void end_path(const std::string& name, const path::TraceSummary& summary);
   // Sets the root's `complete` attribute (every path ended).
   void finish();
 

@@ -13,9 +13,9 @@
 #include "support/scratch.hpp"
 
 using namespace liftoff;
-using continuation::EventKind;
-using continuation::TraceEvent;
-using continuation::TraceStep;
+using path::EventKind;
+using path::TraceEvent;
+using path::TraceStep;
 namespace fs = std::filesystem;
 
 using namespace liftoff::test;  // support/: the scratch directory
@@ -76,8 +76,8 @@ TEST_CASE("trace writer: steps and events read back exactly, the file is readabl
   CHECK_FALSE(live.complete);
   CHECK_FALSE(writer.read_path("ritz").has_value());
 
-  continuation::TraceSummary summary;
-  summary.termination = continuation::TraceTermination::completed;
+  path::TraceSummary summary;
+  summary.termination = path::TraceTermination::completed;
   summary.message = "lambda_max reached";
   writer.end_path("fe", summary);
   writer.begin_path("ritz", 0.5);
