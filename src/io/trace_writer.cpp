@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <sstream>
+#include <variant>
 
 #include "core/error.hpp"
 #include "io/hdf5_attributes.hpp"
@@ -138,6 +140,8 @@ EventKind event_kind(const std::string& name) {
   throw OutputError("unknown event kind '" + name + "' in the trace file");
 }
 
+constexpr const char* fe_contact_set_text = "fe contact set";
+
 // The per-step datasets of /PATH/steps: one row per step each.
 constexpr std::array<const char*, 6> step_datasets{"lambda",     "monitor_deflection", "iterations",
                                                    "deflection", "reaction",           "state_topology"};
@@ -183,7 +187,7 @@ TracePathRecord read_path_record(hid_t id, const std::string& name, std::size_t 
     s.iterations = static_cast<int>(iterations[i]);
     s.deflection.assign(deflection.begin() + i * samples, deflection.begin() + (i + 1) * samples);
     s.reaction.assign(reaction.begin() + i * samples, reaction.begin() + (i + 1) * samples);
-    s.state_topology = topology[i];
+    s.state_topology = parse_state_topology(topology[i]);
   }
   const auto written_step = [n](double step) { return step >= 0 && step < static_cast<double>(n); };  // NaN: no
   for (std::size_t r = 0; r + 2 < regions.size(); r += 3)
@@ -284,6 +288,36 @@ std::size_t step_count(const TraceFileRecord& record) {
 }
 
 }  // namespace
+
+std::string state_topology_text(const path::StateTopology& topology) {
+  if (std::holds_alternative<path::FeContactSet>(topology)) return fe_contact_set_text;
+  const auto* ritz = std::get_if<path::RitzTopology>(&topology);
+  if (ritz == nullptr) return "";
+  std::string text = fmt::format("{} {} {}", ritz->first_in_contact ? 1 : 0, ritz->limits, ritz->modes);
+  if (ritz->at_event) text += fmt::format(" event {} {}", ritz->at_event->direction, ritz->at_event->delta);
+  return text;
+}
+
+path::StateTopology parse_state_topology(const std::string& text) {
+  if (text.empty()) return std::monostate{};
+  if (text == fe_contact_set_text) return path::FeContactSet{};
+  std::istringstream words(text);
+  int first = -1;
+  path::RitzTopology ritz;
+  bool whole = static_cast<bool>(words >> first >> ritz.limits >> ritz.modes) && (first == 0 || first == 1);
+  ritz.first_in_contact = first == 1;
+  std::string word;
+  if (whole && words >> word) {
+    path::RitzOpening opening;
+    whole = word == "event" && words >> opening.direction >> opening.delta && !(words >> word);
+    ritz.at_event = opening;
+  }
+  if (!whole)
+    throw OutputError("state_topology \"" + text +
+                      "\": expected \"first_in_contact limits modes [event direction delta]\" or \"" +
+                      fe_contact_set_text + "\"");
+  return ritz;
+}
 
 std::filesystem::path trace_backup_path(const std::filesystem::path& path) {
   std::filesystem::path backup = path;
@@ -446,7 +480,7 @@ void TraceWriter::append_step(const std::string& name, const TraceStep& step) {
     append_doubles(id, steps("state"), state, step.state.size());
     append_doubles(id, steps("deflection"), step.deflection, 1);
     append_doubles(id, steps("reaction"), step.reaction, 1);
-    append_string(id, steps("state_topology"), step.state_topology);
+    append_string(id, steps("state_topology"), state_topology_text(step.state_topology));
     append_doubles(id, steps("iterations"), {static_cast<double>(step.iterations)}, 1);
     append_doubles(id, steps("monitor_deflection"), {step.monitor_deflection}, 1);
     append_doubles(id, steps("lambda"), {step.load_factor}, 1);

@@ -22,7 +22,8 @@
 //   /PATH/           one group per path run ("fe", "ritz", "fe_refined"); attributes complete,
 //                    termination, message, monitor (user coordinate)
 //   /PATH/steps/     lambda, monitor_deflection, iterations (steps); deflection, reaction
-//                    (steps x samples); state_topology (steps, strings); contact_regions (rows of
+//                    (steps x samples); state_topology (steps, strings: state_topology_text);
+//                    contact_regions (rows of
 //                    step, begin, end); state (rows of step, value)
 //   /PATH/events/    lambda, kind (strings), at, step (the step it follows), description
 
@@ -94,6 +95,13 @@ class TraceWriter {
   explicit TraceWriter(std::unique_ptr<File> file);
   std::unique_ptr<File> file_;
 };
+
+// A step's StateTopology as the text of /PATH/steps/state_topology, and back: Ritz
+// "first_in_contact limits modes" (plus " event direction delta" at a switching event), FE
+// "fe contact set", "" for none. Files written before the topology was typed read back alike.
+// parse_state_topology throws OutputError for text that is none of these.
+std::string state_topology_text(const path::StateTopology& topology);
+path::StateTopology parse_state_topology(const std::string& text);
 
 // The whole file, for readers that are not resuming (tests, a finished file): the file, or its
 // backup if the file was damaged by a kill. Throws OutputError.

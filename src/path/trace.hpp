@@ -20,6 +20,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <variant>
 #include <vector>
 
 #include "core/enum_names.hpp"
@@ -47,6 +48,33 @@ struct TraceEvent {
   std::string description;  // one line, in words
 };
 
+// How a Ritz step's switching event opens the new zone: the old topology is continued this far
+// in lambda past the event (direction * delta) before the switch.
+struct RitzOpening {
+  double direction = 1.0;
+  double delta = 0.0;
+  bool operator==(const RitzOpening&) const = default;
+};
+
+// The Ritz model's topology at a step: whether the first piece is in contact, its interior
+// contact limits and its modes; at a switching event, the opening a resumed trace redoes.
+struct RitzTopology {
+  bool first_in_contact = false;
+  int limits = 0;
+  int modes = 0;
+  std::optional<RitzOpening> at_event;
+  bool operator==(const RitzTopology&) const = default;
+};
+
+// An FE step: its TraceStep::state is the contact set that carries the path on from it.
+struct FeContactSet {
+  bool operator==(const FeContactSet&) const = default;
+};
+
+// What a step's TraceStep::state is; monostate: a step with no resumable state. Stored as text
+// (io/trace_writer.hpp) only in the trace file.
+using StateTopology = std::variant<std::monostate, RitzTopology, FeContactSet>;
+
 // One recorded point of the path.
 struct TraceStep {
   double load_factor = 0.0;
@@ -55,12 +83,11 @@ struct TraceStep {
   std::vector<double> deflection;                      // w at TraceOptions::sample_points (user length units)
   std::vector<double> reaction;                        // foundation reaction there (force per length, compression > 0)
   int iterations = 0;                                  // corrector iterations (Ritz) or pivots (FE) since the last step
-  // What a resumed trace needs to continue from this step without redoing anything, opaque to
-  // everything but the path that wrote it. Ritz: the topology ("first_in_contact limits modes",
-  // plus " event dir delta" at a switching event) and (unknowns, tangent, next step length), so
-  // a resumed run takes the same steps; FE: "fe contact set" and one 0/1 per reaction node, so
-  // it restarts without Lemke.
-  std::string state_topology;
+  // What a resumed trace needs to continue from this step without redoing anything, read by
+  // the path that wrote it. Ritz: its topology and (unknowns, tangent, next step length,
+  // amplitude scale), so a resumed run takes the same steps; FE: FeContactSet and one 0/1 per
+  // reaction node, so it restarts without Lemke.
+  StateTopology state_topology;
   std::vector<double> state;
 };
 
