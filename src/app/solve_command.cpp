@@ -578,7 +578,8 @@ std::vector<io::SolveReport> solve_all_methods(const scene::Scene& scene, const 
     r.kind = scene.structure.kind;
     r.method = scene::to_string(method);
     r.method_requested = r.method;
-    r.termination = "refused";
+    r.outcome = io::SolveOutcome::refused;
+    r.termination = io::to_string(r.outcome);
     r.message = e.what();
     r.units = scene.units;
     r.warnings = scene.warnings;

@@ -7,6 +7,15 @@
 
 namespace liftoff::io {
 
+namespace {
+constexpr EnumName<SolveOutcome> solve_outcome_names[] = {
+    {SolveOutcome::ran, "ran"},
+    {SolveOutcome::refused, "refused"},
+};
+}  // namespace
+
+std::string_view to_string(SolveOutcome outcome) { return name_in<SolveOutcome>(solve_outcome_names, outcome); }
+
 using scene::StructureKind;
 
 namespace {
@@ -587,7 +596,8 @@ std::string side_by_side(const std::vector<SolveReport>& reports) {
     return n >= 0 ? fmt::format("{} {}", n, unit) : std::string("-");
   };
   row("method", [](const SolveReport& r) { return r.method_requested.empty() ? r.method : r.method_requested; });
-  row("answer from", [](const SolveReport& r) { return r.termination == "refused" ? std::string("-") : r.method; });
+  row("answer from",
+      [](const SolveReport& r) { return r.outcome == SolveOutcome::refused ? std::string("-") : r.method; });
   row("result", [](const SolveReport& r) { return r.termination; });
   row("certified", [](const SolveReport& r) {
     return r.certificate ? std::string(r.certificate->passed ? "yes" : "no") : std::string("-");
@@ -613,7 +623,7 @@ std::string side_by_side(const std::vector<SolveReport>& reports) {
   row("residual",
       [](const SolveReport& r) { return r.residual >= 0 ? fmt::format("{:.1e}", r.residual) : std::string("-"); });
   row("time (s)", [](const SolveReport& r) {
-    return r.termination == "refused" ? std::string("-") : fmt::format("{:.3f}", r.time_s);
+    return r.outcome == SolveOutcome::refused ? std::string("-") : fmt::format("{:.3f}", r.time_s);
   });
   out += fmt::format("  (contact limits: {}; w > 0 into the foundation)\n", arch ? "theta in degrees" : "x");
   return out;
@@ -670,3 +680,10 @@ std::string sweep_csv(const std::vector<std::string>& keys, const std::vector<Sw
 }
 
 }  // namespace liftoff::io
+
+namespace liftoff {
+template <>
+std::optional<io::SolveOutcome> from_string(std::string_view name) {
+  return value_in<io::SolveOutcome>(io::solve_outcome_names, name);
+}
+}  // namespace liftoff
