@@ -26,6 +26,9 @@
 //                    contact_regions (rows of
 //                    step, begin, end); state (rows of step, value)
 //   /PATH/events/    lambda, kind (strings), at, step (the step it follows), description
+// The per-step datasets are one table in trace_writer.cpp (step_columns): writing, reading back,
+// trimming an interrupted step and the damage check all iterate it, so a new per-step quantity
+// is the TraceStep field its path fills and one row of that table.
 
 #include <filesystem>
 #include <memory>
