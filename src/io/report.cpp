@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "post/ritz_fields.hpp"
+
 namespace liftoff::io {
 
 namespace {
@@ -121,38 +123,14 @@ SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model,
   return r;
 }
 
-post::Fields sample_fields(const fe::MemberModel& model, const ritz::RitzSolution& solution, int samples) {
-  post::Fields f;
-  const ritz::RitzModel& ritz = *solution.model;
-  const Eigen::VectorXd& x = solution.unknowns;
-  const bool arch = ritz.is_arch();
-  for (int i = 0; i < samples; ++i) {
-    const double s = model.s_begin + (model.s_end - model.s_begin) * i / (samples - 1);
-    const double dw = ritz.w(x, s, 1), d2w = ritz.w(x, s, 2), d3w = ritz.w(x, s, 3);
-    const double u = arch ? ritz.u(x, s) : 0.0, du = arch ? ritz.u(x, s, 1) : 0.0, d2u = arch ? ritz.u(x, s, 2) : 0.0;
-    f.s.push_back(s);
-    f.w.push_back(ritz.w(x, s));
-    f.rotation.push_back(-(u + dw));
-    f.bending_moment.push_back(-(du + d2w));
-    f.shear_force.push_back(-(d2u + d3w));
-    f.reaction.push_back(ritz.reaction(x, s));
-    if (arch) {
-      f.u.push_back(u);
-      f.normal_force.push_back(model.membrane_stiffness * (du - f.w.back()));
-    }
-  }
-  return f;
-}
-
 SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model, const ritz::RitzSolution& solution,
                         int samples) {
   const ritz::RitzSummary& summary = solution.summary;
   std::vector<post::Interval> regions;
   post::Fields fields;
   if (solution.model && solution.unknowns.size() > 0) {
-    for (const ritz::Piece& piece : solution.model->contact_pieces(solution.unknowns))
-      regions.push_back({piece.begin, piece.end});
-    fields = sample_fields(model, solution, samples);
+    regions = post::contact_regions(solution);
+    fields = post::sample_fields(model, solution, samples);
   }
   SolveReport r = fields.s.empty() ? SolveReport{} : common_report(scene, model, fields, regions);
   if (fields.s.empty()) {

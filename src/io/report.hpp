@@ -145,9 +145,6 @@ SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model,
 SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model, const ritz::RitzSolution& solution,
                         int samples);
 
-// A Ritz solution's fields on `samples` uniform points (nondimensional, as post::Fields).
-post::Fields sample_fields(const fe::MemberModel& model, const ritz::RitzSolution& solution, int samples);
-
 nlohmann::json to_json(const SolveReport& report);
 // The JSON `units` object: {"system": ..., "<name>": label} for every label of scene::unit_labels.
 nlohmann::json units_json(const scene::Units& units);
