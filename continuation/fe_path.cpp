@@ -45,7 +45,6 @@ constexpr double acceptable_residual = 1e-8;
 // beyond the breakpoint, then 100 times closer, at most this many times.
 constexpr double beyond_offset = 1e-6;
 constexpr int beyond_attempts = 4;
-constexpr const char* contact_set_tag = "fe contact set";
 
 // A state whose certificate fails: the path stops before reporting it.
 struct StepNotCertified {
@@ -405,7 +404,7 @@ std::string FePath::lift_off_message(double lambda) const {
 
 bool FePath::establish_start(double lambda) {
   const int m = d_.reactions();
-  if (options_.resume_from && options_.resume_from->state_topology == contact_set_tag &&
+  if (options_.resume_from && std::holds_alternative<path::FeContactSet>(options_.resume_from->state_topology) &&
       static_cast<int>(options_.resume_from->state.size()) == m) {
     ContactSet set(m);
     for (int i = 0; i < m; ++i) set[i] = options_.resume_from->state[i] > 0.5;
@@ -478,7 +477,7 @@ TraceStep FePath::step_at(double lambda) {
     step.deflection.push_back(post::evaluate(d_, displacement, e, xi).w * scales.displacement());
     step.reaction.push_back(post::reaction_at(d_, reaction, e, xi) * scales.force_per_length());
   }
-  step.state_topology = contact_set_tag;
+  step.state_topology = path::FeContactSet{};
   step.state.assign(set_.begin(), set_.end());
   return step;
 }

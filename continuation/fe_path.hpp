@@ -31,8 +31,8 @@
 // Events are changes of the contact topology of w (continuation/events.hpp), located between
 // breakpoints, where the path is affine, by bisection on lambda to options.event_tolerance
 // with no further solve. TraceStep::state of an FE step holds the contact set that carries
-// the path on from it (1 = in contact, one per reaction node; state_topology "fe contact
-// set"), so that a resumed trace restarts without a contact solve.
+// the path on from it (1 = in contact, one per reaction node; state_topology
+// path::FeContactSet), so that a resumed trace restarts without a contact solve.
 
 #include <optional>
 #include <vector>

@@ -48,7 +48,6 @@
 #include <cmath>
 #include <limits>
 #include <optional>
-#include <sstream>
 #include <stdexcept>
 
 #include "contact/contact_solver.hpp"
@@ -96,10 +95,15 @@ struct EventValue {
 
 // How the new zone is opened after an event: the old topology is continued this far in
 // lambda past the event (direction * delta), see switch_topology.
-struct Opening {
-  double direction = 1.0;
-  double delta = 0.0;
-};
+using Opening = path::RitzOpening;
+
+// A resumed step's topology in words, for the messages that refuse it.
+std::string describe(const path::StateTopology& topology) {
+  if (const auto* r = std::get_if<path::RitzTopology>(&topology))
+    return fmt::format("{} {} {}{}", r->first_in_contact ? 1 : 0, r->limits, r->modes,
+                       r->at_event ? fmt::format(" event {} {}", r->at_event->direction, r->at_event->delta) : "");
+  return std::holds_alternative<path::FeContactSet>(topology) ? "an FE contact set" : "none";
+}
 
 // What a resumed step carries (see TraceStep::state): topology, x, tangent, next step length;
 // and for a step at a switching event, how the switch opens its zone.
@@ -194,9 +198,6 @@ class RitzTracer {
   // minimum of w in the contact piece it advanced into (or a maximum in a lift-off piece),
   // where a zone must have opened first. nullopt if none.
   std::optional<std::string> stepped_over(const RitzModel& model, const VectorXd& from, const VectorXd& to) const;
-  std::string topology_text(const Topology& t) const {
-    return fmt::format("{} {} {}", t.first_in_contact ? 1 : 0, t.limits, modes_);
-  }
   int modes_for_trace(const ritz::RitzSolution& start) const;
   void check_resolution(int modes) const;
   // ", point forces resolved to about e(N) (estimated)" where that applies, else "".
@@ -293,35 +294,24 @@ ResumeState RitzTracer::starting_state() {
   ResumeState state;
   if (options_.resume_from) {
     const TraceStep& step = *options_.resume_from;
-    std::istringstream text(step.state_topology);
-    int first = -1, limits = -1, modes = 0;
-    text >> first >> limits >> modes;
-    std::string word;
-    Opening opening;
-    if (text >> word) {
-      if (word == "event" && text >> opening.direction >> opening.delta)
-        state.at_event = opening;
-      else
-        text.setstate(std::ios::failbit);
-    } else if (text.eof()) {
-      text.clear();
-    }
+    const auto* topology = std::get_if<path::RitzTopology>(&step.state_topology);
     // 2 n + 3 values (x, tangent, next step, amplitude scale), or 2 n + 2 as liftoff wrote them
     // before the scale was stored.
     const bool scaled = step.state.size() % 2 == 1;
     const int n2 = static_cast<int>(step.state.size()) - (scaled ? 3 : 2);
-    if (!text || (first != 0 && first != 1) || limits < 0 || modes < 1 || n2 <= 0 || n2 % 2 != 0)
+    if (topology == nullptr || topology->limits < 0 || topology->modes < 1 || n2 <= 0 || n2 % 2 != 0)
       throw std::invalid_argument(fmt::format(
           "TraceOptions.resume_from: expected a Ritz step's state (topology \"first_in_contact limits modes\" and "
           "2 n + 3 values), got topology \"{}\" and {} values",
-          step.state_topology, step.state.size()));
+          describe(step.state_topology), step.state.size()));
+    if (topology->at_event) state.at_event = *topology->at_event;
     const int n = n2 / 2;
-    state.topology = {first == 1, limits};
-    modes_ = modes;
+    state.topology = {topology->first_in_contact, topology->limits};
+    modes_ = topology->modes;
     if (RitzModel(member_, modes_, state.topology, enrichment_).unknowns() != n)
       throw std::invalid_argument(fmt::format(
           "TraceOptions.resume_from: the state has {} unknowns, but the Ritz model of topology \"{}\" has {}", n,
-          step.state_topology, RitzModel(member_, modes_, state.topology, enrichment_).unknowns()));
+          describe(step.state_topology), RitzModel(member_, modes_, state.topology, enrichment_).unknowns()));
     const Eigen::Map<const VectorXd> values(step.state.data(), step.state.size());
     state.point.x = values.head(n);
     state.point.tangent_x = values.segment(n, n);
@@ -635,8 +625,8 @@ void RitzTracer::record_step(const RitzModel& model, const PathPoint& point, int
     step.reaction.push_back(model.reaction(point.x, s) * scales.force_per_length());
   }
   step.iterations = iterations;
-  step.state_topology = topology_text(model.topology());
-  if (at_event) step.state_topology += fmt::format(" event {} {}", at_event->direction, at_event->delta);
+  step.state_topology =
+      path::RitzTopology{model.topology().first_in_contact, model.topology().limits, modes_, at_event};
   const int n = static_cast<int>(point.x.size());
   step.state.resize(2 * n + 3);
   Eigen::Map<VectorXd> state(step.state.data(), 2 * n + 3);

@@ -27,8 +27,8 @@
 //   is retried shorter; at min_step the path stops (solver_failure) and its message says which
 //   inequality failed where and by how much. The steps before stay valid. The path never turns
 //   back in lambda, so it reports no limit_point.
-// - Steps carry a resumable state: state_topology "first_in_contact limits modes" (plus
-//   " event direction delta" at a switching event, whose switch a resumed trace redoes) and
+// - Steps carry a resumable state: state_topology a path::RitzTopology (with the opening at a
+//   switching event, whose switch a resumed trace redoes) and
 //   state = (x, tangent_x, tangent_lambda, next step length, amplitude scale of the metric),
 //   so a resumed trace takes exactly the steps the original took. A resumed state that is no
 //   contact solution is refused (solver_failure).

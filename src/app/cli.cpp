@@ -201,11 +201,11 @@ int run_all(const scene::Scene& scene, const SolveRequest& request, const SolveA
   // A refused method's report knows nothing of the scene; the header and JSON need its k.
   const fe::MemberModel model = fe::make_member_model(scene);
   for (io::SolveReport& r : reports)
-    if (r.termination == "refused")
+    if (r.outcome == io::SolveOutcome::refused)
       r.foundation_parameter = model.foundation_modulus, r.tensionless = model.tensionless;
   std::string failures;
   for (const auto& r : reports) {
-    if (r.usable || r.termination == "refused") continue;
+    if (r.usable || r.outcome == io::SolveOutcome::refused) continue;
     err << "liftoff: " << scene.source_name << ": " << r.method << ": " << r.message << "\n";
     failures += fmt::format("{}{}: {}", failures.empty() ? "" : "; ", r.method, r.message);
   }
@@ -342,7 +342,7 @@ int run_sweep_command(const SweepArguments& args, std::ostream& out, std::ostrea
     }
     for (const auto& r : c.reports) {
       ++answers;
-      if (r.usable || r.termination == "refused") continue;
+      if (r.usable || r.outcome == io::SolveOutcome::refused) continue;
       failed = true;
       ++unsolved;
       ++terminations[r.termination];

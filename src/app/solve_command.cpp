@@ -20,6 +20,7 @@
 #include "post/contact_regions.hpp"
 #include "post/design.hpp"
 #include "post/fields.hpp"
+#include "post/ritz_fields.hpp"
 #include "ritz/ritz_model.hpp"
 #include "ritz/ritz_solver.hpp"
 #include "ritz/starting_point.hpp"
@@ -520,16 +521,12 @@ io::SolveReport ritz_report(const scene::Scene& scene, const SolveRequest& reque
     // (the modal series' own derivatives do not converge at point loads: on the B70 sleeper they
     // gave |V| 46.9 kN against the statics' 70.0 kN). Arches: none (the same series, no statics).
     if (report.usable && model.kind == scene::StructureKind::beam) {
-      post::Fields f = io::sample_fields(model, solution, request.samples_per_element * elements + 1);
-      std::vector<double> limits;
-      for (const ritz::Piece& piece : solution.model->contact_pieces(solution.unknowns))
-        limits.insert(limits.end(), {piece.begin, piece.end});
       std::vector<post::PointReaction> supports;
       for (const certify::SupportReaction& s : certificate.support_reactions)
         supports.push_back({s.at, s.force, s.moment});
-      const post::DesignValues design = post::recover_beam_statics(
-          model, [&](double s) { return solution.model->reaction(solution.unknowns, s); }, limits, supports,
-          options.load_factor, f);
+      post::Fields f;
+      const post::DesignValues design = post::ritz_beam_statics(model, solution, supports, options.load_factor,
+                                                                request.samples_per_element * elements + 1, f);
       io::attach_design(report, design, model);
       if (report.fields.coordinate.size() == f.s.size()) {
         for (std::size_t i = 0; i < f.s.size(); ++i) {
@@ -578,7 +575,8 @@ std::vector<io::SolveReport> solve_all_methods(const scene::Scene& scene, const 
     r.kind = scene.structure.kind;
     r.method = scene::to_string(method);
     r.method_requested = r.method;
-    r.termination = "refused";
+    r.outcome = io::SolveOutcome::refused;
+    r.termination = io::to_string(r.outcome);
     r.message = e.what();
     r.units = scene.units;
     r.warnings = scene.warnings;

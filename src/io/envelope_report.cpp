@@ -72,7 +72,7 @@ nlohmann::json to_json(const EnvelopeReport& r) {
     one["combination"] = c.combination.empty() ? nlohmann::json() : nlohmann::json(c.combination);
     one["position"] = optional_number(c.position);
     one["certified"] = c.passed();
-    one["termination"] = c.error.empty() ? c.report.termination : "refused";
+    one["termination"] = c.error.empty() ? c.report.termination : std::string(to_string(SolveOutcome::refused));
     one["message"] = c.error.empty() ? c.report.message : c.error;
     one["contact_regions"] = c.report.contact_regions;
     one["warm_started"] = c.warm_started;
@@ -144,7 +144,8 @@ std::string text_summary(const EnvelopeReport& r) {
     for (const auto& [a, b] : c.report.contact_regions)
       regions += fmt::format("{}{:.4g}..{:.4g}", regions.empty() ? "" : ", ", a, b);
     if (!c.passed())
-      regions = fmt::format("FAILED ({}): {}", c.error.empty() ? c.report.termination : "refused",
+      regions = fmt::format("FAILED ({}): {}",
+                            c.error.empty() ? c.report.termination : std::string(to_string(SolveOutcome::refused)),
                             c.error.empty() ? c.report.message : c.error);
     else if (regions.empty())
       regions = "none";
@@ -214,7 +215,7 @@ void write_file(const EnvelopeReport& r, const std::filesystem::path& path, cons
       factorisations.push_back(c.report.factorisations);
       write_string_attribute(group, fmt::format("label_{:04d}", k), c.label());
       write_string_attribute(group, fmt::format("termination_{:04d}", k),
-                             c.error.empty() ? c.report.termination : "refused");
+                             c.error.empty() ? c.report.termination : std::string(to_string(SolveOutcome::refused)));
       write_string_attribute(group, fmt::format("message_{:04d}", k), c.error.empty() ? c.report.message : c.error);
       if (c.passed())
         for (const auto& [a, b] : c.report.contact_regions) regions.insert(regions.end(), {double(k), a, b});

@@ -5,7 +5,18 @@
 #include <algorithm>
 #include <cmath>
 
+#include "post/ritz_fields.hpp"
+
 namespace liftoff::io {
+
+namespace {
+constexpr EnumName<SolveOutcome> solve_outcome_names[] = {
+    {SolveOutcome::ran, "ran"},
+    {SolveOutcome::refused, "refused"},
+};
+}  // namespace
+
+std::string_view to_string(SolveOutcome outcome) { return name_in<SolveOutcome>(solve_outcome_names, outcome); }
 
 using scene::StructureKind;
 
@@ -112,38 +123,14 @@ SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model,
   return r;
 }
 
-post::Fields sample_fields(const fe::MemberModel& model, const ritz::RitzSolution& solution, int samples) {
-  post::Fields f;
-  const ritz::RitzModel& ritz = *solution.model;
-  const Eigen::VectorXd& x = solution.unknowns;
-  const bool arch = ritz.is_arch();
-  for (int i = 0; i < samples; ++i) {
-    const double s = model.s_begin + (model.s_end - model.s_begin) * i / (samples - 1);
-    const double dw = ritz.w(x, s, 1), d2w = ritz.w(x, s, 2), d3w = ritz.w(x, s, 3);
-    const double u = arch ? ritz.u(x, s) : 0.0, du = arch ? ritz.u(x, s, 1) : 0.0, d2u = arch ? ritz.u(x, s, 2) : 0.0;
-    f.s.push_back(s);
-    f.w.push_back(ritz.w(x, s));
-    f.rotation.push_back(-(u + dw));
-    f.bending_moment.push_back(-(du + d2w));
-    f.shear_force.push_back(-(d2u + d3w));
-    f.reaction.push_back(ritz.reaction(x, s));
-    if (arch) {
-      f.u.push_back(u);
-      f.normal_force.push_back(model.membrane_stiffness * (du - f.w.back()));
-    }
-  }
-  return f;
-}
-
 SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model, const ritz::RitzSolution& solution,
                         int samples) {
   const ritz::RitzSummary& summary = solution.summary;
   std::vector<post::Interval> regions;
   post::Fields fields;
   if (solution.model && solution.unknowns.size() > 0) {
-    for (const ritz::Piece& piece : solution.model->contact_pieces(solution.unknowns))
-      regions.push_back({piece.begin, piece.end});
-    fields = sample_fields(model, solution, samples);
+    regions = post::contact_regions(solution);
+    fields = post::sample_fields(model, solution, samples);
   }
   SolveReport r = fields.s.empty() ? SolveReport{} : common_report(scene, model, fields, regions);
   if (fields.s.empty()) {
@@ -587,7 +574,8 @@ std::string side_by_side(const std::vector<SolveReport>& reports) {
     return n >= 0 ? fmt::format("{} {}", n, unit) : std::string("-");
   };
   row("method", [](const SolveReport& r) { return r.method_requested.empty() ? r.method : r.method_requested; });
-  row("answer from", [](const SolveReport& r) { return r.termination == "refused" ? std::string("-") : r.method; });
+  row("answer from",
+      [](const SolveReport& r) { return r.outcome == SolveOutcome::refused ? std::string("-") : r.method; });
   row("result", [](const SolveReport& r) { return r.termination; });
   row("certified", [](const SolveReport& r) {
     return r.certificate ? std::string(r.certificate->passed ? "yes" : "no") : std::string("-");
@@ -613,7 +601,7 @@ std::string side_by_side(const std::vector<SolveReport>& reports) {
   row("residual",
       [](const SolveReport& r) { return r.residual >= 0 ? fmt::format("{:.1e}", r.residual) : std::string("-"); });
   row("time (s)", [](const SolveReport& r) {
-    return r.termination == "refused" ? std::string("-") : fmt::format("{:.3f}", r.time_s);
+    return r.outcome == SolveOutcome::refused ? std::string("-") : fmt::format("{:.3f}", r.time_s);
   });
   out += fmt::format("  (contact limits: {}; w > 0 into the foundation)\n", arch ? "theta in degrees" : "x");
   return out;
@@ -670,3 +658,10 @@ std::string sweep_csv(const std::vector<std::string>& keys, const std::vector<Sw
 }
 
 }  // namespace liftoff::io
+
+namespace liftoff {
+template <>
+std::optional<io::SolveOutcome> from_string(std::string_view name) {
+  return value_in<io::SolveOutcome>(io::solve_outcome_names, name);
+}
+}  // namespace liftoff

@@ -10,10 +10,12 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "certify/certificate.hpp"
 #include "contact/contact_solver.hpp"
+#include "core/enum_names.hpp"
 #include "fe/discretisation.hpp"
 #include "fe/member_model.hpp"
 #include "post/contact_regions.hpp"
@@ -46,6 +48,12 @@ struct DesignTable {
   bool from_statics = false;
 };
 
+// Whether the method ran on the scene, beyond the solver's own termination: refused is a scene
+// the method does not take (or a method that threw): no answer, the reason in message, and
+// termination reads to_string(SolveOutcome::refused), "refused", in every output.
+enum class SolveOutcome { ran, refused };
+std::string_view to_string(SolveOutcome);
+
 struct SolveReport {
   std::string scene_name;
   std::string scene_text;
@@ -63,8 +71,9 @@ struct SolveReport {
   std::string method;            // the formulation that produced the answer: "dual", "primal", "fast", "ritz"
   std::string method_requested;  // what the user asked for: "auto", "dual", ... (keys --method all, sweeps)
   std::string method_reason;     // why (auto, a fallback), or how the Ritz topology was found
-  std::string termination;       // the solver's own termination name
-  std::string message;           // in words
+  SolveOutcome outcome = SolveOutcome::ran;
+  std::string termination;  // the solver's own termination name ("refused" when refused)
+  std::string message;      // in words
   bool usable = false;
   double residual = -1.0;  // FE: see contact_solver.hpp; Ritz: final scaled Newton residual
   // FE + LCP (-1 otherwise)
@@ -136,9 +145,6 @@ SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model,
 SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model, const ritz::RitzSolution& solution,
                         int samples);
 
-// A Ritz solution's fields on `samples` uniform points (nondimensional, as post::Fields).
-post::Fields sample_fields(const fe::MemberModel& model, const ritz::RitzSolution& solution, int samples);
-
 nlohmann::json to_json(const SolveReport& report);
 // The JSON `units` object: {"system": ..., "<name>": label} for every label of scene::unit_labels.
 nlohmann::json units_json(const scene::Units& units);
@@ -162,3 +168,9 @@ struct SweepCase {
 std::string sweep_csv(const std::vector<std::string>& keys, const std::vector<SweepCase>& cases);
 
 }  // namespace liftoff::io
+
+namespace liftoff {
+// The names' one table is in report.cpp (core/enum_names.hpp).
+template <>
+std::optional<io::SolveOutcome> from_string(std::string_view);
+}  // namespace liftoff

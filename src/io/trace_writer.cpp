@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <sstream>
+#include <variant>
 
 #include "core/error.hpp"
 #include "io/hdf5_attributes.hpp"
@@ -16,9 +18,9 @@
 
 namespace liftoff::io {
 
-using continuation::EventKind;
-using continuation::TraceEvent;
-using continuation::TraceStep;
+using path::EventKind;
+using path::TraceEvent;
+using path::TraceStep;
 
 namespace {
 
@@ -138,9 +140,61 @@ EventKind event_kind(const std::string& name) {
   throw OutputError("unknown event kind '" + name + "' in the trace file");
 }
 
-// The per-step datasets of /PATH/steps: one row per step each.
-constexpr std::array<const char*, 6> step_datasets{"lambda",     "monitor_deflection", "iterations",
-                                                   "deflection", "reaction",           "state_topology"};
+constexpr const char* fe_contact_set_text = "fe contact set";
+
+// The per-step columns of /PATH/steps, in the order a step is written: the tables keyed by
+// step first, the one-row-per-step datasets after, lambda last, so that a step counts as written
+// only when every one-row-per-step dataset holds it. The writer, the reader, the trimming of an
+// interrupted step and the damage check all go through this table: a new per-step quantity is a
+// TraceStep field and one row here.
+enum class ColumnKind {
+  keyed,    // any number of rows of `width` values per step, each row (step, values...)
+  samples,  // one row of a value per sample point per step
+  text,     // one string per step
+  number,   // one value per step
+};
+
+struct StepColumn {
+  const char* name;
+  ColumnKind kind;
+  hsize_t width;  // keyed: values per row after the step index
+  // keyed, samples, number: the step's values (keyed: its rows, flattened) and back.
+  std::vector<double> (*values)(const TraceStep&);
+  void (*assign)(TraceStep&, std::vector<double>);
+  // text: the step's string and back (parse errors throw OutputError).
+  std::string (*text)(const TraceStep&);
+  void (*parse)(TraceStep&, const std::string&);
+};
+
+const StepColumn step_columns[] = {
+    {"contact_regions", ColumnKind::keyed, 2,
+     [](const TraceStep& s) {
+       std::vector<double> v;
+       for (const auto& r : s.contact_regions) v.insert(v.end(), {r[0], r[1]});
+       return v;
+     },
+     [](TraceStep& s, std::vector<double> v) {
+       for (std::size_t k = 0; k + 1 < v.size(); k += 2) s.contact_regions.push_back({v[k], v[k + 1]});
+     },
+     nullptr, nullptr},
+    {"state", ColumnKind::keyed, 1, [](const TraceStep& s) { return s.state; },
+     [](TraceStep& s, std::vector<double> v) { s.state = std::move(v); }, nullptr, nullptr},
+    {"deflection", ColumnKind::samples, 0, [](const TraceStep& s) { return s.deflection; },
+     [](TraceStep& s, std::vector<double> v) { s.deflection = std::move(v); }, nullptr, nullptr},
+    {"reaction", ColumnKind::samples, 0, [](const TraceStep& s) { return s.reaction; },
+     [](TraceStep& s, std::vector<double> v) { s.reaction = std::move(v); }, nullptr, nullptr},
+    {"state_topology", ColumnKind::text, 0, nullptr, nullptr,
+     [](const TraceStep& s) { return state_topology_text(s.state_topology); },
+     [](TraceStep& s, const std::string& t) { s.state_topology = parse_state_topology(t); }},
+    {"iterations", ColumnKind::number, 0,
+     [](const TraceStep& s) { return std::vector<double>{static_cast<double>(s.iterations)}; },
+     [](TraceStep& s, std::vector<double> v) { s.iterations = static_cast<int>(v.at(0)); }, nullptr, nullptr},
+    {"monitor_deflection", ColumnKind::number, 0,
+     [](const TraceStep& s) { return std::vector<double>{s.monitor_deflection}; },
+     [](TraceStep& s, std::vector<double> v) { s.monitor_deflection = v.at(0); }, nullptr, nullptr},
+    {"lambda", ColumnKind::number, 0, [](const TraceStep& s) { return std::vector<double>{s.load_factor}; },
+     [](TraceStep& s, std::vector<double> v) { s.load_factor = v.at(0); }, nullptr, nullptr},
+};
 
 std::vector<std::string> split_paths(const std::string& joined) {
   std::vector<std::string> parts;
@@ -165,32 +219,45 @@ TracePathRecord read_path_record(hid_t id, const std::string& name, std::size_t 
   record.termination = read_string_attribute(group, "termination");
   record.message = read_string_attribute(group, "message");
   record.monitor = read_number_attribute(group, "monitor");
-  const std::vector<double> lambda = read_doubles(id, steps("lambda"));
-  const std::vector<double> monitor = read_doubles(id, steps("monitor_deflection"));
-  const std::vector<double> iterations = read_doubles(id, steps("iterations"));
-  const std::vector<double> deflection = read_doubles(id, steps("deflection"));
-  const std::vector<double> reaction = read_doubles(id, steps("reaction"));
-  const std::vector<std::string> topology = read_strings(id, steps("state_topology"));
-  const std::vector<double> regions = read_doubles(id, steps("contact_regions"));
-  const std::vector<double> state = read_doubles(id, steps("state"));
-  std::size_t n = std::min({lambda.size(), monitor.size(), iterations.size(), topology.size()});
-  if (samples > 0) n = std::min({n, deflection.size() / samples, reaction.size() / samples});
-  record.steps.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    TraceStep& s = record.steps[i];
-    s.load_factor = lambda[i];
-    s.monitor_deflection = monitor[i];
-    s.iterations = static_cast<int>(iterations[i]);
-    s.deflection.assign(deflection.begin() + i * samples, deflection.begin() + (i + 1) * samples);
-    s.reaction.assign(reaction.begin() + i * samples, reaction.begin() + (i + 1) * samples);
-    s.state_topology = topology[i];
+  // Every column read whole; the steps are those that every one-row-per-step column holds.
+  std::vector<std::vector<double>> numbers(std::size(step_columns));
+  std::vector<std::vector<std::string>> texts(std::size(step_columns));
+  std::size_t n = std::numeric_limits<std::size_t>::max();
+  for (std::size_t c = 0; c < std::size(step_columns); ++c) {
+    const StepColumn& column = step_columns[c];
+    if (column.kind == ColumnKind::text) {
+      texts[c] = read_strings(id, steps(column.name));
+      n = std::min(n, texts[c].size());
+    } else {
+      numbers[c] = read_doubles(id, steps(column.name));
+      if (column.kind == ColumnKind::number) n = std::min(n, numbers[c].size());
+      if (column.kind == ColumnKind::samples && samples > 0) n = std::min(n, numbers[c].size() / samples);
+    }
   }
+  record.steps.resize(n);
   const auto written_step = [n](double step) { return step >= 0 && step < static_cast<double>(n); };  // NaN: no
-  for (std::size_t r = 0; r + 2 < regions.size(); r += 3)
-    if (written_step(regions[r]))
-      record.steps[static_cast<std::size_t>(regions[r])].contact_regions.push_back({regions[r + 1], regions[r + 2]});
-  for (std::size_t r = 0; r + 1 < state.size(); r += 2)
-    if (written_step(state[r])) record.steps[static_cast<std::size_t>(state[r])].state.push_back(state[r + 1]);
+  for (std::size_t c = 0; c < std::size(step_columns); ++c) {
+    const StepColumn& column = step_columns[c];
+    const std::vector<double>& v = numbers[c];
+    if (column.kind == ColumnKind::keyed) {
+      const std::size_t row = column.width + 1;
+      std::vector<std::vector<double>> per_step(n);
+      for (std::size_t r = 0; r + row <= v.size(); r += row)
+        if (written_step(v[r]))
+          per_step[static_cast<std::size_t>(v[r])].insert(per_step[static_cast<std::size_t>(v[r])].end(),
+                                                          v.begin() + static_cast<std::ptrdiff_t>(r + 1),
+                                                          v.begin() + static_cast<std::ptrdiff_t>(r + row));
+      for (std::size_t i = 0; i < n; ++i) column.assign(record.steps[i], std::move(per_step[i]));
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      TraceStep& step = record.steps[i];
+      if (column.kind == ColumnKind::text) column.parse(step, texts[c][i]);
+      if (column.kind == ColumnKind::number) column.assign(step, {v[i]});
+      if (column.kind == ColumnKind::samples)
+        column.assign(step, std::vector<double>(v.begin() + static_cast<std::ptrdiff_t>(i * samples),
+                                                v.begin() + static_cast<std::ptrdiff_t>((i + 1) * samples)));
+    }
+  }
   const std::vector<double> event_lambda = read_doubles(id, events("lambda"));
   const std::vector<std::string> kinds = read_strings(id, events("kind"));
   const std::vector<double> at = read_doubles(id, events("at"));
@@ -212,8 +279,9 @@ bool whole(const TracePathRecord& record) {
     return std::all_of(v.begin(), v.end(), [](double x) { return !std::isnan(x); });
   };
   return std::all_of(record.steps.begin(), record.steps.end(), [&](const TraceStep& s) {
-    return !std::isnan(s.load_factor) && !std::isnan(s.monitor_deflection) && finite(s.deflection) &&
-           finite(s.reaction) && finite(s.state);
+    return std::all_of(std::begin(step_columns), std::end(step_columns), [&](const StepColumn& column) {
+      return column.kind == ColumnKind::text || finite(column.values(s));
+    });
   });
 }
 
@@ -242,10 +310,14 @@ void trim(hid_t id, const std::string& name) {
   const auto steps = [&](const char* d) { return name + "/steps/" + d; };
   const auto events = [&](const char* d) { return name + "/events/" + d; };
   hsize_t n = row_count(id, steps("lambda"));
-  for (const char* d : step_datasets) n = std::min(n, row_count(id, steps(d)));
-  for (const char* d : step_datasets) set_rows(id, steps(d), n);
-  keep_rows_before_step(id, steps("contact_regions"), 3, n);
-  keep_rows_before_step(id, steps("state"), 2, n);
+  for (const StepColumn& column : step_columns)
+    if (column.kind != ColumnKind::keyed) n = std::min(n, row_count(id, steps(column.name)));
+  for (const StepColumn& column : step_columns) {
+    if (column.kind == ColumnKind::keyed)
+      keep_rows_before_step(id, steps(column.name), column.width + 1, n);
+    else
+      set_rows(id, steps(column.name), n);
+  }
   const std::array<const char*, 5> columns{"lambda", "kind", "at", "step", "description"};
   hsize_t m = row_count(id, events("step"));
   for (const char* d : columns) m = std::min(m, row_count(id, events(d)));
@@ -284,6 +356,36 @@ std::size_t step_count(const TraceFileRecord& record) {
 }
 
 }  // namespace
+
+std::string state_topology_text(const path::StateTopology& topology) {
+  if (std::holds_alternative<path::FeContactSet>(topology)) return fe_contact_set_text;
+  const auto* ritz = std::get_if<path::RitzTopology>(&topology);
+  if (ritz == nullptr) return "";
+  std::string text = fmt::format("{} {} {}", ritz->first_in_contact ? 1 : 0, ritz->limits, ritz->modes);
+  if (ritz->at_event) text += fmt::format(" event {} {}", ritz->at_event->direction, ritz->at_event->delta);
+  return text;
+}
+
+path::StateTopology parse_state_topology(const std::string& text) {
+  if (text.empty()) return std::monostate{};
+  if (text == fe_contact_set_text) return path::FeContactSet{};
+  std::istringstream words(text);
+  int first = -1;
+  path::RitzTopology ritz;
+  bool whole = static_cast<bool>(words >> first >> ritz.limits >> ritz.modes) && (first == 0 || first == 1);
+  ritz.first_in_contact = first == 1;
+  std::string word;
+  if (whole && words >> word) {
+    path::RitzOpening opening;
+    whole = word == "event" && words >> opening.direction >> opening.delta && !(words >> word);
+    ritz.at_event = opening;
+  }
+  if (!whole)
+    throw OutputError("state_topology \"" + text +
+                      "\": expected \"first_in_contact limits modes [event direction delta]\" or \"" +
+                      fe_contact_set_text + "\"");
+  return ritz;
+}
 
 std::filesystem::path trace_backup_path(const std::filesystem::path& path) {
   std::filesystem::path backup = path;
@@ -418,11 +520,12 @@ void TraceWriter::begin_path(const std::string& name, double monitor) {
     write_number_attribute(group, "complete", false);
     write_number_attribute(group, "monitor", monitor);
     Handle steps(H5Gcreate2(group, "steps", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "steps");
-    for (const char* d : {"lambda", "monitor_deflection", "iterations"}) create_rows(steps, d, H5T_IEEE_F64LE, 0);
-    for (const char* d : {"deflection", "reaction"}) create_rows(steps, d, H5T_IEEE_F64LE, samples);
-    create_rows(steps, "state_topology", string_type(true), 0);
-    create_rows(steps, "contact_regions", H5T_IEEE_F64LE, 3);
-    create_rows(steps, "state", H5T_IEEE_F64LE, 2);
+    for (const StepColumn& column : step_columns) {
+      if (column.kind == ColumnKind::text) create_rows(steps, column.name, string_type(true), 0);
+      if (column.kind == ColumnKind::number) create_rows(steps, column.name, H5T_IEEE_F64LE, 0);
+      if (column.kind == ColumnKind::samples) create_rows(steps, column.name, H5T_IEEE_F64LE, samples);
+      if (column.kind == ColumnKind::keyed) create_rows(steps, column.name, H5T_IEEE_F64LE, column.width + 1);
+    }
     Handle events(H5Gcreate2(group, "events", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "events");
     for (const char* d : {"lambda", "at", "step"}) create_rows(events, d, H5T_IEEE_F64LE, 0);
     for (const char* d : {"kind", "description"}) create_rows(events, d, string_type(true), 0);
@@ -430,26 +533,32 @@ void TraceWriter::begin_path(const std::string& name, double monitor) {
 }
 
 void TraceWriter::append_step(const std::string& name, const TraceStep& step) {
-  if (step.deflection.size() != file_->samples || step.reaction.size() != file_->samples)
-    throw OutputError(fmt::format("{}: a step has {} deflections and {} reactions for {} sample points",
-                                  file_->path.string(), step.deflection.size(), step.reaction.size(), file_->samples));
+  for (const StepColumn& column : step_columns)
+    if (column.kind == ColumnKind::samples && column.values(step).size() != file_->samples)
+      throw OutputError(fmt::format("{}: a step has {} values of {} for {} sample points", file_->path.string(),
+                                    column.values(step).size(), column.name, file_->samples));
   const auto steps = [&](const char* d) { return name + "/steps/" + d; };
   file_->each([&](hid_t id) {
     const auto index = static_cast<double>(row_count(id, steps("lambda")));
-    // The tables keyed by step first, the per-step rows after, lambda last: a step counts as
-    // written only when every per-step dataset holds it.
-    std::vector<double> regions;
-    for (const auto& r : step.contact_regions) regions.insert(regions.end(), {index, r[0], r[1]});
-    append_doubles(id, steps("contact_regions"), regions, step.contact_regions.size());
-    std::vector<double> state;
-    for (const double v : step.state) state.insert(state.end(), {index, v});
-    append_doubles(id, steps("state"), state, step.state.size());
-    append_doubles(id, steps("deflection"), step.deflection, 1);
-    append_doubles(id, steps("reaction"), step.reaction, 1);
-    append_string(id, steps("state_topology"), step.state_topology);
-    append_doubles(id, steps("iterations"), {static_cast<double>(step.iterations)}, 1);
-    append_doubles(id, steps("monitor_deflection"), {step.monitor_deflection}, 1);
-    append_doubles(id, steps("lambda"), {step.load_factor}, 1);
+    // In step_columns' order: lambda last, so a step counts as written only when it is whole.
+    for (const StepColumn& column : step_columns) {
+      if (column.kind == ColumnKind::text) {
+        append_string(id, steps(column.name), column.text(step));
+        continue;
+      }
+      const std::vector<double> values = column.values(step);
+      if (column.kind != ColumnKind::keyed) {
+        append_doubles(id, steps(column.name), values, 1);
+        continue;
+      }
+      std::vector<double> rows;
+      for (std::size_t k = 0; k < values.size(); k += column.width) {
+        rows.push_back(index);
+        rows.insert(rows.end(), values.begin() + static_cast<std::ptrdiff_t>(k),
+                    values.begin() + static_cast<std::ptrdiff_t>(k + column.width));
+      }
+      append_doubles(id, steps(column.name), rows, values.size() / column.width);
+    }
   });
 }
 
@@ -458,19 +567,19 @@ void TraceWriter::append_event(const std::string& name, const TraceEvent& event)
   file_->each([&](hid_t id) {
     const auto steps = static_cast<double>(row_count(id, name + "/steps/lambda"));
     append_doubles(id, events("lambda"), {event.load_factor}, 1);
-    append_string(id, events("kind"), std::string(continuation::to_string(event.kind)));
+    append_string(id, events("kind"), std::string(path::to_string(event.kind)));
     append_doubles(id, events("at"), {event.at}, 1);
     append_string(id, events("description"), event.description);
     append_doubles(id, events("step"), {std::max(0.0, steps - 1)}, 1);
   });
 }
 
-void TraceWriter::end_path(const std::string& name, const continuation::TraceSummary& summary) {
+void TraceWriter::end_path(const std::string& name, const path::TraceSummary& summary) {
   file_->each([&](hid_t id) {
     Handle group(H5Gopen2(id, name.c_str(), H5P_DEFAULT), H5Gclose, name);
-    write_string_attribute(group, "termination", std::string(continuation::to_string(summary.termination)));
+    write_string_attribute(group, "termination", std::string(path::to_string(summary.termination)));
     write_string_attribute(group, "message", summary.message);
-    write_number_attribute(group, "complete", summary.termination == continuation::TraceTermination::completed);
+    write_number_attribute(group, "complete", summary.termination == path::TraceTermination::completed);
   });
 }
 

@@ -22,9 +22,13 @@
 //   /PATH/           one group per path run ("fe", "ritz", "fe_refined"); attributes complete,
 //                    termination, message, monitor (user coordinate)
 //   /PATH/steps/     lambda, monitor_deflection, iterations (steps); deflection, reaction
-//                    (steps x samples); state_topology (steps, strings); contact_regions (rows of
+//                    (steps x samples); state_topology (steps, strings: state_topology_text);
+//                    contact_regions (rows of
 //                    step, begin, end); state (rows of step, value)
 //   /PATH/events/    lambda, kind (strings), at, step (the step it follows), description
+// The per-step datasets are one table in trace_writer.cpp (step_columns): writing, reading back,
+// trimming an interrupted step and the damage check all iterate it, so a new per-step quantity
+// is the TraceStep field its path fills and one row of that table.
 
 #include <filesystem>
 #include <memory>
@@ -33,7 +37,7 @@
 #include <utility>
 #include <vector>
 
-#include "continuation/trace.hpp"
+#include "path/trace.hpp"
 
 namespace liftoff::io {
 
@@ -57,8 +61,8 @@ struct TracePathRecord {
   std::string termination;  // empty until the path ends
   std::string message;
   double monitor = 0.0;
-  std::vector<continuation::TraceStep> steps;
-  std::vector<continuation::TraceEvent> events;
+  std::vector<path::TraceStep> steps;
+  std::vector<path::TraceEvent> events;
 };
 
 // The whole file as read back.
@@ -83,9 +87,9 @@ class TraceWriter {
 
   // Creates the path's group if it is not there yet.
   void begin_path(const std::string& name, double monitor);
-  void append_step(const std::string& name, const continuation::TraceStep& step);
-  void append_event(const std::string& name, const continuation::TraceEvent& event);
-  void end_path(const std::string& name, const continuation::TraceSummary& summary);
+  void append_step(const std::string& name, const path::TraceStep& step);
+  void append_event(const std::string& name, const path::TraceEvent& event);
+  void end_path(const std::string& name, const path::TraceSummary& summary);
   // Sets the root's `complete` attribute (every path ended).
   void finish();
 
@@ -94,6 +98,13 @@ class TraceWriter {
   explicit TraceWriter(std::unique_ptr<File> file);
   std::unique_ptr<File> file_;
 };
+
+// A step's StateTopology as the text of /PATH/steps/state_topology, and back: Ritz
+// "first_in_contact limits modes" (plus " event direction delta" at a switching event), FE
+// "fe contact set", "" for none. Files written before the topology was typed read back alike.
+// parse_state_topology throws OutputError for text that is none of these.
+std::string state_topology_text(const path::StateTopology& topology);
+path::StateTopology parse_state_topology(const std::string& text);
 
 // The whole file, for readers that are not resuming (tests, a finished file): the file, or its
 // backup if the file was damaged by a kill. Throws OutputError.

@@ -184,7 +184,8 @@ TEST_CASE("ritz path: a resumed trace reproduces the original", "[ritz_path]") {
     std::vector<TraceEvent> later;
     for (const TraceEvent& e : original.events)
       if (e.load_factor > original.steps[from].load_factor) later.push_back(e);
-    CHECK((original.steps[from].state_topology.find(" event ") != std::string::npos) == (from == event_step));
+    CHECK(std::get<path::RitzTopology>(original.steps[from].state_topology).at_event.has_value() ==
+          (from == event_step));
     REQUIRE(resumed.events.size() == later.size());
     for (std::size_t i = 0; i < later.size(); ++i) {
       CHECK(resumed.events[i].kind == later[i].kind);
@@ -319,13 +320,8 @@ TraceOptions scene_options(const scene::Scene& s, int samples) {
   return o;
 }
 
-// The modes a Ritz step was traced with (its state_topology is "first_in_contact limits modes").
-int modes_of(const TraceStep& step) {
-  std::istringstream text(step.state_topology);
-  int first = 0, limits = 0, modes = 0;
-  text >> first >> limits >> modes;
-  return modes;
-}
+// The modes a Ritz step was traced with (its state_topology's).
+int modes_of(const TraceStep& step) { return std::get<path::RitzTopology>(step.state_topology).modes; }
 
 // Every recorded step is a contact solution at its samples: w >= 0 inside its contact regions
 // (the reaction there is k w >= 0), w <= 0 outside, and no reaction outside. The path's own
@@ -518,13 +514,11 @@ TEST_CASE("ritz path: a state of the wrong topology is refused, naming the inequ
   REQUIRE(original.summary.termination == TraceTermination::completed);
   const TraceStep& lifted = original.steps.back();
   REQUIRE(lifted.contact_regions.size() == 2);
-  std::istringstream text(lifted.state_topology);
-  int first = 0, limits = 0, modes = 0;
-  text >> first >> limits >> modes;
-  REQUIRE(limits == 2);
+  const int modes = modes_of(lifted);
+  REQUIRE(std::get<path::RitzTopology>(lifted.state_topology).limits == 2);
   const std::size_t unknowns = (lifted.state.size() - 3) / 2, amplitudes = unknowns - 2;
   TraceStep forged = lifted;
-  forged.state_topology = fmt::format("1 0 {}", modes);  // full contact
+  forged.state_topology = path::RitzTopology{true, 0, modes, std::nullopt};  // full contact
   forged.state.assign(2 * amplitudes + 3, 0.0);
   std::copy(lifted.state.begin(), lifted.state.begin() + static_cast<std::ptrdiff_t>(amplitudes), forged.state.begin());
   forged.state[2 * amplitudes] = 1.0;                                  // tangent: lambda only

@@ -73,3 +73,13 @@ TEST_CASE("report: Lemke's ray reaches the JSON and the HDF5 file as the certifi
   REQUIRE(pressed.solution.summary.is_usable());
   CHECK_FALSE(io::to_json(report_of(pressed, s)).contains("no_equilibrium_certificate"));
 }
+
+// A refused method is told by its typed outcome; the outputs spell it "refused" as they always did.
+TEST_CASE("report: the solve outcome's names come from one table, refused spelled as the outputs have it") {
+  CHECK(io::to_string(io::SolveOutcome::refused) == "refused");
+  CHECK(io::to_string(io::SolveOutcome::ran) == "ran");
+  for (const io::SolveOutcome outcome : {io::SolveOutcome::ran, io::SolveOutcome::refused})
+    CHECK(from_string<io::SolveOutcome>(io::to_string(outcome)) == outcome);
+  CHECK_FALSE(from_string<io::SolveOutcome>("no_such_name").has_value());
+  CHECK(io::SolveReport{}.outcome == io::SolveOutcome::ran);
+}

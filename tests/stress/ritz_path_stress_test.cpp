@@ -79,10 +79,9 @@ TEST_CASE("ritz path stress: the pipeline to lambda = 3, every step a contact so
   const double a_fe = fe.steps.back().contact_regions[0][1];
   const double fe_error = 3.0 * std::abs(a_fe - fine.steps.back().contact_regions[0][1]);
 
-  std::istringstream topology(end.state_topology);
-  int first = 0, limits = 0, modes = 0;
-  topology >> first >> limits >> modes;
-  REQUIRE(limits == 2);
+  const auto& topology = std::get<path::RitzTopology>(end.state_topology);
+  const int modes = topology.modes;
+  REQUIRE(topology.limits == 2);
   const fe::MemberModel member = fe::make_member_model(s);
   ritz::RitzOptions half;
   half.modes = modes / 2;

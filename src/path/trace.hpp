@@ -1,0 +1,147 @@
+#pragma once
+// A load history: the solution of one scene as the live loads grow, F = F_dead + lambda F_live,
+// with every change of the contact topology located and reported.
+//
+// Two paths produce it, both through this one interface so that `liftoff trace`, the HDF5
+// trace writer and the tests do not care which one ran:
+//  - trace_fe   (fe_path.hpp):   the FE + LCP model, traced exactly by parametric pivoting (the
+//                                discrete solution is piecewise linear in lambda);
+//  - trace_ritz (ritz_path.hpp): the Ritz model with moving limits, followed by the
+//                                pseudo-arc-length driver (arclength.hpp), events located by
+//                                secant/bisection on their event functions.
+// Results are in the user's units and coordinate (x, or theta in degrees), like io::SolveReport.
+//
+// These are the result types alone, below both the paths that make them (continuation/) and
+// the writers that store them (io/trace_writer.hpp); the options and the algorithms stay in
+// continuation/.
+
+#include <array>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include "core/enum_names.hpp"
+#include "scene/scene.hpp"
+
+namespace liftoff::path {
+
+enum class EventKind {
+  lift_off_opens,     // a lift-off zone opens inside a contact region (w touches 0 from above)
+  contact_opens,      // a contact region opens inside a lift-off zone (w touches 0 from below)
+  region_vanishes,    // a contact region shrinks to nothing
+  lift_off_vanishes,  // a lift-off zone shrinks to nothing (two contact regions merge)
+  limit_at_support,   // a contact limit reaches a point support or a supported end, or leaves
+                      // it (a zone opening there): both paths name it so
+  limit_at_load,      // a contact limit reaches a point load
+  limit_at_end,       // a contact limit reaches or leaves the end of the foundation (member end)
+  limit_point,        // a fold: lambda reaches a maximum or minimum along the path
+};
+std::string_view to_string(EventKind);
+
+struct TraceEvent {
+  double load_factor = 0.0;  // lambda at the event
+  EventKind kind = EventKind::lift_off_opens;
+  double at = 0.0;          // position along the member, user coordinate
+  std::string description;  // one line, in words
+};
+
+// How a Ritz step's switching event opens the new zone: the old topology is continued this far
+// in lambda past the event (direction * delta) before the switch.
+struct RitzOpening {
+  double direction = 1.0;
+  double delta = 0.0;
+  bool operator==(const RitzOpening&) const = default;
+};
+
+// The Ritz model's topology at a step: whether the first piece is in contact, its interior
+// contact limits and its modes; at a switching event, the opening a resumed trace redoes.
+struct RitzTopology {
+  bool first_in_contact = false;
+  int limits = 0;
+  int modes = 0;
+  std::optional<RitzOpening> at_event;
+  bool operator==(const RitzTopology&) const = default;
+};
+
+// An FE step: its TraceStep::state is the contact set that carries the path on from it.
+struct FeContactSet {
+  bool operator==(const FeContactSet&) const = default;
+};
+
+// What a step's TraceStep::state is; monostate: a step with no resumable state. Stored as text
+// (io/trace_writer.hpp) only in the trace file.
+using StateTopology = std::variant<std::monostate, RitzTopology, FeContactSet>;
+
+// One recorded point of the path.
+struct TraceStep {
+  double load_factor = 0.0;
+  std::vector<std::array<double, 2>> contact_regions;  // user coordinate
+  double monitor_deflection = 0.0;                     // w at TraceOptions::monitor (user length units)
+  std::vector<double> deflection;                      // w at TraceOptions::sample_points (user length units)
+  std::vector<double> reaction;                        // foundation reaction there (force per length, compression > 0)
+  int iterations = 0;                                  // corrector iterations (Ritz) or pivots (FE) since the last step
+  // What a resumed trace needs to continue from this step without redoing anything, read by
+  // the path that wrote it. Ritz: its topology and (unknowns, tangent, next step length,
+  // amplitude scale), so a resumed run takes the same steps; FE: FeContactSet and one 0/1 per
+  // reaction node, so it restarts without Lemke.
+  StateTopology state_topology;
+  std::vector<double> state;
+};
+
+enum class TraceTermination {
+  completed,       // lambda_max (or lambda_min going down) reached
+  no_equilibrium,  // beyond some lambda no equilibrium exists (the loads lift the member off)
+  step_too_small,  // the Ritz corrector failed at the minimum step
+  step_limit,      // max_steps reached
+  solver_failure,  // a solve failed outright; message says how
+};
+std::string_view to_string(TraceTermination);
+
+// Which path produced a trace (its name, "fe" or "ritz", is the HDF5 group's and the JSON's).
+enum class PathKind { fe, ritz };
+std::string_view to_string(PathKind);
+
+struct TraceSummary {
+  TraceTermination termination = TraceTermination::solver_failure;
+  std::string message;
+  PathKind path = PathKind::fe;
+  int steps = 0;
+  int rejected_steps = 0;
+  int corrector_iterations = 0;  // Ritz
+  int pivots = 0;                // FE
+  int factorisations = 0;
+  int contact_solves = 0;  // FE: full contact solves (the start, degenerate breakpoints)
+  // FE: the formulation the last contact solve used (ContactSummary::method); automatic if none ran.
+  scene::Method contact_method = scene::Method::automatic;
+  double final_load_factor = 0.0;
+  double time_s = 0.0;
+  bool is_usable() const { return termination == TraceTermination::completed; }
+};
+
+struct TraceResult {
+  std::vector<TraceStep> steps;
+  std::vector<TraceEvent> events;
+  TraceSummary summary;
+};
+
+// Called once per accepted step (and once per event, right after the step that ends at it), as
+// soon as it is known, so that the caller can write it out incrementally.
+struct TraceSink {
+  std::function<void(const TraceStep&)> on_step;
+  std::function<void(const TraceEvent&)> on_event;
+};
+
+}  // namespace liftoff::path
+
+namespace liftoff {
+// The names' one table is in path/trace.cpp (core/enum_names.hpp).
+template <>
+std::optional<path::EventKind> from_string(std::string_view);
+template <>
+std::optional<path::TraceTermination> from_string(std::string_view);
+template <>
+std::optional<path::PathKind> from_string(std::string_view);
+}  // namespace liftoff
