@@ -17,16 +17,16 @@ std::vector<double> scaled(const std::vector<double>& values, double factor) {
   return out;
 }
 
-std::vector<double> to_user(const fe::MemberModel& model, const std::vector<double>& s) {
+std::vector<double> to_user(const model::MemberModel& model, const std::vector<double>& s) {
   std::vector<double> out(s.size());
   std::transform(s.begin(), s.end(), out.begin(), [&](double v) { return model.user_from_s(v); });
   return out;
 }
 
 // What every method shares: the scene, fields in user units, extremes, contact regions.
-SolveReport common_report(const scene::Scene& scene, const fe::MemberModel& model, const post::Fields& fields,
+SolveReport common_report(const scene::Scene& scene, const model::MemberModel& model, const post::Fields& fields,
                           const std::vector<post::Interval>& regions) {
-  const fe::Scales& scales = model.scales;
+  const model::Scales& scales = model.scales;
   SolveReport r;
   r.scene_name = scene.source_name;
   r.scene_text = scene.text;
@@ -60,7 +60,7 @@ SolveReport common_report(const scene::Scene& scene, const fe::MemberModel& mode
 
 }  // namespace
 
-SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model, const fe::Discretisation& d,
+SolveReport make_report(const scene::Scene& scene, const model::MemberModel& model, const fe::Discretisation& d,
                         const contact::ContactSolution& solution, const post::Fields& fields,
                         const std::vector<post::Interval>& regions) {
   SolveReport r = common_report(scene, model, fields, regions);
@@ -82,7 +82,7 @@ SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model,
         SolveReport::RayCertificate{std::string(scene::to_string(c->formulation)),
                                     std::vector<double>(c->ray.data(), c->ray.data() + c->ray.size()), c->q_dot_ray};
 
-  const fe::Scales& scales = model.scales;
+  const model::Scales& scales = model.scales;
   FieldTable& n = r.nodes;
   n.coordinate = to_user(model, d.mesh.nodes);
   n.reaction.assign(d.mesh.nodes.size(), 0.0);
@@ -112,7 +112,7 @@ SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model,
   return r;
 }
 
-post::Fields sample_fields(const fe::MemberModel& model, const ritz::RitzSolution& solution, int samples) {
+post::Fields sample_fields(const model::MemberModel& model, const ritz::RitzSolution& solution, int samples) {
   post::Fields f;
   const ritz::RitzModel& ritz = *solution.model;
   const Eigen::VectorXd& x = solution.unknowns;
@@ -135,7 +135,7 @@ post::Fields sample_fields(const fe::MemberModel& model, const ritz::RitzSolutio
   return f;
 }
 
-SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model, const ritz::RitzSolution& solution,
+SolveReport make_report(const scene::Scene& scene, const model::MemberModel& model, const ritz::RitzSolution& solution,
                         int samples) {
   const ritz::RitzSummary& summary = solution.summary;
   std::vector<post::Interval> regions;
@@ -173,7 +173,7 @@ SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model,
   return r;
 }
 
-void attach_scale(SolveReport& report, const scene::Scene& scene, const fe::MemberModel& model) {
+void attach_scale(SolveReport& report, const scene::Scene& scene, const model::MemberModel& model) {
   report.units = scene.units;
   std::vector<double> mesh;  // FE: the nodes in s (Ritz: none)
   for (const double x : report.nodes.coordinate) mesh.push_back(model.s_from_user(x));
@@ -182,7 +182,7 @@ void attach_scale(SolveReport& report, const scene::Scene& scene, const fe::Memb
   for (std::string& w : post::scale_warnings(scene, model, *report.scale)) report.warnings.push_back(std::move(w));
 }
 
-void attach_certificate(SolveReport& report, const certify::Certificate& certificate, const fe::MemberModel& model) {
+void attach_certificate(SolveReport& report, const certify::Certificate& certificate, const model::MemberModel& model) {
   certify::Certificate c = certificate;
   for (certify::Check& check : c.checks)
     if (check.at) check.at = model.user_from_s(*check.at);
@@ -190,8 +190,8 @@ void attach_certificate(SolveReport& report, const certify::Certificate& certifi
   report.certificate = std::move(c);
 }
 
-void attach_design(SolveReport& report, const post::DesignValues& design, const fe::MemberModel& model) {
-  const fe::Scales& scales = model.scales;
+void attach_design(SolveReport& report, const post::DesignValues& design, const model::MemberModel& model) {
+  const model::Scales& scales = model.scales;
   auto convert = [&](const post::Extreme& x, double factor) {
     DesignValue v{x.value * factor, std::nullopt};
     if (x.s) v.at = model.user_from_s(*x.s);

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "fe/member_model.hpp"
+#include "model/member_model.hpp"
 #include "scene/scene.hpp"
 
 namespace liftoff::post {
@@ -42,7 +42,7 @@ struct ScaleFigures {
 };
 
 // The figures of the model's foundation; `mesh_nodes` (s, ascending) adds beta h (empty: none).
-ScaleFigures scale_figures(const fe::MemberModel& model, const std::vector<double>& mesh_nodes = {});
+ScaleFigures scale_figures(const model::MemberModel& model, const std::vector<double>& mesh_nodes = {});
 
 // Thresholds of the warnings (README, "Scale and warnings").
 inline constexpr double rigid_beta_length = 0.1;      // beta L below: practically rigid
@@ -54,7 +54,7 @@ inline constexpr double largest_real_modulus = 1e11;  // N/m^2: rock under a wid
 // One line each: a nondimensional modulus that reads like a dimensional one (or the reverse), a
 // modulus outside any real bed's (only when [units] names a system), a practically rigid member,
 // a mesh that does not resolve 1/beta.
-std::vector<std::string> scale_warnings(const scene::Scene& scene, const fe::MemberModel& model,
+std::vector<std::string> scale_warnings(const scene::Scene& scene, const model::MemberModel& model,
                                         const ScaleFigures& figures);
 
 }  // namespace liftoff::post

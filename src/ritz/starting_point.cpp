@@ -2,7 +2,7 @@
 
 namespace liftoff::ritz {
 
-StartingPoint starting_point_from_scene(const scene::RitzSettings& settings, const fe::MemberModel& model) {
+StartingPoint starting_point_from_scene(const scene::RitzSettings& settings, const model::MemberModel& model) {
   StartingPoint start;
   start.topology = {settings.topology.front(), static_cast<int>(settings.topology.size()) - 1};
   for (double limit : settings.limits) start.limits.push_back(model.s_from_user(limit));

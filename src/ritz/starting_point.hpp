@@ -6,7 +6,7 @@
 
 #include <vector>
 
-#include "fe/member_model.hpp"
+#include "model/member_model.hpp"
 #include "ritz/ritz_model.hpp"
 #include "scene/scene.hpp"
 
@@ -19,13 +19,13 @@ struct StartingPoint {
 
 // The scene's topology, with its limits or evenly spaced guesses. Requires a non-empty
 // settings.topology.
-StartingPoint starting_point_from_scene(const scene::RitzSettings& settings, const fe::MemberModel& model);
+StartingPoint starting_point_from_scene(const scene::RitzSettings& settings, const model::MemberModel& model);
 
 // The topology of contact regions (intervals of s with members `begin` and `end`, as
 // post::contact_regions returns them): limits within 1e-9 of the member's length of a
 // foundation end are that end, not a limit.
 template <class Intervals>
-StartingPoint starting_point_from_regions(const Intervals& regions, const fe::MemberModel& model) {
+StartingPoint starting_point_from_regions(const Intervals& regions, const model::MemberModel& model) {
   StartingPoint start;
   const double begin = model.foundation_begin, end = model.foundation_end, edge = 1e-9 * model.length();
   start.topology.first_in_contact = !regions.empty() && regions.front().begin <= begin + edge;

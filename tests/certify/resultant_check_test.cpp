@@ -14,7 +14,7 @@ using scene::EndSupport;
 
 namespace {
 certify::ResultantCheck check_scene(const scene::Scene& s, int elements = 40) {
-  const fe::MemberModel model = fe::make_member_model(s);
+  const model::MemberModel model = model::make_member_model(s);
   return certify::check_resultant(model, fe::discretise(model, elements));
 }
 }  // namespace

@@ -5,11 +5,11 @@
 
 #include "closed_form/beam_on_foundation.hpp"
 #include "closed_form/scene_problem.hpp"
-#include "fe/member_model.hpp"
+#include "model/member_model.hpp"
 
 namespace liftoff::closed_form {
 
-inline BeamProblem problem_of(const fe::MemberModel& model) {
+inline BeamProblem problem_of(const model::MemberModel& model) {
   BeamProblem p;
   p.length = model.length();
   p.foundation_modulus = model.foundation_modulus;

@@ -14,7 +14,7 @@
 
 #include "scene/scene.hpp"
 
-namespace liftoff::fe {
+namespace liftoff::model {
 
 using scene::EndSupport;
 using scene::LoadBasis;
@@ -170,4 +170,4 @@ struct MemberModel {
 
 MemberModel make_member_model(const scene::Scene& scene);
 
-}  // namespace liftoff::fe
+}  // namespace liftoff::model

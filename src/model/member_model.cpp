@@ -1,4 +1,4 @@
-#include "fe/member_model.hpp"
+#include "model/member_model.hpp"
 
 #include <fmt/format.h>
 
@@ -8,7 +8,7 @@
 
 #include "core/error.hpp"
 
-namespace liftoff::fe {
+namespace liftoff::model {
 
 namespace {
 constexpr double degrees = std::numbers::pi / 180.0;
@@ -227,4 +227,4 @@ MemberModel make_member_model(const scene::Scene& scene) {
   return model;
 }
 
-}  // namespace liftoff::fe
+}  // namespace liftoff::model
