@@ -15,6 +15,7 @@
 #include "continuation/events.hpp"
 #include "fe/discretisation.hpp"
 #include "lcp/lemke.hpp"
+#include "model/from_scene.hpp"
 #include "model/member_model.hpp"
 #include "post/contact_regions.hpp"
 #include "post/fields.hpp"

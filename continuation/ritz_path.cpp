@@ -54,6 +54,7 @@
 #include "contact/contact_solver.hpp"
 #include "continuation/arclength.hpp"
 #include "fe/discretisation.hpp"
+#include "model/from_scene.hpp"
 #include "model/member_model.hpp"
 #include "post/contact_regions.hpp"
 #include "ritz/ritz_model.hpp"

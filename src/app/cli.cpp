@@ -29,6 +29,7 @@
 #include "io/envelope_report.hpp"
 #include "io/hdf5_writer.hpp"
 #include "io/trace_writer.hpp"
+#include "model/from_scene.hpp"
 #include "model/member_model.hpp"
 #include "scene/scene_reader.hpp"
 

@@ -16,6 +16,7 @@
 #include "core/error.hpp"
 #include "fe/discretisation.hpp"
 #include "fe/shape_functions.hpp"
+#include "model/from_scene.hpp"
 #include "model/member_model.hpp"
 #include "post/contact_regions.hpp"
 #include "post/design.hpp"
@@ -128,7 +129,7 @@ std::string check_failure(const contact::ContactSummary& summary, const certify:
 std::optional<post::DesignValues> design_values(const model::MemberModel& model, const fe::Discretisation& d,
                                                 const contact::ContactSolution& solution,
                                                 const certify::Certificate& certificate, post::Fields& fields) {
-  if (model.kind == scene::StructureKind::beam) {
+  if (model.kind == model::StructureKind::beam) {
     std::vector<post::PointReaction> supports;
     for (const certify::SupportReaction& s : certificate.support_reactions)
       supports.push_back({s.at, s.force, s.moment});
@@ -237,8 +238,8 @@ io::SolveReport refused_report(const scene::Scene& scene, const model::MemberMod
   io::SolveReport r;
   r.scene_name = scene.source_name;
   r.scene_text = scene.text;
-  r.kind = model.kind;
-  r.coordinate_name = model.kind == scene::StructureKind::beam ? "x" : "theta_deg";
+  r.kind = scene.structure.kind;
+  r.coordinate_name = model.kind == model::StructureKind::beam ? "x" : "theta_deg";
   r.tensionless = model.tensionless;
   r.foundation_parameter = model.foundation_modulus;
   r.method = scene::to_string(method == Method::automatic ? Method::fast : method);
@@ -519,7 +520,7 @@ io::SolveReport ritz_report(const scene::Scene& scene, const SolveRequest& reque
     // Beams: V and M by statics with the Ritz reaction and the certificate's support reactions
     // (the modal series' own derivatives do not converge at point loads: on the B70 sleeper they
     // gave |V| 46.9 kN against the statics' 70.0 kN). Arches: none (the same series, no statics).
-    if (report.usable && model.kind == scene::StructureKind::beam) {
+    if (report.usable && model.kind == model::StructureKind::beam) {
       post::Fields f = io::sample_fields(model, solution, request.samples_per_element * elements + 1);
       std::vector<double> limits;
       for (const ritz::Piece& piece : solution.model->contact_pieces(solution.unknowns))

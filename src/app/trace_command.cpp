@@ -11,6 +11,7 @@
 #include "continuation/ritz_path.hpp"
 #include "core/error.hpp"
 #include "io/trace_writer.hpp"
+#include "model/from_scene.hpp"
 #include "model/member_model.hpp"
 #include "post/scale.hpp"
 #include "ritz/ritz_model.hpp"

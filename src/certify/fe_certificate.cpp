@@ -405,7 +405,7 @@ DiscretisationError estimate_discretisation_error(const MemberModel& model, cons
   try {
     coarse = fe::discretise(model, coarse_elements);
     contact::ContactOptions options;
-    options.method = scene::Method::fast;
+    options.method = contact::Method::fast;
     options.load_factor = load_factor;
     reference = contact::solve_contact(coarse, options);
   } catch (const std::exception& e) {
@@ -472,7 +472,7 @@ Certificate certify(const MemberModel& model, const Discretisation& d, const con
       options.backward_tolerance > 0.0
           ? options.backward_tolerance
           : std::max(detail::backward_tolerance,
-                     solution.summary.method == scene::Method::primal ? 8.0 * lcp_unknowns * detail::eps : 0.0);
+                     solution.summary.method == contact::Method::primal ? 8.0 * lcp_unknowns * detail::eps : 0.0);
 
   // backward_error: every row of the equations. (A gauge's row, like a support's, carries the
   // rigid-weighted sum of the others' residuals; the balance checks it.)

@@ -31,8 +31,8 @@ SolveReport common_report(const scene::Scene& scene, const model::MemberModel& m
   r.scene_name = scene.source_name;
   r.scene_text = scene.text;
   r.comparison = scene.compare;
-  r.kind = model.kind;
-  r.coordinate_name = model.kind == StructureKind::beam ? "x" : "theta_deg";
+  r.kind = scene.structure.kind;
+  r.coordinate_name = model.kind == model::StructureKind::beam ? "x" : "theta_deg";
   r.tensionless = model.tensionless;
   r.foundation_parameter = model.foundation_modulus;
   for (const auto& region : regions)
@@ -94,11 +94,11 @@ SolveReport make_report(const scene::Scene& scene, const model::MemberModel& mod
   }
   for (int node = 0; node < static_cast<int>(d.mesh.nodes.size()); ++node) {
     const double w = solution.displacement[d.deflection_dof(node)], slope = solution.displacement[d.slope_dof(node)];
-    const double u = model.kind == StructureKind::arch ? solution.displacement[d.tangential_dof(node)] : 0.0;
+    const double u = model.kind == model::StructureKind::arch ? solution.displacement[d.tangential_dof(node)] : 0.0;
     n.w.push_back(w * scales.displacement());
     const double in = model.foundation_outside ? -1.0 : 1.0;  // w > 0 outward outside (arch_element.hpp)
-    n.rotation.push_back(model.kind == StructureKind::arch ? -(u + in * slope) : -slope);
-    if (model.kind == StructureKind::arch) n.u.push_back(u * scales.displacement());
+    n.rotation.push_back(model.kind == model::StructureKind::arch ? -(u + in * slope) : -slope);
+    if (model.kind == model::StructureKind::arch) n.u.push_back(u * scales.displacement());
     // A bilinear foundation's Winkler part K_t (w - g) adds to the LCP's reaction: the total.
     double tension_modulus = 0.0;
     for (int e : {node - 1, node})
@@ -150,7 +150,7 @@ SolveReport make_report(const scene::Scene& scene, const model::MemberModel& mod
     r.scene_name = scene.source_name;
     r.scene_text = scene.text;
     r.comparison = scene.compare;
-    r.kind = model.kind;
+    r.kind = scene.structure.kind;
   }
   r.method = "ritz";
   r.termination = ritz::to_string(summary.termination);

@@ -61,7 +61,7 @@ std::optional<Unsupported> unsupported_input(const model::MemberModel& model, co
                          "version"};
     if (arch && load.kind != model::LoadKind::moment && load.direction != model::LoadDirection::radial)
       return Unsupported{"loads", fmt::format("takes radial arch loads only, not direction = \"{}\"",
-                                              scene::to_string(load.direction))};
+                                              model::to_string(load.direction))};
   }
   return std::nullopt;
 }

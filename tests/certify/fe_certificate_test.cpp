@@ -13,6 +13,7 @@
 #include "certify/certificate.hpp"
 #include "contact/active_set_solver.hpp"
 #include "contact/fitted_limits.hpp"
+#include "model/from_scene.hpp"
 #include "support/scenes.hpp"
 #include "support/solve.hpp"
 

@@ -7,6 +7,7 @@
 #include <catch2/catch.hpp>
 
 #include "fe/discretisation.hpp"
+#include "model/from_scene.hpp"
 #include "support/scenes.hpp"
 
 using namespace liftoff;

@@ -10,6 +10,7 @@
 
 #include "contact/contact_solver.hpp"
 #include "core/error.hpp"
+#include "model/from_scene.hpp"
 #include "support/scenes.hpp"
 #include "support/solve.hpp"
 

@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 
 #include "closed_form/beam_on_foundation.hpp"
+#include "model/from_scene.hpp"
 #include "support/scenes.hpp"
 #include "support/solve.hpp"
 

@@ -5,6 +5,7 @@
 
 #include "closed_form/scene_problem.hpp"
 #include "core/error.hpp"
+#include "model/from_scene.hpp"
 #include "post/fields.hpp"
 #include "support/scenes.hpp"
 #include "support/solve.hpp"

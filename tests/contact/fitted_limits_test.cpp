@@ -8,6 +8,7 @@
 #include "closed_form/beam_on_foundation.hpp"
 #include "closed_form/member_problem.hpp"
 #include "contact/active_set_solver.hpp"
+#include "model/from_scene.hpp"
 #include "support/scenes.hpp"
 #include "support/solve.hpp"
 

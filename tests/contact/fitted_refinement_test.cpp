@@ -12,6 +12,7 @@
 #include "closed_form/member_problem.hpp"
 #include "contact/active_set_solver.hpp"
 #include "fe/shape_functions.hpp"
+#include "model/from_scene.hpp"
 #include "support/scenes.hpp"
 #include "support/solve.hpp"
 

@@ -31,6 +31,7 @@
 #include "contact/active_set_system.hpp"
 #include "continuation/fe_path.hpp"
 #include "fe/discretisation.hpp"
+#include "model/from_scene.hpp"
 #include "model/member_model.hpp"
 #include "scene/scene_reader.hpp"
 #include "support/scenes.hpp"

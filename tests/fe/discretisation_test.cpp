@@ -7,6 +7,7 @@
 
 #include "core/error.hpp"
 #include "fe/mesh.hpp"
+#include "model/from_scene.hpp"
 #include "support/scenes.hpp"
 
 using namespace liftoff;

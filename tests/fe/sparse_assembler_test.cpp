@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "fe/discretisation.hpp"
+#include "model/from_scene.hpp"
 #include "model/member_model.hpp"
 #include "support/scenes.hpp"
 

@@ -12,6 +12,7 @@
 #include "contact/active_set_solver.hpp"
 #include "contact/fitted_limits.hpp"
 #include "fe/discretisation.hpp"
+#include "model/from_scene.hpp"
 #include "support/scenes.hpp"
 #include "support/solve.hpp"
 

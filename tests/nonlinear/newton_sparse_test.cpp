@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "fe/discretisation.hpp"
+#include "model/from_scene.hpp"
 #include "model/member_model.hpp"
 #include "nonlinear/linear_solver.hpp"
 #include "nonlinear/newton.hpp"

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <string>
 
+#include "model/from_scene.hpp"
 #include "scene/scene_reader.hpp"
 #include "support/scenes.hpp"
 

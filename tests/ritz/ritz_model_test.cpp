@@ -16,6 +16,7 @@
 #include "core/error.hpp"
 #include "fe/discretisation.hpp"
 #include "fe/shape_functions.hpp"
+#include "model/from_scene.hpp"
 #include "support/scenes.hpp"
 
 using namespace liftoff;
@@ -417,8 +418,8 @@ TEST_CASE("ritz model: beams with free ends on a bilateral foundation converge t
     member.tensionless = false;
     const VectorXd reference = hermite_beam(c.left, c.right, k, 400, c.load_at, 1.0);
     const double w0 = reference[0], w1 = reference[2 * 400], wp = reference[2 * std::lround(c.load_at * 400)];
-    fmt::print("{}-{} beam, k = {}, load at {}: relative error of w at (0, load, 1)\n", scene::to_string(c.left),
-               scene::to_string(c.right), k, c.load_at);
+    fmt::print("{}-{} beam, k = {}, load at {}: relative error of w at (0, load, 1)\n", model::to_string(c.left),
+               model::to_string(c.right), k, c.load_at);
     const double scale = std::max({std::abs(w0), std::abs(w1), std::abs(wp)});
     double last = 0.0;
     for (int n : {4, 8, 16, 32, 64}) {
@@ -463,7 +464,7 @@ TEST_CASE("ritz model: arches converge to the FE solution, without membrane lock
     const std::vector<double> reference = fe_arch_deflection(member, 320, at);
     const double scale = std::max({std::abs(reference[0]), std::abs(reference[1]), std::abs(reference[2])});
     fmt::print("{}-{} arch, k = {}, load at {} deg: relative error of w at (-5, load, 7.5) deg vs FE (320 el.)\n",
-               scene::to_string(c.left), scene::to_string(c.right), c.k, c.load_at_deg);
+               model::to_string(c.left), model::to_string(c.right), c.k, c.load_at_deg);
     double first = 0.0, last = 0.0;
     for (int n : {4, 8, 16, 32, 64}) {
       const RitzModel model(member, n, {true, 0});

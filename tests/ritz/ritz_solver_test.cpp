@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "app/solve_command.hpp"
+#include "model/from_scene.hpp"
 #include "nonlinear/newton.hpp"
 #include "support/scenes.hpp"
 

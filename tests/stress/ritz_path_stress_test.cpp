@@ -11,6 +11,7 @@
 
 #include "continuation/fe_path.hpp"
 #include "continuation/ritz_path.hpp"
+#include "model/from_scene.hpp"
 #include "model/member_model.hpp"
 #include "ritz/ritz_solver.hpp"
 #include "scene/scene_reader.hpp"

@@ -15,6 +15,7 @@
 
 #include "app/solve_command.hpp"
 #include "closed_form/scene_problem.hpp"
+#include "model/from_scene.hpp"
 #include "ritz/ritz_solver.hpp"
 #include "support/scenes.hpp"
 

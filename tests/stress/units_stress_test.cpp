@@ -8,6 +8,7 @@
 
 #include "answer_check.hpp"
 #include "app/solve_command.hpp"
+#include "model/from_scene.hpp"
 #include "support/scenes.hpp"
 #include "support/solve.hpp"
 

@@ -6,6 +6,7 @@
 
 #include "contact/contact_solver.hpp"
 #include "fe/discretisation.hpp"
+#include "model/from_scene.hpp"
 #include "model/member_model.hpp"
 #include "post/contact_regions.hpp"
 #include "scene/scene.hpp"

@@ -10,6 +10,7 @@
 #include "certify/certificate.hpp"
 #include "closed_form/beam_on_foundation.hpp"
 #include "closed_form/member_problem.hpp"
+#include "model/from_scene.hpp"
 #include "post/fields.hpp"
 #include "support/scenes.hpp"
 #include "support/solve.hpp"

@@ -43,6 +43,7 @@
 #include "contact/contact_solver.hpp"
 #include "contact/fitted_limits.hpp"
 #include "fe/discretisation.hpp"
+#include "model/from_scene.hpp"
 #include "model/member_model.hpp"
 #include "post/contact_regions.hpp"
 #include "scene/scene.hpp"

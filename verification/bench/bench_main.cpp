@@ -45,6 +45,7 @@
 #include "core/error.hpp"
 #include "fe/discretisation.hpp"
 #include "measure.hpp"
+#include "model/from_scene.hpp"
 #include "model/member_model.hpp"
 #include "post/contact_regions.hpp"
 #include "post/fields.hpp"

@@ -26,6 +26,7 @@
 #include "contact/fitted_limits.hpp"
 #include "fe/discretisation.hpp"
 #include "measure.hpp"
+#include "model/from_scene.hpp"
 #include "model/member_model.hpp"
 #include "post/contact_regions.hpp"
 #include "ritz/ritz_solver.hpp"
