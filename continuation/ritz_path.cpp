@@ -363,10 +363,8 @@ ResumeState RitzTracer::starting_state() {
   }
   state.topology = initial.topology;
   const std::vector<double>& limits = initial.limits;
-  ritz::RitzOptions ritz_options;
-  ritz_options.modes = options_.modes > 0 ? options_.modes : scene_.ritz.modes;
-  ritz_options.max_modes = scene_.ritz.max_modes;
-  ritz_options.mode_tolerance = scene_.ritz.mode_tolerance * member_.length();
+  ritz::RitzOptions ritz_options = ritz::ritz_options_from_scene(
+      scene_.ritz, member_, options_.modes > 0 ? std::optional<int>(options_.modes) : std::nullopt);
   ritz_options.load_factor = lambda_start;
   ritz_options.enrichment = enrichment_;
   ritz::RitzSolution start = ritz::solve_ritz(member_, state.topology, limits, ritz_options);

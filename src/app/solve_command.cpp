@@ -435,10 +435,7 @@ io::SolveReport ritz_report(const scene::Scene& scene, const SolveRequest& reque
   const int elements = request.elements.value_or(scene.solve.elements);
   const RitzStart starting_point = ritz_starting_point(scene, model, elements);
 
-  ritz::RitzOptions options;
-  options.modes = request.modes.value_or(scene.ritz.modes);
-  options.max_modes = scene.ritz.max_modes;
-  options.mode_tolerance = scene.ritz.mode_tolerance * model.length();
+  ritz::RitzOptions options = ritz::ritz_options_from_scene(scene.ritz, model, request.modes);
   // A tolerance: automatic modes, settled to it (the change from the previous N, its estimate).
   const std::optional<double> tolerance = request.tolerance ? request.tolerance : scene.solve.tolerance;
   if (tolerance) {

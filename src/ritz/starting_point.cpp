@@ -14,4 +14,13 @@ StartingPoint starting_point_from_scene(const scene::RitzSettings& settings, con
   return start;
 }
 
+RitzOptions ritz_options_from_scene(const scene::RitzSettings& settings, const model::MemberModel& model,
+                                    std::optional<int> modes) {
+  RitzOptions options;
+  options.modes = modes.value_or(settings.modes);
+  options.max_modes = settings.max_modes;
+  options.mode_tolerance = settings.mode_tolerance * model.length();
+  return options;
+}
+
 }  // namespace liftoff::ritz
