@@ -60,8 +60,8 @@ std::vector<double> extrema(const Eigen::Vector4d& w_dofs, double h) {
   return inside;
 }
 
-std::string coordinate(const fe::MemberModel& model, double s) {
-  if (model.kind == fe::StructureKind::beam) return fmt::format("x = {:.6g}", model.user_from_s(s));
+std::string coordinate(const model::MemberModel& model, double s) {
+  if (model.kind == model::StructureKind::beam) return fmt::format("x = {:.6g}", model.user_from_s(s));
   return fmt::format("theta = {:.6g} deg", model.user_from_s(s));
 }
 
@@ -69,14 +69,14 @@ bool overlaps(const Piece& a, const Piece& b) { return std::min(a.end, b.end) > 
 
 }  // namespace
 
-SpecialPoints special_points(const fe::MemberModel& model) {
+SpecialPoints special_points(const model::MemberModel& model) {
   SpecialPoints p;
   p.begin = model.foundation_begin;
   p.end = model.foundation_end;
   const double tol = 1e-12 * model.length();
   auto supported = [&](double s) {
-    if (std::abs(s - model.s_begin) <= tol && model.left != fe::EndSupport::free) return true;
-    if (std::abs(s - model.s_end) <= tol && model.right != fe::EndSupport::free) return true;
+    if (std::abs(s - model.s_begin) <= tol && model.left != model::EndSupport::free) return true;
+    if (std::abs(s - model.s_end) <= tol && model.right != model::EndSupport::free) return true;
     return std::any_of(model.point_supports.begin(), model.point_supports.end(),
                        [&](double x) { return std::abs(x - s) <= tol; });
   };
@@ -85,7 +85,7 @@ SpecialPoints special_points(const fe::MemberModel& model) {
   std::vector<std::pair<double, bool>> points;
   for (double s : model.point_supports) points.emplace_back(s, true);
   for (const auto& load : model.loads)
-    if (load.kind != fe::LoadKind::uniform) points.emplace_back(load.at, false);
+    if (load.kind != model::LoadKind::uniform) points.emplace_back(load.at, false);
   std::sort(points.begin(), points.end());
   for (const auto& [s, support] : points) {
     if (s <= p.begin + tol || s >= p.end - tol) continue;
@@ -104,7 +104,7 @@ bool ContactTopology::same_as(const ContactTopology& other) const {
   return pieces.empty() || pieces.front().contact == other.pieces.front().contact;
 }
 
-ContactTopology contact_topology(const fe::MemberModel& model, const fe::Discretisation& d,
+ContactTopology contact_topology(const model::MemberModel& model, const fe::Discretisation& d,
                                  const Eigen::VectorXd& displacement, const SpecialPoints& points) {
   ContactTopology topology;
   if (d.reactions() == 0) return topology;
@@ -228,7 +228,7 @@ ContactTopology contact_topology(const fe::MemberModel& model, const fe::Discret
   return topology;
 }
 
-std::vector<TraceEvent> classify_events(const fe::MemberModel& model, const SpecialPoints& points,
+std::vector<TraceEvent> classify_events(const model::MemberModel& model, const SpecialPoints& points,
                                         const ContactTopology& before, const ContactTopology& after,
                                         double load_factor) {
   std::vector<TraceEvent> events;

@@ -25,7 +25,7 @@
 
 #include "continuation/trace.hpp"
 #include "fe/discretisation.hpp"
-#include "fe/member_model.hpp"
+#include "model/member_model.hpp"
 
 namespace liftoff::continuation {
 
@@ -44,7 +44,7 @@ struct SpecialPoints {
   std::vector<double> interior;  // point supports and point loads strictly inside, sorted
   std::vector<bool> is_support;  // per interior point: support (true) or point load
 };
-SpecialPoints special_points(const fe::MemberModel& model);
+SpecialPoints special_points(const model::MemberModel& model);
 
 struct ContactTopology {
   std::vector<Piece> pieces;     // in order along the foundation; empty without a foundation
@@ -53,12 +53,12 @@ struct ContactTopology {
 };
 
 // displacement on every dof (nondimensional). A bilateral foundation is one contact piece.
-ContactTopology contact_topology(const fe::MemberModel& model, const fe::Discretisation& d,
+ContactTopology contact_topology(const model::MemberModel& model, const fe::Discretisation& d,
                                  const Eigen::VectorXd& displacement, const SpecialPoints& points);
 
 // The events between two topologies on either side of one change (at load factor
 // `load_factor`), with positions in the user's coordinate.
-std::vector<TraceEvent> classify_events(const fe::MemberModel& model, const SpecialPoints& points,
+std::vector<TraceEvent> classify_events(const model::MemberModel& model, const SpecialPoints& points,
                                         const ContactTopology& before, const ContactTopology& after,
                                         double load_factor);
 

@@ -14,8 +14,9 @@
 #include "contact/contact_solver.hpp"
 #include "continuation/events.hpp"
 #include "fe/discretisation.hpp"
-#include "fe/member_model.hpp"
 #include "lcp/lemke.hpp"
+#include "model/from_scene.hpp"
+#include "model/member_model.hpp"
 #include "post/contact_regions.hpp"
 #include "post/fields.hpp"
 
@@ -66,7 +67,7 @@ class FePath {
   FePath(const scene::Scene& scene, const TraceOptions& options, const TraceSink& sink)
       : options_(options),
         sink_(sink),
-        model_(fe::make_member_model(scene)),
+        model_(model::make_member_model(scene)),
         d_(fe::discretise(model_, options.elements)),
         system_(d_),
         points_(special_points(model_)) {}
@@ -126,7 +127,7 @@ class FePath {
 
   TraceOptions options_;
   TraceSink sink_;
-  fe::MemberModel model_;
+  model::MemberModel model_;
   fe::Discretisation d_;
   contact::ActiveSetSystem system_;
   SpecialPoints points_;
@@ -469,7 +470,7 @@ TraceStep FePath::step_at(double lambda) {
     const int e = d_.mesh.element_containing(s);
     return std::pair{e, (s - d_.mesh.nodes[e]) / d_.mesh.element_size(e)};
   };
-  const fe::Scales& scales = model_.scales;
+  const model::Scales& scales = model_.scales;
   const auto [me, mxi] = at(options_.monitor);
   step.monitor_deflection = post::evaluate(d_, displacement, me, mxi).w * scales.displacement();
   for (double x : options_.sample_points) {

@@ -38,8 +38,8 @@
 // over. A step that fails is retried shorter; at min_step the path stops with solver_failure,
 // its message saying which inequality failed where and by how much, and the steps before stay.
 //
-// Units: the path works in fe::MemberModel's nondimensional s and w; steps are reported in the
-// user's units through fe::Scales.
+// Units: the path works in model::MemberModel's nondimensional s and w; steps are reported in the
+// user's units through model::Scales.
 
 #include <fmt/format.h>
 
@@ -53,7 +53,8 @@
 #include "contact/contact_solver.hpp"
 #include "continuation/arclength.hpp"
 #include "fe/discretisation.hpp"
-#include "fe/member_model.hpp"
+#include "model/from_scene.hpp"
+#include "model/member_model.hpp"
 #include "post/contact_regions.hpp"
 #include "ritz/ritz_model.hpp"
 #include "ritz/ritz_solver.hpp"
@@ -144,15 +145,15 @@ constexpr double inequality_tolerance = 1e-9;
 class RitzTracer {
  public:
   RitzTracer(const scene::Scene& scene, const TraceOptions& options, const TraceSink& sink)
-      : scene_(scene), options_(options), sink_(sink), member_(fe::make_member_model(scene)) {}
+      : scene_(scene), options_(options), sink_(sink), member_(model::make_member_model(scene)) {}
 
   TraceResult run();
 
  private:
   ritz::Enrichment choose_enrichment() const {
     const double beta_l = std::pow(member_.foundation_modulus / 4.0, 0.25) * member_.length();
-    return member_.kind == fe::StructureKind::beam && beta_l <= 10.0 ? ritz::Enrichment::load_points
-                                                                     : ritz::Enrichment::none;
+    return member_.kind == model::StructureKind::beam && beta_l <= 10.0 ? ritz::Enrichment::load_points
+                                                                        : ritz::Enrichment::none;
   }
   // Verbs, in the order run() calls them.
   void validate() const;
@@ -214,7 +215,7 @@ class RitzTracer {
   const scene::Scene& scene_;
   const TraceOptions& options_;
   const TraceSink& sink_;
-  fe::MemberModel member_;
+  model::MemberModel member_;
   TraceResult result_;
   int modes_ = 0;
   Resolution resolution_;
@@ -257,8 +258,8 @@ Resolution RitzTracer::resolution() const {
   Resolution r;
   if (enrichment_ == ritz::Enrichment::load_points || !member_.tensionless) return r;
   r.beta_length = std::pow(member_.foundation_modulus / 4.0, 0.25) * member_.length();
-  for (const fe::MemberLoad& load : member_.loads)
-    if (load.kind == fe::LoadKind::force && load.value != 0.0 && load.at > member_.foundation_begin &&
+  for (const model::MemberLoad& load : member_.loads)
+    if (load.kind == model::LoadKind::force && load.value != 0.0 && load.at > member_.foundation_begin &&
         load.at < member_.foundation_end) {
       r.applies = true;
       r.at = load.at;
@@ -275,7 +276,7 @@ void RitzTracer::check_resolution(int modes) const {
       "refused: {} modes resolve the local response to the point force at {} = {:.6g} on this foundation (beta times "
       "the member's length = {:.3g}) only to about {:.0f} % (the smooth modes converge there like (beta length / (pi "
       "N))^3); {} modes are needed for {:.0f} % and {} for {:.1f} %{}: set [ritz] modes{} or use an FE method",
-      modes, member_.kind == fe::StructureKind::arch ? "theta" : "x", user(resolution_.at), resolution_.beta_length,
+      modes, member_.kind == model::StructureKind::arch ? "theta" : "x", user(resolution_.at), resolution_.beta_length,
       100.0 * resolution_.error(modes), resolution_.modes_for(resolution_limit), 100.0 * resolution_limit,
       resolution_.modes_for(resolution_target), 100.0 * resolution_target,
       automatic ? fmt::format(" (automatic modes stop at [ritz] max_modes = {})", scene_.ritz.max_modes) : "",
@@ -286,7 +287,7 @@ bool RitzTracer::end_supported(bool left) const {
   const double s = left ? member_.foundation_begin : member_.foundation_end;
   const double end = left ? member_.s_begin : member_.s_end;
   if (std::abs(s - end) > 1e-12 * member_.length()) return false;
-  return (left ? member_.left : member_.right) != fe::EndSupport::free;
+  return (left ? member_.left : member_.right) != model::EndSupport::free;
 }
 
 // The topology and unknowns at lambda_min (or at the resumed step).
@@ -330,7 +331,7 @@ ResumeState RitzTracer::starting_state() {
   // the path starts one initial_step later, where the loads define it.
   const bool unloaded = options_.arc_length.lambda_min == 0.0 &&
                         std::all_of(member_.loads.begin(), member_.loads.end(),
-                                    [](const fe::MemberLoad& l) { return l.load_case != fe::LoadCase::dead; });
+                                    [](const model::MemberLoad& l) { return l.load_case != model::LoadCase::dead; });
   const double lambda_start = unloaded ? options_.arc_length.initial_step : options_.arc_length.lambda_min;
   // Refuse before any work: the given N, or the most automatic modes could take.
   check_resolution(options_.modes > 0      ? options_.modes
@@ -352,10 +353,8 @@ ResumeState RitzTracer::starting_state() {
   }
   state.topology = initial.topology;
   const std::vector<double>& limits = initial.limits;
-  ritz::RitzOptions ritz_options;
-  ritz_options.modes = options_.modes > 0 ? options_.modes : scene_.ritz.modes;
-  ritz_options.max_modes = scene_.ritz.max_modes;
-  ritz_options.mode_tolerance = scene_.ritz.mode_tolerance * member_.length();
+  ritz::RitzOptions ritz_options = ritz::ritz_options_from_scene(
+      scene_.ritz, member_, options_.modes > 0 ? std::optional<int>(options_.modes) : std::nullopt);
   ritz_options.load_factor = lambda_start;
   ritz_options.enrichment = enrichment_;
   ritz::RitzSolution start = ritz::solve_ritz(member_, state.topology, limits, ritz_options);
@@ -464,8 +463,8 @@ std::vector<EventSpec> RitzTracer::event_specs(const RitzModel& model) const {
   specs.push_back({EventFunction::end_value, end_kind(false), pieces - 1, true, 0, 0});
   // Limits passing load points.
   std::vector<double> points;
-  for (const fe::MemberLoad& load : member_.loads) {
-    if (load.kind == fe::LoadKind::uniform) continue;
+  for (const model::MemberLoad& load : member_.loads) {
+    if (load.kind == model::LoadKind::uniform) continue;
     if (load.at > member_.foundation_begin && load.at < member_.foundation_end) points.push_back(load.at);
   }
   std::sort(points.begin(), points.end());
@@ -540,10 +539,10 @@ EventValue RitzTracer::event_value(const RitzModel& model, const VectorXd& x, co
       const double s = left ? member_.foundation_begin : member_.foundation_end;
       double value = model.w(x, s);
       if (end_supported(left)) {
-        const fe::EndSupport support = left ? member_.left : member_.right;
+        const model::EndSupport support = left ? member_.left : member_.right;
         // w = 0 at the end: the sign of w just inside comes from w' (pinned) or w'' (clamped).
-        value = support == fe::EndSupport::clamped ? model.w(x, s, 2) : (left ? 1.0 : -1.0) * model.w(x, s, 1);
-        if (support == fe::EndSupport::clamped) value *= member_.length();
+        value = support == model::EndSupport::clamped ? model.w(x, s, 2) : (left ? 1.0 : -1.0) * model.w(x, s, 1);
+        if (support == model::EndSupport::clamped) value *= member_.length();
       }
       return {p.in_contact ? value : -value, s};
     }
@@ -615,7 +614,7 @@ void RitzTracer::record_step(const RitzModel& model, const PathPoint& point, int
                              const std::optional<Opening>& at_event) {
   TraceStep step;
   step.load_factor = point.lambda;
-  const fe::Scales& scales = member_.scales;
+  const model::Scales& scales = member_.scales;
   for (const ritz::Piece& piece : model.contact_pieces(point.x))
     if (piece.end > piece.begin) step.contact_regions.push_back({user(piece.begin), user(piece.end)});
   step.monitor_deflection = model.w(point.x, member_.s_from_user(options_.monitor)) * scales.displacement();
@@ -664,9 +663,9 @@ std::optional<std::string> RitzTracer::state_failure(const RitzModel& model, con
   if (!model.admissible(x)) return "its contact limits are out of order or outside the foundation";
   const ritz::InequalityCheck check = ritz::check_inequalities(model, x);
   if (check.violation <= inequality_tolerance + allowance) return std::nullopt;
-  const fe::Scales& scales = member_.scales;
+  const model::Scales& scales = member_.scales;
   const std::string where =
-      fmt::format("{} = {:.6g}", member_.kind == fe::StructureKind::arch ? "theta" : "x", user(check.at));
+      fmt::format("{} = {:.6g}", member_.kind == model::StructureKind::arch ? "theta" : "x", user(check.at));
   if (check.in_contact)
     return fmt::format(
         "w = {:.3e} at {} inside a contact piece: the foundation would pull (reaction {:.3e} force per length), {:.1e} "
@@ -733,9 +732,9 @@ std::optional<std::string> RitzTracer::stepped_over(const RitzModel& model, cons
         return fmt::format(
             "the contact limit at {} = {:.6g} moved past a local {} of w at {:.6g} ({} = {:.3e}) in one "
             "step, where a zone must have {} first",
-            member_.kind == fe::StructureKind::arch ? "theta" : "x", user(t0), piece.in_contact ? "minimum" : "maximum",
-            user(e.at), "w", model.w(from, e.at) * member_.scales.displacement(),
-            piece.in_contact ? "lifted off" : "come into contact");
+            member_.kind == model::StructureKind::arch ? "theta" : "x", user(t0),
+            piece.in_contact ? "minimum" : "maximum", user(e.at), "w",
+            model.w(from, e.at) * member_.scales.displacement(), piece.in_contact ? "lifted off" : "come into contact");
   }
   return std::nullopt;
 }
@@ -877,7 +876,7 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
         const auto record = [&](const EventSpec& spec, double s) {
           record_event(to.lambda, spec.kind, s,
                        fmt::format("{} at {} = {:.10g} ({})", to_string(spec.kind),
-                                   member_.kind == fe::StructureKind::arch ? "theta" : "x", user(s),
+                                   member_.kind == model::StructureKind::arch ? "theta" : "x", user(s),
                                    to_string(model.topology())));
         };
         for (const EventSpec& spec : pending.events) {
@@ -972,8 +971,8 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
   const Topology topology{old.topology().first_in_contact != flip_first, static_cast<int>(kept.size()) + added};
 
   // Nothing holds a free-free member that has lifted off everywhere.
-  if (!topology.first_in_contact && topology.limits == 0 && member_.left == fe::EndSupport::free &&
-      member_.right == fe::EndSupport::free && member_.point_supports.empty()) {
+  if (!topology.first_in_contact && topology.limits == 0 && member_.left == model::EndSupport::free &&
+      member_.right == model::EndSupport::free && member_.point_supports.empty()) {
     result_.summary.termination = TraceTermination::no_equilibrium;
     result_.summary.message = fmt::format(
         "no equilibrium beyond lambda = {:.10g}: the member has lifted off the foundation entirely and nothing else "
@@ -1072,7 +1071,7 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
         failure = fmt::format(
             "the zone opened {:.3g} past the event in lambda covers another local extreme of w at {} "
             "= {:.6g}",
-            delta, member_.kind == fe::StructureKind::arch ? "theta" : "x", user(*swallowed));
+            delta, member_.kind == model::StructureKind::arch ? "theta" : "x", user(*swallowed));
         continue;
       }
     }

@@ -25,11 +25,12 @@
 #include "app/trace_command.hpp"
 #include "core/error.hpp"
 #include "default_scene.hpp"
-#include "fe/member_model.hpp"
 #include "io/csv_writer.hpp"
 #include "io/envelope_report.hpp"
 #include "io/hdf5_writer.hpp"
 #include "io/trace_writer.hpp"
+#include "model/from_scene.hpp"
+#include "model/member_model.hpp"
 #include "scene/scene_reader.hpp"
 
 namespace liftoff::app {
@@ -199,7 +200,7 @@ int run_all(const scene::Scene& scene, const SolveRequest& request, const SolveA
             const RunContext& context, std::ostream& out, std::ostream& err) {
   std::vector<io::SolveReport> reports = solve_all_methods(scene, request);
   // A refused method's report knows nothing of the scene; the header and JSON need its k.
-  const fe::MemberModel model = fe::make_member_model(scene);
+  const model::MemberModel model = model::make_member_model(scene);
   for (io::SolveReport& r : reports)
     if (r.outcome == io::SolveOutcome::refused)
       r.foundation_parameter = model.foundation_modulus, r.tensionless = model.tensionless;

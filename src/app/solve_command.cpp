@@ -15,8 +15,9 @@
 #include "contact/fitted_refinement.hpp"
 #include "core/error.hpp"
 #include "fe/discretisation.hpp"
-#include "fe/member_model.hpp"
 #include "fe/shape_functions.hpp"
+#include "model/from_scene.hpp"
+#include "model/member_model.hpp"
 #include "post/contact_regions.hpp"
 #include "post/design.hpp"
 #include "post/fields.hpp"
@@ -35,7 +36,7 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-fe::Discretisation discretise(const scene::Scene& scene, const fe::MemberModel& model, int elements) {
+fe::Discretisation discretise(const scene::Scene& scene, const model::MemberModel& model, int elements) {
   try {
     return fe::discretise(model, elements);
   } catch (const MechanismError& e) {
@@ -52,7 +53,7 @@ struct FeResult {
 // The answer of one formulation on a discretisation: no_equilibrium at once when the resultant
 // cannot be balanced by compressive foundation reactions (certify/resultant_check.hpp), else the
 // contact solve. Throws SolverFailure (a refused formulation) with the scene's name.
-contact::ContactSolution contact_answer(const scene::Scene& scene, const fe::MemberModel& model,
+contact::ContactSolution contact_answer(const scene::Scene& scene, const model::MemberModel& model,
                                         const fe::Discretisation& d, Method method,
                                         std::vector<bool> initial_contact = {}) {
   const certify::ResultantCheck resultant = certify::check_resultant(model, d);
@@ -80,7 +81,7 @@ contact::ContactSolution contact_answer(const scene::Scene& scene, const fe::Mem
 
 // The warm start's first contact set on d: the reaction nodes inside the regions (user
 // coordinate, a relative 1e-9 of the length around each end). Empty where it does not apply.
-std::vector<bool> warm_start_set(const fe::MemberModel& model, const fe::Discretisation& d,
+std::vector<bool> warm_start_set(const model::MemberModel& model, const fe::Discretisation& d,
                                  const std::optional<std::vector<std::array<double, 2>>>& regions) {
   if (!regions || !d.tensionless) return {};
   const double margin = 1e-9 * (model.s_end - model.s_begin);
@@ -95,7 +96,7 @@ std::vector<bool> warm_start_set(const fe::MemberModel& model, const fe::Discret
   return in_contact;
 }
 
-FeResult solve_fe(const scene::Scene& scene, const fe::MemberModel& model, Method method, int elements,
+FeResult solve_fe(const scene::Scene& scene, const model::MemberModel& model, Method method, int elements,
                   const std::optional<std::vector<std::array<double, 2>>>& warm_start = std::nullopt) {
   FeResult fe;
   fe.discretisation = discretise(scene, model, elements);
@@ -126,10 +127,10 @@ std::string check_failure(const contact::ContactSummary& summary, const certify:
 // The design values of a certified FE answer: beams by the statics of the free body with the
 // certificate's support reactions (V and M of `fields` replaced by the statics' own), arches from
 // sampled fields (fields.hpp's V and M).
-std::optional<post::DesignValues> design_values(const fe::MemberModel& model, const fe::Discretisation& d,
+std::optional<post::DesignValues> design_values(const model::MemberModel& model, const fe::Discretisation& d,
                                                 const contact::ContactSolution& solution,
                                                 const certify::Certificate& certificate, post::Fields& fields) {
-  if (model.kind == scene::StructureKind::beam) {
+  if (model.kind == model::StructureKind::beam) {
     std::vector<post::PointReaction> supports;
     for (const certify::SupportReaction& s : certificate.support_reactions)
       supports.push_back({s.at, s.force, s.moment});
@@ -145,7 +146,7 @@ std::optional<post::DesignValues> design_values(const fe::MemberModel& model, co
 
 io::SolveReport fe_report(const scene::Scene& scene, Method method, const SolveRequest& request) {
   const auto start = std::chrono::steady_clock::now();
-  const fe::MemberModel model = fe::make_member_model(scene);
+  const model::MemberModel model = model::make_member_model(scene);
   FeResult fe =
       solve_fe(scene, model, method, request.elements.value_or(scene.solve.elements), request.initial_contact_regions);
   const fe::Discretisation& d = fe.discretisation;
@@ -233,13 +234,13 @@ io::SolveReport fe_report(const scene::Scene& scene, Method method, const SolveR
 }
 
 // A report with no answer (usable false), for a refusal of the tolerance.
-io::SolveReport refused_report(const scene::Scene& scene, const fe::MemberModel& model, Method method,
+io::SolveReport refused_report(const scene::Scene& scene, const model::MemberModel& model, Method method,
                                const std::string& termination, const std::string& message) {
   io::SolveReport r;
   r.scene_name = scene.source_name;
   r.scene_text = scene.text;
-  r.kind = model.kind;
-  r.coordinate_name = model.kind == scene::StructureKind::beam ? "x" : "theta_deg";
+  r.kind = scene.structure.kind;
+  r.coordinate_name = model.kind == model::StructureKind::beam ? "x" : "theta_deg";
   r.tensionless = model.tensionless;
   r.foundation_parameter = model.foundation_modulus;
   r.method = scene::to_string(method == Method::automatic ? Method::fast : method);
@@ -256,7 +257,7 @@ io::SolveReport refused_report(const scene::Scene& scene, const fe::MemberModel&
 // round-off against the sequence's own estimate) and its round-off must be below the tolerance.
 io::SolveReport fitted_report(const scene::Scene& scene, Method method, const SolveRequest& request, double tolerance) {
   const auto start = std::chrono::steady_clock::now();
-  const fe::MemberModel model = fe::make_member_model(scene);
+  const model::MemberModel model = model::make_member_model(scene);
   const int elements = request.elements.value_or(scene.solve.elements);
   FeResult node_based = solve_fe(scene, model, method, elements);
   const fe::Discretisation& d0 = node_based.discretisation;
@@ -364,7 +365,7 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   io::attach_certificate(report, certificate, model);
   // Nodal reactions and the extremes as displayed (above).
   const post::DeflectionExtremes x = post::deflection_extremes(d, all, &model);
-  const fe::Scales& scales = model.scales;
+  const model::Scales& scales = model.scales;
   // Where the reaction jumps (two soils, a step of the gap) a node has two one-sided values, each
   // with its own side's k and g: the table shows the larger, as make_report does.
   for (int node = 0; node <= d.mesh.elements(); ++node) {
@@ -409,7 +410,7 @@ struct RitzStart {
   std::string how;
 };
 
-RitzStart ritz_starting_point(const scene::Scene& scene, const fe::MemberModel& model, int elements) {
+RitzStart ritz_starting_point(const scene::Scene& scene, const model::MemberModel& model, int elements) {
   if (!scene.ritz.topology.empty())
     return {ritz::starting_point_from_scene(scene.ritz, model), "topology from the scene"};
   // The robust sparse solver gives the start (Lemke only when asked for by name).
@@ -424,7 +425,7 @@ RitzStart ritz_starting_point(const scene::Scene& scene, const fe::MemberModel& 
 
 io::SolveReport ritz_report(const scene::Scene& scene, const SolveRequest& request) {
   const auto start = std::chrono::steady_clock::now();
-  const fe::MemberModel model = fe::make_member_model(scene);
+  const model::MemberModel model = model::make_member_model(scene);
   // Refused before the FE start is solved, naming the key the user wrote (gap or gap_file, ...).
   if (const auto unsupported =
           ritz::unsupported_input(model, scene.foundation.gap_key(), scene.foundation.tension_key()))
@@ -435,10 +436,7 @@ io::SolveReport ritz_report(const scene::Scene& scene, const SolveRequest& reque
   const int elements = request.elements.value_or(scene.solve.elements);
   const RitzStart starting_point = ritz_starting_point(scene, model, elements);
 
-  ritz::RitzOptions options;
-  options.modes = request.modes.value_or(scene.ritz.modes);
-  options.max_modes = scene.ritz.max_modes;
-  options.mode_tolerance = scene.ritz.mode_tolerance * model.length();
+  ritz::RitzOptions options = ritz::ritz_options_from_scene(scene.ritz, model, request.modes);
   // A tolerance: automatic modes, settled to it (the change from the previous N, its estimate).
   const std::optional<double> tolerance = request.tolerance ? request.tolerance : scene.solve.tolerance;
   if (tolerance) {
@@ -520,7 +518,7 @@ io::SolveReport ritz_report(const scene::Scene& scene, const SolveRequest& reque
     // Beams: V and M by statics with the Ritz reaction and the certificate's support reactions
     // (the modal series' own derivatives do not converge at point loads: on the B70 sleeper they
     // gave |V| 46.9 kN against the statics' 70.0 kN). Arches: none (the same series, no statics).
-    if (report.usable && model.kind == scene::StructureKind::beam) {
+    if (report.usable && model.kind == model::StructureKind::beam) {
       std::vector<post::PointReaction> supports;
       for (const certify::SupportReaction& s : certificate.support_reactions)
         supports.push_back({s.at, s.force, s.moment});
@@ -563,7 +561,7 @@ io::SolveReport solve_scene_unscaled(const scene::Scene& scene, const SolveReque
 io::SolveReport solve_scene(const scene::Scene& scene, const SolveRequest& request) {
   // Every report carries the units, the foundation's scale and the warnings (post/scale.hpp).
   io::SolveReport report = solve_scene_unscaled(scene, request);
-  io::attach_scale(report, scene, fe::make_member_model(scene));
+  io::attach_scale(report, scene, model::make_member_model(scene));
   return report;
 }
 

@@ -10,8 +10,9 @@
 #include "continuation/fe_path.hpp"
 #include "continuation/ritz_path.hpp"
 #include "core/error.hpp"
-#include "fe/member_model.hpp"
 #include "io/trace_writer.hpp"
+#include "model/from_scene.hpp"
+#include "model/member_model.hpp"
 #include "post/scale.hpp"
 #include "ritz/ritz_model.hpp"
 
@@ -203,7 +204,7 @@ std::vector<std::string> trace_path_names(const scene::Scene& scene, const Trace
   if (method != scene::Method::ritz) names.push_back("fe");
   if (method == scene::Method::ritz || method == scene::Method::all) {
     // As `solve --method ritz`: what the Ritz model cannot take is bad input for it (exit 2).
-    const fe::MemberModel model = fe::make_member_model(scene);
+    const model::MemberModel model = model::make_member_model(scene);
     if (const auto unsupported =
             ritz::unsupported_input(model, scene.foundation.gap_key(), scene.foundation.tension_key())) {
       const std::string where = request.method ? "option '--method'"
@@ -269,7 +270,7 @@ TraceOutcome run_trace(const scene::Scene& scene, const TraceRequest& request, c
   outcome.units = scene.units;
   outcome.warnings = scene.warnings;
   {  // the foundation's scale (no mesh resolution here: the paths choose their own meshes)
-    const fe::MemberModel model = fe::make_member_model(scene);
+    const model::MemberModel model = model::make_member_model(scene);
     for (std::string& w : post::scale_warnings(scene, model, post::scale_figures(model)))
       outcome.warnings.push_back(std::move(w));
   }

@@ -29,8 +29,8 @@ void CertifyOptions::validate() const {
           "must be a number (negative: none)");
 }
 
-UserFigures user_figures(const Certificate& c, const fe::MemberModel& model) {
-  const fe::Scales& scales = model.scales;
+UserFigures user_figures(const Certificate& c, const model::MemberModel& model) {
+  const model::Scales& scales = model.scales;
   UserFigures u;
   for (const SupportReaction& r : c.support_reactions)
     u.support_reactions.push_back({model.user_from_s(r.at), r.force * scales.force(), r.moment * scales.moment(),

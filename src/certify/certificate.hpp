@@ -74,7 +74,7 @@
 // or half-modes solve costs as much as the step; the round-off is still measured for the sign
 // tolerances and reported in round_off_estimate). Ritz: RitzOptions::load_factor as solved.
 //
-// Certificate figures are nondimensional (fe::MemberModel's scales); user_figures() converts.
+// Certificate figures are nondimensional (model::MemberModel's scales); user_figures() converts.
 // Signs: a support reaction's force pushes the member away from the foundation (like the
 // foundation's reaction), its moment is counterclockwise; applied forces push toward the
 // foundation; moments about the member's begin (arches: the centre) counterclockwise.
@@ -86,7 +86,7 @@
 
 #include "contact/contact_solver.hpp"
 #include "fe/discretisation.hpp"
-#include "fe/member_model.hpp"
+#include "model/member_model.hpp"
 #include "ritz/ritz_solver.hpp"
 
 namespace liftoff::certify {
@@ -190,12 +190,12 @@ struct CertifyOptions {
 // The certificate of an FE + LCP answer (solution.displacement on every dof, solution.reaction
 // per reaction node, as contact::solve_contact returns them). An answer without finite fields
 // gets a failed certificate saying so.
-Certificate certify(const fe::MemberModel& model, const fe::Discretisation& discretisation,
+Certificate certify(const model::MemberModel& model, const fe::Discretisation& discretisation,
                     const contact::ContactSolution& solution, const CertifyOptions& options = {});
 
 // The certificate of a Ritz answer (solution.model and solution.unknowns of the final N).
 // `ritz_options`: as the answer was solved (load factor, modes, Newton tolerance, enrichment).
-Certificate certify(const fe::MemberModel& model, const ritz::RitzSolution& solution,
+Certificate certify(const model::MemberModel& model, const ritz::RitzSolution& solution,
                     const ritz::RitzOptions& ritz_options, const CertifyOptions& options = {});
 
 // In the user's units (forces, moments, positions: x or theta in degrees).
@@ -204,6 +204,6 @@ struct UserFigures {
   double foundation_resultant = 0.0, foundation_centroid = 0.0, applied_force = 0.0, applied_moment = 0.0;
   double foundation_resultant_x = 0.0, applied_force_x = 0.0;
 };
-UserFigures user_figures(const Certificate& certificate, const fe::MemberModel& model);
+UserFigures user_figures(const Certificate& certificate, const model::MemberModel& model);
 
 }  // namespace liftoff::certify

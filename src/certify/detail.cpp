@@ -9,8 +9,8 @@
 namespace liftoff::certify::detail {
 
 using Eigen::VectorXd;
-using fe::EndSupport;
-using fe::StructureKind;
+using model::EndSupport;
+using model::StructureKind;
 
 std::vector<std::array<int, 2>> element_reactions(const fe::Discretisation& d) {
   std::vector<int> first(d.mesh.nodes.size(), -1), last(d.mesh.nodes.size(), -1);
@@ -21,7 +21,7 @@ std::vector<std::array<int, 2>> element_reactions(const fe::Discretisation& d) {
   return out;
 }
 
-std::vector<int> supported_dofs(const fe::MemberModel& model, const fe::Discretisation& d) {
+std::vector<int> supported_dofs(const model::MemberModel& model, const fe::Discretisation& d) {
   std::vector<int> fixed;
   const bool arch = model.kind == StructureKind::arch;
   auto fix_end = [&](int node, EndSupport support) {
@@ -47,21 +47,21 @@ namespace {
 // fe::arch_load_components: the force of unit value (per unit arc) in global components, x to the
 // right and y up, the point at theta being R (sin theta, cos theta) from the centre, projected
 // on the directions of w > 0 and of u. Returns (along w, along u).
-Eigen::Vector2d arch_force_on_dofs(const fe::MemberModel& model, const fe::MemberLoad& load, double theta) {
+Eigen::Vector2d arch_force_on_dofs(const model::MemberModel& model, const model::MemberLoad& load, double theta) {
   const Eigen::Vector2d outward(std::sin(theta), std::cos(theta)), tangent(std::cos(theta), -std::sin(theta));
   const Eigen::Vector2d w_direction = model.foundation_outside ? outward : Eigen::Vector2d(-outward);
   Eigen::Vector2d force = Eigen::Vector2d::Zero();
   switch (load.direction) {
-    case fe::LoadDirection::radial:
+    case model::LoadDirection::radial:
       force = w_direction;
       break;
-    case fe::LoadDirection::tangential:
+    case model::LoadDirection::tangential:
       force = tangent;
       break;
-    case fe::LoadDirection::vertical:  // per unit projection: dx = cos theta ds
-      force = Eigen::Vector2d(0.0, -1.0) * (load.per == fe::LoadBasis::projection ? std::cos(theta) : 1.0);
+    case model::LoadDirection::vertical:  // per unit projection: dx = cos theta ds
+      force = Eigen::Vector2d(0.0, -1.0) * (load.per == model::LoadBasis::projection ? std::cos(theta) : 1.0);
       break;
-    case fe::LoadDirection::horizontal:
+    case model::LoadDirection::horizontal:
       force = Eigen::Vector2d(1.0, 0.0);
       break;
   }
@@ -69,18 +69,18 @@ Eigen::Vector2d arch_force_on_dofs(const fe::MemberModel& model, const fe::Membe
 }
 }  // namespace
 
-VectorXd applied_nodal_loads(const fe::MemberModel& model, const fe::Discretisation& d, double load_factor) {
+VectorXd applied_nodal_loads(const model::MemberModel& model, const fe::Discretisation& d, double load_factor) {
   VectorXd f = VectorXd::Zero(d.dofs());
   const bool arch = model.kind == StructureKind::arch;
-  for (const fe::MemberLoad& load : model.loads) {
-    const double value = load.value * (load.load_case == fe::LoadCase::dead ? 1.0 : load_factor);
-    if (load.kind == fe::LoadKind::uniform || load.kind == fe::LoadKind::curvature) {
-      const double factor = load.load_case == fe::LoadCase::dead ? 1.0 : load_factor;
+  for (const model::MemberLoad& load : model.loads) {
+    const double value = load.value * (load.load_case == model::LoadCase::dead ? 1.0 : load_factor);
+    if (load.kind == model::LoadKind::uniform || load.kind == model::LoadKind::curvature) {
+      const double factor = load.load_case == model::LoadCase::dead ? 1.0 : load_factor;
       for (int e = 0; e < d.mesh.elements(); ++e) {
         const double h = d.mesh.element_size(e), middle = d.mesh.nodes[e] + 0.5 * h;
         if (middle < load.from || middle > load.to) continue;
         const std::vector<int> dofs = d.element_dofs(e);
-        if (load.kind == fe::LoadKind::curvature) {
+        if (load.kind == model::LoadKind::curvature) {
           // An imposed curvature works through the elastic strain: -kappa int N'' = -kappa [N'].
           for (const auto& [xi, sign] : {std::pair{0.0, 1.0}, std::pair{1.0, -1.0}}) {
             const Eigen::Vector4d slope = fe::hermite_cubic(xi, h).d1;
@@ -103,11 +103,11 @@ VectorXd applied_nodal_loads(const fe::MemberModel& model, const fe::Discretisat
     }
     const int node = d.mesh.node_at(load.at);
     if (node < 0) continue;  // the mesh has a node at every load (mesh.hpp)
-    if (load.kind == fe::LoadKind::force && arch) {
+    if (load.kind == model::LoadKind::force && arch) {
       const Eigen::Vector2d c = arch_force_on_dofs(model, load, load.at);
       f[d.deflection_dof(node)] += value * c[0];
       f[d.tangential_dof(node)] += value * c[1];
-    } else if (load.kind == fe::LoadKind::force) {
+    } else if (load.kind == model::LoadKind::force) {
       f[d.deflection_dof(node)] += value;
     } else {  // a counterclockwise moment works on the rotation -w' (arches -(u + w'), outside -(u - w'))
       f[d.slope_dof(node)] -= (model.foundation_outside ? -1.0 : 1.0) * value;
@@ -117,7 +117,7 @@ VectorXd applied_nodal_loads(const fe::MemberModel& model, const fe::Discretisat
   return f;
 }
 
-std::vector<SupportReaction> support_reactions(const fe::MemberModel& model, const fe::Discretisation& d,
+std::vector<SupportReaction> support_reactions(const model::MemberModel& model, const fe::Discretisation& d,
                                                const VectorXd& g, const std::vector<bool>& is_supported,
                                                std::vector<int> nodes) {
   if (nodes.empty()) {
@@ -139,7 +139,7 @@ std::vector<SupportReaction> support_reactions(const fe::MemberModel& model, con
   return out;
 }
 
-std::vector<std::pair<double, double>> settlements(const fe::MemberModel& model) {
+std::vector<std::pair<double, double>> settlements(const model::MemberModel& model) {
   std::vector<std::pair<double, double>> out;
   if (model.left != EndSupport::free) out.emplace_back(model.s_begin, model.left_settlement);
   for (std::size_t i = 0; i < model.point_supports.size(); ++i)
@@ -150,7 +150,7 @@ std::vector<std::pair<double, double>> settlements(const fe::MemberModel& model)
 
 int balance_mode_count(StructureKind kind) { return kind == StructureKind::beam ? 2 : 3; }
 
-Eigen::MatrixXd balance_modes(const fe::MemberModel& model, const fe::Discretisation& d) {
+Eigen::MatrixXd balance_modes(const model::MemberModel& model, const fe::Discretisation& d) {
   if (model.kind == StructureKind::arch) return fe::rigid_motions(model, d);
   Eigen::MatrixXd modes(d.dofs(), 2);
   for (int dof = 0; dof < d.dofs(); ++dof) {
@@ -161,7 +161,7 @@ Eigen::MatrixXd balance_modes(const fe::MemberModel& model, const fe::Discretisa
   return modes;
 }
 
-Eigen::Vector3d balance_mode_at(const fe::MemberModel& model, int mode, double s) {
+Eigen::Vector3d balance_mode_at(const model::MemberModel& model, int mode, double s) {
   if (model.kind == StructureKind::beam)
     return mode == 0 ? Eigen::Vector3d(0, 1, 0) : Eigen::Vector3d(0, s - model.s_begin, 1);
   const double c = std::cos(s), sn = std::sin(s);  // as fe::rigid_motions
@@ -182,7 +182,7 @@ std::string_view balance_name(StructureKind kind, int mode) {
   return mode == 0 ? check_name::force_balance_x : check_name::force_balance_y;
 }
 
-void fill_resultants(Certificate& c, const fe::MemberModel& model, const std::vector<double>& applied,
+void fill_resultants(Certificate& c, const model::MemberModel& model, const std::vector<double>& applied,
                      const std::vector<double>& foundation, double centroid) {
   if (model.kind == StructureKind::beam) {
     c.applied_force = applied[0];
@@ -198,7 +198,7 @@ void fill_resultants(Certificate& c, const fe::MemberModel& model, const std::ve
   c.foundation_centroid = centroid;
 }
 
-void conclude(Certificate& c, const fe::MemberModel& model) {
+void conclude(Certificate& c, const model::MemberModel& model) {
   // One order for every certificate: balance, contact, backward error, round-off (the first
   // failure is the one the message names; an imbalance says most to an engineer). A round-off
   // that could not be measured (FE: the answer's contact set leaves it free to move, as a

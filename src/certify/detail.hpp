@@ -70,33 +70,33 @@ inline Check make_check(std::string_view name, double value, double tolerance) {
 // element's first: fe/discretisation.hpp).
 std::vector<std::array<int, 2>> element_reactions(const fe::Discretisation& d);
 // The dofs the end and point supports fix (as fe::discretise fixes them; the gauge is not one).
-std::vector<int> supported_dofs(const fe::MemberModel& model, const fe::Discretisation& d);
+std::vector<int> supported_dofs(const model::MemberModel& model, const fe::Discretisation& d);
 // The applied loads as nodal forces on every dof (work-equivalent, as the assembly computes them).
-Eigen::VectorXd applied_nodal_loads(const fe::MemberModel& model, const fe::Discretisation& d, double load_factor);
+Eigen::VectorXd applied_nodal_loads(const model::MemberModel& model, const fe::Discretisation& d, double load_factor);
 // Support reactions from g, the generalised force each fixed dof's support exerts (in the dof's
 // own sense): force = -g_w, moment = -g_slope, tangential = g_u - g_slope (arches; with the
 // foundation outside moment = g_slope, tangential = g_u + g_slope).
 // `nodes`: the supports' nodes, or (empty) the rigid supports' nodes.
-std::vector<SupportReaction> support_reactions(const fe::MemberModel& model, const fe::Discretisation& d,
+std::vector<SupportReaction> support_reactions(const model::MemberModel& model, const fe::Discretisation& d,
                                                const Eigen::VectorXd& g, const std::vector<bool>& is_supported,
                                                std::vector<int> nodes = {});
 // The settled rigid supports (s, delta), read from the model.
-std::vector<std::pair<double, double>> settlements(const fe::MemberModel& model);
+std::vector<std::pair<double, double>> settlements(const model::MemberModel& model);
 
 // The rigid motions of the balance, on every dof: beams translation (w = 1) and rotation about
 // the begin (w = s - s_begin, w' = 1); arches fe::rigid_motions (x, y, rotation about the centre).
-Eigen::MatrixXd balance_modes(const fe::MemberModel& model, const fe::Discretisation& d);
-std::string_view balance_name(fe::StructureKind kind, int mode);
+Eigen::MatrixXd balance_modes(const model::MemberModel& model, const fe::Discretisation& d);
+std::string_view balance_name(model::StructureKind kind, int mode);
 // Continuum rigid motions at s for the Ritz balance: (u, w, w') of mode j (balance_modes' order).
-Eigen::Vector3d balance_mode_at(const fe::MemberModel& model, int mode, double s);
-int balance_mode_count(fe::StructureKind kind);
+Eigen::Vector3d balance_mode_at(const model::MemberModel& model, int mode, double s);
+int balance_mode_count(model::StructureKind kind);
 
 // The resultant figures from the work of the applied loads and of the foundation on each balance
 // mode, and the reaction's centroid (s).
-void fill_resultants(Certificate& c, const fe::MemberModel& model, const std::vector<double>& applied,
+void fill_resultants(Certificate& c, const model::MemberModel& model, const std::vector<double>& applied,
                      const std::vector<double>& foundation, double centroid);
 
 // Sets each check's passed, the certificate's passed and its message.
-void conclude(Certificate& c, const fe::MemberModel& model);
+void conclude(Certificate& c, const model::MemberModel& model);
 
 }  // namespace liftoff::certify::detail

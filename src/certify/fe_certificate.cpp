@@ -17,8 +17,8 @@ namespace liftoff::certify {
 
 using Eigen::VectorXd;
 using fe::Discretisation;
-using fe::MemberModel;
-using fe::StructureKind;
+using model::MemberModel;
+using model::StructureKind;
 
 namespace {
 
@@ -182,7 +182,7 @@ NodalForces nodal_forces(const MemberModel& model, const Discretisation& d, cons
   // Elastic supports, from the model: a translational spring on w (arches u and w), a rotational
   // one on the rotation -w' (arches -(u + w'), outside -(u - w')); a settled spring's far end at delta.
   f.springs = VectorXd::Zero(n);
-  for (const fe::SupportSpring& spring : model.springs) {
+  for (const model::SupportSpring& spring : model.springs) {
     const int node = d.mesh.node_at(spring.s);
     if (node < 0) continue;
     const int w = d.deflection_dof(node), slope = d.slope_dof(node), t = arch ? d.tangential_dof(node) : -1;
@@ -405,7 +405,7 @@ DiscretisationError estimate_discretisation_error(const MemberModel& model, cons
   try {
     coarse = fe::discretise(model, coarse_elements);
     contact::ContactOptions options;
-    options.method = scene::Method::fast;
+    options.method = contact::Method::fast;
     options.load_factor = load_factor;
     reference = contact::solve_contact(coarse, options);
   } catch (const std::exception& e) {
@@ -472,7 +472,7 @@ Certificate certify(const MemberModel& model, const Discretisation& d, const con
       options.backward_tolerance > 0.0
           ? options.backward_tolerance
           : std::max(detail::backward_tolerance,
-                     solution.summary.method == scene::Method::primal ? 8.0 * lcp_unknowns * detail::eps : 0.0);
+                     solution.summary.method == contact::Method::primal ? 8.0 * lcp_unknowns * detail::eps : 0.0);
 
   // backward_error: every row of the equations. (A gauge's row, like a support's, carries the
   // rigid-weighted sum of the others' residuals; the balance checks it.)
@@ -509,7 +509,7 @@ Certificate certify(const MemberModel& model, const Discretisation& d, const con
     }
     if (model.has_settlements()) c.checks.push_back(check);
     std::vector<bool> is_spring(d.dofs(), false);
-    for (const fe::SupportSpring& spring : model.springs) {
+    for (const model::SupportSpring& spring : model.springs) {
       const int node = d.mesh.node_at(spring.s);
       if (node < 0) continue;
       is_spring[d.deflection_dof(node)] = is_spring[d.slope_dof(node)] = true;
@@ -640,7 +640,7 @@ Certificate certify(const MemberModel& model, const Discretisation& d, const con
     // stiffness grows: a stiff spring is a held end), and the P1 reaction there carries the same
     // artefact of either sign; separation checks w - g >= 0 pointwise on those elements.
     if (fitted)
-      for (const fe::SupportSpring& spring : model.springs)
+      for (const model::SupportSpring& spring : model.springs)
         if (const int node = d.mesh.node_at(spring.s); node >= 0 && spring.stiffness > 0.0) w_held_at_zero[node] = 1;
     // Each node's gap against its own terms; or (global_scale) against the largest node's. Never
     // against less than the terms it would have at the member's largest |w|: the round-off of u

@@ -90,7 +90,7 @@ VectorXd non_negative_least_squares(const MatrixXd& a, const VectorXd& b) {
 
 }  // namespace
 
-ResultantCheck check_resultant(const fe::MemberModel& model, const fe::Discretisation& d, double load_factor) {
+ResultantCheck check_resultant(const model::MemberModel& model, const fe::Discretisation& d, double load_factor) {
   ResultantCheck out;
   // A bilinear foundation's Winkler part (K_t > 0) pulls too: like a bilateral one.
   if (!d.tensionless || d.reactions() == 0 || !d.winkler_elements.empty()) return out;
@@ -134,8 +134,8 @@ ResultantCheck check_resultant(const fe::MemberModel& model, const fe::Discretis
 
   // Outside the cone by more than round-off: no equilibrium. The figures in the user's units.
   out.balanced = false;
-  const fe::Scales& scales = model.scales;
-  const bool arch = model.kind == fe::StructureKind::arch;
+  const model::Scales& scales = model.scales;
+  const bool arch = model.kind == model::StructureKind::arch;
   const MatrixXd balance = detail::balance_modes(model, d);
   const VectorXd work = balance.transpose() * load;
   std::string figures;

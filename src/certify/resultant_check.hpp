@@ -14,7 +14,7 @@
 #include <string>
 
 #include "fe/discretisation.hpp"
-#include "fe/member_model.hpp"
+#include "model/member_model.hpp"
 
 namespace liftoff::certify {
 
@@ -27,7 +27,7 @@ struct ResultantCheck {
 
 // For the load F_dead + load_factor F_live. A bilateral foundation (it pulls too) always applies
 // = false.
-ResultantCheck check_resultant(const fe::MemberModel& model, const fe::Discretisation& discretisation,
+ResultantCheck check_resultant(const model::MemberModel& model, const fe::Discretisation& discretisation,
                                double load_factor = 1.0);
 
 }  // namespace liftoff::certify

@@ -13,9 +13,9 @@
 namespace liftoff::certify {
 
 using Eigen::VectorXd;
-using fe::EndSupport;
-using fe::MemberModel;
-using fe::StructureKind;
+using model::EndSupport;
+using model::MemberModel;
+using model::StructureKind;
 using ritz::RitzModel;
 
 namespace {
@@ -26,16 +26,16 @@ using detail::eps;
 double applied_work(const MemberModel& model, int mode, double lambda) {
   double work = 0.0;
   const bool arch = model.kind == StructureKind::arch;
-  for (const fe::MemberLoad& load : model.loads) {
-    const double value = load.value * (load.load_case == fe::LoadCase::dead ? 1.0 : lambda);
-    if (load.kind == fe::LoadKind::force) {
+  for (const model::MemberLoad& load : model.loads) {
+    const double value = load.value * (load.load_case == model::LoadCase::dead ? 1.0 : lambda);
+    if (load.kind == model::LoadKind::force) {
       work += value * detail::balance_mode_at(model, mode, load.at)[1];
-    } else if (load.kind == fe::LoadKind::moment) {
+    } else if (load.kind == model::LoadKind::moment) {
       const Eigen::Vector3d m = detail::balance_mode_at(model, mode, load.at);
       work -= value * (m[2] + (arch ? m[0] : 0.0));
-    } else if (load.kind == fe::LoadKind::uniform) {
+    } else if (load.kind == model::LoadKind::uniform) {
       // integral of q m_w over [from, to] in closed form, q = q0 + q1 s linear
-      const double a = load.from, b = load.to, factor = load.load_case == fe::LoadCase::dead ? 1.0 : lambda;
+      const double a = load.from, b = load.to, factor = load.load_case == model::LoadCase::dead ? 1.0 : lambda;
       const double q1 = factor * load.slope, q0 = factor * load.value - q1 * a;
       if (!arch) {
         const double s0 = model.s_begin;
@@ -155,15 +155,15 @@ Balance balance_terms(const MemberModel& member, const RitzModel& ritz, const Ve
           foundation_work +=
               integrate(piece.begin, piece.end, quadrature, [&](double s) { return k * ritz.w(x, s) * test(s)[2]; });
       double load_work = 0.0;
-      for (const fe::MemberLoad& load : member.loads) {
-        const double value = load.value * (load.load_case == fe::LoadCase::dead ? 1.0 : lambda);
-        if (load.kind == fe::LoadKind::force) {
+      for (const model::MemberLoad& load : member.loads) {
+        const double value = load.value * (load.load_case == model::LoadCase::dead ? 1.0 : lambda);
+        if (load.kind == model::LoadKind::force) {
           load_work += value * test(load.at)[2];
-        } else if (load.kind == fe::LoadKind::moment) {
+        } else if (load.kind == model::LoadKind::moment) {
           const std::array<double, 5> v = test(load.at);
           load_work -= value * (v[3] + v[0]);
-        } else if (load.kind == fe::LoadKind::uniform) {  // linear x cubic: one 5-point Gauss interval is exact
-          const double scale = load.load_case == fe::LoadCase::dead ? 1.0 : lambda;
+        } else if (load.kind == model::LoadKind::uniform) {  // linear x cubic: one 5-point Gauss interval is exact
+          const double scale = load.load_case == model::LoadCase::dead ? 1.0 : lambda;
           load_work +=
               scale * integrate(load.from, load.to, 1, [&](double s) { return load.intensity(s) * test(s)[2]; });
         }

@@ -186,7 +186,7 @@ namespace {
 
 // The contact set on `fine` that a coarse answer suggests: a reaction node is in contact where the
 // coarse deflection (its Hermite cubic, the first four local dofs of both element kinds) exceeds the ground gap g.
-std::vector<bool> carried_contact_set(const fe::MemberModel& model, const fe::Discretisation& coarse,
+std::vector<bool> carried_contact_set(const model::MemberModel& model, const fe::Discretisation& coarse,
                                       const VectorXd& coarse_displacement, const fe::Discretisation& fine) {
   const VectorXd all = coarse.expand_displacement(coarse_displacement);
   std::vector<bool> in_contact(fine.reactions());
@@ -209,7 +209,7 @@ std::vector<bool> carried_contact_set(const fe::MemberModel& model, const fe::Di
 
 }  // namespace
 
-CoarseStart coarse_start(const fe::MemberModel& model, const fe::Discretisation& d, double load_factor,
+CoarseStart coarse_start(const model::MemberModel& model, const fe::Discretisation& d, double load_factor,
                          const ActiveSetOptions& options, const NestedOptions& nested) {
   nested.validate();
   CoarseStart out;
@@ -230,7 +230,7 @@ CoarseStart coarse_start(const fe::MemberModel& model, const fe::Discretisation&
   return out;
 }
 
-NestedResult solve_active_set_nested(const fe::MemberModel& model, const fe::Discretisation& d, double load_factor,
+NestedResult solve_active_set_nested(const model::MemberModel& model, const fe::Discretisation& d, double load_factor,
                                      const ActiveSetOptions& options, const NestedOptions& nested) {
   CoarseStart start = coarse_start(model, d, load_factor, options, nested);
   NestedResult out;

@@ -116,7 +116,7 @@ struct NestedResult {
   int coarse_sets = 0;
   int levels = 1;  // meshes solved, this one included
 };
-NestedResult solve_active_set_nested(const fe::MemberModel& model, const fe::Discretisation& discretisation,
+NestedResult solve_active_set_nested(const model::MemberModel& model, const fe::Discretisation& discretisation,
                                      double load_factor, const ActiveSetOptions& options,
                                      const NestedOptions& nested = {});
 
@@ -129,7 +129,7 @@ struct CoarseStart {
   int coarse_sets = 0;
   int levels = 1;  // meshes solved, this one included
 };
-CoarseStart coarse_start(const fe::MemberModel& model, const fe::Discretisation& discretisation, double load_factor,
+CoarseStart coarse_start(const model::MemberModel& model, const fe::Discretisation& discretisation, double load_factor,
                          const ActiveSetOptions& options, const NestedOptions& nested = {});
 
 }  // namespace liftoff::contact

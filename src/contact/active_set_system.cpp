@@ -23,11 +23,11 @@ struct Dofs {
   int count = 0;
 };
 Dofs node_dofs(const fe::Discretisation& d, int node) {
-  if (d.kind == fe::StructureKind::beam) return {{d.deflection_dof(node), d.slope_dof(node), 0}, 2};
+  if (d.kind == model::StructureKind::beam) return {{d.deflection_dof(node), d.slope_dof(node), 0}, 2};
   return {{d.tangential_dof(node), d.deflection_dof(node), d.slope_dof(node)}, 3};
 }
 Dofs interior_dofs(const fe::Discretisation& d, int element) {
-  if (d.kind == fe::StructureKind::beam) return {};
+  if (d.kind == model::StructureKind::beam) return {};
   return {{6 * element + 3, 6 * element + 4, 6 * element + 5}, 3};
 }
 

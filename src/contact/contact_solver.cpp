@@ -71,7 +71,7 @@ VectorXd absolute_product(const fe::SparseMatrix& a, const VectorXd& x) {
 // the foundation resists. Empty for a structure stable on its supports.
 MatrixXd free_rigid_motions(const Discretisation& d) {
   if (d.structure_is_stable()) return MatrixXd(d.equations, 0);
-  fe::MemberModel shape;  // rigid_motions reads the kind and the extent only
+  model::MemberModel shape;  // rigid_motions reads the kind and the extent only
   shape.kind = d.kind;
   shape.s_begin = d.mesh.nodes.front();
   shape.s_end = d.mesh.nodes.back();

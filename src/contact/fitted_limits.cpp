@@ -48,7 +48,7 @@ Eigen::Vector4d w_dofs(const fe::Discretisation& d, const VectorXd& all, int e) 
 // w - g at xi of element e: g is the ground gap, linear in the element (its table's points are
 // breakpoints; at a step each element has its own side's value). Without a model, g = 0.
 double w_at(const fe::Discretisation& d, const VectorXd& all, int e, double xi,
-            const fe::MemberModel* ground = nullptr) {
+            const model::MemberModel* ground = nullptr) {
   const double w = fe::hermite_cubic(xi, d.mesh.element_size(e)).value.dot(w_dofs(d, all, e));
   return ground ? w - ground->ground_gap_in(d.mesh.nodes[e], d.mesh.element_size(e), xi) : w;
 }
@@ -56,7 +56,7 @@ double w_at(const fe::Discretisation& d, const VectorXd& all, int e, double xi,
 // The zero of w - g nearest element e: in e if it changes sign there, else in the nearest element
 // (up to three away) where it does; else the middle of e. The discrete contact set follows the
 // weighted gaps, not w itself, so w's zero may lie an element or two beside the set's change.
-double zero_near_element(const fe::Discretisation& d, const VectorXd& all, int e, const fe::MemberModel* ground) {
+double zero_near_element(const fe::Discretisation& d, const VectorXd& all, int e, const model::MemberModel* ground) {
   for (int distance = 0; distance <= 3; ++distance) {
     for (int candidate : {e - distance, e + distance}) {
       if (candidate < 0 || candidate >= d.mesh.elements()) continue;
@@ -78,7 +78,7 @@ double zero_near_element(const fe::Discretisation& d, const VectorXd& all, int e
 }
 
 // The steps of the ground gap (a trench wall: two values at one position) inside the foundation.
-std::vector<double> ground_steps(const fe::MemberModel& model) {
+std::vector<double> ground_steps(const model::MemberModel& model) {
   std::vector<double> steps;
   const auto& at = model.ground_gap_at;
   for (std::size_t i = 1; i < at.size(); ++i)
@@ -93,7 +93,7 @@ std::vector<double> ground_steps(const fe::MemberModel& model) {
 namespace {
 
 // contact_intervals with the ground gap of `ground` (null: g = 0).
-std::vector<ContactInterval> intervals(const fe::MemberModel* ground, const fe::Discretisation& d,
+std::vector<ContactInterval> intervals(const model::MemberModel* ground, const fe::Discretisation& d,
                                        const VectorXd& displacement, const std::vector<bool>& in_contact) {
   if (static_cast<int>(in_contact.size()) != d.reactions())
     throw std::invalid_argument("contact_intervals: one contact flag per reaction node expected");
@@ -161,12 +161,12 @@ std::vector<ContactInterval> contact_intervals(const fe::Discretisation& d, cons
   return intervals(nullptr, d, displacement, in_contact);
 }
 
-std::vector<ContactInterval> contact_intervals(const fe::MemberModel& model, const fe::Discretisation& d,
+std::vector<ContactInterval> contact_intervals(const model::MemberModel& model, const fe::Discretisation& d,
                                                const VectorXd& displacement, const std::vector<bool>& in_contact) {
   return intervals(model.has_ground_gap() ? &model : nullptr, d, displacement, in_contact);
 }
 
-FittedResult solve_fitted_limits(const fe::MemberModel& model, double load_factor,
+FittedResult solve_fitted_limits(const model::MemberModel& model, double load_factor,
                                  const std::vector<ContactInterval>& initial, const FittedOptions& options) {
   options.validate();
   const double length = model.length(), tol = 1e-12 * length;

@@ -37,7 +37,7 @@
 
 #include "contact/active_set_system.hpp"
 #include "fe/discretisation.hpp"
-#include "fe/member_model.hpp"
+#include "model/member_model.hpp"
 
 namespace liftoff::contact {
 
@@ -96,13 +96,13 @@ std::vector<ContactInterval> contact_intervals(const fe::Discretisation& d, cons
                                                const std::vector<bool>& in_contact);
 // The same for a member with a ground gap g (MemberModel::ground_gap): the regions where w >= g,
 // limits at the zeros of w - g, or at a step of g (a trench wall) where w - g changes sign across it.
-std::vector<ContactInterval> contact_intervals(const fe::MemberModel& model, const fe::Discretisation& d,
+std::vector<ContactInterval> contact_intervals(const model::MemberModel& model, const fe::Discretisation& d,
                                                const Eigen::VectorXd& displacement,
                                                const std::vector<bool>& in_contact);
 
 // The limit-fitted answer for F = F_dead + load_factor F_live, starting from `initial` (disjoint,
 // increasing, inside the foundation's extent; a region end at a foundation end is not a limit).
-FittedResult solve_fitted_limits(const fe::MemberModel& model, double load_factor,
+FittedResult solve_fitted_limits(const model::MemberModel& model, double load_factor,
                                  const std::vector<ContactInterval>& initial, const FittedOptions& options);
 
 }  // namespace liftoff::contact

@@ -62,7 +62,7 @@ struct Changes {
 };
 
 // The changes of `fine` from `coarse` (see the header), relative.
-Changes changes(const fe::MemberModel& model, const Level& coarse, const Level& fine, double length, int samples) {
+Changes changes(const model::MemberModel& model, const Level& coarse, const Level& fine, double length, int samples) {
   Changes c;
   for (std::size_t k = 0; k < fine.fitted.limits.size(); ++k)
     c.limits = std::max(c.limits, std::abs(fine.fitted.limits[k] - coarse.fitted.limits[k]) / length);
@@ -87,7 +87,7 @@ Changes changes(const fe::MemberModel& model, const Level& coarse, const Level& 
 
 // The round-off floor of a level (see the header): the largest of the limits', w's and the
 // reaction's, relative like the estimates.
-double round_off_floor(const fe::MemberModel& model, const Level& level, double length) {
+double round_off_floor(const model::MemberModel& model, const Level& level, double length) {
   const fe::Discretisation& d = level.fitted.discretisation;
   const double error = level.fitted.state.error_estimate;
   const double eps_w = std::max(16 * std::numeric_limits<double>::epsilon(), std::isfinite(error) ? error : 0.0);
@@ -124,7 +124,7 @@ double estimate(double d, double d_before, double& order) {
 
 }  // namespace
 
-ToleranceResult refine_to_tolerance(const fe::MemberModel& model, double load_factor,
+ToleranceResult refine_to_tolerance(const model::MemberModel& model, double load_factor,
                                     const std::vector<ContactInterval>& initial, const ToleranceOptions& options) {
   options.validate();
   ToleranceResult result;

@@ -38,7 +38,7 @@
 #include <vector>
 
 #include "contact/fitted_limits.hpp"
-#include "fe/member_model.hpp"
+#include "model/member_model.hpp"
 
 namespace liftoff::contact {
 
@@ -90,7 +90,7 @@ struct ToleranceResult {
 
 // The sequence for F = F_dead + load_factor F_live from the contact regions `initial`
 // (contact_intervals of a node-based answer).
-ToleranceResult refine_to_tolerance(const fe::MemberModel& model, double load_factor,
+ToleranceResult refine_to_tolerance(const model::MemberModel& model, double load_factor,
                                     const std::vector<ContactInterval>& initial, const ToleranceOptions& options);
 
 }  // namespace liftoff::contact

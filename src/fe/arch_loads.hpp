@@ -23,13 +23,13 @@
 #include <Eigen/Dense>
 #include <functional>
 
-#include "fe/member_model.hpp"
+#include "model/member_model.hpp"
 
 namespace liftoff::fe {
 
 // (along w > 0, along t) per unit value and unit arc length at theta (radians). `outside`: the
 // foundation lies outside the arch ([foundation] side = "outside"), so w > 0 is outward.
-Eigen::Vector2d arch_load_components(LoadDirection direction, LoadBasis per, double theta, bool outside);
+Eigen::Vector2d arch_load_components(model::LoadDirection direction, model::LoadBasis per, double theta, bool outside);
 
 // The consistent nodal forces of a load of value q(s) (per unit arc or per unit projection, as
 // `per` says) along `direction` on the arch element [s0, s0 + h]: the integrals of
@@ -37,7 +37,7 @@ Eigen::Vector2d arch_load_components(LoadDirection direction, LoadBasis per, dou
 // then the quartic u dofs). Five-point Gauss: exact for polynomial q up to degree 5 times the
 // shape functions; the trigonometric components add a relative error ~ h^10 / 10!, round-off
 // for every h < 0.5 rad.
-Eigen::Matrix<double, 9, 1> arch_element_load(double s0, double h, LoadDirection direction, LoadBasis per, bool outside,
-                                              const std::function<double(double)>& q);
+Eigen::Matrix<double, 9, 1> arch_element_load(double s0, double h, model::LoadDirection direction, model::LoadBasis per,
+                                              bool outside, const std::function<double(double)>& q);
 
 }  // namespace liftoff::fe

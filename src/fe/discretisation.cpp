@@ -21,8 +21,12 @@ using Triplets = std::vector<Eigen::Triplet<double>>;
 
 // ---- dof numbering ---------------------------------------------------------------------------
 
-int Discretisation::deflection_dof(int node) const { return kind == StructureKind::beam ? 2 * node : 6 * node + 1; }
-int Discretisation::slope_dof(int node) const { return kind == StructureKind::beam ? 2 * node + 1 : 6 * node + 2; }
+int Discretisation::deflection_dof(int node) const {
+  return kind == model::StructureKind::beam ? 2 * node : 6 * node + 1;
+}
+int Discretisation::slope_dof(int node) const {
+  return kind == model::StructureKind::beam ? 2 * node + 1 : 6 * node + 2;
+}
 int Discretisation::tangential_dof(int node) const { return 6 * node; }
 
 std::array<int, 2> Discretisation::element_reactions(int element) const {
@@ -35,12 +39,12 @@ std::array<int, 2> Discretisation::element_reactions(int element) const {
 }
 
 std::vector<int> Discretisation::element_dofs(int e) const {
-  if (kind == StructureKind::beam) return {2 * e, 2 * e + 1, 2 * e + 2, 2 * e + 3};
+  if (kind == model::StructureKind::beam) return {2 * e, 2 * e + 1, 2 * e + 2, 2 * e + 3};
   return {6 * e + 1, 6 * e + 2, 6 * e + 7, 6 * e + 8, 6 * e, 6 * e + 3, 6 * e + 4, 6 * e + 5, 6 * e + 6};
 }
 
 DofRole Discretisation::role_of_dof(int dof) const {
-  if (kind == StructureKind::beam) return dof % 2 == 0 ? DofRole::deflection : DofRole::slope;
+  if (kind == model::StructureKind::beam) return dof % 2 == 0 ? DofRole::deflection : DofRole::slope;
   switch (dof % 6) {
     case 1:
       return DofRole::deflection;
@@ -52,7 +56,7 @@ DofRole Discretisation::role_of_dof(int dof) const {
 }
 
 double Discretisation::position_of_dof(int dof) const {
-  if (kind == StructureKind::beam) return mesh.nodes[dof / 2];
+  if (kind == model::StructureKind::beam) return mesh.nodes[dof / 2];
   const int block = dof / 6, offset = dof % 6;
   if (offset < 3) return mesh.nodes[block];
   const double h = mesh.element_size(block);
@@ -74,26 +78,26 @@ Eigen::VectorXd Discretisation::expand_displacement(const Eigen::VectorXd& on_eq
 
 namespace {
 
-int dof_count(StructureKind kind, int elements) {
-  return kind == StructureKind::beam ? 2 * (elements + 1) : 6 * elements + 3;
+int dof_count(model::StructureKind kind, int elements) {
+  return kind == model::StructureKind::beam ? 2 * (elements + 1) : 6 * elements + 3;
 }
 
 // Dofs fixed by the end and point supports.
-std::vector<int> supported_dofs(const MemberModel& model, const Discretisation& d) {
+std::vector<int> supported_dofs(const model::MemberModel& model, const Discretisation& d) {
   std::vector<int> fixed;
-  auto fix_end = [&](int node, EndSupport support) {
-    const bool arch = model.kind == StructureKind::arch;
+  auto fix_end = [&](int node, model::EndSupport support) {
+    const bool arch = model.kind == model::StructureKind::arch;
     switch (support) {
-      case EndSupport::free:
+      case model::EndSupport::free:
         break;
-      case EndSupport::roller:
+      case model::EndSupport::roller:
         fixed.push_back(d.deflection_dof(node));
         break;
-      case EndSupport::pinned:
+      case model::EndSupport::pinned:
         fixed.push_back(d.deflection_dof(node));
         if (arch) fixed.push_back(d.tangential_dof(node));
         break;
-      case EndSupport::clamped:
+      case model::EndSupport::clamped:
         fixed.push_back(d.deflection_dof(node));
         fixed.push_back(d.slope_dof(node));
         if (arch) fixed.push_back(d.tangential_dof(node));
@@ -108,10 +112,10 @@ std::vector<int> supported_dofs(const MemberModel& model, const Discretisation& 
 
 // The rows of G of the elastic supports, one per spring (a support with both kinds has two; an
 // arch's translational spring two, on u and on w).
-std::vector<Discretisation::SpringRow> spring_rows(const MemberModel& model, const Discretisation& d) {
+std::vector<Discretisation::SpringRow> spring_rows(const model::MemberModel& model, const Discretisation& d) {
   std::vector<Discretisation::SpringRow> rows;
-  const bool arch = model.kind == StructureKind::arch;
-  for (const SupportSpring& spring : model.springs) {
+  const bool arch = model.kind == model::StructureKind::arch;
+  for (const model::SupportSpring& spring : model.springs) {
     const int node = d.mesh.node_at(spring.s);
     if (node < 0) throw std::invalid_argument("discretise: the mesh lacks a node at an elastic support");
     if (spring.stiffness > 0.0) {
@@ -131,10 +135,10 @@ std::vector<Discretisation::SpringRow> spring_rows(const MemberModel& model, con
 }
 
 // The displacement the settled supports prescribe, on every dof.
-Eigen::VectorXd prescribed_displacement(const MemberModel& model, const Discretisation& d) {
+Eigen::VectorXd prescribed_displacement(const model::MemberModel& model, const Discretisation& d) {
   Eigen::VectorXd u = Eigen::VectorXd::Zero(d.dofs());
-  if (model.left != EndSupport::free) u[d.deflection_dof(0)] = model.left_settlement;
-  if (model.right != EndSupport::free) u[d.deflection_dof(d.mesh.elements())] = model.right_settlement;
+  if (model.left != model::EndSupport::free) u[d.deflection_dof(0)] = model.left_settlement;
+  if (model.right != model::EndSupport::free) u[d.deflection_dof(d.mesh.elements())] = model.right_settlement;
   for (std::size_t i = 0; i < model.point_settlements.size() && i < model.point_supports.size(); ++i)
     u[d.deflection_dof(d.mesh.node_at(model.point_supports[i]))] = model.point_settlements[i];
   return u;
@@ -142,10 +146,10 @@ Eigen::VectorXd prescribed_displacement(const MemberModel& model, const Discreti
 
 }  // namespace
 
-Eigen::MatrixXd rigid_motions(const MemberModel& model, const Discretisation& d) {
+Eigen::MatrixXd rigid_motions(const model::MemberModel& model, const Discretisation& d) {
   const int n = d.dofs();
   const double middle = 0.5 * (model.s_begin + model.s_end);
-  if (model.kind == StructureKind::beam) {
+  if (model.kind == model::StructureKind::beam) {
     Eigen::MatrixXd modes = Eigen::MatrixXd::Zero(n, 2);
     for (int dof = 0; dof < n; ++dof) {
       const double s = d.position_of_dof(dof);
@@ -187,8 +191,8 @@ Eigen::MatrixXd kernel(const Eigen::MatrixXd& a, int columns) {
 }
 
 // The beam or arch element of length h (element.hpp).
-std::unique_ptr<const LinearElement> member_element(const MemberModel& model, double h) {
-  if (model.kind == StructureKind::beam) return std::make_unique<const BeamElement>(h);
+std::unique_ptr<const LinearElement> member_element(const model::MemberModel& model, double h) {
+  if (model.kind == model::StructureKind::beam) return std::make_unique<const BeamElement>(h);
   return std::make_unique<const ArchElement>(h, model.membrane_stiffness, model.foundation_outside);
 }
 
@@ -199,13 +203,13 @@ struct Assembly {
   Eigen::VectorXd dead_load, live_load;  // on every dof
 };
 
-Assembly assemble(const MemberModel& model, const Discretisation& d) {
+Assembly assemble(const model::MemberModel& model, const Discretisation& d) {
   Assembly a;
   const int n = d.dofs();
   a.dead_load = Eigen::VectorXd::Zero(n);
   a.live_load = Eigen::VectorXd::Zero(n);
   const Mesh& mesh = d.mesh;
-  const bool beam = model.kind == StructureKind::beam;
+  const bool beam = model.kind == model::StructureKind::beam;
   const int spe = d.stresses_per_element;
   const int winkler_count = static_cast<int>(d.winkler_elements.size());
   a.compliance.resize(d.spring_stress(static_cast<int>(d.springs.size())));
@@ -270,20 +274,20 @@ Assembly assemble(const MemberModel& model, const Discretisation& d) {
       }
     }
 
-    for (const MemberLoad& load : model.loads) {
+    for (const model::MemberLoad& load : model.loads) {
       if (middle < load.from || middle > load.to) continue;
-      Eigen::VectorXd& target = load.load_case == LoadCase::dead ? a.dead_load : a.live_load;
-      if (load.kind == LoadKind::uniform && !beam) {  // radial or vertical, fe/arch_loads.hpp
+      Eigen::VectorXd& target = load.load_case == model::LoadCase::dead ? a.dead_load : a.live_load;
+      if (load.kind == model::LoadKind::uniform && !beam) {  // radial or vertical, fe/arch_loads.hpp
         const auto consistent = arch_element_load(mesh.nodes[e], h, load.direction, load.per, model.foundation_outside,
                                                   [&](double s) { return load.intensity(s); });
         for (int j = 0; j < arch_element::dofs; ++j) target[dofs[j]] += consistent[j];
-      } else if (load.kind == LoadKind::uniform) {
+      } else if (load.kind == model::LoadKind::uniform) {
         // Linear q times cubic shapes: degree 4, exact with five Gauss points.
         Eigen::Vector4d consistent = Eigen::Vector4d::Zero();
         for (const GaussPoint& g : gauss5)
           consistent += (g.weight * h * load.intensity(mesh.nodes[e] + g.xi * h)) * hermite_cubic(g.xi, h).value;
         for (int j = 0; j < 4; ++j) target[dofs[j]] += consistent[j];
-      } else if (load.kind == LoadKind::curvature) {
+      } else if (load.kind == model::LoadKind::curvature) {
         // An initial strain: Pi = 1/2 int (w'' + kappa)^2 gives F = -kappa int N'' = -kappa [N']_0^h,
         // so a range of curvature is a pair of end moments EI kappa (the interior nodes cancel).
         target[dofs[1]] += load.value;
@@ -306,21 +310,21 @@ Assembly assemble(const MemberModel& model, const Discretisation& d) {
     }
   }
 
-  for (const MemberLoad& load : model.loads) {
-    if (load.kind == LoadKind::uniform || load.kind == LoadKind::curvature) continue;
-    Eigen::VectorXd& target = load.load_case == LoadCase::dead ? a.dead_load : a.live_load;
+  for (const model::MemberLoad& load : model.loads) {
+    if (load.kind == model::LoadKind::uniform || load.kind == model::LoadKind::curvature) continue;
+    Eigen::VectorXd& target = load.load_case == model::LoadCase::dead ? a.dead_load : a.live_load;
     const int node = mesh.node_at(load.at);
-    if (load.kind == LoadKind::force && model.kind == StructureKind::arch) {
+    if (load.kind == model::LoadKind::force && model.kind == model::StructureKind::arch) {
       const Eigen::Vector2d c = arch_load_components(load.direction, load.per, load.at, model.foundation_outside);
       target[d.deflection_dof(node)] += c[0] * load.value;
       target[d.tangential_dof(node)] += c[1] * load.value;
-    } else if (load.kind == LoadKind::force) {
+    } else if (load.kind == model::LoadKind::force) {
       target[d.deflection_dof(node)] += load.value;
     } else {
       // Work of a counterclockwise moment: M * rotation, rotation = -w' (beam), -(u + w') (arch;
       // -(u - w') with the foundation outside).
       target[d.slope_dof(node)] -= arch_element::inward_sign(model.foundation_outside) * load.value;
-      if (model.kind == StructureKind::arch) target[d.tangential_dof(node)] -= load.value;
+      if (model.kind == model::StructureKind::arch) target[d.tangential_dof(node)] -= load.value;
     }
   }
   return a;
@@ -344,15 +348,15 @@ SparseMatrix to_sparse(int rows, int cols, Triplets triplets, const std::vector<
   return m;
 }
 
-std::string describe_rigid_motions(StructureKind kind, int count) {
-  if (kind == StructureKind::beam)
+std::string describe_rigid_motions(model::StructureKind kind, int count) {
+  if (kind == model::StructureKind::beam)
     return count == 2 ? "rigid translation and rotation" : "a rigid rotation about its only support";
   return count == 1 ? "one rigid motion" : fmt::format("{} rigid motions", count);
 }
 
 }  // namespace
 
-StructuralElements structural_elements(const MemberModel& model, const Discretisation& d) {
+StructuralElements structural_elements(const model::MemberModel& model, const Discretisation& d) {
   StructuralElements set;
   std::size_t winkler_index = 0;  // winkler_elements is in element order
   for (int e = 0; e < d.mesh.elements(); ++e) {
@@ -378,9 +382,9 @@ StructuralElements structural_elements(const MemberModel& model, const Discretis
   return set;
 }
 
-Discretisation discretise(const MemberModel& model, int elements) {
+Discretisation discretise(const model::MemberModel& model, int elements) {
   Discretisation d = discretise(model, make_mesh(model, elements));
-  d.uniform_member = std::make_shared<const MemberModel>(model);
+  d.uniform_member = std::make_shared<const model::MemberModel>(model);
   return d;
 }
 
@@ -390,14 +394,14 @@ namespace {
 
 // Mesh stage: the member on `mesh`: the foundation under each element, the reaction unknowns,
 // the springs' rows. No dof is numbered yet (equation_of_dof: every dof, all 0).
-Discretisation lay_out(const MemberModel& model, Mesh mesh, std::vector<bool> foundation_on_element) {
+Discretisation lay_out(const model::MemberModel& model, Mesh mesh, std::vector<bool> foundation_on_element) {
   Discretisation d;
   d.kind = model.kind;
   d.mesh = std::move(mesh);
   d.foundation_modulus = model.foundation_modulus;
   d.tensionless = model.tensionless;
-  d.foundation_outside = model.kind == StructureKind::arch && model.foundation_outside;
-  d.stresses_per_element = model.kind == StructureKind::beam ? beam_element::stresses : arch_element::stresses;
+  d.foundation_outside = model.kind == model::StructureKind::arch && model.foundation_outside;
+  d.stresses_per_element = model.kind == model::StructureKind::beam ? beam_element::stresses : arch_element::stresses;
   const int elements = d.mesh.elements();
   d.equation_of_dof.assign(dof_count(model.kind, elements), 0);
   for (double s : mesh_breakpoints(model))
@@ -435,7 +439,7 @@ Discretisation lay_out(const MemberModel& model, Mesh mesh, std::vector<bool> fo
 // Settlements: u = u_f + v with u_f the prescribed w at the settled supports, so K v = F - K u_f
 // (a dead load: the ground moves the supports whatever the live load) and the gap is offset
 // by -C u_f (added to the ground gap c, not scaled by lambda either).
-void apply_settlements(const MemberModel& model, Discretisation& d, Assembly& a) {
+void apply_settlements(const model::MemberModel& model, Discretisation& d, Assembly& a) {
   d.prescribed = prescribed_displacement(model, d);
   if (d.prescribed.isZero(0.0)) return;
   for (const auto& t : a.stiffness) a.dead_load[t.row()] -= t.value() * d.prescribed[t.col()];
@@ -447,7 +451,7 @@ void apply_settlements(const MemberModel& model, Discretisation& d, Assembly& a)
 // computed here, once, and kept in d.member_rigid_motions for every later user), the mechanisms the loads
 // would drive (an error), the gauge, and the numbering of the equations. It reads the assembly on
 // every dof: whether a free motion is a mechanism depends on the loads and on C.
-void number_dofs(const MemberModel& model, Discretisation& d, const Assembly& a) {
+void number_dofs(const model::MemberModel& model, Discretisation& d, const Assembly& a) {
   const int n = d.dofs();
   std::vector<int> fixed = supported_dofs(model, d);
   d.member_rigid_motions = rigid_motions(model, d);
@@ -488,7 +492,7 @@ void number_dofs(const MemberModel& model, Discretisation& d, const Assembly& a)
           gauge = dof;
       }
       fixed.push_back(gauge);
-      const bool arch = model.kind == StructureKind::arch;
+      const bool arch = model.kind == model::StructureKind::arch;
       d.gauge_note = fmt::format(
           "{} free to {}, which no support and no foundation resists and the loads do not drive: u = 0 at "
           "{} = {:.6g}{} fixes it and changes no deflection, force or moment",
@@ -542,7 +546,7 @@ void restrict_to_equations(Discretisation& d, Assembly a) {
 // The stages in order, as deal.II's step-3 runs make_grid, setup_system, assemble_system. The
 // element loop runs on every dof before the equations are numbered, because the dof map needs
 // the loads and C to tell a mechanism (an error) from a gauge.
-Discretisation discretise(const MemberModel& model, Mesh mesh, std::vector<bool> foundation_on_element) {
+Discretisation discretise(const model::MemberModel& model, Mesh mesh, std::vector<bool> foundation_on_element) {
   Discretisation d = lay_out(model, std::move(mesh), std::move(foundation_on_element));
   Assembly a = assemble(model, d);
   apply_settlements(model, d, a);

@@ -24,8 +24,8 @@
 
 #include "fe/element.hpp"
 #include "fe/foundation_element.hpp"
-#include "fe/member_model.hpp"
 #include "fe/mesh.hpp"
+#include "model/member_model.hpp"
 
 namespace liftoff::fe {
 
@@ -35,7 +35,7 @@ enum class DofRole { deflection, slope, tangential };
 
 class Discretisation {
  public:
-  StructureKind kind = StructureKind::beam;
+  model::StructureKind kind = model::StructureKind::beam;
   Mesh mesh;
   std::vector<int> equation_of_dof;  // -1: fixed by a support or the gauge
   int equations = 0;
@@ -119,7 +119,7 @@ class Discretisation {
   Eigen::MatrixXd member_rigid_motions;
   Eigen::VectorXd dead_load;  // equations
   Eigen::VectorXd live_load;
-  double foundation_modulus = 0.0;  // the largest k (MemberModel::foundation_modulus)
+  double foundation_modulus = 0.0;  // the largest k (model::MemberModel::foundation_modulus)
   bool tensionless = true;
   bool foundation_outside = false;  // arches: w > 0 outward (arch_element.hpp)
   // Rigid motions only the foundation resists; non-empty means K is singular.
@@ -129,7 +129,7 @@ class Discretisation {
   // The member of a uniform mesh made by discretise(model, elements), so that a solver can
   // build coarser meshes of it (the fast solver's start, contact/active_set_solver.hpp); null on
   // a given mesh or foundation.
-  std::shared_ptr<const MemberModel> uniform_member;
+  std::shared_ptr<const model::MemberModel> uniform_member;
 
   int dofs() const { return static_cast<int>(equation_of_dof.size()); }
   int reactions() const { return static_cast<int>(reaction_nodes.size()); }
@@ -177,12 +177,12 @@ class Discretisation {
 //     a free motion is a mechanism or a gauge;
 //  4. restrict_to_equations: K, C, T, G, H and the loads on the equations.
 // Throws InputError for a mechanism the loads drive (see above).
-Discretisation discretise(const MemberModel& model, int elements);
+Discretisation discretise(const model::MemberModel& model, int elements);
 // The same on a given mesh (it must have a node at every mesh_breakpoints(model) point), with the
 // foundation on the flagged elements only (empty: on the member's foundation pieces; a flag on
 // an element in a void is ignored); reaction nodes are the nodes of those elements. Limit-fitted solves put the
 // foundation on whole contact elements this way.
-Discretisation discretise(const MemberModel& model, Mesh mesh, std::vector<bool> foundation_on_element = {});
+Discretisation discretise(const model::MemberModel& model, Mesh mesh, std::vector<bool> foundation_on_element = {});
 
 // The member's structural elements through the element seam (element.hpp), with their global
 // dofs in each element's local order: one beam or arch element per mesh element, a Winkler
@@ -194,10 +194,10 @@ struct StructuralElements {
   std::vector<std::unique_ptr<const Element>> elements;
   std::vector<std::vector<int>> dofs;
 };
-StructuralElements structural_elements(const MemberModel& model, const Discretisation& d);
+StructuralElements structural_elements(const model::MemberModel& model, const Discretisation& d);
 
 // The in-plane rigid motions of the member, on every dof (columns), whatever the supports:
 // beams translation and rotation, arches two translations and the rotation about the centre.
-Eigen::MatrixXd rigid_motions(const MemberModel& model, const Discretisation& d);
+Eigen::MatrixXd rigid_motions(const model::MemberModel& model, const Discretisation& d);
 
 }  // namespace liftoff::fe

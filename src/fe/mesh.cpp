@@ -8,7 +8,7 @@
 namespace liftoff::fe {
 
 namespace {
-double tolerance(const MemberModel& model) { return 1e-12 * model.length(); }
+double tolerance(const model::MemberModel& model) { return 1e-12 * model.length(); }
 }  // namespace
 
 int Mesh::node_at(double s) const {
@@ -24,17 +24,18 @@ int Mesh::element_containing(double s) const {
   return std::clamp(element, 0, elements() - 1);
 }
 
-std::vector<double> mesh_breakpoints(const MemberModel& model) {
+std::vector<double> mesh_breakpoints(const model::MemberModel& model) {
   std::vector<double> points{model.s_begin, model.s_end, model.foundation_begin, model.foundation_end};
-  for (const FoundationPiece& piece : model.pieces()) {
+  for (const model::FoundationPiece& piece : model.pieces()) {
     points.push_back(piece.begin);
     points.push_back(piece.end);
   }
   for (double s : model.point_supports) points.push_back(s);
-  for (const SupportSpring& spring : model.springs) points.push_back(spring.s);
+  for (const model::SupportSpring& spring : model.springs) points.push_back(spring.s);
   for (double s : model.ground_gap_at) points.push_back(s);  // g is linear within elements
   for (const auto& load : model.loads) {
-    if (load.kind == LoadKind::uniform || load.kind == LoadKind::curvature) {  // a distributed table's points too
+    if (load.kind == model::LoadKind::uniform ||
+        load.kind == model::LoadKind::curvature) {  // a distributed table's points too
       points.push_back(load.from);
       points.push_back(load.to);
     } else {
@@ -43,7 +44,8 @@ std::vector<double> mesh_breakpoints(const MemberModel& model) {
   }
   // Roller ends leave the arch free to rotate about its centre; the gauge that removes this
   // motion fixes u at the crown, so the crown must be a node.
-  if (model.kind == StructureKind::arch && model.left == EndSupport::roller && model.right == EndSupport::roller)
+  if (model.kind == model::StructureKind::arch && model.left == model::EndSupport::roller &&
+      model.right == model::EndSupport::roller)
     points.push_back(0.5 * (model.s_begin + model.s_end));
 
   for (double& s : points) s = std::clamp(s, model.s_begin, model.s_end);
@@ -95,7 +97,7 @@ Mesh make_mesh(const std::vector<double>& points, const std::vector<int>& counts
   return mesh;
 }
 
-Mesh make_mesh(const MemberModel& model, int requested_elements) {
+Mesh make_mesh(const model::MemberModel& model, int requested_elements) {
   const std::vector<double> points = mesh_breakpoints(model);
   return make_mesh(points, apportion_elements(points, requested_elements));
 }

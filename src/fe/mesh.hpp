@@ -16,7 +16,7 @@
 
 #include <vector>
 
-#include "fe/member_model.hpp"
+#include "model/member_model.hpp"
 
 namespace liftoff::fe {
 
@@ -34,7 +34,7 @@ struct Mesh {
 };
 
 // The points the mesh must contain for this member (ends included), sorted and unique.
-std::vector<double> mesh_breakpoints(const MemberModel& model);
+std::vector<double> mesh_breakpoints(const model::MemberModel& model);
 
 // Elements per segment between consecutive breakpoints: `total` shared in proportion to the
 // segment lengths (largest remainders), at least one each.
@@ -43,6 +43,6 @@ std::vector<int> apportion_elements(const std::vector<double>& breakpoints, int 
 // Uniform elements of size (b - a) / count on each segment [b_i, b_i+1].
 Mesh make_mesh(const std::vector<double>& breakpoints, const std::vector<int>& counts);
 
-Mesh make_mesh(const MemberModel& model, int requested_elements);
+Mesh make_mesh(const model::MemberModel& model, int requested_elements);
 
 }  // namespace liftoff::fe

@@ -28,22 +28,22 @@ std::vector<double> scaled(const std::vector<double>& values, double factor) {
   return out;
 }
 
-std::vector<double> to_user(const fe::MemberModel& model, const std::vector<double>& s) {
+std::vector<double> to_user(const model::MemberModel& model, const std::vector<double>& s) {
   std::vector<double> out(s.size());
   std::transform(s.begin(), s.end(), out.begin(), [&](double v) { return model.user_from_s(v); });
   return out;
 }
 
 // What every method shares: the scene, fields in user units, extremes, contact regions.
-SolveReport common_report(const scene::Scene& scene, const fe::MemberModel& model, const post::Fields& fields,
+SolveReport common_report(const scene::Scene& scene, const model::MemberModel& model, const post::Fields& fields,
                           const std::vector<post::Interval>& regions) {
-  const fe::Scales& scales = model.scales;
+  const model::Scales& scales = model.scales;
   SolveReport r;
   r.scene_name = scene.source_name;
   r.scene_text = scene.text;
   r.comparison = scene.compare;
-  r.kind = model.kind;
-  r.coordinate_name = model.kind == StructureKind::beam ? "x" : "theta_deg";
+  r.kind = scene.structure.kind;
+  r.coordinate_name = model.kind == model::StructureKind::beam ? "x" : "theta_deg";
   r.tensionless = model.tensionless;
   r.foundation_parameter = model.foundation_modulus;
   for (const auto& region : regions)
@@ -71,7 +71,7 @@ SolveReport common_report(const scene::Scene& scene, const fe::MemberModel& mode
 
 }  // namespace
 
-SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model, const fe::Discretisation& d,
+SolveReport make_report(const scene::Scene& scene, const model::MemberModel& model, const fe::Discretisation& d,
                         const contact::ContactSolution& solution, const post::Fields& fields,
                         const std::vector<post::Interval>& regions) {
   SolveReport r = common_report(scene, model, fields, regions);
@@ -93,7 +93,7 @@ SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model,
         SolveReport::RayCertificate{std::string(scene::to_string(c->formulation)),
                                     std::vector<double>(c->ray.data(), c->ray.data() + c->ray.size()), c->q_dot_ray};
 
-  const fe::Scales& scales = model.scales;
+  const model::Scales& scales = model.scales;
   FieldTable& n = r.nodes;
   n.coordinate = to_user(model, d.mesh.nodes);
   n.reaction.assign(d.mesh.nodes.size(), 0.0);
@@ -105,11 +105,11 @@ SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model,
   }
   for (int node = 0; node < static_cast<int>(d.mesh.nodes.size()); ++node) {
     const double w = solution.displacement[d.deflection_dof(node)], slope = solution.displacement[d.slope_dof(node)];
-    const double u = model.kind == StructureKind::arch ? solution.displacement[d.tangential_dof(node)] : 0.0;
+    const double u = model.kind == model::StructureKind::arch ? solution.displacement[d.tangential_dof(node)] : 0.0;
     n.w.push_back(w * scales.displacement());
     const double in = model.foundation_outside ? -1.0 : 1.0;  // w > 0 outward outside (arch_element.hpp)
-    n.rotation.push_back(model.kind == StructureKind::arch ? -(u + in * slope) : -slope);
-    if (model.kind == StructureKind::arch) n.u.push_back(u * scales.displacement());
+    n.rotation.push_back(model.kind == model::StructureKind::arch ? -(u + in * slope) : -slope);
+    if (model.kind == model::StructureKind::arch) n.u.push_back(u * scales.displacement());
     // A bilinear foundation's Winkler part K_t (w - g) adds to the LCP's reaction: the total.
     double tension_modulus = 0.0;
     for (int e : {node - 1, node})
@@ -123,7 +123,7 @@ SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model,
   return r;
 }
 
-SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model, const ritz::RitzSolution& solution,
+SolveReport make_report(const scene::Scene& scene, const model::MemberModel& model, const ritz::RitzSolution& solution,
                         int samples) {
   const ritz::RitzSummary& summary = solution.summary;
   std::vector<post::Interval> regions;
@@ -137,7 +137,7 @@ SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model,
     r.scene_name = scene.source_name;
     r.scene_text = scene.text;
     r.comparison = scene.compare;
-    r.kind = model.kind;
+    r.kind = scene.structure.kind;
   }
   r.method = "ritz";
   r.termination = ritz::to_string(summary.termination);
@@ -160,7 +160,7 @@ SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model,
   return r;
 }
 
-void attach_scale(SolveReport& report, const scene::Scene& scene, const fe::MemberModel& model) {
+void attach_scale(SolveReport& report, const scene::Scene& scene, const model::MemberModel& model) {
   report.units = scene.units;
   std::vector<double> mesh;  // FE: the nodes in s (Ritz: none)
   for (const double x : report.nodes.coordinate) mesh.push_back(model.s_from_user(x));
@@ -169,7 +169,7 @@ void attach_scale(SolveReport& report, const scene::Scene& scene, const fe::Memb
   for (std::string& w : post::scale_warnings(scene, model, *report.scale)) report.warnings.push_back(std::move(w));
 }
 
-void attach_certificate(SolveReport& report, const certify::Certificate& certificate, const fe::MemberModel& model) {
+void attach_certificate(SolveReport& report, const certify::Certificate& certificate, const model::MemberModel& model) {
   certify::Certificate c = certificate;
   for (certify::Check& check : c.checks)
     if (check.at) check.at = model.user_from_s(*check.at);
@@ -177,8 +177,8 @@ void attach_certificate(SolveReport& report, const certify::Certificate& certifi
   report.certificate = std::move(c);
 }
 
-void attach_design(SolveReport& report, const post::DesignValues& design, const fe::MemberModel& model) {
-  const fe::Scales& scales = model.scales;
+void attach_design(SolveReport& report, const post::DesignValues& design, const model::MemberModel& model) {
+  const model::Scales& scales = model.scales;
   auto convert = [&](const post::Extreme& x, double factor) {
     DesignValue v{x.value * factor, std::nullopt};
     if (x.s) v.at = model.user_from_s(*x.s);

@@ -17,7 +17,7 @@
 #include "contact/contact_solver.hpp"
 #include "core/enum_names.hpp"
 #include "fe/discretisation.hpp"
-#include "fe/member_model.hpp"
+#include "model/member_model.hpp"
 #include "post/contact_regions.hpp"
 #include "post/design.hpp"
 #include "post/fields.hpp"
@@ -131,18 +131,18 @@ struct SolveReport {
 };
 
 // Stores the units, the scale figures (beta h from the report's mesh nodes) and every warning.
-void attach_scale(SolveReport& report, const scene::Scene& scene, const fe::MemberModel& model);
+void attach_scale(SolveReport& report, const scene::Scene& scene, const model::MemberModel& model);
 
 // Stores the certificate in the report, converted to the user's units.
-void attach_certificate(SolveReport& report, const certify::Certificate& certificate, const fe::MemberModel& model);
+void attach_certificate(SolveReport& report, const certify::Certificate& certificate, const model::MemberModel& model);
 
 // Stores the design values in the report, converted to the user's units.
-void attach_design(SolveReport& report, const post::DesignValues& design, const fe::MemberModel& model);
+void attach_design(SolveReport& report, const post::DesignValues& design, const model::MemberModel& model);
 
-SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model, const fe::Discretisation& d,
+SolveReport make_report(const scene::Scene& scene, const model::MemberModel& model, const fe::Discretisation& d,
                         const contact::ContactSolution& solution, const post::Fields& fields,
                         const std::vector<post::Interval>& regions);
-SolveReport make_report(const scene::Scene& scene, const fe::MemberModel& model, const ritz::RitzSolution& solution,
+SolveReport make_report(const scene::Scene& scene, const model::MemberModel& model, const ritz::RitzSolution& solution,
                         int samples);
 
 nlohmann::json to_json(const SolveReport& report);

@@ -14,7 +14,7 @@ namespace {
 constexpr int brackets = 8;
 }  // namespace
 
-std::vector<Interval> contact_regions(const fe::MemberModel& model, const fe::Discretisation& d,
+std::vector<Interval> contact_regions(const model::MemberModel& model, const fe::Discretisation& d,
                                       const Eigen::VectorXd& displacement) {
   const double begin = model.foundation_begin, end = model.foundation_end;
   const auto stretches = model.foundation_stretches();

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "fe/discretisation.hpp"
-#include "fe/member_model.hpp"
+#include "model/member_model.hpp"
 
 namespace liftoff::post {
 
@@ -17,7 +17,7 @@ struct Interval {
   double end = 0.0;
 };
 
-std::vector<Interval> contact_regions(const fe::MemberModel& model, const fe::Discretisation& d,
+std::vector<Interval> contact_regions(const model::MemberModel& model, const fe::Discretisation& d,
                                       const Eigen::VectorXd& displacement);
 
 }  // namespace liftoff::post

@@ -102,8 +102,8 @@ void keep_min(Extreme& x, double value, double s) {
   if (!x.s || value < x.value) x.value = value, x.s = s;
 }
 
-double factor_of(const fe::MemberLoad& load, double load_factor) {
-  return load.load_case == fe::LoadCase::dead ? 1.0 : load_factor;
+double factor_of(const model::MemberLoad& load, double load_factor) {
+  return load.load_case == model::LoadCase::dead ? 1.0 : load_factor;
 }
 
 // Uplift below this fraction of the deflections' scale is round-off at a contact limit.
@@ -111,7 +111,7 @@ constexpr double uplift_round_off = 64 * std::numeric_limits<double>::epsilon();
 
 }  // namespace
 
-DesignValues recover_beam_statics(const fe::MemberModel& model, const fe::Discretisation& d,
+DesignValues recover_beam_statics(const model::MemberModel& model, const fe::Discretisation& d,
                                   const contact::ContactSolution& solution, const std::vector<PointReaction>& supports,
                                   double load_factor, Fields* fields) {
   DesignValues out;
@@ -122,12 +122,12 @@ DesignValues recover_beam_statics(const fe::MemberModel& model, const fe::Discre
   // Concentrated actions at nodes: the jumps of V and M there.
   std::vector<double> jump_v(elements + 1, 0.0), jump_m(elements + 1, 0.0);
   double force_terms = 0.0, moment_terms = 0.0;
-  for (const fe::MemberLoad& load : model.loads) {
-    if (load.kind != fe::LoadKind::force && load.kind != fe::LoadKind::moment) continue;
+  for (const model::MemberLoad& load : model.loads) {
+    if (load.kind != model::LoadKind::force && load.kind != model::LoadKind::moment) continue;
     const int node = d.mesh.node_at(load.at);
     if (node < 0) continue;  // the mesh has a node at every load (mesh.hpp)
     const double value = load.value * factor_of(load, load_factor);
-    if (load.kind == fe::LoadKind::force)
+    if (load.kind == model::LoadKind::force)
       jump_v[node] -= value, force_terms += std::abs(value);
     else
       jump_m[node] -= value, moment_terms += std::abs(value);
@@ -161,9 +161,9 @@ DesignValues recover_beam_statics(const fe::MemberModel& model, const fe::Discre
     if (const double kt = d.element_tension_modulus[e]; kt != 0.0) r = r + kt * (w + (-1.0) * g);
     Poly q{};
     const double middle = a + 0.5 * h;
-    for (const fe::MemberLoad& load : model.loads) {
+    for (const model::MemberLoad& load : model.loads) {
       // As the assembly applies it: on the elements whose middle the load covers.
-      if (load.kind != fe::LoadKind::uniform || middle < load.from || middle > load.to) continue;
+      if (load.kind != model::LoadKind::uniform || middle < load.from || middle > load.to) continue;
       const double c = factor_of(load, load_factor);
       q = q + linear(c * load.intensity(a), c * load.intensity(a + h));
     }
@@ -243,7 +243,7 @@ DesignValues recover_beam_statics(const fe::MemberModel& model, const fe::Discre
   return out;
 }
 
-DesignValues recover_beam_statics(const fe::MemberModel& model, const std::function<double(double)>& reaction,
+DesignValues recover_beam_statics(const model::MemberModel& model, const std::function<double(double)>& reaction,
                                   const std::vector<double>& reaction_breaks,
                                   const std::vector<PointReaction>& supports, double load_factor, Fields& fields) {
   DesignValues out;
@@ -254,10 +254,10 @@ DesignValues recover_beam_statics(const fe::MemberModel& model, const std::funct
   };
   std::vector<Jump> jumps;
   double force_terms = 0.0, moment_terms = 0.0;
-  for (const fe::MemberLoad& load : model.loads) {
+  for (const model::MemberLoad& load : model.loads) {
     const double value = load.value * factor_of(load, load_factor);
-    if (load.kind == fe::LoadKind::force) jumps.push_back({load.at, -value, 0.0}), force_terms += std::abs(value);
-    if (load.kind == fe::LoadKind::moment) jumps.push_back({load.at, 0.0, -value}), moment_terms += std::abs(value);
+    if (load.kind == model::LoadKind::force) jumps.push_back({load.at, -value, 0.0}), force_terms += std::abs(value);
+    if (load.kind == model::LoadKind::moment) jumps.push_back({load.at, 0.0, -value}), moment_terms += std::abs(value);
   }
   for (const PointReaction& support : supports) {
     jumps.push_back({support.s, support.force, -support.moment});
@@ -266,9 +266,9 @@ DesignValues recover_beam_statics(const fe::MemberModel& model, const std::funct
   }
   std::vector<double> points = fields.s;
   for (const Jump& j : jumps) points.push_back(j.s);
-  for (const fe::MemberLoad& load : model.loads)
-    if (load.kind == fe::LoadKind::uniform) points.insert(points.end(), {load.from, load.to});
-  for (const fe::FoundationPiece& piece : model.pieces()) points.insert(points.end(), {piece.begin, piece.end});
+  for (const model::MemberLoad& load : model.loads)
+    if (load.kind == model::LoadKind::uniform) points.insert(points.end(), {load.from, load.to});
+  for (const model::FoundationPiece& piece : model.pieces()) points.insert(points.end(), {piece.begin, piece.end});
   points.insert(points.end(), reaction_breaks.begin(), reaction_breaks.end());
   std::erase_if(points, [&](double s) { return !(s >= model.s_begin && s <= model.s_end); });
   std::sort(points.begin(), points.end());
@@ -276,8 +276,8 @@ DesignValues recover_beam_statics(const fe::MemberModel& model, const std::funct
 
   auto applied = [&](double s) {  // q at s inside an interval (load ranges end at breakpoints)
     double q = 0.0;
-    for (const fe::MemberLoad& load : model.loads)
-      if (load.kind == fe::LoadKind::uniform && s >= load.from && s <= load.to)
+    for (const model::MemberLoad& load : model.loads)
+      if (load.kind == model::LoadKind::uniform && s >= load.from && s <= load.to)
         q += factor_of(load, load_factor) * load.intensity(s);
     return q;
   };
@@ -345,7 +345,7 @@ DesignValues recover_beam_statics(const fe::MemberModel& model, const std::funct
   return out;
 }
 
-DesignValues design_from_samples(const fe::MemberModel& model, const Fields& f) {
+DesignValues design_from_samples(const model::MemberModel& model, const Fields& f) {
   DesignValues out;
   double scale = 0.0;
   for (std::size_t i = 0; i < f.s.size(); ++i) scale = std::max({scale, std::abs(f.w[i]), model.ground_gap(f.s[i])});

@@ -33,7 +33,7 @@
 
 #include "contact/contact_solver.hpp"
 #include "fe/discretisation.hpp"
-#include "fe/member_model.hpp"
+#include "model/member_model.hpp"
 #include "post/fields.hpp"
 
 namespace liftoff::post {
@@ -62,7 +62,7 @@ struct DesignValues {
 // V and M by statics at every sample of `fields` (fields.s as sample_fields makes them, with
 // xi = 0 taken on the right of a node's jumps and an element's end on its left), replacing
 // fields.shear_force and fields.bending_moment; returns the design values. Beams only.
-DesignValues recover_beam_statics(const fe::MemberModel& model, const fe::Discretisation& d,
+DesignValues recover_beam_statics(const model::MemberModel& model, const fe::Discretisation& d,
                                   const contact::ContactSolution& solution, const std::vector<PointReaction>& supports,
                                   double load_factor, Fields* fields);
 
@@ -73,11 +73,11 @@ DesignValues recover_beam_statics(const fe::MemberModel& model, const fe::Discre
 // at the breakpoints and where V changes sign between them (bisection); |V| and the reaction's
 // at the breakpoints. Replaces fields.shear_force and bending_moment (a sample at a point
 // load's position takes the value right of it, the member's end the value left of its own).
-DesignValues recover_beam_statics(const fe::MemberModel& model, const std::function<double(double)>& reaction,
+DesignValues recover_beam_statics(const model::MemberModel& model, const std::function<double(double)>& reaction,
                                   const std::vector<double>& reaction_breaks,
                                   const std::vector<PointReaction>& supports, double load_factor, Fields& fields);
 
 // Design values from sampled fields (arches): extremes at the samples.
-DesignValues design_from_samples(const fe::MemberModel& model, const Fields& fields);
+DesignValues design_from_samples(const model::MemberModel& model, const Fields& fields);
 
 }  // namespace liftoff::post

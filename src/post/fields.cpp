@@ -9,7 +9,7 @@
 
 namespace liftoff::post {
 
-using fe::StructureKind;
+using model::StructureKind;
 
 namespace {
 
@@ -50,7 +50,7 @@ double reaction_at(const fe::Discretisation& d, const Eigen::VectorXd& reaction,
   return shape[0] * reaction[first] + shape[1] * reaction[second];
 }
 
-Fields sample_fields(const fe::MemberModel& model, const fe::Discretisation& d,
+Fields sample_fields(const model::MemberModel& model, const fe::Discretisation& d,
                      const contact::ContactSolution& solution, int samples_per_element, double load_factor) {
   Fields f;
   const bool arch = d.kind == StructureKind::arch;
@@ -96,7 +96,7 @@ Fields sample_fields(const fe::MemberModel& model, const fe::Discretisation& d,
       add(e - 1, 1.0);
     }
     dofs = d.element_dofs(e);  // once per element, not per sample
-    kappa = fe::imposed_curvature(model.loads, d.mesh.nodes[e] + 0.5 * d.mesh.element_size(e), load_factor);
+    kappa = model::imposed_curvature(model.loads, d.mesh.nodes[e] + 0.5 * d.mesh.element_size(e), load_factor);
     for (int i = 0; i < samples_per_element; ++i) add(e, static_cast<double>(i) / samples_per_element);
   }
   add(elements - 1, 1.0);
@@ -104,7 +104,7 @@ Fields sample_fields(const fe::MemberModel& model, const fe::Discretisation& d,
 }
 
 DeflectionExtremes deflection_extremes(const fe::Discretisation& d, const Eigen::VectorXd& displacement,
-                                       const fe::MemberModel* ground) {
+                                       const model::MemberModel* ground) {
   DeflectionExtremes x;
   for (int e = 0; e < d.mesh.elements(); ++e) {
     const double h = d.mesh.element_size(e);

@@ -13,7 +13,7 @@
 
 #include "contact/contact_solver.hpp"
 #include "fe/discretisation.hpp"
-#include "fe/member_model.hpp"
+#include "model/member_model.hpp"
 
 namespace liftoff::post {
 
@@ -33,7 +33,7 @@ struct Fields {
 // samples_per_element >= 1 points per element (xi = i / samples, i = 0..samples-1), plus the end,
 // and at a node where the reaction jumps (two reactions) also the left element's end: s repeats there.
 // load_factor scales live curvature loads (the solution's lambda).
-Fields sample_fields(const fe::MemberModel& model, const fe::Discretisation& d,
+Fields sample_fields(const model::MemberModel& model, const fe::Discretisation& d,
                      const contact::ContactSolution& solution, int samples_per_element, double load_factor = 1.0);
 
 // The largest and smallest deflection of the discrete answer, each element's cubic maximised
@@ -46,7 +46,7 @@ struct DeflectionExtremes {
   double w_max = -INFINITY, s_at_w_max = 0, w_min = INFINITY, s_at_w_min = 0, contact_reaction_max = 0;
 };
 DeflectionExtremes deflection_extremes(const fe::Discretisation& d, const Eigen::VectorXd& displacement,
-                                       const fe::MemberModel* ground = nullptr);
+                                       const model::MemberModel* ground = nullptr);
 
 // Nodal reaction interpolated at s (zero off the foundation).
 double reaction_at(const fe::Discretisation& d, const Eigen::VectorXd& reaction, int element, double xi);

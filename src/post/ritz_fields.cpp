@@ -2,7 +2,7 @@
 
 namespace liftoff::post {
 
-Fields sample_fields(const fe::MemberModel& model, const ritz::RitzSolution& solution, int samples) {
+Fields sample_fields(const model::MemberModel& model, const ritz::RitzSolution& solution, int samples) {
   Fields f;
   const ritz::RitzModel& ritz = *solution.model;
   const Eigen::VectorXd& x = solution.unknowns;
@@ -33,7 +33,7 @@ std::vector<Interval> contact_regions(const ritz::RitzSolution& solution) {
   return regions;
 }
 
-DesignValues ritz_beam_statics(const fe::MemberModel& model, const ritz::RitzSolution& solution,
+DesignValues ritz_beam_statics(const model::MemberModel& model, const ritz::RitzSolution& solution,
                                const std::vector<PointReaction>& supports, double load_factor, int samples,
                                Fields& fields) {
   fields = sample_fields(model, solution, samples);

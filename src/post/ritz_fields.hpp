@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "fe/member_model.hpp"
+#include "model/member_model.hpp"
 #include "post/contact_regions.hpp"
 #include "post/design.hpp"
 #include "post/fields.hpp"
@@ -16,7 +16,7 @@ namespace liftoff::post {
 // The solution's fields at `samples` >= 2 uniform points of [s_begin, s_end]. Beams: w, its
 // rotation, M and V from the modal series' derivatives; arches also u and N. Needs
 // solution.model.
-Fields sample_fields(const fe::MemberModel& model, const ritz::RitzSolution& solution, int samples);
+Fields sample_fields(const model::MemberModel& model, const ritz::RitzSolution& solution, int samples);
 
 // The contact pieces of the solution (its model's limits at its unknowns), in order along s;
 // empty without a model.
@@ -27,7 +27,7 @@ std::vector<Interval> contact_regions(const ritz::RitzSolution& solution);
 // found; `fields` receives those samples with V and M replaced. The modal series' own
 // derivatives do not converge at point loads (on the B70 sleeper |V| 46.9 kN against the
 // statics' 70.0 kN).
-DesignValues ritz_beam_statics(const fe::MemberModel& model, const ritz::RitzSolution& solution,
+DesignValues ritz_beam_statics(const model::MemberModel& model, const ritz::RitzSolution& solution,
                                const std::vector<PointReaction>& supports, double load_factor, int samples,
                                Fields& fields);
 

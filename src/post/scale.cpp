@@ -18,14 +18,14 @@ std::string with_unit(const std::string& label) { return label.empty() ? std::st
 
 }  // namespace
 
-ScaleFigures scale_figures(const fe::MemberModel& model, const std::vector<double>& mesh_nodes) {
+ScaleFigures scale_figures(const model::MemberModel& model, const std::vector<double>& mesh_nodes) {
   ScaleFigures f;
-  f.arch = model.kind == fe::StructureKind::arch;
+  f.arch = model.kind == model::StructureKind::arch;
   const double l = model.scales.length, EI = model.scales.bending_stiffness, span = model.length();
   f.length_scale = l;
   f.member_length = span * l;
   f.k_min = std::numeric_limits<double>::infinity();
-  for (const fe::FoundationPiece& piece : model.pieces()) {
+  for (const model::FoundationPiece& piece : model.pieces()) {
     for (const double k : {piece.modulus, piece.end_modulus.value_or(piece.modulus)}) {
       f.k_min = std::min(f.k_min, k);
       f.k_max = std::max(f.k_max, k);
@@ -59,7 +59,7 @@ ScaleFigures scale_figures(const fe::MemberModel& model, const std::vector<doubl
   return f;
 }
 
-std::vector<std::string> scale_warnings(const scene::Scene& scene, const fe::MemberModel& model,
+std::vector<std::string> scale_warnings(const scene::Scene& scene, const model::MemberModel& model,
                                         const ScaleFigures& f) {
   std::vector<std::string> out;
   const scene::Units& units = scene.units;

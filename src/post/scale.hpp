@@ -3,7 +3,7 @@
 //
 // Beam: K is the foundation modulus (force per length per length), beta = (K / 4 EI)^(1/4) the
 // reciprocal of the decay length of w ~ exp(-beta x) cos(beta x), and k = K L^4/EI = 4 (beta L)^4
-// the nondimensional modulus the numerics see (fe/member_model.hpp). beta L classes the member
+// the nondimensional modulus the numerics see (model/member_model.hpp). beta L classes the member
 // (Hetenyi): below pi/4 practically rigid, above pi the ends do not feel each other.
 // Arch: k = K R^4/EI, and the matching figures are beta R = (k/4)^(1/4) (the decay per radian)
 // and beta S = beta R * 2 gamma, S = 2 gamma R the arch's length. Why the same beta: with the arc
@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "fe/member_model.hpp"
+#include "model/member_model.hpp"
 #include "scene/scene.hpp"
 
 namespace liftoff::post {
@@ -42,7 +42,7 @@ struct ScaleFigures {
 };
 
 // The figures of the model's foundation; `mesh_nodes` (s, ascending) adds beta h (empty: none).
-ScaleFigures scale_figures(const fe::MemberModel& model, const std::vector<double>& mesh_nodes = {});
+ScaleFigures scale_figures(const model::MemberModel& model, const std::vector<double>& mesh_nodes = {});
 
 // Thresholds of the warnings (README, "Scale and warnings").
 inline constexpr double rigid_beta_length = 0.1;      // beta L below: practically rigid
@@ -54,7 +54,7 @@ inline constexpr double largest_real_modulus = 1e11;  // N/m^2: rock under a wid
 // One line each: a nondimensional modulus that reads like a dimensional one (or the reverse), a
 // modulus outside any real bed's (only when [units] names a system), a practically rigid member,
 // a mesh that does not resolve 1/beta.
-std::vector<std::string> scale_warnings(const scene::Scene& scene, const fe::MemberModel& model,
+std::vector<std::string> scale_warnings(const scene::Scene& scene, const model::MemberModel& model,
                                         const ScaleFigures& figures);
 
 }  // namespace liftoff::post

@@ -77,22 +77,22 @@ constexpr double pi = std::numbers::pi;
 enum class DeflectionEnd { hinge, clamp, free };  // w = 0; w = w' = 0; nothing
 enum class TangentialEnd { fixed, loose };        // u = 0; nothing
 
-DeflectionEnd deflection_end(fe::EndSupport support) {
+DeflectionEnd deflection_end(model::EndSupport support) {
   switch (support) {
-    case fe::EndSupport::pinned:
-    case fe::EndSupport::roller:
+    case model::EndSupport::pinned:
+    case model::EndSupport::roller:
       return DeflectionEnd::hinge;
-    case fe::EndSupport::clamped:
+    case model::EndSupport::clamped:
       return DeflectionEnd::clamp;
-    case fe::EndSupport::free:
+    case model::EndSupport::free:
       return DeflectionEnd::free;
   }
   return DeflectionEnd::free;
 }
 
-TangentialEnd tangential_end(fe::EndSupport support) {
-  return support == fe::EndSupport::pinned || support == fe::EndSupport::clamped ? TangentialEnd::fixed
-                                                                                 : TangentialEnd::loose;
+TangentialEnd tangential_end(model::EndSupport support) {
+  return support == model::EndSupport::pinned || support == model::EndSupport::clamped ? TangentialEnd::fixed
+                                                                                       : TangentialEnd::loose;
 }
 
 using Family = std::vector<TrigPolynomial>;
@@ -217,7 +217,7 @@ TrigPolynomial end_curvature_cubic(DeflectionEnd other) {
 // w'' non-zero: the sine coefficients then decay only like j^-3 and contact limits converge
 // slowly (measured on the seed's end-moment beams). One cubic per pinned end, carrying that end
 // curvature, restores the faster decay; it replaces the family's last function so N stays N.
-Basis beam_basis(fe::EndSupport left, fe::EndSupport right, double s_begin, double s_end, int modes) {
+Basis beam_basis(model::EndSupport left, model::EndSupport right, double s_begin, double s_end, int modes) {
   check_arguments(s_begin, s_end, modes);
   const DeflectionEnd left_end = deflection_end(left), right_end = deflection_end(right);
   const int cubics = (left_end == DeflectionEnd::hinge) + (right_end == DeflectionEnd::hinge);
@@ -238,7 +238,7 @@ Basis beam_basis(fe::EndSupport left, fe::EndSupport right, double s_begin, doub
   return basis;
 }
 
-Basis arch_basis(fe::EndSupport left, fe::EndSupport right, double s_begin, double s_end, int modes) {
+Basis arch_basis(model::EndSupport left, model::EndSupport right, double s_begin, double s_end, int modes) {
   check_arguments(s_begin, s_end, modes);
   const TangentialEnd u_left = tangential_end(left), u_right = tangential_end(right);
   const bool fixed_left = u_left == TangentialEnd::fixed, fixed_right = u_right == TangentialEnd::fixed;
@@ -327,7 +327,7 @@ namespace {
 
 // |s - a|^3 + p(s) (see KinkedFunction in basis.hpp), scaled to a largest |e| of 1. The
 // conditions on e at each end, as rows of a linear system in p's coefficients (in xi).
-KinkedFunction kinked_function(const fe::MemberModel& model, double a) {
+KinkedFunction kinked_function(const model::MemberModel& model, double a) {
   const double length = model.s_end - model.s_begin;
   const double alpha = (a - model.s_begin) / length;  // the kink in xi
   constexpr int degree = 5;
@@ -395,15 +395,15 @@ KinkedFunction kinked_function(const fe::MemberModel& model, double a) {
 
 }  // namespace
 
-Basis make_basis(const fe::MemberModel& model, int modes, Enrichment enrichment) {
-  if (model.kind != fe::StructureKind::beam)
+Basis make_basis(const model::MemberModel& model, int modes, Enrichment enrichment) {
+  if (model.kind != model::StructureKind::beam)
     return arch_basis(model.left, model.right, model.s_begin, model.s_end, modes);
   Basis basis = beam_basis(model.left, model.right, model.s_begin, model.s_end, modes);
   if (enrichment == Enrichment::none) return basis;
   std::vector<double> kinks;
   const double edge = 1e-9 * (model.s_end - model.s_begin);
-  for (const fe::MemberLoad& load : model.loads)
-    if (load.kind == fe::LoadKind::force && load.at > model.s_begin + edge && load.at < model.s_end - edge)
+  for (const model::MemberLoad& load : model.loads)
+    if (load.kind == model::LoadKind::force && load.at > model.s_begin + edge && load.at < model.s_end - edge)
       kinks.push_back(load.at);
   std::sort(kinks.begin(), kinks.end());
   kinks.erase(std::unique(kinks.begin(), kinks.end()), kinks.end());

@@ -49,7 +49,7 @@
 #include <string>
 #include <vector>
 
-#include "fe/member_model.hpp"
+#include "model/member_model.hpp"
 #include "ritz/trig_polynomial.hpp"
 
 namespace liftoff::ritz {
@@ -84,10 +84,10 @@ struct Basis {
 };
 
 // Throws std::invalid_argument for modes < 1, or s_begin >= s_end.
-Basis beam_basis(fe::EndSupport left, fe::EndSupport right, double s_begin, double s_end, int modes);
-Basis arch_basis(fe::EndSupport left, fe::EndSupport right, double s_begin, double s_end, int modes);
+Basis beam_basis(model::EndSupport left, model::EndSupport right, double s_begin, double s_end, int modes);
+Basis arch_basis(model::EndSupport left, model::EndSupport right, double s_begin, double s_end, int modes);
 // The family of the member's end conditions; with Enrichment::load_points, beams with interior
 // point forces also get the kinked functions (kinked_w); see above for when not to.
-Basis make_basis(const fe::MemberModel& model, int modes, Enrichment enrichment = Enrichment::none);
+Basis make_basis(const model::MemberModel& model, int modes, Enrichment enrichment = Enrichment::none);
 
 }  // namespace liftoff::ritz

@@ -40,9 +40,9 @@ MatrixXd gram(const std::vector<TrigPolynomial>& f, double a, double b) {
 
 }  // namespace
 
-std::optional<Unsupported> unsupported_input(const fe::MemberModel& model, const std::string& gap_key,
+std::optional<Unsupported> unsupported_input(const model::MemberModel& model, const std::string& gap_key,
                                              const std::string& tension_key) {
-  const bool arch = model.kind == fe::StructureKind::arch;
+  const bool arch = model.kind == model::StructureKind::arch;
   if (!model.point_supports.empty()) return Unsupported{"supports.interior", "takes no interior point supports"};
   if (model.has_springs() || model.has_settlements())
     return Unsupported{"supports",
@@ -54,20 +54,20 @@ std::optional<Unsupported> unsupported_input(const fe::MemberModel& model, const
     return Unsupported{tension_key, "takes a tensionless or bilateral foundation (no modulus in tension)"};
   if (arch && model.foundation_outside)
     return Unsupported{"foundation.side", "takes the foundation inside the arch only, not side = \"outside\""};
-  for (const fe::MemberLoad& load : model.loads) {
-    if (load.kind == fe::LoadKind::curvature)
+  for (const model::MemberLoad& load : model.loads) {
+    if (load.kind == model::LoadKind::curvature)
       return Unsupported{"loads",
                          "has no imposed curvature (kind = \"curvature\", an initial strain) in its energy in this "
                          "version"};
-    if (arch && load.kind != fe::LoadKind::moment && load.direction != fe::LoadDirection::radial)
+    if (arch && load.kind != model::LoadKind::moment && load.direction != model::LoadDirection::radial)
       return Unsupported{"loads", fmt::format("takes radial arch loads only, not direction = \"{}\"",
-                                              scene::to_string(load.direction))};
+                                              model::to_string(load.direction))};
   }
   return std::nullopt;
 }
 
-RitzModel::RitzModel(const fe::MemberModel& model, int modes, Topology topology, Enrichment enrichment)
-    : arch_(model.kind == fe::StructureKind::arch),
+RitzModel::RitzModel(const model::MemberModel& model, int modes, Topology topology, Enrichment enrichment)
+    : arch_(model.kind == model::StructureKind::arch),
       tensionless_(model.tensionless),
       modes_(modes),
       topology_(topology) {
@@ -77,7 +77,7 @@ RitzModel::RitzModel(const fe::MemberModel& model, int modes, Topology topology,
   for (double value : {model.s_begin, model.s_end, model.membrane_stiffness, model.foundation_modulus,
                        model.foundation_begin, model.foundation_end})
     require_finite(value, "a member model value");
-  for (const fe::MemberLoad& load : model.loads) {
+  for (const model::MemberLoad& load : model.loads) {
     require_finite(load.value, "a load value");
     require_finite(load.slope, "a load slope");
     require_finite(load.at, "a load position");
@@ -147,14 +147,14 @@ RitzModel::RitzModel(const fe::MemberModel& model, int modes, Topology topology,
   dead_load_ = VectorXd::Zero(amplitudes_);
   live_load_ = VectorXd::Zero(amplitudes_);
   double moment_sum[2] = {0.0, 0.0}, moment_size[2] = {0.0, 0.0};
-  for (const fe::MemberLoad& load : model.loads) {
-    const bool dead = load.load_case == fe::LoadCase::dead;
+  for (const model::MemberLoad& load : model.loads) {
+    const bool dead = load.load_case == model::LoadCase::dead;
     VectorXd& target = dead ? dead_load_ : live_load_;
     switch (load.kind) {
-      case fe::LoadKind::force:
+      case model::LoadKind::force:
         target.head(modes_) += load.value * phi_at(load.at, 0);
         break;
-      case fe::LoadKind::moment:
+      case model::LoadKind::moment:
         // Work of a counterclockwise moment: M * rotation, rotation = -w' (beam), -(u + w') (arch).
         target.head(modes_) -= load.value * phi_at(load.at, 1);
         if (arch_)
@@ -162,7 +162,7 @@ RitzModel::RitzModel(const fe::MemberModel& model, int modes, Topology topology,
         moment_sum[dead] += load.value;
         moment_size[dead] += std::abs(load.value);
         break;
-      case fe::LoadKind::uniform: {
+      case model::LoadKind::uniform: {
         // q(s) = q0 + q1 s, linear on [from, to]: q0 int phi + q1 int s phi, both exact.
         const double q1 = load.slope, q0 = load.value - q1 * load.from;
         const TrigPolynomial s_times = TrigPolynomial::monomial(1);
@@ -177,9 +177,9 @@ RitzModel::RitzModel(const fe::MemberModel& model, int modes, Topology topology,
         break;
     }
   }
-  const bool u_free_at_both_ends = arch_ && model.left != fe::EndSupport::pinned &&
-                                   model.left != fe::EndSupport::clamped && model.right != fe::EndSupport::pinned &&
-                                   model.right != fe::EndSupport::clamped;
+  const bool u_free_at_both_ends =
+      arch_ && model.left != model::EndSupport::pinned && model.left != model::EndSupport::clamped &&
+      model.right != model::EndSupport::pinned && model.right != model::EndSupport::clamped;
   for (int c = 0; c < 2; ++c)
     if (u_free_at_both_ends && std::abs(moment_sum[c]) > 1e-12 * moment_size[c])
       throw MechanismError(

@@ -1,6 +1,6 @@
 #pragma once
 // The Ritz model of a member on a tensionless Winkler foundation with moving contact limits
-// (Silveira, Pereira & Goncalves 2008, sec. 4), nondimensional as fe::MemberModel.
+// (Silveira, Pereira & Goncalves 2008, sec. 4), nondimensional as model::MemberModel.
 //
 // Displacements w = sum W_i phi_i(s) and, for arches, u = sum U_i psi_i(s) (basis.hpp). The
 // foundation's extent [foundation_begin, foundation_end] is cut by the limits t_1 < ... < t_M
@@ -35,7 +35,7 @@
 #include <string>
 #include <vector>
 
-#include "fe/member_model.hpp"
+#include "model/member_model.hpp"
 #include "ritz/basis.hpp"
 #include "ritz/product_table.hpp"
 
@@ -66,7 +66,7 @@ struct Unsupported {
   std::string what;  // completes "the moving-boundary model ...", e.g. "takes one foundation piece ..."
   std::string message() const { return "key '" + key + "': the moving-boundary model " + what; }
 };
-std::optional<Unsupported> unsupported_input(const fe::MemberModel& model,
+std::optional<Unsupported> unsupported_input(const model::MemberModel& model,
                                              const std::string& gap_key = "foundation.gap",
                                              const std::string& tension_key = "foundation.tension_modulus");
 
@@ -77,7 +77,7 @@ class RitzModel {
   // liftoff::MechanismError for an arch whose u is free at both ends (roller or free ends)
   // loaded by moments: they drive the rigid rotation about the centre, which nothing resists.
   // enrichment: see basis.hpp (modes() then counts the kinked functions too).
-  RitzModel(const fe::MemberModel& model, int modes, Topology topology, Enrichment enrichment = Enrichment::none);
+  RitzModel(const model::MemberModel& model, int modes, Topology topology, Enrichment enrichment = Enrichment::none);
 
   // Layout of x.
   int modes() const { return modes_; }            // w functions: the N requested plus the load-point enrichment

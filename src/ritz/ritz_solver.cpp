@@ -158,7 +158,7 @@ Attempt solve_once(const RitzModel& model, const VectorXd& limits, const RitzOpt
 
 }  // namespace
 
-RitzSolution solve_ritz(const fe::MemberModel& member, const Topology& topology,
+RitzSolution solve_ritz(const model::MemberModel& member, const Topology& topology,
                         const std::vector<double>& initial_limits, const RitzOptions& options) {
   options.validate();
   if (static_cast<int>(initial_limits.size()) != topology.limits)

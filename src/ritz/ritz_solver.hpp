@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "fe/member_model.hpp"
+#include "model/member_model.hpp"
 #include "nonlinear/newton.hpp"
 #include "ritz/ritz_model.hpp"
 
@@ -94,7 +94,7 @@ struct InequalityCheck {
 InequalityCheck check_inequalities(const RitzModel& model, const Eigen::VectorXd& x);
 
 // initial_limits: one guess per limit of `topology`, increasing, inside the foundation.
-RitzSolution solve_ritz(const fe::MemberModel& member, const Topology& topology,
+RitzSolution solve_ritz(const model::MemberModel& member, const Topology& topology,
                         const std::vector<double>& initial_limits, const RitzOptions& options = {});
 
 }  // namespace liftoff::ritz

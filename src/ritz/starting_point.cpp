@@ -2,7 +2,7 @@
 
 namespace liftoff::ritz {
 
-StartingPoint starting_point_from_scene(const scene::RitzSettings& settings, const fe::MemberModel& model) {
+StartingPoint starting_point_from_scene(const scene::RitzSettings& settings, const model::MemberModel& model) {
   StartingPoint start;
   start.topology = {settings.topology.front(), static_cast<int>(settings.topology.size()) - 1};
   for (double limit : settings.limits) start.limits.push_back(model.s_from_user(limit));
@@ -12,6 +12,15 @@ StartingPoint starting_point_from_scene(const scene::RitzSettings& settings, con
       start.limits.push_back(begin + (end - begin) * (m + 1) / (start.topology.limits + 1));
   if (static_cast<int>(start.limits.size()) != start.topology.limits) start.limits.clear();
   return start;
+}
+
+RitzOptions ritz_options_from_scene(const scene::RitzSettings& settings, const model::MemberModel& model,
+                                    std::optional<int> modes) {
+  RitzOptions options;
+  options.modes = modes.value_or(settings.modes);
+  options.max_modes = settings.max_modes;
+  options.mode_tolerance = settings.mode_tolerance * model.length();
+  return options;
 }
 
 }  // namespace liftoff::ritz

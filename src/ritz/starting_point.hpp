@@ -4,10 +4,12 @@
 // of an FE + LCP solution of the same member. Shared by `liftoff solve --method ritz` and the
 // Ritz load history, which both start this way.
 
+#include <optional>
 #include <vector>
 
-#include "fe/member_model.hpp"
+#include "model/member_model.hpp"
 #include "ritz/ritz_model.hpp"
+#include "ritz/ritz_solver.hpp"
 #include "scene/scene.hpp"
 
 namespace liftoff::ritz {
@@ -19,13 +21,19 @@ struct StartingPoint {
 
 // The scene's topology, with its limits or evenly spaced guesses. Requires a non-empty
 // settings.topology.
-StartingPoint starting_point_from_scene(const scene::RitzSettings& settings, const fe::MemberModel& model);
+StartingPoint starting_point_from_scene(const scene::RitzSettings& settings, const model::MemberModel& model);
+
+// The scene's [ritz] table as solver options, the one mapping `solve` and the Ritz load history
+// share: modes (`modes` when given, else the table's), max_modes, and mode_tolerance made a
+// length in s (times the member's length). The rest keeps RitzOptions' defaults.
+RitzOptions ritz_options_from_scene(const scene::RitzSettings& settings, const model::MemberModel& model,
+                                    std::optional<int> modes = std::nullopt);
 
 // The topology of contact regions (intervals of s with members `begin` and `end`, as
 // post::contact_regions returns them): limits within 1e-9 of the member's length of a
 // foundation end are that end, not a limit.
 template <class Intervals>
-StartingPoint starting_point_from_regions(const Intervals& regions, const fe::MemberModel& model) {
+StartingPoint starting_point_from_regions(const Intervals& regions, const model::MemberModel& model) {
   StartingPoint start;
   const double begin = model.foundation_begin, end = model.foundation_end, edge = 1e-9 * model.length();
   start.topology.first_in_contact = !regions.empty() && regions.front().begin <= begin + edge;

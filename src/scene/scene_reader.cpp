@@ -471,7 +471,7 @@ Structure read_structure(const Section& s) {
     st.half_angle_deg = s.required_number("half_angle_deg", {"an angle in degrees in (0, 180)", 0, 180, true, true});
     st.axial_stiffness = s.required_number("EA", positive());
   }
-  // The numerics are nondimensional (fe/member_model.hpp): K l^4/EI, P l^2/EI and EA R^2/EI must
+  // The numerics are nondimensional (model/member_model.hpp): K l^4/EI, P l^2/EI and EA R^2/EI must
   // be finite doubles, so the length scale's fourth power must neither overflow nor vanish.
   const double l = st.kind == StructureKind::beam ? st.length : st.radius;
   const double l4 = l * l * l * l, ratio = l4 / st.bending_stiffness;

@@ -1,5 +1,5 @@
 #pragma once
-// The scene's units ([units]): labels only. The numerics are nondimensional (fe/member_model.hpp),
+// The scene's units ([units]): labels only. The numerics are nondimensional (model/member_model.hpp),
 // so results never depend on them; they say what the user's numbers mean, in every output.
 //
 // A scene states them one of two ways: a system "FORCE-LENGTH" (e.g. "N-m", "kN-m", "N-mm",

@@ -13,6 +13,7 @@
 #include "certify/certificate.hpp"
 #include "contact/active_set_solver.hpp"
 #include "contact/fitted_limits.hpp"
+#include "model/from_scene.hpp"
 #include "support/scenes.hpp"
 #include "support/solve.hpp"
 
@@ -275,14 +276,14 @@ namespace {
 
 // A limit-fitted answer on n elements (Newton capped at `iterations` steps) as a contact solution.
 struct Fitted {
-  fe::MemberModel model;
+  model::MemberModel model;
   contact::FittedResult result;
   contact::ContactSolution solution;
 };
 
 Fitted fitted_answer(const scene::Scene& s, int n, int iterations) {
   Fitted f;
-  f.model = fe::make_member_model(s);
+  f.model = model::make_member_model(s);
   const fe::Discretisation d = fe::discretise(f.model, n);
   const auto fast = contact::solve_active_set(d, d.load(1.0), {}, {}, d.ground_gap);
   REQUIRE(fast.summary.is_usable());

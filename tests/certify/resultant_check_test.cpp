@@ -7,6 +7,7 @@
 #include <catch2/catch.hpp>
 
 #include "fe/discretisation.hpp"
+#include "model/from_scene.hpp"
 #include "support/scenes.hpp"
 
 using namespace liftoff;
@@ -14,7 +15,7 @@ using scene::EndSupport;
 
 namespace {
 certify::ResultantCheck check_scene(const scene::Scene& s, int elements = 40) {
-  const fe::MemberModel model = fe::make_member_model(s);
+  const model::MemberModel model = model::make_member_model(s);
   return certify::check_resultant(model, fe::discretise(model, elements));
 }
 }  // namespace

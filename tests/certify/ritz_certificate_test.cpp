@@ -16,7 +16,7 @@ using scene::Method;
 namespace {
 
 struct RitzAnswer {
-  fe::MemberModel model;
+  model::MemberModel model;
   ritz::RitzOptions options;
   ritz::RitzSolution solution;
 };

@@ -10,6 +10,7 @@
 
 #include "contact/contact_solver.hpp"
 #include "core/error.hpp"
+#include "model/from_scene.hpp"
 #include "support/scenes.hpp"
 #include "support/solve.hpp"
 
@@ -99,7 +100,7 @@ TEST_CASE("fast gives Lemke's answer on every shipped scene", "[contact][fast]")
                            "seed_arch_roller", "seed_arch_clamped"}) {
     CAPTURE(name);
     const auto scene = test::shipped_scene(name);
-    const auto model = fe::make_member_model(scene);
+    const auto model = model::make_member_model(scene);
     const auto d = fe::discretise(model, scene.solve.elements);
     const auto fast = solve_with(d, Method::fast);
     CHECK(fast.summary.method == Method::fast);
@@ -115,7 +116,7 @@ TEST_CASE("fast gives Lemke's answer on random beams, free-free included, k from
     const auto scene = random_beam(random);
     CAPTURE(trial, scene::to_string(scene.supports.left), scene::to_string(scene.supports.right),
             *scene.foundation.stiffness_parameter);
-    const auto d = fe::discretise(fe::make_member_model(scene), 24);
+    const auto d = fe::discretise(model::make_member_model(scene), 24);
     const auto lemke = solve_with(d, lemke_for(d));
     const auto fast = solve_with(d, Method::fast);
     if (lemke.summary.termination == contact::ContactTermination::no_equilibrium) {
@@ -138,7 +139,7 @@ TEST_CASE("a beam on which plain block pivoting cycles: the safeguarded iteratio
   auto scene = test::beam_scene(1.0, 1.0, EndSupport::clamped, EndSupport::free, 8687518936.5307198);
   scene.loads.push_back(test::point_force(0.21113115480919778, -0.62458172292233938));
   scene.loads.push_back(test::uniform_load(0.49344248070120228, 0.72114097772403452, 1.133705431883246));
-  const auto d = fe::discretise(fe::make_member_model(scene), 13);
+  const auto d = fe::discretise(model::make_member_model(scene), 13);
   const Eigen::VectorXd load = d.load(1.0);
 
   contact::ActiveSetOptions plain;
@@ -154,7 +155,7 @@ TEST_CASE("a beam on which plain block pivoting cycles: the safeguarded iteratio
 
 TEST_CASE("when the fast solver stops, Lemke takes over and the summary says so", "[contact][fast]") {
   const auto scene = test::shipped_scene("seed_beam_end_moments_central_load");
-  const auto d = fe::discretise(fe::make_member_model(scene), 80);
+  const auto d = fe::discretise(model::make_member_model(scene), 80);
   const auto fallback = solve_with(d, Method::fast, 1);  // one set: the bilateral one, not the answer
   REQUIRE(fallback.summary.is_usable());
   CHECK(fallback.summary.method == Method::dual);
@@ -171,7 +172,7 @@ TEST_CASE("a fast solver that stops on a large mesh is reported, not handed to m
   // 2100 elements: a dual LCP of 2101 unknowns, above max_fallback_lcp (dense Lemke ~ n^3: ~10 s
   // here, ten minutes at max_dense_lcp). One set allowed: fast stops and nothing takes over.
   const auto scene = test::shipped_scene("seed_beam_end_moments_central_load");
-  const auto d = fe::discretise(fe::make_member_model(scene), 2100);
+  const auto d = fe::discretise(model::make_member_model(scene), 2100);
   REQUIRE(d.reactions() > contact::max_fallback_lcp);
   const auto stopped = solve_with(d, Method::fast, 1);
   CHECK_FALSE(stopped.summary.is_usable());
@@ -187,7 +188,7 @@ TEST_CASE("the number of contact sets does not grow with the mesh", "[contact][f
   for (const char* name : {"seed_beam_end_moments", "seed_beam_end_moments_central_load"}) {
     CAPTURE(name);
     const auto scene = test::shipped_scene(name);
-    const auto model = fe::make_member_model(scene);
+    const auto model = model::make_member_model(scene);
     int coarsest = -1;
     for (int elements : {100, 300, 1000, 3000, 5000}) {
       CAPTURE(elements);
@@ -201,7 +202,7 @@ TEST_CASE("the number of contact sets does not grow with the mesh", "[contact][f
 }
 
 TEST_CASE("a contact set already factorised is not factorised again", "[contact][fast]") {
-  const auto d = fe::discretise(fe::make_member_model(test::shipped_scene("seed_beam_end_moments")), 40);
+  const auto d = fe::discretise(model::make_member_model(test::shipped_scene("seed_beam_end_moments")), 40);
   contact::ActiveSetSystem system(d);
   std::vector<bool> in_contact(d.reactions(), true);
   REQUIRE(system.factorise(in_contact));
@@ -213,7 +214,7 @@ TEST_CASE("a contact set already factorised is not factorised again", "[contact]
 }
 
 TEST_CASE("auto: fast for every FE scene, stable or not, small or large", "[contact][auto]") {
-  const auto stable = fe::make_member_model(test::shipped_scene("seed_beam_end_moments"));
+  const auto stable = model::make_member_model(test::shipped_scene("seed_beam_end_moments"));
   for (int elements : {20, 200, 2000}) {
     const auto choice = contact::choose_fe_method(fe::discretise(stable, elements));
     CHECK(choice.method == Method::fast);
@@ -221,12 +222,12 @@ TEST_CASE("auto: fast for every FE scene, stable or not, small or large", "[cont
   }
   auto free_free = test::beam_scene(1.0, 1.0, EndSupport::free, EndSupport::free, 100.0);
   free_free.loads.push_back(test::point_force(0.5, 1.0));
-  const auto unstable = contact::choose_fe_method(fe::discretise(fe::make_member_model(free_free), 40));
+  const auto unstable = contact::choose_fe_method(fe::discretise(model::make_member_model(free_free), 40));
   CHECK(unstable.method == Method::fast);
 
   auto bilateral = test::shipped_scene("seed_beam_end_moments");
   bilateral.foundation.tensionless = false;
-  const auto choice = contact::choose_fe_method(fe::discretise(fe::make_member_model(bilateral), 200));
+  const auto choice = contact::choose_fe_method(fe::discretise(model::make_member_model(bilateral), 200));
   CHECK(choice.method == Method::fast);
   CHECK_THAT(choice.reason, Catch::StartsWith("bilateral"));
   // And solve_contact does what it said.
@@ -254,7 +255,7 @@ TEST_CASE("nested iteration: a coarser mesh's contact set starts this one, same 
   // seven_lift_off_zones: from the bilateral start the limits creep by about a node per block step
   // (11 sets at 1e4 elements); from the contact set of 1000 elements carried over, 2 sets
   // (verification/bench/accuracy_bench.cpp ratio).
-  const auto model = fe::make_member_model(seven_lift_off_zones());
+  const auto model = model::make_member_model(seven_lift_off_zones());
   const auto d = fe::discretise(model, 10000);
   const auto plain = contact::solve_active_set(d, d.load(1.0), {});
   const auto nested = contact::solve_active_set_nested(model, d, 1.0, {});
@@ -273,7 +274,7 @@ TEST_CASE("fast through solve_contact: a large uniform mesh starts from a coarse
   // The long member of the test above: discretise(model, N) keeps the member, so solve_contact
   // (as `liftoff solve`) takes the nested start without being asked; a mesh it did not make
   // (fitted limits, a given mesh) has no member and starts from the bilateral set.
-  const auto model = fe::make_member_model(seven_lift_off_zones());
+  const auto model = model::make_member_model(seven_lift_off_zones());
   const auto d = fe::discretise(model, 10000);
   REQUIRE(d.uniform_member);
   const auto fast = solve_with(d, Method::fast);

@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 
 #include "closed_form/beam_on_foundation.hpp"
+#include "model/from_scene.hpp"
 #include "support/scenes.hpp"
 #include "support/solve.hpp"
 
@@ -40,7 +41,7 @@ TEST_CASE("the contact set found by Lemke gives Lemke's answer in one sparse sol
 TEST_CASE("a free-free beam is held by its contact set, and left floating without one") {
   auto scene = test::beam_scene(10.0, 1.0, scene::EndSupport::free, scene::EndSupport::free, 100.0);
   scene.loads.push_back(test::uniform_load(0.0, 10.0, 1.0));
-  const auto model = fe::make_member_model(scene);
+  const auto model = model::make_member_model(scene);
   const auto d = fe::discretise(model, 40);
   contact::ActiveSetSystem system(d);
   REQUIRE(system.factorise(std::vector<bool>(d.reactions(), true)));
@@ -59,7 +60,7 @@ TEST_CASE("the mixed form solves fine meshes to round-off: bilateral seed beam a
           "[contact][round-off]") {
   auto s = test::shipped_scene("seed_beam_end_moments");
   s.foundation.tensionless = false;
-  const fe::MemberModel model = fe::make_member_model(s);
+  const model::MemberModel model = model::make_member_model(s);
   closed_form::BeamProblem p;
   p.foundation_modulus = model.foundation_modulus;
   p.left = p.right = closed_form::EndCondition::pinned;
@@ -93,7 +94,7 @@ TEST_CASE("the mixed form solves fine meshes to round-off: bilateral seed beam a
 }
 
 TEST_CASE("a system reassembled on its discretisation, discretised again, is the system built on it afresh") {
-  const fe::MemberModel model = fe::make_member_model(test::shipped_scene("seed_beam_end_moments_central_load"));
+  const model::MemberModel model = model::make_member_model(test::shipped_scene("seed_beam_end_moments_central_load"));
   fe::Discretisation d = fe::discretise(model, 60);
   contact::ActiveSetSystem reused(d);
   REQUIRE(reused.factorise(std::vector<bool>(d.reactions(), true)));

@@ -5,6 +5,7 @@
 
 #include "closed_form/scene_problem.hpp"
 #include "core/error.hpp"
+#include "model/from_scene.hpp"
 #include "post/fields.hpp"
 #include "support/scenes.hpp"
 #include "support/solve.hpp"
@@ -523,7 +524,7 @@ TEST_CASE("bilinear foundation with springs and a linear modulus: the three stre
   s.supports.left_detail = {true, 200.0, 0.0, 0.0};
   s.supports.interior_springs.push_back({0.5, {true, 500.0, 20.0, 0.0}});
   s.loads = {test::point_force(0.3, 5.0), test::point_moment(0.7, -2.2), test::point_force(0.95, -3.0)};
-  const fe::MemberModel model = fe::make_member_model(s);
+  const model::MemberModel model = model::make_member_model(s);
   REQUIRE(model.has_tension_modulus());
   const test::Solved fast = test::solve(s, Method::fast, 100);
   REQUIRE(fast.solution.summary.is_usable());

@@ -8,6 +8,7 @@
 #include "closed_form/beam_on_foundation.hpp"
 #include "closed_form/member_problem.hpp"
 #include "contact/active_set_solver.hpp"
+#include "model/from_scene.hpp"
 #include "support/scenes.hpp"
 #include "support/solve.hpp"
 
@@ -17,14 +18,14 @@ using scene::EndSupport;
 namespace {
 
 // The fast answer on n elements, as contact intervals: the starting topology of a fitted solve.
-std::vector<contact::ContactInterval> fast_intervals(const fe::MemberModel& model, int n) {
+std::vector<contact::ContactInterval> fast_intervals(const model::MemberModel& model, int n) {
   const fe::Discretisation d = fe::discretise(model, n);
   const auto fast = contact::solve_active_set(d, d.load(1.0), {}, {}, d.ground_gap);
   REQUIRE(fast.summary.is_usable());
   return contact::contact_intervals(model, d, fast.state.displacement, fast.in_contact);
 }
 
-std::vector<double> exact_limits(const fe::MemberModel& model) {
+std::vector<double> exact_limits(const model::MemberModel& model) {
   std::vector<closed_form::Interval> guess;
   for (const auto& r : fast_intervals(model, 400)) guess.push_back({r.begin, r.end});
   const auto exact = closed_form::solve_tensionless(closed_form::problem_of(model), guess);
@@ -58,7 +59,7 @@ struct Case {
 // Fitted solves on coarsest, 2x, 4x, 8x elements against exact limits: h = 1/n and the largest
 // limit error of each, with Newton at round-off (its last step far below the error) and the
 // errors decreasing; with max_iterations > 0, Newton takes at most that many iterations.
-void fitted_study(const fe::MemberModel& model, const std::vector<double>& exact, int coarsest, std::vector<double>& h,
+void fitted_study(const model::MemberModel& model, const std::vector<double>& exact, int coarsest, std::vector<double>& h,
                   std::vector<double>& error, int max_iterations = 0) {
   for (int n : {coarsest, 2 * coarsest, 4 * coarsest, 8 * coarsest}) {
     CAPTURE(n);
@@ -88,7 +89,7 @@ TEST_CASE("fitted limits converge at h^4 to the closed forms", "[contact][fitted
       {"500 m pipeline", pipeline(), 200}};
   for (const auto& [name, s, coarsest] : cases) {
     CAPTURE(name);
-    const fe::MemberModel model = fe::make_member_model(s);
+    const model::MemberModel model = model::make_member_model(s);
     const std::vector<double> exact = exact_limits(model);
     std::vector<double> h, error;
     fitted_study(model, exact, coarsest, h, error, /*max_iterations=*/6);
@@ -106,7 +107,7 @@ TEST_CASE("fitted limits converge at h^4 to the closed forms", "[contact][fitted
 }
 
 TEST_CASE("a wrong topology is refused, not fitted", "[contact][fitted]") {
-  const fe::MemberModel model = fe::make_member_model(test::shipped_scene("seed_beam_end_moments"));
+  const model::MemberModel model = model::make_member_model(test::shipped_scene("seed_beam_end_moments"));
   contact::FittedOptions options;
   options.elements = 80;
   // The answer has one contact region near the right end; claim a second one on the left,
@@ -123,7 +124,7 @@ TEST_CASE("a wrong topology is refused, not fitted", "[contact][fitted]") {
 }
 
 TEST_CASE("fitted limits on an arch converge at the same order", "[contact][fitted][arch]") {
-  const fe::MemberModel model = fe::make_member_model(test::shipped_scene("seed_arch_pinned"));
+  const model::MemberModel model = model::make_member_model(test::shipped_scene("seed_arch_pinned"));
   auto limits_at = [&](int n) {
     contact::FittedOptions options;
     options.elements = n;
@@ -161,7 +162,7 @@ TEST_CASE("node-based limits: a lifted node with w > 0 is walked past to w's zer
       {"seed_beam_end_moments_central_load", test::shipped_scene("seed_beam_end_moments_central_load")}};
   for (const auto& [name, s] : cases) {
     CAPTURE(name);
-    const fe::MemberModel model = fe::make_member_model(s);
+    const model::MemberModel model = model::make_member_model(s);
     const std::vector<double> exact = exact_limits(model);
     bool walked = false;
     for (int n : {640, 1280, 2560}) {
@@ -222,16 +223,16 @@ TEST_CASE("fitted limits with a ground gap converge at h^4 to the closed form", 
   // The sloping ground, and clamped ends settled by 1e-3 under a lifting force (their limits are
   // those of the same beam over a hump g = -1e-3, settlement_clamped_gap.toml, which the closed
   // form takes: settlements and the gap enter the fitted solve through the same offset).
-  const fe::MemberModel settled = fe::make_member_model(issue12_scene("settlement_clamped"));
-  const fe::MemberModel settled_twin = fe::make_member_model(issue12_scene("settlement_clamped_gap"));
+  const model::MemberModel settled = model::make_member_model(issue12_scene("settlement_clamped"));
+  const model::MemberModel settled_twin = model::make_member_model(issue12_scene("settlement_clamped_gap"));
   REQUIRE(settled.has_settlements());
   REQUIRE_FALSE(settled.has_ground_gap());
-  const fe::MemberModel sloping = fe::make_member_model(sloping_ground());
-  const std::tuple<const char*, const fe::MemberModel*, const fe::MemberModel*, int> cases[] = {
+  const model::MemberModel sloping = model::make_member_model(sloping_ground());
+  const std::tuple<const char*, const model::MemberModel*, const model::MemberModel*, int> cases[] = {
       {"sloping ground", &sloping, &sloping, 40}, {"settled clamped ends", &settled, &settled_twin, 50}};
   for (const auto& [name, model_ptr, twin, coarsest] : cases) {
     CAPTURE(name);
-    const fe::MemberModel& model = *model_ptr;
+    const model::MemberModel& model = *model_ptr;
     std::vector<closed_form::Interval> guess;
     for (const auto& r : fast_intervals(*twin, 400)) guess.push_back({r.begin, r.end});
     const auto exact = closed_form::solve_tensionless(closed_form::problem_of(*twin), guess);
@@ -239,7 +240,7 @@ TEST_CASE("fitted limits with a ground gap converge at h^4 to the closed form", 
     REQUIRE(exact.limits.size() == 2);
     // Would the test see a solve that ignores the gap (or the settlement)? The same beam without
     // it has other limits, far beyond the errors measured below.
-    fe::MemberModel plain = *twin;
+    model::MemberModel plain = *twin;
     plain.ground_gap_at.clear();
     plain.ground_gap_value.clear();
     std::vector<closed_form::Interval> plain_guess;
@@ -269,13 +270,13 @@ TEST_CASE("fitted limits on a bilinear foundation converge at h^4 to the closed 
   // surveyed seabed, a hump near x = 0.3) with K_t = 1e3 (K_t's dead load K_t g). The reaction is
   // k (w - g) in contact, K_t (w - g) lifted: a kink at the limit only, where w = g, so the order
   // of the tensionless cases holds.
-  const fe::MemberModel bilinear = fe::make_member_model(issue12_scene("tension_k"));
+  const model::MemberModel bilinear = model::make_member_model(issue12_scene("tension_k"));
   REQUIRE(bilinear.has_tension_modulus());
   scene::Scene seabed = issue12_scene("gap_file_seabed");
   seabed.foundation.tension_stiffness_parameter = 1e3;
-  const fe::MemberModel sloping = fe::make_member_model(seabed);
+  const model::MemberModel sloping = model::make_member_model(seabed);
   REQUIRE(sloping.has_ground_gap());
-  for (const fe::MemberModel* model : {&bilinear, &sloping}) {
+  for (const model::MemberModel* model : {&bilinear, &sloping}) {
     CAPTURE(model->has_ground_gap());
     std::vector<closed_form::Interval> guess;
     for (const auto& r : fast_intervals(*model, 400)) guess.push_back({r.begin, r.end});
@@ -284,7 +285,7 @@ TEST_CASE("fitted limits on a bilinear foundation converge at h^4 to the closed 
     REQUIRE_FALSE(exact.limits.empty());
     // Would the test see a solve that drops K_t? Without it the limits move far beyond the errors
     // (checked below).
-    fe::MemberModel plain = *model;
+    model::MemberModel plain = *model;
     plain.tension_modulus = 0.0;
     const auto without = closed_form::solve_tensionless(closed_form::problem_of(plain), guess);
     const bool comparable =
@@ -302,7 +303,7 @@ TEST_CASE("fitted limits on a bilinear foundation converge at h^4 to the closed 
 }
 
 TEST_CASE("a limit at a step of the ground gap is pinned at the trench wall", "[contact][fitted][issue12][gap]") {
-  const fe::MemberModel model = fe::make_member_model(deep_trench());
+  const model::MemberModel model = model::make_member_model(deep_trench());
   std::vector<closed_form::Interval> guess{{0.0, 0.35}, {0.6, 1.0}};
   const auto exact = closed_form::solve_tensionless(closed_form::problem_of(model), guess);
   REQUIRE(exact.status == closed_form::TensionlessStatus::converged);

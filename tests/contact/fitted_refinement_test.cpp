@@ -12,6 +12,7 @@
 #include "closed_form/member_problem.hpp"
 #include "contact/active_set_solver.hpp"
 #include "fe/shape_functions.hpp"
+#include "model/from_scene.hpp"
 #include "support/scenes.hpp"
 #include "support/solve.hpp"
 
@@ -21,14 +22,14 @@ using scene::EndSupport;
 namespace {
 
 // The node-based (fast) contact regions on n elements: where the sequence starts.
-std::vector<contact::ContactInterval> fast_intervals(const fe::MemberModel& model, int n) {
+std::vector<contact::ContactInterval> fast_intervals(const model::MemberModel& model, int n) {
   const fe::Discretisation d = fe::discretise(model, n);
   const auto fast = contact::solve_active_set(d, d.load(1.0), {});
   REQUIRE(fast.summary.is_usable());
   return contact::contact_intervals(d, fast.state.displacement, fast.in_contact);
 }
 
-closed_form::TensionlessResult exact_answer(const fe::MemberModel& model) {
+closed_form::TensionlessResult exact_answer(const model::MemberModel& model) {
   std::vector<closed_form::Interval> guess;
   for (const auto& r : fast_intervals(model, 400)) guess.push_back({r.begin, r.end});
   auto exact = closed_form::solve_tensionless(closed_form::problem_of(model), guess);
@@ -50,7 +51,7 @@ struct Errors {
 // The answer's true errors: limits (relative to the length), w at 8 points per element
 // (relative to max |w|), the reaction k max(w, 0) on the contact elements (relative to the
 // largest exact reaction).
-Errors true_errors(const fe::MemberModel& model, const contact::FittedResult& answer,
+Errors true_errors(const model::MemberModel& model, const contact::FittedResult& answer,
                    const closed_form::TensionlessResult& exact) {
   Errors e;
   REQUIRE(answer.limits.size() == exact.limits.size());
@@ -92,7 +93,7 @@ TEST_CASE("the fitted sequence reaches the tolerance with honest estimates", "[c
       {"free beam, central load", free_beam()}};
   for (const auto& [name, s] : cases) {
     CAPTURE(name);
-    const fe::MemberModel model = fe::make_member_model(s);
+    const model::MemberModel model = model::make_member_model(s);
     const closed_form::TensionlessResult exact = exact_answer(model);
     std::vector<int> elements;
     std::vector<double> limit_errors;
@@ -137,7 +138,7 @@ TEST_CASE("the fitted sequence reaches the tolerance with honest estimates", "[c
 }
 
 TEST_CASE("a tolerance beyond the cap is refused, with a reason", "[contact][tolerance]") {
-  const fe::MemberModel model = fe::make_member_model(test::shipped_scene("seed_beam_end_moments"));
+  const model::MemberModel model = model::make_member_model(test::shipped_scene("seed_beam_end_moments"));
   contact::ToleranceOptions options;
   options.tolerance = 1e-12;
   options.max_elements = 200;
@@ -170,7 +171,7 @@ TEST_CASE("the seed beams' limit error falls monotonically with the mesh to 1e-1
   // under 1e-10 L while still halving, and from there stay under 1e-10 L.
   for (const char* name : {"seed_beam_end_moments", "seed_beam_end_moments_central_load"}) {
     CAPTURE(name);
-    const fe::MemberModel model = fe::make_member_model(test::shipped_scene(name));
+    const model::MemberModel model = model::make_member_model(test::shipped_scene(name));
     const closed_form::TensionlessResult exact = exact_answer(model);
     REQUIRE_FALSE(exact.limits.empty());
     double w_max = 0.0, slope = INFINITY;

@@ -31,7 +31,8 @@
 #include "contact/active_set_system.hpp"
 #include "continuation/fe_path.hpp"
 #include "fe/discretisation.hpp"
-#include "fe/member_model.hpp"
+#include "model/from_scene.hpp"
+#include "model/member_model.hpp"
 #include "scene/scene_reader.hpp"
 #include "support/scenes.hpp"
 
@@ -95,7 +96,7 @@ const TraceEvent* find_event(const TraceResult& r, EventKind kind, double at) {
 
 // The round-off bound of an event load (header): f = w at `node` with the contact set `set`.
 double round_off_bound(const scene::Scene& s, int elements, const std::vector<bool>& set, int node, double lambda) {
-  const auto model = fe::make_member_model(s);
+  const auto model = model::make_member_model(s);
   const auto d = fe::discretise(model, elements);
   contact::ActiveSetSystem system(d);
   REQUIRE(system.factorise(set));
@@ -167,7 +168,7 @@ TEST_CASE("footing trace: the heel lifts off at every mesh from 50 to 400 elemen
     REQUIRE(r.events.size() == 1);
     REQUIRE(r.events[0].kind == EventKind::limit_at_end);
     REQUIRE(r.events[0].at == 0.0);
-    const auto model = fe::make_member_model(s);
+    const auto model = model::make_member_model(s);
     const int nodes = fe::discretise(model, n).reactions();
     const double bound = round_off_bound(s, n, std::vector<bool>(nodes, true), heel, r.events[0].load_factor);
     return std::pair{r.events[0].load_factor, bound};
@@ -198,7 +199,7 @@ TEST_CASE("footing trace: the contact limit reaches the column at the closed for
   const scene::Scene s = test::continuation_scene("footing_trace");
   const double exact = exact_column_load();
   const double lambda_max = 6.5;  // past the event (6.395; rigid 6.4)
-  const auto model = fe::make_member_model(s);
+  const auto model = model::make_member_model(s);
 
   auto column_event = [&](int n) {
     const TraceResult r = fe_run(s, n, lambda_max);

@@ -16,7 +16,8 @@
 #include "contact/active_set_system.hpp"
 #include "continuation/events.hpp"
 #include "fe/discretisation.hpp"
-#include "fe/member_model.hpp"
+#include "model/from_scene.hpp"
+#include "model/member_model.hpp"
 #include "scene/scene_reader.hpp"
 #include "support/scenes.hpp"
 #include "support/solve.hpp"
@@ -70,7 +71,7 @@ TraceOptions options_for(double lambda_min, double lambda_max, int elements) {
 
 // Sample points at every mesh node (user coordinate), so that a step records the nodal w and r.
 std::vector<double> node_positions(const scene::Scene& scene, int elements) {
-  const auto model = fe::make_member_model(scene);
+  const auto model = model::make_member_model(scene);
   const auto d = fe::discretise(model, elements);
   std::vector<double> x;
   for (double s : d.mesh.nodes) x.push_back(model.user_from_s(s));
@@ -263,7 +264,7 @@ continuation::ContactTopology lemke_topology(const scene::Scene& scene, int elem
 // Every event of the trace is what independent Lemke solves just before and just after its
 // load say happens: classified from their two topologies, it has the same kind and place.
 void check_events_against_lemke(const scene::Scene& scene, const TraceOptions& options, const TraceResult& result) {
-  const auto model = fe::make_member_model(scene);
+  const auto model = model::make_member_model(scene);
   const auto points = continuation::special_points(model);
   const double h = model.user_from_s(model.length()) / options.elements;
   for (std::size_t k = 0; k < result.events.size(); ++k) {
@@ -516,7 +517,7 @@ TEST_CASE("FE path: every reported state passes the certificate, and a wrong con
     const TraceResult r = continuation::trace_fe(s, o);
     CAPTURE(name, r.summary.message);
     REQUIRE(r.summary.termination == continuation::TraceTermination::completed);
-    const auto model = fe::make_member_model(s);
+    const auto model = model::make_member_model(s);
     const auto d = fe::discretise(model, o.elements);
     certify::CertifyOptions c;
     c.round_off = false;
@@ -641,7 +642,7 @@ TEST_CASE("a bilinear foundation: the path ends where solve does", "[issue12][te
     CAPTURE(name);
     scene::Scene scene = scene::read_scene_file(dir + name + ".toml");
     scene.foundation.tension_stiffness_parameter = 1e3;
-    REQUIRE(fe::make_member_model(scene).has_tension_modulus());
+    REQUIRE(model::make_member_model(scene).has_tension_modulus());
     const int elements = 200;
     const NodalState exact = path_ends_on_solve(scene, elements).exact;
     // Would it fail if the path dropped K_t? The tensionless answer is another.

@@ -14,8 +14,8 @@
 #include "support/solve.hpp"
 
 using namespace liftoff;
-using fe::LoadBasis;
-using fe::LoadDirection;
+using model::LoadBasis;
+using model::LoadDirection;
 
 namespace {
 

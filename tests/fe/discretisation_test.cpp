@@ -7,6 +7,7 @@
 
 #include "core/error.hpp"
 #include "fe/mesh.hpp"
+#include "model/from_scene.hpp"
 #include "support/scenes.hpp"
 
 using namespace liftoff;
@@ -17,7 +18,7 @@ TEST_CASE("the mesh has a node at every load, support and foundation end", "[fe]
   s.foundation.from = 0.3;
   s.supports.interior = {1.1};
   s.loads = {test::point_force(0.77, 1.0), test::uniform_load(1.5, 1.9, 1.0)};
-  const fe::MemberModel model = fe::make_member_model(s);
+  const model::MemberModel model = model::make_member_model(s);
   const fe::Mesh mesh = fe::make_mesh(model, 20);
   CHECK(mesh.elements() == 20);
   for (double x : {0.0, 0.3, 0.77, 1.1, 1.5, 1.9, 2.0}) {
@@ -25,8 +26,8 @@ TEST_CASE("the mesh has a node at every load, support and foundation end", "[fe]
     CHECK(mesh.node_at(model.s_from_user(x)) >= 0);
   }
   // A uniform request stays uniform when the breakpoints fall on it.
-  const fe::Mesh uniform =
-      fe::make_mesh(fe::make_member_model(test::beam_scene(1.0, 1.0, EndSupport::pinned, EndSupport::pinned, 1.0)), 8);
+  const fe::Mesh uniform = fe::make_mesh(
+      model::make_member_model(test::beam_scene(1.0, 1.0, EndSupport::pinned, EndSupport::pinned, 1.0)), 8);
   for (int e = 0; e < 8; ++e) CHECK(uniform.element_size(e) == Approx(0.125).epsilon(1e-14));
   // Fewer elements than segments: one per segment.
   CHECK(fe::make_mesh(model, 1).elements() == 6);
@@ -47,7 +48,7 @@ TEST_CASE("the mesh has a node at every load, support and foundation end", "[fe]
 TEST_CASE("a foundation on chosen elements: reaction nodes are those elements' nodes", "[fe][mesh]") {
   scene::Scene s = test::beam_scene(1.0, 1.0, EndSupport::pinned, EndSupport::pinned, 1e3);
   s.loads = {test::point_force(0.5, 1.0)};
-  const fe::MemberModel model = fe::make_member_model(s);
+  const model::MemberModel model = model::make_member_model(s);
   const fe::Mesh mesh = fe::make_mesh(model, 10);
   std::vector<bool> foundation(10, false);
   for (int e : {2, 3, 7}) foundation[e] = true;
@@ -66,7 +67,7 @@ TEST_CASE("rigid motions: which structures need the foundation to stand", "[fe][
     scene::Scene s = test::beam_scene(1.0, 1.0, left, right, 1e3);
     s.supports.interior = std::move(interior);
     s.loads = {test::point_force(0.5, 1.0)};
-    return fe::discretise(fe::make_member_model(s), 10).unstable_rigid_motions;
+    return fe::discretise(model::make_member_model(s), 10).unstable_rigid_motions;
   };
   CHECK(unstable(EndSupport::free, EndSupport::free) == 2);
   CHECK(unstable(EndSupport::pinned, EndSupport::free) == 1);
@@ -80,7 +81,7 @@ TEST_CASE("rigid motions: which structures need the foundation to stand", "[fe][
   auto arch = [](EndSupport ends) {
     scene::Scene s = test::shipped_scene("seed_arch_pinned");
     s.supports.left = s.supports.right = ends;
-    return fe::discretise(fe::make_member_model(s), 20);
+    return fe::discretise(model::make_member_model(s), 20);
   };
   CHECK(arch(EndSupport::pinned).unstable_rigid_motions == 0);
   CHECK(arch(EndSupport::clamped).unstable_rigid_motions == 0);
@@ -99,7 +100,7 @@ TEST_CASE("the ground gap vector is the integral of Hb^T g, exact for a piecewis
   s.foundation.gap_at = {0.0, 0.5, 0.5, 1.25, 2.0};
   s.foundation.gap_value = {0.0, 1e-3, -1e-3, 3e-3, 3e-3};
   s.loads = {test::point_force(1.0, 1.0)};
-  const fe::MemberModel model = fe::make_member_model(s);
+  const model::MemberModel model = model::make_member_model(s);
   for (double x : {0.5, 1.25}) CHECK(fe::make_mesh(model, 7).node_at(model.s_from_user(x)) >= 0);
   const fe::Discretisation d = fe::discretise(model, 7);
   REQUIRE(d.ground_gap.size() == d.reactions());
@@ -126,7 +127,7 @@ TEST_CASE("the ground gap vector is the integral of Hb^T g, exact for a piecewis
   // A uniform g is tested as C tests a uniform w: c = k T 1 g (T = int Hb^T Hb / k).
   s.foundation.gap_at = {1.0};
   s.foundation.gap_value = {2e-3};
-  const fe::MemberModel flat = fe::make_member_model(s);
+  const model::MemberModel flat = model::make_member_model(s);
   const fe::Discretisation u = fe::discretise(flat, 9);
   const Eigen::VectorXd expected =
       flat.foundation_modulus * (u.flexibility * Eigen::VectorXd::Ones(u.reactions())) * (2e-3 / 2.0);
@@ -134,7 +135,7 @@ TEST_CASE("the ground gap vector is the integral of Hb^T g, exact for a piecewis
   // No gap: c = 0.
   s.foundation.gap_at.clear();
   s.foundation.gap_value.clear();
-  CHECK(fe::discretise(fe::make_member_model(s), 9).ground_gap.isZero(0.0));
+  CHECK(fe::discretise(model::make_member_model(s), 9).ground_gap.isZero(0.0));
 }
 
 TEST_CASE("two reactions at a node where k or the ground gap steps, one where neither does", "[fe][issue12][jump]") {
@@ -149,7 +150,7 @@ TEST_CASE("two reactions at a node where k or the ground gap steps, one where ne
   s.foundation.gap_at = {0.2, 0.2, 0.5};
   s.foundation.gap_value = {0.0, 1e-3, 2e-3};
   s.loads = {test::point_force(0.5, 1.0)};
-  const fe::MemberModel model = fe::make_member_model(s);
+  const model::MemberModel model = model::make_member_model(s);
   CHECK(model.reaction_jumps() == std::vector<double>{0.2, 0.4});
   const fe::Discretisation d = fe::discretise(model, 20);  // h = 0.05: nodes 4 (0.2), 8 (0.4), 14, 16, 18
   const int step = d.mesh.node_at(0.2), soils = d.mesh.node_at(0.4);
@@ -212,13 +213,13 @@ scene::Scene spring_beam(double left_k, double left_rotational, double interior_
 }  // namespace
 
 TEST_CASE("springs: one more stress each, so K = G^T H^-1 G still holds; K gains k a a^T", "[fe][springs]") {
-  const fe::Discretisation plain = fe::discretise(fe::make_member_model(spring_beam(0, 0, 0)), 10);
+  const fe::Discretisation plain = fe::discretise(model::make_member_model(spring_beam(0, 0, 0)), 10);
   scene::Scene arch_scene = test::shipped_scene("seed_arch_pinned");
   arch_scene.supports.left = EndSupport::free;
   arch_scene.supports.left_detail = {true, 30.0, 7.0, 0.0};
   for (const scene::Scene& s : {spring_beam(250.0, 40.0, 90.0), arch_scene}) {
-    const fe::Discretisation d = fe::discretise(fe::make_member_model(s), 10);
-    const bool arch = d.kind == fe::StructureKind::arch;
+    const fe::Discretisation d = fe::discretise(model::make_member_model(s), 10);
+    const bool arch = d.kind == model::StructureKind::arch;
     // Beam: translational and rotational at the left, translational inside; arch: u, w and rotation.
     CHECK(d.springs.size() == 3u);
     CHECK(d.stresses() == d.element_stresses() + 3);
@@ -247,7 +248,7 @@ TEST_CASE("springs restrain rigid motions: a free-free beam on end springs is st
   scene::Scene s = test::beam_scene(1.0, 1.0, EndSupport::free, EndSupport::free, 1e3);
   s.loads = {test::point_force(0.5, 1.0)};
   auto unstable = [&](const scene::Scene& scene) {
-    return fe::discretise(fe::make_member_model(scene), 10).unstable_rigid_motions;
+    return fe::discretise(model::make_member_model(scene), 10).unstable_rigid_motions;
   };
   CHECK(unstable(s) == 2);
   s.supports.left_detail = {true, 10.0, 0.0, 0.0};
@@ -265,9 +266,9 @@ TEST_CASE("springs restrain rigid motions: a free-free beam on end springs is st
   scene::Load push = test::point_force(5.0, 1.0);
   push.direction = scene::LoadDirection::tangential;
   arch.loads = {push};
-  CHECK_THROWS_AS(fe::discretise(fe::make_member_model(arch), 20), MechanismError);
+  CHECK_THROWS_AS(fe::discretise(model::make_member_model(arch), 20), MechanismError);
   arch.supports.interior_springs.push_back({10.0, {true, 3.0, 0.0, 0.0}});
-  const fe::Discretisation held = fe::discretise(fe::make_member_model(arch), 20);
+  const fe::Discretisation held = fe::discretise(model::make_member_model(arch), 20);
   CHECK(held.unstable_rigid_motions == 0);
   CHECK(held.gauge_note.empty());
 }
@@ -279,7 +280,7 @@ TEST_CASE("settlements: w = delta on the settled dof, the dead load -K u_f moves
   const double delta = 0.0125;
   scene::Scene s = test::beam_scene(1.0, 1.0, EndSupport::clamped, EndSupport::clamped, 1e3);
   s.supports.left_detail.settlement = s.supports.right_detail.settlement = delta;
-  const fe::Discretisation d = fe::discretise(fe::make_member_model(s), 16);
+  const fe::Discretisation d = fe::discretise(model::make_member_model(s), 16);
   const int left_w = d.deflection_dof(0);
   CHECK(d.equation_of_dof[left_w] < 0);
   const Eigen::VectorXd v = Eigen::MatrixXd(d.stiffness).ldlt().solve(d.load(1.0));
@@ -302,9 +303,9 @@ TEST_CASE("bilinear foundation: the Winkler part K_t is in K and in its mixed fo
   scene::Scene s = test::beam_scene(1.0, 1.0, EndSupport::pinned, EndSupport::free, 1e3);
   s.foundation.from = 0.2;
   s.loads = {test::point_force(0.5, 1.0)};
-  const fe::Discretisation plain = fe::discretise(fe::make_member_model(s), 10);
+  const fe::Discretisation plain = fe::discretise(model::make_member_model(s), 10);
   s.foundation.tension_stiffness_parameter = 400.0;
-  const fe::MemberModel model = fe::make_member_model(s);
+  const model::MemberModel model = model::make_member_model(s);
   REQUIRE(model.tensionless);
   const fe::Discretisation d = fe::discretise(model, 10);
   // Element 0..1 lie off the foundation: no Winkler stresses there.
@@ -334,8 +335,8 @@ TEST_CASE("bilinear foundation: the Winkler part K_t is in K and in its mixed fo
   CHECK(d.unstable_rigid_motions == 0);
   // K_t = k: the bilateral foundation.
   s.foundation.tension_stiffness_parameter = 1e3;
-  CHECK_FALSE(fe::make_member_model(s).tensionless);
-  CHECK(fe::make_member_model(s).tension_modulus == 0.0);
+  CHECK_FALSE(model::make_member_model(s).tensionless);
+  CHECK(model::make_member_model(s).tension_modulus == 0.0);
 }
 
 TEST_CASE("rigid motions are computed once: the member's, and those the supports leave free", "[fe][stability]") {
@@ -348,9 +349,9 @@ TEST_CASE("rigid motions are computed once: the member's, and those the supports
   scene::Scene arch = test::shipped_scene("seed_arch_pinned");
   arch.supports.left = arch.supports.right = EndSupport::free;
   for (const scene::Scene& s : {free_free, pinned_free, arch}) {
-    const fe::MemberModel model = fe::make_member_model(s);
+    const model::MemberModel model = model::make_member_model(s);
     const fe::Discretisation d = fe::discretise(model, 20);
-    CAPTURE(d.kind == fe::StructureKind::arch, d.unstable_rigid_motions);
+    CAPTURE(d.kind == model::StructureKind::arch, d.unstable_rigid_motions);
     CHECK(d.member_rigid_motions == fe::rigid_motions(model, d));
     const Eigen::MatrixXd& z = d.free_rigid_motions;
     REQUIRE(z.rows() == d.equations);
@@ -362,7 +363,7 @@ TEST_CASE("rigid motions are computed once: the member's, and those the supports
     // applies before it uses them.
     const double scale = Eigen::MatrixXd(d.stiffness).cwiseAbs().maxCoeff() * z.cwiseAbs().maxCoeff();
     const double allowed =
-        d.kind == fe::StructureKind::beam ? 64 * std::numeric_limits<double>::epsilon() * scale : 1e-8 * scale;
+        d.kind == model::StructureKind::beam ? 64 * std::numeric_limits<double>::epsilon() * scale : 1e-8 * scale;
     CHECK((d.stiffness * z).cwiseAbs().maxCoeff() <= allowed);
     // On the equations they are the member's motions: expanded, each is a combination of those.
     Eigen::MatrixXd expanded(d.dofs(), z.cols());
@@ -371,5 +372,5 @@ TEST_CASE("rigid motions are computed once: the member's, and those the supports
     const Eigen::MatrixXd fit = modes.colPivHouseholderQr().solve(expanded);
     CHECK((modes * fit - expanded).cwiseAbs().maxCoeff() <= 1e-12 * expanded.cwiseAbs().maxCoeff());
   }
-  CHECK(fe::discretise(fe::make_member_model(pinned_free), 20).free_rigid_motions.cols() == 1);
+  CHECK(fe::discretise(model::make_member_model(pinned_free), 20).free_rigid_motions.cols() == 1);
 }

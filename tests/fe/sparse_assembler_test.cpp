@@ -6,7 +6,8 @@
 #include <limits>
 
 #include "fe/discretisation.hpp"
-#include "fe/member_model.hpp"
+#include "model/from_scene.hpp"
+#include "model/member_model.hpp"
 #include "support/scenes.hpp"
 
 using namespace liftoff;
@@ -41,9 +42,9 @@ Eigen::VectorXd abs_product(const fe::SparseMatrix& k, const Eigen::VectorXd& u)
 
 TEST_CASE("the assembler's K is discretise's K, re-assembled in place", "[fe][assembler]") {
   for (const scene::Scene& s : members()) {
-    const fe::MemberModel model = fe::make_member_model(s);
+    const model::MemberModel model = model::make_member_model(s);
     const fe::Discretisation d = fe::discretise(model, 12);
-    CAPTURE(d.kind == fe::StructureKind::arch);
+    CAPTURE(d.kind == model::StructureKind::arch);
     const fe::StructuralElements set = fe::structural_elements(model, d);
     REQUIRE(set.elements.size() == set.dofs.size());
     // One member element per mesh element, a Winkler element per winkler element, one per spring.

@@ -7,7 +7,8 @@
 #include <vector>
 
 #include "fe/discretisation.hpp"
-#include "fe/member_model.hpp"
+#include "model/from_scene.hpp"
+#include "model/member_model.hpp"
 #include "fe/mixed_form.hpp"
 #include "nonlinear/linear_solver.hpp"
 #include "nonlinear/newton.hpp"
@@ -58,7 +59,7 @@ double inverse_norm_estimate(const nonlinear::LinearSolver& b, const nonlinear::
 Run solve_beam(int elements) {
   scene::Scene s = test::beam_scene(1.0, 1.0, scene::EndSupport::pinned, scene::EndSupport::pinned, 1e3);
   s.loads = {test::uniform_load(0.0, 1.0, 1.0), test::point_force(0.3, 0.5)};
-  const fe::Discretisation d = fe::discretise(fe::make_member_model(s), elements);
+  const fe::Discretisation d = fe::discretise(model::make_member_model(s), elements);
   REQUIRE(d.structure_is_stable());  // pinned-pinned: K alone is nonsingular
   const int m = d.stresses(), e = d.equations, n = m + e;
   const SparseMatrix jacobian_matrix = fe::mixed_matrix(d);

@@ -6,13 +6,14 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
+#include "model/from_scene.hpp"
 #include "support/scenes.hpp"
 
 using namespace liftoff;
 
 TEST_CASE("ritz fields: the model's series at uniform samples, its pieces as contact regions", "[post]") {
   const scene::Scene s = test::shipped_scene("seed_beam_end_moments_central_load");
-  const fe::MemberModel member = fe::make_member_model(s);
+  const model::MemberModel member = model::make_member_model(s);
   ritz::RitzSolution solution;
   solution.model.emplace(member, 16, ritz::Topology{true, 2});
   const double length = member.s_end - member.s_begin;

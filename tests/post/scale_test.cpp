@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <string>
 
+#include "model/from_scene.hpp"
 #include "scene/scene_reader.hpp"
 #include "support/scenes.hpp"
 
@@ -23,7 +24,7 @@ scene::Scene sleeper(const std::string& foundation, const std::string& units = "
 }
 
 std::vector<std::string> warnings_of(const scene::Scene& s, int elements = 0) {
-  const fe::MemberModel model = fe::make_member_model(s);
+  const model::MemberModel model = model::make_member_model(s);
   std::vector<double> mesh;
   for (int i = 0; i <= elements && elements > 0; ++i)  // uniform, as [solve] elements makes it
     mesh.push_back(model.s_begin + (model.s_end - model.s_begin) * i / elements);
@@ -37,7 +38,7 @@ constexpr double round_off = 1e-14;
 
 TEST_CASE("scale: K, beta, beta L, 1/beta and k of a beam follow their definitions", "[post][scale]") {
   const scene::Scene s = sleeper("modulus = 3.0e7");
-  const post::ScaleFigures f = post::scale_figures(fe::make_member_model(s));
+  const post::ScaleFigures f = post::scale_figures(model::make_member_model(s));
   const double K = 3.0e7, EI = 4.5e6, L = 2.6, beta = std::pow(K / (4 * EI), 0.25);
   CHECK(f.K_max == Approx(K).epsilon(round_off));
   CHECK(f.k_max == Approx(K * std::pow(L, 4) / EI).epsilon(round_off));
@@ -51,7 +52,7 @@ TEST_CASE("scale: K, beta, beta L, 1/beta and k of a beam follow their definitio
 
 TEST_CASE("scale: an arch's figures are beta R = (k/4)^(1/4) and beta S over its length", "[post][scale]") {
   const scene::Scene s = test::shipped_scene("seed_arch_pinned");  // R = 100, gamma = 10 deg, k = 1e6
-  const post::ScaleFigures f = post::scale_figures(fe::make_member_model(s));
+  const post::ScaleFigures f = post::scale_figures(model::make_member_model(s));
   const double beta_R = std::pow(1e6 / 4, 0.25), gamma = 10 * M_PI / 180;
   CHECK(f.arch);
   CHECK(f.beta_radius_max == Approx(beta_R).epsilon(round_off));
@@ -65,7 +66,7 @@ TEST_CASE("scale: segments give the least and the largest of every figure", "[po
   const scene::Scene s = sleeper(
       "\n[[foundation.segments]]\nfrom = 0.0\nto = 1.0\nmodulus = 2.0e7\n"
       "\n[[foundation.segments]]\nfrom = 1.0\nto = 2.6\nmodulus = [3.0e7, 8.0e7]\n");
-  const post::ScaleFigures f = post::scale_figures(fe::make_member_model(s));
+  const post::ScaleFigures f = post::scale_figures(model::make_member_model(s));
   CHECK(f.varies());
   CHECK(f.K_min == Approx(2.0e7).epsilon(round_off));
   CHECK(f.K_max == Approx(8.0e7).epsilon(round_off));
@@ -114,7 +115,7 @@ TEST_CASE("scale: a mesh that does not resolve 1/beta is named, with the element
       "[structure]\nkind = \"beam\"\nlength = 1.0\nEI = 1.0\n[supports]\nleft = \"pinned\"\n"
       "right = \"pinned\"\n[foundation]\nnondimensional_k = 4e4\n",
       "unit.toml");
-  const post::ScaleFigures f = post::scale_figures(fe::make_member_model(s), {0.0, 0.2, 0.4, 0.6, 0.8, 1.0});
+  const post::ScaleFigures f = post::scale_figures(model::make_member_model(s), {0.0, 0.2, 0.4, 0.6, 0.8, 1.0});
   CHECK(f.beta_h == Approx(2.0).epsilon(round_off));
   CHECK(f.element_size == Approx(0.2).epsilon(round_off));
   const auto coarse = warnings_of(s, 5);

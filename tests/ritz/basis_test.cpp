@@ -10,7 +10,7 @@
 
 using namespace liftoff;
 using namespace liftoff::ritz;
-using fe::EndSupport;
+using model::EndSupport;
 
 namespace {
 

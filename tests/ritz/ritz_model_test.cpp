@@ -16,45 +16,46 @@
 #include "core/error.hpp"
 #include "fe/discretisation.hpp"
 #include "fe/shape_functions.hpp"
+#include "model/from_scene.hpp"
 #include "support/scenes.hpp"
 
 using namespace liftoff;
 using namespace liftoff::ritz;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
-using fe::EndSupport;
+using model::EndSupport;
 
 namespace {
 
 constexpr double pi = std::numbers::pi;
 constexpr double degree = pi / 180.0;
 
-fe::MemberLoad force(double at, double value, fe::LoadCase c = fe::LoadCase::live) {
-  fe::MemberLoad l;
-  l.kind = fe::LoadKind::force;
+model::MemberLoad force(double at, double value, model::LoadCase c = model::LoadCase::live) {
+  model::MemberLoad l;
+  l.kind = model::LoadKind::force;
   l.at = at;
   l.value = value;
   l.load_case = c;
   return l;
 }
 
-fe::MemberLoad moment(double at, double value, fe::LoadCase c = fe::LoadCase::live) {
-  fe::MemberLoad l = force(at, value, c);
-  l.kind = fe::LoadKind::moment;
+model::MemberLoad moment(double at, double value, model::LoadCase c = model::LoadCase::live) {
+  model::MemberLoad l = force(at, value, c);
+  l.kind = model::LoadKind::moment;
   return l;
 }
 
-fe::MemberLoad uniform(double from, double to, double value, fe::LoadCase c = fe::LoadCase::live) {
-  fe::MemberLoad l = force(0.0, value, c);
-  l.kind = fe::LoadKind::uniform;
+model::MemberLoad uniform(double from, double to, double value, model::LoadCase c = model::LoadCase::live) {
+  model::MemberLoad l = force(0.0, value, c);
+  l.kind = model::LoadKind::uniform;
   l.from = from;
   l.to = to;
   return l;
 }
 
-fe::MemberModel beam(EndSupport left, EndSupport right, double k, std::vector<fe::MemberLoad> loads) {
-  fe::MemberModel m;
-  m.kind = fe::StructureKind::beam;
+model::MemberModel beam(EndSupport left, EndSupport right, double k, std::vector<model::MemberLoad> loads) {
+  model::MemberModel m;
+  m.kind = model::StructureKind::beam;
   m.left = left;
   m.right = right;
   m.foundation_modulus = k;
@@ -62,10 +63,10 @@ fe::MemberModel beam(EndSupport left, EndSupport right, double k, std::vector<fe
   return m;
 }
 
-fe::MemberModel arch(EndSupport left, EndSupport right, double gamma_deg, double membrane, double k,
-                     std::vector<fe::MemberLoad> loads) {
-  fe::MemberModel m;
-  m.kind = fe::StructureKind::arch;
+model::MemberModel arch(EndSupport left, EndSupport right, double gamma_deg, double membrane, double k,
+                        std::vector<model::MemberLoad> loads) {
+  model::MemberModel m;
+  m.kind = model::StructureKind::arch;
   m.s_begin = m.foundation_begin = -gamma_deg * degree;
   m.s_end = m.foundation_end = gamma_deg * degree;
   m.membrane_stiffness = membrane;
@@ -78,13 +79,13 @@ fe::MemberModel arch(EndSupport left, EndSupport right, double gamma_deg, double
 
 // The seed's arch (sec. 5): R/h = 500, EI = 1.4, EA = 420, R = 100, so EA R^2/EI = 3e6;
 // gamma = 10 degrees; k = K R^4/EI = 1e6; crown force P = 0.1, i.e. P R^2/EI = 0.1e4/1.4.
-fe::MemberModel seed_arch(EndSupport ends) {
+model::MemberModel seed_arch(EndSupport ends) {
   return arch(ends, ends, 10.0, 420.0 * 1e4 / 1.4, 1e6, {force(0.0, 0.1 * 1e4 / 1.4)});
 }
 
 // A random admissible point near the physics: random limits (increasing, jittered), the
 // amplitudes that minimise the energy for them, perturbed by 20%.
-VectorXd random_point(const RitzModel& model, const fe::MemberModel& member, std::mt19937& rng, double lambda) {
+VectorXd random_point(const RitzModel& model, const model::MemberModel& member, std::mt19937& rng, double lambda) {
   std::uniform_real_distribution<double> jitter(-0.3, 0.3), unit(-1.0, 1.0);
   const int m = model.limits();
   VectorXd limits(m);
@@ -99,7 +100,7 @@ VectorXd random_point(const RitzModel& model, const fe::MemberModel& member, std
 
 // Steps for central differences: 1e-5 of the amplitudes' size, 1e-5 of the foundation's extent
 // for the limits.
-VectorXd steps(const RitzModel& model, const fe::MemberModel& member, const VectorXd& x) {
+VectorXd steps(const RitzModel& model, const model::MemberModel& member, const VectorXd& x) {
   VectorXd h(x.size());
   h.head(model.amplitudes()).setConstant(1e-5 * x.head(model.amplitudes()).cwiseAbs().maxCoeff());
   h.tail(model.limits()).setConstant(1e-5 * (member.foundation_end - member.foundation_begin));
@@ -142,20 +143,20 @@ void check_blocks(const MatrixXd& analytic, const MatrixXd& fd, int rows_a, int 
 
 struct DerivativeCase {
   std::string name;
-  fe::MemberModel member;
+  model::MemberModel member;
   int modes;
   Topology topology;
 };
 
 std::vector<DerivativeCase> derivative_cases() {
-  const std::vector<fe::MemberLoad> beam_loads = {force(0.3, 2.0), moment(0.8, -0.7), uniform(0.1, 0.6, 5.0),
-                                                  force(0.55, 1.0, fe::LoadCase::dead)};
-  fe::MemberModel partial = beam(EndSupport::pinned, EndSupport::clamped, 1e4, beam_loads);
+  const std::vector<model::MemberLoad> beam_loads = {force(0.3, 2.0), moment(0.8, -0.7), uniform(0.1, 0.6, 5.0),
+                                                     force(0.55, 1.0, model::LoadCase::dead)};
+  model::MemberModel partial = beam(EndSupport::pinned, EndSupport::clamped, 1e4, beam_loads);
   partial.foundation_begin = 0.05;
   partial.foundation_end = 0.9;
-  const std::vector<fe::MemberLoad> arch_loads = {force(0.0, 700.0), force(3.0 * degree, 150.0),
-                                                  uniform(-6.0 * degree, 2.0 * degree, 300.0)};
-  std::vector<fe::MemberLoad> pinned_arch_loads = arch_loads;
+  const std::vector<model::MemberLoad> arch_loads = {force(0.0, 700.0), force(3.0 * degree, 150.0),
+                                                     uniform(-6.0 * degree, 2.0 * degree, 300.0)};
+  std::vector<model::MemberLoad> pinned_arch_loads = arch_loads;
   pinned_arch_loads.push_back(moment(-4.0 * degree, 20.0));
   return {
       {"beam pinned-pinned, one contact region",
@@ -230,7 +231,7 @@ double observed_order(const std::vector<int>& n, const std::vector<double>& erro
 // Hermite matrix k int N_w^T N_w (not the seed's mixed reaction form, whose saddle-point system
 // loses digits to round-off on fine meshes); SPD sparse solve. Deflection error O(h^4); 320
 // elements, as round-off (EA R^2/EI = 3e6, element stiffness ~ 1/h^3) costs digits beyond ~400.
-std::vector<double> fe_arch_deflection(const fe::MemberModel& member, int elements, const std::vector<double>& at) {
+std::vector<double> fe_arch_deflection(const model::MemberModel& member, int elements, const std::vector<double>& at) {
   const fe::Discretisation d = fe::discretise(member, elements);
   std::vector<Eigen::Triplet<double>> t;
   for (int c = 0; c < d.stiffness.outerSize(); ++c)
@@ -321,7 +322,7 @@ TEST_CASE("ritz model: the regularised Jacobian agrees with finite differences o
 
 TEST_CASE("ritz model: at a solution the Jacobian is block triangular", "[ritz][model]") {
   // Put the limits at roots of w: then sigma k phi(t) w(t) = 0 in the amplitude-limit block.
-  const fe::MemberModel member = seed_arch(EndSupport::roller);
+  const model::MemberModel member = seed_arch(EndSupport::roller);
   const RitzModel model(member, 10, {false, 2});
   VectorXd limits(2);
   limits << -5.0 * degree, 5.0 * degree;
@@ -345,7 +346,7 @@ TEST_CASE("ritz model: simply supported beam, central load, no contact: w(1/2) -
   // Two ways to have no contact: no foundation (k = 0), or a foundation entirely lifted off.
   const auto topology = GENERATE(Topology{true, 0}, Topology{false, 0});
   const double k = topology.first_in_contact ? 0.0 : 1e4;
-  const fe::MemberModel member = beam(EndSupport::pinned, EndSupport::pinned, k, {force(0.5, 1.0)});
+  const model::MemberModel member = beam(EndSupport::pinned, EndSupport::pinned, k, {force(0.5, 1.0)});
   std::vector<int> ns;
   std::vector<double> errors;
   fmt::print("simply supported beam, central load (k = {}, {}):\n     N   w(1/2) - 1/48\n", k, to_string(topology));
@@ -380,7 +381,7 @@ TEST_CASE("ritz model: closed-form deflections of beams without a foundation", "
       {EndSupport::clamped, EndSupport::pinned, 0.5, 7.0 / 768.0, "propped cantilever (mirror): 7P/768"},
   };
   for (const Case& c : cases) {
-    const fe::MemberModel member = beam(c.left, c.right, 0.0, {force(c.at, 1.0)});
+    const model::MemberModel member = beam(c.left, c.right, 0.0, {force(c.at, 1.0)});
     fmt::print("{}:\n     N   relative error\n", c.name);
     std::vector<int> ns;
     std::vector<double> errors;
@@ -413,12 +414,12 @@ TEST_CASE("ritz model: beams with free ends on a bilateral foundation converge t
                         {EndSupport::clamped, EndSupport::free, 0.4}};
   const double k = 200.0;
   for (const Case& c : cases) {
-    fe::MemberModel member = beam(c.left, c.right, k, {force(c.load_at, 1.0)});
+    model::MemberModel member = beam(c.left, c.right, k, {force(c.load_at, 1.0)});
     member.tensionless = false;
     const VectorXd reference = hermite_beam(c.left, c.right, k, 400, c.load_at, 1.0);
     const double w0 = reference[0], w1 = reference[2 * 400], wp = reference[2 * std::lround(c.load_at * 400)];
-    fmt::print("{}-{} beam, k = {}, load at {}: relative error of w at (0, load, 1)\n", scene::to_string(c.left),
-               scene::to_string(c.right), k, c.load_at);
+    fmt::print("{}-{} beam, k = {}, load at {}: relative error of w at (0, load, 1)\n", model::to_string(c.left),
+               model::to_string(c.right), k, c.load_at);
     const double scale = std::max({std::abs(w0), std::abs(w1), std::abs(wp)});
     double last = 0.0;
     for (int n : {4, 8, 16, 32, 64}) {
@@ -432,7 +433,7 @@ TEST_CASE("ritz model: beams with free ends on a bilateral foundation converge t
     CHECK(last <= 1e-5);  // the Hermite reference (400 elements) is good to about 1e-9
   }
   // A uniform load on a free-free beam is carried by a rigid translation q/k: exact for any N.
-  fe::MemberModel member = beam(EndSupport::free, EndSupport::free, k, {uniform(0.0, 1.0, 3.0)});
+  model::MemberModel member = beam(EndSupport::free, EndSupport::free, k, {uniform(0.0, 1.0, 3.0)});
   member.tensionless = false;
   const RitzModel model(member, 5, {true, 0});
   const VectorXd x = model.minimiser_for_limits(VectorXd(0), 1.0).value();
@@ -457,13 +458,13 @@ TEST_CASE("ritz model: arches converge to the FE solution, without membrane lock
                         {EndSupport::pinned, EndSupport::free, 1e4, 3.0},
                         {EndSupport::clamped, EndSupport::roller, 1e5, -2.0}};
   for (const Case& c : cases) {
-    fe::MemberModel member = arch(c.left, c.right, 10.0, 3e6, c.k, {force(c.load_at_deg * degree, 500.0)});
+    model::MemberModel member = arch(c.left, c.right, 10.0, 3e6, c.k, {force(c.load_at_deg * degree, 500.0)});
     member.tensionless = false;
     const std::vector<double> at = {-5.0 * degree, c.load_at_deg * degree, 7.5 * degree};
     const std::vector<double> reference = fe_arch_deflection(member, 320, at);
     const double scale = std::max({std::abs(reference[0]), std::abs(reference[1]), std::abs(reference[2])});
     fmt::print("{}-{} arch, k = {}, load at {} deg: relative error of w at (-5, load, 7.5) deg vs FE (320 el.)\n",
-               scene::to_string(c.left), scene::to_string(c.right), c.k, c.load_at_deg);
+               model::to_string(c.left), model::to_string(c.right), c.k, c.load_at_deg);
     double first = 0.0, last = 0.0;
     for (int n : {4, 8, 16, 32, 64}) {
       const RitzModel model(member, n, {true, 0});
@@ -486,7 +487,7 @@ TEST_CASE("ritz model: arches converge to the FE solution, without membrane lock
 }
 
 TEST_CASE("ritz model: the seed's arch on rollers at a plausible point", "[ritz][model]") {
-  const fe::MemberModel member = seed_arch(EndSupport::roller);
+  const model::MemberModel member = seed_arch(EndSupport::roller);
   const RitzModel model(member, 12, {false, 2});  // lift-off | contact | lift-off
   VectorXd limits(2);
   limits << -4.0 * degree, 4.0 * degree;
@@ -536,7 +537,7 @@ TEST_CASE("ritz model: the seed's arch on rollers at a plausible point", "[ritz]
 }
 
 TEST_CASE("ritz model: pieces, admissibility and layout", "[ritz][model]") {
-  const fe::MemberModel member = beam(EndSupport::pinned, EndSupport::pinned, 1e3, {force(0.5, 1.0)});
+  const model::MemberModel member = beam(EndSupport::pinned, EndSupport::pinned, 1e3, {force(0.5, 1.0)});
   const RitzModel model(member, 4, {true, 2});
   CHECK(model.unknowns() == 6);
   CHECK(model.limit_offset() == 4);
@@ -582,7 +583,7 @@ TEST_CASE("ritz model: pieces, admissibility and layout", "[ritz][model]") {
 
 TEST_CASE("ritz model: the minimiser for fixed limits detects unresisted rigid motions", "[ritz][model]") {
   // A free-free beam whose foundation is lifted off everywhere floats: no minimiser.
-  const fe::MemberModel floating = beam(EndSupport::free, EndSupport::free, 1e3, {force(0.5, 1.0)});
+  const model::MemberModel floating = beam(EndSupport::free, EndSupport::free, 1e3, {force(0.5, 1.0)});
   CHECK_FALSE(RitzModel(floating, 6, {false, 0}).minimiser_for_limits(VectorXd(0), 1.0).has_value());
   // One contact piece resists both rigid motions.
   const RitzModel held(floating, 6, {false, 2});
@@ -591,7 +592,7 @@ TEST_CASE("ritz model: the minimiser for fixed limits detects unresisted rigid m
   CHECK(held.minimiser_for_limits(limits, 1.0).has_value());
   // A well-posed problem with many modes is not mistaken for a singular one, although its
   // stiffness spans many decades (mode j's bending stiffness grows like j^4).
-  fe::MemberModel many = arch(EndSupport::free, EndSupport::free, 10.0, 3e6, 1e4, {force(0.05, 500.0)});
+  model::MemberModel many = arch(EndSupport::free, EndSupport::free, 10.0, 3e6, 1e4, {force(0.05, 500.0)});
   many.tensionless = false;
   const RitzModel fine(many, 160, {true, 0});
   CHECK(fine.minimiser_for_limits(VectorXd(0), 1.0).has_value());
@@ -599,21 +600,21 @@ TEST_CASE("ritz model: the minimiser for fixed limits detects unresisted rigid m
 }
 
 TEST_CASE("ritz model: misuse is refused", "[ritz][model]") {
-  fe::MemberModel supported = beam(EndSupport::pinned, EndSupport::pinned, 1e3, {force(0.5, 1.0)});
+  model::MemberModel supported = beam(EndSupport::pinned, EndSupport::pinned, 1e3, {force(0.5, 1.0)});
   supported.point_supports = {0.5};
   CHECK_THROWS_WITH(RitzModel(supported, 4, {true, 0}),
                     "key 'supports.interior': the moving-boundary model takes no interior point supports");
-  const fe::MemberModel plain = beam(EndSupport::pinned, EndSupport::pinned, 1e3, {force(0.5, 1.0)});
+  const model::MemberModel plain = beam(EndSupport::pinned, EndSupport::pinned, 1e3, {force(0.5, 1.0)});
   CHECK_THROWS_AS(RitzModel(plain, 0, {true, 0}), std::invalid_argument);
   CHECK_THROWS_AS(RitzModel(plain, 4, {true, -1}), std::invalid_argument);
-  fe::MemberModel bilateral = plain;
+  model::MemberModel bilateral = plain;
   bilateral.tensionless = false;
   CHECK_THROWS_AS(RitzModel(bilateral, 4, {false, 2}), std::invalid_argument);
   // Moments on an arch whose u is free at both ends drive the rigid rotation about the centre.
-  const fe::MemberModel roller = arch(EndSupport::roller, EndSupport::roller, 10, 3e6, 1e6, {moment(0.0, 1.0)});
+  const model::MemberModel roller = arch(EndSupport::roller, EndSupport::roller, 10, 3e6, 1e6, {moment(0.0, 1.0)});
   CHECK_THROWS_AS(RitzModel(roller, 4, {true, 0}), MechanismError);
   // Balanced moments do no work on it.
-  const fe::MemberModel balanced =
+  const model::MemberModel balanced =
       arch(EndSupport::roller, EndSupport::roller, 10, 3e6, 1e6, {moment(-0.1, 1.0), moment(0.1, -1.0)});
   CHECK_NOTHROW(RitzModel(balanced, 4, {true, 0}));
 }
@@ -622,9 +623,9 @@ TEST_CASE("ritz model: unsupported_input names the key of each input the model c
   // One place lists them (solve --method ritz and the trace path refuse with its key): each input
   // on an otherwise plain beam is found, and RitzModel refuses it with the same message.
   const scene::Scene plain = test::beam_scene(1.0, 1.0, scene::EndSupport::pinned, scene::EndSupport::pinned, 1e3);
-  CHECK_FALSE(unsupported_input(fe::make_member_model(plain)).has_value());
+  CHECK_FALSE(unsupported_input(model::make_member_model(plain)).has_value());
   auto key_of = [](const scene::Scene& s) {
-    const fe::MemberModel model = fe::make_member_model(s);
+    const model::MemberModel model = model::make_member_model(s);
     const std::optional<Unsupported> u = unsupported_input(model, "foundation.gap_file", "foundation.tension_k");
     REQUIRE(u.has_value());
     // (RitzModel sees no scene: it names the keys' default spellings.)

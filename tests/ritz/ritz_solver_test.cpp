@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "app/solve_command.hpp"
+#include "model/from_scene.hpp"
 #include "nonlinear/newton.hpp"
 #include "support/scenes.hpp"
 
@@ -53,7 +54,7 @@ TEST_CASE("Ritz: Newton converges quadratically on w(t) = 0, linearly on the raw
   const scene::Scene s = test::shipped_scene("seed_beam_end_moments_central_load");
   const io::SolveReport converged = solve(s, Method::ritz, 50, 16);
   REQUIRE(converged.usable);
-  const fe::MemberModel member = fe::make_member_model(s);
+  const model::MemberModel member = model::make_member_model(s);
   const ritz::RitzModel model(member, 16, {true, 2});
   Eigen::VectorXd limits(2);
   limits << converged.contact_regions[0][1] + 0.01, converged.contact_regions[1][0] - 0.01;

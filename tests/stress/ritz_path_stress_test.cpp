@@ -11,7 +11,8 @@
 
 #include "continuation/fe_path.hpp"
 #include "continuation/ritz_path.hpp"
-#include "fe/member_model.hpp"
+#include "model/from_scene.hpp"
+#include "model/member_model.hpp"
 #include "ritz/ritz_solver.hpp"
 #include "scene/scene_reader.hpp"
 #include "support/scenes.hpp"
@@ -82,7 +83,7 @@ TEST_CASE("ritz path stress: the pipeline to lambda = 3, every step a contact so
   const auto& topology = std::get<path::RitzTopology>(end.state_topology);
   const int modes = topology.modes;
   REQUIRE(topology.limits == 2);
-  const fe::MemberModel member = fe::make_member_model(s);
+  const model::MemberModel member = model::make_member_model(s);
   ritz::RitzOptions half;
   half.modes = modes / 2;
   half.load_factor = options.arc_length.lambda_max;

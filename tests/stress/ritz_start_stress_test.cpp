@@ -15,6 +15,7 @@
 
 #include "app/solve_command.hpp"
 #include "closed_form/scene_problem.hpp"
+#include "model/from_scene.hpp"
 #include "ritz/ritz_solver.hpp"
 #include "support/scenes.hpp"
 
@@ -52,7 +53,7 @@ TEST_CASE("stress: Ritz from poor initial limits reaches the contact solution", 
       PoorStart{"seed_arch_roller", {false, 2}, {-9.9, -9.8}}, PoorStart{"seed_arch_roller", {false, 2}, {-0.1, 0.1}},
       PoorStart{"seed_arch_roller", {false, 2}, {-8.0, 8.0}}, PoorStart{"seed_arch_pinned", {false, 2}, {9.0, 9.5}});
   const scene::Scene s = test::shipped_scene(start.scene);
-  const fe::MemberModel member = fe::make_member_model(s);
+  const model::MemberModel member = model::make_member_model(s);
   std::vector<double> limits;
   for (double limit : start.limits) limits.push_back(member.s_from_user(limit));
 

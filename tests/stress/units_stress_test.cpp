@@ -1,13 +1,14 @@
 // Stress: the same beam written in kN and m and in N and mm gives the same nondimensional
 // results (deflections / L, contact limits / L, reactions / (EI / L^3)) from every method, to
 // round-off. The two scenes differ in their numbers by factors up to 1e13, so only the
-// nondimensionalisation (fe::MemberModel) makes them the same problem.
+// nondimensionalisation (model::MemberModel) makes them the same problem.
 #include <catch2/catch.hpp>
 #include <cstdio>
 #include <cstdlib>
 
 #include "answer_check.hpp"
 #include "app/solve_command.hpp"
+#include "model/from_scene.hpp"
 #include "support/scenes.hpp"
 #include "support/solve.hpp"
 
@@ -59,7 +60,7 @@ TEST_CASE("stress: the same scene in kN-m and in N-mm gives the same nondimensio
 
   // How different the two problems are once nondimensional: each input was rounded on the way
   // (K L^4 / EI, M L / EI, P L^2 / EI in two unit systems), a few eps at most.
-  const fe::MemberModel a = fe::make_member_model(metres), b = fe::make_member_model(millimetres);
+  const model::MemberModel a = model::make_member_model(metres), b = model::make_member_model(millimetres);
   double data_difference = relative(a.foundation_modulus, b.foundation_modulus);
   REQUIRE(a.loads.size() == b.loads.size());
   for (std::size_t i = 0; i < a.loads.size(); ++i)

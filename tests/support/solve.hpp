@@ -6,14 +6,15 @@
 
 #include "contact/contact_solver.hpp"
 #include "fe/discretisation.hpp"
-#include "fe/member_model.hpp"
+#include "model/from_scene.hpp"
+#include "model/member_model.hpp"
 #include "post/contact_regions.hpp"
 #include "scene/scene.hpp"
 
 namespace liftoff::test {
 
 struct Solved {
-  fe::MemberModel model;
+  model::MemberModel model;
   fe::Discretisation discretisation;
   contact::ContactSolution solution;
   std::vector<post::Interval> regions;  // in s
@@ -21,7 +22,7 @@ struct Solved {
 
 inline Solved solve(const scene::Scene& scene, scene::Method method, int elements, double load_factor = 1.0) {
   Solved out;
-  out.model = fe::make_member_model(scene);
+  out.model = model::make_member_model(scene);
   out.discretisation = fe::discretise(out.model, elements);
   contact::ContactOptions options;
   options.method = method;

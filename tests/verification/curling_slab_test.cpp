@@ -10,6 +10,7 @@
 #include "certify/certificate.hpp"
 #include "closed_form/beam_on_foundation.hpp"
 #include "closed_form/member_problem.hpp"
+#include "model/from_scene.hpp"
 #include "post/fields.hpp"
 #include "support/scenes.hpp"
 #include "support/solve.hpp"
@@ -154,7 +155,7 @@ TEST_CASE("a trapezoidal distributed load against the closed form", "[verificati
   q.table_at = {0.0, 1.0, 2.5, 2.5, 4.0};
   q.table_value = {0.0, 3.0, 1.0, -0.5, 2.0};
   s.loads = {q, test::point_force(3.6, -2.0)};  // lifts the free end: one contact region
-  const fe::MemberModel model = fe::make_member_model(s);
+  const model::MemberModel model = model::make_member_model(s);
   const closed_form::BeamProblem problem = closed_form::problem_of(model);
   const closed_form::TensionlessResult exact = closed_form::solve_tensionless_auto(problem);
   REQUIRE(exact.status == closed_form::TensionlessStatus::converged);

@@ -46,7 +46,8 @@
 #include "contact/contact_solver.hpp"
 #include "contact/fitted_limits.hpp"
 #include "fe/discretisation.hpp"
-#include "fe/member_model.hpp"
+#include "model/from_scene.hpp"
+#include "model/member_model.hpp"
 #include "fe/mixed_form.hpp"
 #include "nonlinear/linear_solver.hpp"
 #include "nonlinear/newton.hpp"
@@ -186,7 +187,7 @@ void roundoff_section(int max_elements) {
   const std::pair<const char*, scene::Scene> scenes[] = {{"seed beam (bilateral, k = 1e4)", seed},
                                                          {"500 m pipeline (bilateral, beta L = 100)", pipeline(false)}};
   for (const auto& [name, s] : scenes) {
-    const fe::MemberModel model = fe::make_member_model(s);
+    const model::MemberModel model = model::make_member_model(s);
     const closed_form::BeamSolution exact = closed_form::solve_bilateral(closed_form::problem_of(model));
     std::printf("\nroundoff: %s: nodal error max|w - w_exact| / max|w_exact|, time (s)\n", name);
     std::printf("  %8s  %-26s %-26s %-26s\n", "N", "(a) rounded h, K, LDL^T", "(b) stored h, K, LDL^T",
@@ -218,7 +219,7 @@ void roundoff_section(int max_elements) {
 void arch_roundoff(int max_elements) {
   scene::Scene s = shipped("seed_arch_pinned");
   s.foundation.tensionless = false;
-  const fe::MemberModel model = fe::make_member_model(s);
+  const model::MemberModel model = model::make_member_model(s);
   std::printf(
       "\nroundoff: seed arch, pinned (bilateral, EA R^2 / EI = %.0e): max |w_N - w_2N| / max |w| at the nodes "
       "of N\n  %8s  %-26s %-26s\n",
@@ -250,8 +251,8 @@ void ratio_section(int max_elements) {
   const scene::Scene tensionless = long_member();
   scene::Scene bilateral_scene = tensionless;
   bilateral_scene.foundation.tensionless = false;
-  const fe::MemberModel model = fe::make_member_model(tensionless);
-  const fe::MemberModel bilateral_model = fe::make_member_model(bilateral_scene);
+  const model::MemberModel model = model::make_member_model(tensionless);
+  const model::MemberModel bilateral_model = model::make_member_model(bilateral_scene);
   std::printf(
       "\nratio: fast / bilateral on the long member (beta L = 1000, 7 uplift forces), in-process, medians.\n"
       "  kernel: ActiveSetSystem set-up, one factorisation, one solve refined to round-off (the floor);\n"
@@ -345,7 +346,7 @@ void arch_section(int max_elements) {
     std::fflush(stdout);
     const auto [mb, wall] = in_child([n] {
       const scene::Scene s = shipped("seed_arch_pinned");
-      const fe::MemberModel model = fe::make_member_model(s);
+      const model::MemberModel model = model::make_member_model(s);
       auto start = std::chrono::steady_clock::now();
       const fe::Discretisation d = fe::discretise(model, n);
       const double t_discretise = seconds_since(start);
@@ -377,7 +378,7 @@ void arch_section(int max_elements) {
 // ---- limits ---------------------------------------------------------------------------------
 
 // The closed-form limits of a tensionless beam scene, started from a fine FE answer.
-std::vector<double> exact_limits(const fe::MemberModel& model) {
+std::vector<double> exact_limits(const model::MemberModel& model) {
   const fe::Discretisation d = fe::discretise(model, 2000);
   const auto fast = contact::solve_active_set(d, d.load(1.0), {});
   std::vector<closed_form::Interval> guess;
@@ -389,7 +390,7 @@ std::vector<double> exact_limits(const fe::MemberModel& model) {
   return exact.limits;
 }
 
-double limit_error(const std::vector<contact::ContactInterval>& regions, const fe::MemberModel& model,
+double limit_error(const std::vector<contact::ContactInterval>& regions, const model::MemberModel& model,
                    const std::vector<double>& exact) {
   std::vector<double> limits;
   for (const auto& r : regions) {
@@ -415,7 +416,7 @@ void limits_section(int max_elements) {
       {"seed_beam_end_moments_central_load", shipped("seed_beam_end_moments_central_load")},
       {"free beam, central point load (beta L = 6)", free_beam()}};
   for (const auto& [name, s] : scenes) {
-    const fe::MemberModel model = fe::make_member_model(s);
+    const model::MemberModel model = model::make_member_model(s);
     const std::vector<double> exact = exact_limits(model);
     std::printf("\nlimits: %s; exact limits", name);
     for (double t : exact) std::printf(" %.12f", t);
@@ -478,7 +479,7 @@ VectorXd absolute_product(const fe::SparseMatrix& a, const VectorXd& x) {
 
 void pipeline_section(int max_elements) {
   const scene::Scene s = pipeline(true);
-  const fe::MemberModel model = fe::make_member_model(s);
+  const model::MemberModel model = model::make_member_model(s);
   const closed_form::BeamProblem problem = closed_form::problem_of(model);
   const std::vector<double> exact = exact_limits(model);
   std::vector<closed_form::Interval> regions;
@@ -552,7 +553,7 @@ void pipeline_section(int max_elements) {
 void newton_section(int max_elements) {
   scene::Scene bilateral_scene = long_member();
   bilateral_scene.foundation.tensionless = false;
-  const fe::MemberModel model = fe::make_member_model(bilateral_scene);
+  const model::MemberModel model = model::make_member_model(bilateral_scene);
   std::printf(
       "\nnewton: Newton over the sparse seam on the long member's linear FE residual (mixed form, bilateral),\n"
       "  in-process medians; peak memory of a child doing discretise + one Newton solve\n");

@@ -44,8 +44,9 @@
 #include "contact/contact_solver.hpp"
 #include "core/error.hpp"
 #include "fe/discretisation.hpp"
-#include "fe/member_model.hpp"
 #include "measure.hpp"
+#include "model/from_scene.hpp"
+#include "model/member_model.hpp"
 #include "post/contact_regions.hpp"
 #include "post/fields.hpp"
 #include "ritz/ritz_solver.hpp"
@@ -159,7 +160,7 @@ std::vector<double> interior_limits(const std::vector<std::array<double, 2>>& re
 
 // FE + LCP from the scene to the contact limits.
 struct FeRun {
-  fe::MemberModel model;
+  model::MemberModel model;
   fe::Discretisation discretisation;
   contact::ContactSolution solution;
   std::vector<post::Interval> regions;
@@ -167,7 +168,7 @@ struct FeRun {
 
 FeRun run_fe(const scene::Scene& s, Method method, int elements) {
   FeRun r;
-  r.model = fe::make_member_model(s);
+  r.model = model::make_member_model(s);
   r.discretisation = fe::discretise(r.model, elements);
   contact::ContactOptions options;
   options.method = method;
@@ -209,7 +210,7 @@ Point measure_fe(const Options& o, const std::string& name, const scene::Scene& 
 
 // Ritz with N modes from the scene: topology and start from a coarse FE solve (25 elements).
 struct RitzRun {
-  fe::MemberModel model;
+  model::MemberModel model;
   ritz::RitzSolution solution;
 };
 
@@ -488,7 +489,7 @@ void ratios_section(const Options& o, const fs::path& scratch, const std::vector
     const scene::Scene sb = scene::read_scene_file(bilateral);
     const Timing in_process = bench::time_median(
         [&] {
-          const fe::MemberModel model = fe::make_member_model(sb);
+          const model::MemberModel model = model::make_member_model(sb);
           const fe::Discretisation d = fe::discretise(model, n);
           contact::ActiveSetSystem system(d);
           system.factorise(std::vector<bool>(d.reactions(), true));

@@ -25,8 +25,9 @@
 #include "contact/contact_solver.hpp"
 #include "contact/fitted_limits.hpp"
 #include "fe/discretisation.hpp"
-#include "fe/member_model.hpp"
 #include "measure.hpp"
+#include "model/from_scene.hpp"
+#include "model/member_model.hpp"
 #include "post/contact_regions.hpp"
 #include "ritz/ritz_solver.hpp"
 #include "ritz/starting_point.hpp"
@@ -53,7 +54,7 @@ bool has_closed_form(const scene::Scene& s) {
 }
 
 // The exact solution: the closed form's Newton started from fast's regions at 4000 elements.
-closed_form::TensionlessResult exact_solution(const fe::MemberModel& model) {
+closed_form::TensionlessResult exact_solution(const model::MemberModel& model) {
   const fe::Discretisation d = fe::discretise(model, 4000);
   contact::ContactOptions options;
   options.method = scene::Method::fast;
@@ -93,7 +94,7 @@ value = 1.0
 
 // The interior limits (s) of contact regions given in s.
 template <class Intervals>
-std::vector<double> interior_limits(const Intervals& regions, const fe::MemberModel& model) {
+std::vector<double> interior_limits(const Intervals& regions, const model::MemberModel& model) {
   return ritz::starting_point_from_regions(regions, model).limits;
 }
 
@@ -183,7 +184,7 @@ struct Point {
   Sample sample;
 };
 
-Solve node_based(const fe::MemberModel& model, scene::Method method, int elements) {
+Solve node_based(const model::MemberModel& model, scene::Method method, int elements) {
   return [&model, method, elements](std::vector<double>& limits, std::string& note) {
     const fe::Discretisation d = fe::discretise(model, elements);
     contact::ContactOptions options;
@@ -202,7 +203,7 @@ Solve node_based(const fe::MemberModel& model, scene::Method method, int element
 // starts from the set of a mesh 4x coarser (at least 32 elements, 4 per decay length 1/beta):
 // two sets on this mesh instead of five to seven from the bilateral start; the topology is still
 // this mesh's.
-Solve fitted(const fe::MemberModel& model, int elements) {
+Solve fitted(const model::MemberModel& model, int elements) {
   return [&model, elements](std::vector<double>& limits, std::string& note) {
     const fe::Discretisation d = fe::discretise(model, elements);
     contact::NestedOptions nested;
@@ -227,7 +228,7 @@ Solve fitted(const fe::MemberModel& model, int elements) {
   };
 }
 
-Solve ritz_modes(const fe::MemberModel& model, int modes) {
+Solve ritz_modes(const model::MemberModel& model, int modes) {
   return [&model, modes](std::vector<double>& limits, std::string& note) {
     const fe::Discretisation d = fe::discretise(model, 100);
     contact::ContactOptions options;
@@ -327,7 +328,7 @@ std::vector<ClosedFormScene> closed_form_scenes(const std::string& source_dir, c
       std::printf("  %s: no closed form (arch, partial foundation or interior support): skipped\n", name.c_str());
       continue;
     }
-    t.model = fe::make_member_model(t.scene);
+    t.model = model::make_member_model(t.scene);
     t.solution = exact_solution(t.model);
     t.exact = t.solution.limits;
     for (double& s : t.exact) s += t.model.s_begin;
@@ -356,7 +357,7 @@ void run_targets(const TargetOptions& o) {
       "processes; their idle peak RSS is %.0f MB)\n",
       idle.peak_mb);
   for (const ClosedFormScene& t : scenes) {
-    const fe::MemberModel& model = t.model;
+    const model::MemberModel& model = t.model;
     const double length = model.length();
     std::printf("\n%s: exact limits x =", t.name.c_str());
     for (double s : t.exact) std::printf(" %.12g", model.user_from_s(s));

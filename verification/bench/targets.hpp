@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "closed_form/beam_on_foundation.hpp"
-#include "fe/member_model.hpp"
+#include "model/member_model.hpp"
 #include "scene/scene.hpp"
 
 namespace liftoff::bench {
@@ -31,7 +31,7 @@ namespace liftoff::bench {
 struct ClosedFormScene {
   std::string name, file;
   scene::Scene scene;
-  fe::MemberModel model;
+  model::MemberModel model;
   std::vector<double> exact;                // interior contact limits, s
   closed_form::TensionlessResult solution;  // from the member's begin (s - s_begin), nondimensional
 };

@@ -50,7 +50,7 @@ std::vector<double> interior_limits(const std::vector<std::array<double, 2>>& re
 
 // The true errors of one answer against the closed form.
 void measure_errors(const ClosedFormScene& t, const io::SolveReport& r, Row& row) {
-  const fe::MemberModel& m = t.model;
+  const model::MemberModel& m = t.model;
   const double begin = m.user_from_s(m.s_begin), end = m.user_from_s(m.s_end), length = std::abs(end - begin);
   const std::vector<double> found = interior_limits(r.contact_regions, begin, end);
   std::vector<double> exact;

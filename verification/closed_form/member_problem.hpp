@@ -5,22 +5,28 @@
 
 #include "closed_form/beam_on_foundation.hpp"
 #include "closed_form/scene_problem.hpp"
-#include "fe/member_model.hpp"
+#include "model/member_model.hpp"
 
 namespace liftoff::closed_form {
 
-inline BeamProblem problem_of(const fe::MemberModel& model) {
+inline EndCondition end_condition_of(model::EndSupport e) {
+  return e == model::EndSupport::clamped ? EndCondition::clamped
+         : e == model::EndSupport::free  ? EndCondition::free
+                                         : EndCondition::pinned;
+}
+
+inline BeamProblem problem_of(const model::MemberModel& model) {
   BeamProblem p;
   p.length = model.length();
   p.foundation_modulus = model.foundation_modulus;
   p.left = end_condition_of(model.left);
   p.right = end_condition_of(model.right);
   for (const auto& l : model.loads) {  // positions from the member's begin
-    if (l.kind == scene::LoadKind::force) p.forces.push_back({l.at - model.s_begin, l.value});
-    if (l.kind == scene::LoadKind::moment) p.moments.push_back({l.at - model.s_begin, l.value});
-    if (l.kind == scene::LoadKind::uniform && l.slope == 0.0)
+    if (l.kind == model::LoadKind::force) p.forces.push_back({l.at - model.s_begin, l.value});
+    if (l.kind == model::LoadKind::moment) p.moments.push_back({l.at - model.s_begin, l.value});
+    if (l.kind == model::LoadKind::uniform && l.slope == 0.0)
       p.uniform_loads.push_back({l.from - model.s_begin, l.to - model.s_begin, l.value});
-    if (l.kind == scene::LoadKind::uniform && l.slope != 0.0)  // a piece of a distributed table
+    if (l.kind == model::LoadKind::uniform && l.slope != 0.0)  // a piece of a distributed table
       p.distributed_loads.push_back(
           {l.from - model.s_begin, l.to - model.s_begin, l.value, l.value + l.slope * (l.to - l.from)});
   }

@@ -1,114 +1,78 @@
-#include "fe/member_model.hpp"
-
-#include <fmt/format.h>
+#include "model/from_scene.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 
-#include "core/error.hpp"
-
-namespace liftoff::fe {
+namespace liftoff::model {
 
 namespace {
 constexpr double degrees = std::numbers::pi / 180.0;
 }
 
-double MemberModel::s_from_user(double position) const {
-  return kind == StructureKind::beam ? position / scales.length : position * degrees;
+StructureKind to_model(scene::StructureKind kind) {
+  return kind == scene::StructureKind::beam ? StructureKind::beam : StructureKind::arch;
 }
 
-double MemberModel::user_from_s(double s) const {
-  return kind == StructureKind::beam ? s * scales.length : s / degrees;
-}
-
-double imposed_curvature(const std::vector<MemberLoad>& loads, double s, double load_factor) {
-  double kappa = 0.0;
-  for (const MemberLoad& load : loads)
-    if (load.kind == LoadKind::curvature && s >= load.from && s <= load.to)
-      kappa += load.value * (load.load_case == LoadCase::dead ? 1.0 : load_factor);
-  return kappa;
-}
-
-std::vector<FoundationPiece> MemberModel::pieces() const {
-  if (!foundation_pieces.empty()) return foundation_pieces;
-  return {{foundation_begin, foundation_end, foundation_modulus}};
-}
-
-double FoundationPiece::modulus_at(double s) const {
-  if (!end_modulus) return modulus;
-  const double t = std::clamp((s - begin) / (end - begin), 0.0, 1.0);
-  return (1.0 - t) * modulus + t * *end_modulus;
-}
-
-double MemberModel::foundation_modulus_at(double s) const {
-  for (const FoundationPiece& piece : pieces())
-    if (s >= piece.begin && s <= piece.end) return piece.modulus_at(s);
-  return 0.0;
-}
-
-std::pair<double, double> MemberModel::foundation_modulus_on(double a, double b) const {
-  const double middle = 0.5 * (a + b);
-  for (const FoundationPiece& piece : pieces())
-    if (middle >= piece.begin && middle <= piece.end) return {piece.modulus_at(a), piece.modulus_at(b)};
-  return {0.0, 0.0};
-}
-
-std::vector<std::pair<double, double>> MemberModel::foundation_stretches() const {
-  std::vector<std::pair<double, double>> stretches;
-  for (const FoundationPiece& piece : pieces()) {
-    if (!stretches.empty() && piece.begin <= stretches.back().second)
-      stretches.back().second = piece.end;
-    else
-      stretches.emplace_back(piece.begin, piece.end);
+EndSupport to_model(scene::EndSupport support) {
+  switch (support) {
+    case scene::EndSupport::pinned:
+      return EndSupport::pinned;
+    case scene::EndSupport::clamped:
+      return EndSupport::clamped;
+    case scene::EndSupport::free:
+      return EndSupport::free;
+    case scene::EndSupport::roller:
+      return EndSupport::roller;
   }
-  return stretches;
+  throw std::logic_error("to_model: unknown end support");
 }
 
-std::vector<double> MemberModel::reaction_jumps() const {
-  std::vector<double> jumps;
-  const std::vector<FoundationPiece> all = pieces();
-  for (std::size_t i = 0; i + 1 < all.size(); ++i)
-    if (all[i].end == all[i + 1].begin && all[i].modulus_at(all[i].end) != all[i + 1].modulus)
-      jumps.push_back(all[i].end);
-  for (std::size_t i = 0; i + 1 < ground_gap_at.size(); ++i)
-    if (ground_gap_at[i] == ground_gap_at[i + 1] && ground_gap_value[i] != ground_gap_value[i + 1])
-      jumps.push_back(ground_gap_at[i]);
-  std::sort(jumps.begin(), jumps.end());
-  jumps.erase(std::unique(jumps.begin(), jumps.end()), jumps.end());
-  return jumps;
+LoadKind to_model(scene::LoadKind kind) {
+  switch (kind) {
+    case scene::LoadKind::force:
+      return LoadKind::force;
+    case scene::LoadKind::moment:
+      return LoadKind::moment;
+    case scene::LoadKind::uniform:
+      return LoadKind::uniform;
+    case scene::LoadKind::curvature:
+      return LoadKind::curvature;
+    case scene::LoadKind::distributed:
+      break;
+  }
+  throw std::logic_error("to_model: a distributed load has no model kind (it becomes uniform pieces)");
 }
 
-double MemberModel::ground_gap(double s) const {
-  if (ground_gap_at.empty()) return 0.0;
-  if (s < ground_gap_at.front()) return ground_gap_value.front();
-  if (s >= ground_gap_at.back()) return ground_gap_value.back();
-  const auto upper = std::upper_bound(ground_gap_at.begin(), ground_gap_at.end(), s);
-  const std::size_t j = static_cast<std::size_t>(upper - ground_gap_at.begin()), i = j - 1;
-  const double t = (s - ground_gap_at[i]) / (ground_gap_at[j] - ground_gap_at[i]);
-  return ground_gap_value[i] + t * (ground_gap_value[j] - ground_gap_value[i]);
+LoadCase to_model(scene::LoadCase load_case) {
+  return load_case == scene::LoadCase::dead ? LoadCase::dead : LoadCase::live;
 }
 
-bool MemberModel::is_foundation_edge(double s) const {
-  const double tol = 1e-12 * length();
-  for (const auto& [a, b] : foundation_stretches())
-    if (std::abs(s - a) <= tol || std::abs(s - b) <= tol) return true;
-  return false;
+LoadDirection to_model(scene::LoadDirection direction) {
+  switch (direction) {
+    case scene::LoadDirection::radial:
+      return LoadDirection::radial;
+    case scene::LoadDirection::tangential:
+      return LoadDirection::tangential;
+    case scene::LoadDirection::vertical:
+      return LoadDirection::vertical;
+    case scene::LoadDirection::horizontal:
+      return LoadDirection::horizontal;
+  }
+  throw std::logic_error("to_model: unknown load direction");
 }
 
-bool MemberModel::has_settlements() const {
-  bool any = left_settlement != 0.0 || right_settlement != 0.0;
-  for (double settlement : point_settlements) any = any || settlement != 0.0;
-  for (const SupportSpring& spring : springs) any = any || spring.settlement != 0.0;
-  return any;
+LoadBasis to_model(scene::LoadBasis basis) {
+  return basis == scene::LoadBasis::projection ? LoadBasis::projection : LoadBasis::arc;
 }
 
 MemberModel make_member_model(const scene::Scene& scene) {
   const auto& structure = scene.structure;
   MemberModel model;
-  model.kind = structure.kind;
+  model.kind = to_model(structure.kind);
   model.scales.bending_stiffness = structure.bending_stiffness;
-  if (structure.kind == StructureKind::beam) {
+  if (structure.kind == scene::StructureKind::beam) {
     model.scales.length = structure.length;
     model.s_begin = 0.0;
     model.s_end = 1.0;
@@ -121,8 +85,8 @@ MemberModel make_member_model(const scene::Scene& scene) {
   }
   const Scales& scales = model.scales;
 
-  model.left = scene.supports.left;
-  model.right = scene.supports.right;
+  model.left = to_model(scene.supports.left);
+  model.right = to_model(scene.supports.right);
   for (double position : scene.supports.interior) model.point_supports.push_back(model.s_from_user(position));
   // Springs: k_s l^3/EI, k_r l/EI; settlements in l.
   const double length = scales.length, ei = scales.bending_stiffness;
@@ -160,7 +124,8 @@ MemberModel make_member_model(const scene::Scene& scene) {
     model.foundation_modulus = std::max(model.foundation_modulus, piece.largest_modulus());
   }
   model.tensionless = foundation.tensionless;
-  model.foundation_outside = structure.kind == StructureKind::arch && foundation.side == scene::FoundationSide::outside;
+  model.foundation_outside =
+      structure.kind == scene::StructureKind::arch && foundation.side == scene::FoundationSide::outside;
   model.foundation_begin = model.s_from_user(foundation.from);
   model.foundation_end = model.s_from_user(foundation.to);
   for (std::size_t i = 0; i < foundation.gap_at.size(); ++i) {
@@ -181,14 +146,14 @@ MemberModel make_member_model(const scene::Scene& scene) {
   }
 
   for (const auto& load : scene.loads) {
-    if (load.kind == LoadKind::distributed) {
+    if (load.kind == scene::LoadKind::distributed) {
       for (std::size_t i = 0; i + 1 < load.table_at.size(); ++i) {
         if (!(load.table_at[i + 1] > load.table_at[i])) continue;  // a step
         MemberLoad piece;
         piece.kind = LoadKind::uniform;
-        piece.load_case = load.load_case;
-        piece.direction = load.direction;
-        piece.per = load.per;
+        piece.load_case = to_model(load.load_case);
+        piece.direction = to_model(load.direction);
+        piece.per = to_model(load.per);
         piece.from = model.s_from_user(load.table_at[i]);
         piece.to = model.s_from_user(load.table_at[i + 1]);
         piece.value = load.table_value[i] / scales.force_per_length();
@@ -199,27 +164,27 @@ MemberModel make_member_model(const scene::Scene& scene) {
       continue;
     }
     MemberLoad member_load;
-    member_load.kind = load.kind;
-    member_load.load_case = load.load_case;
-    member_load.direction = load.direction;
-    member_load.per = load.per;
+    member_load.kind = to_model(load.kind);  // not distributed: that one is handled above
+    member_load.load_case = to_model(load.load_case);
+    member_load.direction = to_model(load.direction);
+    member_load.per = to_model(load.per);
     member_load.at = model.s_from_user(load.at);
     member_load.from = model.s_from_user(load.from);
     member_load.to = model.s_from_user(load.to);
     switch (load.kind) {
-      case LoadKind::force:
+      case scene::LoadKind::force:
         member_load.value = load.value / scales.force();
         break;
-      case LoadKind::moment:
+      case scene::LoadKind::moment:
         member_load.value = load.value / scales.moment();
         break;
-      case LoadKind::uniform:
+      case scene::LoadKind::uniform:
         member_load.value = load.value / scales.force_per_length();
         break;
-      case LoadKind::curvature:  // 1/length -> per unit of the length scale
+      case scene::LoadKind::curvature:  // 1/length -> per unit of the length scale
         member_load.value = load.value * scales.length;
         break;
-      case LoadKind::distributed:  // made into uniform pieces above
+      case scene::LoadKind::distributed:  // made into uniform pieces above
         break;
     }
     model.loads.push_back(member_load);
@@ -227,4 +192,4 @@ MemberModel make_member_model(const scene::Scene& scene) {
   return model;
 }
 
-}  // namespace liftoff::fe
+}  // namespace liftoff::model

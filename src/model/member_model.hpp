@@ -5,23 +5,36 @@
 // member coordinate s is x/L in [0, 1] for beams and theta (radians) in [-gamma, gamma] for
 // arches; displacements come out in units of the length scale; the foundation modulus becomes
 // k = K l^4/EI; a force P becomes P l^2/EI, a moment M l/EI, a distributed load q l^3/EI.
-// Results therefore do not depend on the user's units, and `Scales` converts back.
+// Results therefore do not depend on the user's units, and `Scales` converts back. A scene
+// becomes a MemberModel in one place, model/from_scene.hpp.
 
 #include <algorithm>
 #include <optional>
+#include <string_view>
 #include <utility>
 #include <vector>
 
-#include "scene/scene.hpp"
+namespace liftoff::model {
 
-namespace liftoff::fe {
-
-using scene::EndSupport;
-using scene::LoadBasis;
-using scene::LoadCase;
-using scene::LoadDirection;
-using scene::LoadKind;
-using scene::StructureKind;
+// The model's own vocabulary, converted from the scene's once (model/from_scene.hpp), so the
+// numerics do not depend on the input-file layer.
+enum class StructureKind { beam, arch };
+// Beam ends: pinned (w = 0), clamped (w = w' = 0), free.
+// Arch ends: pinned (u = w = 0), roller (w = 0), clamped (u = w = rotation = 0), free.
+enum class EndSupport { pinned, clamped, free, roller };
+std::string_view to_string(EndSupport);  // the scene's word for it, for messages
+// No table load here: a scene's distributed load arrives as uniform (linear) pieces.
+// curvature: an imposed free (thermal) curvature, an initial strain rather than a force.
+enum class LoadKind { force, moment, uniform, curvature };
+// Arches only: along what a load's value acts. radial: toward the foundation; tangential and
+// horizontal: toward increasing theta / to the right; vertical: downward.
+enum class LoadDirection { radial, tangential, vertical, horizontal };
+// The scene's word for it (the key `direction`'s value), for messages.
+std::string_view to_string(LoadDirection);
+// Arches, vertical uniform loads: per unit arc length or per unit horizontal projection.
+enum class LoadBasis { arc, projection };
+// Live loads are scaled by the load factor lambda; dead loads are not.
+enum class LoadCase { live, dead };
 
 struct Scales {
   double length = 1.0;             // L or R
@@ -168,6 +181,4 @@ struct MemberModel {
   }
 };
 
-MemberModel make_member_model(const scene::Scene& scene);
-
-}  // namespace liftoff::fe
+}  // namespace liftoff::model

@@ -2,7 +2,7 @@
 // data they make, and every FE method on scenes with several soils and voids against the
 // closed form (verification/closed_form, exact per segment and independent of liftoff's code).
 
-#include "fe/member_model.hpp"
+#include "model/member_model.hpp"
 
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -12,6 +12,7 @@
 #include "contact/active_set_solver.hpp"
 #include "contact/fitted_limits.hpp"
 #include "fe/discretisation.hpp"
+#include "model/from_scene.hpp"
 #include "support/scenes.hpp"
 #include "support/solve.hpp"
 
@@ -80,7 +81,7 @@ void check_against_exact(const scene::Scene& s, const std::vector<scene::Method>
 
 TEST_CASE("foundation pieces: member, mesh nodes and element moduli", "[fe][segments]") {
   const scene::Scene s = engineering("sleeper_degraded_ballast");
-  const fe::MemberModel model = fe::make_member_model(s);
+  const model::MemberModel model = model::make_member_model(s);
   REQUIRE(model.foundation_pieces.size() == 3);
   const double k_scale = s.structure.bending_stiffness / std::pow(s.structure.length, 4);
   CHECK(model.foundation_pieces[1].modulus == Approx(3.0e7 / k_scale).epsilon(1e-15));
@@ -106,7 +107,7 @@ TEST_CASE("foundation pieces: member, mesh nodes and element moduli", "[fe][segm
   CHECK(d.flexibility.coeff(weak, sound) == 0.0);
 
   // A void: no reaction unknown inside it, none of its elements on the foundation.
-  const fe::MemberModel trench = fe::make_member_model(engineering("pipeline_trench_span"));
+  const model::MemberModel trench = model::make_member_model(engineering("pipeline_trench_span"));
   REQUIRE(trench.foundation_stretches().size() == 2);
   const fe::Discretisation dt = fe::discretise(trench, 60);
   for (int i = 0; i < dt.reactions(); ++i) {
@@ -233,7 +234,7 @@ TEST_CASE("foundation pieces: fitted limits converge at h^4 across two soils and
   for (const char* name : {"footing_two_soils", "pipeline_trench_span"}) {
     CAPTURE(name);
     const scene::Scene s = engineering(name);
-    const fe::MemberModel model = fe::make_member_model(s);
+    const model::MemberModel model = model::make_member_model(s);
     const auto exact = exact_answer(s);
     REQUIRE(!exact.limits.empty());
     std::vector<double> h, error;
@@ -295,9 +296,9 @@ scene::Scene linear_modulus_beam(bool tensionless) {
 
 TEST_CASE("foundation pieces: a modulus linear within a piece, in the member and the elements", "[fe][segments]") {
   const scene::Scene s = linear_modulus_beam(true);
-  const fe::MemberModel model = fe::make_member_model(s);
+  const model::MemberModel model = model::make_member_model(s);
   REQUIRE(model.foundation_pieces.size() == 1);
-  const fe::FoundationPiece& piece = model.foundation_pieces[0];
+  const model::FoundationPiece& piece = model.foundation_pieces[0];
   CHECK_FALSE(piece.is_constant());
   CHECK_FALSE(model.foundation_modulus_is_constant());
   CHECK(piece.modulus_at(0.0) == 3000.0);  // `from`'s value at from, exactly

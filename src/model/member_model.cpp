@@ -1,0 +1,134 @@
+#include "model/member_model.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "core/error.hpp"
+
+namespace liftoff::model {
+
+namespace {
+constexpr double degrees = std::numbers::pi / 180.0;
+}
+
+std::string_view to_string(EndSupport support) {
+  switch (support) {
+    case EndSupport::pinned:
+      return "pinned";
+    case EndSupport::clamped:
+      return "clamped";
+    case EndSupport::free:
+      return "free";
+    case EndSupport::roller:
+      return "roller";
+  }
+  return "?";
+}
+
+std::string_view to_string(LoadDirection direction) {
+  switch (direction) {
+    case LoadDirection::radial:
+      return "radial";
+    case LoadDirection::tangential:
+      return "tangential";
+    case LoadDirection::vertical:
+      return "vertical";
+    case LoadDirection::horizontal:
+      return "horizontal";
+  }
+  return "?";
+}
+
+double MemberModel::s_from_user(double position) const {
+  return kind == StructureKind::beam ? position / scales.length : position * degrees;
+}
+
+double MemberModel::user_from_s(double s) const {
+  return kind == StructureKind::beam ? s * scales.length : s / degrees;
+}
+
+double imposed_curvature(const std::vector<MemberLoad>& loads, double s, double load_factor) {
+  double kappa = 0.0;
+  for (const MemberLoad& load : loads)
+    if (load.kind == LoadKind::curvature && s >= load.from && s <= load.to)
+      kappa += load.value * (load.load_case == LoadCase::dead ? 1.0 : load_factor);
+  return kappa;
+}
+
+std::vector<FoundationPiece> MemberModel::pieces() const {
+  if (!foundation_pieces.empty()) return foundation_pieces;
+  return {{foundation_begin, foundation_end, foundation_modulus}};
+}
+
+double FoundationPiece::modulus_at(double s) const {
+  if (!end_modulus) return modulus;
+  const double t = std::clamp((s - begin) / (end - begin), 0.0, 1.0);
+  return (1.0 - t) * modulus + t * *end_modulus;
+}
+
+double MemberModel::foundation_modulus_at(double s) const {
+  for (const FoundationPiece& piece : pieces())
+    if (s >= piece.begin && s <= piece.end) return piece.modulus_at(s);
+  return 0.0;
+}
+
+std::pair<double, double> MemberModel::foundation_modulus_on(double a, double b) const {
+  const double middle = 0.5 * (a + b);
+  for (const FoundationPiece& piece : pieces())
+    if (middle >= piece.begin && middle <= piece.end) return {piece.modulus_at(a), piece.modulus_at(b)};
+  return {0.0, 0.0};
+}
+
+std::vector<std::pair<double, double>> MemberModel::foundation_stretches() const {
+  std::vector<std::pair<double, double>> stretches;
+  for (const FoundationPiece& piece : pieces()) {
+    if (!stretches.empty() && piece.begin <= stretches.back().second)
+      stretches.back().second = piece.end;
+    else
+      stretches.emplace_back(piece.begin, piece.end);
+  }
+  return stretches;
+}
+
+std::vector<double> MemberModel::reaction_jumps() const {
+  std::vector<double> jumps;
+  const std::vector<FoundationPiece> all = pieces();
+  for (std::size_t i = 0; i + 1 < all.size(); ++i)
+    if (all[i].end == all[i + 1].begin && all[i].modulus_at(all[i].end) != all[i + 1].modulus)
+      jumps.push_back(all[i].end);
+  for (std::size_t i = 0; i + 1 < ground_gap_at.size(); ++i)
+    if (ground_gap_at[i] == ground_gap_at[i + 1] && ground_gap_value[i] != ground_gap_value[i + 1])
+      jumps.push_back(ground_gap_at[i]);
+  std::sort(jumps.begin(), jumps.end());
+  jumps.erase(std::unique(jumps.begin(), jumps.end()), jumps.end());
+  return jumps;
+}
+
+double MemberModel::ground_gap(double s) const {
+  if (ground_gap_at.empty()) return 0.0;
+  if (s < ground_gap_at.front()) return ground_gap_value.front();
+  if (s >= ground_gap_at.back()) return ground_gap_value.back();
+  const auto upper = std::upper_bound(ground_gap_at.begin(), ground_gap_at.end(), s);
+  const std::size_t j = static_cast<std::size_t>(upper - ground_gap_at.begin()), i = j - 1;
+  const double t = (s - ground_gap_at[i]) / (ground_gap_at[j] - ground_gap_at[i]);
+  return ground_gap_value[i] + t * (ground_gap_value[j] - ground_gap_value[i]);
+}
+
+bool MemberModel::is_foundation_edge(double s) const {
+  const double tol = 1e-12 * length();
+  for (const auto& [a, b] : foundation_stretches())
+    if (std::abs(s - a) <= tol || std::abs(s - b) <= tol) return true;
+  return false;
+}
+
+bool MemberModel::has_settlements() const {
+  bool any = left_settlement != 0.0 || right_settlement != 0.0;
+  for (double settlement : point_settlements) any = any || settlement != 0.0;
+  for (const SupportSpring& spring : springs) any = any || spring.settlement != 0.0;
+  return any;
+}
+
+}  // namespace liftoff::model
