@@ -59,8 +59,8 @@ struct Case {
 // Fitted solves on coarsest, 2x, 4x, 8x elements against exact limits: h = 1/n and the largest
 // limit error of each, with Newton at round-off (its last step far below the error) and the
 // errors decreasing; with max_iterations > 0, Newton takes at most that many iterations.
-void fitted_study(const model::MemberModel& model, const std::vector<double>& exact, int coarsest, std::vector<double>& h,
-                  std::vector<double>& error, int max_iterations = 0) {
+void fitted_study(const model::MemberModel& model, const std::vector<double>& exact, int coarsest,
+                  std::vector<double>& h, std::vector<double>& error, int max_iterations = 0) {
   for (int n : {coarsest, 2 * coarsest, 4 * coarsest, 8 * coarsest}) {
     CAPTURE(n);
     contact::FittedOptions options;

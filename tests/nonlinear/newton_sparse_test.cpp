@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "fe/discretisation.hpp"
+#include "fe/mixed_form.hpp"
 #include "model/from_scene.hpp"
 #include "model/member_model.hpp"
-#include "fe/mixed_form.hpp"
 #include "nonlinear/linear_solver.hpp"
 #include "nonlinear/newton.hpp"
 #include "support/scenes.hpp"
