@@ -12,6 +12,16 @@ Eigen::Matrix4d stiffness(double h) {
   return k / (h2 * h);
 }
 
+Eigen::Matrix4d geometric_stiffness(double h) {
+  const double h2 = h * h;
+  Eigen::Matrix4d k;
+  k << 36, 3 * h, -36, 3 * h,      //
+      3 * h, 4 * h2, -3 * h, -h2,  //
+      -36, -3 * h, 36, -3 * h,     //
+      3 * h, -h2, -3 * h, 4 * h2;
+  return k / (30.0 * h);
+}
+
 Eigen::Matrix<double, 2, 4> stress_coupling(double h) {
   const double two_over_h = 2.0 / h;
   Eigen::Matrix<double, 2, 4> g;

@@ -9,6 +9,11 @@ namespace liftoff::fe::beam_element {
 inline constexpr int dofs = 4;
 // Bending stiffness, closed form: integral of N''^T N'' over the element.
 Eigen::Matrix4d stiffness(double h);
+// Geometric stiffness, closed form: integral of N'^T N' over the element (the consistent one of the
+// Hermite cubics). A compressive axial force N (positive compresses; nondimensional N L^2 / EI)
+// lowers the stiffness to stiffness - N geometric_stiffness: the second-order (P-delta) energy
+// -N/2 (integral of w'^2) of EI w'''' + N w'' = q.
+Eigen::Matrix4d geometric_stiffness(double h);
 
 // The same stiffness in mixed (Hellinger-Reissner) form, stiffness = G^T H^-1 G exactly: the
 // curvature w'' (linear on the element) has the Legendre coefficients c = H^-1 G u, with

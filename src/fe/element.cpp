@@ -25,6 +25,19 @@ BeamElement::BeamElement(double h) : LinearElement(beam_element::stiffness(h)) {
 ArchElement::ArchElement(double h, double membrane_stiffness, bool foundation_outside)
     : LinearElement(arch_element::stiffness(h, membrane_stiffness, foundation_outside)) {}
 
+BeamColumnElement::BeamColumnElement(double h, double axial_dead, double axial_live)
+    : bending_(beam_element::stiffness(h)),
+      geometric_(beam_element::geometric_stiffness(h)),
+      axial_dead_(axial_dead),
+      axial_live_(axial_live) {}
+
+void BeamColumnElement::evaluate(const ElementState& state, ElementResponse& response) const {
+  if (state.displacement.size() != dofs())
+    throw std::invalid_argument("Element::evaluate: one displacement per local dof expected");
+  response.tangent = bending_ - axial_force(state.load_factor) * geometric_;
+  response.internal_force.noalias() = response.tangent * state.displacement;
+}
+
 namespace {
 Eigen::Matrix4d winkler_stiffness(double h, double tension_modulus) {
   Eigen::Matrix4d k = Eigen::Matrix4d::Zero();

@@ -80,6 +80,23 @@ class ArchElement final : public LinearElement {
  public:
   ArchElement(double h, double membrane_stiffness, bool foundation_outside);
 };
+// the beam-column (beam_element.hpp, 4 dofs): the beam under a compressive axial force
+// N(lambda) = dead + lambda live (positive compresses, nondimensional N L^2 / EI), second-order
+// theory: f_int = (K_e - N K_g) u_e, K_t = K_e - N K_g, with K_g the consistent geometric
+// stiffness. Not linear in this seam's sense when live != 0: K_t changes with lambda.
+class BeamColumnElement final : public Element {
+ public:
+  BeamColumnElement(double h, double axial_dead, double axial_live);
+  int dofs() const override { return 4; }
+  bool is_linear() const override { return axial_live_ == 0.0; }
+  using Element::evaluate;
+  void evaluate(const ElementState& state, ElementResponse& response) const override;
+  double axial_force(double load_factor) const { return axial_dead_ + load_factor * axial_live_; }
+
+ private:
+  Eigen::Matrix4d bending_, geometric_;
+  double axial_dead_, axial_live_;
+};
 // the bilateral (Winkler) foundation of modulus K_t on the Hermite dofs of w (4 dofs; the first
 // four local dofs of either element above): K_t times the integral of N_w^T N_w, by the 4-point
 // rule of foundation_element::winkler_rule (exact). The tensionless part is not an element (see

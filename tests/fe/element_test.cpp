@@ -3,12 +3,15 @@
 #include "fe/element.hpp"
 
 #include <Eigen/Dense>
+#include <Eigen/Eigenvalues>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "fe/arch_element.hpp"
 #include "fe/beam_element.hpp"
+#include "fe/shape_functions.hpp"
 
 using namespace liftoff::fe;
 
@@ -140,4 +143,89 @@ TEST_CASE("the tangent check passes a nonlinear element and fails a wrong tangen
   CHECK(tangent_misfit(CubicElement(5.0, false), state, 6 * 5.0) <= 1.0);
   // The dropped 3 c u_i^2 - c u_i^2 is ~ 2 c |u|^2, far above the allowance.
   CHECK(tangent_misfit(CubicElement(5.0, true), state, 6 * 5.0) > 1e3);
+}
+
+TEST_CASE("beam-column element: K_g is the integral of N'^T N', K_t = K_e - N K_g the Jacobian of f_int",
+          "[fe][element]") {
+  const double h = GENERATE(1.0, 0.37, 1e-3);
+  CAPTURE(h);
+  // The consistent geometric stiffness by quadrature (5 Gauss points: exact for N'^T N', degree 4).
+  Eigen::Matrix4d quadrature = Eigen::Matrix4d::Zero();
+  for (const GaussPoint& point : gauss5) {
+    const Eigen::Vector4d slope = hermite_cubic(point.xi, h).d1;
+    quadrature += (point.weight * h) * slope * slope.transpose();
+  }
+  const Eigen::Matrix4d geometric = beam_element::geometric_stiffness(h);
+  // Five products summed per entry, each shape derivative a few roundings off.
+  CHECK((geometric - quadrature).cwiseAbs().maxCoeff() <= 64 * eps * geometric.cwiseAbs().maxCoeff());
+  CHECK((geometric - geometric.transpose()).cwiseAbs().maxCoeff() == 0.0);
+
+  const double dead = 3.0, live = 7.5;
+  const BeamColumnElement element(h, dead, live);
+  CHECK_FALSE(element.is_linear());
+  CHECK(BeamColumnElement(h, dead, 0.0).is_linear());
+  for (double scale : {1.0, 1e-3, 1e4}) {
+    CAPTURE(scale);
+    const ElementState state = random_state(4, scale);  // lambda = 0.75
+    const ElementResponse response = element.evaluate(state);
+    const Eigen::Matrix4d expected = beam_element::stiffness(h) - (dead + 0.75 * live) * geometric;
+    CHECK((response.tangent - expected).cwiseAbs().maxCoeff() <= 4 * eps * expected.cwiseAbs().maxCoeff());
+    CHECK(tangent_misfit(element, state) <= 1.0);
+  }
+  CHECK_THROWS_AS(element.evaluate(ElementState{Eigen::VectorXd::Zero(5), 0.0}), std::invalid_argument);
+}
+
+namespace {
+// The smallest compressive force P that buckles a pinned-pinned strut of unit length (EI = 1)
+// on a bilateral Winkler foundation of modulus k, from n beam-column elements: the smallest P
+// with (K + k W - P K_g) v = 0, i.e. 1 / the largest mu of K_g v = mu (K + k W) v.
+double strut_buckling_load(int n, double k) {
+  const double h = 1.0 / n;
+  const int dofs = 2 * (n + 1);
+  Eigen::MatrixXd stiffness = Eigen::MatrixXd::Zero(dofs, dofs), geometric = stiffness;
+  const Eigen::Matrix4d k_e = BeamElement(h).stiffness() + WinklerElement(h, k).stiffness();
+  const Eigen::Matrix4d g_e = beam_element::geometric_stiffness(h);
+  for (int e = 0; e < n; ++e) {
+    stiffness.block<4, 4>(2 * e, 2 * e) += k_e;
+    geometric.block<4, 4>(2 * e, 2 * e) += g_e;
+  }
+  // Pinned ends: w = 0 at s = 0 (dof 0) and s = 1 (dof 2n); the slopes stay free.
+  std::vector<int> free;
+  for (int i = 0; i < dofs; ++i)
+    if (i != 0 && i != 2 * n) free.push_back(i);
+  const auto m = static_cast<Eigen::Index>(free.size());
+  Eigen::MatrixXd a(m, m), b(m, m);
+  for (Eigen::Index i = 0; i < m; ++i)
+    for (Eigen::Index j = 0; j < m; ++j) a(i, j) = geometric(free[i], free[j]), b(i, j) = stiffness(free[i], free[j]);
+  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(a, b, Eigen::EigenvaluesOnly);
+  REQUIRE(solver.info() == Eigen::Success);
+  return 1.0 / solver.eigenvalues().maxCoeff();
+}
+}  // namespace
+
+TEST_CASE(
+    "beam-column elements: a pinned strut buckles at pi^2 EI/L^2, on a bilateral foundation at "
+    "min over n of n^2 pi^2 + K/(n^2 pi^2), converging like h^4",
+    "[fe][element][buckling]") {
+  const double pi2 = M_PI * M_PI;
+  // k = 0: Euler; k = 1e3: the two-half-wave mode governs (n = 2: 64.81, n = 1: 111.2, n = 3: 100.1).
+  for (double k : {0.0, 1e3}) {
+    double exact = std::numeric_limits<double>::infinity();
+    for (int waves = 1; waves <= 10; ++waves) exact = std::min(exact, waves * waves * pi2 + k / (waves * waves * pi2));
+    std::vector<double> error;
+    for (int n : {4, 8, 16, 32}) {
+      const double p = strut_buckling_load(n, k);
+      // The Rayleigh quotient of a conforming approximation bounds the load from above.
+      CHECK(p >= exact * (1 - 1e-12));
+      error.push_back((p - exact) / exact);
+    }
+    for (std::size_t i = 0; i + 1 < error.size(); ++i) {
+      const double order = std::log2(error[i] / error[i + 1]);
+      CAPTURE(k, i, error[i], error[i + 1], order);
+      // Cubic Hermite: the energy error is O(h^2) in w'', so the eigenvalue's is O(h^4); the next
+      // term of the expansion is h^2 smaller, so the observed order nears 4 from the coarse side.
+      CHECK(order > 3.8);
+      CHECK(order < 4.2);
+    }
+  }
 }
