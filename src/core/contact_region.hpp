@@ -4,10 +4,11 @@
 // everywhere: the FE answer's regions (post::contact_regions), the Ritz model's pieces, the trace's
 // contact topology and the reports.
 //
-// The coordinate is the user's choice of the caller, not the type's: the numerics (post, ritz,
-// continuation) hold s, the nondimensional arc length; what reaches the outputs (io::SolveReport,
-// path::TraceStep) holds the user's x. Each field says which. The writers turn a region into the
-// pair [begin, end] (JSON, HDF5 rows of two, CSV), so the files' layout is independent of it.
+// The type does not fix the coordinate; whoever holds regions says which: the numerics (post,
+// ritz, continuation) hold s, the nondimensional arc length; what reaches the outputs
+// (io::SolveReport, path::TraceStep) holds the user's coordinate (x, or theta in degrees on an
+// arch). The writers turn a region into the pair [begin, end] (JSON, HDF5 rows of two, CSV), so
+// the files' layout does not depend on this type.
 
 namespace liftoff {
 

@@ -122,7 +122,7 @@ class RitzModel {
   // checks on dense grids.
   void w_on_grid(const Eigen::VectorXd& x, double a, double b, int n, std::vector<double>& values) const;
 
-  // The M + 1 pieces of the foundation's extent, and those in contact.
+  // The M + 1 pieces of the foundation's extent (s), contact and lift-off alternating, and those in contact.
   std::vector<ContactRegion> pieces(const Eigen::VectorXd& x) const;
   std::vector<ContactRegion> contact_pieces(const Eigen::VectorXd& x) const;
   // Limits finite, strictly increasing and strictly inside (foundation_begin, foundation_end),
