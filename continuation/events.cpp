@@ -65,7 +65,9 @@ std::string coordinate(const model::MemberModel& model, double s) {
   return fmt::format("theta = {:.6g} deg", model.user_from_s(s));
 }
 
-bool overlaps(const Piece& a, const Piece& b) { return std::min(a.end, b.end) > std::max(a.begin, b.begin); }
+bool overlaps(const ContactRegion& a, const ContactRegion& b) {
+  return std::min(a.end, b.end) > std::max(a.begin, b.begin);
+}
 
 }  // namespace
 
@@ -101,7 +103,7 @@ SpecialPoints special_points(const model::MemberModel& model) {
 
 bool ContactTopology::same_as(const ContactTopology& other) const {
   if (pieces.size() != other.pieces.size() || limit_slots != other.limit_slots) return false;
-  return pieces.empty() || pieces.front().contact == other.pieces.front().contact;
+  return pieces.empty() || pieces.front().region.in_contact == other.pieces.front().region.in_contact;
 }
 
 ContactTopology contact_topology(const model::MemberModel& model, const fe::Discretisation& d,
@@ -109,7 +111,7 @@ ContactTopology contact_topology(const model::MemberModel& model, const fe::Disc
   ContactTopology topology;
   if (d.reactions() == 0) return topology;
   if (!d.tensionless) {
-    topology.pieces.push_back({points.begin, points.end, true});
+    topology.pieces.push_back({{points.begin, points.end, true}});
     return topology;
   }
   // Contact where w > g, g the ground gap (0 without one): the cubics below are of w - g (g is
@@ -204,13 +206,13 @@ ContactTopology contact_topology(const model::MemberModel& model, const fe::Disc
   double begin = points.begin;
   bool contact = first_contact;  // all zero: one lift-off piece
   for (double limit : limits) {
-    topology.pieces.push_back({begin, limit, contact});
+    topology.pieces.push_back({{begin, limit, contact}});
     auto slot = std::lower_bound(points.interior.begin(), points.interior.end(), limit - 1e-12 * model.length());
     topology.limit_slots.push_back(static_cast<int>(slot - points.interior.begin()));
     begin = limit;
     contact = !contact;
   }
-  topology.pieces.push_back({begin, points.end, contact});
+  topology.pieces.push_back({{begin, points.end, contact}});
 
   // A piece between two limits inside the elements next to a point load straddles it (header).
   for (std::size_t p = 1; p + 1 < topology.pieces.size(); ++p) {
@@ -218,7 +220,7 @@ ContactTopology contact_topology(const model::MemberModel& model, const fe::Disc
     for (std::size_t i = 0; i < points.interior.size(); ++i) {
       const int node = points.is_support[i] ? -1 : d.mesh.node_at(points.interior[i]);
       if (node <= 0 || node >= d.mesh.elements()) continue;
-      if (piece.begin < d.mesh.nodes[node - 1] || piece.end > d.mesh.nodes[node + 1]) continue;
+      if (piece.region.begin < d.mesh.nodes[node - 1] || piece.region.end > d.mesh.nodes[node + 1]) continue;
       piece.at_load = static_cast<int>(i);
       topology.limit_slots[p - 1] = static_cast<int>(i);
       topology.limit_slots[p] = static_cast<int>(i) + 1;
@@ -235,17 +237,17 @@ std::vector<TraceEvent> classify_events(const model::MemberModel& model, const S
   auto add = [&](EventKind kind, double s, const std::string& what) {
     events.push_back({load_factor, kind, model.user_from_s(s), what + " at " + coordinate(model, s)});
   };
-  auto at_end = [&](const Piece& p, const std::string& what) {
+  auto at_end = [&](const ContactRegion& p, const std::string& what) {
     const bool at_begin = p.begin <= points.begin;
     const double s = at_begin ? points.begin : points.end;
     const bool supported = at_begin ? points.begin_supported : points.end_supported;
     add(supported ? EventKind::limit_at_support : EventKind::limit_at_end, s,
         what + (supported ? " at the supported end of the foundation" : " at the end of the foundation"));
   };
-  auto touches_end = [&](const Piece& p) { return p.begin <= points.begin || p.end >= points.end; };
+  auto touches_end = [&](const ContactRegion& p) { return p.begin <= points.begin || p.end >= points.end; };
   // An interior point support at an end of the piece (w = 0 there, so a limit can sit on it):
   // a piece opening or closing against it is a limit reaching the support.
-  auto support_at_end = [&](const Piece& p) -> std::optional<double> {
+  auto support_at_end = [&](const ContactRegion& p) -> std::optional<double> {
     const double tol = 1e-9 * model.length();
     for (std::size_t i = 0; i < points.interior.size(); ++i)
       if (points.is_support[i] &&
@@ -253,51 +255,55 @@ std::vector<TraceEvent> classify_events(const model::MemberModel& model, const S
         return points.interior[i];
     return std::nullopt;
   };
-  auto whole = [&](const Piece& p) { return p.begin <= points.begin && p.end >= points.end; };
+  auto whole = [&](const ContactRegion& p) { return p.begin <= points.begin && p.end >= points.end; };
 
   // Pieces with no piece of their kind overlapping them on the other side are new (after) or
   // gone (before); every other piece only moved.
   bool changed = false;
-  for (const Piece& p : after.pieces) {
-    const bool is_new = std::none_of(before.pieces.begin(), before.pieces.end(),
-                                     [&](const Piece& q) { return q.contact == p.contact && overlaps(p, q); });
+  for (const Piece& piece : after.pieces) {
+    const ContactRegion& p = piece.region;
+    const bool is_new = std::none_of(before.pieces.begin(), before.pieces.end(), [&](const Piece& q) {
+      return q.region.in_contact == p.in_contact && overlaps(p, q.region);
+    });
     if (!is_new) continue;
     changed = true;
     const double mid = 0.5 * (p.begin + p.end);
     if (whole(p))
-      add(p.contact ? EventKind::contact_opens : EventKind::region_vanishes, mid,
-          p.contact ? "the whole foundation comes into contact" : "the member lifts off the whole foundation");
+      add(p.in_contact ? EventKind::contact_opens : EventKind::region_vanishes, mid,
+          p.in_contact ? "the whole foundation comes into contact" : "the member lifts off the whole foundation");
     else if (touches_end(p))
-      at_end(p, p.contact ? "a contact region forms" : "a lift-off zone opens");
+      at_end(p, p.in_contact ? "a contact region forms" : "a lift-off zone opens");
     else if (const auto support = support_at_end(p))
       add(EventKind::limit_at_support, *support,
-          p.contact ? "a contact region forms against a point support"
-                    : "a lift-off zone opens against a point support");
-    else if (p.at_load >= 0)
-      add(p.contact ? EventKind::contact_opens : EventKind::lift_off_opens, points.interior[p.at_load],
-          p.contact ? "a contact region opens at a point load" : "a lift-off zone opens at a point load");
-    else if (p.contact)
+          p.in_contact ? "a contact region forms against a point support"
+                       : "a lift-off zone opens against a point support");
+    else if (piece.at_load >= 0)
+      add(p.in_contact ? EventKind::contact_opens : EventKind::lift_off_opens, points.interior[piece.at_load],
+          p.in_contact ? "a contact region opens at a point load" : "a lift-off zone opens at a point load");
+    else if (p.in_contact)
       add(EventKind::contact_opens, mid, "a contact region opens inside a lift-off zone");
     else
       add(EventKind::lift_off_opens, mid, "a lift-off zone opens inside a contact region");
   }
-  for (const Piece& p : before.pieces) {
-    const bool gone = std::none_of(after.pieces.begin(), after.pieces.end(),
-                                   [&](const Piece& q) { return q.contact == p.contact && overlaps(p, q); });
+  for (const Piece& piece : before.pieces) {
+    const ContactRegion& p = piece.region;
+    const bool gone = std::none_of(after.pieces.begin(), after.pieces.end(), [&](const Piece& q) {
+      return q.region.in_contact == p.in_contact && overlaps(p, q.region);
+    });
     if (!gone || whole(p)) continue;  // a whole piece replaced is reported once, above
     changed = true;
     const double mid = 0.5 * (p.begin + p.end);
     if (touches_end(p))
-      at_end(p, p.contact ? "a contact region vanishes" : "a lift-off zone closes");
+      at_end(p, p.in_contact ? "a contact region vanishes" : "a lift-off zone closes");
     else if (const auto support = support_at_end(p))
       add(EventKind::limit_at_support, *support,
-          p.contact ? "a contact region vanishes against a point support"
-                    : "a lift-off zone closes against a point support");
-    else if (p.at_load >= 0)
-      add(p.contact ? EventKind::region_vanishes : EventKind::lift_off_vanishes, points.interior[p.at_load],
-          p.contact ? "a contact region vanishes at a point load"
-                    : "a lift-off zone closes at a point load: two contact regions merge");
-    else if (p.contact)
+          p.in_contact ? "a contact region vanishes against a point support"
+                       : "a lift-off zone closes against a point support");
+    else if (piece.at_load >= 0)
+      add(p.in_contact ? EventKind::region_vanishes : EventKind::lift_off_vanishes, points.interior[piece.at_load],
+          p.in_contact ? "a contact region vanishes at a point load"
+                       : "a lift-off zone closes at a point load: two contact regions merge");
+    else if (p.in_contact)
       add(EventKind::region_vanishes, mid, "a contact region vanishes");
     else
       add(EventKind::lift_off_vanishes, mid, "a lift-off zone closes: two contact regions merge");

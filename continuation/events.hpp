@@ -24,15 +24,15 @@
 #include <vector>
 
 #include "continuation/trace.hpp"
+#include "core/contact_region.hpp"
 #include "fe/discretisation.hpp"
 #include "model/member_model.hpp"
 
 namespace liftoff::continuation {
 
+// A contact or lift-off piece of the topology (region in s), and the point load it straddles.
 struct Piece {
-  double begin = 0.0;  // s
-  double end = 0.0;
-  bool contact = false;
+  ContactRegion region;
   int at_load = -1;  // index in SpecialPoints::interior of the point load it lies next to, or -1
 };
 

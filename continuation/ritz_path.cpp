@@ -525,17 +525,17 @@ std::vector<EventValue> RitzTracer::local_minima(const RitzModel& model, const V
 }
 
 EventValue RitzTracer::event_value(const RitzModel& model, const VectorXd& x, const EventSpec& spec) const {
-  const std::vector<ritz::Piece> pieces = model.pieces(x);
+  const std::vector<ContactRegion> pieces = model.pieces(x);
   switch (spec.function) {
     case EventFunction::interior_extreme: {
-      const ritz::Piece& p = pieces[spec.piece];
+      const ContactRegion& p = pieces[spec.piece];
       if (!(p.end > p.begin)) return {infinity, p.begin};  // a piece of negative length: its own event
       // contact: min w > 0; lift-off: -max w > 0.
       return extreme(model, x, p.begin, p.end, p.in_contact);
     }
     case EventFunction::end_value: {
       const bool left = !spec.far_end;
-      const ritz::Piece& p = pieces[spec.piece];
+      const ContactRegion& p = pieces[spec.piece];
       const double s = left ? member_.foundation_begin : member_.foundation_end;
       double value = model.w(x, s);
       if (end_supported(left)) {
@@ -547,7 +547,7 @@ EventValue RitzTracer::event_value(const RitzModel& model, const VectorXd& x, co
       return {p.in_contact ? value : -value, s};
     }
     case EventFunction::length: {
-      const ritz::Piece& p = pieces[spec.piece];
+      const ContactRegion& p = pieces[spec.piece];
       // Where it vanishes: at the member's end for an end piece, else between its limits.
       const double at = spec.piece == 0                                     ? member_.foundation_begin
                         : spec.piece == static_cast<int>(pieces.size()) - 1 ? member_.foundation_end
@@ -582,13 +582,13 @@ double RitzTracer::w_scale(const RitzModel& model, const VectorXd& x) const {
 // width squared, reached zero through round-off just before the region vanished).
 std::vector<EventSpec> RitzTracer::without_degenerate_openings(const RitzModel& model, const VectorXd& x,
                                                                std::vector<EventSpec> events) const {
-  const std::vector<ritz::Piece> pieces = model.pieces(x);
+  const std::vector<ContactRegion> pieces = model.pieces(x);
   for (EventSpec& spec : events) {
     const bool degenerate =
         spec.function == EventFunction::end_value ||
         (spec.function == EventFunction::interior_extreme && spec.piece > 0 && spec.piece < model.limits());
     if (!degenerate || pieces.size() < 2) continue;
-    const ritz::Piece& piece = pieces[spec.piece];
+    const ContactRegion& piece = pieces[spec.piece];
     if (piece.end - piece.begin > 1e-5 * member_.length()) continue;
     for (const EventSpec& length : event_specs(model))
       if (length.function == EventFunction::length && length.piece == spec.piece) spec = length;
@@ -615,7 +615,7 @@ void RitzTracer::record_step(const RitzModel& model, const PathPoint& point, int
   TraceStep step;
   step.load_factor = point.lambda;
   const model::Scales& scales = member_.scales;
-  for (const ritz::Piece& piece : model.contact_pieces(point.x))
+  for (const ContactRegion& piece : model.contact_pieces(point.x))
     if (piece.end > piece.begin) step.contact_regions.push_back({user(piece.begin), user(piece.end)});
   step.monitor_deflection = model.w(point.x, member_.s_from_user(options_.monitor)) * scales.displacement();
   for (double p : options_.sample_points) {
@@ -719,13 +719,13 @@ std::optional<PathPoint> RitzTracer::approach_vanishing(const RitzModel& model, 
 
 std::optional<std::string> RitzTracer::stepped_over(const RitzModel& model, const VectorXd& from,
                                                     const VectorXd& to) const {
-  const std::vector<ritz::Piece> pieces = model.pieces(from);
+  const std::vector<ContactRegion> pieces = model.pieces(from);
   const int offset = model.limit_offset();
   for (int m = 0; m < model.limits(); ++m) {
     const double t0 = from[offset + m], t1 = to[offset + m];
     if (t1 == t0) continue;
     // The limit ends piece m and begins piece m + 1; moving right it advances into piece m + 1.
-    const ritz::Piece& piece = pieces[t1 > t0 ? m + 1 : m];
+    const ContactRegion& piece = pieces[t1 > t0 ? m + 1 : m];
     const double lo = std::min(t0, t1), hi = std::max(t0, t1);
     for (const EventValue& e : local_minima(model, from, piece.begin, piece.end, piece.in_contact))
       if (e.at > lo && e.at < hi)
@@ -885,7 +885,7 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
             continue;
           }
           // One event per zone that opens (symmetric loads open several at once).
-          const ritz::Piece piece = model.pieces(to.x)[spec.piece];
+          const ContactRegion piece = model.pieces(to.x)[spec.piece];
           const double zero = 1e-6 * w_scale(model, to.x);
           for (const EventValue& local : local_minima(model, to.x, piece.begin, piece.end, piece.in_contact))
             if (local.value <= zero) record(spec, local.at);
@@ -949,7 +949,7 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
       case EventFunction::interior_extreme: {
         // Every local extreme of the piece that reaches zero here opens a zone (symmetric
         // loads open two at once, and one event function sees only the lower).
-        const ritz::Piece piece = old.pieces(at.x)[spec.piece];
+        const ContactRegion piece = old.pieces(at.x)[spec.piece];
         const double zero = 1e-6 * w_scale(old, at.x);
         for (const EventValue& local : local_minima(old, at.x, piece.begin, piece.end, piece.in_contact))
           if (local.value <= zero) openings.emplace_back(local.at, 1);
@@ -989,11 +989,11 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
   // small as locating the event left it): that much violation is allowed at the switch.
   double removal_allowance = 0.0;
   {
-    const std::vector<ritz::Piece> pieces = old.pieces(at.x);
+    const std::vector<ContactRegion> pieces = old.pieces(at.x);
     const double scale = std::max(w_scale(old, at.x), 1e-300);
     for (const EventSpec& spec : pending.events) {
       if (spec.function != EventFunction::length) continue;
-      const ritz::Piece& p = pieces[spec.piece];
+      const ContactRegion& p = pieces[spec.piece];
       const double lo = std::min(p.begin, p.end), hi = std::max(p.begin, p.end);
       constexpr int samples = 64;
       for (int i = 0; i <= samples; ++i)
@@ -1012,13 +1012,13 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
         continue;
       }
       base = *past.point;
-      const std::vector<ritz::Piece> pieces = old.pieces(base.x);
-      std::vector<std::array<double, 2>> zones;  // each new zone, for the locality check below
+      const std::vector<ContactRegion> pieces = old.pieces(base.x);
+      std::vector<ContactRegion> zones;  // each new zone (s), for the locality check below
       for (auto [s, where] : openings) {
         // The new zone's sign: w's at an interior opening point; at an end, the opposite of the
         // end piece's state (w there is 0 at a supported end, and its sign noise: a scan keyed
         // on it stops at once and Newton settles on a zone of no width).
-        const ritz::Piece& end_piece = where == 0 ? pieces.front() : pieces.back();
+        const ContactRegion& end_piece = where == 0 ? pieces.front() : pieces.back();
         const double w0 = where == 1 ? old.w(base.x, s) : (end_piece.in_contact ? -1.0 : 1.0);
         const auto root = [&](double from, double to) {  // bisection on w
           double a = from, b = to, fa = old.w(base.x, a);
@@ -1044,15 +1044,15 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
         };
         if (where == 1) {
           double lo = member_.foundation_begin, hi = member_.foundation_end;
-          for (const ritz::Piece& p : pieces)
+          for (const ContactRegion& p : pieces)
             if (s >= p.begin && s <= p.end) lo = p.begin, hi = p.end;
           guess.push_back(scan(lo));
           guess.push_back(scan(hi));
-          zones.push_back({guess.end()[-2], guess.back()});
+          zones.push_back({guess.end()[-2], guess.back(), w0 > 0});
         } else {
           guess.push_back(scan(where == 0 ? pieces.front().end : pieces.back().begin));
-          zones.push_back(where == 0 ? std::array{member_.foundation_begin, guess.back()}
-                                     : std::array{guess.back(), member_.foundation_end});
+          zones.push_back(where == 0 ? ContactRegion{member_.foundation_begin, guess.back(), w0 > 0}
+                                     : ContactRegion{guess.back(), member_.foundation_end, w0 > 0});
         }
       }
       std::sort(guess.begin(), guess.end());
@@ -1062,11 +1062,11 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
       // that lifted off first), so the opening step is too long.
       const double zero = 1e-6 * w_scale(old, at.x);
       std::optional<double> swallowed;
-      for (const ritz::Piece& piece : old.pieces(at.x))
+      for (const ContactRegion& piece : old.pieces(at.x))
         for (const EventValue& e : local_minima(old, at.x, piece.begin, piece.end, piece.in_contact))
           if (e.value > zero)  // not an opening point itself
-            for (const auto& zone : zones)
-              if (e.at > zone[0] && e.at < zone[1]) swallowed = e.at;
+            for (const ContactRegion& zone : zones)
+              if (e.at > zone.begin && e.at < zone.end) swallowed = e.at;
       if (swallowed) {
         failure = fmt::format(
             "the zone opened {:.3g} past the event in lambda covers another local extreme of w at {} "

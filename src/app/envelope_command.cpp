@@ -95,7 +95,7 @@ io::EnvelopeReport run_envelope(const scene::Scene& scene, const EnvelopeRequest
 
   const int total = static_cast<int>(combinations.size() * positions.size());
   for (const scene::Combination* combination : combinations) {
-    std::optional<std::vector<std::array<double, 2>>> previous;  // the last position's contact regions
+    std::optional<std::vector<ContactRegion>> previous;  // the last position's contact regions
     for (const std::optional<double>& lead : positions) {
       io::EnvelopeCase c;
       c.combination = combination ? combination->name : "";

@@ -47,7 +47,7 @@ fe::Discretisation discretise(const scene::Scene& scene, const model::MemberMode
 struct FeResult {
   fe::Discretisation discretisation;
   contact::ContactSolution solution;
-  std::vector<post::Interval> regions;
+  std::vector<ContactRegion> regions;
 };
 
 // The answer of one formulation on a discretisation: no_equilibrium at once when the resultant
@@ -82,14 +82,14 @@ contact::ContactSolution contact_answer(const scene::Scene& scene, const model::
 // The warm start's first contact set on d: the reaction nodes inside the regions (user
 // coordinate, a relative 1e-9 of the length around each end). Empty where it does not apply.
 std::vector<bool> warm_start_set(const model::MemberModel& model, const fe::Discretisation& d,
-                                 const std::optional<std::vector<std::array<double, 2>>>& regions) {
+                                 const std::optional<std::vector<ContactRegion>>& regions) {
   if (!regions || !d.tensionless) return {};
   const double margin = 1e-9 * (model.s_end - model.s_begin);
   std::vector<bool> in_contact(d.reactions(), false);
   for (int i = 0; i < d.reactions(); ++i) {
     const double s = d.mesh.nodes[d.reaction_nodes[i]];
-    for (const auto& [begin, end] : *regions) {
-      const double a = model.s_from_user(begin), b = model.s_from_user(end);
+    for (const ContactRegion& region : *regions) {
+      const double a = model.s_from_user(region.begin), b = model.s_from_user(region.end);
       if (s >= std::min(a, b) - margin && s <= std::max(a, b) + margin) in_contact[i] = true;
     }
   }
@@ -97,7 +97,7 @@ std::vector<bool> warm_start_set(const model::MemberModel& model, const fe::Disc
 }
 
 FeResult solve_fe(const scene::Scene& scene, const model::MemberModel& model, Method method, int elements,
-                  const std::optional<std::vector<std::array<double, 2>>>& warm_start = std::nullopt) {
+                  const std::optional<std::vector<ContactRegion>>& warm_start = std::nullopt) {
   FeResult fe;
   fe.discretisation = discretise(scene, model, elements);
   fe.solution =
@@ -356,7 +356,7 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   }
   const std::optional<post::DesignValues> design =
       certified ? design_values(model, d, solution, certificate, fields) : std::nullopt;
-  std::vector<post::Interval> contact_regions;
+  std::vector<ContactRegion> contact_regions;
   for (const auto& c : answer.contact) contact_regions.push_back({c.begin, c.end});
   io::SolveReport report = io::make_report(scene, model, d, solution, fields, contact_regions);
   if (design) io::attach_design(report, *design, model);

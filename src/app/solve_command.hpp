@@ -6,6 +6,7 @@
 #include <optional>
 #include <vector>
 
+#include "core/contact_region.hpp"
 #include "io/report.hpp"
 #include "scene/scene.hpp"
 
@@ -23,7 +24,7 @@ struct SolveRequest {
   // (no tolerance) that runs fast on a tensionless foundation: its first contact set is the
   // reaction nodes inside these regions. Absent: the solver's default start. It changes the
   // work (report.active_set_iterations, factorisations), never the answer.
-  std::optional<std::vector<std::array<double, 2>>> initial_contact_regions;
+  std::optional<std::vector<ContactRegion>> initial_contact_regions;
 };
 
 // Sampled fields are capped at this many points (HDF5 and memory stay O(1e7) bytes per field):

@@ -10,6 +10,7 @@
 #include "continuation/fe_path.hpp"
 #include "continuation/ritz_path.hpp"
 #include "core/error.hpp"
+#include "io/report.hpp"
 #include "io/trace_writer.hpp"
 #include "model/from_scene.hpp"
 #include "model/member_model.hpp"
@@ -131,11 +132,9 @@ nlohmann::json to_json(const PathTrace& p) {
   for (const TraceEvent& e : p.events) j["events"].push_back(to_json(e));
   j["steps"] = nlohmann::json::array();
   for (const TraceStep& s : p.steps) {
-    nlohmann::json regions = nlohmann::json::array();
-    for (const auto& r : s.contact_regions) regions.push_back({r[0], r[1]});
     j["steps"].push_back({{"lambda", s.load_factor},
                           {"monitor_deflection", s.monitor_deflection},
-                          {"contact_regions", regions},
+                          {"contact_regions", io::contact_regions_json(s.contact_regions)},
                           {"iterations", s.iterations}});
   }
   return j;

@@ -84,7 +84,7 @@ Balance balance_terms(const MemberModel& member, const RitzModel& ritz, const Ve
   // Quadrature fine enough for the highest mode: 8 subintervals per half wave.
   const int per_length = 8 * std::max(4, ritz.modes());
   double integral = 0.0, first_moment = 0.0;
-  for (const ritz::Piece& piece : ritz.contact_pieces(x)) {
+  for (const ContactRegion& piece : ritz.contact_pieces(x)) {
     if (!(piece.end > piece.begin)) continue;
     const int pieces = std::max(
         8, static_cast<int>(std::ceil(per_length * (piece.end - piece.begin) / (member.s_end - member.s_begin))));
@@ -150,7 +150,7 @@ Balance balance_terms(const MemberModel& member, const RitzModel& ritz, const Ve
         return member.membrane_stiffness * (du - w) * (v[1] - v[2]) + (du + d2w) * (v[1] + v[4]);
       });
       double foundation_work = 0.0;
-      for (const ritz::Piece& piece : ritz.contact_pieces(x))
+      for (const ContactRegion& piece : ritz.contact_pieces(x))
         if (piece.end > piece.begin)
           foundation_work +=
               integrate(piece.begin, piece.end, quadrature, [&](double s) { return k * ritz.w(x, s) * test(s)[2]; });
@@ -276,7 +276,7 @@ Certificate certify(const MemberModel& member, const ritz::RitzSolution& solutio
   Check complementarity = detail::make_check(check_name::complementarity, 0.0, tolerance);
   if (w_scale > 0 && member.tensionless) {
     std::vector<double> w;
-    for (const ritz::Piece& piece : ritz.pieces(x)) {
+    for (const ContactRegion& piece : ritz.pieces(x)) {
       constexpr int per_piece = 400;
       ritz.w_on_grid(x, piece.begin, piece.end, per_piece, w);
       for (int i = 0; i < static_cast<int>(w.size()); ++i) {

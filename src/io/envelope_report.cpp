@@ -74,7 +74,7 @@ nlohmann::json to_json(const EnvelopeReport& r) {
     one["certified"] = c.passed();
     one["termination"] = c.error.empty() ? c.report.termination : std::string(to_string(SolveOutcome::refused));
     one["message"] = c.error.empty() ? c.report.message : c.error;
-    one["contact_regions"] = c.report.contact_regions;
+    one["contact_regions"] = contact_regions_json(c.report.contact_regions);
     one["warm_started"] = c.warm_started;
     if (c.report.active_set_iterations >= 0) one["contact_sets"] = c.report.active_set_iterations;
     if (c.report.factorisations >= 0) one["factorisations"] = c.report.factorisations;
@@ -141,8 +141,8 @@ std::string text_summary(const EnvelopeReport& r) {
   s += "  contact regions by case:\n";
   for (const EnvelopeCase& c : r.cases) {
     std::string regions;
-    for (const auto& [a, b] : c.report.contact_regions)
-      regions += fmt::format("{}{:.4g}..{:.4g}", regions.empty() ? "" : ", ", a, b);
+    for (const ContactRegion& region : c.report.contact_regions)
+      regions += fmt::format("{}{:.4g}..{:.4g}", regions.empty() ? "" : ", ", region.begin, region.end);
     if (!c.passed())
       regions = fmt::format("FAILED ({}): {}",
                             c.error.empty() ? c.report.termination : std::string(to_string(SolveOutcome::refused)),
@@ -218,7 +218,8 @@ void write_file(const EnvelopeReport& r, const std::filesystem::path& path, cons
                              c.error.empty() ? c.report.termination : std::string(to_string(SolveOutcome::refused)));
       write_string_attribute(group, fmt::format("message_{:04d}", k), c.error.empty() ? c.report.message : c.error);
       if (c.passed())
-        for (const auto& [a, b] : c.report.contact_regions) regions.insert(regions.end(), {double(k), a, b});
+        for (const ContactRegion& region : c.report.contact_regions)
+          regions.insert(regions.end(), {double(k), region.begin, region.end});
     }
     write_array(group, "position", position);
     write_array(group, "certified", certified);

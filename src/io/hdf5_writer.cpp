@@ -123,7 +123,7 @@ void write_report(hid_t file, const SolveReport& r) {
   write_text(file, "scene", r.scene_text);
 
   std::vector<double> regions;
-  for (const auto& region : r.contact_regions) regions.insert(regions.end(), region.begin(), region.end());
+  for (const ContactRegion& region : r.contact_regions) regions.insert(regions.end(), {region.begin, region.end});
   write_array(file, "contact_regions", regions, 2);
   write_table(file, "fields", r.fields);
 

@@ -36,7 +36,7 @@ std::vector<double> to_user(const model::MemberModel& model, const std::vector<d
 
 // What every method shares: the scene, fields in user units, extremes, contact regions.
 SolveReport common_report(const scene::Scene& scene, const model::MemberModel& model, const post::Fields& fields,
-                          const std::vector<post::Interval>& regions) {
+                          const std::vector<ContactRegion>& regions) {
   const model::Scales& scales = model.scales;
   SolveReport r;
   r.scene_name = scene.source_name;
@@ -73,7 +73,7 @@ SolveReport common_report(const scene::Scene& scene, const model::MemberModel& m
 
 SolveReport make_report(const scene::Scene& scene, const model::MemberModel& model, const fe::Discretisation& d,
                         const contact::ContactSolution& solution, const post::Fields& fields,
-                        const std::vector<post::Interval>& regions) {
+                        const std::vector<ContactRegion>& regions) {
   SolveReport r = common_report(scene, model, fields, regions);
   const contact::ContactSummary& summary = solution.summary;
   r.method = scene::to_string(summary.method);
@@ -126,7 +126,7 @@ SolveReport make_report(const scene::Scene& scene, const model::MemberModel& mod
 SolveReport make_report(const scene::Scene& scene, const model::MemberModel& model, const ritz::RitzSolution& solution,
                         int samples) {
   const ritz::RitzSummary& summary = solution.summary;
-  std::vector<post::Interval> regions;
+  std::vector<ContactRegion> regions;
   post::Fields fields;
   if (solution.model && solution.unknowns.size() > 0) {
     regions = post::contact_regions(solution);
@@ -277,6 +277,12 @@ nlohmann::json certificate_json(const SolveReport& r) {
 
 }  // namespace
 
+nlohmann::json contact_regions_json(const std::vector<ContactRegion>& regions) {
+  nlohmann::json pairs = nlohmann::json::array();
+  for (const ContactRegion& region : regions) pairs.push_back({region.begin, region.end});
+  return pairs;
+}
+
 nlohmann::json units_json(const scene::Units& units) {
   nlohmann::json j{{"system", units.system}};
   for (const auto& [name, label] : scene::unit_labels(units)) j[name] = label;
@@ -295,7 +301,7 @@ nlohmann::json to_json(const SolveReport& r) {
   j["coordinate"] = r.coordinate_name;
   j["tensionless"] = r.tensionless;
   j["k"] = r.foundation_parameter;
-  j["contact_regions"] = r.contact_regions;
+  j["contact_regions"] = contact_regions_json(r.contact_regions);
   j["w_max"] = r.w_max;
   j["at_w_max"] = r.at_w_max;
   j["w_min"] = r.w_min;
@@ -372,11 +378,11 @@ std::string solver_line(const SolveReport& r) {
 std::string comparison_line(const SolveReport& r) {
   const scene::Comparison& c = *r.comparison;
   const auto crown = std::find_if(r.contact_regions.begin(), r.contact_regions.end(),
-                                  [](const auto& region) { return region[0] <= 0.0 && 0.0 <= region[1]; });
+                                  [](const ContactRegion& region) { return region.begin <= 0.0 && 0.0 <= region.end; });
   if (crown == r.contact_regions.end())
     return fmt::format("  compare       no contact at the crown; {} gives a contact half-angle of {:.4g} deg\n",
                        c.source, c.contact_half_angle_deg);
-  const double here = ((*crown)[1] - (*crown)[0]) / 2;
+  const double here = crown->length() / 2;
   const double percent = 100 * (c.contact_half_angle_deg - here) / here;
   return fmt::format("  compare       contact half-angle {:.4g} deg; {} gives {:.4g} deg, {:.2g} % {}\n", here,
                      c.source, c.contact_half_angle_deg, std::abs(percent), percent < 0 ? "less" : "more");
@@ -517,8 +523,8 @@ std::string text_summary(const SolveReport& r) {
   // Digits enough for the tolerance asked for (8 significant by default).
   const int digits = r.tolerance > 0 ? std::max(8, static_cast<int>(std::ceil(-std::log10(r.tolerance))) + 2) : 8;
   for (const auto& region : r.contact_regions)
-    out += fmt::format("  contact       {} = {:.{}g}{} .. {:.{}g}{}\n", arch ? "theta" : "x", region[0], digits, unit,
-                       region[1], digits, unit);
+    out += fmt::format("  contact       {} = {:.{}g}{} .. {:.{}g}{}\n", arch ? "theta" : "x", region.begin, digits,
+                       unit, region.end, digits, unit);
   if (r.comparison && r.usable && arch) out += comparison_line(r);
   const std::string length = with_unit(r.units.length);
   out += fmt::format("  w max         {:.6e}{} at {:.6g}{}\n", r.w_max, length, r.at_w_max, unit);
@@ -585,7 +591,9 @@ std::string side_by_side(const std::vector<SolveReport>& reports) {
   for (std::size_t i = 0; i < regions; ++i) {
     for (int end = 0; end < 2; ++end)
       row(fmt::format("contact {} {}", i + 1, end == 0 ? "begin" : "end"), [&](const SolveReport& r) {
-        return i < r.contact_regions.size() ? fmt::format("{:.10f}", r.contact_regions[i][end]) : std::string("-");
+        return i < r.contact_regions.size()
+                   ? fmt::format("{:.10f}", end == 0 ? r.contact_regions[i].begin : r.contact_regions[i].end)
+                   : std::string("-");
       });
   }
   row("w max", [](const SolveReport& r) { return r.usable ? fmt::format("{:.10e}", r.w_max) : std::string("-"); });
@@ -640,7 +648,7 @@ std::string sweep_csv(const std::vector<std::string>& keys, const std::vector<Sw
     for (const SolveReport& r : c.reports) {
       std::string regions;
       for (const auto& region : r.contact_regions)
-        regions += fmt::format("{}{:.12g}..{:.12g}", regions.empty() ? "" : ";", region[0], region[1]);
+        regions += fmt::format("{}{:.12g}..{:.12g}", regions.empty() ? "" : ";", region.begin, region.end);
       const int iterations = r.modes >= 0                   ? r.newton_iterations
                              : r.active_set_iterations >= 0 ? r.active_set_iterations
                                                             : r.pivots;

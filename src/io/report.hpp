@@ -15,6 +15,7 @@
 
 #include "certify/certificate.hpp"
 #include "contact/contact_solver.hpp"
+#include "core/contact_region.hpp"
 #include "core/enum_names.hpp"
 #include "fe/discretisation.hpp"
 #include "model/member_model.hpp"
@@ -114,7 +115,7 @@ struct SolveReport {
 
   std::string gauge_note;
   std::optional<scene::Comparison> comparison;  // the scene's [compare]: set beside the answer
-  std::vector<std::array<double, 2>> contact_regions;
+  std::vector<ContactRegion> contact_regions;   // user coordinate
   double w_max = 0, at_w_max = 0, w_min = 0, at_w_min = 0;
   double max_reaction = 0;
   double time_s = 0;                  // the whole solve: set-up, solver, post-processing
@@ -141,13 +142,15 @@ void attach_design(SolveReport& report, const post::DesignValues& design, const 
 
 SolveReport make_report(const scene::Scene& scene, const model::MemberModel& model, const fe::Discretisation& d,
                         const contact::ContactSolution& solution, const post::Fields& fields,
-                        const std::vector<post::Interval>& regions);
+                        const std::vector<ContactRegion>& regions);
 SolveReport make_report(const scene::Scene& scene, const model::MemberModel& model, const ritz::RitzSolution& solution,
                         int samples);
 
 nlohmann::json to_json(const SolveReport& report);
 // The JSON `units` object: {"system": ..., "<name>": label} for every label of scene::unit_labels.
 nlohmann::json units_json(const scene::Units& units);
+// The regions as the files write them: [[begin, end], ...].
+nlohmann::json contact_regions_json(const std::vector<ContactRegion>& regions);
 std::string text_summary(const SolveReport& report);
 // Several methods on one scene, one column each (`--method all`).
 std::string side_by_side(const std::vector<SolveReport>& reports);

@@ -170,7 +170,7 @@ const StepColumn step_columns[] = {
     {"contact_regions", ColumnKind::keyed, 2,
      [](const TraceStep& s) {
        std::vector<double> v;
-       for (const auto& r : s.contact_regions) v.insert(v.end(), {r[0], r[1]});
+       for (const ContactRegion& r : s.contact_regions) v.insert(v.end(), {r.begin, r.end});
        return v;
      },
      [](TraceStep& s, std::vector<double> v) {

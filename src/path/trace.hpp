@@ -23,6 +23,7 @@
 #include <variant>
 #include <vector>
 
+#include "core/contact_region.hpp"
 #include "core/enum_names.hpp"
 #include "scene/scene.hpp"
 
@@ -78,11 +79,11 @@ using StateTopology = std::variant<std::monostate, RitzTopology, FeContactSet>;
 // One recorded point of the path.
 struct TraceStep {
   double load_factor = 0.0;
-  std::vector<std::array<double, 2>> contact_regions;  // user coordinate
-  double monitor_deflection = 0.0;                     // w at TraceOptions::monitor (user length units)
-  std::vector<double> deflection;                      // w at TraceOptions::sample_points (user length units)
-  std::vector<double> reaction;                        // foundation reaction there (force per length, compression > 0)
-  int iterations = 0;                                  // corrector iterations (Ritz) or pivots (FE) since the last step
+  std::vector<ContactRegion> contact_regions;  // user coordinate
+  double monitor_deflection = 0.0;             // w at TraceOptions::monitor (user length units)
+  std::vector<double> deflection;              // w at TraceOptions::sample_points (user length units)
+  std::vector<double> reaction;                // foundation reaction there (force per length, compression > 0)
+  int iterations = 0;                          // corrector iterations (Ritz) or pivots (FE) since the last step
   // What a resumed trace needs to continue from this step without redoing anything, read by
   // the path that wrote it. Ritz: its topology and (unknowns, tangent, next step length,
   // amplitude scale), so a resumed run takes the same steps; FE: FeContactSet and one 0/1 per

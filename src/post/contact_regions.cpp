@@ -14,12 +14,12 @@ namespace {
 constexpr int brackets = 8;
 }  // namespace
 
-std::vector<Interval> contact_regions(const model::MemberModel& model, const fe::Discretisation& d,
-                                      const Eigen::VectorXd& displacement) {
+std::vector<ContactRegion> contact_regions(const model::MemberModel& model, const fe::Discretisation& d,
+                                           const Eigen::VectorXd& displacement) {
   const double begin = model.foundation_begin, end = model.foundation_end;
   const auto stretches = model.foundation_stretches();
   if (!d.tensionless) {
-    std::vector<Interval> whole;
+    std::vector<ContactRegion> whole;
     for (const auto& [a, b] : stretches) whole.push_back({a, b});
     return whole;
   }
@@ -70,7 +70,7 @@ std::vector<Interval> contact_regions(const model::MemberModel& model, const fe:
   }
   std::sort(cuts.begin(), cuts.end());
 
-  std::vector<Interval> regions;
+  std::vector<ContactRegion> regions;
   for (std::size_t i = 0; i + 1 < cuts.size(); ++i) {
     const double a = cuts[i], b = cuts[i + 1];
     if (b <= a || model.foundation_modulus_at(0.5 * (a + b)) == 0.0) continue;  // a void

@@ -7,17 +7,14 @@
 #include <Eigen/Dense>
 #include <vector>
 
+#include "core/contact_region.hpp"
 #include "fe/discretisation.hpp"
 #include "model/member_model.hpp"
 
 namespace liftoff::post {
 
-struct Interval {
-  double begin = 0.0;
-  double end = 0.0;
-};
-
-std::vector<Interval> contact_regions(const model::MemberModel& model, const fe::Discretisation& d,
-                                      const Eigen::VectorXd& displacement);
+// The regions in contact (in_contact true), in s, in order.
+std::vector<ContactRegion> contact_regions(const model::MemberModel& model, const fe::Discretisation& d,
+                                           const Eigen::VectorXd& displacement);
 
 }  // namespace liftoff::post

@@ -25,12 +25,9 @@ Fields sample_fields(const model::MemberModel& model, const ritz::RitzSolution& 
   return f;
 }
 
-std::vector<Interval> contact_regions(const ritz::RitzSolution& solution) {
-  std::vector<Interval> regions;
-  if (!solution.model) return regions;
-  for (const ritz::Piece& piece : solution.model->contact_pieces(solution.unknowns))
-    regions.push_back({piece.begin, piece.end});
-  return regions;
+std::vector<ContactRegion> contact_regions(const ritz::RitzSolution& solution) {
+  if (!solution.model) return {};
+  return solution.model->contact_pieces(solution.unknowns);
 }
 
 DesignValues ritz_beam_statics(const model::MemberModel& model, const ritz::RitzSolution& solution,
@@ -38,7 +35,7 @@ DesignValues ritz_beam_statics(const model::MemberModel& model, const ritz::Ritz
                                Fields& fields) {
   fields = sample_fields(model, solution, samples);
   std::vector<double> limits;
-  for (const Interval& region : contact_regions(solution)) limits.insert(limits.end(), {region.begin, region.end});
+  for (const ContactRegion& region : contact_regions(solution)) limits.insert(limits.end(), {region.begin, region.end});
   return recover_beam_statics(
       model, [&](double s) { return solution.model->reaction(solution.unknowns, s); }, limits, supports, load_factor,
       fields);

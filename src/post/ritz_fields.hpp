@@ -20,7 +20,7 @@ Fields sample_fields(const model::MemberModel& model, const ritz::RitzSolution& 
 
 // The contact pieces of the solution (its model's limits at its unknowns), in order along s;
 // empty without a model.
-std::vector<Interval> contact_regions(const ritz::RitzSolution& solution);
+std::vector<ContactRegion> contact_regions(const ritz::RitzSolution& solution);
 
 // Beams: V and M by statics (recover_beam_statics with the Ritz reaction k w, its kinks at the
 // contact limits) at `samples` uniform points, with the supports' reactions the certificate

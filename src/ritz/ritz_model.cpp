@@ -226,9 +226,9 @@ VectorXd RitzModel::phi_at(double s, int derivative) const {
   return values;
 }
 
-std::vector<Piece> RitzModel::pieces(const VectorXd& x) const {
+std::vector<ContactRegion> RitzModel::pieces(const VectorXd& x) const {
   check_size(x);
-  std::vector<Piece> out;
+  std::vector<ContactRegion> out;
   double begin = foundation_begin_;
   bool contact = topology_.first_in_contact;
   for (int m = 0; m <= limits(); ++m, contact = !contact) {
@@ -239,9 +239,9 @@ std::vector<Piece> RitzModel::pieces(const VectorXd& x) const {
   return out;
 }
 
-std::vector<Piece> RitzModel::contact_pieces(const VectorXd& x) const {
-  std::vector<Piece> all = pieces(x);
-  std::erase_if(all, [](const Piece& p) { return !p.in_contact; });
+std::vector<ContactRegion> RitzModel::contact_pieces(const VectorXd& x) const {
+  std::vector<ContactRegion> all = pieces(x);
+  std::erase_if(all, [](const ContactRegion& p) { return !p.in_contact; });
   return all;
 }
 
@@ -259,7 +259,7 @@ bool RitzModel::admissible(const VectorXd& x) const {
 
 MatrixXd RitzModel::contact_gram(const VectorXd& x) const {
   MatrixXd g = MatrixXd::Zero(modes_, modes_);
-  for (const Piece& piece : contact_pieces(x)) {
+  for (const ContactRegion& piece : contact_pieces(x)) {
     split_integral(piece.begin, piece.end, [&](int r, double lo, double hi) {
       // Called with lo < hi; the sign of a reversed piece is applied below through `sign`.
       w_products_[r].add_integrals(lo, hi, piece.end < piece.begin ? -1.0 : 1.0, g);
@@ -399,7 +399,7 @@ void RitzModel::w_on_grid(const VectorXd& x, double a, double b, int n, std::vec
 }
 
 double RitzModel::reaction(const VectorXd& x, double s) const {
-  for (const Piece& piece : contact_pieces(x))
+  for (const ContactRegion& piece : contact_pieces(x))
     if (s >= piece.begin && s <= piece.end) return foundation_modulus_ * w(x, s);
   return 0.0;
 }

@@ -35,6 +35,7 @@
 #include <string>
 #include <vector>
 
+#include "core/contact_region.hpp"
 #include "model/member_model.hpp"
 #include "ritz/basis.hpp"
 #include "ritz/product_table.hpp"
@@ -49,12 +50,6 @@ struct Topology {
   void validate() const;  // throws std::invalid_argument if limits < 0
 };
 std::string to_string(const Topology&);  // e.g. "contact | lift-off | contact (2 limits)"
-
-struct Piece {
-  double begin = 0.0;
-  double end = 0.0;
-  bool in_contact = false;
-};
 
 // What the moving-boundary model cannot take, found from the member before anything is solved:
 // the scene key that brings it in and what the model takes instead. The one list of them, used by
@@ -127,9 +122,9 @@ class RitzModel {
   // checks on dense grids.
   void w_on_grid(const Eigen::VectorXd& x, double a, double b, int n, std::vector<double>& values) const;
 
-  // The M + 1 pieces of the foundation's extent, and those in contact.
-  std::vector<Piece> pieces(const Eigen::VectorXd& x) const;
-  std::vector<Piece> contact_pieces(const Eigen::VectorXd& x) const;
+  // The M + 1 pieces of the foundation's extent (s), contact and lift-off alternating, and those in contact.
+  std::vector<ContactRegion> pieces(const Eigen::VectorXd& x) const;
+  std::vector<ContactRegion> contact_pieces(const Eigen::VectorXd& x) const;
   // Limits finite, strictly increasing and strictly inside (foundation_begin, foundation_end),
   // amplitudes finite.
   bool admissible(const Eigen::VectorXd& x) const;

@@ -45,9 +45,9 @@ InequalityCheck check_inequalities(const RitzModel& model, const VectorXd& x) {
   InequalityCheck check;
   double worst = 0.0;
   std::vector<double> w;
-  const std::vector<Piece> pieces = model.pieces(x);
+  const std::vector<ContactRegion> pieces = model.pieces(x);
   const double length = pieces.empty() ? 0.0 : pieces.back().end - pieces.front().begin;
-  for (const Piece& piece : pieces) {
+  for (const ContactRegion& piece : pieces) {
     const double share = length > 0 ? std::max(piece.end - piece.begin, 0.0) / length : 1.0;
     const int intervals = std::max(400, static_cast<int>(std::ceil(16.0 * model.modes() * share)));
     // Open pieces: the ends are the limits, where w = 0 by construction.

@@ -121,9 +121,9 @@ TEST_CASE("envelope over combinations: every case certified, the ULS governs the
   CHECK(max_of(r.pressure_max) >= 0.99 * max_of(uls.reaction));  // the grid misses the peak by < 1 %
   // The contact limit of each combination: G full, SLS and ULS lift off near 0.4 (rigid 0.40, 0.436).
   CHECK(r.cases[0].report.contact_regions.size() == 1);
-  CHECK(r.cases[0].report.contact_regions[0][0] == Approx(0.0));
-  CHECK(r.cases[1].report.contact_regions[0][0] == Approx(0.40).margin(0.05));
-  CHECK(r.cases[2].report.contact_regions[0][0] == Approx(0.436).margin(0.05));
+  CHECK(r.cases[0].report.contact_regions[0].begin == Approx(0.0));
+  CHECK(r.cases[1].report.contact_regions[0].begin == Approx(0.40).margin(0.05));
+  CHECK(r.cases[2].report.contact_regions[0].begin == Approx(0.436).margin(0.05));
 }
 
 TEST_CASE("a moving bogie: envelopes, governing positions, and the warm start changes the work, not the answers",
@@ -147,8 +147,8 @@ TEST_CASE("a moving bogie: envelopes, governing positions, and the warm start ch
     const auto& rb = b.cases[k].report.contact_regions;
     REQUIRE(ra.size() == rb.size());
     for (std::size_t i = 0; i < ra.size(); ++i) {
-      CHECK(ra[i][0] == Approx(rb[i][0]).epsilon(1e-12));
-      CHECK(ra[i][1] == Approx(rb[i][1]).epsilon(1e-12));
+      CHECK(ra[i].begin == Approx(rb[i].begin).epsilon(1e-12));
+      CHECK(ra[i].end == Approx(rb[i].end).epsilon(1e-12));
     }
     CHECK(a.cases[k].report.w_max == Approx(b.cases[k].report.w_max).epsilon(1e-9));
   }
@@ -186,8 +186,8 @@ TEST_CASE("a tandem axle across a slab: interior positions are Hetenyi's, a join
   REQUIRE(middle.position);
   CHECK(*middle.position == Approx(6.9));
   REQUIRE(middle.report.contact_regions.size() == 1);
-  CHECK(middle.report.contact_regions[0][0] == Approx(0.0).margin(1e-12));
-  CHECK(middle.report.contact_regions[0][1] == Approx(L));
+  CHECK(middle.report.contact_regions[0].begin == Approx(0.0).margin(1e-12));
+  CHECK(middle.report.contact_regions[0].end == Approx(L));
   const double end_effect = 4 * std::exp(-beta * 6.9);
   const double w_axle = P * beta / (2 * K) * (1 + eta(beta * s_axles)) + q / K;
   const double m_axle = P / (4 * beta) * (1 + mu(beta * s_axles));
@@ -215,7 +215,7 @@ TEST_CASE("a tandem axle across a slab: interior positions are Hetenyi's, a join
   // 2 P beta / K e^(-beta x) cos(beta x) < 0: pi / (2 beta) < x < 3 pi / (2 beta).
   const io::EnvelopeCase& at_joint = r.cases[0];
   REQUIRE(at_joint.report.contact_regions.size() == 2);
-  const double gap_from = at_joint.report.contact_regions[0][1], gap_to = at_joint.report.contact_regions[1][0];
+  const double gap_from = at_joint.report.contact_regions[0].end, gap_to = at_joint.report.contact_regions[1].begin;
   CAPTURE(gap_from, gap_to);
   CHECK(gap_from > M_PI / (2 * beta));
   CHECK(gap_to < 3 * M_PI / (2 * beta));

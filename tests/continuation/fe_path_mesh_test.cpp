@@ -259,8 +259,8 @@ TEST_CASE("region_split: no mesh adds an event at the load or fails to start", "
     CHECK(r.summary.termination == continuation::TraceTermination::completed);
     REQUIRE(!r.steps.empty());
     REQUIRE(r.steps.front().contact_regions.size() == 1);
-    CHECK(r.steps.front().contact_regions[0][0] == Approx(1.88).margin(0.01));
-    CHECK(r.steps.front().contact_regions[0][1] == Approx(8.12).margin(0.01));
+    CHECK(r.steps.front().contact_regions[0].begin == Approx(1.88).margin(0.01));
+    CHECK(r.steps.front().contact_regions[0].end == Approx(8.12).margin(0.01));
   }
 }
 
@@ -299,7 +299,7 @@ TEST_CASE("a member about to tip over: the path stops where round-off decides it
     for (const auto& step : r.steps) {
       CAPTURE(step.load_factor);
       REQUIRE(step.contact_regions.size() == 1);
-      CHECK(step.contact_regions[0][1] == Approx(10.0).margin(1e-9));
+      CHECK(step.contact_regions[0].end == Approx(10.0).margin(1e-9));
     }
   }
 }

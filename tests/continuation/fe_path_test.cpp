@@ -312,8 +312,8 @@ TEST_CASE("a central contact region splits in two") {
   REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
   // The dead load over the middle presses a central region only: both ends are lifted off.
   REQUIRE(result.steps.front().contact_regions.size() == 1);
-  CHECK(result.steps.front().contact_regions[0][0] > 1.0);
-  CHECK(result.steps.front().contact_regions[0][1] < 9.0);
+  CHECK(result.steps.front().contact_regions[0].begin > 1.0);
+  CHECK(result.steps.front().contact_regions[0].end < 9.0);
   const auto* split = first_event(result, EventKind::lift_off_opens);
   REQUIRE(split != nullptr);
   CHECK(split == &result.events.front());
@@ -323,13 +323,13 @@ TEST_CASE("a central contact region splits in two") {
   const auto before = lemke_topology(central_region_split(), 80, split->load_factor - offset);
   const auto after = lemke_topology(central_region_split(), 80, split->load_factor + offset);
   REQUIRE(before.pieces.size() == 3);  // lift-off, contact, lift-off
-  CHECK(before.pieces[1].contact);
-  CHECK(before.pieces[1].begin < 0.5);
-  CHECK(before.pieces[1].end > 0.5);
+  CHECK(before.pieces[1].region.in_contact);
+  CHECK(before.pieces[1].region.begin < 0.5);
+  CHECK(before.pieces[1].region.end > 0.5);
   REQUIRE(after.pieces.size() == 5);  // lift-off, contact, lift-off, contact, lift-off
-  CHECK(!after.pieces[2].contact);
-  CHECK(after.pieces[2].begin < 0.5);
-  CHECK(after.pieces[2].end > 0.5);
+  CHECK(!after.pieces[2].region.in_contact);
+  CHECK(after.pieces[2].region.begin < 0.5);
+  CHECK(after.pieces[2].region.end > 0.5);
   check_events_against_lemke(central_region_split(), options, result);
 }
 
@@ -450,8 +450,8 @@ TEST_CASE("a shipped arch traced from no load to lambda = 1 ends where solve doe
   const auto& end = result.steps.back();
   REQUIRE(end.contact_regions.size() == solved.regions.size());
   for (std::size_t i = 0; i < solved.regions.size(); ++i) {
-    CHECK(end.contact_regions[i][0] == Approx(solved.model.user_from_s(solved.regions[i].begin)).epsilon(1e-9));
-    CHECK(end.contact_regions[i][1] == Approx(solved.model.user_from_s(solved.regions[i].end)).epsilon(1e-9));
+    CHECK(end.contact_regions[i].begin == Approx(solved.model.user_from_s(solved.regions[i].begin)).epsilon(1e-9));
+    CHECK(end.contact_regions[i].end == Approx(solved.model.user_from_s(solved.regions[i].end)).epsilon(1e-9));
   }
   const int crown = solved.discretisation.mesh.node_at(0.0);
   REQUIRE(crown >= 0);
@@ -617,8 +617,9 @@ TEST_CASE("a ground gap and settlements: the path from lambda = 0 ends where sol
     const NodalState& exact = path.exact;
     REQUIRE(path.end.contact_regions.size() == solved.regions.size());
     for (std::size_t i = 0; i < solved.regions.size(); ++i) {
-      CHECK(path.end.contact_regions[i][0] == Approx(solved.model.user_from_s(solved.regions[i].begin)).epsilon(1e-9));
-      CHECK(path.end.contact_regions[i][1] == Approx(solved.model.user_from_s(solved.regions[i].end)).epsilon(1e-9));
+      CHECK(path.end.contact_regions[i].begin ==
+            Approx(solved.model.user_from_s(solved.regions[i].begin)).epsilon(1e-9));
+      CHECK(path.end.contact_regions[i].end == Approx(solved.model.user_from_s(solved.regions[i].end)).epsilon(1e-9));
     }
     // Would it fail if the path dropped the constant part? The answer without it (the same
     // scene with no gap and no settlement) is another, by 1e6 times the tolerance above at least

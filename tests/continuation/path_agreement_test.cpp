@@ -200,7 +200,7 @@ TEST_CASE(
   std::vector<closed_form::Interval> regions;
   for (const auto& step : g.fe.steps)
     if (step.load_factor < g.fe.events[1].load_factor - 0.01 && step.contact_regions.size() == 1)
-      regions = {{step.contact_regions[0][0], s.structure.length}};
+      regions = {{step.contact_regions[0].begin, s.structure.length}};
   REQUIRE(regions.size() == 1);
   const auto slope_end = [&](double lambda) {
     const auto r = closed_form::solve_tensionless(loads_of(s, lambda), regions);
@@ -263,7 +263,7 @@ TEST_CASE("region_split: the split and the limits reaching the free ends at one 
   std::vector<closed_form::Interval> regions;
   for (const auto& step : g.fe.steps)
     if (step.load_factor < g.fe.events[1].load_factor - 0.01 && step.contact_regions.size() == 2)
-      regions = {{0.0, step.contact_regions[0][1]}, {step.contact_regions[1][0], s.structure.length}};
+      regions = {{0.0, step.contact_regions[0].end}, {step.contact_regions[1].begin, s.structure.length}};
   REQUIRE(regions.size() == 2);
   const auto w_end = [&](double lambda) {
     const auto r = closed_form::solve_tensionless(loads_of(s, lambda), regions);
@@ -316,8 +316,8 @@ TEST_CASE("region_split at 40 modes: a limit reaching a free end is removed, not
     INFO("lambda " << step.load_factor);
     CHECK(step.contact_regions.size() <= 2);
     for (const auto& region : step.contact_regions) {
-      CHECK(region[0] >= 0.0);
-      CHECK(region[1] <= s.structure.length);
+      CHECK(region.begin >= 0.0);
+      CHECK(region.end <= s.structure.length);
     }
   }
 }

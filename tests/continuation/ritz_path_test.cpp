@@ -114,8 +114,8 @@ TEST_CASE("ritz path: the lift-off zone grows symmetrically past the first lift-
     previous_lambda = step.load_factor;
     if (step.load_factor <= lambda_star) {
       REQUIRE(step.contact_regions.size() == 1);  // full contact
-      CHECK(step.contact_regions[0][0] == 0.0);
-      CHECK(step.contact_regions[0][1] == length);
+      CHECK(step.contact_regions[0].begin == 0.0);
+      CHECK(step.contact_regions[0].end == length);
       // Full contact: w(5) = q/K + lambda w_live(5) falls linearly to 0 at lambda*.
       const double w_centre = step.deflection[2];
       CHECK(std::abs(w_centre -
@@ -124,7 +124,7 @@ TEST_CASE("ritz path: the lift-off zone grows symmetrically past the first lift-
       continue;
     }
     REQUIRE(step.contact_regions.size() == 2);
-    const double left = step.contact_regions[0][1], right = step.contact_regions[1][0];
+    const double left = step.contact_regions[0].end, right = step.contact_regions[1].begin;
     // Symmetric about the load to round-off (the limits are solved, not mirrored).
     CHECK(std::abs((left + right) / 2 - 5.0) < 1e-9 * length);
     const double width = right - left;
@@ -176,8 +176,8 @@ TEST_CASE("ritz path: a resumed trace reproduces the original", "[ritz_path]") {
       CHECK(b.monitor_deflection == Approx(a.monitor_deflection).epsilon(1e-9));
       REQUIRE(b.contact_regions.size() == a.contact_regions.size());
       for (std::size_t j = 0; j < a.contact_regions.size(); ++j) {
-        CHECK(std::abs(b.contact_regions[j][0] - a.contact_regions[j][0]) < 1e-9 * length);
-        CHECK(std::abs(b.contact_regions[j][1] - a.contact_regions[j][1]) < 1e-9 * length);
+        CHECK(std::abs(b.contact_regions[j].begin - a.contact_regions[j].begin) < 1e-9 * length);
+        CHECK(std::abs(b.contact_regions[j].end - a.contact_regions[j].end) < 1e-9 * length);
       }
     }
     // The events after `from` (an event at `from` itself was written with its step).
@@ -204,7 +204,7 @@ TEST_CASE("ritz path: load control and arc-length agree where both apply", "[rit
   REQUIRE(arc.summary.termination == TraceTermination::completed);
   REQUIRE(load.events.size() == arc.events.size());
   CHECK(load.events.front().load_factor == Approx(arc.events.front().load_factor).epsilon(1e-10));
-  CHECK(load.steps.back().contact_regions[0][1] == Approx(arc.steps.back().contact_regions[0][1]).epsilon(1e-9));
+  CHECK(load.steps.back().contact_regions[0].end == Approx(arc.steps.back().contact_regions[0].end).epsilon(1e-9));
 }
 
 TEST_CASE("ritz path: bad options are refused with the field named", "[ritz_path]") {
@@ -260,8 +260,8 @@ TEST_CASE("ritz path: live loads alone scale the solution, the topology stays (s
   REQUIRE(last.contact_regions.size() == 1);
   for (const TraceStep& step : r.steps) {
     REQUIRE(step.contact_regions.size() == 1);
-    CHECK(std::abs(step.contact_regions[0][0] - last.contact_regions[0][0]) < 1e-9);  // degrees
-    CHECK(std::abs(step.contact_regions[0][1] - last.contact_regions[0][1]) < 1e-9);
+    CHECK(std::abs(step.contact_regions[0].begin - last.contact_regions[0].begin) < 1e-9);  // degrees
+    CHECK(std::abs(step.contact_regions[0].end - last.contact_regions[0].end) < 1e-9);
     CHECK(step.monitor_deflection / step.load_factor == Approx(last.monitor_deflection).epsilon(1e-9));
   }
 }
@@ -343,7 +343,7 @@ void check_contact_solutions(const TraceResult& r, const std::vector<double>& sa
     for (std::size_t i = 0; i < samples.size(); ++i) {
       bool inside = false;
       for (const auto& region : step.contact_regions)
-        if (samples[i] >= region[0] && samples[i] <= region[1]) inside = true;
+        if (samples[i] >= region.begin && samples[i] <= region.end) inside = true;
       INFO("at " << samples[i] << ": w = " << step.deflection[i] << ", reaction " << step.reaction[i]);
       if (inside) {
         CHECK(step.deflection[i] >= -tolerance);
@@ -536,8 +536,8 @@ TEST_CASE("ritz path: a state of the wrong topology is refused, naming the inequ
   const std::size_t at = r.summary.message.find("at x = ");
   REQUIRE(at != std::string::npos);
   const double x = std::stod(r.summary.message.substr(at + 7));
-  CHECK(x > lifted.contact_regions[0][1]);
-  CHECK(x < lifted.contact_regions[1][0]);
+  CHECK(x > lifted.contact_regions[0].end);
+  CHECK(x < lifted.contact_regions[1].begin);
 }
 
 TEST_CASE("ritz path: the summary counts what the result holds", "[ritz_path][issue10]") {

@@ -37,8 +37,8 @@ TEST_CASE("ritz fields: the model's series at uniform samples, its pieces as con
     CHECK(f.reaction[i] == model.reaction(*x, f.s[i]));
   }
 
-  const std::vector<post::Interval> regions = post::contact_regions(solution);
-  const std::vector<ritz::Piece> pieces = model.contact_pieces(*x);
+  const std::vector<ContactRegion> regions = post::contact_regions(solution);
+  const std::vector<ContactRegion> pieces = model.contact_pieces(*x);
   REQUIRE(regions.size() == pieces.size());
   for (std::size_t i = 0; i < regions.size(); ++i) {
     CHECK(regions[i].begin == pieces[i].begin);

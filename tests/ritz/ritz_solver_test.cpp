@@ -57,7 +57,7 @@ TEST_CASE("Ritz: Newton converges quadratically on w(t) = 0, linearly on the raw
   const model::MemberModel member = model::make_member_model(s);
   const ritz::RitzModel model(member, 16, {true, 2});
   Eigen::VectorXd limits(2);
-  limits << converged.contact_regions[0][1] + 0.01, converged.contact_regions[1][0] - 0.01;
+  limits << converged.contact_regions[0].end + 0.01, converged.contact_regions[1].begin - 0.01;
   const Eigen::VectorXd start = *model.minimiser_for_limits(limits, 1.0);
 
   auto run = [&](bool regularised) {
@@ -134,8 +134,8 @@ TEST_CASE("Ritz agrees with fine-mesh FE on every contact limit of the seed scen
   REQUIRE(fe.contact_regions.size() == ritz.contact_regions.size());
   double worst = 0.0;
   for (std::size_t i = 0; i < fe.contact_regions.size(); ++i)
-    for (int end = 0; end < 2; ++end)
-      worst = std::max(worst, std::abs(fe.contact_regions[i][end] - ritz.contact_regions[i][end]));
+    worst = std::max({worst, std::abs(fe.contact_regions[i].begin - ritz.contact_regions[i].begin),
+                      std::abs(fe.contact_regions[i].end - ritz.contact_regions[i].end)});
   std::printf("%-36s Ritz (%d modes, est. %.1e) vs FE (%d elements): largest limit difference %.2e\n", name.c_str(),
               ritz.modes, ritz.estimated_limit_error, elements, worst);
   CHECK(worst < tolerance);

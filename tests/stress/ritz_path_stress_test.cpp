@@ -48,7 +48,7 @@ TEST_CASE("ritz path stress: the pipeline to lambda = 3, every step a contact so
     for (std::size_t i = 0; i < options.sample_points.size(); ++i) {
       const double x = options.sample_points[i];
       bool inside = false;
-      for (const auto& region : step.contact_regions) inside = inside || (x >= region[0] && x <= region[1]);
+      for (const auto& region : step.contact_regions) inside = inside || (x >= region.begin && x <= region.end);
       INFO("x = " << x << ": w = " << step.deflection[i] << ", reaction " << step.reaction[i]);
       if (inside) {
         CHECK(step.deflection[i] >= -tolerance);
@@ -67,8 +67,8 @@ TEST_CASE("ritz path stress: the pipeline to lambda = 3, every step a contact so
   const TraceStep& end = ritz.steps.back();
   REQUIRE(end.load_factor == options.arc_length.lambda_max);
   REQUIRE(end.contact_regions.size() == 2);
-  const double a_ritz = end.contact_regions[0][1];
-  CHECK(std::abs(end.contact_regions[1][0] - (500.0 - a_ritz)) < 1e-9 * 500.0);  // symmetric
+  const double a_ritz = end.contact_regions[0].end;
+  CHECK(std::abs(end.contact_regions[1].begin - (500.0 - a_ritz)) < 1e-9 * 500.0);  // symmetric
   const TraceResult fe = trace_fe(s, options);
   TraceOptions fine_options = options;
   fine_options.elements = 400;
@@ -77,8 +77,8 @@ TEST_CASE("ritz path stress: the pipeline to lambda = 3, every step a contact so
   REQUIRE(fine.summary.termination == TraceTermination::completed);
   REQUIRE(fe.steps.back().contact_regions.size() == 2);
   REQUIRE(fine.steps.back().contact_regions.size() == 2);
-  const double a_fe = fe.steps.back().contact_regions[0][1];
-  const double fe_error = 3.0 * std::abs(a_fe - fine.steps.back().contact_regions[0][1]);
+  const double a_fe = fe.steps.back().contact_regions[0].end;
+  const double fe_error = 3.0 * std::abs(a_fe - fine.steps.back().contact_regions[0].end);
 
   const auto& topology = std::get<path::RitzTopology>(end.state_topology);
   const int modes = topology.modes;

@@ -33,7 +33,7 @@ struct PoorStart {
 std::vector<double> closed_form_limits(const scene::Scene& s, const io::SolveReport& good) {
   const closed_form::BeamProblem p = closed_form::problem_of(s);
   std::vector<closed_form::Interval> guess;
-  for (const auto& r : good.contact_regions) guess.push_back({r[0], r[1]});
+  for (const auto& r : good.contact_regions) guess.push_back({r.begin, r.end});
   const auto exact = closed_form::solve_tensionless(p, guess);
   REQUIRE(exact.status == closed_form::TensionlessStatus::converged);
   return exact.limits;
@@ -83,7 +83,7 @@ TEST_CASE("stress: Ritz from poor initial limits reaches the contact solution", 
   for (int i = 0; i <= samples; ++i)
     w_scale = std::max(w_scale, std::abs(model.w(x, member.s_begin + member.length() * i / samples)));
   double worst_violation = 0.0;
-  for (const ritz::Piece& piece : model.pieces(x))
+  for (const ContactRegion& piece : model.pieces(x))
     for (int i = 0; i <= samples; ++i) {
       const double t = piece.begin + (piece.end - piece.begin) * i / samples;
       const double w = model.w(x, t);
@@ -126,7 +126,7 @@ TEST_CASE("stress: Ritz from poor initial limits reaches the contact solution", 
   std::vector<double> found, expected;
   for (int m = 0; m < model.limits(); ++m) found.push_back(member.user_from_s(x[model.limit_offset() + m]));
   for (const auto& region : good.contact_regions)
-    for (double limit : region)
+    for (double limit : {region.begin, region.end})
       if (limit > s.begin() + 1e-9 && limit < s.end() - 1e-9) expected.push_back(limit);
   REQUIRE(found.size() == expected.size());
   const double to_user = (s.end() - s.begin()) / member.length();  // s -> user units (L or degrees)

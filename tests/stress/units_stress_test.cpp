@@ -44,7 +44,7 @@ Nondimensional nondimensional(const io::SolveReport& r, const scene::Scene& s) {
   const double L = s.structure.length, EI = s.structure.bending_stiffness;
   Nondimensional n;
   for (const auto& region : r.contact_regions)
-    for (double limit : region) n.limits.push_back(limit / L);
+    for (double limit : {region.begin, region.end}) n.limits.push_back(limit / L);
   n.w_max = r.w_max / L;
   n.w_min = r.w_min / L;
   n.max_reaction = r.max_reaction / (EI / (L * L * L));

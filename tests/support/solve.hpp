@@ -17,7 +17,7 @@ struct Solved {
   model::MemberModel model;
   fe::Discretisation discretisation;
   contact::ContactSolution solution;
-  std::vector<post::Interval> regions;  // in s
+  std::vector<ContactRegion> regions;  // in s
 };
 
 inline Solved solve(const scene::Scene& scene, scene::Method method, int elements, double load_factor = 1.0) {

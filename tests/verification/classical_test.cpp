@@ -31,7 +31,7 @@ io::SolveReport solve(const scene::Scene& s, Method method, int elements, std::o
 
 double contact_length(const io::SolveReport& r) {
   double length = 0.0;
-  for (const auto& region : r.contact_regions) length += region[1] - region[0];
+  for (const auto& region : r.contact_regions) length += region.length();
   return length;
 }
 
@@ -56,8 +56,8 @@ TEST_CASE("classical: a free-free beam under a central load stays in full contac
     const io::SolveReport r = solve(s, Method::primal, 60);
     CAPTURE(beta_l);
     REQUIRE(r.contact_regions.size() == 1);
-    CHECK(r.contact_regions[0][0] == 0.0);
-    CHECK(r.contact_regions[0][1] == 1.0);
+    CHECK(r.contact_regions[0].begin == 0.0);
+    CHECK(r.contact_regions[0].end == 1.0);
   }
   // Beyond pi the contact length is pi / beta, whatever the load.
   for (double beta_l : {6.0, 10.0})
@@ -108,7 +108,7 @@ TEST_CASE("classical: weight plus a point load: lift-off starts at beta x = pi w
       } else {
         // Two lift-off zones open symmetrically, centred near beta |x - 1/2| = pi.
         REQUIRE(r.contact_regions.size() == 3);
-        const double centre = 0.5 * (r.contact_regions[0][1] + r.contact_regions[1][0]);
+        const double centre = 0.5 * (r.contact_regions[0].end + r.contact_regions[1].begin);
         CHECK(beta * std::abs(centre - 0.5) == Approx(pi).epsilon(0.02));
       }
     }

@@ -91,8 +91,8 @@ TEST_CASE("curling slab strip: the issue's closed form, the end-moment problem, 
   const io::SolveReport fast = solve(s, Method::fast);
   const double h = f.L / fast.elements;
   REQUIRE(fast.contact_regions.size() == 1);
-  CHECK(std::abs(fast.contact_regions[0][0] - exact.contact[0].start) <= h);
-  CHECK(std::abs(fast.contact_regions[0][1] - exact.contact[0].end) <= h);
+  CHECK(std::abs(fast.contact_regions[0].begin - exact.contact[0].start) <= h);
+  CHECK(std::abs(fast.contact_regions[0].end - exact.contact[0].end) <= h);
   CHECK(std::abs(-fast.w_min - f.rise) <= 10 * std::pow(f.beta * h, 2) * f.rise);
 
   // 3. The tolerance path (limit-fitted): within its own estimates of the limits and w.
@@ -100,10 +100,11 @@ TEST_CASE("curling slab strip: the issue's closed form, the end-moment problem, 
   const io::SolveReport fitted = solve(s, Method::fast, tolerance);
   REQUIRE(fitted.contact_regions.size() == 1);
   std::printf("curling fitted: limits %.9f %.9f (exact %.9f %.9f), w_min %.9e (exact %.9e), estimates %.1e %.1e\n",
-              fitted.contact_regions[0][0], fitted.contact_regions[0][1], exact.contact[0].start, exact.contact[0].end,
-              fitted.w_min, exact.solution.deflection(0.0), fitted.estimated_limit_error, fitted.estimated_w_error);
-  CHECK(std::abs(fitted.contact_regions[0][0] - exact.contact[0].start) <= tolerance * f.L);
-  CHECK(std::abs(fitted.contact_regions[0][1] - exact.contact[0].end) <= tolerance * f.L);
+              fitted.contact_regions[0].begin, fitted.contact_regions[0].end, exact.contact[0].start,
+              exact.contact[0].end, fitted.w_min, exact.solution.deflection(0.0), fitted.estimated_limit_error,
+              fitted.estimated_w_error);
+  CHECK(std::abs(fitted.contact_regions[0].begin - exact.contact[0].start) <= tolerance * f.L);
+  CHECK(std::abs(fitted.contact_regions[0].end - exact.contact[0].end) <= tolerance * f.L);
   CHECK(std::abs(fitted.w_min - exact.solution.deflection(0.0)) <= 2 * tolerance * f.rise);
 
   // 4. The moment reported is the elastic one: zero at the free edges, -M0 (hogging) where the
@@ -164,8 +165,8 @@ TEST_CASE("a trapezoidal distributed load against the closed form", "[verificati
   REQUIRE(fitted.contact_regions.size() == exact.contact.size());
   for (std::size_t i = 0; i < exact.contact.size(); ++i) {
     CAPTURE(i);
-    CHECK(std::abs(fitted.contact_regions[i][0] / 4.0 - exact.contact[i].start) <= 1e-8);
-    CHECK(std::abs(fitted.contact_regions[i][1] / 4.0 - exact.contact[i].end) <= 1e-8);
+    CHECK(std::abs(fitted.contact_regions[i].begin / 4.0 - exact.contact[i].start) <= 1e-8);
+    CHECK(std::abs(fitted.contact_regions[i].end / 4.0 - exact.contact[i].end) <= 1e-8);
   }
   // The certificate's applied force is the table's integral (trapezoids) plus the point force.
   const double integral = 0.5 * 1.0 * 3.0 + 0.5 * 1.5 * (3.0 + 1.0) + 0.5 * 1.5 * (-0.5 + 2.0) - 2.0;

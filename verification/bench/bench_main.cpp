@@ -111,7 +111,7 @@ double maximum_of(F f, DF df, double a, double b, int samples) {
   return best_value;
 }
 
-Reference exact_reference(const scene::Scene& s, const std::vector<post::Interval>& guess_regions) {
+Reference exact_reference(const scene::Scene& s, const std::vector<ContactRegion>& guess_regions) {
   std::vector<closed_form::Interval> guess;
   for (const auto& r : guess_regions) guess.push_back({r.begin, r.end});
   const auto exact = closed_form::solve_tensionless(closed_form::problem_of(s), guess);
@@ -149,11 +149,11 @@ double limit_error(const std::vector<double>& found, const Reference& ref) {
   return worst;
 }
 
-std::vector<double> interior_limits(const std::vector<std::array<double, 2>>& regions, double begin, double end) {
+std::vector<double> interior_limits(const std::vector<ContactRegion>& regions, double begin, double end) {
   std::vector<double> limits;
   const double edge = 1e-9 * (end - begin);
   for (const auto& r : regions)
-    for (double t : r)
+    for (double t : {r.begin, r.end})
       if (t > begin + edge && t < end - edge) limits.push_back(t);
   return limits;
 }
@@ -163,7 +163,7 @@ struct FeRun {
   model::MemberModel model;
   fe::Discretisation discretisation;
   contact::ContactSolution solution;
-  std::vector<post::Interval> regions;
+  std::vector<ContactRegion> regions;
 };
 
 FeRun run_fe(const scene::Scene& s, Method method, int elements) {
@@ -196,7 +196,7 @@ Point measure_fe(const Options& o, const std::string& name, const scene::Scene& 
     const FeRun r = run_fe(s, method, elements);
     p.termination = std::string(contact::to_string(r.solution.summary.termination));
     if (r.solution.summary.is_usable()) {
-      std::vector<std::array<double, 2>> regions;
+      std::vector<ContactRegion> regions;
       for (const auto& g : r.regions) regions.push_back({r.model.user_from_s(g.begin), r.model.user_from_s(g.end)});
       p.limit_error = limit_error(interior_limits(regions, s.begin(), s.end()), ref) / s.structure.length;
       p.w_max_error = std::abs(fe_w_max(r) - ref.w_max) / std::abs(ref.w_max);
@@ -268,7 +268,7 @@ Point measure_dolfinx(const Options& o, const std::string& name, const scene::Sc
     return p;
   }
   const nlohmann::json r = nlohmann::json::parse(std::ifstream(json));
-  std::vector<std::array<double, 2>> regions;
+  std::vector<ContactRegion> regions;
   for (const auto& g : r["contact_regions"]) regions.push_back({g[0].get<double>(), g[1].get<double>()});
   p.termination = "solved";
   p.limit_error = limit_error(interior_limits(regions, s.begin(), s.end()), ref) / s.structure.length;

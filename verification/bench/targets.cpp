@@ -395,7 +395,7 @@ void run_targets(const TargetOptions& o) {
       } else {
         const nlohmann::json r = nlohmann::json::parse(std::ifstream(json));
         for (const auto& level : r["refinement"]) {
-          std::vector<post::Interval> regions;
+          std::vector<ContactRegion> regions;
           for (const auto& g : level["contact_regions"])
             regions.push_back({model.s_from_user(g[0].get<double>()), model.s_from_user(g[1].get<double>())});
           Point p{t.name, "dolfinx", level["elements"].get<int>(), Sample{}};

@@ -38,11 +38,11 @@ struct Row {
 double or_nan(double estimate) { return estimate >= 0 ? estimate : NAN; }
 
 // The interior contact limits (user coordinate) of regions given in the user's coordinate.
-std::vector<double> interior_limits(const std::vector<std::array<double, 2>>& regions, double begin, double end) {
+std::vector<double> interior_limits(const std::vector<ContactRegion>& regions, double begin, double end) {
   std::vector<double> limits;
   const double edge = 1e-9 * std::abs(end - begin);
   for (const auto& r : regions)
-    for (double t : r)
+    for (double t : {r.begin, r.end})
       if (t > std::min(begin, end) + edge && t < std::max(begin, end) - edge) limits.push_back(t);
   std::sort(limits.begin(), limits.end());
   return limits;
