@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/enum_names.hpp"
 #include "core/error.hpp"
 
 namespace liftoff::model {
@@ -14,33 +15,23 @@ namespace {
 constexpr double degrees = std::numbers::pi / 180.0;
 }
 
-std::string_view to_string(EndSupport support) {
-  switch (support) {
-    case EndSupport::pinned:
-      return "pinned";
-    case EndSupport::clamped:
-      return "clamped";
-    case EndSupport::free:
-      return "free";
-    case EndSupport::roller:
-      return "roller";
-  }
-  return "?";
-}
+namespace {
+constexpr EnumName<EndSupport> end_support_names[] = {
+    {EndSupport::pinned, "pinned"},
+    {EndSupport::clamped, "clamped"},
+    {EndSupport::free, "free"},
+    {EndSupport::roller, "roller"},
+};
+constexpr EnumName<LoadDirection> load_direction_names[] = {
+    {LoadDirection::radial, "radial"},
+    {LoadDirection::tangential, "tangential"},
+    {LoadDirection::vertical, "vertical"},
+    {LoadDirection::horizontal, "horizontal"},
+};
+}  // namespace
 
-std::string_view to_string(LoadDirection direction) {
-  switch (direction) {
-    case LoadDirection::radial:
-      return "radial";
-    case LoadDirection::tangential:
-      return "tangential";
-    case LoadDirection::vertical:
-      return "vertical";
-    case LoadDirection::horizontal:
-      return "horizontal";
-  }
-  return "?";
-}
+std::string_view to_string(EndSupport support) { return name_in<EndSupport>(end_support_names, support); }
+std::string_view to_string(LoadDirection direction) { return name_in<LoadDirection>(load_direction_names, direction); }
 
 double MemberModel::s_from_user(double position) const {
   return kind == StructureKind::beam ? position / scales.length : position * degrees;
