@@ -64,6 +64,12 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+// The median of a sample (the upper one of an even count).
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
 scene::Scene shipped(const std::string& name) {
   return scene::read_scene_file(std::string(LIFTOFF_SOURCE_DIR) + "/verification/scenes/" + name + ".toml");
 }
@@ -304,10 +310,6 @@ void ratio_section(int max_elements) {
       const contact::ContactSolution app_b = contact::solve_contact(db, fast_options);
       app_bilateral.push_back(seconds_since(start));
     }
-    auto median = [](std::vector<double> v) {
-      std::sort(v.begin(), v.end());
-      return v[v.size() / 2];
-    };
     const double td = median(discretise), tk = median(kernel), tf = median(fast), tn = median(nested),
                  ta = median(app_fast), tb = median(app_bilateral);
     std::printf(
@@ -550,6 +552,42 @@ void pipeline_section(int max_elements) {
 // set up and solved (KINSOL set-up, SparseLu analysis, one factorisation per iteration); a second
 // solve with the same adapter (no set-up, no analysis); the factor's nonzeros per unknown; the
 // peak memory of a child process doing discretise + one Newton solve.
+// Newton on the linear residual R(z) = A z - b through a SparseLu and a NewtonSolver set up once:
+// the Jacobian A is copied into the LU's matrix at the first iteration and its values after.
+struct LinearNewton {
+  const Eigen::SparseMatrix<double>& matrix;
+  const VectorXd& rhs;
+  nonlinear::SparseLu lu{static_cast<int>(matrix.rows())};
+  nonlinear::NewtonSolver newton{lu};
+  nonlinear::NewtonSummary solve(VectorXd& z, const nonlinear::NewtonOptions& options) {
+    return newton.solve(
+        [&](const VectorXd& x, VectorXd& f) {
+          f.noalias() = matrix * x;
+          f -= rhs;
+          return true;
+        },
+        [&](const VectorXd&, const VectorXd&) {
+          if (lu.matrix().nonZeros() == 0)
+            lu.matrix() = matrix;
+          else
+            std::copy(matrix.valuePtr(), matrix.valuePtr() + matrix.nonZeros(), lu.matrix().valuePtr());
+          return true;
+        },
+        z, options);
+  }
+};
+
+// The mixed system of the member on n elements and its right-hand side.
+struct MixedSystem {
+  fe::Discretisation d;
+  Eigen::SparseMatrix<double> matrix;
+  VectorXd rhs;
+  MixedSystem(const model::MemberModel& model, int n)
+      : d(fe::discretise(model, n)), matrix(fe::mixed_matrix(d)), rhs(VectorXd::Zero(matrix.rows())) {
+    rhs.tail(d.equations) = d.load(1.0);
+  }
+};
+
 void newton_section(int max_elements) {
   scene::Scene bilateral_scene = long_member();
   bilateral_scene.foundation.tensionless = false;
@@ -563,84 +601,49 @@ void newton_section(int max_elements) {
   for (int n : {10000, 100000, 1000000}) {
     if (n > max_elements) break;
     const int repeats = n <= 10000 ? 7 : n <= 100000 ? 5 : 3;
-    const fe::Discretisation d = fe::discretise(model, n);
-    const Eigen::SparseMatrix<double> matrix = fe::mixed_matrix(d);
-    const int m = d.stresses(), unknowns = static_cast<int>(matrix.rows());
-    VectorXd rhs = VectorXd::Zero(unknowns);
-    rhs.tail(d.equations) = d.load(1.0);
-    VectorXd typical(unknowns);
+    const MixedSystem system(model, n);
+    const Eigen::SparseMatrix<double>& matrix = system.matrix;
+    const VectorXd& rhs = system.rhs;
+    const int m = system.d.stresses(), unknowns = static_cast<int>(matrix.rows());
     std::vector<double> direct_s, newton_s, again_s;
     VectorXd z_direct, z_newton;
     nonlinear::NewtonSummary summary;
-    nonlinear::NewtonOptions last_options;
+    nonlinear::NewtonOptions options;
     long factor_nonzeros = 0;
     for (int r = -1; r < repeats; ++r) {  // r = -1: warm-up, not recorded
       auto start = std::chrono::steady_clock::now();
       Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> direct(matrix);
       z_direct = direct.solve(rhs);
       const double t_direct = seconds_since(start);
-      if (r == -1) {
+      if (r == -1) {  // scales from the answer's block sizes, as the Newton test does
+        VectorXd typical(unknowns);
         typical.head(m).setConstant(std::max(z_direct.head(m).lpNorm<Eigen::Infinity>(), 1e-300));
-        typical.tail(d.equations).setConstant(std::max(z_direct.tail(d.equations).lpNorm<Eigen::Infinity>(), 1e-300));
+        typical.tail(unknowns - m).setConstant(std::max(z_direct.tail(unknowns - m).lpNorm<Eigen::Infinity>(), 1e-300));
+        const VectorXd row_size =
+            (Eigen::SparseMatrix<double>(matrix.cwiseAbs()) * typical).array() + rhs.cwiseAbs().array();
+        options.residual_scale = row_size.cwiseInverse();
+        options.unknown_scale = typical.cwiseInverse();
+        options.max_newton_step = 10.0 * std::sqrt(static_cast<double>(unknowns));
       }
-      const VectorXd row_size =
-          (Eigen::SparseMatrix<double>(matrix.cwiseAbs()) * typical).array() + rhs.cwiseAbs().array();
-      nonlinear::NewtonOptions options;
-      options.residual_scale = row_size.cwiseInverse();
-      options.unknown_scale = typical.cwiseInverse();
-      options.max_newton_step = 10.0 * std::sqrt(static_cast<double>(unknowns));
-      const nonlinear::Residual residual = [&](const VectorXd& z, VectorXd& f) {
-        f.noalias() = matrix * z;
-        f -= rhs;
-        return true;
-      };
       start = std::chrono::steady_clock::now();
-      nonlinear::SparseLu lu(unknowns);
-      nonlinear::NewtonSolver newton(lu);
-      const nonlinear::JacobianFill fill = [&](const VectorXd&, const VectorXd&) {
-        if (lu.matrix().nonZeros() == 0)
-          lu.matrix() = matrix;
-        else
-          std::copy(matrix.valuePtr(), matrix.valuePtr() + matrix.nonZeros(), lu.matrix().valuePtr());
-        return true;
-      };
-      last_options = options;
+      LinearNewton newton{matrix, rhs};
       z_newton = VectorXd::Zero(unknowns);
-      summary = newton.solve(residual, fill, z_newton, options);
+      summary = newton.solve(z_newton, options);
       const double t_newton = seconds_since(start);
       start = std::chrono::steady_clock::now();
       VectorXd z_again = VectorXd::Zero(unknowns);
-      newton.solve(residual, fill, z_again, options);
+      newton.solve(z_again, options);
       const double t_again = seconds_since(start);
-      factor_nonzeros = lu.factor_nonzeros();
+      factor_nonzeros = newton.lu.factor_nonzeros();
       if (r >= 0) direct_s.push_back(t_direct), newton_s.push_back(t_newton), again_s.push_back(t_again);
     }
     std::fflush(stdout);  // the child inherits unflushed output
-    const auto [peak_mb, child_s] = in_child([&] {
-      const fe::Discretisation dc = fe::discretise(model, n);
-      const Eigen::SparseMatrix<double> mc = fe::mixed_matrix(dc);
-      VectorXd b = VectorXd::Zero(mc.rows());
-      b.tail(dc.equations) = dc.load(1.0);
-      nonlinear::SparseLu lu(static_cast<int>(mc.rows()));
-      nonlinear::NewtonSolver newton(lu);
-      VectorXd z = VectorXd::Zero(mc.rows());
-      newton.solve(
-          [&](const VectorXd& x, VectorXd& f) {
-            f.noalias() = mc * x;
-            f -= b;
-            return true;
-          },
-          [&](const VectorXd&, const VectorXd&) {
-            lu.matrix() = mc;
-            return true;
-          },
-          z, last_options);
-    });
-    (void)child_s;
-    auto median = [](std::vector<double> v) {
-      std::sort(v.begin(), v.end());
-      return v[v.size() / 2];
-    };
+    const double peak_mb = in_child([&] {
+                             const MixedSystem fresh(model, n);
+                             LinearNewton newton{fresh.matrix, fresh.rhs};
+                             VectorXd z = VectorXd::Zero(fresh.matrix.rows());
+                             newton.solve(z, options);
+                           }).first;
     const double td = median(direct_s), tn = median(newton_s), ta = median(again_s);
     sizes.push_back(unknowns), times.push_back(tn);
     std::printf("  %8d %9d %9.4f %9.4f %9.4f %6.2f %6d %6.1f %9.1e %8.0f%s\n", n, unknowns, td, tn, ta, tn / td,
