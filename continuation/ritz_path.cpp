@@ -151,7 +151,7 @@ class RitzTracer {
 
  private:
   ritz::Enrichment choose_enrichment() const {
-    const double beta_l = std::pow(member_.foundation_modulus / 4.0, 0.25) * member_.length();
+    const double beta_l = std::pow(member_.k / 4.0, 0.25) * member_.length();
     return member_.kind == model::StructureKind::beam && beta_l <= 10.0 ? ritz::Enrichment::load_points
                                                                         : ritz::Enrichment::none;
   }
@@ -257,7 +257,7 @@ int RitzTracer::modes_for_trace(const ritz::RitzSolution& start) const {
 Resolution RitzTracer::resolution() const {
   Resolution r;
   if (enrichment_ == ritz::Enrichment::load_points || !member_.tensionless) return r;
-  r.beta_length = std::pow(member_.foundation_modulus / 4.0, 0.25) * member_.length();
+  r.beta_length = std::pow(member_.k / 4.0, 0.25) * member_.length();
   for (const model::MemberLoad& load : member_.loads)
     if (load.kind == model::LoadKind::force && load.value != 0.0 && load.at > member_.foundation_begin &&
         load.at < member_.foundation_end) {
@@ -391,7 +391,7 @@ double RitzTracer::force_scale(const RitzModel& model) const {
 // the same steps.
 void RitzTracer::rescale(const RitzModel& model, PathPoint& p) {
   const int a = model.amplitudes();
-  double scale = force_scale(model) / std::max(member_.foundation_modulus, 1.0);
+  double scale = force_scale(model) / std::max(member_.k, 1.0);
   if (p.tangent_lambda > 0)
     scale = std::max(scale, lambda_size() * p.tangent_x.head(a).lpNorm<Eigen::Infinity>() / p.tangent_lambda);
   if (!std::isfinite(scale)) return;  // keep the scale in use
@@ -407,8 +407,7 @@ void RitzTracer::rescale(const RitzModel& model, PathPoint& p) {
 PathFollower RitzTracer::make_follower(const RitzModel& model) const {
   const int n = model.unknowns(), a = model.amplitudes();
   const double force_scale = this->force_scale(model);
-  const double amplitude_scale =
-      amplitude_scale_ > 0 ? amplitude_scale_ : force_scale / std::max(member_.foundation_modulus, 1.0);
+  const double amplitude_scale = amplitude_scale_ > 0 ? amplitude_scale_ : force_scale / std::max(member_.k, 1.0);
 
   PathProblem problem;
   problem.unknowns = n;
@@ -670,8 +669,7 @@ std::optional<std::string> RitzTracer::state_failure(const RitzModel& model, con
     return fmt::format(
         "w = {:.3e} at {} inside a contact piece: the foundation would pull (reaction {:.3e} force per length), {:.1e} "
         "of max |w|",
-        check.w * scales.displacement(), where, member_.foundation_modulus * check.w * scales.force_per_length(),
-        check.violation);
+        check.w * scales.displacement(), where, member_.k * check.w * scales.force_per_length(), check.violation);
   return fmt::format(
       "w = {:.3e} at {} inside a lift-off piece: the member would penetrate the foundation without "
       "reaction, {:.1e} of max |w|",

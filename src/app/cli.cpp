@@ -202,8 +202,7 @@ int run_all(const scene::Scene& scene, const SolveRequest& request, const SolveA
   // A refused method's report knows nothing of the scene; the header and JSON need its k.
   const model::MemberModel model = model::make_member_model(scene);
   for (io::SolveReport& r : reports)
-    if (r.outcome == io::SolveOutcome::refused)
-      r.foundation_parameter = model.foundation_modulus, r.tensionless = model.tensionless;
+    if (r.outcome == io::SolveOutcome::refused) r.k = model.k, r.tensionless = model.tensionless;
   std::string failures;
   for (const auto& r : reports) {
     if (r.usable || r.outcome == io::SolveOutcome::refused) continue;

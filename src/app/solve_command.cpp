@@ -242,7 +242,7 @@ io::SolveReport refused_report(const scene::Scene& scene, const model::MemberMod
   r.kind = scene.structure.kind;
   r.coordinate_name = model.kind == model::StructureKind::beam ? "x" : "theta_deg";
   r.tensionless = model.tensionless;
-  r.foundation_parameter = model.foundation_modulus;
+  r.k = model.k;
   r.method = scene::to_string(method == Method::automatic ? Method::fast : method);
   r.method_requested = scene::to_string(method);
   r.termination = termination;
@@ -371,8 +371,7 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   for (int node = 0; node <= d.mesh.elements(); ++node) {
     std::optional<double> reaction;
     for (int e : {node - 1, node}) {
-      if (e < 0 || e >= d.mesh.elements() || !(d.foundation_on_element[e] || d.element_tension_modulus[e] > 0.0))
-        continue;
+      if (e < 0 || e >= d.mesh.elements() || !(d.foundation_on_element[e] || d.element_tension_k[e] > 0.0)) continue;
       const double xi = e < node ? 1.0 : 0.0, g = model.ground_gap_in(d.mesh.nodes[e], d.mesh.element_size(e), xi);
       reaction = std::max(reaction.value_or(-std::numeric_limits<double>::infinity()),
                           d.reaction_in(e, xi, all[d.deflection_dof(node)] - g));

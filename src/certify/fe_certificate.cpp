@@ -30,18 +30,18 @@ using detail::eps;
 // the discretisation's copy): 0 in a void between foundation pieces and beyond the foundation.
 // For a bilinear foundation the tensionless part's k - K_t (the contact conditions' modulus), and
 // K_t (constant) its Winkler part's.
-double tension_modulus_under(const MemberModel& model, const fe::Mesh& mesh, int element) {
-  return model.tension_modulus_at(mesh.nodes[element] + 0.5 * mesh.element_size(element));
+double tension_k_under(const MemberModel& model, const fe::Mesh& mesh, int element) {
+  return model.tension_k_at(mesh.nodes[element] + 0.5 * mesh.element_size(element));
 }
-std::pair<double, double> modulus_under(const MemberModel& model, const fe::Mesh& mesh, int element) {
-  const auto [begin, end] = model.foundation_modulus_on(mesh.nodes[element], mesh.nodes[element + 1]);
-  const double kt = tension_modulus_under(model, mesh, element);
+std::pair<double, double> k_under(const MemberModel& model, const fe::Mesh& mesh, int element) {
+  const auto [begin, end] = model.k_on(mesh.nodes[element], mesh.nodes[element + 1]);
+  const double kt = tension_k_under(model, mesh, element);
   return {begin - kt, end - kt};
 }
 
 // Whether the element lies on a piece of the foundation (as the assembly decides by default).
 bool in_foundation_extent(const MemberModel& model, const fe::Mesh& mesh, int element) {
-  return modulus_under(model, mesh, element).first > 0.0;
+  return k_under(model, mesh, element).first > 0.0;
 }
 
 // The integral over the element of phi_a phi_b / k(s) (phi the P1 reaction shapes, k linear from
@@ -127,7 +127,7 @@ NodalForces nodal_forces(const MemberModel& model, const Discretisation& d, cons
         for (std::size_t i = 0; i < dofs.size(); ++i)
           if (d.equation_of_dof[dofs[i]] >= 0) defect[dofs[j]].add_product(-ke(j, i), ue[i]);
     }
-    if (const double kt = tension_modulus_under(model, d.mesh, e); kt > 0.0) {
+    if (const double kt = tension_k_under(model, d.mesh, e); kt > 0.0) {
       for (const fe::GaussPoint& g : fe::gauss5) {  // exact: cubic x cubic, cubic x linear
         const Eigen::Vector4d shape = fe::hermite_cubic(g.xi, h).value;
         const double weight = g.weight * h, g_here = model.ground_gap(d.mesh.nodes[e] + g.xi * h);
@@ -149,7 +149,7 @@ NodalForces nodal_forces(const MemberModel& model, const Discretisation& d, cons
     if (ra < 0 || rb < 0) continue;
     // No foundation under the element in the member (a void): a reaction there acts on nothing,
     // so it adds no force and the balance shows it.
-    const auto [k_a, k_b] = modulus_under(model, d.mesh, e);
+    const auto [k_a, k_b] = k_under(model, d.mesh, e);
     if (k_a == 0.0) continue;
     for (const fe::GaussPoint& g : fe::gauss5) {  // exact: cubic x linear
       const fe::HermiteCubic shape = fe::hermite_cubic(g.xi, h);

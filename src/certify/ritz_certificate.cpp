@@ -80,7 +80,7 @@ Balance balance_terms(const MemberModel& member, const RitzModel& ritz, const Ve
   b.applied.assign(modes, 0.0);
   b.applied_abs = b.foundation = b.foundation_abs = b.supports = b.supports_abs = b.applied;
   const bool arch = member.kind == StructureKind::arch;
-  const double k = member.foundation_modulus;
+  const double k = member.k;
   // Quadrature fine enough for the highest mode: 8 subintervals per half wave.
   const int per_length = 8 * std::max(4, ritz.modes());
   double integral = 0.0, first_moment = 0.0;
@@ -215,7 +215,7 @@ Certificate certify(const MemberModel& member, const ritz::RitzSolution& solutio
     const VectorXd load = ritz.dead_load() + lambda * ritz.live_load();
     const VectorXd a = x.head(amplitudes);
     VectorXd magnitude = ritz.stiffness().cwiseAbs() * a.cwiseAbs() + load.cwiseAbs();
-    magnitude.head(ritz.modes()) += member.foundation_modulus * gram.cwiseAbs() * a.head(ritz.modes()).cwiseAbs();
+    magnitude.head(ritz.modes()) += member.k * gram.cwiseAbs() * a.head(ritz.modes()).cwiseAbs();
     const double scale = std::max(magnitude.maxCoeff(), 1e-300);
     amplitude_residual = f.head(amplitudes).lpNorm<Eigen::Infinity>();
     Check check = detail::make_check(check_name::backward_error, f.head(amplitudes).lpNorm<Eigen::Infinity>() / scale,

@@ -214,7 +214,7 @@ CoarseStart coarse_start(const model::MemberModel& model, const fe::Discretisati
   nested.validate();
   CoarseStart out;
   // The coarse mesh still resolves the foundation's decay length 1/beta (beta^4 = k/4).
-  const double decay_lengths = std::pow(std::max(model.foundation_modulus, 0.0) / 4.0, 0.25) * model.length();
+  const double decay_lengths = std::pow(std::max(model.k, 0.0) / 4.0, 0.25) * model.length();
   const int coarse_elements = std::max({d.mesh.elements() / nested.coarsening, nested.min_elements,
                                         static_cast<int>(std::ceil(nested.elements_per_decay_length * decay_lengths))});
   if (3 * coarse_elements > d.mesh.elements()) return out;

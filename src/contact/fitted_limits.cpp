@@ -377,7 +377,7 @@ FittedResult solve_fitted_limits(const model::MemberModel& model, double load_fa
   for (int e = 0; e < d.mesh.elements(); ++e) {
     // Beyond the foundation's extent nothing constrains w (an overhang, a void).
     const double middle = d.mesh.nodes[e] + 0.5 * d.mesh.element_size(e);
-    if (model.foundation_modulus_at(middle) == 0.0) continue;
+    if (model.k_at(middle) == 0.0) continue;
     const double sign = d.foundation_on_element[e] ? 1.0 : -1.0;  // w >= g in contact, <= g off it
     for (int j = 1; j < options.samples_per_element; ++j)
       worst_w =

@@ -131,7 +131,7 @@ ToleranceResult refine_to_tolerance(const model::MemberModel& model, double load
   ToleranceSummary& summary = result.summary;
   const double length = model.length();
   // beta h <= 1/4 on the first mesh: the decay length of the foundation's response resolved.
-  const double beta_length = std::pow(std::max(model.foundation_modulus, 0.0) / 4.0, 0.25) * length;
+  const double beta_length = std::pow(std::max(model.k, 0.0) / 4.0, 0.25) * length;
   int n = options.initial_elements > 0 ? options.initial_elements
                                        : std::max(32, static_cast<int>(std::ceil(4.0 * beta_length)));
   // At least four elements on the shortest segment between breakpoints and region ends on the

@@ -237,7 +237,7 @@ Assembly assemble(const model::MemberModel& model, const Discretisation& d) {
     if (winkler_index < winkler_count && d.winkler_elements[winkler_index] == e) {
       // The bilinear foundation's Winkler part K_t (w - g): its stiffness K_t N_w^T N_w both in K
       // and as Gauss-point stresses in G, H (foundation_element.hpp), its load K_t g N_w dead.
-      const double kt = d.element_tension_modulus[e];
+      const double kt = d.element_tension_k[e];
       const int first = d.winkler_stress(winkler_index++);
       for (int q = 0; q < foundation_element::winkler_points; ++q) {
         const auto& point = foundation_element::winkler_rule[q];
@@ -259,7 +259,7 @@ Assembly assemble(const model::MemberModel& model, const Discretisation& d) {
     }
     if (d.foundation_on_element[e]) {
       const auto c = foundation_element::coupling(h);
-      const auto t = foundation_element::flexibility(h, d.element_modulus[e].begin, d.element_modulus[e].end);
+      const auto t = foundation_element::flexibility(h, d.element_k[e].begin, d.element_k[e].end);
       const std::array<int, 2> r = d.element_reactions(e);
       for (int i = 0; i < 2; ++i) {
         for (int j = 0; j < 4; ++j) a.coupling.emplace_back(r[i], dofs[j], c(i, j));
@@ -366,7 +366,7 @@ StructuralElements structural_elements(const model::MemberModel& model, const Di
     set.dofs.push_back(dofs);
     if (winkler_index < d.winkler_elements.size() && d.winkler_elements[winkler_index] == e) {
       ++winkler_index;
-      set.elements.push_back(std::make_unique<const WinklerElement>(h, d.element_tension_modulus[e]));
+      set.elements.push_back(std::make_unique<const WinklerElement>(h, d.element_tension_k[e]));
       dofs.resize(4);
       set.dofs.push_back(std::move(dofs));
     }
@@ -398,7 +398,7 @@ Discretisation lay_out(const model::MemberModel& model, Mesh mesh, std::vector<b
   Discretisation d;
   d.kind = model.kind;
   d.mesh = std::move(mesh);
-  d.foundation_modulus = model.foundation_modulus;
+  d.k = model.k;
   d.tensionless = model.tensionless;
   d.foundation_outside = model.kind == model::StructureKind::arch && model.foundation_outside;
   d.stresses_per_element = model.kind == model::StructureKind::beam ? beam_element::stresses : arch_element::stresses;
@@ -407,21 +407,20 @@ Discretisation lay_out(const model::MemberModel& model, Mesh mesh, std::vector<b
   for (double s : mesh_breakpoints(model))
     if (d.mesh.node_at(s) < 0) throw std::invalid_argument("discretise: the mesh lacks a node at a breakpoint");
 
-  d.element_modulus.resize(elements);
-  d.element_tension_modulus.resize(elements);
+  d.element_k.resize(elements);
+  d.element_tension_k.resize(elements);
   for (int e = 0; e < elements; ++e) {
-    const auto [begin, end] = model.foundation_modulus_on(d.mesh.nodes[e], d.mesh.nodes[e + 1]);
+    const auto [begin, end] = model.k_on(d.mesh.nodes[e], d.mesh.nodes[e + 1]);
     // The Winkler part K_t under the element (constant), the tensionless part k - K_t at its ends.
     const double middle = d.mesh.nodes[e] + 0.5 * d.mesh.element_size(e);
-    d.element_tension_modulus[e] = model.tension_modulus_at(middle);
-    d.element_modulus[e] = {begin - d.element_tension_modulus[e], end - d.element_tension_modulus[e]};
-    if (d.element_tension_modulus[e] > 0.0) d.winkler_elements.push_back(e);
+    d.element_tension_k[e] = model.tension_k_at(middle);
+    d.element_k[e] = {begin - d.element_tension_k[e], end - d.element_tension_k[e]};
+    if (d.element_tension_k[e] > 0.0) d.winkler_elements.push_back(e);
   }
   if (foundation_on_element.empty()) foundation_on_element.assign(elements, true);
   if (static_cast<int>(foundation_on_element.size()) != elements)
     throw std::invalid_argument("discretise: one foundation flag per element expected");
-  for (int e = 0; e < elements; ++e)
-    foundation_on_element[e] = foundation_on_element[e] && d.element_modulus[e].present();
+  for (int e = 0; e < elements; ++e) foundation_on_element[e] = foundation_on_element[e] && d.element_k[e].present();
   d.foundation_on_element = std::move(foundation_on_element);
   std::vector<bool> jumps(d.mesh.nodes.size(), false);
   for (double s : model.reaction_jumps())

@@ -104,22 +104,22 @@ class Discretisation {
   std::vector<bool> foundation_on_element;
   // The foundation's tensionless part under each element at its two nodes (linear between them;
   // 0 in a void and beyond the foundation), whether or not the foundation acts on it in this
-  // discretisation: k, or for a bilinear foundation k - K_t (MemberModel::contact_modulus_at), the
-  // k of C, T and the contact conditions. element_tension_modulus: K_t there (constant; 0 in a
+  // discretisation: k, or for a bilinear foundation k - K_t (MemberModel::contact_k_at), the
+  // k of C, T and the contact conditions. element_tension_k: K_t there (constant; 0 in a
   // void and without a tension modulus). The reaction is K_t (w - g) + (k - K_t) max(w - g, 0).
-  struct ElementModulus {
+  struct ElementK {
     double begin = 0.0, end = 0.0;
     double at(double xi) const { return (1.0 - xi) * begin + xi * end; }  // exact at both ends
     bool present() const { return begin > 0.0; }
   };
-  std::vector<ElementModulus> element_modulus;
-  std::vector<double> element_tension_modulus;
+  std::vector<ElementK> element_k;
+  std::vector<double> element_tension_k;
   Eigen::MatrixXd free_rigid_motions;
   // The member's in-plane rigid motions on every dof, whatever the supports (rigid_motions()).
   Eigen::MatrixXd member_rigid_motions;
   Eigen::VectorXd dead_load;  // equations
   Eigen::VectorXd live_load;
-  double foundation_modulus = 0.0;  // the largest k (model::MemberModel::foundation_modulus)
+  double k = 0.0;  // the largest k (model::MemberModel::k)
   bool tensionless = true;
   bool foundation_outside = false;  // arches: w > 0 outward (arch_element.hpp)
   // Rigid motions only the foundation resists; non-empty means K is singular.
@@ -145,8 +145,8 @@ class Discretisation {
   // part's max(w - g, 0) where the foundation acts on e, plus the Winkler part's K_t (w - g).
   // xi: where in the element (0 at its first node, 1 at its second).
   double reaction_in(int e, double xi, double w_minus_g) const {
-    return (foundation_on_element[e] ? element_modulus[e].at(xi) * std::max(w_minus_g, 0.0) : 0.0) +
-           element_tension_modulus[e] * w_minus_g;
+    return (foundation_on_element[e] ? element_k[e].at(xi) * std::max(w_minus_g, 0.0) : 0.0) +
+           element_tension_k[e] * w_minus_g;
   }
   bool structure_is_stable() const { return unstable_rigid_motions == 0; }
   Eigen::VectorXd load(double load_factor) const { return dead_load + load_factor * live_load; }

@@ -39,17 +39,16 @@ void BeamColumnElement::evaluate(const ElementState& state, ElementResponse& res
 }
 
 namespace {
-Eigen::Matrix4d winkler_stiffness(double h, double tension_modulus) {
+Eigen::Matrix4d winkler_stiffness(double h, double tension_k) {
   Eigen::Matrix4d k = Eigen::Matrix4d::Zero();
   for (const auto& point : foundation_element::winkler_rule) {  // degree 6 <= 7: exact
     const Eigen::Vector4d n_w = hermite_cubic(point.xi, h).value;
-    k += (tension_modulus * point.weight * h) * n_w * n_w.transpose();
+    k += (tension_k * point.weight * h) * n_w * n_w.transpose();
   }
   return k;
 }
 }  // namespace
 
-WinklerElement::WinklerElement(double h, double tension_modulus)
-    : LinearElement(winkler_stiffness(h, tension_modulus)) {}
+WinklerElement::WinklerElement(double h, double tension_k) : LinearElement(winkler_stiffness(h, tension_k)) {}
 
 }  // namespace liftoff::fe

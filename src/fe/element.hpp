@@ -97,13 +97,13 @@ class BeamColumnElement final : public Element {
   Eigen::Matrix4d bending_, geometric_;
   double axial_dead_, axial_live_;
 };
-// the bilateral (Winkler) foundation of modulus K_t on the Hermite dofs of w (4 dofs; the first
+// the bilateral (Winkler) foundation of parameter K_t on the Hermite dofs of w (4 dofs; the first
 // four local dofs of either element above): K_t times the integral of N_w^T N_w, by the 4-point
 // rule of foundation_element::winkler_rule (exact). The tensionless part is not an element (see
 // above).
 class WinklerElement final : public LinearElement {
  public:
-  WinklerElement(double h, double tension_modulus);
+  WinklerElement(double h, double tension_k);
 };
 
 }  // namespace liftoff::fe

@@ -14,10 +14,10 @@ Eigen::Matrix<double, 2, 4> coupling(double h) {
   return c;
 }
 
-Eigen::Matrix2d flexibility(double h, double foundation_modulus) {
+Eigen::Matrix2d flexibility(double h, double k) {
   Eigen::Matrix2d t;
   t << 2, 1, 1, 2;
-  return t * (h / (6.0 * foundation_modulus));
+  return t * (h / (6.0 * k));
 }
 
 namespace {

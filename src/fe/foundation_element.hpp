@@ -15,7 +15,7 @@ namespace liftoff::fe::foundation_element {
 
 Eigen::Matrix<double, 2, 4> coupling(double h);
 // k constant on the element.
-Eigen::Matrix2d flexibility(double h, double foundation_modulus);
+Eigen::Matrix2d flexibility(double h, double k);
 // k linear from k_begin (xi = 0) to k_end (xi = 1), both > 0.
 Eigen::Matrix2d flexibility(double h, double k_begin, double k_end);
 

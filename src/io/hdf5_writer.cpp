@@ -116,7 +116,7 @@ void write_report(hid_t file, const SolveReport& r) {
   write_string_attribute(file, "coordinate", r.coordinate_name);
   write_string_attribute(file, "sign_convention", sign_convention);
   write_number_attribute(file, "tensionless", static_cast<int>(r.tensionless));
-  write_number_attribute(file, "k", r.foundation_parameter);
+  write_number_attribute(file, "k", r.k);
   write_units(file, r.units);
   write_scale(file, r);
 

@@ -45,7 +45,7 @@ SolveReport common_report(const scene::Scene& scene, const model::MemberModel& m
   r.kind = scene.structure.kind;
   r.coordinate_name = model.kind == model::StructureKind::beam ? "x" : "theta_deg";
   r.tensionless = model.tensionless;
-  r.foundation_parameter = model.foundation_modulus;
+  r.k = model.k;
   for (const auto& region : regions)
     r.contact_regions.push_back({model.user_from_s(region.begin), model.user_from_s(region.end)});
 
@@ -113,7 +113,7 @@ SolveReport make_report(const scene::Scene& scene, const model::MemberModel& mod
     // A bilinear foundation's Winkler part K_t (w - g) adds to the LCP's reaction: the total.
     double tension_modulus = 0.0;
     for (int e : {node - 1, node})
-      if (e >= 0 && e < d.mesh.elements()) tension_modulus = std::max(tension_modulus, d.element_tension_modulus[e]);
+      if (e >= 0 && e < d.mesh.elements()) tension_modulus = std::max(tension_modulus, d.element_tension_k[e]);
     if (tension_modulus > 0.0)
       n.reaction[node] += tension_modulus * (w - model.ground_gap(d.mesh.nodes[node])) * scales.force_per_length();
   }
@@ -300,7 +300,7 @@ nlohmann::json to_json(const SolveReport& r) {
   j["message"] = r.message;
   j["coordinate"] = r.coordinate_name;
   j["tensionless"] = r.tensionless;
-  j["k"] = r.foundation_parameter;
+  j["k"] = r.k;
   j["contact_regions"] = contact_regions_json(r.contact_regions);
   j["w_max"] = r.w_max;
   j["at_w_max"] = r.at_w_max;
@@ -506,9 +506,8 @@ std::string design_lines(const SolveReport& r) {
 std::string text_summary(const SolveReport& r) {
   const bool arch = r.kind == StructureKind::arch;
   const std::string unit = arch ? " deg" : with_unit(r.units.length);
-  std::string out =
-      fmt::format("liftoff: {} ({}) on a {} foundation, nondimensional k = {:.6g}\n", r.scene_name,
-                  scene::to_string(r.kind), r.tensionless ? "tensionless" : "bilateral", r.foundation_parameter);
+  std::string out = fmt::format("liftoff: {} ({}) on a {} foundation, nondimensional k = {:.6g}\n", r.scene_name,
+                                scene::to_string(r.kind), r.tensionless ? "tensionless" : "bilateral", r.k);
   for (const std::string& warning : r.warnings) out += "  WARNING       " + warning + "\n";
   out += scale_lines(r);
   std::string why = r.method_reason;
@@ -559,12 +558,11 @@ std::string side_by_side(const std::vector<SolveReport>& reports) {
   const bool arch = reports.front().kind == StructureKind::arch;
   // The scene's k from a method that ran (a refused method's report may not know it; k > 0 in
   // every valid scene); without one, the header leaves it out.
-  const auto known =
-      std::find_if(reports.begin(), reports.end(), [](const SolveReport& r) { return r.foundation_parameter > 0; });
+  const auto known = std::find_if(reports.begin(), reports.end(), [](const SolveReport& r) { return r.k > 0; });
   std::string out = fmt::format(
       "liftoff: {} ({}) on a {} foundation{}\n", reports.front().scene_name, scene::to_string(reports.front().kind),
       (known != reports.end() ? known->tensionless : reports.front().tensionless) ? "tensionless" : "bilateral",
-      known != reports.end() ? fmt::format(", nondimensional k = {:.6g}", known->foundation_parameter) : std::string());
+      known != reports.end() ? fmt::format(", nondimensional k = {:.6g}", known->k) : std::string());
   std::vector<std::string> warnings;  // every method's, each once
   for (const SolveReport& r : reports)
     for (const std::string& w : r.warnings)

@@ -61,8 +61,8 @@ struct SolveReport {
   scene::StructureKind kind = scene::StructureKind::beam;
   std::string coordinate_name;  // "x" or "theta_deg"
   bool tensionless = true;
-  double foundation_parameter = 0.0;  // k = K l^4 / EI
-  scene::Units units;                 // the scene's [units]: labels for every output
+  double k = 0.0;      // k = K l^4 / EI
+  scene::Units units;  // the scene's [units]: labels for every output
   // The foundation's scale (post/scale.hpp): K, beta, beta L, 1/beta, beta h; absent in a report
   // of a method that did not run.
   std::optional<post::ScaleFigures> scale;

@@ -106,22 +106,20 @@ MemberModel make_member_model(const scene::Scene& scene) {
   const double modulus_scale = scales.bending_stiffness / std::pow(scales.length, 4);
   // The one-piece form is the one-segment case.
   const std::vector<scene::FoundationSegment> segments =
-      foundation.stiffness_parameter || foundation.modulus || foundation.segments.empty()
-          ? std::vector<scene::FoundationSegment>{{foundation.from, foundation.to, foundation.stiffness_parameter,
-                                                   foundation.modulus}}
+      foundation.k || foundation.modulus || foundation.segments.empty()
+          ? std::vector<scene::FoundationSegment>{{foundation.from, foundation.to, foundation.k, foundation.modulus}}
           : foundation.segments;
   for (const scene::FoundationSegment& segment : segments) {
     FoundationPiece piece;
     piece.begin = model.s_from_user(segment.from);
     piece.end = model.s_from_user(segment.to);
-    piece.modulus = segment.stiffness_parameter ? *segment.stiffness_parameter : *segment.modulus / modulus_scale;
-    if (segment.at_to)
-      piece.end_modulus = segment.stiffness_parameter ? *segment.at_to : *segment.at_to / modulus_scale;
+    piece.k = segment.k ? *segment.k : *segment.modulus / modulus_scale;
+    if (segment.at_to) piece.end_k = segment.k ? *segment.at_to : *segment.at_to / modulus_scale;
     // Abutting pieces share their end exactly (the reader made the user's values equal).
     if (!model.foundation_pieces.empty() && segment.from == segments[model.foundation_pieces.size() - 1].to)
       piece.begin = model.foundation_pieces.back().end;
     model.foundation_pieces.push_back(piece);
-    model.foundation_modulus = std::max(model.foundation_modulus, piece.largest_modulus());
+    model.k = std::max(model.k, piece.largest_k());
   }
   model.tensionless = foundation.tensionless;
   model.foundation_outside =
@@ -133,16 +131,15 @@ MemberModel make_member_model(const scene::Scene& scene) {
     model.ground_gap_value.push_back(foundation.gap_value[i] / scales.displacement());
   }
   if (foundation.tension_modulus)
-    model.tension_modulus = *foundation.tension_modulus / modulus_scale;
-  else if (foundation.tension_stiffness_parameter)
-    model.tension_modulus = *foundation.tension_stiffness_parameter;
+    model.tension_k = *foundation.tension_modulus / modulus_scale;
+  else if (foundation.tension_k)
+    model.tension_k = *foundation.tension_k;
   // K_t = K_c on every piece: the reaction is K_c (w - g) everywhere, the bilateral foundation.
-  if (model.tension_modulus > 0.0 &&
-      std::all_of(model.foundation_pieces.begin(), model.foundation_pieces.end(), [&](const FoundationPiece& piece) {
-        return piece.is_constant() && piece.modulus == model.tension_modulus;
-      })) {
+  if (model.tension_k > 0.0 &&
+      std::all_of(model.foundation_pieces.begin(), model.foundation_pieces.end(),
+                  [&](const FoundationPiece& piece) { return piece.is_constant() && piece.k == model.tension_k; })) {
     model.tensionless = false;
-    model.tension_modulus = 0.0;
+    model.tension_k = 0.0;
   }
 
   for (const auto& load : scene.loads) {

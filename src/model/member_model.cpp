@@ -51,25 +51,25 @@ double imposed_curvature(const std::vector<MemberLoad>& loads, double s, double 
 
 std::vector<FoundationPiece> MemberModel::pieces() const {
   if (!foundation_pieces.empty()) return foundation_pieces;
-  return {{foundation_begin, foundation_end, foundation_modulus}};
+  return {{foundation_begin, foundation_end, k}};
 }
 
-double FoundationPiece::modulus_at(double s) const {
-  if (!end_modulus) return modulus;
+double FoundationPiece::k_at(double s) const {
+  if (!end_k) return k;
   const double t = std::clamp((s - begin) / (end - begin), 0.0, 1.0);
-  return (1.0 - t) * modulus + t * *end_modulus;
+  return (1.0 - t) * k + t * *end_k;
 }
 
-double MemberModel::foundation_modulus_at(double s) const {
+double MemberModel::k_at(double s) const {
   for (const FoundationPiece& piece : pieces())
-    if (s >= piece.begin && s <= piece.end) return piece.modulus_at(s);
+    if (s >= piece.begin && s <= piece.end) return piece.k_at(s);
   return 0.0;
 }
 
-std::pair<double, double> MemberModel::foundation_modulus_on(double a, double b) const {
+std::pair<double, double> MemberModel::k_on(double a, double b) const {
   const double middle = 0.5 * (a + b);
   for (const FoundationPiece& piece : pieces())
-    if (middle >= piece.begin && middle <= piece.end) return {piece.modulus_at(a), piece.modulus_at(b)};
+    if (middle >= piece.begin && middle <= piece.end) return {piece.k_at(a), piece.k_at(b)};
   return {0.0, 0.0};
 }
 
@@ -88,8 +88,7 @@ std::vector<double> MemberModel::reaction_jumps() const {
   std::vector<double> jumps;
   const std::vector<FoundationPiece> all = pieces();
   for (std::size_t i = 0; i + 1 < all.size(); ++i)
-    if (all[i].end == all[i + 1].begin && all[i].modulus_at(all[i].end) != all[i + 1].modulus)
-      jumps.push_back(all[i].end);
+    if (all[i].end == all[i + 1].begin && all[i].k_at(all[i].end) != all[i + 1].k) jumps.push_back(all[i].end);
   for (std::size_t i = 0; i + 1 < ground_gap_at.size(); ++i)
     if (ground_gap_at[i] == ground_gap_at[i + 1] && ground_gap_value[i] != ground_gap_value[i + 1])
       jumps.push_back(ground_gap_at[i]);

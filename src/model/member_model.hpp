@@ -3,10 +3,14 @@
 //
 // Scales: the length scale is L for beams and R for arches, the stiffness scale is EI. So the
 // member coordinate s is x/L in [0, 1] for beams and theta (radians) in [-gamma, gamma] for
-// arches; displacements come out in units of the length scale; the foundation modulus becomes
+// arches; displacements come out in units of the length scale; the foundation modulus K becomes
 // k = K l^4/EI; a force P becomes P l^2/EI, a moment M l/EI, a distributed load q l^3/EI.
 // Results therefore do not depend on the user's units, and `Scales` converts back. A scene
 // becomes a MemberModel in one place, model/from_scene.hpp.
+//
+// Names: `k` is always the nondimensional stiffness parameter K l^4/EI (the scene's key
+// `nondimensional_k`, the outputs' "k"); `modulus` is only ever the dimensional K (force per length
+// per length), which the numerics never see.
 
 #include <algorithm>
 #include <optional>
@@ -70,17 +74,17 @@ struct MemberLoad {
 // is never on a range's end.
 double imposed_curvature(const std::vector<MemberLoad>& loads, double s, double load_factor);
 
-// One piece of the foundation in member terms: [begin, end] in s, modulus k = K l^4/EI,
-// constant or linear from `modulus` at begin to `end_modulus` at end.
+// One piece of the foundation in member terms: [begin, end] in s, stiffness parameter k = K l^4/EI,
+// constant or linear from `k` at begin to `end_k` at end.
 struct FoundationPiece {
   double begin = 0.0;
   double end = 0.0;
-  double modulus = 0.0;                 // at begin; everywhere when constant
-  std::optional<double> end_modulus{};  // linear: k at end
-  bool is_constant() const { return !end_modulus; }
+  double k = 0.0;                 // at begin; everywhere when constant
+  std::optional<double> end_k{};  // linear: k at end
+  bool is_constant() const { return !end_k; }
   // k at s in [begin, end]: linear between the ends, exact at both.
-  double modulus_at(double s) const;
-  double largest_modulus() const { return end_modulus ? std::max(modulus, *end_modulus) : modulus; }
+  double k_at(double s) const;
+  double largest_k() const { return end_k ? std::max(k, *end_k) : k; }
 };
 
 // An elastic support at s: a translational spring of stiffness k_s l^3/EI on w (arches: on u and
@@ -109,10 +113,10 @@ struct MemberModel {
   // Elastic supports ([supports] kind = "spring"), ends and interior points, sorted by s.
   std::vector<SupportSpring> springs;
   // The foundation: pieces sorted, disjoint (they may abut), with voids between them allowed.
-  // foundation_begin..foundation_end spans them all; foundation_modulus is the largest k (the
+  // foundation_begin..foundation_end spans them all; k is the largest k (the
   // scale of the foundation's decay length), the only k when there is one constant piece.
   std::vector<FoundationPiece> foundation_pieces;
-  double foundation_modulus = 0.0;  // k
+  double k = 0.0;  // the foundation's stiffness parameter K l^4/EI (the largest piece's)
   bool tensionless = true;
   double foundation_begin = 0.0;  // s
   double foundation_end = 1.0;
@@ -125,13 +129,13 @@ struct MemberModel {
   // s is a step, g constant beyond the ends. Empty: g = 0. Contact where w >= g.
   std::vector<double> ground_gap_at;
   std::vector<double> ground_gap_value;
-  // The bilinear foundation's k in tension (the scene's tension_modulus or tension_k), <= every
-  // piece's k; the reaction is k max(w - g, 0) + tension_modulus min(w - g, 0)
-  //   = tension_modulus (w - g) + (k - tension_modulus) max(w - g, 0):
-  // a bilateral (Winkler) foundation of modulus tension_modulus on every piece plus the tensionless
-  // one of modulus k - tension_modulus (contact_modulus_at). 0 for a bilateral or plain tensionless
-  // foundation (make_member_model makes tension_modulus = every piece's k a bilateral foundation).
-  double tension_modulus = 0.0;
+  // The bilinear foundation's k in tension (the scene's tension_modulus or tension_nondimensional_k), <= every
+  // piece's k; the reaction is k max(w - g, 0) + tension_k min(w - g, 0)
+  //   = tension_k (w - g) + (k - tension_k) max(w - g, 0):
+  // a bilateral (Winkler) foundation of parameter tension_k on every piece plus the tensionless
+  // one of parameter k - tension_k (contact_k_at). 0 for a bilateral or plain tensionless
+  // foundation (make_member_model makes tension_k = every piece's k a bilateral foundation).
+  double tension_k = 0.0;
 
   // User coordinate (x, or theta in degrees) <-> member coordinate s.
   double s_from_user(double position) const;
@@ -140,15 +144,15 @@ struct MemberModel {
   // k of the piece containing s (ends included; at two pieces' common end the first's), 0 in a
   // void or beyond the foundation. At element middles it decides whether the foundation is
   // under the element (piece ends are mesh nodes, never middles).
-  double foundation_modulus_at(double s) const;
+  double k_at(double s) const;
   // k at a and b of the piece under the interval [a, b] (the one containing its middle; its k is
   // linear there), {0, 0} in a void or beyond the foundation. An element's k at its two nodes.
-  std::pair<double, double> foundation_modulus_on(double a, double b) const;
-  // The bilinear foundation's parts at s: the Winkler modulus (tension_modulus on a piece, 0 in a
-  // void) and the tensionless part's modulus k - tension_modulus (the contact conditions' k).
-  double tension_modulus_at(double s) const { return foundation_modulus_at(s) > 0.0 ? tension_modulus : 0.0; }
-  double contact_modulus_at(double s) const { return foundation_modulus_at(s) - tension_modulus_at(s); }
-  bool has_tension_modulus() const { return tension_modulus > 0.0; }
+  std::pair<double, double> k_on(double a, double b) const;
+  // The bilinear foundation's parts at s: the Winkler part's k (tension_k on a piece, 0 in a
+  // void) and the tensionless part's k - tension_k (the contact conditions' k).
+  double tension_k_at(double s) const { return k_at(s) > 0.0 ? tension_k : 0.0; }
+  double contact_k_at(double s) const { return k_at(s) - tension_k_at(s); }
+  bool has_tension_k() const { return tension_k > 0.0; }
   // Where the reaction k (w - g) may jump inside the foundation (sorted, s): the common end of two
   // abutting pieces whose k differ there, and a step of the gap table (a repeated position with
   // two values). Read from the data, never from nearby numbers: the FE puts two reactions there.
@@ -159,7 +163,7 @@ struct MemberModel {
   bool is_foundation_edge(double s) const;
   // The Ritz model and the trace paths model one piece of constant k.
   bool foundation_is_one_piece() const { return foundation_pieces.size() == 1; }
-  bool foundation_modulus_is_constant() const {
+  bool k_is_constant() const {
     return std::all_of(foundation_pieces.begin(), foundation_pieces.end(),
                        [](const FoundationPiece& p) { return p.is_constant(); });
   }
@@ -167,7 +171,7 @@ struct MemberModel {
   bool has_springs() const { return !springs.empty(); }
   bool has_settlements() const;
   // foundation_pieces, or for a model built in code without them (tests, references) the one
-  // piece foundation_begin..foundation_end of modulus foundation_modulus.
+  // piece foundation_begin..foundation_end of parameter k.
   std::vector<FoundationPiece> pieces() const;
   bool has_ground_gap() const { return !ground_gap_at.empty(); }
   // g at s (0 without a gap). At a step's position: the value to its right. Called inside

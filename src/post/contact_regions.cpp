@@ -44,7 +44,7 @@ std::vector<ContactRegion> contact_regions(const model::MemberModel& model, cons
     if (s - begin > edge && end - s > edge) cuts.push_back(s);
   for (int e = 0; e < d.mesh.elements(); ++e) {
     const double s0 = d.mesh.nodes[e], h = d.mesh.element_size(e);
-    if (model.foundation_modulus_at(s0 + 0.5 * h) == 0.0) continue;
+    if (model.k_at(s0 + 0.5 * h) == 0.0) continue;
     // The element's cubic alone: gathered once, evaluated many times by the bisection.
     const std::vector<int> dofs = d.element_dofs(e);
     const Eigen::Vector4d w_dofs(displacement[dofs[0]], displacement[dofs[1]], displacement[dofs[2]],
@@ -73,7 +73,7 @@ std::vector<ContactRegion> contact_regions(const model::MemberModel& model, cons
   std::vector<ContactRegion> regions;
   for (std::size_t i = 0; i + 1 < cuts.size(); ++i) {
     const double a = cuts[i], b = cuts[i + 1];
-    if (b <= a || model.foundation_modulus_at(0.5 * (a + b)) == 0.0) continue;  // a void
+    if (b <= a || model.k_at(0.5 * (a + b)) == 0.0) continue;  // a void
     // Decide contact from the largest w on the piece (a few samples), so a piece in which w
     // only grazes round-off does not count.
     double w_max = -INFINITY;

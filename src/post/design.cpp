@@ -158,7 +158,7 @@ DesignValues recover_beam_statics(const model::MemberModel& model, const fe::Dis
     w_scale = std::max({w_scale, std::abs(w[0]), std::abs(eval(w, 1.0))});
     g_scale = std::max({g_scale, std::abs(g[0]), std::abs(g[0] + g[1])});
     Poly r = linear(reaction_at(d, solution.reaction, e, 0.0), reaction_at(d, solution.reaction, e, 1.0));
-    if (const double kt = d.element_tension_modulus[e]; kt != 0.0) r = r + kt * (w + (-1.0) * g);
+    if (const double kt = d.element_tension_k[e]; kt != 0.0) r = r + kt * (w + (-1.0) * g);
     Poly q{};
     const double middle = a + 0.5 * h;
     for (const model::MemberLoad& load : model.loads) {
@@ -197,10 +197,10 @@ DesignValues recover_beam_statics(const model::MemberModel& model, const fe::Dis
     // Element ends: the values on this element's side of the node (jumps are between elements).
     keep_max(out.moment_max, m_start[e], a), keep_min(out.moment_min, m_start[e], a);
     keep_max(out.moment_max, m_end[e], a + h), keep_min(out.moment_min, m_end[e], a + h);
-    if (d.foundation_on_element[e] || d.element_tension_modulus[e] != 0.0)
+    if (d.foundation_on_element[e] || d.element_tension_k[e] != 0.0)
       for (double xi : candidates(pressure[e])) keep_max(out.pressure_max, eval(pressure[e], xi), a + xi * h);
     // Uplift over the foundation's extent (a limit-fitted lift-off element included).
-    if (model.foundation_modulus_at(a + 0.5 * h) > 0.0) {
+    if (model.k_at(a + 0.5 * h) > 0.0) {
       const std::vector<int> dofs = d.element_dofs(e);
       const Eigen::Vector4d wd(u[dofs[0]], u[dofs[1]], u[dofs[2]], u[dofs[3]]);
       const fe::HermiteCubic n0 = fe::hermite_cubic(0.0, h);
@@ -307,7 +307,7 @@ DesignValues recover_beam_statics(const model::MemberModel& model, const std::fu
     v_right[i] = v, m_right[i] = m;
     if (i + 1 == points.size()) break;
     consider(v, m, points[i]);
-    if (model.foundation_modulus_at(points[i]) > 0.0) keep_max(out.pressure_max, reaction(points[i]), points[i]);
+    if (model.k_at(points[i]) > 0.0) keep_max(out.pressure_max, reaction(points[i]), points[i]);
     const double a = points[i], b = points[i + 1];
     const auto [vb, mb] = advance(a, b, v, m, true);
     if ((v < 0.0) != (vb < 0.0) && v != 0.0 && vb != 0.0) {  // V = 0 inside: M's extreme
@@ -322,8 +322,7 @@ DesignValues recover_beam_statics(const model::MemberModel& model, const std::fu
     }
     v = vb, m = mb;
   }
-  if (model.foundation_modulus_at(points.back()) > 0.0)
-    keep_max(out.pressure_max, reaction(points.back()), points.back());
+  if (model.k_at(points.back()) > 0.0) keep_max(out.pressure_max, reaction(points.back()), points.back());
   out.shear_closure = force_terms > 0.0 ? std::abs(v) / force_terms : 0.0;
   const double moment_scale = force_terms * (model.s_end - model.s_begin) + moment_terms;
   out.moment_closure = moment_scale > 0.0 ? std::abs(m) / moment_scale : 0.0;
@@ -356,7 +355,7 @@ DesignValues design_from_samples(const model::MemberModel& model, const Fields& 
     keep_max(out.shear_max_abs, std::abs(f.shear_force[i]), s);
     if (f.reaction[i] != 0.0) keep_max(out.pressure_max, f.reaction[i], s);
     const double lift = model.ground_gap(s) - f.w[i];
-    if (model.foundation_modulus_at(s) > 0.0 && lift > uplift_round_off * scale) keep_max(out.uplift_max, lift, s);
+    if (model.k_at(s) > 0.0 && lift > uplift_round_off * scale) keep_max(out.uplift_max, lift, s);
   }
   if (!out.pressure_max.s) out.pressure_max = {0.0, std::nullopt};
   if (!out.uplift_max.s) out.uplift_max = {0.0, std::nullopt};

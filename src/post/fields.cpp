@@ -76,9 +76,8 @@ Fields sample_fields(const model::MemberModel& model, const fe::Discretisation& 
     f.bending_moment.push_back(arch ? -(x.du + in * x.d2w) : -(x.d2w + kappa));
     f.shear_force.push_back(arch ? -(x.d2u + in * x.d3w) : -x.d3w);
     // The total: the LCP's reaction plus a bilinear foundation's Winkler part K_t (w - g).
-    const double winkler = d.element_tension_modulus[element] == 0.0
-                               ? 0.0
-                               : d.element_tension_modulus[element] * (x.w - model.ground_gap(f.s.back()));
+    const double winkler =
+        d.element_tension_k[element] == 0.0 ? 0.0 : d.element_tension_k[element] * (x.w - model.ground_gap(f.s.back()));
     f.reaction.push_back(reaction_at(d, solution.reaction, element, xi) + winkler);
     if (arch) {
       f.u.push_back(x.u);
@@ -146,7 +145,7 @@ DeflectionExtremes deflection_extremes(const fe::Discretisation& d, const Eigen:
     }
     // The reaction k max(w - g, 0) where the foundation acts, plus the bilinear foundation's
     // K_t (w - g) (Discretisation::reaction_in).
-    const fe::Discretisation::ElementModulus& k = d.element_modulus[e];
+    const fe::Discretisation::ElementK& k = d.element_k[e];
     const std::array<double, 4> pressing_candidates = gs == 0.0 ? candidates : stationary(gs);
     for (double xi : pressing_candidates)
       if (xi >= 0.0 && xi <= 1.0)
@@ -158,7 +157,7 @@ DeflectionExtremes deflection_extremes(const fe::Discretisation& d, const Eigen:
     // Newton does.
     if (d.foundation_on_element[e] && k.begin != k.end) {
       const double dk = k.end - k.begin;  // per unit xi
-      auto k_at = [&](double xi) { return k.at(xi) + d.element_tension_modulus[e]; };
+      auto k_at = [&](double xi) { return k.at(xi) + d.element_tension_k[e]; };
       for (double xi : {pressing_candidates[2], pressing_candidates[3], 0.5}) {
         if (!(xi >= 0.0 && xi <= 1.0)) continue;
         for (int step = 0; step < 12; ++step) {

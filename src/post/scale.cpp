@@ -26,7 +26,7 @@ ScaleFigures scale_figures(const model::MemberModel& model, const std::vector<do
   f.member_length = span * l;
   f.k_min = std::numeric_limits<double>::infinity();
   for (const model::FoundationPiece& piece : model.pieces()) {
-    for (const double k : {piece.modulus, piece.end_modulus.value_or(piece.modulus)}) {
+    for (const double k : {piece.k, piece.end_k.value_or(piece.k)}) {
       f.k_min = std::min(f.k_min, k);
       f.k_max = std::max(f.k_max, k);
     }
@@ -47,7 +47,7 @@ ScaleFigures scale_figures(const model::MemberModel& model, const std::vector<do
     f.elements = static_cast<int>(mesh_nodes.size()) - 1;
     for (std::size_t e = 0; e + 1 < mesh_nodes.size(); ++e) {
       const double a = mesh_nodes[e], b = mesh_nodes[e + 1];
-      const auto [k_a, k_b] = model.foundation_modulus_on(a, b);
+      const auto [k_a, k_b] = model.k_on(a, b);
       const double k = std::max(k_a, k_b);
       if (!(k > 0.0)) continue;  // no foundation under this element
       if (const double bh = beta_s(k) * (b - a); bh > f.beta_h) {
@@ -74,11 +74,10 @@ std::vector<std::string> scale_warnings(const scene::Scene& scene, const model::
   std::vector<double> nondimensional, dimensional;
   const scene::Foundation& foundation = scene.foundation;
   std::vector<scene::FoundationSegment> pieces = foundation.segments;
-  if (pieces.empty())
-    pieces.push_back({foundation.from, foundation.to, foundation.stiffness_parameter, foundation.modulus});
+  if (pieces.empty()) pieces.push_back({foundation.from, foundation.to, foundation.k, foundation.modulus});
   for (const scene::FoundationSegment& piece : pieces) {
-    std::vector<double>& given = piece.stiffness_parameter ? nondimensional : dimensional;
-    const std::optional<double> value = piece.stiffness_parameter ? piece.stiffness_parameter : piece.modulus;
+    std::vector<double>& given = piece.k ? nondimensional : dimensional;
+    const std::optional<double> value = piece.k ? piece.k : piece.modulus;
     if (value) given.push_back(*value);
     if (piece.at_to) given.push_back(*piece.at_to);
   }

@@ -47,10 +47,10 @@ std::optional<Unsupported> unsupported_input(const model::MemberModel& model, co
   if (model.has_springs() || model.has_settlements())
     return Unsupported{"supports",
                        "takes rigid supports without settlement only, not springs (kind = \"spring\") or a settlement"};
-  if (model.foundation_pieces.size() > 1 || !model.foundation_modulus_is_constant())  // none: built in code, one piece
+  if (model.foundation_pieces.size() > 1 || !model.k_is_constant())  // none: built in code, one piece
     return Unsupported{"foundation.segments", "takes one foundation piece of constant modulus"};
   if (model.has_ground_gap()) return Unsupported{gap_key, "takes the ground at the member's axis (no ground gap)"};
-  if (model.has_tension_modulus())
+  if (model.has_tension_k())
     return Unsupported{tension_key, "takes a tensionless or bilateral foundation (no modulus in tension)"};
   if (arch && model.foundation_outside)
     return Unsupported{"foundation.side", "takes the foundation inside the arch only, not side = \"outside\""};
@@ -74,8 +74,8 @@ RitzModel::RitzModel(const model::MemberModel& model, int modes, Topology topolo
   if (const std::optional<Unsupported> unsupported = unsupported_input(model))
     throw std::invalid_argument(unsupported->message());
   topology_.validate();
-  for (double value : {model.s_begin, model.s_end, model.membrane_stiffness, model.foundation_modulus,
-                       model.foundation_begin, model.foundation_end})
+  for (double value :
+       {model.s_begin, model.s_end, model.membrane_stiffness, model.k, model.foundation_begin, model.foundation_end})
     require_finite(value, "a member model value");
   for (const model::MemberLoad& load : model.loads) {
     require_finite(load.value, "a load value");
@@ -94,7 +94,7 @@ RitzModel::RitzModel(const model::MemberModel& model, int modes, Topology topolo
     throw std::invalid_argument(
         fmt::format("RitzModel: the foundation's extent [{}, {}] has no room for contact limits",
                     model.foundation_begin, model.foundation_end));
-  foundation_modulus_ = model.foundation_modulus;
+  k_ = model.k;
   foundation_begin_ = model.foundation_begin;
   foundation_end_ = model.foundation_end;
 
@@ -273,8 +273,8 @@ double RitzModel::energy(const VectorXd& x, double lambda) const {
   check_size(x);
   const VectorXd amplitudes = x.head(amplitudes_);
   const VectorXd deflection = x.head(modes_);
-  return 0.5 * amplitudes.dot(stiffness_ * amplitudes) +
-         0.5 * foundation_modulus_ * deflection.dot(contact_gram(x) * deflection) - load(lambda).dot(amplitudes);
+  return 0.5 * amplitudes.dot(stiffness_ * amplitudes) + 0.5 * k_ * deflection.dot(contact_gram(x) * deflection) -
+         load(lambda).dot(amplitudes);
 }
 
 VectorXd RitzModel::gradient(const VectorXd& x, double lambda) const {
@@ -282,7 +282,7 @@ VectorXd RitzModel::gradient(const VectorXd& x, double lambda) const {
   residual(x, lambda, g);
   for (int m = 0; m < limits(); ++m) {
     const double wt = g[limit_offset() + m];  // the residual's limit row is w(t_m)
-    g[limit_offset() + m] = piece_sign(m) * 0.5 * foundation_modulus_ * wt * wt;
+    g[limit_offset() + m] = piece_sign(m) * 0.5 * k_ * wt * wt;
   }
   return g;
 }
@@ -298,7 +298,7 @@ MatrixXd RitzModel::hessian(const VectorXd& x, double lambda) const {
     const double wt = w(x, t), slope = w(x, t, 1);
     h.row(row).setZero();
     h.block(row, 0, 1, modes_) = h.block(0, row, modes_, 1).transpose();
-    h(row, row) = piece_sign(m) * foundation_modulus_ * wt * slope;
+    h(row, row) = piece_sign(m) * k_ * wt * slope;
   }
   return h;
 }
@@ -308,7 +308,7 @@ void RitzModel::residual(const VectorXd& x, double lambda, VectorXd& f) const {
   f.resize(unknowns());
   const VectorXd amplitudes = x.head(amplitudes_);
   f.head(amplitudes_) = stiffness_ * amplitudes - load(lambda);
-  f.head(modes_) += foundation_modulus_ * (contact_gram(x) * x.head(modes_));
+  f.head(modes_) += k_ * (contact_gram(x) * x.head(modes_));
   for (int m = 0; m < limits(); ++m) f[limit_offset() + m] = w(x, x[limit_offset() + m]);
 }
 
@@ -317,14 +317,14 @@ void RitzModel::jacobian(const VectorXd& x, double lambda, MatrixXd& J) const {
   (void)lambda;  // the Jacobian does not depend on the load factor
   J.setZero(unknowns(), unknowns());
   J.topLeftCorner(amplitudes_, amplitudes_) = stiffness_;
-  J.topLeftCorner(modes_, modes_) += foundation_modulus_ * contact_gram(x);
+  J.topLeftCorner(modes_, modes_) += k_ * contact_gram(x);
   for (int m = 0; m < limits(); ++m) {
     const int row = limit_offset() + m;
     const double t = x[row];
     const VectorXd phi = phi_at(t, 0);
     const double wt = phi.dot(x.head(modes_));
     // d/dt_m of k int_contact phi w = sigma_m k phi(t_m) w(t_m)  (amplitude rows)
-    J.block(0, row, modes_, 1) = piece_sign(m) * foundation_modulus_ * wt * phi;
+    J.block(0, row, modes_, 1) = piece_sign(m) * k_ * wt * phi;
     // d w(t_m) = phi(t_m) . dW + w'(t_m) dt_m  (limit rows)
     J.block(row, 0, 1, modes_) = phi.transpose();
     J(row, row) = w(x, t, 1);
@@ -344,7 +344,7 @@ std::optional<VectorXd> RitzModel::minimiser_for_limits(const VectorXd& limits_i
   VectorXd x = VectorXd::Zero(unknowns());
   x.tail(limits()) = limits_in;
   MatrixXd h = stiffness_;
-  h.topLeftCorner(modes_, modes_) += foundation_modulus_ * contact_gram(x);
+  h.topLeftCorner(modes_, modes_) += k_ * contact_gram(x);
   // Scale to unit diagonal first: the bending stiffness of mode j grows like j^4, so unscaled
   // pivots span many decades for a well-posed problem. After scaling, a rigid motion nothing
   // resists shows as a pivot at round-off level.
@@ -400,7 +400,7 @@ void RitzModel::w_on_grid(const VectorXd& x, double a, double b, int n, std::vec
 
 double RitzModel::reaction(const VectorXd& x, double s) const {
   for (const ContactRegion& piece : contact_pieces(x))
-    if (s >= piece.begin && s <= piece.end) return foundation_modulus_ * w(x, s);
+    if (s >= piece.begin && s <= piece.end) return k_ * w(x, s);
   return 0.0;
 }
 

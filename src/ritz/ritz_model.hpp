@@ -147,7 +147,7 @@ class RitzModel {
   int modes_ = 0;
   int amplitudes_ = 0;
   Topology topology_;
-  double foundation_modulus_ = 0.0;
+  double k_ = 0.0;
   double foundation_begin_ = 0.0;
   double foundation_end_ = 0.0;
   Basis basis_;

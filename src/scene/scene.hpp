@@ -103,21 +103,21 @@ struct Supports {
 struct FoundationSegment {
   double from = 0.0;  // user coordinate, from < to
   double to = 0.0;
-  std::optional<double> stiffness_parameter;  // key "nondimensional_k" (at `from` when linear)
-  std::optional<double> modulus;              // key "modulus" (at `from` when linear)
-  std::optional<double> at_to{};              // linear: the k or modulus (as given) at `to`
+  std::optional<double> k;        // key "nondimensional_k" (at `from` when linear)
+  std::optional<double> modulus;  // key "modulus" (at `from` when linear)
+  std::optional<double> at_to{};  // linear: the k or modulus (as given) at `to`
 };
 
 struct Foundation {
   // Exactly one of the two is given: nondimensional_k = K L^4/EI (beam) or K R^4/EI (arch), or K
   // itself. Both absent when the foundation is given as segments. (The old name of
   // nondimensional_k, `k`, is read with a warning: engineers call the dimensional K "k".)
-  std::optional<double> stiffness_parameter;  // key "nondimensional_k"
-  std::optional<double> modulus;              // key "modulus", force per length per length
-  bool tensionless = true;                    // false: conventional bilateral foundation
-  double from = 0.0;                          // extent of the foundation, user coordinate;
-  double to = 0.0;                            // the reader fills the member's ends by default
-                                              // (with segments: the first from, the last to)
+  std::optional<double> k;        // key "nondimensional_k"
+  std::optional<double> modulus;  // key "modulus", force per length per length
+  bool tensionless = true;        // false: conventional bilateral foundation
+  double from = 0.0;              // extent of the foundation, user coordinate;
+  double to = 0.0;                // the reader fills the member's ends by default
+                                  // (with segments: the first from, the last to)
   // [[foundation.segments]]: the pieces, sorted by `from`, disjoint (they may abut), voids
   // between them allowed. Empty for the one-piece form (k or modulus on [from, to]).
   std::vector<FoundationSegment> segments;
@@ -132,14 +132,12 @@ struct Foundation {
   std::string gap_key() const { return gap_file.empty() ? "foundation.gap" : "foundation.gap_file"; }
   // The key that gave the tension modulus, for messages; empty without one.
   std::string tension_key() const {
-    return tension_modulus               ? "foundation.tension_modulus"
-           : tension_stiffness_parameter ? "foundation.tension_nondimensional_k"
-                                         : "";
+    return tension_modulus ? "foundation.tension_modulus" : tension_k ? "foundation.tension_nondimensional_k" : "";
   }
   // The bilinear foundation's modulus in tension (keys `tension_modulus` or
   // `tension_nondimensional_k`, old name `tension_k`).
   std::optional<double> tension_modulus;
-  std::optional<double> tension_stiffness_parameter;
+  std::optional<double> tension_k;
 };
 
 struct Load {

@@ -644,11 +644,11 @@ FoundationSegment read_segment(const Section& s, const Member& member, std::vect
     return ends[0];
   };
   const std::string_view k = renamed_key(s, "nondimensional_k", "k", warnings);
-  piece.stiffness_parameter = value(k);
+  piece.k = value(k);
   piece.modulus = value("modulus");
-  if (piece.stiffness_parameter && piece.modulus)
+  if (piece.k && piece.modulus)
     s.fail("modulus", fmt::format("expected exactly one of '{}' and 'modulus', got both", k));
-  if (!piece.stiffness_parameter && !piece.modulus)
+  if (!piece.k && !piece.modulus)
     s.missing("nondimensional_k", "exactly one of 'nondimensional_k' (K l^4/EI) and 'modulus' (K), a number > 0");
   return piece;
 }
@@ -732,24 +732,24 @@ void read_gap_and_tension(const Section& s, Foundation& f, std::vector<std::stri
   const Range non_negative{"a number >= 0", 0.0, inf};
   f.tension_modulus = s.number("tension_modulus", non_negative);
   const std::string_view tension_k = renamed_key(s, "tension_nondimensional_k", "tension_k", warnings);
-  f.tension_stiffness_parameter = s.number(tension_k, non_negative);
-  if (!f.tension_modulus && !f.tension_stiffness_parameter) return;
+  f.tension_k = s.number(tension_k, non_negative);
+  if (!f.tension_modulus && !f.tension_k) return;
   const std::string_view key = f.tension_modulus ? "tension_modulus" : tension_k;
-  if (f.tension_modulus && f.tension_stiffness_parameter)
+  if (f.tension_modulus && f.tension_k)
     s.fail(tension_k, fmt::format("expected one of 'tension_modulus' and '{}', got both", tension_k));
   if (!f.tensionless)
     s.fail(key, "not allowed with tensionless = false (a bilateral foundation resists tension with its full modulus)");
   // The compression moduli, of the kind the tension modulus must share.
   std::vector<FoundationSegment> compression = f.segments;
-  if (f.segments.empty()) compression.push_back({f.from, f.to, f.stiffness_parameter, f.modulus});
-  const double tension = f.tension_modulus ? *f.tension_modulus : *f.tension_stiffness_parameter;
+  if (f.segments.empty()) compression.push_back({f.from, f.to, f.k, f.modulus});
+  const double tension = f.tension_modulus ? *f.tension_modulus : *f.tension_k;
   for (const FoundationSegment& piece : compression) {
     if (f.tension_modulus && !piece.modulus)
       s.fail(key,
              "expected 'tension_nondimensional_k' for a foundation given by 'nondimensional_k', got 'tension_modulus'");
-    if (f.tension_stiffness_parameter && !piece.stiffness_parameter)
+    if (f.tension_k && !piece.k)
       s.fail(key, fmt::format("expected 'tension_modulus' for a foundation given by 'modulus', got '{}'", key));
-    const double c = piece.stiffness_parameter ? *piece.stiffness_parameter : *piece.modulus;
+    const double c = piece.k ? *piece.k : *piece.modulus;
     if (!piece.at_to && tension > c)
       s.fail(key, fmt::format("expected at most the compression modulus {} everywhere, got {}", c, tension));
     // A linear piece: the tensionless part k(s) - K_t must stay positive over it (at a point where it
@@ -801,12 +801,12 @@ Foundation read_foundation_moduli(const Section& s, const Member& member, std::v
     return f;
   }
   const std::string_view k = renamed_key(s, "nondimensional_k", "k", warnings);
-  f.stiffness_parameter = s.number(k, positive());
+  f.k = s.number(k, positive());
   f.modulus = s.number("modulus", positive());
-  if (f.stiffness_parameter && f.modulus) {
+  if (f.k && f.modulus) {
     s.fail("modulus", fmt::format("expected exactly one of '{}' and 'modulus', got both", k));
   }
-  if (!f.stiffness_parameter && !f.modulus) {
+  if (!f.k && !f.modulus) {
     s.missing("nondimensional_k", "exactly one of 'nondimensional_k' (K l^4/EI) and 'modulus' (K), a number > 0");
   }
   std::tie(f.from, f.to) = read_extent(s, member);

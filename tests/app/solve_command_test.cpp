@@ -53,7 +53,7 @@ namespace {
 scene::Scene footing() {
   scene::Scene s = test::beam_scene(3.0, 5.4e8, scene::EndSupport::free, scene::EndSupport::free, 0.0);
   s.source_name = "footing";
-  s.foundation.stiffness_parameter.reset();
+  s.foundation.k.reset();
   s.foundation.modulus = 3.0e7;
   s.loads = {test::point_force(1.8, 800e3), test::point_moment(1.8, -400e3)};
   return s;
@@ -137,7 +137,7 @@ TEST_CASE("a bilinear foundation's reaction in the output is the total, K_t (w -
   // nodes table and the fields; in contact the total is k w. Without the Winkler part the output
   // showed 0 on the lifted stretch.
   scene::Scene s = test::beam_scene(1.0, 1.0, scene::EndSupport::pinned, scene::EndSupport::pinned, 1e4);
-  s.foundation.tension_stiffness_parameter = 1e3;
+  s.foundation.tension_k = 1e3;
   s.loads = {test::point_moment(0.0, 1.0), test::point_moment(1.0, 1.0)};
   app::SolveRequest request;
   request.method = Method::fast;

@@ -50,7 +50,7 @@ TEST_CASE("sweep: every combination, in order, in parallel as in series", "[app]
   for (std::size_t i = 0; i < 6; ++i) {
     CHECK(serial[i].values == std::vector<double>{i < 3 ? 100.0 : 1e4, std::vector<double>{0.5, 1, 2}[i % 3]});
     REQUIRE(serial[i].reports.size() == 1);
-    CHECK(serial[i].reports[0].foundation_parameter == serial[i].values[0]);
+    CHECK(serial[i].reports[0].k == serial[i].values[0]);
     CHECK(serial[i].reports[0].w_max == parallel[i].reports[0].w_max);
   }
   CHECK_THROWS_AS(app::run_sweep(s, {app::parse_sweep_parameter("loads[7].value=1,2")}, request, 2), InputError);

@@ -39,7 +39,7 @@ certify::Certificate certify_solved(const test::Solved& s, bool round_off = true
 // clockwise moment of 400 kN m at x = 1.8 m, free-free.
 scene::Scene footing() {
   scene::Scene s = test::beam_scene(3.0, 5.4e8, EndSupport::free, EndSupport::free, 0.0);
-  s.foundation.stiffness_parameter.reset();
+  s.foundation.k.reset();
   s.foundation.modulus = 3.0e7;
   s.loads = {test::point_force(1.8, 800e3), test::point_moment(1.8, -400e3)};
   return s;
@@ -395,7 +395,7 @@ TEST_CASE("arch loads in any direction: certified, and an answer to radial loads
   s.structure.bending_stiffness = 1.0;
   s.structure.axial_stiffness = 1e3;
   s.supports.left = s.supports.right = EndSupport::pinned;
-  s.foundation.stiffness_parameter = 200.0;
+  s.foundation.k = 200.0;
   s.foundation.from = -60.0;
   s.foundation.to = 60.0;
   scene::Load weight = test::uniform_load(-60.0, 60.0, 1.0), fill = test::uniform_load(-30.0, 45.0, 0.5);
@@ -498,7 +498,7 @@ TEST_CASE("a modulus linear within a piece: the certificate checks the reaction 
   const bool tensionless = GENERATE(true, false);
   CAPTURE(tensionless);
   scene::Scene s = test::beam_scene(1.0, 1.0, EndSupport::free, EndSupport::free, 1.0, tensionless);
-  s.foundation.stiffness_parameter.reset();
+  s.foundation.k.reset();
   s.foundation.segments = {{0.0, 1.0, 3000.0, std::nullopt, 1000.0}};
   s.loads = {test::point_force(0.3, 5.0), test::point_moment(0.6, -2.2)};
   const test::Solved good = test::solve(s, Method::fast, 20);
@@ -624,7 +624,7 @@ TEST_CASE("bilinear foundation: certified, and an answer that drops K_t is not",
   scene::Scene s = test::beam_scene(1.0, 1.0, EndSupport::free, EndSupport::free, 1e4);
   s.loads = {test::point_force(0.5, 100.0)};
   scene::Scene plain = s;
-  s.foundation.tension_stiffness_parameter = 2e3;
+  s.foundation.tension_k = 2e3;
   for (Method m : {Method::fast, Method::dual, Method::primal}) {
     const test::Solved good = test::solve(s, m, 200);
     REQUIRE(good.solution.summary.is_usable());
@@ -668,7 +668,7 @@ TEST_CASE("two reactions where k jumps: certified, each against its side's k w",
   // Each is its soil's k w up to the P1 projection's O(h^2) (h = 1/60 of the length, w'' L^2 / w
   // of order 1 here; 2.5e-7 and 2.6e-6 measured), where one value for both would be off by a
   // factor 2.5 on either side.
-  const double k_clay = d.element_modulus[node - 1].end, k_sand = d.element_modulus[node].begin;
+  const double k_clay = d.element_k[node - 1].end, k_sand = d.element_k[node].begin;
   REQUIRE(k_sand == Approx(4.0 * k_clay).epsilon(1e-15));
   const double h = 1.0 / 60.0;
   CHECK(good.solution.reaction[clay] == Approx(k_clay * w).epsilon(h * h));

@@ -114,8 +114,7 @@ TEST_CASE("fast gives Lemke's answer on random beams, free-free included, k from
   int compared = 0, lifted_off = 0;
   for (int trial = 0; trial < 60; ++trial) {
     const auto scene = random_beam(random);
-    CAPTURE(trial, scene::to_string(scene.supports.left), scene::to_string(scene.supports.right),
-            *scene.foundation.stiffness_parameter);
+    CAPTURE(trial, scene::to_string(scene.supports.left), scene::to_string(scene.supports.right), *scene.foundation.k);
     const auto d = fe::discretise(model::make_member_model(scene), 24);
     const auto lemke = solve_with(d, lemke_for(d));
     const auto fast = solve_with(d, Method::fast);

@@ -62,7 +62,7 @@ TEST_CASE("the mixed form solves fine meshes to round-off: bilateral seed beam a
   s.foundation.tensionless = false;
   const model::MemberModel model = model::make_member_model(s);
   closed_form::BeamProblem p;
-  p.foundation_modulus = model.foundation_modulus;
+  p.foundation_modulus = model.k;
   p.left = p.right = closed_form::EndCondition::pinned;
   for (const auto& l : model.loads) p.moments.push_back({l.at, l.value});
   const auto exact = closed_form::solve_bilateral(p);

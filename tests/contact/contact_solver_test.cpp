@@ -207,7 +207,7 @@ TEST_CASE("results do not depend on units or on the size of the load", "[contact
   unit.loads = {test::point_force(0.3, 1.0), test::uniform_load(0.5, 1.0, -0.5)};
   const double L = 2000.0, EI = 3e12, P = 1e6;
   scene::Scene mm = test::beam_scene(L, EI, EndSupport::pinned, EndSupport::clamped, 0.0);
-  mm.foundation.stiffness_parameter.reset();
+  mm.foundation.k.reset();
   mm.foundation.modulus = 1e4 * EI / std::pow(L, 4);
   // Nondimensional load P L^2 / EI = 1 in the reference: scale each load by P accordingly.
   const double force_unit = EI / (L * L) * P, distributed_unit = EI / (L * L * L) * P;
@@ -424,7 +424,7 @@ namespace {
 // A free-free beam, k = 1e4 (kL^4/EI), tension_k = kt (none for kt < 0), loads `loads`.
 scene::Scene bilinear_beam(double kt, std::vector<scene::Load> loads) {
   scene::Scene s = test::beam_scene(1.0, 1.0, EndSupport::free, EndSupport::free, 1e4);
-  if (kt >= 0.0) s.foundation.tension_stiffness_parameter = kt;
+  if (kt >= 0.0) s.foundation.tension_k = kt;
   s.loads = std::move(loads);
   return s;
 }
@@ -518,14 +518,14 @@ TEST_CASE("bilinear foundation with springs and a linear modulus: the three stre
   // the linear piece's tensionless part k(s) - K_t is linear too: fast's mixed form must give the
   // K-form methods' answer.
   scene::Scene s = test::beam_scene(1.0, 1.0, EndSupport::free, EndSupport::free, 1.0);
-  s.foundation.stiffness_parameter.reset();
+  s.foundation.k.reset();
   s.foundation.segments = {{0.0, 0.6, 3e3, std::nullopt, 1e3}, {0.6, 1.0, 1e3, std::nullopt}};
-  s.foundation.tension_stiffness_parameter = 400.0;
+  s.foundation.tension_k = 400.0;
   s.supports.left_detail = {true, 200.0, 0.0, 0.0};
   s.supports.interior_springs.push_back({0.5, {true, 500.0, 20.0, 0.0}});
   s.loads = {test::point_force(0.3, 5.0), test::point_moment(0.7, -2.2), test::point_force(0.95, -3.0)};
   const model::MemberModel model = model::make_member_model(s);
-  REQUIRE(model.has_tension_modulus());
+  REQUIRE(model.has_tension_k());
   const test::Solved fast = test::solve(s, Method::fast, 100);
   REQUIRE(fast.solution.summary.is_usable());
   const fe::Discretisation& d = fast.discretisation;

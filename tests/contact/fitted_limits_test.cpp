@@ -44,7 +44,7 @@ scene::Scene free_beam() {
 // Its clamped ends stay in contact (w'' > 0 there): two limits around the central lift-off zone.
 scene::Scene pipeline() {
   auto s = test::beam_scene(500.0, 3.12e7, EndSupport::clamped, EndSupport::clamped, 0.0);
-  s.foundation.stiffness_parameter.reset();
+  s.foundation.k.reset();
   s.foundation.modulus = 2.0e5;
   s.loads = {test::uniform_load(0.0, 500.0, 1000.0, scene::LoadCase::dead), test::point_force(250.0, -50e3)};
   return s;
@@ -271,9 +271,9 @@ TEST_CASE("fitted limits on a bilinear foundation converge at h^4 to the closed 
   // k (w - g) in contact, K_t (w - g) lifted: a kink at the limit only, where w = g, so the order
   // of the tensionless cases holds.
   const model::MemberModel bilinear = model::make_member_model(issue12_scene("tension_k"));
-  REQUIRE(bilinear.has_tension_modulus());
+  REQUIRE(bilinear.has_tension_k());
   scene::Scene seabed = issue12_scene("gap_file_seabed");
-  seabed.foundation.tension_stiffness_parameter = 1e3;
+  seabed.foundation.tension_k = 1e3;
   const model::MemberModel sloping = model::make_member_model(seabed);
   REQUIRE(sloping.has_ground_gap());
   for (const model::MemberModel* model : {&bilinear, &sloping}) {
@@ -286,7 +286,7 @@ TEST_CASE("fitted limits on a bilinear foundation converge at h^4 to the closed 
     // Would the test see a solve that drops K_t? Without it the limits move far beyond the errors
     // (checked below).
     model::MemberModel plain = *model;
-    plain.tension_modulus = 0.0;
+    plain.tension_k = 0.0;
     const auto without = closed_form::solve_tensionless(closed_form::problem_of(plain), guess);
     const bool comparable =
         without.status == closed_form::TensionlessStatus::converged && without.limits.size() == exact.limits.size();

@@ -69,8 +69,8 @@ Errors true_errors(const model::MemberModel& model, const contact::FittedResult&
       const double w_exact = exact.solution.deflection(s);
       w_scale = std::max(w_scale, std::abs(w_exact));
       w_error = std::max(w_error, std::abs(w - w_exact));
-      const double r = d.foundation_on_element[el] ? model.foundation_modulus * std::max(w, 0.0) : 0.0;
-      const double r_exact = model.foundation_modulus * std::max(w_exact, 0.0);
+      const double r = d.foundation_on_element[el] ? model.k * std::max(w, 0.0) : 0.0;
+      const double r_exact = model.k * std::max(w_exact, 0.0);
       r_scale = std::max(r_scale, r_exact);
       r_error = std::max(r_error, std::abs(r - r_exact));
     }

@@ -642,13 +642,13 @@ TEST_CASE("a bilinear foundation: the path ends where solve does", "[issue12][te
   for (const char* name : {"tension_k", "gap_file_seabed"}) {
     CAPTURE(name);
     scene::Scene scene = scene::read_scene_file(dir + name + ".toml");
-    scene.foundation.tension_stiffness_parameter = 1e3;
-    REQUIRE(model::make_member_model(scene).has_tension_modulus());
+    scene.foundation.tension_k = 1e3;
+    REQUIRE(model::make_member_model(scene).has_tension_k());
     const int elements = 200;
     const NodalState exact = path_ends_on_solve(scene, elements).exact;
     // Would it fail if the path dropped K_t? The tensionless answer is another.
     scene::Scene plain = scene;
-    plain.foundation.tension_stiffness_parameter.reset();
+    plain.foundation.tension_k.reset();
     const auto without = test::solve(plain, scene::Method::fast, elements, 1.0);
     if (without.solution.summary.is_usable()) CHECK(max_relative_difference(nodal_state(without).w, exact.w) > 1e-6);
   }

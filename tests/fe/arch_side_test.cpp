@@ -34,7 +34,7 @@ scene::Scene arch(double half_angle, double k, bool tensionless, scene::Foundati
   s.structure.axial_stiffness = 2e4;
   s.supports.left = EndSupport::pinned;
   s.supports.right = EndSupport::clamped;
-  s.foundation.stiffness_parameter = k;
+  s.foundation.k = k;
   s.foundation.tensionless = tensionless;
   s.foundation.from = -half_angle;
   s.foundation.to = half_angle;

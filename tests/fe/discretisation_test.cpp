@@ -55,7 +55,7 @@ TEST_CASE("a foundation on chosen elements: reaction nodes are those elements' n
   const fe::Discretisation d = fe::discretise(model, mesh, foundation);
   CHECK(d.reaction_nodes == std::vector<int>{2, 3, 4, 7, 8});
   // The foundation's flexibility is that of three elements: T sums to 3 h / k.
-  CHECK(Eigen::MatrixXd(d.flexibility).sum() == Approx(3 * 0.1 / model.foundation_modulus).epsilon(1e-12));
+  CHECK(Eigen::MatrixXd(d.flexibility).sum() == Approx(3 * 0.1 / model.k).epsilon(1e-12));
   // The mixed form carries K exactly: G^T H^-1 G = K to round-off.
   const Eigen::MatrixXd g(d.stress_coupling);
   const Eigen::MatrixXd k = g.transpose() * d.compliance.cwiseInverse().asDiagonal() * g;
@@ -129,8 +129,7 @@ TEST_CASE("the ground gap vector is the integral of Hb^T g, exact for a piecewis
   s.foundation.gap_value = {2e-3};
   const model::MemberModel flat = model::make_member_model(s);
   const fe::Discretisation u = fe::discretise(flat, 9);
-  const Eigen::VectorXd expected =
-      flat.foundation_modulus * (u.flexibility * Eigen::VectorXd::Ones(u.reactions())) * (2e-3 / 2.0);
+  const Eigen::VectorXd expected = flat.k * (u.flexibility * Eigen::VectorXd::Ones(u.reactions())) * (2e-3 / 2.0);
   CHECK((u.ground_gap - expected).lpNorm<Eigen::Infinity>() <= 1e-15 * expected.lpNorm<Eigen::Infinity>() * 10);
   // No gap: c = 0.
   s.foundation.gap_at.clear();
@@ -142,7 +141,7 @@ TEST_CASE("two reactions at a node where k or the ground gap steps, one where ne
   // L = 1, EI = 1: k = 1000 on [0, 0.4], 4000 on [0.4, 0.7], 4000 on [0.7, 0.8] (no step at 0.7),
   // a void on [0.8, 0.9], 1000 on [0.9, 1]; the gap steps at 0.2 (and is continuous at 0.5).
   scene::Scene s = test::beam_scene(1.0, 1.0, EndSupport::free, EndSupport::free, 1.0);
-  s.foundation.stiffness_parameter.reset();
+  s.foundation.k.reset();
   s.foundation.segments = {{0.0, 0.4, 1000.0, std::nullopt},
                            {0.4, 0.7, 4000.0, std::nullopt},
                            {0.7, 0.8, 4000.0, std::nullopt},
@@ -304,16 +303,16 @@ TEST_CASE("bilinear foundation: the Winkler part K_t is in K and in its mixed fo
   s.foundation.from = 0.2;
   s.loads = {test::point_force(0.5, 1.0)};
   const fe::Discretisation plain = fe::discretise(model::make_member_model(s), 10);
-  s.foundation.tension_stiffness_parameter = 400.0;
+  s.foundation.tension_k = 400.0;
   const model::MemberModel model = model::make_member_model(s);
   REQUIRE(model.tensionless);
   const fe::Discretisation d = fe::discretise(model, 10);
   // Element 0..1 lie off the foundation: no Winkler stresses there.
   CHECK(d.winkler_elements == std::vector<int>{2, 3, 4, 5, 6, 7, 8, 9});
   CHECK(d.stresses() == d.stresses_per_element * 10 + fe::foundation_element::winkler_points * 8);
-  CHECK(d.element_modulus[5].begin == 600.0);
-  CHECK(d.element_modulus[5].end == 600.0);
-  CHECK(d.element_tension_modulus[5] == 400.0);
+  CHECK(d.element_k[5].begin == 600.0);
+  CHECK(d.element_k[5].end == 600.0);
+  CHECK(d.element_tension_k[5] == 400.0);
   // T is that of k - K_t: it sums to 0.8 / 600.
   CHECK(Eigen::MatrixXd(d.flexibility).sum() == Approx(0.8 / 600.0).epsilon(1e-12));
   // K - K_plain applied to w = 1 is the force K_t integral N_w: summing its w rows gives K_t 0.8.
@@ -334,9 +333,9 @@ TEST_CASE("bilinear foundation: the Winkler part K_t is in K and in its mixed fo
   CHECK(plain.unstable_rigid_motions == 1);
   CHECK(d.unstable_rigid_motions == 0);
   // K_t = k: the bilateral foundation.
-  s.foundation.tension_stiffness_parameter = 1e3;
+  s.foundation.tension_k = 1e3;
   CHECK_FALSE(model::make_member_model(s).tensionless);
-  CHECK(model::make_member_model(s).tension_modulus == 0.0);
+  CHECK(model::make_member_model(s).tension_k == 0.0);
 }
 
 TEST_CASE("rigid motions are computed once: the member's, and those the supports leave free", "[fe][stability]") {

@@ -25,7 +25,7 @@ std::vector<scene::Scene> members() {
   beam.supports.interior = {0.7};
   beam.supports.interior_springs.push_back({0.4, {true, 90.0, 0.0, 0.0}});
   beam.foundation.from = 0.2;
-  beam.foundation.tension_stiffness_parameter = 400.0;
+  beam.foundation.tension_k = 400.0;
   beam.loads = {test::point_force(0.5, 1.0)};
   scene::Scene arch = test::shipped_scene("seed_arch_pinned");
   arch.supports.left = EndSupport::free;

@@ -84,22 +84,22 @@ TEST_CASE("foundation pieces: member, mesh nodes and element moduli", "[fe][segm
   const model::MemberModel model = model::make_member_model(s);
   REQUIRE(model.foundation_pieces.size() == 3);
   const double k_scale = s.structure.bending_stiffness / std::pow(s.structure.length, 4);
-  CHECK(model.foundation_pieces[1].modulus == Approx(3.0e7 / k_scale).epsilon(1e-15));
+  CHECK(model.foundation_pieces[1].k == Approx(3.0e7 / k_scale).epsilon(1e-15));
   CHECK(model.foundation_pieces[0].end == model.foundation_pieces[1].begin);  // abutting exactly
   CHECK(model.foundation_stretches().size() == 1);
-  CHECK(model.foundation_modulus == model.foundation_pieces[1].modulus);
+  CHECK(model.k == model.foundation_pieces[1].k);
 
   const fe::Discretisation d = fe::discretise(model, 26);
   for (double x : {0.8, 1.8}) CHECK(d.mesh.node_at(model.s_from_user(x)) >= 0);
   for (int e = 0; e < d.mesh.elements(); ++e) {
     const double x = model.user_from_s(d.mesh.nodes[e] + 0.5 * d.mesh.element_size(e));
-    for (double k : {d.element_modulus[e].begin, d.element_modulus[e].end})
+    for (double k : {d.element_k[e].begin, d.element_k[e].end})
       CHECK(k * k_scale == Approx(x > 0.8 && x < 1.8 ? 3.0e7 : 3.0e6).epsilon(1e-14));
   }
   // T = h / (6 k) [2 1; 1 2] per element: the node between the soils has two reactions (k
   // jumps there), the weak soil's with its element's h / (3 k_weak), the sound's with its own.
   const int node = d.mesh.node_at(model.s_from_user(0.8));
-  const double k_weak = model.foundation_pieces[0].modulus, k_sound = model.foundation_pieces[1].modulus;
+  const double k_weak = model.foundation_pieces[0].k, k_sound = model.foundation_pieces[1].k;
   const int weak = d.element_reactions(node - 1)[1], sound = d.element_reactions(node)[0];
   REQUIRE(sound == weak + 1);
   CHECK(d.flexibility.coeff(weak, weak) == Approx(d.mesh.element_size(node - 1) / (3 * k_weak)).epsilon(1e-14));
@@ -115,8 +115,7 @@ TEST_CASE("foundation pieces: member, mesh nodes and element moduli", "[fe][segm
     CHECK((x <= 48.0 + 1e-12 || x >= 72.0 - 1e-12));
   }
   for (int e = 0; e < dt.mesh.elements(); ++e)
-    CHECK(dt.foundation_on_element[e] ==
-          (trench.foundation_modulus_at(dt.mesh.nodes[e] + 0.5 * dt.mesh.element_size(e)) > 0));
+    CHECK(dt.foundation_on_element[e] == (trench.k_at(dt.mesh.nodes[e] + 0.5 * dt.mesh.element_size(e)) > 0));
 }
 
 TEST_CASE("foundation pieces: every FE method agrees with the closed form", "[fe][segments]") {
@@ -282,7 +281,7 @@ namespace {
 scene::Scene linear_modulus_beam(bool tensionless) {
   scene::Scene s = test::beam_scene(1.0, 1.0, scene::EndSupport::free, scene::EndSupport::free, 1.0, tensionless);
   s.source_name = "linear modulus beam";
-  s.foundation.stiffness_parameter.reset();
+  s.foundation.k.reset();
   s.foundation.segments = {{0.0, 1.0, 3000.0, std::nullopt, 1000.0}};
   scene::Load moment;
   moment.kind = scene::LoadKind::moment;
@@ -300,17 +299,17 @@ TEST_CASE("foundation pieces: a modulus linear within a piece, in the member and
   REQUIRE(model.foundation_pieces.size() == 1);
   const model::FoundationPiece& piece = model.foundation_pieces[0];
   CHECK_FALSE(piece.is_constant());
-  CHECK_FALSE(model.foundation_modulus_is_constant());
-  CHECK(piece.modulus_at(0.0) == 3000.0);  // `from`'s value at from, exactly
-  CHECK(piece.modulus_at(1.0) == 1000.0);
-  CHECK(model.foundation_modulus_at(0.25) == Approx(2500.0).epsilon(1e-15));
-  CHECK(model.foundation_modulus == 3000.0);  // the largest
+  CHECK_FALSE(model.k_is_constant());
+  CHECK(piece.k_at(0.0) == 3000.0);  // `from`'s value at from, exactly
+  CHECK(piece.k_at(1.0) == 1000.0);
+  CHECK(model.k_at(0.25) == Approx(2500.0).epsilon(1e-15));
+  CHECK(model.k == 3000.0);  // the largest
   // Each element carries k at its nodes; neighbours agree at the node they share.
   const fe::Discretisation d = fe::discretise(model, 8);
   for (int e = 0; e < d.mesh.elements(); ++e) {
-    CHECK(d.element_modulus[e].begin == Approx(3000.0 - 2000.0 * d.mesh.nodes[e]).epsilon(1e-15));
-    CHECK(d.element_modulus[e].end == Approx(3000.0 - 2000.0 * d.mesh.nodes[e + 1]).epsilon(1e-15));
-    if (e > 0) CHECK(d.element_modulus[e].begin == d.element_modulus[e - 1].end);
+    CHECK(d.element_k[e].begin == Approx(3000.0 - 2000.0 * d.mesh.nodes[e]).epsilon(1e-15));
+    CHECK(d.element_k[e].end == Approx(3000.0 - 2000.0 * d.mesh.nodes[e + 1]).epsilon(1e-15));
+    if (e > 0) CHECK(d.element_k[e].begin == d.element_k[e - 1].end);
   }
   // Splitting the piece at a node into two linear pieces with the same k there changes nothing
   // but round-off (the answer's own, ~1e-12 of max |w| for these solves).

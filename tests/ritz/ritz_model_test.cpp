@@ -58,7 +58,7 @@ model::MemberModel beam(EndSupport left, EndSupport right, double k, std::vector
   m.kind = model::StructureKind::beam;
   m.left = left;
   m.right = right;
-  m.foundation_modulus = k;
+  m.k = k;
   m.loads = std::move(loads);
   return m;
 }
@@ -72,7 +72,7 @@ model::MemberModel arch(EndSupport left, EndSupport right, double gamma_deg, dou
   m.membrane_stiffness = membrane;
   m.left = left;
   m.right = right;
-  m.foundation_modulus = k;
+  m.k = k;
   m.loads = std::move(loads);
   return m;
 }
@@ -241,7 +241,7 @@ std::vector<double> fe_arch_deflection(const model::MemberModel& member, int ele
     Eigen::Matrix4d foundation = Eigen::Matrix4d::Zero();
     for (const fe::GaussPoint& g : fe::gauss5) {
       const Eigen::Vector4d n = fe::hermite_cubic(g.xi, h).value;
-      foundation += g.weight * h * member.foundation_modulus * n * n.transpose();
+      foundation += g.weight * h * member.k * n * n.transpose();
     }
     const std::vector<int> dofs = d.element_dofs(e);  // the first four are w's Hermite dofs
     for (int i = 0; i < 4; ++i)
@@ -640,7 +640,7 @@ TEST_CASE("ritz model: unsupported_input names the key of each input the model c
   s.supports.left_detail.settlement = 1e-3;
   CHECK(key_of(s) == "supports");
   s = plain;
-  s.foundation.stiffness_parameter.reset();
+  s.foundation.k.reset();
   s.foundation.segments = {{0.0, 1.0, 3e3, std::nullopt, 1e3}};
   CHECK(key_of(s) == "foundation.segments");
   s = plain;
@@ -648,7 +648,7 @@ TEST_CASE("ritz model: unsupported_input names the key of each input the model c
   s.foundation.gap_value = {1e-3};
   CHECK(key_of(s) == "foundation.gap_file");
   s = plain;
-  s.foundation.tension_stiffness_parameter = 10.0;
+  s.foundation.tension_k = 10.0;
   CHECK(key_of(s) == "foundation.tension_k");
   s = plain;
   scene::Load curvature;

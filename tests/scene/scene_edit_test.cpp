@@ -38,7 +38,7 @@ TEST_CASE("scene edit: values at table keys, array-of-table keys, integers", "[s
   edited = scene::with_value(edited, "loads[1].value", -3.5, "s.toml");
   edited = scene::with_value(edited, "solve.elements", 80, "s.toml");
   const scene::Scene s = scene::parse_scene(edited, "s.toml");
-  CHECK(*s.foundation.stiffness_parameter == 250.0);
+  CHECK(*s.foundation.k == 250.0);
   CHECK(s.loads[1].value == -3.5);
   CHECK(s.loads[0].value == 1.0);
   CHECK(s.solve.elements == 80);  // still an integer, so the reader accepts it

@@ -163,7 +163,7 @@ elements = 64
   CHECK(scene.supports.right == EndSupport::free);
   CHECK(scene.supports.interior == std::vector<double>{0.5, 1.5});  // sorted
 
-  CHECK_FALSE(scene.foundation.stiffness_parameter.has_value());
+  CHECK_FALSE(scene.foundation.k.has_value());
   REQUIRE(scene.foundation.modulus.has_value());
   CHECK(*scene.foundation.modulus == 0.014);
   CHECK_FALSE(scene.foundation.tensionless);
@@ -198,8 +198,8 @@ value = 2.0
                                   "minimal.toml");
   CHECK_FALSE(scene.structure.axial_stiffness.has_value());
   CHECK(scene.supports.interior.empty());
-  REQUIRE(scene.foundation.stiffness_parameter.has_value());
-  CHECK(*scene.foundation.stiffness_parameter == 1.0e4);
+  REQUIRE(scene.foundation.k.has_value());
+  CHECK(*scene.foundation.k == 1.0e4);
   CHECK_FALSE(scene.foundation.modulus.has_value());
   CHECK(scene.foundation.tensionless);
   CHECK(scene.foundation.from == 0.0);  // the whole member
@@ -265,7 +265,7 @@ method = "primal"
   CHECK(scene.supports.right == EndSupport::clamped);
   CHECK(scene.supports.interior == std::vector<double>{-5.0});
 
-  CHECK(*scene.foundation.stiffness_parameter == 1.0e4);
+  CHECK(*scene.foundation.k == 1.0e4);
   CHECK(scene.foundation.tensionless);
   CHECK(scene.foundation.from == -8.0);
   CHECK(scene.foundation.to == 10.0);  // default: the right end
@@ -792,12 +792,12 @@ modulus = 2.0
   REQUIRE(s.foundation.segments.size() == 3);
   CHECK_FALSE(s.foundation.tensionless);
   CHECK(s.foundation.segments[0].from == 0.0);
-  CHECK(*s.foundation.segments[0].stiffness_parameter == 20.0);
+  CHECK(*s.foundation.segments[0].k == 20.0);
   CHECK(s.foundation.segments[1].to == 1.0);
   CHECK(*s.foundation.segments[2].modulus == 4.0);
   CHECK(s.foundation.from == 0.0);  // the extent spans the pieces
   CHECK(s.foundation.to == 2.0);
-  CHECK_FALSE(s.foundation.stiffness_parameter.has_value());
+  CHECK_FALSE(s.foundation.k.has_value());
   for (const auto& piece : s.foundation.segments) CHECK_FALSE(piece.at_to.has_value());
 }
 
@@ -817,7 +817,7 @@ modulus = [3.0, 3.0]
   REQUIRE(s.foundation.segments.size() == 2);
   CHECK(*s.foundation.segments[0].modulus == 3.0);  // equal ends: constant
   CHECK_FALSE(s.foundation.segments[0].at_to.has_value());
-  CHECK(*s.foundation.segments[1].stiffness_parameter == 20.0);  // at from
+  CHECK(*s.foundation.segments[1].k == 20.0);  // at from
   REQUIRE(s.foundation.segments[1].at_to.has_value());
   CHECK(*s.foundation.segments[1].at_to == 5.0);
 }
@@ -925,8 +925,7 @@ TEST_CASE("[foundation] gap, gap_file, tension_modulus, tension_nondimensional_k
   CHECK_THAT(error_of(with("gap_file = 3\n")),
              Contains("key 'foundation.gap_file': expected the name of a two-column"));
 
-  CHECK(*parse_scene(with("tension_nondimensional_k = 1.0e3\n"), "scene.toml").foundation.tension_stiffness_parameter ==
-        1.0e3);
+  CHECK(*parse_scene(with("tension_nondimensional_k = 1.0e3\n"), "scene.toml").foundation.tension_k == 1.0e3);
   CHECK_THAT(error_of(with("tension_nondimensional_k = -1.0\n")),
              Contains("key 'foundation.tension_nondimensional_k': expected a number >= 0, got -1"));
   CHECK_THAT(error_of(with("tension_nondimensional_k = 2.0e4\n")),
@@ -951,7 +950,7 @@ TEST_CASE("[foundation] gap, gap_file, tension_modulus, tension_nondimensional_k
   const std::string linear = edited(beam_scene, "nondimensional_k = 1.0e4\n",
                                     "tension_nondimensional_k = TK\n[[foundation.segments]]\nfrom = 0.0\nto = "
                                     "2.0\nnondimensional_k = [3.0e3, 1.0e3]\n");
-  CHECK(*parse_scene(edited(linear, "TK", "999.0"), "scene.toml").foundation.tension_stiffness_parameter == 999.0);
+  CHECK(*parse_scene(edited(linear, "TK", "999.0"), "scene.toml").foundation.tension_k == 999.0);
   CHECK_THAT(
       error_of(edited(linear, "TK", "1000.0")),
       Contains(
@@ -1041,7 +1040,7 @@ TEST_CASE("[units]: a system or the free labels length and force, labels only", 
   CHECK(*kn_m.units.newtons() == 1e3);
   CHECK(*kn_m.units.metres() == 1.0);
   // Labels only: the scene's numbers are what they were.
-  CHECK(*kn_m.foundation.stiffness_parameter == *parse_scene(beam_scene, "scene.toml").foundation.stiffness_parameter);
+  CHECK(*kn_m.foundation.k == *parse_scene(beam_scene, "scene.toml").foundation.k);
 
   const Scene kip_ft = parse_scene(beam_scene + "\n[units]\nsystem = \"kip-ft\"\n", "scene.toml");
   CHECK(*kip_ft.units.metres() == 0.3048);
@@ -1077,7 +1076,7 @@ TEST_CASE("the old names k and tension_k read as nondimensional_k and tension_no
   CHECK(parse_scene(beam_scene, "scene.toml").warnings.empty());  // the new name: no warning
   const std::string old = edited(beam_scene, "nondimensional_k = 1.0e4", "k = 1.0e4");
   const Scene s = parse_scene(old, "scene.toml");
-  CHECK(*s.foundation.stiffness_parameter == 1.0e4);
+  CHECK(*s.foundation.k == 1.0e4);
   REQUIRE(s.warnings.size() == 1);
   // Where, what the key means now, and the dimensional K's key.
   CHECK_THAT(s.warnings[0],
@@ -1091,7 +1090,7 @@ TEST_CASE("the old names k and tension_k read as nondimensional_k and tension_no
         "scene.toml:12: key 'foundation.modulus': expected exactly one of 'k' and 'modulus', got both");
 
   const Scene tension = parse_scene(edited(old, "k = 1.0e4", "k = 1.0e4\ntension_k = 10.0"), "scene.toml");
-  CHECK(*tension.foundation.tension_stiffness_parameter == 10.0);
+  CHECK(*tension.foundation.tension_k == 10.0);
   REQUIRE(tension.warnings.size() == 2);
   CHECK_THAT(tension.warnings[1], StartsWith("scene.toml:12: key 'foundation.tension_k': 'tension_k' is the old "
                                              "name of 'tension_nondimensional_k'"));
@@ -1099,7 +1098,7 @@ TEST_CASE("the old names k and tension_k read as nondimensional_k and tension_no
   const Scene segments = parse_scene(
       edited(beam_scene, "nondimensional_k = 1.0e4\n", "\n[[foundation.segments]]\nfrom = 0.0\nto = 2.0\nk = 5.0\n"),
       "scene.toml");
-  CHECK(*segments.foundation.segments.at(0).stiffness_parameter == 5.0);
+  CHECK(*segments.foundation.segments.at(0).k == 5.0);
   REQUIRE(segments.warnings.size() == 1);
   CHECK_THAT(segments.warnings[0], Contains("key 'foundation.segments[0].k': 'k' is the old name"));
 }

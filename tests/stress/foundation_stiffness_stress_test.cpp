@@ -30,7 +30,7 @@ void check_sweep(scene::Scene s, const std::vector<Method>& methods, int element
   std::printf("%s, %d elements: k, method, termination, checks, cond(K), cond(P), dual cancellation\n",
               s.source_name.c_str(), elements);
   for (double k : decades(1e-3, 1e12)) {
-    s.foundation.stiffness_parameter = k;
+    s.foundation.k = k;
     for (Method method : methods) {
       const test::Solved fe = test::solve(s, method, elements);
       const auto& summary = fe.solution.summary;

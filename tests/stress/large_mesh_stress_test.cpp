@@ -47,7 +47,7 @@ TEST_CASE("long stress: a million elements, bilateral foundation (one sparse sol
   scene::Scene s = test::beam_scene(1.0, 1.0, EndSupport::pinned, EndSupport::clamped, 4 * std::pow(8.0, 4), false);
   s.loads = {test::point_force(0.3, 1.0), test::point_moment(0.6, 0.2), test::uniform_load(0.7, 0.9, 2.0)};
   closed_form::BeamProblem p;
-  p.foundation_modulus = 4 * std::pow(8.0, 4);
+  p.k = 4 * std::pow(8.0, 4);
   p.left = closed_form::EndCondition::pinned;
   p.right = closed_form::EndCondition::clamped;
   p.forces = {{0.3, 1.0}};
@@ -111,7 +111,7 @@ TEST_CASE("long stress: the 500 m pipeline at 1e5 and 1e6 elements against the c
   // Issue 10's pipeline: L = 500 m, EI = 3.12e7 N m^2, clamped, K = 2e5 N/m^2, 1000 N/m dead and
   // -50 kN live at mid-span (lambda = 1): beta L = 100, a central lift-off zone.
   scene::Scene s = test::beam_scene(500.0, 3.12e7, EndSupport::clamped, EndSupport::clamped, 0.0);
-  s.foundation.stiffness_parameter.reset();
+  s.foundation.k.reset();
   s.foundation.modulus = 2.0e5;
   s.loads = {test::uniform_load(0.0, 500.0, 1000.0, scene::LoadCase::dead), test::point_force(250.0, -50e3)};
   const test::Solved coarse = test::solve(s, Method::fast, 2000);
@@ -119,7 +119,7 @@ TEST_CASE("long stress: the 500 m pipeline at 1e5 and 1e6 elements against the c
   closed_form::BeamProblem p;
   p.length = 500.0;
   p.bending_stiffness = 3.12e7;
-  p.foundation_modulus = 2.0e5;
+  p.k = 2.0e5;
   p.left = p.right = closed_form::EndCondition::clamped;
   p.forces = {{250.0, -50e3}};
   p.uniform_loads = {{0.0, 500.0, 1000.0}};
@@ -205,7 +205,7 @@ TEST_CASE("long stress: dense dual Lemke at 1000 and 2000 elements and k from 1e
     }
 
     for (double k = 1e-3; k <= 1.0001e12; k *= 10.0) {
-      s.foundation.stiffness_parameter = k;
+      s.foundation.k = k;
       const test::Solved r = test::solve(s, Method::dual, 400);
       CAPTURE(name, k, r.solution.summary.message);
       REQUIRE(r.solution.summary.is_usable());

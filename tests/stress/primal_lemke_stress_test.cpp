@@ -46,7 +46,7 @@ TEST_CASE("footing of issue 10, primal at 100 .. 200 elements", "[stress][lcp][p
 
 TEST_CASE("pinned beam, end couples, k = 1e5: primal and dual at 200 elements", "[stress][lcp]") {
   scene::Scene s = test::shipped_scene("seed_beam_end_moments");
-  s.foundation.stiffness_parameter = 1e5;
+  s.foundation.k = 1e5;
   const Method method = GENERATE(Method::primal, Method::dual);
   CAPTURE(scene::to_string(method));
   const test::Solved lemke = test::solve(s, method, 200);

@@ -27,7 +27,7 @@ scene::Scene beam_in_units(double length_unit, double force_unit) {
   scene::Scene s = test::beam_scene(L * length_unit, EI * force_unit * length_unit * length_unit,
                                     scene::EndSupport::pinned, scene::EndSupport::pinned, 0.0);
   s.source_name = length_unit == 1.0 ? "<beam in kN and m>" : "<beam in N and mm>";
-  s.foundation.stiffness_parameter.reset();
+  s.foundation.k.reset();
   s.foundation.modulus = k * EI / std::pow(L, 4) * force_unit / (length_unit * length_unit);  // kN/m^2
   s.loads = {test::point_moment(0.0, -M * force_unit * length_unit),
              test::point_moment(L * length_unit, M * force_unit * length_unit),
@@ -61,7 +61,7 @@ TEST_CASE("stress: the same scene in kN-m and in N-mm gives the same nondimensio
   // How different the two problems are once nondimensional: each input was rounded on the way
   // (K L^4 / EI, M L / EI, P L^2 / EI in two unit systems), a few eps at most.
   const model::MemberModel a = model::make_member_model(metres), b = model::make_member_model(millimetres);
-  double data_difference = relative(a.foundation_modulus, b.foundation_modulus);
+  double data_difference = relative(a.k, b.k);
   REQUIRE(a.loads.size() == b.loads.size());
   for (std::size_t i = 0; i < a.loads.size(); ++i)
     data_difference = std::max(

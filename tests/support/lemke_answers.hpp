@@ -17,7 +17,7 @@ namespace liftoff::test {
 // moment at x = 1.8 m (clockwise negative).
 inline scene::Scene issue10_footing(double moment) {
   scene::Scene s = beam_scene(3.0, 5.4e8, scene::EndSupport::free, scene::EndSupport::free, 0.0);
-  s.foundation.stiffness_parameter.reset();
+  s.foundation.k.reset();
   s.foundation.modulus = 3.0e7;
   s.loads = {point_force(1.8, 800e3), point_moment(1.8, moment)};
   return s;

@@ -27,7 +27,7 @@ inline scene::Scene beam_scene(double length, double bending_stiffness, scene::E
   s.structure.bending_stiffness = bending_stiffness;
   s.supports.left = left;
   s.supports.right = right;
-  s.foundation.stiffness_parameter = k;
+  s.foundation.k = k;
   s.foundation.tensionless = tensionless;
   s.foundation.from = 0.0;
   s.foundation.to = length;

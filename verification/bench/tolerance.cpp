@@ -67,7 +67,7 @@ void measure_errors(const ClosedFormScene& t, const io::SolveReport& r, Row& row
   const closed_form::BeamSolution& exact_w = t.solution.solution;
   auto w_exact = [&](double x) { return exact_w.deflection(m.s_from_user(x) - m.s_begin); };
   const double w_scale = m.scales.displacement();
-  const double reaction_scale = m.foundation_modulus * m.scales.force_per_length();
+  const double reaction_scale = m.k * m.scales.force_per_length();
   double w_largest = 0.0, pressed_largest = 0.0;  // max |w| and max w of the exact solution
   for (int i = 0; i <= 20000; ++i) {
     const double w = exact_w.deflection(m.length() * i / 20000.0);

@@ -18,7 +18,7 @@ inline EndCondition end_condition_of(model::EndSupport e) {
 inline BeamProblem problem_of(const model::MemberModel& model) {
   BeamProblem p;
   p.length = model.length();
-  p.foundation_modulus = model.foundation_modulus;
+  p.foundation_modulus = model.k;
   p.left = end_condition_of(model.left);
   p.right = end_condition_of(model.right);
   for (const auto& l : model.loads) {  // positions from the member's begin
@@ -34,7 +34,7 @@ inline BeamProblem problem_of(const model::MemberModel& model) {
     p.gap.at.push_back(model.ground_gap_at[i] - model.s_begin);
     p.gap.value.push_back(model.ground_gap_value[i]);
   }
-  p.tension_modulus = model.tension_modulus;  // the bilinear foundation's K_t (0: tensionless)
+  p.tension_modulus = model.tension_k;  // the bilinear foundation's K_t (0: tensionless)
   return p;
 }
 

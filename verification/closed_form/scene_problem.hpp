@@ -40,14 +40,12 @@ inline BeamProblem problem_of(const scene::Scene& s, CaseFactors factors = {}) {
   p.right = end_condition_of(s.supports.right);
   const double k_scale = p.bending_stiffness / std::pow(p.length, 4);  // K = k EI / L^4
   if (s.foundation.segments.empty()) {
-    p.foundation_modulus =
-        s.foundation.modulus ? *s.foundation.modulus : s.foundation.stiffness_parameter.value() * k_scale;
+    p.foundation_modulus = s.foundation.modulus ? *s.foundation.modulus : s.foundation.k.value() * k_scale;
   }
   for (const auto& piece : s.foundation.segments) {
     if (piece.at_to)
       throw std::invalid_argument("closed_form::problem_of: " + s.source_name + " has a linear foundation segment");
-    p.foundation_segments.push_back(
-        {piece.from, piece.to, piece.modulus ? *piece.modulus : piece.stiffness_parameter.value() * k_scale});
+    p.foundation_segments.push_back({piece.from, piece.to, piece.modulus ? *piece.modulus : piece.k.value() * k_scale});
   }
   for (const auto& l : s.loads) {
     const double factor = l.load_case == scene::LoadCase::dead ? factors.dead : factors.live;
