@@ -252,6 +252,23 @@ scene::Scene load_scene(const std::string& path) {
   return path.empty() ? scene::parse_scene(default_scene_text, default_scene_name) : scene::read_scene_file(path);
 }
 
+// The text file a command writes last, under a temporary name and renamed; when that fails, the
+// output written before it (`written_before`, an HDF5 file; empty: none) is removed too, so a
+// failure leaves neither. `what` names the file in the error.
+void write_text_last(const std::string& path, const std::string& text, const std::string& written_before,
+                     const std::string& what) {
+  const std::filesystem::path temporary = io::temporary_path(path);
+  std::ofstream file(temporary);
+  file << text;
+  file.close();
+  std::error_code error;
+  if (!file || (std::filesystem::rename(temporary, path, error), error)) {
+    std::filesystem::remove(temporary, error);
+    if (!written_before.empty()) std::filesystem::remove(written_before, error);
+    throw OutputError(path + ": cannot write " + what);
+  }
+}
+
 // A command's start: the scene and every output checked before any work, then the scene read.
 scene::Scene checked_scene(const ProblemArguments& problem, const std::vector<RunFile>& outputs) {
   check_files(scene_input(problem.scene_path), outputs);
@@ -332,16 +349,7 @@ int run_sweep_command(const SweepArguments& args, std::ostream& out, std::ostrea
   if (args.csv.empty()) {
     out << csv;
   } else {
-    const std::filesystem::path temporary = io::temporary_path(args.csv);
-    std::ofstream file(temporary);
-    file << csv;
-    file.close();
-    std::error_code error;
-    if (!file || (std::filesystem::rename(temporary, args.csv, error), error)) {
-      std::filesystem::remove(temporary, error);
-      if (!args.output.empty()) std::filesystem::remove(args.output, error);
-      throw OutputError(args.csv + ": cannot write the CSV summary");
-    }
+    write_text_last(args.csv, csv, args.output, "the CSV summary");
   }
   print_sweep_warnings(cases, err);
   bool failed = false;
@@ -496,18 +504,9 @@ int run_envelope_command(const EnvelopeArguments& args, std::ostream& out, std::
   // The HDF5 file first, then the JSON: a failure to write either leaves neither.
   if (!args.hdf5.empty()) io::write_envelope_hdf5(report, args.hdf5, LIFTOFF_VERSION);
   if (!args.json.empty()) {
-    const std::filesystem::path temporary = io::temporary_path(args.json);
-    std::ofstream file(temporary);
     nlohmann::json j = io::to_json(report);
     j["exit_code"] = code(report.complete() ? ExitCode::success : ExitCode::solver_failure);
-    file << j.dump(2) << "\n";
-    file.close();
-    std::error_code error;
-    if (!file || (std::filesystem::rename(temporary, args.json, error), error)) {
-      std::filesystem::remove(temporary, error);
-      if (!args.hdf5.empty()) std::filesystem::remove(args.hdf5, error);
-      throw OutputError(args.json + ": cannot write the JSON file");
-    }
+    write_text_last(args.json, j.dump(2) + "\n", args.hdf5, "the JSON file");
   }
   out << io::text_summary(report);
   if (report.complete()) return code(ExitCode::success);

@@ -1,24 +1,15 @@
 #include "contact/from_scene.hpp"
 
+#include <optional>
 #include <stdexcept>
 #include <string>
 
 namespace liftoff::contact {
 
 Method to_contact(scene::Method method) {
-  switch (method) {
-    case scene::Method::dual:
-      return Method::dual;
-    case scene::Method::primal:
-      return Method::primal;
-    case scene::Method::fast:
-      return Method::fast;
-    case scene::Method::automatic:
-      return Method::automatic;
-    case scene::Method::ritz:
-    case scene::Method::all:
-      break;
-  }
+  // By name: the scene's names of the FE methods are the contact solver's (contact/method.hpp).
+  if (const std::optional<Method> contact_method = from_string<Method>(scene::to_string(method)))
+    return *contact_method;
   throw std::logic_error("to_contact: method " + std::string(scene::to_string(method)) +
                          " is no contact method (expected dual, primal, fast or auto)");
 }
