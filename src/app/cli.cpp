@@ -252,20 +252,17 @@ scene::Scene load_scene(const std::string& path) {
   return path.empty() ? scene::parse_scene(default_scene_text, default_scene_name) : scene::read_scene_file(path);
 }
 
-// The text file a command writes last, under a temporary name and renamed; when that fails, the
-// output written before it (`written_before`, an HDF5 file; empty: none) is removed too, so a
-// failure leaves neither. `what` names the file in the error.
+// The text file a command writes last (io::write_text_file); when that fails, the output written
+// before it (`written_before`, an HDF5 file; empty: none) is removed too, so a failure leaves
+// neither. `what` names the file in the error.
 void write_text_last(const std::string& path, const std::string& text, const std::string& written_before,
                      const std::string& what) {
-  const std::filesystem::path temporary = io::temporary_path(path);
-  std::ofstream file(temporary);
-  file << text;
-  file.close();
-  std::error_code error;
-  if (!file || (std::filesystem::rename(temporary, path, error), error)) {
-    std::filesystem::remove(temporary, error);
+  try {
+    io::write_text_file(path, text, what);
+  } catch (const OutputError&) {
+    std::error_code error;
     if (!written_before.empty()) std::filesystem::remove(written_before, error);
-    throw OutputError(path + ": cannot write " + what);
+    throw;
   }
 }
 
