@@ -171,8 +171,8 @@ bool FePath::load_set(const ContactSet& set) {
 
 std::optional<ContactSet> FePath::solved_set(double lambda) {
   contact::ContactOptions options;
-  const scene::Method asked = options_.contact_method;
-  options.method = asked == scene::Method::dual || asked == scene::Method::primal ? asked : scene::Method::fast;
+  const contact::Method asked = options_.contact_method;
+  options.method = asked == contact::Method::dual || asked == contact::Method::primal ? asked : contact::Method::fast;
   options.load_factor = lambda;
   const contact::ContactSolution solution = contact::solve_contact(d_, options);
   ++result_.summary.contact_solves;

@@ -56,9 +56,9 @@
 #include "model/from_scene.hpp"
 #include "model/member_model.hpp"
 #include "post/contact_regions.hpp"
+#include "ritz/from_scene.hpp"
 #include "ritz/ritz_model.hpp"
 #include "ritz/ritz_solver.hpp"
-#include "ritz/starting_point.hpp"
 
 namespace liftoff::continuation {
 
@@ -343,7 +343,7 @@ ResumeState RitzTracer::starting_state() {
   } else {
     const fe::Discretisation d = fe::discretise(member_, options_.elements);
     contact::ContactOptions contact_options;
-    contact_options.method = scene::Method::fast;
+    contact_options.method = contact::Method::fast;
     contact_options.load_factor = lambda_start;
     const contact::ContactSolution fe = contact::solve_contact(d, contact_options);
     if (!fe.summary.is_usable())

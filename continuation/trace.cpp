@@ -18,9 +18,6 @@ void TraceOptions::validate(double member_begin, double member_end) const {
   }
   if (!(event_tolerance > 0)) fail(fmt::format("event_tolerance: expected > 0, got {}", event_tolerance));
   if (elements < 1) fail(fmt::format("elements: expected >= 1, got {}", elements));
-  if (contact_method == scene::Method::ritz || contact_method == scene::Method::all)
-    fail(fmt::format("contact_method: expected dual, primal, fast or automatic, got {}",
-                     scene::to_string(contact_method)));
   if (modes < 0) fail(fmt::format("modes: expected >= 0 (0: automatic), got {}", modes));
   const double lo = std::min(member_begin, member_end), hi = std::max(member_begin, member_end);
   for (double p : sample_points)

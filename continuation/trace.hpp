@@ -5,10 +5,10 @@
 #include <optional>
 #include <vector>
 
+#include "contact/method.hpp"
 #include "continuation/arclength.hpp"
 #include "continuation/path_control.hpp"
 #include "path/trace.hpp"
-#include "scene/scene.hpp"
 
 namespace liftoff::continuation {
 
@@ -35,8 +35,8 @@ struct TraceOptions {
   int elements = 200;              // FE path
   // FE path: the contact solver of its full solves (the start when full contact is infeasible, a
   // degenerate breakpoint): dual or primal, Lemke on that LCP; fast or automatic, the sparse
-  // active-set solver (Lemke its own fallback). ritz and all are not contact solvers (refused).
-  scene::Method contact_method = scene::Method::automatic;
+  // active-set solver (Lemke its own fallback).
+  contact::Method contact_method = contact::Method::automatic;
   int modes = 0;                      // Ritz path: 0 = automatic as in [ritz]
   double monitor = 0.0;               // user coordinate of the load-displacement curve's w
   std::vector<double> sample_points;  // user coordinates at which w and r are recorded

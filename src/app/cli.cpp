@@ -10,6 +10,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <iostream>
 #include <map>
 #include <mutex>
@@ -17,6 +18,7 @@
 #include <set>
 #include <string_view>
 #include <thread>
+#include <utility>
 
 #include "app/envelope_command.hpp"
 #include "app/plot_command.hpp"
@@ -165,11 +167,17 @@ std::vector<RunFile> scene_input(const std::string& scene_path) {
   return {{"the scene", scene_path, scene_path, ""}};
 }
 
-// An output written under a temporary name and renamed (io/hdf5_writer.hpp): both names.
-void add_atomic_output(std::vector<RunFile>& outputs, const std::string& option, const std::string& path) {
-  if (path.empty()) return;
-  outputs.push_back({option, path, path, ""});
-  outputs.push_back({option, path, io::temporary_path(path), "temporary file"});
+// Outputs written under a temporary name and renamed (io/hdf5_writer.hpp): both names of each
+// (option, path); an empty path (the option not given) is none.
+std::vector<RunFile> atomic_outputs(std::initializer_list<std::pair<std::string_view, std::string_view>> options) {
+  std::vector<RunFile> outputs;
+  for (const auto& [option, path] : options) {
+    if (path.empty()) continue;
+    outputs.push_back({std::string(option), std::string(path), std::string(path), ""});
+    outputs.push_back(
+        {std::string(option), std::string(path), io::temporary_path(std::string(path)), "temporary file"});
+  }
+  return outputs;
 }
 
 struct SolveArguments {
@@ -243,6 +251,26 @@ scene::Scene load_scene(const std::string& path) {
   return path.empty() ? scene::parse_scene(default_scene_text, default_scene_name) : scene::read_scene_file(path);
 }
 
+// The text file a command writes last (io::write_text_file); when that fails, the output written
+// before it (`written_before`, an HDF5 file; empty: none) is removed too, so a failure leaves
+// neither. `what` names the file in the error.
+void write_text_last(const std::string& path, const std::string& text, const std::string& written_before,
+                     const std::string& what) {
+  try {
+    io::write_text_file(path, text, what);
+  } catch (const OutputError&) {
+    std::error_code error;
+    if (!written_before.empty()) std::filesystem::remove(written_before, error);
+    throw;
+  }
+}
+
+// A command's start: the scene and every output checked before any work, then the scene read.
+scene::Scene checked_scene(const ProblemArguments& problem, const std::vector<RunFile>& outputs) {
+  check_files(scene_input(problem.scene_path), outputs);
+  return load_scene(problem.scene_path);
+}
+
 SolveRequest make_request(const ProblemArguments& args) {
   SolveRequest request;
   if (!args.method.empty()) request.method = scene::parse_method(args.method);
@@ -293,11 +321,8 @@ void print_sweep_warnings(const std::vector<io::SweepCase>& cases, std::ostream&
 // `liftoff sweep`: CSV (to --csv, or stdout), HDF5 with every case (--output), progress on
 // stderr; exit 3 if a case failed (its error is in both outputs).
 int run_sweep_command(const SweepArguments& args, std::ostream& out, std::ostream& err) {
-  std::vector<RunFile> outputs;
-  add_atomic_output(outputs, "--output", args.output);
-  add_atomic_output(outputs, "--csv", args.csv);
-  check_files(scene_input(args.problem.scene_path), outputs);
-  const scene::Scene scene = load_scene(args.problem.scene_path);
+  const std::vector<RunFile> outputs = atomic_outputs({{"--output", args.output}, {"--csv", args.csv}});
+  const scene::Scene scene = checked_scene(args.problem, outputs);
   std::vector<SweepParameter> parameters;
   std::vector<std::string> keys;
   for (const std::string& set : args.sets) {
@@ -320,16 +345,7 @@ int run_sweep_command(const SweepArguments& args, std::ostream& out, std::ostrea
   if (args.csv.empty()) {
     out << csv;
   } else {
-    const std::filesystem::path temporary = io::temporary_path(args.csv);
-    std::ofstream file(temporary);
-    file << csv;
-    file.close();
-    std::error_code error;
-    if (!file || (std::filesystem::rename(temporary, args.csv, error), error)) {
-      std::filesystem::remove(temporary, error);
-      if (!args.output.empty()) std::filesystem::remove(args.output, error);
-      throw OutputError(args.csv + ": cannot write the CSV summary");
-    }
+    write_text_last(args.csv, csv, args.output, "the CSV summary");
   }
   print_sweep_warnings(cases, err);
   bool failed = false;
@@ -362,11 +378,8 @@ int run_sweep_command(const SweepArguments& args, std::ostream& out, std::ostrea
 }
 
 int run_solve(const SolveArguments& args, RunContext& context, std::ostream& out, std::ostream& err) {
-  std::vector<RunFile> outputs;
-  add_atomic_output(outputs, "--output", args.output);
-  add_atomic_output(outputs, "--csv-fields", args.csv_fields);
-  check_files(scene_input(args.problem.scene_path), outputs);
-  const scene::Scene scene = load_scene(args.problem.scene_path);
+  const std::vector<RunFile> outputs = atomic_outputs({{"--output", args.output}, {"--csv-fields", args.csv_fields}});
+  const scene::Scene scene = checked_scene(args.problem, outputs);
   if (!context.method_requested) context.method_requested = scene::to_string(scene.solve.method);
   SolveRequest request = make_request(args.problem);
   request.fields = !args.output.empty() || !args.csv_fields.empty();  // only these files hold sampled fields
@@ -404,8 +417,7 @@ int run_trace_command(const TraceArguments& args, RunContext& context, std::ostr
     outputs.push_back({"--output", args.output, args.output, ""});
     outputs.push_back({"--output", args.output, io::trace_backup_path(args.output), "backup file"});
   }
-  check_files(scene_input(args.problem.scene_path), outputs);
-  const scene::Scene scene = load_scene(args.problem.scene_path);
+  const scene::Scene scene = checked_scene(args.problem, outputs);
   if (!context.method_requested && scene.trace)
     context.method_requested = scene::to_string(scene.trace->method.value_or(scene.solve.method));
   const SolveRequest solve = make_request(args.problem);
@@ -476,11 +488,8 @@ struct EnvelopeArguments {
 // `liftoff envelope`: the summary on stdout, the JSON (--json FILE) and HDF5 (--hdf5 FILE) files;
 // exit 3 if a case failed (the envelope is then incomplete, and says so in every output).
 int run_envelope_command(const EnvelopeArguments& args, std::ostream& out, std::ostream& err) {
-  std::vector<RunFile> outputs;
-  add_atomic_output(outputs, "--hdf5", args.hdf5);
-  add_atomic_output(outputs, "--json", args.json);
-  check_files(scene_input(args.problem.scene_path), outputs);
-  const scene::Scene scene = load_scene(args.problem.scene_path);
+  const std::vector<RunFile> outputs = atomic_outputs({{"--hdf5", args.hdf5}, {"--json", args.json}});
+  const scene::Scene scene = checked_scene(args.problem, outputs);
   EnvelopeRequest request;
   request.solve = make_request(args.problem);
   if (request.solve.method == scene::Method::all)
@@ -491,18 +500,9 @@ int run_envelope_command(const EnvelopeArguments& args, std::ostream& out, std::
   // The HDF5 file first, then the JSON: a failure to write either leaves neither.
   if (!args.hdf5.empty()) io::write_envelope_hdf5(report, args.hdf5, LIFTOFF_VERSION);
   if (!args.json.empty()) {
-    const std::filesystem::path temporary = io::temporary_path(args.json);
-    std::ofstream file(temporary);
     nlohmann::json j = io::to_json(report);
     j["exit_code"] = code(report.complete() ? ExitCode::success : ExitCode::solver_failure);
-    file << j.dump(2) << "\n";
-    file.close();
-    std::error_code error;
-    if (!file || (std::filesystem::rename(temporary, args.json, error), error)) {
-      std::filesystem::remove(temporary, error);
-      if (!args.hdf5.empty()) std::filesystem::remove(args.hdf5, error);
-      throw OutputError(args.json + ": cannot write the JSON file");
-    }
+    write_text_last(args.json, j.dump(2) + "\n", args.hdf5, "the JSON file");
   }
   out << io::text_summary(report);
   if (report.complete()) return code(ExitCode::success);

@@ -13,6 +13,7 @@
 #include "certify/resultant_check.hpp"
 #include "contact/contact_solver.hpp"
 #include "contact/fitted_refinement.hpp"
+#include "contact/from_scene.hpp"
 #include "core/error.hpp"
 #include "fe/discretisation.hpp"
 #include "fe/shape_functions.hpp"
@@ -22,13 +23,15 @@
 #include "post/design.hpp"
 #include "post/fields.hpp"
 #include "post/ritz_fields.hpp"
+#include "ritz/from_scene.hpp"
 #include "ritz/ritz_model.hpp"
 #include "ritz/ritz_solver.hpp"
-#include "ritz/starting_point.hpp"
 
 namespace liftoff::app {
 
-using scene::Method;
+// The FE answers below take the contact solver's method; solve_scene_unscaled converts the
+// scene's once (contact/from_scene.hpp).
+using contact::Method;
 
 namespace {
 
@@ -121,7 +124,7 @@ std::optional<Method> fallback_for(Method produced, Method requested, const fe::
 }
 
 std::string check_failure(const contact::ContactSummary& summary, const certify::Certificate& certificate) {
-  return fmt::format("the {} answer failed its certificate: {}", scene::to_string(summary.method), certificate.message);
+  return fmt::format("the {} answer failed its certificate: {}", to_string(summary.method), certificate.message);
 }
 
 // The design values of a certified FE answer: beams by the statics of the free body with the
@@ -171,20 +174,19 @@ io::SolveReport fe_report(const scene::Scene& scene, Method method, const SolveR
           if (second.summary.is_usable()) {
             certify::Certificate second_certificate = certify::certify(model, d, second);
             if (second_certificate.passed) {
-              fallback_reason = fmt::format("{}; fell back to {}", first_failure, scene::to_string(*fallback));
+              fallback_reason = fmt::format("{}; fell back to {}", first_failure, to_string(*fallback));
               fe.solution = std::move(second);
               fe.regions = post::contact_regions(model, d, fe.solution.displacement);
               certificate = std::move(second_certificate);
             } else {
-              outcome = fmt::format("; the fallback to {} failed its certificate too: {}", scene::to_string(*fallback),
+              outcome = fmt::format("; the fallback to {} failed its certificate too: {}", to_string(*fallback),
                                     second_certificate.message);
             }
           } else {
-            outcome =
-                fmt::format("; the fallback to {} stopped: {}", scene::to_string(*fallback), second.summary.message);
+            outcome = fmt::format("; the fallback to {} stopped: {}", to_string(*fallback), second.summary.message);
           }
         } catch (const SolverFailure& e) {
-          outcome = fmt::format("; the fallback to {} was refused: {}", scene::to_string(*fallback), e.what());
+          outcome = fmt::format("; the fallback to {} was refused: {}", to_string(*fallback), e.what());
         }
       }
       if (fallback_reason.empty()) {
@@ -202,7 +204,7 @@ io::SolveReport fe_report(const scene::Scene& scene, Method method, const SolveR
       certified ? design_values(model, d, fe.solution, *certificate, fields) : std::nullopt;
   io::SolveReport report = io::make_report(scene, model, d, fe.solution, fields, fe.regions);
   if (design) io::attach_design(report, *design, model);
-  report.method_requested = std::string(scene::to_string(method));
+  report.method_requested = std::string(to_string(method));
   if (!fallback_reason.empty())
     report.method_reason = fallback_reason + (report.method_reason.empty() ? "" : " (" + report.method_reason + ")");
   if (certificate) io::attach_certificate(report, *certificate, model);
@@ -243,8 +245,8 @@ io::SolveReport refused_report(const scene::Scene& scene, const model::MemberMod
   r.coordinate_name = model.kind == model::StructureKind::beam ? "x" : "theta_deg";
   r.tensionless = model.tensionless;
   r.k = model.k;
-  r.method = scene::to_string(method == Method::automatic ? Method::fast : method);
-  r.method_requested = scene::to_string(method);
+  r.method = to_string(method == Method::automatic ? Method::fast : method);
+  r.method_requested = to_string(method);
   r.termination = termination;
   r.message = message;
   r.usable = false;
@@ -264,15 +266,15 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   const contact::ContactSummary& first = node_based.solution.summary;
   if (!first.is_usable()) {
     io::SolveReport r = io::make_report(scene, model, d0, node_based.solution, post::Fields{}, node_based.regions);
-    r.method_requested = std::string(scene::to_string(method));
+    r.method_requested = std::string(to_string(method));
     r.tolerance = tolerance;
     r.message = fmt::format("the node-based {} solve on {} elements that gives the contact topology failed: {}",
-                            scene::to_string(first.method), d0.mesh.elements(), first.message);
+                            to_string(first.method), d0.mesh.elements(), first.message);
     r.time_s = seconds_since(start);
     return r;
   }
   // The contact regions of the node-based answer (a bilateral foundation: its whole extent).
-  std::vector<contact::ContactInterval> regions;
+  std::vector<ContactRegion> regions;
   if (!d0.tensionless) {
     for (const auto& [begin, end] : model.foundation_stretches()) regions.push_back({begin, end});
   } else {
@@ -303,11 +305,11 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   };
   const std::string how =
       fmt::format("limit-fitted to tolerance {:.1e}: contact topology from {} on {} elements, then limit-fitted meshes",
-                  tolerance, scene::to_string(first.method), d0.mesh.elements());
+                  tolerance, to_string(first.method), d0.mesh.elements());
   if (!refined.summary.is_usable()) {
     io::SolveReport r =
         refused_report(scene, model, first.method, "tolerance_not_reached", "refused: " + refined.summary.message);
-    r.method_requested = std::string(scene::to_string(method));
+    r.method_requested = std::string(to_string(method));
     r.method_reason = how;
     add_accuracy(r);
     r.time_s = seconds_since(start);
@@ -356,11 +358,9 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   }
   const std::optional<post::DesignValues> design =
       certified ? design_values(model, d, solution, certificate, fields) : std::nullopt;
-  std::vector<ContactRegion> contact_regions;
-  for (const auto& c : answer.contact) contact_regions.push_back({c.begin, c.end});
-  io::SolveReport report = io::make_report(scene, model, d, solution, fields, contact_regions);
+  io::SolveReport report = io::make_report(scene, model, d, solution, fields, answer.contact);
   if (design) io::attach_design(report, *design, model);
-  report.method_requested = std::string(scene::to_string(method));
+  report.method_requested = std::string(to_string(method));
   add_accuracy(report);
   io::attach_certificate(report, certificate, model);
   // Nodal reactions and the extremes as displayed (above).
@@ -371,7 +371,8 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   for (int node = 0; node <= d.mesh.elements(); ++node) {
     std::optional<double> reaction;
     for (int e : {node - 1, node}) {
-      if (e < 0 || e >= d.mesh.elements() || !(d.foundation_on_element[e] || d.element_tension_k[e] > 0.0)) continue;
+      if (e < 0 || e >= d.mesh.elements() || !(d.foundation_on_element[e] || d.element_tension_k[e] > 0.0))
+        continue;
       const double xi = e < node ? 1.0 : 0.0, g = model.ground_gap_in(d.mesh.nodes[e], d.mesh.element_size(e), xi);
       reaction = std::max(reaction.value_or(-std::numeric_limits<double>::infinity()),
                           d.reaction_in(e, xi, all[d.deflection_dof(node)] - g));
@@ -386,8 +387,8 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   if (!certified) {
     report.termination = "certificate_failed";
     report.usable = false;
-    report.message = fmt::format("the limit-fitted {} answer failed its certificate: {}",
-                                 scene::to_string(first.method), certificate.message);
+    report.message = fmt::format("the limit-fitted {} answer failed its certificate: {}", to_string(first.method),
+                                 certificate.message);
   } else if (certificate.round_off_estimate > tolerance) {
     // The certificate's measured round-off raises the floor (it is far below it on the seed
     // beams: 1e-16 against 4e-14).
@@ -538,9 +539,9 @@ io::SolveReport ritz_report(const scene::Scene& scene, const SolveRequest& reque
 }
 
 io::SolveReport solve_scene_unscaled(const scene::Scene& scene, const SolveRequest& request) {
-  const Method method = request.method.value_or(scene.solve.method);
-  if (method == Method::all) throw std::invalid_argument("solve_scene: use solve_all_methods for Method::all");
-  if (method == Method::automatic && !scene.ritz.topology.empty()) {
+  const scene::Method method = request.method.value_or(scene.solve.method);
+  if (method == scene::Method::all) throw std::invalid_argument("solve_scene: use solve_all_methods for Method::all");
+  if (method == scene::Method::automatic && !scene.ritz.topology.empty()) {
     io::SolveReport report = ritz_report(scene, request);
     report.method_requested = "auto";
     report.method_reason =
@@ -549,10 +550,11 @@ io::SolveReport solve_scene_unscaled(const scene::Scene& scene, const SolveReque
         report.method_reason + ")";
     return report;
   }
-  if (method == Method::ritz) return ritz_report(scene, request);
+  if (method == scene::Method::ritz) return ritz_report(scene, request);
   const std::optional<double> tolerance = request.tolerance ? request.tolerance : scene.solve.tolerance;
-  if (tolerance) return fitted_report(scene, method, request, *tolerance);
-  return fe_report(scene, method, request);
+  const contact::Method fe_method = contact::to_contact(method);  // an FE method from here on
+  if (tolerance) return fitted_report(scene, fe_method, request, *tolerance);
+  return fe_report(scene, fe_method, request);
 }
 
 }  // namespace
@@ -566,7 +568,7 @@ io::SolveReport solve_scene(const scene::Scene& scene, const SolveRequest& reque
 
 std::vector<io::SolveReport> solve_all_methods(const scene::Scene& scene, const SolveRequest& request) {
   std::vector<io::SolveReport> reports;
-  auto refused = [&](Method method, const std::exception& e) {
+  auto refused = [&](scene::Method method, const std::exception& e) {
     io::SolveReport r;
     r.scene_name = scene.source_name;
     r.kind = scene.structure.kind;
@@ -579,7 +581,7 @@ std::vector<io::SolveReport> solve_all_methods(const scene::Scene& scene, const 
     r.warnings = scene.warnings;
     return r;
   };
-  for (Method method : {Method::primal, Method::dual, Method::fast, Method::ritz}) {
+  for (scene::Method method : {scene::Method::primal, scene::Method::dual, scene::Method::fast, scene::Method::ritz}) {
     try {
       SolveRequest one = request;
       one.method = method;
@@ -589,7 +591,7 @@ std::vector<io::SolveReport> solve_all_methods(const scene::Scene& scene, const 
     } catch (const SolverFailure& e) {
       reports.push_back(refused(method, e));
     } catch (const InputError& e) {  // a scene the Ritz model cannot take
-      if (method != Method::ritz) throw;
+      if (method != scene::Method::ritz) throw;
       reports.push_back(refused(method, e));
     }
   }

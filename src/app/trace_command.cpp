@@ -7,6 +7,7 @@
 #include <limits>
 #include <memory>
 
+#include "contact/from_scene.hpp"
 #include "continuation/fe_path.hpp"
 #include "continuation/ritz_path.hpp"
 #include "core/error.hpp"
@@ -184,7 +185,8 @@ TraceOptions trace_options(const scene::Scene& scene, const TraceRequest& reques
   // The FE path's contact solver: the method asked for, automatic when it names no FE solver
   // ("all": the FE path beside the Ritz one; "ritz": the FE path does not run).
   const scene::Method method = trace_method(scene, request);
-  o.contact_method = method == scene::Method::all || method == scene::Method::ritz ? scene::Method::automatic : method;
+  o.contact_method = method == scene::Method::all || method == scene::Method::ritz ? contact::Method::automatic
+                                                                                   : contact::to_contact(method);
   o.modes = request.modes.value_or(scene.ritz.modes);
   o.monitor = monitor_point(scene);
   // Uniform, with both ends exact: begin + (end - begin) i / (n - 1) can round one ulp past the

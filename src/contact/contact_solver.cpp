@@ -31,7 +31,7 @@ std::string_view to_string(ContactTermination t) { return name_in<ContactTermina
 void ContactOptions::validate() const {
   require(std::isfinite(load_factor), "ContactOptions::load_factor", "must be finite");
   require(method == Method::dual || method == Method::primal || method == Method::fast || method == Method::automatic,
-          "ContactOptions::method", "must be dual, primal, fast or auto (an FE formulation)");
+          "ContactOptions::method", "must be dual, primal, fast or auto");
   lemke.validate();
   active_set.validate();
 }
@@ -39,9 +39,9 @@ void ContactOptions::validate() const {
 std::string ContactSummary::brief_report() const {
   if (iterations >= 0)
     return fmt::format("{} ({}): {} contact sets, {} factorisations, residual {:.2e}, {:.3f} s", to_string(termination),
-                       scene::to_string(method), iterations, factorisations, residual, time_s);
-  return fmt::format("{} ({}): {} pivots, residual {:.2e}, {:.3f} s", to_string(termination), scene::to_string(method),
-                     pivots, residual, time_s);
+                       to_string(method), iterations, factorisations, residual, time_s);
+  return fmt::format("{} ({}): {} pivots, residual {:.2e}, {:.3f} s", to_string(termination), to_string(method), pivots,
+                     residual, time_s);
 }
 
 namespace {
@@ -67,30 +67,6 @@ VectorXd absolute_product(const fe::SparseMatrix& a, const VectorXd& x) {
   return out;
 }
 
-// The rigid motions of the member that no support holds (columns, on the equations): those only
-// the foundation resists. Empty for a structure stable on its supports.
-MatrixXd free_rigid_motions(const Discretisation& d) {
-  if (d.structure_is_stable()) return MatrixXd(d.equations, 0);
-  model::MemberModel shape;  // rigid_motions reads the kind and the extent only
-  shape.kind = d.kind;
-  shape.s_begin = d.mesh.nodes.front();
-  shape.s_end = d.mesh.nodes.back();
-  const MatrixXd modes = fe::rigid_motions(shape, d);
-  std::vector<int> fixed;
-  for (int dof = 0; dof < d.dofs(); ++dof)
-    if (d.equation_of_dof[dof] < 0) fixed.push_back(dof);
-  MatrixXd free = modes;
-  if (!fixed.empty()) {
-    Eigen::FullPivLU<MatrixXd> lu(modes(fixed, Eigen::all));
-    lu.setThreshold(1e-10);
-    free = modes * lu.kernel();
-  }
-  MatrixXd on_equations = MatrixXd::Zero(d.equations, free.cols());
-  for (int dof = 0; dof < d.dofs(); ++dof)
-    if (d.equation_of_dof[dof] >= 0) on_equations.row(d.equation_of_dof[dof]) = free.row(dof);
-  return on_equations;
-}
-
 // Relative residual of an answer (ContactSummary::residual). Row by row, equilibrium is a backward
 // error against |K||u|, the round-off floor of K u. That alone cannot be trusted where u carries a
 // rigid motion that K annihilates (a member only the foundation holds): there |K||u| is ~1e7 times
@@ -104,7 +80,8 @@ double relative_residual(const Discretisation& d, const Unknowns& x, const Vecto
   const VectorXd force_terms = absolute_product(d.stiffness, x.displacement) +
                                absolute_product(d.coupling.transpose(), x.reaction) + load.cwiseAbs();
   double residual = equilibrium.lpNorm<Eigen::Infinity>() / std::max(force_terms.maxCoeff(), 1e-300);
-  const MatrixXd motions = free_rigid_motions(d);
+  // The rigid motions no support holds, as fe::discretise found them (on the equations).
+  const MatrixXd& motions = d.free_rigid_motions;
   if (motions.cols() > 0) {
     const VectorXd reaction_forces = d.coupling.transpose() * x.reaction;
     const VectorXd balance_terms = absolute_product(d.coupling.transpose(), x.reaction) + load.cwiseAbs();
@@ -331,7 +308,7 @@ void check_dense_size(const Discretisation& d, Method method) {
     throw SolverFailure(
         fmt::format("the {} LCP would have {} unknowns, a dense matrix of {:.1f} GB for Lemke (limit {} "
                     "unknowns); use method = \"fast\" (or \"auto\"), which is O(n)",
-                    scene::to_string(method), size, 8.0 * size * size / 1e9, max_dense_lcp));
+                    to_string(method), size, 8.0 * size * size / 1e9, max_dense_lcp));
 }
 
 }  // namespace
@@ -431,14 +408,14 @@ ContactSolution solve_contact(const Discretisation& d, const ContactOptions& opt
                                   ? ContactTermination::numerical_failure
                                   : ContactTermination::iteration_limit;
         summary.message = fmt::format("{}, and the {} LCP ({} unknowns) is too large for the Lemke fallback (limit {})",
-                                      why, scene::to_string(fallback), lcp_size_of(d, fallback), max_fallback_lcp);
+                                      why, to_string(fallback), lcp_size_of(d, fallback), max_fallback_lcp);
       } else {
         solve_by_lemke(fallback);
         summary.method = fallback;
-        summary.method_reason = fmt::format("{}fell back to {} Lemke: {}",
-                                            summary.method_reason.empty() ? "" : summary.method_reason + "; ",
-                                            scene::to_string(fallback), why);
-        summary.message += fmt::format(" (after falling back to {} Lemke: {})", scene::to_string(fallback), why);
+        summary.method_reason =
+            fmt::format("{}fell back to {} Lemke: {}",
+                        summary.method_reason.empty() ? "" : summary.method_reason + "; ", to_string(fallback), why);
+        summary.message += fmt::format(" (after falling back to {} Lemke: {})", to_string(fallback), why);
       }
     }
   } else {
@@ -458,13 +435,13 @@ ContactSolution solve_contact(const Discretisation& d, const ContactOptions& opt
       summary.message = fmt::format(
           "the {} solve ended with a relative residual of {:.1e} (equilibrium or contact conditions violated), above "
           "{:.0e}: round-off has overwhelmed this {}-equation system; use fewer elements",
-          d.tensionless ? scene::to_string(summary.method) : "bilateral", summary.residual, acceptable_residual,
+          d.tensionless ? to_string(summary.method) : "bilateral", summary.residual, acceptable_residual,
           d.equations + d.reactions());
     else
       summary.message = fmt::format(
           "the {} LCP ended with a relative residual of {:.1e} (equilibrium or contact conditions violated), above "
           "{:.0e}: round-off has overwhelmed this {}-unknown problem; {}",
-          scene::to_string(summary.method), summary.residual, acceptable_residual, summary.lcp_size,
+          to_string(summary.method), summary.residual, acceptable_residual, summary.lcp_size,
           d.structure_is_stable() ? "use method = \"fast\", the dual form or fewer elements"
                                   : "use method = \"fast\", fewer elements, or method = \"ritz\"");
   }

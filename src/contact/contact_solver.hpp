@@ -22,14 +22,12 @@
 #include <vector>
 
 #include "contact/active_set_solver.hpp"
+#include "contact/method.hpp"
 #include "core/enum_names.hpp"
 #include "fe/discretisation.hpp"
 #include "lcp/lemke.hpp"
-#include "scene/scene.hpp"
 
 namespace liftoff::contact {
-
-using scene::Method;
 
 struct ContactOptions {
   Method method = Method::dual;

@@ -93,13 +93,13 @@ std::vector<double> ground_steps(const model::MemberModel& model) {
 namespace {
 
 // contact_intervals with the ground gap of `ground` (null: g = 0).
-std::vector<ContactInterval> intervals(const model::MemberModel* ground, const fe::Discretisation& d,
-                                       const VectorXd& displacement, const std::vector<bool>& in_contact) {
+std::vector<ContactRegion> intervals(const model::MemberModel* ground, const fe::Discretisation& d,
+                                     const VectorXd& displacement, const std::vector<bool>& in_contact) {
   if (static_cast<int>(in_contact.size()) != d.reactions())
     throw std::invalid_argument("contact_intervals: one contact flag per reaction node expected");
   const VectorXd all = d.expand_displacement(displacement);
   const std::vector<double> steps = ground ? ground_steps(*ground) : std::vector<double>{};
-  std::vector<ContactInterval> regions;
+  std::vector<ContactRegion> regions;
   const int m = d.reactions();
   for (int i = 0; i < m; ++i) {
     if (!in_contact[i]) continue;
@@ -144,7 +144,7 @@ std::vector<ContactInterval> intervals(const model::MemberModel* ground, const f
     if (ends) regions.back().end = limit_beyond(+1);
   }
   // Regions that now touch (one lifted node between them, at w >= g) are one region.
-  std::vector<ContactInterval> merged;
+  std::vector<ContactRegion> merged;
   for (const auto& r : regions) {
     if (!merged.empty() && r.begin <= merged.back().end)
       merged.back().end = std::max(merged.back().end, r.end);
@@ -156,21 +156,21 @@ std::vector<ContactInterval> intervals(const model::MemberModel* ground, const f
 
 }  // namespace
 
-std::vector<ContactInterval> contact_intervals(const fe::Discretisation& d, const VectorXd& displacement,
-                                               const std::vector<bool>& in_contact) {
+std::vector<ContactRegion> contact_intervals(const fe::Discretisation& d, const VectorXd& displacement,
+                                             const std::vector<bool>& in_contact) {
   return intervals(nullptr, d, displacement, in_contact);
 }
 
-std::vector<ContactInterval> contact_intervals(const model::MemberModel& model, const fe::Discretisation& d,
-                                               const VectorXd& displacement, const std::vector<bool>& in_contact) {
+std::vector<ContactRegion> contact_intervals(const model::MemberModel& model, const fe::Discretisation& d,
+                                             const VectorXd& displacement, const std::vector<bool>& in_contact) {
   return intervals(model.has_ground_gap() ? &model : nullptr, d, displacement, in_contact);
 }
 
 FittedResult solve_fitted_limits(const model::MemberModel& model, double load_factor,
-                                 const std::vector<ContactInterval>& initial, const FittedOptions& options) {
+                                 const std::vector<ContactRegion>& initial, const FittedOptions& options) {
   options.validate();
   const double length = model.length(), tol = 1e-12 * length;
-  std::vector<ContactInterval> regions = initial;
+  std::vector<ContactRegion> regions = initial;
   for (std::size_t i = 0; i < regions.size(); ++i) {
     const auto& r = regions[i];
     if (!(r.begin < r.end) || r.begin < model.foundation_begin - tol || r.end > model.foundation_end + tol ||

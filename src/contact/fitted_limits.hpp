@@ -36,15 +36,11 @@
 #include <vector>
 
 #include "contact/active_set_system.hpp"
+#include "core/contact_region.hpp"
 #include "fe/discretisation.hpp"
 #include "model/member_model.hpp"
 
 namespace liftoff::contact {
-
-struct ContactInterval {
-  double begin = 0.0;  // s
-  double end = 0.0;
-};
 
 struct FittedOptions {
   int elements = 200;       // total, shared among the segments between breakpoints and limits
@@ -78,31 +74,30 @@ struct FittedSummary {
 };
 
 struct FittedResult {
-  fe::Discretisation discretisation;     // on the fitted mesh, foundation on the contact elements
-  ContactState state;                    // u on its equations, r at its reaction nodes
-  std::vector<ContactInterval> contact;  // the contact regions, ends at the limits (s)
-  std::vector<double> limits;            // the interior limits t_k (s), increasing
+  fe::Discretisation discretisation;   // on the fitted mesh, foundation on the contact elements
+  ContactState state;                  // u on its equations, r at its reaction nodes
+  std::vector<ContactRegion> contact;  // the contact regions (in_contact, s), ends at the limits
+  std::vector<double> limits;          // the interior limits t_k (s), increasing
   FittedSummary summary;
 };
 
-// The contact regions of a node-based answer (fast, Lemke) on `d`: runs of reaction nodes in
+// The contact regions (in_contact, s) of a node-based answer (fast, Lemke) on `d`: runs of reaction nodes in
 // contact, each limit placed at the zero of w's cubic in the element where w turns negative
 // beyond the run (or within three elements of it; its middle if w changes sign in none).
 // Lifted-off nodes with w > 0 (a weighted gap >= 0 allows it next to the limit) are walked past;
 // one with w = 0 (held by a support) or the foundation's end ends the region there: a clamped
 // end under weight is in contact up to the end, not a limit one element from it.
 // `displacement` on the equations.
-std::vector<ContactInterval> contact_intervals(const fe::Discretisation& d, const Eigen::VectorXd& displacement,
-                                               const std::vector<bool>& in_contact);
+std::vector<ContactRegion> contact_intervals(const fe::Discretisation& d, const Eigen::VectorXd& displacement,
+                                             const std::vector<bool>& in_contact);
 // The same for a member with a ground gap g (MemberModel::ground_gap): the regions where w >= g,
 // limits at the zeros of w - g, or at a step of g (a trench wall) where w - g changes sign across it.
-std::vector<ContactInterval> contact_intervals(const model::MemberModel& model, const fe::Discretisation& d,
-                                               const Eigen::VectorXd& displacement,
-                                               const std::vector<bool>& in_contact);
+std::vector<ContactRegion> contact_intervals(const model::MemberModel& model, const fe::Discretisation& d,
+                                             const Eigen::VectorXd& displacement, const std::vector<bool>& in_contact);
 
 // The limit-fitted answer for F = F_dead + load_factor F_live, starting from `initial` (disjoint,
 // increasing, inside the foundation's extent; a region end at a foundation end is not a limit).
 FittedResult solve_fitted_limits(const model::MemberModel& model, double load_factor,
-                                 const std::vector<ContactInterval>& initial, const FittedOptions& options);
+                                 const std::vector<ContactRegion>& initial, const FittedOptions& options);
 
 }  // namespace liftoff::contact

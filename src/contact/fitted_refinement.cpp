@@ -125,7 +125,7 @@ double estimate(double d, double d_before, double& order) {
 }  // namespace
 
 ToleranceResult refine_to_tolerance(const model::MemberModel& model, double load_factor,
-                                    const std::vector<ContactInterval>& initial, const ToleranceOptions& options) {
+                                    const std::vector<ContactRegion>& initial, const ToleranceOptions& options) {
   options.validate();
   ToleranceResult result;
   ToleranceSummary& summary = result.summary;
@@ -140,7 +140,7 @@ ToleranceResult refine_to_tolerance(const model::MemberModel& model, double load
   // force: a contact region of 0.02 L on one element at 32 and 64 elements, its limit 2.3e-8 off
   // the closed form with a change of 1e-16).
   std::vector<double> points = fe::mesh_breakpoints(model);
-  for (const ContactInterval& r : initial) points.insert(points.end(), {r.begin, r.end});
+  for (const ContactRegion& r : initial) points.insert(points.end(), {r.begin, r.end});
   std::sort(points.begin(), points.end());
   double shortest = length;
   for (std::size_t i = 1; i < points.size(); ++i)
@@ -148,7 +148,7 @@ ToleranceResult refine_to_tolerance(const model::MemberModel& model, double load
   n = std::max(n, static_cast<int>(std::min(4.0 * length / shortest, 1e9)));
   n = std::min(n, options.max_elements);
 
-  auto solve_level = [&](int elements, const std::vector<ContactInterval>& start, Level& level) {
+  auto solve_level = [&](int elements, const std::vector<ContactRegion>& start, Level& level) {
     FittedOptions fitted = options.fitted;
     fitted.elements = elements;
     level.fitted = solve_fitted_limits(model, load_factor, start, fitted);

@@ -91,6 +91,6 @@ struct ToleranceResult {
 // The sequence for F = F_dead + load_factor F_live from the contact regions `initial`
 // (contact_intervals of a node-based answer).
 ToleranceResult refine_to_tolerance(const model::MemberModel& model, double load_factor,
-                                    const std::vector<ContactInterval>& initial, const ToleranceOptions& options);
+                                    const std::vector<ContactRegion>& initial, const ToleranceOptions& options);
 
 }  // namespace liftoff::contact

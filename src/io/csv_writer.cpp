@@ -26,8 +26,7 @@ std::string fields_csv(const SolveReport& r) {
   return out;
 }
 
-void write_fields_csv(const SolveReport& report, const std::filesystem::path& path) {
-  const std::string text = fields_csv(report);
+void write_text_file(const std::filesystem::path& path, const std::string& text, const std::string& what) {
   const std::filesystem::path temporary = temporary_path(path);
   std::ofstream file(temporary);
   file << text;
@@ -35,8 +34,12 @@ void write_fields_csv(const SolveReport& report, const std::filesystem::path& pa
   std::error_code error;
   if (!file || (std::filesystem::rename(temporary, path, error), error)) {
     std::filesystem::remove(temporary, error);
-    throw OutputError(path.string() + ": cannot write the fields CSV");
+    throw OutputError(path.string() + ": cannot write " + what);
   }
+}
+
+void write_fields_csv(const SolveReport& report, const std::filesystem::path& path) {
+  write_text_file(path, fields_csv(report), "the fields CSV");
 }
 
 }  // namespace liftoff::io

@@ -23,4 +23,8 @@ std::string fields_csv(const SolveReport& report);
 
 void write_fields_csv(const SolveReport& report, const std::filesystem::path& path);
 
+// Any text file written so (the fields CSV, `liftoff sweep`'s CSV, `liftoff envelope`'s JSON):
+// a failure leaves no file and throws OutputError "<path>: cannot write <what>".
+void write_text_file(const std::filesystem::path& path, const std::string& text, const std::string& what);
+
 }  // namespace liftoff::io

@@ -76,7 +76,7 @@ SolveReport make_report(const scene::Scene& scene, const model::MemberModel& mod
                         const std::vector<ContactRegion>& regions) {
   SolveReport r = common_report(scene, model, fields, regions);
   const contact::ContactSummary& summary = solution.summary;
-  r.method = scene::to_string(summary.method);
+  r.method = contact::to_string(summary.method);
   r.method_reason = summary.method_reason;
   r.termination = contact::to_string(summary.termination);
   r.message = summary.message;
@@ -90,7 +90,7 @@ SolveReport make_report(const scene::Scene& scene, const model::MemberModel& mod
   r.gauge_note = d.gauge_note;
   if (const auto& c = solution.no_equilibrium_certificate)
     r.no_equilibrium_certificate =
-        SolveReport::RayCertificate{std::string(scene::to_string(c->formulation)),
+        SolveReport::RayCertificate{std::string(contact::to_string(c->formulation)),
                                     std::vector<double>(c->ray.data(), c->ray.data() + c->ray.size()), c->q_dot_ray};
 
   const model::Scales& scales = model.scales;

@@ -3,13 +3,13 @@
 //
 // Scales: the length scale is L for beams and R for arches, the stiffness scale is EI. So the
 // member coordinate s is x/L in [0, 1] for beams and theta (radians) in [-gamma, gamma] for
-// arches; displacements come out in units of the length scale; the foundation modulus K becomes
+// arches; displacements come out in units of the length scale; the foundation k K becomes
 // k = K l^4/EI; a force P becomes P l^2/EI, a moment M l/EI, a distributed load q l^3/EI.
 // Results therefore do not depend on the user's units, and `Scales` converts back. A scene
 // becomes a MemberModel in one place, model/from_scene.hpp.
 //
 // Names: `k` is always the nondimensional stiffness parameter K l^4/EI (the scene's key
-// `nondimensional_k`, the outputs' "k"); `modulus` is only ever the dimensional K (force per length
+// `nondimensional_k`, the outputs' "k"); `k` is only ever the dimensional K (force per length
 // per length), which the numerics never see.
 
 #include <algorithm>
@@ -129,7 +129,7 @@ struct MemberModel {
   // s is a step, g constant beyond the ends. Empty: g = 0. Contact where w >= g.
   std::vector<double> ground_gap_at;
   std::vector<double> ground_gap_value;
-  // The bilinear foundation's k in tension (the scene's tension_modulus or tension_nondimensional_k), <= every
+  // The bilinear foundation's k in tension (the scene's tension_k or tension_nondimensional_k), <= every
   // piece's k; the reaction is k max(w - g, 0) + tension_k min(w - g, 0)
   //   = tension_k (w - g) + (k - tension_k) max(w - g, 0):
   // a bilateral (Winkler) foundation of parameter tension_k on every piece plus the tensionless

@@ -23,9 +23,9 @@
 #include <variant>
 #include <vector>
 
+#include "contact/method.hpp"
 #include "core/contact_region.hpp"
 #include "core/enum_names.hpp"
-#include "scene/scene.hpp"
 
 namespace liftoff::path {
 
@@ -116,7 +116,7 @@ struct TraceSummary {
   int factorisations = 0;
   int contact_solves = 0;  // FE: full contact solves (the start, degenerate breakpoints)
   // FE: the formulation the last contact solve used (ContactSummary::method); automatic if none ran.
-  scene::Method contact_method = scene::Method::automatic;
+  contact::Method contact_method = contact::Method::automatic;
   double final_load_factor = 0.0;
   double time_s = 0.0;
   bool is_usable() const { return termination == TraceTermination::completed; }

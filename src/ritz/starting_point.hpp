@@ -1,16 +1,13 @@
 #pragma once
 // Where a Ritz solve starts: the topology (which pieces of the foundation are in contact) and
-// initial limits, either as the scene's [ritz] table gives them or read off the contact regions
-// of an FE + LCP solution of the same member. Shared by `liftoff solve --method ritz` and the
-// Ritz load history, which both start this way.
+// initial limits, either as the scene's [ritz] table gives them (ritz/from_scene.hpp, the
+// boundary) or read off the contact regions of an FE + LCP solution of the same member. Shared by
+// `liftoff solve --method ritz` and the Ritz load history, which both start this way.
 
-#include <optional>
 #include <vector>
 
 #include "model/member_model.hpp"
 #include "ritz/ritz_model.hpp"
-#include "ritz/ritz_solver.hpp"
-#include "scene/scene.hpp"
 
 namespace liftoff::ritz {
 
@@ -18,16 +15,6 @@ struct StartingPoint {
   Topology topology;
   std::vector<double> limits;  // s
 };
-
-// The scene's topology, with its limits or evenly spaced guesses. Requires a non-empty
-// settings.topology.
-StartingPoint starting_point_from_scene(const scene::RitzSettings& settings, const model::MemberModel& model);
-
-// The scene's [ritz] table as solver options, the one mapping `solve` and the Ritz load history
-// share: modes (`modes` when given, else the table's), max_modes, and mode_tolerance made a
-// length in s (times the member's length). The rest keeps RitzOptions' defaults.
-RitzOptions ritz_options_from_scene(const scene::RitzSettings& settings, const model::MemberModel& model,
-                                    std::optional<int> modes = std::nullopt);
 
 // The topology of contact regions (intervals of s with members `begin` and `end`, as
 // post::contact_regions returns them): limits within 1e-9 of the member's length of a

@@ -229,14 +229,14 @@ TEST_CASE("trace: [trace] method reaches the FE path as its contact solver", "[a
   const auto contact_method = [](const char* trace, const app::TraceRequest& request = {}) {
     return app::trace_options(scene_with_trace(trace), request).contact_method;
   };
-  CHECK(contact_method("lambda_max = 1\nmethod = \"dual\"\n") == scene::Method::dual);
-  CHECK(contact_method("lambda_max = 1\nmethod = \"primal\"\n") == scene::Method::primal);
-  CHECK(contact_method("lambda_max = 1\nmethod = \"fast\"\n") == scene::Method::fast);
+  CHECK(contact_method("lambda_max = 1\nmethod = \"dual\"\n") == contact::Method::dual);
+  CHECK(contact_method("lambda_max = 1\nmethod = \"primal\"\n") == contact::Method::primal);
+  CHECK(contact_method("lambda_max = 1\nmethod = \"fast\"\n") == contact::Method::fast);
   // "all" runs the FE path beside the Ritz one: automatic for it.
-  CHECK(contact_method("lambda_max = 1\nmethod = \"all\"\n") == scene::Method::automatic);
+  CHECK(contact_method("lambda_max = 1\nmethod = \"all\"\n") == contact::Method::automatic);
   app::TraceRequest request;
   request.method = scene::Method::primal;
-  CHECK(contact_method("lambda_max = 1\nmethod = \"dual\"\n", request) == scene::Method::primal);
+  CHECK(contact_method("lambda_max = 1\nmethod = \"dual\"\n", request) == contact::Method::primal);
 
   // Run through the app, the FE path reports the formulation it solved with: a simply supported
   // beam (dual needs a stable structure) whose live end moments have lifted its left end off by
@@ -256,9 +256,9 @@ TEST_CASE("trace: [trace] method reaches the FE path as its contact solver", "[a
     INFO(o->paths[0].summary.message);
     CHECK(o->paths[0].summary.contact_solves >= 1);
   }
-  CHECK(dual.paths[0].summary.contact_method == scene::Method::dual);
-  CHECK(primal.paths[0].summary.contact_method == scene::Method::primal);
-  CHECK(fast.paths[0].summary.contact_method == scene::Method::fast);
+  CHECK(dual.paths[0].summary.contact_method == contact::Method::dual);
+  CHECK(primal.paths[0].summary.contact_method == contact::Method::primal);
+  CHECK(fast.paths[0].summary.contact_method == contact::Method::fast);
   // Same answer whichever solver found the start.
   REQUIRE(dual.paths[0].events.size() == fast.paths[0].events.size());
   REQUIRE(primal.paths[0].events.size() == fast.paths[0].events.size());

@@ -18,8 +18,8 @@
 #include "support/solve.hpp"
 
 using namespace liftoff;
+using contact::Method;
 using scene::EndSupport;
-using scene::Method;
 
 namespace {
 
@@ -98,7 +98,7 @@ TEST_CASE("the certificate passes on every shipped scene with every FE method", 
     for (Method method : {Method::fast, Method::dual, Method::primal}) {
       // Primal Lemke is dense and slow (50 s for an arch at 200 elements): a coarser mesh.
       const int elements = method == Method::primal ? 40 : s.solve.elements;
-      CAPTURE(entry.path().filename().string(), scene::to_string(method), elements);
+      CAPTURE(entry.path().filename().string(), to_string(method), elements);
       const test::Solved solved = test::solve(s, method, elements);
       REQUIRE(solved.solution.summary.is_usable());
       const certify::Certificate c = certify_solved(solved);

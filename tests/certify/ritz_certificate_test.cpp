@@ -11,7 +11,7 @@
 #include "support/solve.hpp"
 
 using namespace liftoff;
-using scene::Method;
+using contact::Method;
 
 namespace {
 

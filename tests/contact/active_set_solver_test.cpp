@@ -15,8 +15,8 @@
 #include "support/solve.hpp"
 
 using namespace liftoff;
+using contact::Method;
 using scene::EndSupport;
-using scene::Method;
 
 namespace {
 

@@ -26,7 +26,7 @@ TEST_CASE("the contact set found by Lemke gives Lemke's answer in one sparse sol
   for (const char* name : {"seed_beam_end_moments", "seed_beam_end_moments_central_load", "seed_arch_pinned",
                            "seed_arch_roller", "seed_arch_clamped"}) {
     CAPTURE(name);
-    const auto lemke = test::solve(test::shipped_scene(name), scene::Method::dual, 80);
+    const auto lemke = test::solve(test::shipped_scene(name), contact::Method::dual, 80);
     contact::ActiveSetSystem system(lemke.discretisation);
     REQUIRE(system.factorise(contact_set_of(lemke.solution)));
     const auto state = system.solve(lemke.discretisation.load(1.0));

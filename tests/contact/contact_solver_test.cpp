@@ -11,8 +11,8 @@
 #include "support/solve.hpp"
 
 using namespace liftoff;
+using contact::Method;
 using scene::EndSupport;
-using scene::Method;
 
 namespace {
 
@@ -47,8 +47,8 @@ TEST_CASE("bilateral foundation: FE converges to Hetenyi's closed-form beam", "[
   }
   const double order = test::observed_order(h, error);
   std::printf("bilateral %s-%s beam: deflection error %.2e at %d elements, observed order %.2f\n",
-              scene::to_string(left).data(), scene::to_string(right).data(), error.back(), 160, order);
-  CAPTURE(scene::to_string(left), scene::to_string(right), order, error.back());
+              to_string(left).data(), to_string(right).data(), error.back(), 160, order);
+  CAPTURE(to_string(left), to_string(right), order, error.back());
   // Nodal deflections of Hermite cubics converge at h^4 for a smooth solution; the seed's
   // mixed foundation (P1 reactions, consistent T) keeps that. Require most of it.
   CHECK(order >= 3.5);
@@ -373,7 +373,7 @@ TEST_CASE("a pipeline whose clamped ends settle with the ground by q/K rests on 
   s.supports.left_detail.settlement = s.supports.right_detail.settlement = delta;
   s.loads = {test::uniform_load(0.0, 1.0, q)};
   for (Method method : {Method::fast, Method::dual, Method::primal}) {
-    CAPTURE(scene::to_string(method));
+    CAPTURE(to_string(method));
     const test::Solved solved = test::solve(s, method, 50);
     REQUIRE(solved.solution.summary.is_usable());
     // The exact answer is in the FE space (w constant): the only error is the solve's round-off,
@@ -403,7 +403,7 @@ TEST_CASE("settled supports are a ground gap's twin: w = v + delta with v over g
   twin.foundation.gap_at = {0.0};
   twin.foundation.gap_value = {-delta};
   for (Method method : {Method::fast, Method::dual, Method::primal}) {
-    CAPTURE(scene::to_string(method));
+    CAPTURE(to_string(method));
     const test::Solved a = test::solve(settled, method, 80), b = test::solve(twin, method, 80);
     REQUIRE(a.solution.summary.is_usable());
     REQUIRE(b.solution.summary.is_usable());
@@ -539,7 +539,7 @@ TEST_CASE("bilinear foundation with springs and a linear modulus: the three stre
   CHECK(w_min < 0.0);
   CHECK(w_max > 0.0);
   for (Method method : {Method::dual, Method::primal}) {
-    CAPTURE(scene::to_string(method));
+    CAPTURE(to_string(method));
     const test::Solved other = test::solve(s, method, 100);
     REQUIRE(other.solution.summary.is_usable());
     // The same discrete problem: round-off of the dense LCP solves (~1e-12 of max |w| at this size).

@@ -18,7 +18,7 @@ using scene::EndSupport;
 namespace {
 
 // The fast answer on n elements, as contact intervals: the starting topology of a fitted solve.
-std::vector<contact::ContactInterval> fast_intervals(const model::MemberModel& model, int n) {
+std::vector<ContactRegion> fast_intervals(const model::MemberModel& model, int n) {
   const fe::Discretisation d = fe::discretise(model, n);
   const auto fast = contact::solve_active_set(d, d.load(1.0), {}, {}, d.ground_gap);
   REQUIRE(fast.summary.is_usable());
@@ -112,9 +112,9 @@ TEST_CASE("a wrong topology is refused, not fitted", "[contact][fitted]") {
   options.elements = 80;
   // The answer has one contact region near the right end; claim a second one on the left,
   // where the beam lifts off.
-  std::vector<contact::ContactInterval> wrong = fast_intervals(model, 80);
+  std::vector<ContactRegion> wrong = fast_intervals(model, 80);
   REQUIRE(wrong.size() == 1);
-  wrong.insert(wrong.begin(), contact::ContactInterval{0.1, 0.3});
+  wrong.insert(wrong.begin(), ContactRegion{0.1, 0.3});
   const auto fitted = contact::solve_fitted_limits(model, 1.0, wrong, options);
   CAPTURE(fitted.summary.message);
   CHECK_FALSE(fitted.summary.is_usable());
@@ -309,7 +309,7 @@ TEST_CASE("a limit at a step of the ground gap is pinned at the trench wall", "[
   REQUIRE(exact.status == closed_form::TensionlessStatus::converged);
   // From the node-based regions, and from regions that end an element or two short of and
   // beyond the walls: Newton passes onto the wall and stops there.
-  const std::vector<std::vector<contact::ContactInterval>> starts = {
+  const std::vector<std::vector<ContactRegion>> starts = {
       fast_intervals(model, 200), {{0.0, 0.33}, {0.62, 1.0}}, {{0.0, 0.36}, {0.585, 1.0}}};
   for (const auto& start : starts) {
     CAPTURE(start.front().end, start.back().begin);

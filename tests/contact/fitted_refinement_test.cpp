@@ -22,7 +22,7 @@ using scene::EndSupport;
 namespace {
 
 // The node-based (fast) contact regions on n elements: where the sequence starts.
-std::vector<contact::ContactInterval> fast_intervals(const model::MemberModel& model, int n) {
+std::vector<ContactRegion> fast_intervals(const model::MemberModel& model, int n) {
   const fe::Discretisation d = fe::discretise(model, n);
   const auto fast = contact::solve_active_set(d, d.load(1.0), {});
   REQUIRE(fast.summary.is_usable());
@@ -180,7 +180,7 @@ TEST_CASE("the seed beams' limit error falls monotonically with the mesh to 1e-1
     for (double t : exact.limits) slope = std::min(slope, std::abs(exact.solution.derivative(t, 1)));
     const double floor = std::max(1e-14, 64 * std::numeric_limits<double>::epsilon() * w_max / slope / model.length());
     std::printf("%s: limit round-off floor (estimated) %.1e L\n", name, floor);
-    std::vector<contact::ContactInterval> start = fast_intervals(model, 200);
+    std::vector<ContactRegion> start = fast_intervals(model, 200);
     double previous = INFINITY;
     bool below = false;
     for (int n = 10; n <= 20480; n *= 2) {

@@ -23,8 +23,8 @@
 
 using namespace liftoff;
 using contact::ContactTermination;
+using contact::Method;
 using scene::EndSupport;
-using scene::Method;
 
 TEST_CASE("primal Lemke on the footing of issue 10: fast's answer or a refusal", "[contact][lcp][primal]") {
   const auto [moment, elements] =

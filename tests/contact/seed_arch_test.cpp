@@ -20,7 +20,7 @@ TEST_CASE("seed arch: contact half-angle converges with the mesh for every end c
   const std::vector<int> meshes{10, 20, 40, 80, 160};
 
   auto half_angle = [&](int elements) {
-    const test::Solved s = test::solve(scene, scene::Method::dual, elements);
+    const test::Solved s = test::solve(scene, contact::Method::dual, elements);
     REQUIRE(s.solution.summary.is_usable());
     REQUIRE(s.regions.size() == 1);  // one central contact region
     const double begin = s.regions[0].begin * degrees, end = s.regions[0].end * degrees;

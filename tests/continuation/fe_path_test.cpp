@@ -213,7 +213,7 @@ TEST_CASE("between breakpoints the path is exact, and no breakpoint is missed") 
       CAPTURE(a.load_factor, b.load_factor);
       // The state is affine between recorded steps: interpolating them gives the solution.
       const double t = fraction(random), lambda = a.load_factor + t * (b.load_factor - a.load_factor);
-      const auto lemke = test::solve(c.scene, scene::Method::automatic, c.elements, lambda);
+      const auto lemke = test::solve(c.scene, contact::Method::automatic, c.elements, lambda);
       REQUIRE(lemke.solution.summary.is_usable());
       const NodalState exact = nodal_state(lemke);
       std::vector<double> w, r;
@@ -225,7 +225,7 @@ TEST_CASE("between breakpoints the path is exact, and no breakpoint is missed") 
       CHECK(max_relative_difference(r, exact.r) < 1e-9);
       // The contact set there is the one the path holds over the whole interval.
       const auto midpoint =
-          test::solve(c.scene, scene::Method::automatic, c.elements, 0.5 * (a.load_factor + b.load_factor));
+          test::solve(c.scene, contact::Method::automatic, c.elements, 0.5 * (a.load_factor + b.load_factor));
       CHECK(lemke_contact_set(midpoint) == set_of(a));
       ++compared;
     }
@@ -255,7 +255,7 @@ namespace {
 
 // The contact topology of an independent Lemke solve at lambda.
 continuation::ContactTopology lemke_topology(const scene::Scene& scene, int elements, double lambda) {
-  const auto solved = test::solve(scene, scene::Method::automatic, elements, lambda);
+  const auto solved = test::solve(scene, contact::Method::automatic, elements, lambda);
   REQUIRE(solved.solution.summary.is_usable());
   return continuation::contact_topology(solved.model, solved.discretisation, solved.solution.displacement,
                                         continuation::special_points(solved.model));
@@ -428,11 +428,11 @@ TEST_CASE("a path through zero load: the degenerate breakpoint there is resolved
     while (result.steps[k + 1].load_factor < lambda) ++k;
     const TraceStep &a = result.steps[k], &b = result.steps[k + 1];
     const double t = (lambda - a.load_factor) / (b.load_factor - a.load_factor);
-    const NodalState exact = nodal_state(test::solve(scene, scene::Method::automatic, 40, lambda));
+    const NodalState exact = nodal_state(test::solve(scene, contact::Method::automatic, 40, lambda));
     std::vector<double> w;
     for (std::size_t i = 0; i < exact.w.size(); ++i) w.push_back((1 - t) * a.deflection[i] + t * b.deflection[i]);
     CHECK(max_relative_difference(w, exact.w) < 1e-9);
-    CHECK(lemke_contact_set(test::solve(scene, scene::Method::automatic, 40, lambda)) == set_of(a));
+    CHECK(lemke_contact_set(test::solve(scene, contact::Method::automatic, 40, lambda)) == set_of(a));
   }
 }
 
@@ -446,7 +446,7 @@ TEST_CASE("a shipped arch traced from no load to lambda = 1 ends where solve doe
   REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
   CHECK(result.steps.size() == 2);
   CHECK(result.events.empty());
-  const auto solved = test::solve(scene, scene::Method::dual, 80, 1.0);
+  const auto solved = test::solve(scene, contact::Method::dual, 80, 1.0);
   const auto& end = result.steps.back();
   REQUIRE(end.contact_regions.size() == solved.regions.size());
   for (std::size_t i = 0; i < solved.regions.size(); ++i) {
@@ -585,7 +585,7 @@ PathEnd path_ends_on_solve(const scene::Scene& scene, int elements) {
   const TraceResult result = continuation::trace_fe(scene, options);
   INFO(result.summary.message);
   REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
-  test::Solved solved = test::solve(scene, scene::Method::fast, elements, 1.0);
+  test::Solved solved = test::solve(scene, contact::Method::fast, elements, 1.0);
   REQUIRE(solved.solution.summary.is_usable());
   const NodalState exact = nodal_state(solved);
   const TraceStep& end = result.steps.back();
@@ -629,7 +629,7 @@ TEST_CASE("a ground gap and settlements: the path from lambda = 0 ends where sol
     plain.foundation.gap_value.clear();
     plain.supports.left_detail.settlement = plain.supports.right_detail.settlement = 0.0;
     for (double& s : plain.supports.interior_settlement) s = 0.0;
-    const auto without = test::solve(plain, scene::Method::fast, elements, 1.0);
+    const auto without = test::solve(plain, contact::Method::fast, elements, 1.0);
     if (without.solution.summary.is_usable()) CHECK(max_relative_difference(nodal_state(without).w, exact.w) > 1e-6);
   }
 }
@@ -649,7 +649,7 @@ TEST_CASE("a bilinear foundation: the path ends where solve does", "[issue12][te
     // Would it fail if the path dropped K_t? The tensionless answer is another.
     scene::Scene plain = scene;
     plain.foundation.tension_k.reset();
-    const auto without = test::solve(plain, scene::Method::fast, elements, 1.0);
+    const auto without = test::solve(plain, contact::Method::fast, elements, 1.0);
     if (without.solution.summary.is_usable()) CHECK(max_relative_difference(nodal_state(without).w, exact.w) > 1e-6);
   }
 }

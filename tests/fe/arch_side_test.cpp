@@ -18,9 +18,9 @@
 #include "support/solve.hpp"
 
 using namespace liftoff;
+using contact::Method;
 using scene::EndSupport;
 using scene::LoadDirection;
-using scene::Method;
 
 namespace {
 

@@ -36,7 +36,7 @@ TEST_CASE("report: Lemke's ray reaches the JSON and the HDF5 file as the certifi
   // A free beam that a load pulls off its tensionless foundation: no equilibrium.
   scene::Scene s = test::beam_scene(1.0, 1.0, scene::EndSupport::free, scene::EndSupport::free, 1e3);
   s.loads = {test::point_force(0.5, -1.0)};
-  const test::Solved solved = test::solve(s, scene::Method::primal, 20);
+  const test::Solved solved = test::solve(s, contact::Method::primal, 20);
   REQUIRE(solved.solution.summary.termination == contact::ContactTermination::no_equilibrium);
   REQUIRE(solved.solution.no_equilibrium_certificate.has_value());
   const Eigen::VectorXd& ray = solved.solution.no_equilibrium_certificate->ray;
@@ -69,7 +69,7 @@ TEST_CASE("report: Lemke's ray reaches the JSON and the HDF5 file as the certifi
 
   // An answer carries none.
   s.loads = {test::point_force(0.5, 1.0)};
-  const test::Solved pressed = test::solve(s, scene::Method::primal, 20);
+  const test::Solved pressed = test::solve(s, contact::Method::primal, 20);
   REQUIRE(pressed.solution.summary.is_usable());
   CHECK_FALSE(io::to_json(report_of(pressed, s)).contains("no_equilibrium_certificate"));
 }

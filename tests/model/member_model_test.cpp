@@ -53,14 +53,14 @@ NodalError nodal_error(const test::Solved& fe, const cf::BeamSolution& exact) {
 // node-based limits converge erratically (orders measured: sleeper 4.0 (in contact everywhere),
 // footing 2.7, trench 2.35; with one reaction per node where the modulus jumps, sleeper 1.01 and
 // footing 0.85: the order test below asserts the two reactions there).
-void check_against_exact(const scene::Scene& s, const std::vector<scene::Method>& methods, int n,
+void check_against_exact(const scene::Scene& s, const std::vector<contact::Method>& methods, int n,
                          const cf::BeamSolution& exact) {
   std::vector<double> h, error;
   for (int elements : {n, 2 * n, 4 * n}) {
     CAPTURE(elements);
     std::vector<test::Solved> answers;
-    for (scene::Method method : methods) {
-      CAPTURE(scene::to_string(method));
+    for (contact::Method method : methods) {
+      CAPTURE(contact::to_string(method));
       answers.push_back(test::solve(s, method, elements));
       INFO(answers.back().solution.summary.message);
       REQUIRE(answers.back().solution.summary.is_usable());
@@ -123,7 +123,7 @@ TEST_CASE("foundation pieces: every FE method agrees with the closed form", "[fe
     const char* name;
     scene::Scene scene;
     int elements;
-    std::vector<scene::Method> methods;
+    std::vector<contact::Method> methods;
   };
   // The free-free scenes only the foundation holds: fast and primal (dual needs K SPD). The
   // trench pipeline on pinned ends (48 m from the trench: the pins hold w ~ 0 where the far pipe
@@ -135,11 +135,14 @@ TEST_CASE("foundation pieces: every FE method agrees with the closed form", "[fe
       {"sleeper_degraded_ballast",
        engineering("sleeper_degraded_ballast"),
        52,
-       {scene::Method::fast, scene::Method::primal}},
+       {contact::Method::fast, contact::Method::primal}},
       // (Primal Lemke refuses 80 elements of the footing, its pivoting having lost accuracy: 25..100.)
-      {"footing_two_soils", engineering("footing_two_soils"), 25, {scene::Method::fast, scene::Method::primal}},
-      {"pipeline_trench_span", engineering("pipeline_trench_span"), 120, {scene::Method::fast, scene::Method::primal}},
-      {"pinned trench", pinned, 120, {scene::Method::fast, scene::Method::dual, scene::Method::primal}},
+      {"footing_two_soils", engineering("footing_two_soils"), 25, {contact::Method::fast, contact::Method::primal}},
+      {"pipeline_trench_span",
+       engineering("pipeline_trench_span"),
+       120,
+       {contact::Method::fast, contact::Method::primal}},
+      {"pinned trench", pinned, 120, {contact::Method::fast, contact::Method::dual, contact::Method::primal}},
   };
   for (const auto& c : cases) {
     CAPTURE(c.name);
@@ -149,7 +152,7 @@ TEST_CASE("foundation pieces: every FE method agrees with the closed form", "[fe
     std::printf(", max |w| %.6g\n", exact.solution.max_abs_deflection());
     check_against_exact(c.scene, c.methods, c.elements, exact.solution);
     // The contact regions: as many as the closed form's, ends within a few elements.
-    const test::Solved fe = test::solve(c.scene, scene::Method::fast, 4 * c.elements);
+    const test::Solved fe = test::solve(c.scene, contact::Method::fast, 4 * c.elements);
     REQUIRE(fe.regions.size() == exact.contact.size());
     const double h = c.scene.structure.length / (4 * c.elements);
     for (std::size_t i = 0; i < exact.contact.size(); ++i) {
@@ -174,7 +177,7 @@ TEST_CASE("foundation pieces: two reactions where k jumps, so bilateral nodal w 
     const cf::BeamSolution exact = cf::solve_bilateral(cf::problem_of(s));
     std::vector<double> h, error;
     for (int n : {26, 52, 104, 208}) {
-      const test::Solved fe = test::solve(s, scene::Method::fast, n);
+      const test::Solved fe = test::solve(s, contact::Method::fast, n);
       INFO(fe.solution.summary.message);
       REQUIRE(fe.solution.summary.is_usable());
       REQUIRE(fe.discretisation.reactions() ==
@@ -212,7 +215,7 @@ TEST_CASE("ground gap: two reactions at a step of the gap, so bilateral nodal w 
   const cf::BeamSolution exact = cf::solve_bilateral(p);
   std::vector<double> h, error;
   for (int n : {20, 40, 80, 160}) {
-    const test::Solved fe = test::solve(s, scene::Method::fast, n);
+    const test::Solved fe = test::solve(s, contact::Method::fast, n);
     INFO(fe.solution.summary.message);
     REQUIRE(fe.solution.summary.is_usable());
     REQUIRE(fe.discretisation.reactions() == n + 1 + 2);  // both walls
@@ -315,7 +318,8 @@ TEST_CASE("foundation pieces: a modulus linear within a piece, in the member and
   // but round-off (the answer's own, ~1e-12 of max |w| for these solves).
   scene::Scene split = s;
   split.foundation.segments = {{0.0, 0.5, 3000.0, std::nullopt, 2000.0}, {0.5, 1.0, 2000.0, std::nullopt, 1000.0}};
-  const test::Solved one = test::solve(s, scene::Method::fast, 40), two = test::solve(split, scene::Method::fast, 40);
+  const test::Solved one = test::solve(s, contact::Method::fast, 40),
+                     two = test::solve(split, contact::Method::fast, 40);
   REQUIRE(one.solution.summary.is_usable());
   REQUIRE(two.solution.summary.is_usable());
   CHECK(test::relative_difference(one.solution.displacement, two.solution.displacement) < 1e-11);
@@ -330,7 +334,7 @@ TEST_CASE("foundation pieces: a modulus linear within a piece converges at h^4 (
   const scene::Scene s = linear_modulus_beam(false);
   std::vector<test::Solved> answers;
   for (int n : {10, 20, 40, 80, 160}) {
-    answers.push_back(test::solve(s, scene::Method::fast, n));
+    answers.push_back(test::solve(s, contact::Method::fast, n));
     INFO(answers.back().solution.summary.message);
     REQUIRE(answers.back().solution.summary.is_usable());
   }

@@ -11,8 +11,8 @@
 #include "support/solve.hpp"
 
 using namespace liftoff;
+using contact::Method;
 using scene::EndSupport;
-using scene::Method;
 
 TEST_CASE("moment, shear, rotation and reaction converge to the closed-form beam", "[post]") {
   // Bilateral clamped-free beam, beta L = 4, a point force and a uniform load.

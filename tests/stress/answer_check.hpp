@@ -30,17 +30,17 @@ namespace liftoff::test {
 constexpr double eps = std::numeric_limits<double>::epsilon();
 
 // The FE + LCP methods there are: dual and primal, plus the fast contact solver where this build
-// has it (scene::parse_method("fast")). The fast solver is developed on another branch; until it
+// has it (from_string<contact::Method>("fast")). The fast solver is developed on another branch; until it
 // is merged the stress tests say so and run without it.
-inline std::vector<scene::Method> fe_methods(bool stable_structure = true) {
-  std::vector<scene::Method> methods;
-  if (stable_structure) methods.push_back(scene::Method::dual);
-  methods.push_back(scene::Method::primal);
-  if (const auto fast = scene::parse_method("fast")) methods.push_back(*fast);
+inline std::vector<contact::Method> fe_methods(bool stable_structure = true) {
+  std::vector<contact::Method> methods;
+  if (stable_structure) methods.push_back(contact::Method::dual);
+  methods.push_back(contact::Method::primal);
+  if (const auto fast = from_string<contact::Method>("fast")) methods.push_back(*fast);
   return methods;
 }
 
-inline bool fast_method_present() { return scene::parse_method("fast").has_value(); }
+inline bool fast_method_present() { return from_string<contact::Method>("fast").has_value(); }
 
 struct AnswerCheck {
   // Worst ratio of each violation to its round-off floor (componentwise, see above). For

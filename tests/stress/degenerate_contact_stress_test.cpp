@@ -19,8 +19,8 @@
 #include "support/solve.hpp"
 
 using namespace liftoff;
+using contact::Method;
 using scene::EndSupport;
-using scene::Method;
 
 namespace {
 
@@ -86,7 +86,7 @@ TEST_CASE("stress: contact limits exactly on nodes (free-free beam, beta L = 2 p
     std::vector<double> h, error;
     for (int elements : {40, 80, 160}) {
       const test::Solved fe = test::solve(s, method, elements);
-      CAPTURE(scene::to_string(method), elements, fe.solution.summary.message);
+      CAPTURE(to_string(method), elements, fe.solution.summary.message);
       REQUIRE(fe.solution.summary.is_usable());
       check_physics(fe);
       REQUIRE(fe.regions.size() == 1);
@@ -98,7 +98,7 @@ TEST_CASE("stress: contact limits exactly on nodes (free-free beam, beta L = 2 p
       std::printf(
           "limit on a node, %s, %d elements: limits [%.10f, %.10f], error %.2e; at the node r %.1e, gap %.1e "
           "(of their maxima)\n",
-          scene::to_string(method).data(), elements, fe.regions[0].begin, fe.regions[0].end, worst,
+          to_string(method).data(), elements, fe.regions[0].begin, fe.regions[0].end, worst,
           fe.solution.reaction[node] / fe.solution.reaction.lpNorm<Eigen::Infinity>(),
           fe.solution.gap[node] / fe.solution.gap.lpNorm<Eigen::Infinity>());
       h.push_back(1.0 / elements);
@@ -106,7 +106,7 @@ TEST_CASE("stress: contact limits exactly on nodes (free-free beam, beta L = 2 p
     }
     // The limits converge to the nodes at the FE's h^2 (P1 reactions), degenerate or not.
     const double order = test::observed_order(h, error);
-    CAPTURE(scene::to_string(method), order, error.back());
+    CAPTURE(to_string(method), order, error.back());
     CHECK(order >= 1.5);
   }
 }
@@ -135,10 +135,9 @@ TEST_CASE("stress: loads balanced to 1e-12 on a free-free beam", "[stress][degen
     for (Method method : test::fe_methods(/*stable_structure=*/false)) {
       const test::Solved fe = test::solve(s, method, 40);
       const auto& summary = fe.solution.summary;
-      CAPTURE(delta, scene::to_string(method), summary.message, resultant_floor);
-      std::printf("balanced to %+.0e, %s: %s, %zu contact region(s), residual %.1e\n", delta,
-                  scene::to_string(method).data(), std::string(contact::to_string(summary.termination)).c_str(),
-                  fe.regions.size(), summary.residual);
+      CAPTURE(delta, to_string(method), summary.message, resultant_floor);
+      std::printf("balanced to %+.0e, %s: %s, %zu contact region(s), residual %.1e\n", delta, to_string(method).data(),
+                  std::string(contact::to_string(summary.termination)).c_str(), fe.regions.size(), summary.residual);
       if (delta < 0) {
         if (delta <= -1e-5)
           CHECK(summary.termination == contact::ContactTermination::no_equilibrium);
@@ -181,7 +180,7 @@ TEST_CASE("stress: zero load gives the zero answer from every method", "[stress]
   unloaded.loads.clear();
   for (Method method : test::fe_methods()) {
     const test::Solved fe = test::solve(unloaded, method, 50);
-    CAPTURE(scene::to_string(method));
+    CAPTURE(to_string(method));
     REQUIRE(fe.solution.summary.is_usable());
     CHECK(fe.solution.displacement.lpNorm<Eigen::Infinity>() == 0.0);
     CHECK(fe.solution.reaction.lpNorm<Eigen::Infinity>() == 0.0);
@@ -202,7 +201,7 @@ TEST_CASE("stress: loads from 1e-12 to 1e12 in one scene", "[stress][loads]") {
              test::point_force(0.2, 1e-12)};
   for (Method method : test::fe_methods()) {
     const test::Solved fe = test::solve(s, method, 60);
-    CAPTURE(scene::to_string(method), fe.solution.summary.message);
+    CAPTURE(to_string(method), fe.solution.summary.message);
     REQUIRE(fe.solution.summary.is_usable());
     check_physics(fe);
     CHECK_FALSE(fe.regions.empty());
@@ -228,7 +227,7 @@ TEST_CASE("stress: a load that lifts a free beam off entirely has no equilibrium
   s.loads = {test::point_force(0.5, -1.0), test::uniform_load(0.0, 1.0, -0.1)};
   for (Method method : test::fe_methods(/*stable_structure=*/false)) {
     const test::Solved fe = test::solve(s, method, 40);
-    CAPTURE(scene::to_string(method), fe.solution.summary.message);
+    CAPTURE(to_string(method), fe.solution.summary.message);
     CHECK(fe.solution.summary.termination == contact::ContactTermination::no_equilibrium);
     CHECK_THAT(fe.solution.summary.message, Catch::Matchers::Contains("no equilibrium"));
   }

@@ -11,8 +11,8 @@
 #include "support/solve.hpp"
 
 using namespace liftoff;
+using contact::Method;
 using scene::EndSupport;
-using scene::Method;
 
 namespace {
 
@@ -43,10 +43,10 @@ void check_sweep(scene::Scene s, const std::vector<Method>& methods, int element
       const double cond_p = fe.discretisation.structure_is_stable()
                                 ? test::symmetric_condition(test::dual_matrix(fe.discretisation))
                                 : INFINITY;
-      std::printf("  k %7.0e %-7s %-17s %s | cond(K) %.1e cond(P) %.1e cancel %.1e\n", k,
-                  scene::to_string(method).data(), std::string(contact::to_string(summary.termination)).c_str(),
-                  check.report().c_str(), cond_k, cond_p, cancellation);
-      CAPTURE(k, scene::to_string(method), summary.message, check.report(), cond_k, cond_p, cancellation);
+      std::printf("  k %7.0e %-7s %-17s %s | cond(K) %.1e cond(P) %.1e cancel %.1e\n", k, to_string(method).data(),
+                  std::string(contact::to_string(summary.termination)).c_str(), check.report().c_str(), cond_k, cond_p,
+                  cancellation);
+      CAPTURE(k, to_string(method), summary.message, check.report(), cond_k, cond_p, cancellation);
       // Every method must solve every k here: each answer's round-off floor (gamma |K||u| ...,
       // amplified by the dual's cancellation) stays orders below the 1e-6 contract over this range.
       REQUIRE(summary.is_usable());

@@ -14,7 +14,7 @@
 #include "support/solve.hpp"
 
 using namespace liftoff;
-using scene::Method;
+using contact::Method;
 
 namespace {
 
@@ -48,7 +48,7 @@ TEST_CASE("pinned beam, end couples, k = 1e5: primal and dual at 200 elements", 
   scene::Scene s = test::shipped_scene("seed_beam_end_moments");
   s.foundation.k = 1e5;
   const Method method = GENERATE(Method::primal, Method::dual);
-  CAPTURE(scene::to_string(method));
+  CAPTURE(to_string(method));
   const test::Solved lemke = test::solve(s, method, 200);
   const test::Solved fast = test::solve(s, Method::fast, 200);
   check_against_fast(lemke, fast);

@@ -20,7 +20,7 @@ struct Solved {
   std::vector<ContactRegion> regions;  // in s
 };
 
-inline Solved solve(const scene::Scene& scene, scene::Method method, int elements, double load_factor = 1.0) {
+inline Solved solve(const scene::Scene& scene, contact::Method method, int elements, double load_factor = 1.0) {
   Solved out;
   out.model = model::make_member_model(scene);
   out.discretisation = fe::discretise(out.model, elements);

@@ -139,8 +139,8 @@ TEST_CASE("an imposed curvature: the same nodal loads as end moments EI kappa", 
   a.loads.push_back(curvature);
   b.loads.push_back(test::point_moment(0.0, -2.0));
   b.loads.push_back(test::point_moment(1.0, 2.0));
-  const test::Solved with_curvature = test::solve(a, Method::fast, 64);
-  const test::Solved with_moments = test::solve(b, Method::fast, 64);
+  const test::Solved with_curvature = test::solve(a, contact::Method::fast, 64);
+  const test::Solved with_moments = test::solve(b, contact::Method::fast, 64);
   CHECK((with_curvature.discretisation.live_load - with_moments.discretisation.live_load).lpNorm<Eigen::Infinity>() <=
         1e-15 * 2.0);
   CHECK(test::relative_difference(with_curvature.solution.displacement, with_moments.solution.displacement) < 1e-12);
@@ -172,6 +172,7 @@ TEST_CASE("a trapezoidal distributed load against the closed form", "[verificati
   const double integral = 0.5 * 1.0 * 3.0 + 0.5 * 1.5 * (3.0 + 1.0) + 0.5 * 1.5 * (-0.5 + 2.0) - 2.0;
   CHECK(fitted.certificate_figures.applied_force == Approx(integral).epsilon(1e-12));  // a few roundings of the scales
   // Dual and fast agree on the scene's mesh to round-off (one discrete problem).
-  const test::Solved dual = test::solve(s, Method::dual, 200), fast = test::solve(s, Method::fast, 200);
+  const test::Solved dual = test::solve(s, contact::Method::dual, 200),
+                     fast = test::solve(s, contact::Method::fast, 200);
   CHECK(test::relative_difference(dual.solution.displacement, fast.solution.displacement) < 1e-9);
 }

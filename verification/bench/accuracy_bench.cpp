@@ -279,7 +279,7 @@ void ratio_section(int max_elements) {
     contact::NestedResult layered;
     contact::ContactSolution app;
     contact::ContactOptions fast_options;
-    fast_options.method = scene::Method::fast;
+    fast_options.method = contact::Method::fast;
     // The first round is a warm-up, not recorded: memory first touched costs page faults that
     // would fall on whichever variant runs first.
     for (int r = -1; r < repeats; ++r) {
@@ -392,7 +392,7 @@ std::vector<double> exact_limits(const model::MemberModel& model) {
   return exact.limits;
 }
 
-double limit_error(const std::vector<contact::ContactInterval>& regions, const model::MemberModel& model,
+double limit_error(const std::vector<ContactRegion>& regions, const model::MemberModel& model,
                    const std::vector<double>& exact) {
   std::vector<double> limits;
   for (const auto& r : regions) {

@@ -24,7 +24,7 @@
 //     / true error, on the same scenes for every method and tolerance (tolerance.hpp).
 //
 // The fast contact solver (method "fast") is developed on another branch: it is benchmarked
-// wherever scene::parse_method("fast") knows it, and skipped with a note otherwise.
+// wherever from_string<contact::Method>("fast") knows it, and skipped with a note otherwise.
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
@@ -57,7 +57,7 @@
 namespace fs = std::filesystem;
 using namespace liftoff;
 using bench::Timing;
-using scene::Method;
+using contact::Method;
 
 namespace {
 
@@ -77,7 +77,7 @@ struct Options {
 
 const std::vector<std::string> seed_beams = {"seed_beam_end_moments", "seed_beam_end_moments_central_load"};
 
-std::optional<Method> fast_method() { return scene::parse_method("fast"); }
+std::optional<Method> fast_method() { return from_string<Method>("fast"); }
 
 std::string scene_path(const Options& o, const std::string& name) {
   return o.source_dir + "/verification/scenes/" + name + ".toml";
@@ -191,7 +191,7 @@ double fe_w_max(const FeRun& r) {
 
 Point measure_fe(const Options& o, const std::string& name, const scene::Scene& s, const Reference& ref, Method method,
                  int elements) {
-  Point p = make_point(name, std::string(scene::to_string(method)), "elements", elements);
+  Point p = make_point(name, std::string(to_string(method)), "elements", elements);
   try {
     const FeRun r = run_fe(s, method, elements);
     p.termination = std::string(contact::to_string(r.solution.summary.termination));
@@ -311,7 +311,7 @@ std::vector<Point> accuracy_section(const Options& o, const fs::path& scratch) {
     if (const auto fast = fast_method())
       for (int n : fast_sizes) print_point(points.emplace_back(measure_fe(o, name, s, ref, *fast, n)));
     else
-      std::printf("  fast     (not in this build: scene::parse_method(\"fast\") is empty; skipped)\n");
+      std::printf("  fast     (not in this build: from_string<contact::Method>(\"fast\") is empty; skipped)\n");
     for (int n : modes) print_point(points.emplace_back(measure_ritz(o, name, s, ref, n)));
     if (o.dolfinx)
       for (int n : dolfinx_sizes) print_point(points.emplace_back(measure_dolfinx(o, name, s, ref, n, scratch)));
@@ -409,7 +409,7 @@ void scaling_section(const Options& o, const fs::path& scratch) {
   if (fast_method())
     series.push_back({"fast", "fast", tensionless, largest});
   else
-    std::printf("  fast: not in this build (scene::parse_method(\"fast\") is empty); skipped\n");
+    std::printf("  fast: not in this build (from_string<contact::Method>(\"fast\") is empty); skipped\n");
 
   std::vector<ScalingRow> rows;
   std::printf("\nscaling (seed_beam_end_moments, whole process `liftoff solve --json`, median of runs; peak RSS):\n");

@@ -57,7 +57,7 @@ bool has_closed_form(const scene::Scene& s) {
 closed_form::TensionlessResult exact_solution(const model::MemberModel& model) {
   const fe::Discretisation d = fe::discretise(model, 4000);
   contact::ContactOptions options;
-  options.method = scene::Method::fast;
+  options.method = contact::Method::fast;
   const contact::ContactSolution fast = contact::solve_contact(d, options);
   if (!fast.summary.is_usable())
     throw std::runtime_error("fast found no answer at 4000 elements: " + fast.summary.message);
@@ -184,7 +184,7 @@ struct Point {
   Sample sample;
 };
 
-Solve node_based(const model::MemberModel& model, scene::Method method, int elements) {
+Solve node_based(const model::MemberModel& model, contact::Method method, int elements) {
   return [&model, method, elements](std::vector<double>& limits, std::string& note) {
     const fe::Discretisation d = fe::discretise(model, elements);
     contact::ContactOptions options;
@@ -232,7 +232,7 @@ Solve ritz_modes(const model::MemberModel& model, int modes) {
   return [&model, modes](std::vector<double>& limits, std::string& note) {
     const fe::Discretisation d = fe::discretise(model, 100);
     contact::ContactOptions options;
-    options.method = scene::Method::fast;
+    options.method = contact::Method::fast;
     const contact::ContactSolution fast = contact::solve_contact(d, options);
     if (!fast.summary.is_usable()) {
       note = "fast start: " + fast.summary.message;
@@ -365,11 +365,11 @@ void run_targets(const TargetOptions& o) {
                 "runs", "note");
     const std::vector<Series> series = {
         {"dual", doubling(25, o.full ? 3200 : 1600), 20.0,
-         [&](int n) { return node_based(model, scene::Method::dual, n); }},
+         [&](int n) { return node_based(model, contact::Method::dual, n); }},
         {"primal", doubling(25, o.full ? 200 : 100), 10.0,
-         [&](int n) { return node_based(model, scene::Method::primal, n); }},
+         [&](int n) { return node_based(model, contact::Method::primal, n); }},
         {"fast", doubling(25, o.full ? 3276800 : 1638400), 30.0,
-         [&](int n) { return node_based(model, scene::Method::fast, n); }},
+         [&](int n) { return node_based(model, contact::Method::fast, n); }},
         {"fitted", doubling(10, o.full ? 20480 : 10240), 10.0, [&](int n) { return fitted(model, n); }},
         {"ritz", doubling(4, 256), 30.0, [&](int n) { return ritz_modes(model, n); }},
     };

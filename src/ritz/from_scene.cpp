@@ -1,4 +1,4 @@
-#include "ritz/starting_point.hpp"
+#include "ritz/from_scene.hpp"
 
 namespace liftoff::ritz {
 
