@@ -13,6 +13,7 @@
 #include "certify/resultant_check.hpp"
 #include "contact/contact_solver.hpp"
 #include "contact/fitted_refinement.hpp"
+#include "contact/stability.hpp"
 #include "core/error.hpp"
 #include "fe/discretisation.hpp"
 #include "fe/shape_functions.hpp"
@@ -111,7 +112,8 @@ FeResult solve_fe(const scene::Scene& scene, const model::MemberModel& model, Me
 // primal -> fast. Nothing when the answer already came from a fallback inside the solver.
 std::optional<Method> fallback_for(Method produced, Method requested, const fe::Discretisation& d) {
   if (produced == Method::fast) {
-    const Method lemke = d.structure_is_stable() ? Method::dual : Method::primal;
+    const bool dual = d.structure_is_stable() && (!d.has_axial_force() || contact::is_positive_definite(d.stiffness));
+    const Method lemke = dual ? Method::dual : Method::primal;
     const int size = lemke == Method::dual ? d.reactions() : 2 * d.equations + d.reactions();
     if (size > contact::max_fallback_lcp) return std::nullopt;  // minutes of dense Lemke: report fast's failure
     return lemke;
@@ -198,8 +200,10 @@ io::SolveReport fe_report(const scene::Scene& scene, Method method, const SolveR
   const int samples = std::max(1, std::min(request.samples_per_element, max_field_samples / elements));
   post::Fields fields =
       request.fields && certified ? post::sample_fields(model, d, fe.solution, samples) : post::Fields{};
+  // The statics of the free body are first-order: under an axial force they would miss its
+  // moment at the deflected shape, so no design values (the fields' M = -EI w'' stands).
   const std::optional<post::DesignValues> design =
-      certified ? design_values(model, d, fe.solution, *certificate, fields) : std::nullopt;
+      certified && !model.has_axial_force() ? design_values(model, d, fe.solution, *certificate, fields) : std::nullopt;
   io::SolveReport report = io::make_report(scene, model, d, fe.solution, fields, fe.regions);
   if (design) io::attach_design(report, *design, model);
   report.method_requested = std::string(scene::to_string(method));
