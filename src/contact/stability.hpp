@@ -12,8 +12,9 @@
 //       [ C_A  -T_AA  ]:
 // T_AA is positive definite, so by Sylvester's law (Haynsworth's inertia additivity) S has exactly
 // |A| negative eigenvalues, and no zero one, if and only if K_A(N) is positive definite. The
-// inertia is that of D in a sparse LDL^T factorisation of S (a congruence); a factorisation that
-// breaks down (a zero pivot) counts as not positive definite.
+// inertia is that of D in a sparse LDL^T factorisation of S symmetrically scaled (congruences);
+// a factorisation that breaks down, or a pivot below 1e-14 of the largest, counts as not positive
+// definite (a singular tangent: at the critical load).
 //
 // This is the check on the contact set in hand (nodes in contact keep their springs), not the
 // eigenvalue complementarity problem on the cone of admissible perturbations: a state it passes
