@@ -331,7 +331,8 @@ TEST_CASE("an unknown key is refused, with a suggestion", "[scene][errors]") {
 TEST_CASE("an unknown table is refused", "[scene][errors]") {
   CHECK(error_of(beam_scene + "\n[solver]\nmethod = \"dual\"\n") ==
         "scene.toml:18: key 'solver': unknown table (did you mean 'solve'?); the tables of a scene "
-        "are [structure], [supports], [foundation], [[loads]], [solve], [ritz], [trace], [compare], [units], "
+        "are [structure], [supports], [foundation], [[loads]], [geometry], [solve], [ritz], [trace], [compare], "
+        "[units], "
         "[[combinations]], [moving]");
   CHECK_THAT(error_of("title = \"x\"\n" + beam_scene), StartsWith("scene.toml:1: key 'title': unknown key;"));
 }
@@ -344,7 +345,7 @@ TEST_CASE("an unknown value of a choice is refused", "[scene][errors]") {
       R"(scene.toml:18: key 'solve.method': expected "dual", "primal", "fast", "auto", "ritz" or "all", got "fastest")");
   CHECK(
       error_of(edited(beam_scene, "kind = \"force\"", "kind = \"torque\"")) ==
-      R"(scene.toml:14: key 'loads[0].kind': expected "force", "moment", "uniform", "distributed" or "curvature", got "torque")");
+      R"(scene.toml:14: key 'loads[0].kind': expected "force", "moment", "uniform", "distributed", "curvature", "axial" or "temperature", got "torque")");
   // A free case name is a load case for [[combinations]]; a name that is no word is refused.
   CHECK(
       error_of(edited(beam_scene, "value = 1.0", "value = 1.0\ncase = \"perm anent\"")) ==
