@@ -387,7 +387,9 @@ int run_solve(const SolveArguments& args, RunContext& context, std::ostream& out
   if (request.method.value_or(scene.solve.method) == scene::Method::all)
     return run_all(scene, request, args, context, out, err);
   const io::SolveReport report = solve_scene(scene, request);
-  const ExitCode status = report.usable ? ExitCode::success : ExitCode::solver_failure;
+  const ExitCode status = report.usable                                  ? ExitCode::success
+                          : report.termination == "unstable_equilibrium" ? ExitCode::unstable_equilibrium
+                                                                         : ExitCode::solver_failure;
   if (!report.usable) err << "liftoff: " << scene.source_name << ": " << report.message << "\n";
   if (report.usable) write_solve_outputs(report, args);
   if (args.json) {

@@ -14,6 +14,7 @@
 #include "contact/contact_solver.hpp"
 #include "contact/fitted_refinement.hpp"
 #include "contact/from_scene.hpp"
+#include "contact/stability.hpp"
 #include "core/error.hpp"
 #include "fe/discretisation.hpp"
 #include "fe/shape_functions.hpp"
@@ -114,7 +115,8 @@ FeResult solve_fe(const scene::Scene& scene, const model::MemberModel& model, Me
 // primal -> fast. Nothing when the answer already came from a fallback inside the solver.
 std::optional<Method> fallback_for(Method produced, Method requested, const fe::Discretisation& d) {
   if (produced == Method::fast) {
-    const Method lemke = d.structure_is_stable() ? Method::dual : Method::primal;
+    const bool dual = d.structure_is_stable() && (!d.has_axial_force() || contact::is_positive_definite(d.stiffness));
+    const Method lemke = dual ? Method::dual : Method::primal;
     const int size = lemke == Method::dual ? d.reactions() : 2 * d.equations + d.reactions();
     if (size > contact::max_fallback_lcp) return std::nullopt;  // minutes of dense Lemke: report fast's failure
     return lemke;
@@ -200,8 +202,10 @@ io::SolveReport fe_report(const scene::Scene& scene, Method method, const SolveR
   const int samples = std::max(1, std::min(request.samples_per_element, max_field_samples / elements));
   post::Fields fields =
       request.fields && certified ? post::sample_fields(model, d, fe.solution, samples) : post::Fields{};
+  // The statics of the free body are first-order: under an axial force they would miss its
+  // moment at the deflected shape, so no design values (the fields' M = -EI w'' stands).
   const std::optional<post::DesignValues> design =
-      certified ? design_values(model, d, fe.solution, *certificate, fields) : std::nullopt;
+      certified && !model.has_axial_force() ? design_values(model, d, fe.solution, *certificate, fields) : std::nullopt;
   io::SolveReport report = io::make_report(scene, model, d, fe.solution, fields, fe.regions);
   if (design) io::attach_design(report, *design, model);
   report.method_requested = std::string(to_string(method));
@@ -371,8 +375,7 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   for (int node = 0; node <= d.mesh.elements(); ++node) {
     std::optional<double> reaction;
     for (int e : {node - 1, node}) {
-      if (e < 0 || e >= d.mesh.elements() || !(d.foundation_on_element[e] || d.element_tension_k[e] > 0.0))
-        continue;
+      if (e < 0 || e >= d.mesh.elements() || !(d.foundation_on_element[e] || d.element_tension_k[e] > 0.0)) continue;
       const double xi = e < node ? 1.0 : 0.0, g = model.ground_gap_in(d.mesh.nodes[e], d.mesh.element_size(e), xi);
       reaction = std::max(reaction.value_or(-std::numeric_limits<double>::infinity()),
                           d.reaction_in(e, xi, all[d.deflection_dof(node)] - g));

@@ -6,7 +6,9 @@
 //  force_balance, moment_balance (arches: force_balance_x, force_balance_y, moment_balance)
 //      applied loads = foundation resultant + support reactions, as the work of every force on
 //      each rigid motion of the member (beams: translation, rotation about the begin; arches:
-//      two translations, rotation about the centre). FE support reactions are the residual of
+//      two translations, rotation about the centre; under an axial force N the work of its nodal
+//      forces -N integral of N_w'^T (w' + w0') counts with the loads: on the rotation it is the
+//      moment of N at the displaced ends). FE support reactions are the residual of
 //      the element equations (sum of K_e u_e, the foundation's nodal forces and the applied
 //      nodal loads) at each dof a support fixes, so the imbalance is the rigid-weighted sum of
 //      every other row's residual: K m = 0 cancels K u, and the check does not hide behind

@@ -88,22 +88,38 @@ bool is_limit_fitted(const MemberModel& model, const Discretisation& d) {
 struct NodalForces {
   VectorXd internal, foundation, applied, magnitude;
   VectorXd springs;  // the elastic supports' forces k (a.u - delta) a, read from the model
+  // Beams under an axial force N (second-order theory): its nodal forces, -N integral of N_w'^T
+  // (w' + w0'), w0 the initial shape, both read from the model (0 without N). On a rigid rotation
+  // they are the moment of N at the displaced ends, which the balance counts like a load.
+  VectorXd axial;
   VectorXd gap, gap_terms;
   // Per dof on the equations: the assembled K u minus the element-wise sum of K_e u_e, both
   // compensated: what the rounding of the assembled entries does to this u (0 on fixed dofs).
   VectorXd assembly_defect;
 };
 
+// w0' at s strictly inside a piece of the initial shape's table (0 beyond it or without one).
+double initial_slope(const MemberModel& model, double s) {
+  const std::vector<double>& at = model.initial_shape_at;
+  for (std::size_t i = 0; i + 1 < at.size(); ++i)
+    if (s > at[i] && s < at[i + 1])
+      return (model.initial_shape_value[i + 1] - model.initial_shape_value[i]) / (at[i + 1] - at[i]);
+  return 0.0;
+}
+
 NodalForces nodal_forces(const MemberModel& model, const Discretisation& d, const VectorXd& u, const VectorXd& r,
                          double load_factor) {
   const int n = d.dofs(), elements = d.mesh.elements();
   NodalForces f;
-  f.internal = f.foundation = f.magnitude = VectorXd::Zero(n);
+  f.internal = f.foundation = f.magnitude = f.axial = VectorXd::Zero(n);
   f.gap = f.gap_terms = VectorXd::Zero(d.reactions());
   f.applied = detail::applied_nodal_loads(model, d, load_factor);
   f.magnitude = f.applied.cwiseAbs();
   const std::vector<std::array<int, 2>> reaction_of_node = detail::element_reactions(d);
   const bool arch = d.kind == StructureKind::arch;
+  // N in K(N) at this load factor, and N of the initial shape's load (the same sum by cases).
+  const double axial_force = arch ? 0.0 : model.axial_force(load_factor);
+  const double axial_load = model.has_initial_shape() ? axial_force : 0.0;
   std::vector<detail::Compensated> defect(n);
   std::vector<int> dof_of_equation(d.equations);
   for (int dof = 0; dof < n; ++dof)
@@ -126,6 +142,32 @@ NodalForces nodal_forces(const MemberModel& model, const Discretisation& d, cons
       if (d.equation_of_dof[dofs[j]] >= 0)
         for (std::size_t i = 0; i < dofs.size(); ++i)
           if (d.equation_of_dof[dofs[i]] >= 0) defect[dofs[j]].add_product(-ke(j, i), ue[i]);
+    }
+    if (axial_force != 0.0) {
+      // -N integral of N_w' (w' + w0') by Gauss quadrature on each piece of w0 (w0' constant
+      // there): exact, the integrand is at most quadratic.
+      std::vector<double> breaks{d.mesh.nodes[e], d.mesh.nodes[e + 1]};
+      for (double at : model.initial_shape_at)
+        if (at > breaks.front() && at < breaks.back()) breaks.insert(breaks.end() - 1, at);
+      for (std::size_t p = 0; p + 1 < breaks.size(); ++p) {
+        const double a = breaks[p], b = breaks[p + 1], w0_slope = initial_slope(model, 0.5 * (a + b));
+        for (const fe::GaussPoint& g : fe::gauss5) {
+          const double xi = (a - d.mesh.nodes[e] + g.xi * (b - a)) / h, weight = g.weight * (b - a);
+          const Eigen::Vector4d slope = fe::hermite_cubic(xi, h).d1;
+          double w_slope = 0.0, abs_slope = 0.0;
+          for (int j = 0; j < 4; ++j) w_slope += slope[j] * ue[j], abs_slope += std::abs(slope[j] * ue[j]);
+          for (int j = 0; j < 4; ++j) {
+            f.axial[dofs[j]] -= weight * axial_force * slope[j] * w_slope + weight * axial_load * slope[j] * w0_slope;
+            f.magnitude[dofs[j]] +=
+                weight * std::abs(slope[j]) * (std::abs(axial_force) * abs_slope + std::abs(axial_load * w0_slope));
+            // K holds -N K_g (fe/discretisation.hpp): off the assembly defect.
+            if (d.equation_of_dof[dofs[j]] >= 0)
+              for (int i = 0; i < 4; ++i)
+                if (d.equation_of_dof[dofs[i]] >= 0)
+                  defect[dofs[j]].add_product(weight * axial_force * slope[j] * slope[i], ue[i]);
+          }
+        }
+      }
     }
     if (const double kt = tension_k_under(model, d.mesh, e); kt > 0.0) {
       for (const fe::GaussPoint& g : fe::gauss5) {  // exact: cubic x cubic, cubic x linear
@@ -291,6 +333,11 @@ RoundOff measure_round_off(const Discretisation& d, const VectorXd& u_all, const
       triplets.emplace_back(col, n + it.row(), it.value());
     }
   for (int k = 0; k < ns; ++k) triplets.emplace_back(n + k, n + k, -d.compliance[k]);
+  // Under an axial force N the displacement block is -N K_g (fe/discretisation.hpp).
+  if (d.has_axial_force())
+    for (int col = 0; col < n; ++col)
+      for (fe::SparseMatrix::InnerIterator it(d.geometric_stiffness, col); it; ++it)
+        triplets.emplace_back(it.row(), col, -d.axial_force * it.value());
   for (int col = 0; col < n; ++col)
     for (fe::SparseMatrix::InnerIterator it(d.coupling, col); it; ++it) {
       const int slot = slot_of_reaction[it.row()];
@@ -317,6 +364,10 @@ RoundOff measure_round_off(const Discretisation& d, const VectorXd& u_all, const
       sums[n + it.row()].add_product(-it.value(), u[col]);   // H m - G u
     }
   for (int k = 0; k < ns; ++k) sums[n + k].add_product(d.compliance[k], stress[k]);
+  if (d.has_axial_force())
+    for (int col = 0; col < n; ++col)
+      for (fe::SparseMatrix::InnerIterator it(d.geometric_stiffness, col); it; ++it)
+        sums[it.row()].add_product(d.axial_force * it.value(), u[col]);  // F - (-N K_g u)
   for (int col = 0; col < n; ++col)
     for (fe::SparseMatrix::InnerIterator it(d.coupling, col); it; ++it) {
       const int slot = slot_of_reaction[it.row()];
@@ -457,7 +508,7 @@ Certificate certify(const MemberModel& model, const Discretisation& d, const con
   }
   const double lambda = options.load_factor;
   const NodalForces f = nodal_forces(model, d, u_given, r_given, lambda);
-  const VectorXd residual = f.internal + f.foundation + f.springs - f.applied;
+  const VectorXd residual = f.internal + f.axial + f.foundation + f.springs - f.applied;
   const std::vector<int> supported = detail::supported_dofs(model, d);
   std::vector<bool> is_supported(d.dofs(), false);
   for (int dof : supported) is_supported[dof] = true;
@@ -534,6 +585,7 @@ Certificate certify(const MemberModel& model, const Discretisation& d, const con
     const VectorXd m = modes.col(j);
     double a = 0, a_abs = 0, phi = 0, phi_abs = 0, g = 0, g_abs = 0, internal = 0, bound = 0, assembly = 0;
     double springs = 0, springs_abs = 0;  // the elastic supports, like g but from the model
+    double axial = 0, axial_abs = 0;      // the axial force's moment at the displaced ends
     for (int dof = 0; dof < d.dofs(); ++dof) {
       assembly += m[dof] * f.assembly_defect[dof];
       a += m[dof] * f.applied[dof];
@@ -542,6 +594,8 @@ Certificate certify(const MemberModel& model, const Discretisation& d, const con
       phi_abs += std::abs(m[dof] * f.foundation[dof]);
       springs += m[dof] * f.springs[dof];
       springs_abs += std::abs(m[dof] * f.springs[dof]);
+      axial += m[dof] * f.axial[dof];
+      axial_abs += std::abs(m[dof] * f.axial[dof]);
       internal += m[dof] * f.internal[dof];
       bound += m[dof] * m[dof] * f.magnitude[dof] * f.magnitude[dof];
       if (is_supported[dof]) {
@@ -561,12 +615,12 @@ Certificate certify(const MemberModel& model, const Discretisation& d, const con
     // probabilistic round-off bound, Higham and Mary, SIAM J. Sci. Comput. 41, 2019), not their
     // sum, which on a fine mesh is 1e10 times the load and would hide a 3.5 % imbalance. (A
     // motion no term works on, like an arch's rotation on rollers, balances trivially.)
-    const double scale = a_abs + g_abs + phi_abs + springs_abs;
+    const double scale = a_abs + g_abs + phi_abs + springs_abs + axial_abs;
     const double consistency = d.kind == StructureKind::arch ? std::abs(internal) : 0.0;
     const double tolerance = 2 * std::abs(assembly) + 4 * detail::backward_tolerance * std::sqrt(bound) +
                              detail::backward_tolerance * scale + consistency;
     Check check = scale > 0 ? detail::make_check(detail::balance_name(d.kind, j),
-                                                 std::abs(a + g - phi - springs) / scale, tolerance / scale)
+                                                 std::abs(a + g - phi - springs - axial) / scale, tolerance / scale)
                             : detail::make_check(detail::balance_name(d.kind, j), 0.0, detail::backward_tolerance);
     c.checks.push_back(check);
   }

@@ -109,6 +109,11 @@ void ActiveSetSystem::assemble() {
         entry(slot_[it.col()], slot_[n + it.row()], it.value());
       }
     for (int k = 0; k < ns; ++k) entry(slot_[n + k], slot_[n + k], -d_.compliance[k]);
+    // Second-order theory: -N K_g in the displacement block (empty otherwise), within elements.
+    if (d_.has_axial_force())
+      for (int k = 0; k < d_.geometric_stiffness.outerSize(); ++k)
+        for (fe::SparseMatrix::InnerIterator it(d_.geometric_stiffness, k); it; ++it)
+          entry(slot_[it.row()], slot_[it.col()], -d_.axial_force * it.value());
     for (int k = 0; k < d_.coupling.outerSize(); ++k)
       for (fe::SparseMatrix::InnerIterator it(d_.coupling, k); it; ++it) {
         entry(slot_[n + ns + it.row()], slot_[it.col()], it.value());

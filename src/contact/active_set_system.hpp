@@ -12,6 +12,8 @@
 //   [ 0     G^T   C_A^T ] [ u   ]   [ F ]
 //   [ G    -H     0     ] [ m   ] = [ 0 ]
 //   [ C_A   0    -T_AA  ] [ r_A ]   [ 0 ].
+// Under an axial force N (fe/discretisation.hpp) the first block's 0 is -N K_g: K(N) = G^T H^-1 G
+// - N K_g, indefinite or not, which the pivoting LU below takes as it comes.
 // Why: K's condition grows like N^4 (1e16 at 1e4 elements), so no double-precision factorisation
 // of K can be refined to an answer beyond ~1e4 elements; the mixed matrix's grows like N^2, and
 // its entries (integers and +-2/h for beams, identical in every element of a segment) are exact

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "contact/stability.hpp"
 #include "core/error.hpp"
 #include "core/require.hpp"
 
@@ -23,6 +24,7 @@ constexpr EnumName<ContactTermination> contact_termination_names[] = {
     {ContactTermination::pivot_limit, "pivot_limit"},
     {ContactTermination::iteration_limit, "iteration_limit"},
     {ContactTermination::numerical_failure, "numerical_failure"},
+    {ContactTermination::unstable_equilibrium, "unstable_equilibrium"},
 };
 }  // namespace
 
@@ -134,6 +136,7 @@ std::string explain(ContactTermination termination, const lcp::LemkeSummary& lem
     case ContactTermination::numerical_failure:
       return "Lemke's algorithm failed numerically: " + lemke.message;
     case ContactTermination::iteration_limit:
+    case ContactTermination::unstable_equilibrium:
       break;  // not a Lemke outcome
   }
   return lemke.message;
@@ -335,6 +338,12 @@ ContactSolution solve_contact(const Discretisation& d, const ContactOptions& opt
   if (summary.method == Method::dual && d.tensionless && !d.structure_is_stable())
     throw SolverFailure("the dual form needs a positive definite stiffness matrix K, but " + d.stability_note +
                         "; use method = \"auto\" or \"fast\" (the sparse solver, which handles it; or \"primal\")");
+  // Lemke's dual form inverts K(N): below the member's own critical load only.
+  const bool dual_admissible = d.structure_is_stable() && (!d.has_axial_force() || is_positive_definite(d.stiffness));
+  if (summary.method == Method::dual && d.tensionless && !dual_admissible)
+    throw SolverFailure(
+        "the dual form needs a positive definite K(N) = K - N K_g, but the axial force exceeds the critical load "
+        "of the member without its foundation; use method = \"fast\" or \"primal\"");
   if (d.tensionless && (summary.method == Method::dual || summary.method == Method::primal))
     check_dense_size(d, summary.method);
 
@@ -400,7 +409,7 @@ ContactSolution solve_contact(const Discretisation& d, const ContactOptions& opt
       summary.message = "equilibrium found: " + fast.summary.message;
     } else {
       // Lemke takes over: dual where the structure is stable, else primal, if its dense LCP fits.
-      const Method fallback = d.structure_is_stable() ? Method::dual : Method::primal;
+      const Method fallback = dual_admissible ? Method::dual : Method::primal;
       const std::string why =
           fmt::format("the fast solver stopped ({}: {})", to_string(fast.summary.termination), fast.summary.message);
       if (lcp_size_of(d, fallback) > max_fallback_lcp) {
@@ -451,6 +460,32 @@ ContactSolution solve_contact(const Discretisation& d, const ContactOptions& opt
         "round-off owns this mesh: the FE system's condition grows like N^4 ({} elements), and iterative refinement "
         "in extended precision leaves a relative error of {:.1e} in u and r, above {:.0e}; use fewer elements",
         d.mesh.elements(), summary.error_estimate, acceptable_error);
+  }
+  // Beyond the critical load of the member lifted off (K(N) indefinite) a failed search is
+  // explained by it: the member may buckle away from the foundation, which then cannot help.
+  if (summary.termination != ContactTermination::solved && d.has_axial_force() && !dual_admissible &&
+      d.structure_is_stable()) {
+    // A proof of no equilibrium at all (Lemke's ray) stays what it is, with the reason added.
+    if (summary.termination != ContactTermination::no_equilibrium)
+      summary.termination = ContactTermination::unstable_equilibrium;
+    summary.message = fmt::format(
+        "the axial force exceeds the critical load of the current configuration: no stable equilibrium was found, "
+        "and the axial force exceeds the critical load of the member without its foundation (K - N K_g is not "
+        "positive definite), so it may buckle away from the foundation, which cannot hold it ({})",
+        summary.message);
+  }
+  if (summary.termination == ContactTermination::solved && d.has_axial_force()) {
+    std::vector<bool> in_contact(d.reactions(), true);
+    // A node touching with no reaction may lift freely: no spring (the conservative side).
+    for (int i = 0; i < d.reactions(); ++i) in_contact[i] = x.reaction[i] > 0.0;
+    const StabilityCheck stability = check_tangent(d, in_contact);
+    if (!stability.positive_definite) {
+      summary.termination = ContactTermination::unstable_equilibrium;
+      summary.message = fmt::format(
+          "the axial force exceeds the critical load of the current configuration: the equilibrium found is "
+          "unstable ({})",
+          stability.message);
+    }
   }
   summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return solution;

@@ -6,7 +6,11 @@
 //    q = (-F, F, 0). Works for every structure, stable or not; 2n + m unknowns.
 //  - dual (3.18): the LCP in r alone, M = P = C K^-1 C^T + T, q = -C K^-1 F, then
 //    u = K^-1 (F - C^T r). Needs K positive definite: refused for structures that only the
-//    foundation holds in place (SolverFailure pointing to auto and fast).
+//    foundation holds in place, and under an axial force N beyond the critical load of the
+//    member without foundation (K(N) = K - N K_g not positive definite; SolverFailure pointing to
+//    fast and primal).
+// Under an axial force every answer's tangent on its contact set is checked (stability.hpp): an
+// unstable equilibrium is answered unstable_equilibrium, never returned as solved.
 //  - fast: the sparse active-set solver (active_set_solver.hpp) on [K C_A^T; C_A -T_AA], O(n);
 //    when it ends without an answer, Lemke (dual where the structure is stable, else primal)
 //    takes over and the message says so.
@@ -44,14 +48,17 @@ struct ContactOptions {
 };
 
 enum class ContactTermination {
-  solved,             // u and r satisfy equilibrium and the contact conditions (see residual)
-  no_equilibrium,     // Lemke ray: the LCP has no solution; the loads lift the member off and
-                      // the supports cannot hold it (a mechanism)
-  pivot_limit,        // Lemke stopped at its pivot limit; no answer
-  iteration_limit,    // fast only: no contact set found within its limits, and the LCP is too large
-                      // for the Lemke fallback; no answer
-  numerical_failure,  // a singular basis or factorisation, or an answer whose residual exceeds
-                      // 1e-6 (round-off overwhelmed the LCP); no answer
+  solved,                // u and r satisfy equilibrium and the contact conditions (see residual)
+  no_equilibrium,        // Lemke ray: the LCP has no solution; the loads lift the member off and
+                         // the supports cannot hold it (a mechanism)
+  pivot_limit,           // Lemke stopped at its pivot limit; no answer
+  iteration_limit,       // fast only: no contact set found within its limits, and the LCP is too large
+                         // for the Lemke fallback; no answer
+  numerical_failure,     // a singular basis or factorisation, or an answer whose residual exceeds
+                         // 1e-6 (round-off overwhelmed the LCP); no answer
+  unstable_equilibrium,  // under an axial force: the state found satisfies every condition but its
+                         // tangent on the contact set is not positive definite (stability.hpp):
+                         // the axial force exceeds the critical load of the current configuration
 };
 std::string_view to_string(ContactTermination);
 

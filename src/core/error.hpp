@@ -13,10 +13,11 @@ namespace liftoff {
 
 enum class ExitCode : int {
   success = 0,
-  internal_error = 1,  // a bug: an invariant of ours was broken
-  bad_input = 2,       // malformed or meaningless scene or command line
-  solver_failure = 3,  // no equilibrium (Lemke ray), iteration limit, refused formulation
-  output_error = 4,    // the result could not be written
+  internal_error = 1,        // a bug: an invariant of ours was broken
+  bad_input = 2,             // malformed or meaningless scene or command line
+  solver_failure = 3,        // no equilibrium (Lemke ray), iteration limit, refused formulation
+  output_error = 4,          // the result could not be written
+  unstable_equilibrium = 5,  // the axial force exceeds the critical load of the configuration found
 };
 
 // A scene or command-line problem. Message format: "FILE:LINE: key 'a.b': expected ..., got ...".

@@ -14,6 +14,7 @@
 #include "fe/element.hpp"
 #include "fe/foundation_element.hpp"
 #include "fe/shape_functions.hpp"
+#include "fe/sparse_assembler.hpp"
 
 namespace liftoff::fe {
 
@@ -198,7 +199,9 @@ std::unique_ptr<const LinearElement> member_element(const model::MemberModel& mo
 
 struct Assembly {
   Triplets stiffness, coupling, flexibility, stress_coupling;
-  Eigen::VectorXd ground_gap;  // reactions
+  Triplets geometric;             // K_g, beams with an axial force only
+  Eigen::VectorXd initial_shape;  // integral of N_w'^T w0' on every dof (an axial force only)
+  Eigen::VectorXd ground_gap;     // reactions
   Eigen::VectorXd compliance;
   Eigen::VectorXd dead_load, live_load;  // on every dof
 };
@@ -216,10 +219,30 @@ Assembly assemble(const model::MemberModel& model, const Discretisation& d) {
   int winkler_index = 0;  // into d.winkler_elements, which is in element order
   a.ground_gap = Eigen::VectorXd::Zero(d.reactions());
 
+  const bool axial = beam && model.has_axial_force();
+  if (axial) a.initial_shape = Eigen::VectorXd::Zero(n);
   for (int e = 0; e < mesh.elements(); ++e) {
     const double h = mesh.element_size(e);
     const double middle = mesh.nodes[e] + 0.5 * h;
     const std::vector<int> dofs = d.element_dofs(e);
+    if (axial) {
+      const Eigen::Matrix4d kg = beam_element::geometric_stiffness(h);
+      for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) a.geometric.emplace_back(dofs[i], dofs[j], kg(i, j));
+      // integral of N'^T w0' over the element: w0' is constant on each piece of the table, and the
+      // integral of N' over a piece is N at its ends.
+      const std::vector<double>& at = model.initial_shape_at;
+      const std::vector<double>& w0 = model.initial_shape_value;
+      Eigen::Vector4d load = Eigen::Vector4d::Zero();
+      for (std::size_t i = 0; i + 1 < at.size(); ++i) {
+        const double lo = std::max(at[i], mesh.nodes[e]), hi = std::min(at[i + 1], mesh.nodes[e + 1]);
+        if (!(hi > lo)) continue;
+        const double slope = (w0[i + 1] - w0[i]) / (at[i + 1] - at[i]);
+        load += slope *
+                (hermite_cubic((hi - mesh.nodes[e]) / h, h).value - hermite_cubic((lo - mesh.nodes[e]) / h, h).value);
+      }
+      for (int j = 0; j < 4; ++j) a.initial_shape[dofs[j]] += load[j];
+    }
     const auto element = member_element(model, h);
     const Eigen::MatrixXd& k = element->stiffness();
     for (int i = 0; i < k.rows(); ++i)
@@ -362,7 +385,10 @@ StructuralElements structural_elements(const model::MemberModel& model, const Di
   for (int e = 0; e < d.mesh.elements(); ++e) {
     const double h = d.mesh.element_size(e);
     std::vector<int> dofs = d.element_dofs(e);
-    set.elements.push_back(member_element(model, h));
+    if (model.kind == model::StructureKind::beam && model.has_axial_force())
+      set.elements.push_back(std::make_unique<const BeamColumnElement>(h, model.axial_dead, model.axial_live));
+    else
+      set.elements.push_back(member_element(model, h));
     set.dofs.push_back(dofs);
     if (winkler_index < d.winkler_elements.size() && d.winkler_elements[winkler_index] == e) {
       ++winkler_index;
@@ -442,6 +468,8 @@ void apply_settlements(const model::MemberModel& model, Discretisation& d, Assem
   d.prescribed = prescribed_displacement(model, d);
   if (d.prescribed.isZero(0.0)) return;
   for (const auto& t : a.stiffness) a.dead_load[t.row()] -= t.value() * d.prescribed[t.col()];
+  const double axial_force = model.axial_force(1.0);  // K(N) u_f = K u_f - N K_g u_f
+  for (const auto& t : a.geometric) a.dead_load[t.row()] += axial_force * t.value() * d.prescribed[t.col()];
   // Where the foundation reaches a settled support.
   a.ground_gap -= to_sparse(d.reactions(), d.dofs(), a.coupling, nullptr, nullptr) * d.prescribed;
 }
@@ -532,11 +560,31 @@ void restrict_to_equations(Discretisation& d, Assembly a) {
   d.ground_gap = std::move(a.ground_gap);
   d.dead_load = Eigen::VectorXd::Zero(d.equations);
   d.live_load = Eigen::VectorXd::Zero(d.equations);
+  if (a.initial_shape.size() > 0) d.initial_shape_load = Eigen::VectorXd::Zero(d.equations);
   for (int dof = 0; dof < d.dofs(); ++dof) {
     const int eq = d.equation_of_dof[dof];
     if (eq < 0) continue;
     d.dead_load[eq] = a.dead_load[dof];
     d.live_load[eq] = a.live_load[dof];
+    if (a.initial_shape.size() > 0) d.initial_shape_load[eq] = a.initial_shape[dof];
+  }
+  if (!a.geometric.empty())
+    d.geometric_stiffness =
+        to_sparse(d.equations, d.equations, std::move(a.geometric), &d.equation_of_dof, &d.equation_of_dof);
+}
+
+// Second-order theory (beams under an axial force): K(N) = K - N K_g from the beam-column
+// elements through the fixed-pattern assembler, and the initial shape's load N K_g w0 by case.
+void apply_axial_force(const model::MemberModel& model, Discretisation& d) {
+  if (model.kind != model::StructureKind::beam || !model.has_axial_force()) return;
+  d.axial_force = model.axial_force(1.0);
+  const StructuralElements set = structural_elements(model, d);
+  SparseAssembler assembler(set.dofs, d.equation_of_dof);
+  assembler.assemble(set.elements, Eigen::VectorXd::Zero(d.dofs()), 1.0);
+  d.stiffness = assembler.tangent();
+  if (d.initial_shape_load.size() == d.equations) {
+    d.dead_load += model.axial_dead * d.initial_shape_load;
+    d.live_load += model.axial_live * d.initial_shape_load;
   }
 }
 
@@ -551,6 +599,7 @@ Discretisation discretise(const model::MemberModel& model, Mesh mesh, std::vecto
   apply_settlements(model, d, a);
   number_dofs(model, d, a);
   restrict_to_equations(d, std::move(a));
+  apply_axial_force(model, d);
   return d;
 }
 

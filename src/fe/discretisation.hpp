@@ -119,6 +119,20 @@ class Discretisation {
   Eigen::MatrixXd member_rigid_motions;
   Eigen::VectorXd dead_load;  // equations
   Eigen::VectorXd live_load;
+  // Beams under a compressive axial force N (MemberModel::axial_force; second-order theory):
+  // `stiffness` is K(N) = K - N K_g with N = axial_force, the force at the solve's load factor 1
+  // (dead + live), assembled from BeamColumnElements through the fixed-pattern assembler
+  // (sparse_assembler.hpp); geometric_stiffness is K_g on the equations (empty without N) and
+  // the mixed form above stays that of K alone (contact::ActiveSetSystem adds -N K_g to its
+  // displacement block). The initial shape w0 enters as the load N integral of N_w'^T w0'
+  // (= N K_g w0 for w0 in the Hermite space; exact for the piecewise linear w0), split dead and
+  // live by the axial force's cases; initial_shape_load is that integral (per unit N).
+  // K(N) may be indefinite: only contact::solve_contact's stability check says whether an answer
+  // is a stable equilibrium.
+  double axial_force = 0.0;
+  SparseMatrix geometric_stiffness;
+  Eigen::VectorXd initial_shape_load;
+  bool has_axial_force() const { return axial_force != 0.0; }
   double k = 0.0;  // the largest k (model::MemberModel::k)
   bool tensionless = true;
   bool foundation_outside = false;  // arches: w > 0 outward (arch_element.hpp)

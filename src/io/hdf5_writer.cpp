@@ -31,7 +31,8 @@ void write_table(hid_t file, const char* group_name, const FieldTable& t) {
                                                                         {"bending_moment", &t.bending_moment},
                                                                         {"shear_force", &t.shear_force},
                                                                         {"normal_force", &t.normal_force},
-                                                                        {"reaction", &t.reaction}};
+                                                                        {"reaction", &t.reaction},
+                                                                        {"w_initial", &t.w_initial}};
   for (const auto& [name, values] : columns)
     if (!values->empty()) write_array(group, name, *values);
 }

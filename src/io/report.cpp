@@ -120,6 +120,9 @@ SolveReport make_report(const scene::Scene& scene, const model::MemberModel& mod
   // The nodal reactions are the LCP's unknowns (plus the Winkler part's K_t (w - g), linear in the
   // nodal w): report their largest, not an interpolation's.
   r.max_reaction = *std::max_element(n.reaction.begin(), n.reaction.end());
+  if (model.has_axial_force()) r.axial_force = model.axial_force(1.0) * scales.force();
+  if (model.has_initial_shape())
+    for (const double s : d.mesh.nodes) n.w_initial.push_back(model.initial_shape(s) * scales.displacement());
   return r;
 }
 
@@ -301,6 +304,8 @@ nlohmann::json to_json(const SolveReport& r) {
   j["coordinate"] = r.coordinate_name;
   j["tensionless"] = r.tensionless;
   j["k"] = r.k;
+  if (r.axial_force) j["axial_force"] = *r.axial_force;
+  if (!r.nodes.w_initial.empty()) j["w_initial"] = {{"coordinate", r.nodes.coordinate}, {"value", r.nodes.w_initial}};
   j["contact_regions"] = contact_regions_json(r.contact_regions);
   j["w_max"] = r.w_max;
   j["at_w_max"] = r.at_w_max;

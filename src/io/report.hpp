@@ -35,6 +35,9 @@ inline constexpr const char* sign_convention =
 
 struct FieldTable {
   std::vector<double> coordinate, w, u, rotation, bending_moment, shear_force, normal_force, reaction;
+  // Nodes of a beam with an initial shape: w0 there (length units), so that w + w_initial is the
+  // total displacement from the straight line (w is measured from the stress-free shape).
+  std::vector<double> w_initial;
 };
 
 // The design values (post/design.hpp) in the user's units: moments, shears, pressure (force per
@@ -61,7 +64,10 @@ struct SolveReport {
   scene::StructureKind kind = scene::StructureKind::beam;
   std::string coordinate_name;  // "x" or "theta_deg"
   bool tensionless = true;
-  double k = 0.0;      // k = K l^4 / EI
+  double k = 0.0;  // k = K l^4 / EI
+  // Beams under an axial force: the acting compressive force N (dead + live at lambda = 1, force
+  // units, positive compresses); absent without one.
+  std::optional<double> axial_force;
   scene::Units units;  // the scene's [units]: labels for every output
   // The foundation's scale (post/scale.hpp): K, beta, beta L, 1/beta, beta h; absent in a report
   // of a method that did not run.

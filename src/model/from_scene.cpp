@@ -40,9 +40,11 @@ LoadKind to_model(scene::LoadKind kind) {
     case scene::LoadKind::curvature:
       return LoadKind::curvature;
     case scene::LoadKind::distributed:
+    case scene::LoadKind::axial:
+    case scene::LoadKind::temperature:
       break;
   }
-  throw std::logic_error("to_model: a distributed load has no model kind (it becomes uniform pieces)");
+  throw std::logic_error("to_model: a distributed or axial load has no model kind (uniform pieces, axial force)");
 }
 
 LoadCase to_model(scene::LoadCase load_case) {
@@ -142,7 +144,16 @@ MemberModel make_member_model(const scene::Scene& scene) {
     model.tension_k = 0.0;
   }
 
+  for (std::size_t i = 0; i < scene.initial_shape.at.size(); ++i) {
+    model.initial_shape_at.push_back(model.s_from_user(scene.initial_shape.at[i]));
+    model.initial_shape_value.push_back(scene.initial_shape.value[i] / scales.displacement());
+  }
   for (const auto& load : scene.loads) {
+    if (load.kind == scene::LoadKind::axial || load.kind == scene::LoadKind::temperature) {
+      const double force = load.axial_force(structure) / scales.force();
+      (load.load_case == scene::LoadCase::dead ? model.axial_dead : model.axial_live) += force;
+      continue;
+    }
     if (load.kind == scene::LoadKind::distributed) {
       for (std::size_t i = 0; i + 1 < load.table_at.size(); ++i) {
         if (!(load.table_at[i + 1] > load.table_at[i])) continue;  // a step
@@ -182,6 +193,8 @@ MemberModel make_member_model(const scene::Scene& scene) {
         member_load.value = load.value * scales.length;
         break;
       case scene::LoadKind::distributed:  // made into uniform pieces above
+      case scene::LoadKind::axial:        // the axial force, above
+      case scene::LoadKind::temperature:
         break;
     }
     model.loads.push_back(member_load);

@@ -97,15 +97,23 @@ std::vector<double> MemberModel::reaction_jumps() const {
   return jumps;
 }
 
-double MemberModel::ground_gap(double s) const {
-  if (ground_gap_at.empty()) return 0.0;
-  if (s < ground_gap_at.front()) return ground_gap_value.front();
-  if (s >= ground_gap_at.back()) return ground_gap_value.back();
-  const auto upper = std::upper_bound(ground_gap_at.begin(), ground_gap_at.end(), s);
-  const std::size_t j = static_cast<std::size_t>(upper - ground_gap_at.begin()), i = j - 1;
-  const double t = (s - ground_gap_at[i]) / (ground_gap_at[j] - ground_gap_at[i]);
-  return ground_gap_value[i] + t * (ground_gap_value[j] - ground_gap_value[i]);
+namespace {
+// The piecewise linear function through (at, value) at s: constant beyond the ends, at a step
+// the value to its right; 0 for an empty table.
+double piecewise_linear(const std::vector<double>& at, const std::vector<double>& value, double s) {
+  if (at.empty()) return 0.0;
+  if (s < at.front()) return value.front();
+  if (s >= at.back()) return value.back();
+  const auto upper = std::upper_bound(at.begin(), at.end(), s);
+  const std::size_t j = static_cast<std::size_t>(upper - at.begin()), i = j - 1;
+  const double t = (s - at[i]) / (at[j] - at[i]);
+  return value[i] + t * (value[j] - value[i]);
 }
+}  // namespace
+
+double MemberModel::ground_gap(double s) const { return piecewise_linear(ground_gap_at, ground_gap_value, s); }
+
+double MemberModel::initial_shape(double s) const { return piecewise_linear(initial_shape_at, initial_shape_value, s); }
 
 bool MemberModel::is_foundation_edge(double s) const {
   const double tol = 1e-12 * length();

@@ -129,13 +129,32 @@ struct MemberModel {
   // s is a step, g constant beyond the ends. Empty: g = 0. Contact where w >= g.
   std::vector<double> ground_gap_at;
   std::vector<double> ground_gap_value;
-  // The bilinear foundation's k in tension (the scene's tension_k or tension_nondimensional_k), <= every
+  // The bilinear foundation's k in tension (the scene's tension_modulus or tension_nondimensional_k), <= every
   // piece's k; the reaction is k max(w - g, 0) + tension_k min(w - g, 0)
   //   = tension_k (w - g) + (k - tension_k) max(w - g, 0):
   // a bilateral (Winkler) foundation of parameter tension_k on every piece plus the tensionless
   // one of parameter k - tension_k (contact_k_at). 0 for a bilateral or plain tensionless
   // foundation (make_member_model makes tension_k = every piece's k a bilateral foundation).
   double tension_k = 0.0;
+  // Beams: the compressive axial force N l^2/EI (positive compresses) per case, constant along
+  // the member, N = axial_dead + lambda axial_live (second-order theory, fe/element.hpp's
+  // BeamColumnElement). Both 0: first-order theory, as without axial loads.
+  double axial_dead = 0.0;
+  double axial_live = 0.0;
+  // Beams: the stress-free initial shape w0 (over the length scale, positive toward the
+  // foundation), piecewise linear in s through these points (s increasing), constant beyond the
+  // ends. Empty: straight. The unknowns are v = w - w0 and the ground
+  // follows w0 (the gap g is measured from it), so w0 enters the equations only through the axial
+  // force: the load N K_g w0 (fe/discretisation.hpp).
+  std::vector<double> initial_shape_at;
+  std::vector<double> initial_shape_value;
+
+  // N at the load factor lambda.
+  double axial_force(double load_factor) const { return axial_dead + load_factor * axial_live; }
+  bool has_axial_force() const { return axial_dead != 0.0 || axial_live != 0.0; }
+  bool has_initial_shape() const { return !initial_shape_at.empty(); }
+  // w0 at s (0 without an initial shape); at a step, the value to its right.
+  double initial_shape(double s) const;
 
   // User coordinate (x, or theta in degrees) <-> member coordinate s.
   double s_from_user(double position) const;

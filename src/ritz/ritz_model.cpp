@@ -54,6 +54,9 @@ std::optional<Unsupported> unsupported_input(const model::MemberModel& model, co
     return Unsupported{tension_key, "takes a tensionless or bilateral foundation (no modulus in tension)"};
   if (arch && model.foundation_outside)
     return Unsupported{"foundation.side", "takes the foundation inside the arch only, not side = \"outside\""};
+  if (model.has_axial_force())
+    return Unsupported{"loads",
+                       "has no axial force (kind = \"axial\" or \"temperature\") in its energy in this version"};
   for (const model::MemberLoad& load : model.loads) {
     if (load.kind == model::LoadKind::curvature)
       return Unsupported{"loads",

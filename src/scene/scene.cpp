@@ -19,9 +19,13 @@ constexpr EnumName<EndSupport> end_supports[] = {
     {EndSupport::roller, "roller"},
 };
 constexpr EnumName<LoadKind> load_kinds[] = {
-    {LoadKind::force, "force"},         {LoadKind::moment, "moment"},
-    {LoadKind::uniform, "uniform"},     {LoadKind::distributed, "distributed"},
+    {LoadKind::force, "force"},
+    {LoadKind::moment, "moment"},
+    {LoadKind::uniform, "uniform"},
+    {LoadKind::distributed, "distributed"},
     {LoadKind::curvature, "curvature"},
+    {LoadKind::axial, "axial"},
+    {LoadKind::temperature, "temperature"},
 };
 constexpr EnumName<LoadCase> load_cases[] = {
     {LoadCase::live, "live"},
@@ -71,6 +75,12 @@ std::optional<LoadCase> parse_load_case(std::string_view s) { return value_in<Lo
 std::optional<Method> parse_method(std::string_view s) { return value_in<Method>(methods, s); }
 std::optional<TraceControl> parse_trace_control(std::string_view s) {
   return value_in<TraceControl>(trace_controls, s);
+}
+
+double Load::axial_force(const Structure& structure) const {
+  if (kind == LoadKind::axial) return value;
+  if (kind == LoadKind::temperature) return structure.axial_stiffness.value_or(0.0) * alpha * value;
+  return 0.0;
 }
 
 double Scene::begin() const { return structure.kind == StructureKind::beam ? 0.0 : -structure.half_angle_deg; }

@@ -22,8 +22,11 @@ enum class StructureKind { beam, arch };
 // Arch ends: pinned (u = w = 0), roller (w = 0), clamped (u = w = rotation = 0), free.
 enum class EndSupport { pinned, clamped, free, roller };
 // distributed: piecewise linear force per length from a table; curvature: an imposed free
-// (thermal) curvature over from..to, an initial strain rather than a force.
-enum class LoadKind { force, moment, uniform, distributed, curvature };
+// (thermal) curvature over from..to, an initial strain rather than a force. Beams only: axial, a
+// compressive axial force along the whole member (value > 0 compresses); temperature, a uniform
+// temperature rise dT (value) with the expansion coefficient alpha, the compressive force
+// N = EA alpha dT of a fully axially restrained member. Both act through second-order theory.
+enum class LoadKind { force, moment, uniform, distributed, curvature, axial, temperature };
 // Arches only: along what a load's value acts. radial: toward the foundation (today's); tangential
 // and horizontal: toward increasing theta / to the right; vertical: downward (gravity). Uniform
 // loads take radial or vertical, point forces any of the four.
@@ -157,7 +160,25 @@ struct Load {
   std::string case_name = "live";
   LoadDirection direction = LoadDirection::radial;  // arches only (key `direction`)
   LoadBasis per = LoadBasis::arc;                   // arches, vertical uniform loads (key `per`)
+  double alpha = 0.0;                               // temperature: the expansion coefficient, 1/K
+  // axial and temperature: the compressive axial force they make (force units; positive
+  // compresses): value, or EA alpha value for a temperature rise. 0 for the other kinds.
+  double axial_force(const Structure& structure) const;
 };
+
+// [geometry] initial_shape: the stress-free shape w0 of the member, measured like w (length units,
+// positive toward the foundation), piecewise linear through (at[i], value[i]) in the user
+// coordinate, w0 constant beyond the table's ends. The named shapes are sampled into this table
+// by the reader (half_sine: amplitude sin(pi x / L) over the member; bump: amplitude
+// sin(pi (x - at + length/2) / length) on at -+ length/2, 0 elsewhere). Empty: a straight member.
+struct InitialShape {
+  std::vector<double> at;
+  std::vector<double> value;
+  std::string shape;  // "table", "half_sine" or "bump" as written; empty without one
+  bool empty() const { return at.empty(); }
+};
+// The samples per half-wave of a named initial shape (piecewise linear between them).
+inline constexpr int initial_shape_samples = 256;
 
 // [solve] tolerance: the accuracy wanted for the contact limits, relative to the member's length
 // (arches: to the angular span); liftoff then chooses the discretisation (app/solve_command.hpp).
@@ -236,6 +257,7 @@ struct Scene {
   Supports supports;
   Foundation foundation;
   std::vector<Load> loads;
+  InitialShape initial_shape;  // [geometry] initial_shape (beams only)
   SolveSettings solve;
   RitzSettings ritz;
   std::optional<TraceSettings> trace;  // absent when the scene has no [trace] table

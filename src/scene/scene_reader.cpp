@@ -16,6 +16,7 @@
 #include <initializer_list>
 #include <limits>
 #include <memory>
+#include <numbers>
 #include <optional>
 #include <sstream>
 #include <tuple>
@@ -47,7 +48,8 @@ const std::vector<TableSpec>& schema() {
        false,
        {"nondimensional_k", "modulus", "tensionless", "from", "to", "segments", "side", "gap", "gap_file",
         "tension_modulus", "tension_nondimensional_k", "k", "tension_k"}},
-      {"loads", true, {"kind", "at", "value", "from", "to", "case", "direction", "per"}},
+      {"loads", true, {"kind", "at", "value", "from", "to", "case", "direction", "per", "alpha"}},
+      {"geometry", false, {"initial_shape"}},
       {"solve", false, {"method", "elements", "tolerance"}},
       {"ritz", false, {"modes", "max_modes", "mode_tolerance", "topology", "limits"}},
       {"trace",
@@ -900,9 +902,21 @@ std::string read_case_name(const Section& s) {
 
 Load read_load(const Section& s, const Member& member) {
   Load load;
-  load.kind = s.required_choice(
-      "kind", {LoadKind::force, LoadKind::moment, LoadKind::uniform, LoadKind::distributed, LoadKind::curvature});
-  if (load.kind == LoadKind::distributed) {
+  load.kind = s.required_choice("kind", {LoadKind::force, LoadKind::moment, LoadKind::uniform, LoadKind::distributed,
+                                         LoadKind::curvature, LoadKind::axial, LoadKind::temperature});
+  const bool axial = load.kind == LoadKind::axial || load.kind == LoadKind::temperature;
+  if (axial && member.arch)
+    s.fail("kind", fmt::format("expected \"force\", \"moment\", \"uniform\" or \"distributed\" for an arch, got \"{}\" "
+                               "(an axial force is supported on beams only)",
+                               to_string(load.kind)));
+  if (load.kind != LoadKind::temperature) s.refuse("alpha", "but with kind = \"temperature\"");
+  if (axial) {
+    // Constant along the member: no position, no extent.
+    const std::string why = fmt::format("for a {} load (it acts along the whole member)", to_string(load.kind));
+    for (const auto key : {"at", "from", "to"}) s.refuse(key, why);
+    load.value = s.required_number("value", any_number());
+    if (load.kind == LoadKind::temperature) load.alpha = s.required_number("alpha", positive());
+  } else if (load.kind == LoadKind::distributed) {
     read_distributed(s, member, load);
   } else if (load.kind == LoadKind::uniform || load.kind == LoadKind::curvature) {
     if (load.kind == LoadKind::curvature && member.arch)
@@ -916,7 +930,7 @@ Load read_load(const Section& s, const Member& member) {
     for (const auto key : {"from", "to"}) s.refuse(key, why);
     load.at = s.required_number("at", member.position());
   }
-  if (load.kind != LoadKind::distributed) load.value = s.required_number("value", any_number());
+  if (load.kind != LoadKind::distributed && !axial) load.value = s.required_number("value", any_number());
   load.case_name = read_case_name(s);
   load.load_case = load.case_name == "dead" ? LoadCase::dead : LoadCase::live;
   read_load_direction(s, member, load);
@@ -1164,6 +1178,63 @@ Units read_units(const Section& s) {
   return units;
 }
 
+// [geometry] initial_shape: a table { at = [...], value = [...] } (piecewise linear, positions
+// non-decreasing) or a named shape { shape = "half_sine", amplitude } / { shape = "bump",
+// amplitude, at, length }, sampled into the table (scene.hpp). Beams only.
+InitialShape read_initial_shape(const Section& s, const Member& member) {
+  InitialShape shape;
+  const toml::node* node = s.find("initial_shape");
+  if (node == nullptr) return shape;
+  const char* expected =
+      "a table { at = [...], value = [...] } or a named shape { shape = \"half_sine\", amplitude = a } or "
+      "{ shape = \"bump\", amplitude = a, at = x0, length = l }";
+  if (member.arch) s.fail("initial_shape", "not allowed for an arch (an initial shape is supported on beams only)");
+  if (!node->is_table()) s.wrong("initial_shape", expected);
+  const Section table(s.source(), *node->as_table(), s.path("initial_shape"));
+  if (table.find("shape") == nullptr) {
+    static const TableSpec spec{"geometry.initial_shape", false, {"at", "value"}};
+    table.check_keys(spec);
+    shape.shape = "table";
+    shape.at = table.number_array("at", any_number(), "a non-empty array of increasing positions");
+    for (std::size_t i = 1; i < shape.at.size(); ++i)  // the member has no steps
+      if (!(shape.at[i] > shape.at[i - 1]))
+        table.fail("at", fmt::format("expected increasing positions (the member has no steps), got at[{}] = {} after "
+                                     "at[{}] = {}",
+                                     i, shape.at[i], i - 1, shape.at[i - 1]));
+    shape.value =
+        table.number_array("value", any_number(), "an array of initial deflections (length), one per position in 'at'");
+    if (shape.value.size() != shape.at.size())
+      table.fail("value", fmt::format("expected one value per position in 'at' ({}), got {}", shape.at.size(),
+                                      shape.value.size()));
+    return shape;
+  }
+  const toml::node* name = table.find("shape");
+  if (!name->is_string() || (name->as_string()->get() != "half_sine" && name->as_string()->get() != "bump"))
+    table.wrong("shape", "\"half_sine\" or \"bump\"");
+  shape.shape = name->as_string()->get();
+  const double amplitude = table.required_number("amplitude", any_number());
+  double from = member.begin, length = member.end - member.begin;
+  if (shape.shape == "half_sine") {
+    static const TableSpec spec{"geometry.initial_shape", false, {"shape", "amplitude"}};
+    table.check_keys(spec);
+  } else {
+    static const TableSpec spec{"geometry.initial_shape", false, {"shape", "amplitude", "at", "length"}};
+    table.check_keys(spec);
+    const double centre = table.required_number("at", member.position());
+    length = table.required_number("length", positive());
+    from = centre - 0.5 * length;
+    if (from < member.begin - member.tolerance() || from + length > member.end + member.tolerance())
+      table.fail("length", fmt::format("expected a bump within the member {}, got {} .. {}", member.interval(false),
+                                       from, from + length));
+  }
+  for (int i = 0; i <= initial_shape_samples; ++i) {
+    const double t = static_cast<double>(i) / initial_shape_samples;
+    shape.at.push_back(i == initial_shape_samples ? from + length : from + t * length);
+    shape.value.push_back(i == 0 || i == initial_shape_samples ? 0.0 : amplitude * std::sin(std::numbers::pi * t));
+  }
+  return shape;
+}
+
 }  // namespace
 
 Scene parse_scene(std::string_view toml_text, std::string source_name) {
@@ -1194,8 +1265,20 @@ Scene parse_scene(std::string_view toml_text, std::string source_name) {
     for (std::size_t i = 0; i < array.size(); ++i) {
       const Section load(source, *array.get(i)->as_table(), fmt::format("loads[{}]", i));
       scene.loads.push_back(read_load(load, member));
+      const Load& read = scene.loads.back();
+      if (read.kind == LoadKind::temperature && !scene.structure.axial_stiffness)
+        load.fail("kind",
+                  "expected [structure] EA for a temperature load (N = EA alpha dT of a fully axially "
+                  "restrained member), got none");
+      // The numerics see P L^2/EI (model/member_model.hpp).
+      const double scaled = read.axial_force(scene.structure) * scene.structure.length * scene.structure.length /
+                            scene.structure.bending_stiffness;
+      if (!std::isfinite(scaled))
+        load.fail("value", fmt::format("expected an axial force whose P L^2/EI is finite, got P = {}",
+                                       read.axial_force(scene.structure)));
     }
   }
+  if (root.find("geometry") != nullptr) scene.initial_shape = read_initial_shape(root.section("geometry"), member);
   scene.solve = read_solve(root.section("solve"));
   scene.ritz = read_ritz(root.section("ritz"), scene.foundation, member);
   if (root.find("trace") != nullptr) scene.trace = read_trace(root.section("trace"), member);

@@ -791,3 +791,33 @@ TEST_CASE("cli: sweeps edit the renamed key under either name and report warning
   REQUIRE(n.status == 0);
   CHECK_THAT(n.err, !Catch::Contains("warning"));
 }
+
+TEST_CASE("cli: an axial force reports its force and the initial shape; an unstable state exits 5", "[app][axial]") {
+  // The shipped strut (verification/scenes/axial/pinned_strut_one_sided.toml): solved, certified,
+  // with axial_force and w_initial in its JSON; midspan w from its hand calculation.
+  const std::string strut = std::string(LIFTOFF_SOURCE_DIR) + "/verification/scenes/axial/pinned_strut_one_sided.toml";
+  const Run r = run_cli({"solve", strut, "--json"});
+  CAPTURE(r.err);
+  REQUIRE(r.status == 0);
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  CHECK(j["termination"] == "solved");
+  CHECK(j["axial_force"].get<double>() == 2.467e6);
+  const std::vector<double> x = j["w_initial"]["coordinate"], w0 = j["w_initial"]["value"];
+  REQUIRE(x.size() == 121);
+  CHECK(w0[60] == Approx(0.012).epsilon(1e-12));  // the sampled half sine's crest, at midspan
+  // v = P a0 / (P_E + K L^2/pi^2 - P) = 7.547e-3 m; the sampled bow and the mesh differ by < 1e-4.
+  CHECK(j["w_max"].get<double>() == Approx(7.547e-3).epsilon(1e-3));
+
+  // The same strut bowed away from its one-sided support beyond its Euler load: refused, exit 5.
+  Scratch scratch;
+  std::ifstream in(strut);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  text.replace(text.find("amplitude = 0.012"), 17, "amplitude = -0.012");
+  text.replace(text.find("value = 2.467e6"), 15, "value = 3.300e6");
+  const fs::path away = scratch.write("away.toml", text);
+  const Run unstable = run_cli({"solve", away.string(), "--json"});
+  CHECK(unstable.status == 5);
+  const nlohmann::json u = nlohmann::json::parse(unstable.out);
+  CHECK(u["termination"] == "unstable_equilibrium");
+  CHECK_THAT(u["message"].get<std::string>(), Catch::Matchers::Contains("exceeds the critical load"));
+}

@@ -685,3 +685,35 @@ TEST_CASE("two reactions where k jumps: certified, each against its side's k w",
   CHECK_FALSE(c.passed);
   CHECK_FALSE(check(c, certify::check_name::complementarity).passed);
 }
+
+TEST_CASE("under an axial force the certificate counts its term, and a first-order answer fails it",
+          "[certify][axial]") {
+  // A pinned-clamped beam-column on a tensionless foundation, its weight down, an upward force
+  // lifting part of it, an initial bow, N = 5 EI/L^2 (below pi^2: every method applies).
+  scene::Scene s = test::beam_scene(1.0, 1.0, EndSupport::pinned, EndSupport::clamped, 3000.0);
+  scene::Load axial;
+  axial.kind = scene::LoadKind::axial;
+  axial.value = 5.0;
+  s.loads = {test::uniform_load(0.0, 1.0, 1.0), test::point_force(0.4, -0.5), axial};
+  s.initial_shape.shape = "table";
+  s.initial_shape.at = {0.0, 0.3, 1.0};
+  s.initial_shape.value = {0.0, -2e-3, 0.0};
+  const test::Solved second_order = test::solve(s, Method::fast, 80);
+  REQUIRE(second_order.solution.summary.is_usable());
+  const certify::Certificate good = certify_solved(second_order);
+  CAPTURE(good.message);
+  CHECK(good.passed);
+
+  // The first-order answer of the same loads, certified as an answer of the beam-column: the
+  // axial term it lacks is far above round-off.
+  scene::Scene first = s;
+  first.loads.pop_back();
+  const test::Solved first_order = test::solve(first, Method::fast, 80);
+  REQUIRE(first_order.solution.summary.is_usable());
+  REQUIRE(test::relative_difference(first_order.solution.displacement, second_order.solution.displacement) > 1e-2);
+  test::Solved spoilt = second_order;
+  spoilt.solution = first_order.solution;
+  const certify::Certificate bad = certify_solved(spoilt);
+  CHECK_FALSE(bad.passed);
+  CHECK_FALSE(check(bad, certify::check_name::backward_error).passed);
+}

@@ -373,3 +373,38 @@ TEST_CASE("rigid motions are computed once: the member's, and those the supports
   }
   CHECK(fe::discretise(model::make_member_model(pinned_free), 20).free_rigid_motions.cols() == 1);
 }
+
+TEST_CASE("an axial force makes the stiffness K - N K_g and an initial shape the load N integral of N' w0'",
+          "[fe][axial]") {
+  // A pinned-clamped beam, L = 2, EI = 1.5; N L^2/EI dead 3, live 2 (K(N) at lambda = 1: N = 5).
+  scene::Scene s = test::beam_scene(2.0, 1.5, EndSupport::pinned, EndSupport::clamped, 100.0);
+  s.loads = {test::uniform_load(0.0, 2.0, 1.0)};
+  const fe::Discretisation first = fe::discretise(model::make_member_model(s), 12);
+  scene::Load dead, live;
+  dead.kind = live.kind = scene::LoadKind::axial;
+  dead.value = 3.0 * 1.5 / 4.0;
+  dead.load_case = scene::LoadCase::dead;
+  live.value = 2.0 * 1.5 / 4.0;
+  s.loads.push_back(dead);
+  s.loads.push_back(live);
+  // A triangle: w0 = 0.02 at x = 1 (node 6 of 12), 0 at the ends; in units of L: slopes +-0.02.
+  s.initial_shape.at = {0.0, 1.0, 2.0};
+  s.initial_shape.value = {0.0, 0.02, 0.0};
+  const model::MemberModel model = model::make_member_model(s);
+  CHECK(model.axial_dead == Approx(3.0).epsilon(1e-15));
+  CHECK(model.axial_live == Approx(2.0).epsilon(1e-15));
+  const fe::Discretisation d = fe::discretise(model, 12);
+  REQUIRE(d.has_axial_force());
+  CHECK(d.axial_force == Approx(5.0).epsilon(1e-15));
+  const Eigen::MatrixXd expected = Eigen::MatrixXd(first.stiffness) - 5.0 * Eigen::MatrixXd(d.geometric_stiffness);
+  CHECK((Eigen::MatrixXd(d.stiffness) - expected).cwiseAbs().maxCoeff() <= 1e-12 * expected.cwiseAbs().maxCoeff());
+  // integral of N' w0' = sum over pieces of w0' [N]: at the kink's w the slopes' jump, 0.02 - (-0.02)
+  // = 0.04; nothing anywhere else (interior nodes cancel, the ends' w are fixed).
+  REQUIRE(d.initial_shape_load.size() == d.equations);
+  const int kink = d.equation_of_dof[d.deflection_dof(6)];
+  for (int eq = 0; eq < d.equations; ++eq)
+    CHECK(d.initial_shape_load[eq] == Approx(eq == kink ? 0.04 : 0.0).margin(1e-15));
+  // By case: N_dead times it in the dead load, N_live in the live load.
+  CHECK((d.dead_load - first.dead_load - 3.0 * d.initial_shape_load).cwiseAbs().maxCoeff() <= 1e-15);
+  CHECK((d.live_load - first.live_load - 2.0 * d.initial_shape_load).cwiseAbs().maxCoeff() <= 1e-15);
+}

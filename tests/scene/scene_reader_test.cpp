@@ -331,7 +331,8 @@ TEST_CASE("an unknown key is refused, with a suggestion", "[scene][errors]") {
 TEST_CASE("an unknown table is refused", "[scene][errors]") {
   CHECK(error_of(beam_scene + "\n[solver]\nmethod = \"dual\"\n") ==
         "scene.toml:18: key 'solver': unknown table (did you mean 'solve'?); the tables of a scene "
-        "are [structure], [supports], [foundation], [[loads]], [solve], [ritz], [trace], [compare], [units], "
+        "are [structure], [supports], [foundation], [[loads]], [geometry], [solve], [ritz], [trace], [compare], "
+        "[units], "
         "[[combinations]], [moving]");
   CHECK_THAT(error_of("title = \"x\"\n" + beam_scene), StartsWith("scene.toml:1: key 'title': unknown key;"));
 }
@@ -344,7 +345,7 @@ TEST_CASE("an unknown value of a choice is refused", "[scene][errors]") {
       R"(scene.toml:18: key 'solve.method': expected "dual", "primal", "fast", "auto", "ritz" or "all", got "fastest")");
   CHECK(
       error_of(edited(beam_scene, "kind = \"force\"", "kind = \"torque\"")) ==
-      R"(scene.toml:14: key 'loads[0].kind': expected "force", "moment", "uniform", "distributed" or "curvature", got "torque")");
+      R"(scene.toml:14: key 'loads[0].kind': expected "force", "moment", "uniform", "distributed", "curvature", "axial" or "temperature", got "torque")");
   // A free case name is a load case for [[combinations]]; a name that is no word is refused.
   CHECK(
       error_of(edited(beam_scene, "value = 1.0", "value = 1.0\ncase = \"perm anent\"")) ==
@@ -1166,4 +1167,88 @@ TEST_CASE("combinations and moving loads: mistakes are refused with their key", 
              Contains("key 'moving.positions'") && Contains("ascending"));
   CHECK_THAT(error_of(beam_scene + group + "positions = [0.5]\nstep = 0.5\n"),
              Contains("key 'moving.step': not allowed with 'positions'"));
+}
+
+TEST_CASE("axial and temperature loads read into their compressive force", "[scene][axial]") {
+  const Scene scene = parse_scene(edited(beam_scene, "EI = 1.0", "EI = 1.0\nEA = 2.0e6") +
+                                      "\n[[loads]]\nkind = \"axial\"\nvalue = 3.5\ncase = \"dead\"\n"
+                                      "\n[[loads]]\nkind = \"temperature\"\nvalue = 60.0\nalpha = 1.2e-5\n",
+                                  "axial.toml");
+  REQUIRE(scene.loads.size() == 3);
+  CHECK(scene.loads[1].kind == LoadKind::axial);
+  CHECK(scene.loads[1].load_case == LoadCase::dead);
+  CHECK(scene.loads[1].axial_force(scene.structure) == 3.5);
+  CHECK(scene.loads[2].kind == LoadKind::temperature);
+  CHECK(scene.loads[2].load_case == LoadCase::live);
+  // N = EA alpha dT: 2e6 * 1.2e-5 * 60 = 1440.
+  CHECK(scene.loads[2].axial_force(scene.structure) == Approx(1440.0).epsilon(1e-15));
+  CHECK(scene.loads[0].axial_force(scene.structure) == 0.0);  // a transverse force has none
+}
+
+TEST_CASE("axial loads are refused where they cannot apply", "[scene][axial][errors]") {
+  const std::string axial = "\n[[loads]]\nkind = \"axial\"\nvalue = 1.0\n";
+  CHECK(error_of(arch_scene + axial) ==
+        "scene.toml:21: key 'loads[1].kind': expected \"force\", \"moment\", \"uniform\" or \"distributed\" for an "
+        "arch, got \"axial\" (an axial force is supported on beams only)");
+  CHECK(error_of(beam_scene + "\n[[loads]]\nkind = \"axial\"\nvalue = 1.0\nat = 0.5\n") ==
+        "scene.toml:21: key 'loads[1].at': not allowed for a axial load (it acts along the whole member)");
+  CHECK(error_of(beam_scene + "\n[[loads]]\nkind = \"axial\"\n") ==
+        "scene.toml:18: key 'loads[1].value': missing (expected a finite number)");
+  CHECK_THAT(error_of(beam_scene + "\n[[loads]]\nkind = \"temperature\"\nvalue = 60.0\nalpha = 1e-5\n"),
+             StartsWith("scene.toml:19: key 'loads[1].kind': expected [structure] EA for a temperature load"));
+  CHECK_THAT(error_of(edited(beam_scene, "EI = 1.0", "EI = 1.0\nEA = 1.0") +
+                      "\n[[loads]]\nkind = \"temperature\"\nvalue = 60.0\n"),
+             StartsWith("scene.toml:19: key 'loads[1].alpha': missing"));
+  CHECK_THAT(error_of(beam_scene + "\n[[loads]]\nkind = \"axial\"\nvalue = 1.0\nalpha = 1e-5\n"),
+             StartsWith("scene.toml:21: key 'loads[1].alpha': not allowed"));
+  CHECK_THAT(error_of(beam_scene + "\n[[loads]]\nkind = \"axial\"\nvalue = 1e308\n"),
+             StartsWith("scene.toml:20: key 'loads[1].value': expected an axial force whose P L^2/EI is finite"));
+}
+
+TEST_CASE("an initial shape reads as a table or a named shape", "[scene][axial]") {
+  SECTION("a table") {
+    const Scene scene = parse_scene(
+        beam_scene + "\n[geometry]\ninitial_shape = { at = [0.0, 1.0, 2.0], value = [0.0, -0.01, 0.0] }\n", "x.toml");
+    CHECK(scene.initial_shape.shape == "table");
+    CHECK(scene.initial_shape.at == std::vector<double>{0.0, 1.0, 2.0});
+    CHECK(scene.initial_shape.value == std::vector<double>{0.0, -0.01, 0.0});
+  }
+  SECTION("a half sine over the member") {
+    const Scene scene =
+        parse_scene(beam_scene + "\n[geometry]\ninitial_shape = { shape = \"half_sine\", amplitude = -0.02 }\n", "x");
+    REQUIRE(scene.initial_shape.at.size() == initial_shape_samples + 1);
+    CHECK(scene.initial_shape.at.front() == 0.0);
+    CHECK(scene.initial_shape.at.back() == 2.0);
+    CHECK(scene.initial_shape.value[initial_shape_samples / 2] == Approx(-0.02).epsilon(1e-15));
+    CHECK(scene.initial_shape.value.front() == 0.0);
+    CHECK(scene.initial_shape.value.back() == 0.0);
+  }
+  SECTION("a bump") {
+    const Scene scene = parse_scene(
+        beam_scene + "\n[geometry]\ninitial_shape = { shape = \"bump\", amplitude = 0.1, at = 1.0, length = 0.5 }\n",
+        "x");
+    CHECK(scene.initial_shape.at.front() == 0.75);
+    CHECK(scene.initial_shape.at.back() == 1.25);
+    CHECK(scene.initial_shape.value[initial_shape_samples / 2] == Approx(0.1).epsilon(1e-15));
+  }
+}
+
+TEST_CASE("a malformed initial shape is refused naming the key", "[scene][axial][errors]") {
+  const std::string geometry = beam_scene + "\n[geometry]\ninitial_shape = ";
+  CHECK_THAT(error_of(geometry + "1.0\n"),
+             StartsWith("scene.toml:19: key 'geometry.initial_shape': expected a table { at = [...], value = [...] }"));
+  CHECK_THAT(error_of(geometry + "{ at = [0.0, 1.0], value = [0.0] }\n"),
+             StartsWith("scene.toml:19: key 'geometry.initial_shape.value': expected one value per position"));
+  CHECK_THAT(error_of(geometry + "{ at = [0.0, 0.0, 1.0], value = [0.0, 1.0, 0.0] }\n"),
+             StartsWith("scene.toml:19: key 'geometry.initial_shape.at': expected increasing positions"));
+  CHECK_THAT(error_of(geometry + "{ shape = \"wave\", amplitude = 1.0 }\n"),
+             StartsWith("scene.toml:19: key 'geometry.initial_shape.shape': expected \"half_sine\" or \"bump\""));
+  CHECK_THAT(error_of(geometry + "{ shape = \"half_sine\" }\n"),
+             StartsWith("scene.toml:19: key 'geometry.initial_shape.amplitude': missing"));
+  CHECK_THAT(error_of(geometry + "{ shape = \"bump\", amplitude = 1.0, at = 1.9, length = 0.5 }\n"),
+             StartsWith("scene.toml:19: key 'geometry.initial_shape.length': expected a bump within the member"));
+  CHECK_THAT(error_of(geometry + "{ shape = \"half_sine\", amplitude = 1.0, length = 0.5 }\n"),
+             StartsWith("scene.toml:19: key 'geometry.initial_shape.length': unknown key"));
+  CHECK_THAT(error_of(arch_scene + "\n[geometry]\ninitial_shape = { shape = \"half_sine\", amplitude = 1.0 }\n"),
+             StartsWith("scene.toml:21: key 'geometry.initial_shape': not allowed for an arch"));
 }

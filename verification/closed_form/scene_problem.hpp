@@ -64,6 +64,10 @@ inline BeamProblem problem_of(const scene::Scene& s, CaseFactors factors = {}) {
       case scene::LoadKind::curvature:
         throw std::invalid_argument("closed_form::problem_of: " + s.source_name +
                                     " has a distributed or curvature load, which the reference does not carry");
+      case scene::LoadKind::axial:
+      case scene::LoadKind::temperature:  // first-order theory: an axial force is not carried
+        throw std::invalid_argument("closed_form::problem_of: " + s.source_name +
+                                    " has an axial force, which the (first-order) reference does not carry");
     }
   }
   return p;
