@@ -4,6 +4,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/SparseCholesky>
+#include <Eigen/SparseLU>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -59,13 +60,14 @@ struct EigenPair {
   double residual = -1.0;
 };
 
-// What one spring set's problem needs, built once per solve: B = K - N_dead K_g, G = N_live K_g.
+// What one spring set's problem needs, built once per solve: B = K, G = K_g. Its eigenvalues are
+// the critical axial forces N of the set, (K + K_S) phi = N K_g phi: K + K_S is positive
+// semidefinite whatever the loads, and N = N_dead + lambda N_live turns them into load factors.
 struct Problem {
   const fe::Discretisation& d;
-  Sparse b, g;
+  Sparse b, g;  // K and K_g: the set's eigenvalues are axial forces N
   const CriticalLoadOptions& options;
   EigenMethod method;
-  bool live_compresses;  // N_live > 0: else only B_S's definiteness is asked
   int iterations = 0, factorisations = 0;
 
   EigenPair solve(const SpringSet& set) { return method == EigenMethod::dense ? solve_dense(set) : solve_sparse(set); }
@@ -84,10 +86,6 @@ struct Problem {
     ++factorisations;
     if (Eigen::LLT<Eigen::MatrixXd>(b_s).info() != Eigen::Success) {
       pair.status = PairStatus::not_positive_definite;
-      return pair;
-    }
-    if (!live_compresses) {
-      pair.status = PairStatus::no_positive_eigenvalue;
       return pair;
     }
     const Eigen::MatrixXd g_dense = Eigen::MatrixXd(g);
@@ -113,36 +111,55 @@ struct Problem {
     return pair;
   }
 
-  // The saddle-point matrix [B - sigma G, C_S^T; C_S, -T_SS] of the set.
-  Sparse saddle(const Sparse& c_s, const Sparse& t_ss, double sigma) const {
-    const Eigen::Index n = b.rows(), s = c_s.rows();
+  // The saddle-point matrix of the set in the discretisation's mixed form (K = G_s^T H^-1 G_s,
+  // fe/discretisation.hpp), unknowns (stresses, u, reactions):
+  //   [ -H     G_s                 0     ]
+  //   [ G_s^T  -sigma K_g  C_S^T ]
+  //   [ 0      C_S                 -T_SS ]
+  // whose Schur complement on u is B_S - sigma G. The K form's condition grows like N^4 and left
+  // the eigenvalue 1e-7 off at 2000 elements (the residual stalling at 7e-11); this one's like N^2.
+  Sparse mixed_saddle(const Sparse& c_s, const Sparse& t_ss, double sigma) const {
+    const Eigen::Index ns = d.stresses(), n = b.rows(), s = c_s.rows();
+    const Sparse& g_s = d.stress_coupling;
     std::vector<Eigen::Triplet<double>> entries;
-    entries.reserve(static_cast<std::size_t>(b.nonZeros() + g.nonZeros() + 2 * c_s.nonZeros() + t_ss.nonZeros()));
-    const Sparse shifted = b - sigma * g;
-    for (Eigen::Index k = 0; k < shifted.outerSize(); ++k)
-      for (Sparse::InnerIterator it(shifted, k); it; ++it) entries.emplace_back(it.row(), it.col(), it.value());
+    entries.reserve(
+        static_cast<std::size_t>(ns + 2 * g_s.nonZeros() + g.nonZeros() + 2 * c_s.nonZeros() + t_ss.nonZeros()));
+    for (Eigen::Index i = 0; i < ns; ++i) entries.emplace_back(i, i, -d.compliance[i]);
+    for (Eigen::Index k = 0; k < g_s.outerSize(); ++k)
+      for (Sparse::InnerIterator it(g_s, k); it; ++it) {
+        entries.emplace_back(it.row(), ns + it.col(), it.value());
+        entries.emplace_back(ns + it.col(), it.row(), it.value());
+      }
+    const Sparse axial = -sigma * g;
+    for (Eigen::Index k = 0; k < axial.outerSize(); ++k)
+      for (Sparse::InnerIterator it(axial, k); it; ++it) entries.emplace_back(ns + it.row(), ns + it.col(), it.value());
     for (Eigen::Index k = 0; k < c_s.outerSize(); ++k)
       for (Sparse::InnerIterator it(c_s, k); it; ++it) {
-        entries.emplace_back(n + it.row(), it.col(), it.value());
-        entries.emplace_back(it.col(), n + it.row(), it.value());
+        entries.emplace_back(ns + n + it.row(), ns + it.col(), it.value());
+        entries.emplace_back(ns + it.col(), ns + n + it.row(), it.value());
       }
     for (Eigen::Index k = 0; k < t_ss.outerSize(); ++k)
-      for (Sparse::InnerIterator it(t_ss, k); it; ++it) entries.emplace_back(n + it.row(), n + it.col(), -it.value());
-    Sparse m(n + s, n + s);
+      for (Sparse::InnerIterator it(t_ss, k); it; ++it)
+        entries.emplace_back(ns + n + it.row(), ns + n + it.col(), -it.value());
+    Sparse m(ns + n + s, ns + n + s);
     m.setFromTriplets(entries.begin(), entries.end());
     return m;
   }
 
-  using Ldlt = Eigen::SimplicialLDLT<Sparse, Eigen::Lower, Eigen::AMDOrdering<int>>;
-  // Factorises the saddle matrix at sigma; the number of eigenvalues lambda < sigma of the set
-  // (its negative pivots less |S|: Sylvester's inertia, the -T_SS block giving |S|), -1 on failure.
-  int factorise(Ldlt& ldlt, const Sparse& c_s, const Sparse& t_ss, double sigma) {
+  // The mixed form's sparse LU (COLAMD, partial pivoting: the matrix is indefinite). Its
+  // determinant's sign is (-1)^(stresses + |S|) times that of B_S - sigma G, whose sign is the
+  // parity of the number of eigenvalues below sigma (a Sturm count, modulo 2; Eigen has no
+  // sparse symmetric-indefinite factorisation with pivoting that would give the count itself).
+  using Lu = Eigen::SparseLU<Sparse, Eigen::COLAMDOrdering<int>>;
+  // Factorises at sigma; the parity (0, 1) of the eigenvalues below sigma, -1 on failure.
+  int factorise(Lu& lu, const Sparse& c_s, const Sparse& t_ss, double sigma) {
     ++factorisations;
-    ldlt.factorize(saddle(c_s, t_ss, sigma));
-    if (ldlt.info() != Eigen::Success) return -1;
-    const Eigen::VectorXd diagonal = ldlt.vectorD();
-    if (!diagonal.allFinite()) return -1;
-    return static_cast<int>((diagonal.array() < 0.0).count()) - static_cast<int>(c_s.rows());
+    lu.factorize(mixed_saddle(c_s, t_ss, sigma));
+    if (lu.info() != Eigen::Success) return -1;
+    const double sign = lu.signDeterminant();
+    if (sign == 0.0) return -1;
+    const bool flipped = ((d.stresses() + c_s.rows()) % 2) != 0;
+    return (sign < 0.0) != flipped ? 1 : 0;
   }
 
   EigenPair solve_sparse(const SpringSet& set) {
@@ -151,17 +168,13 @@ struct Problem {
     const Sparse c_s = p * d.coupling;
     const Sparse t_ss = p * d.flexibility * p.transpose();
     const Eigen::Index n = b.rows();
-    Ldlt ldlt;
-    ldlt.analyzePattern(saddle(c_s, t_ss, 0.0));
+    Lu ldlt;
+    ldlt.analyzePattern(mixed_saddle(c_s, t_ss, 0.0));
     double sigma = 0.0;
-    const int below_zero = factorise(ldlt, c_s, t_ss, sigma);
-    if (below_zero != 0) {
-      if (below_zero < 0) pair.reason = "the sparse LDL^T of B_S failed";
-      pair.status = below_zero > 0 ? PairStatus::not_positive_definite : PairStatus::not_converged;
-      return pair;
-    }
-    if (!live_compresses) {
-      pair.status = PairStatus::no_positive_eigenvalue;
+    // K + K_S is semidefinite: a failed factorisation at sigma = 0 is a singular one, a rigid
+    // motion the springs leave free.
+    if (factorise(ldlt, c_s, t_ss, sigma) != 0) {
+      pair.status = PairStatus::not_positive_definite;
       return pair;
     }
     const Eigen::Index m = std::min<Eigen::Index>(options.block_size, n);
@@ -170,12 +183,15 @@ struct Problem {
     Eigen::MatrixXd x(n, m);
     for (Eigen::Index j = 0; j < m; ++j)
       for (Eigen::Index i = 0; i < n; ++i) x(i, j) = uniform(generator);
-    Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n + c_s.rows(), m);
+    const Eigen::Index ns = d.stresses();
+    Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(ns + n + c_s.rows(), m);
+    double previous = std::numeric_limits<double>::infinity();
+    int stalled = 0;  // iterations in a row that did not lower the residual by a tenth
     for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
       ++iterations;
       const Eigen::MatrixXd gx = g * x;
-      rhs.topRows(n) = gx;
-      const Eigen::MatrixXd y = ldlt.solve(rhs).topRows(n);  // (B_S - sigma G) y = G x
+      rhs.middleRows(ns, n) = gx;
+      const Eigen::MatrixXd y = ldlt.solve(rhs).middleRows(ns, n);  // (B_S - sigma G) y = G x
       Eigen::MatrixXd a_p = y.transpose() * gx, g_p = y.transpose() * (g * y);
       a_p = 0.5 * (a_p + a_p.transpose()).eval();
       g_p = 0.5 * (g_p + g_p.transpose()).eval();
@@ -197,11 +213,16 @@ struct Problem {
       const Eigen::VectorXd b_phi = gx * c.col(0) + sigma * g_phi;
       const double residual = (b_phi - lambda * g_phi).norm() / b_phi.norm();
       x = y * c;
-      if (residual <= options.tolerance) {
+      stalled = residual < 0.9 * previous ? 0 : stalled + 1;
+      previous = residual;
+      // The residual stalls at round-off; below sqrt(tolerance) that is the answer, reported
+      // with its residual.
+      const bool at_round_off = stalled >= 5 && residual <= std::sqrt(options.tolerance);
+      if (residual <= options.tolerance || at_round_off) {
         // Sturm check: no eigenvalue of the set below lambda (1 - margin).
         const double below = lambda * (1.0 - options.sturm_margin);
         if (below > sigma && factorise(ldlt, c_s, t_ss, below) != 0) {
-          pair.reason = fmt::format("an eigenvalue below the converged {:.10g} was missed (Sturm count)", lambda);
+          pair.reason = fmt::format("an eigenvalue below the converged {:.10g} was missed (Sturm parity)", lambda);
           return pair;
         }
         pair.status = PairStatus::ok;
@@ -210,12 +231,13 @@ struct Problem {
         pair.residual = residual;
         return pair;
       }
-      // Shift towards lambda once the mode is close; the Sturm count keeps sigma below every
-      // eigenvalue (a Ritz value is an upper bound, not a bracket).
-      if (residual < 1e-3) {
+      // Shift towards lambda once the mode is close; the Sturm parity keeps sigma below the
+      // smallest eigenvalue (a Ritz value is an upper bound, not a bracket; passing two at once
+      // would need both missing from the block).
+      if (residual < 1e-3 && stalled == 0) {
         double step = 0.9 * (lambda - sigma);
         int count = -1;
-        for (int attempt = 0; attempt < 6 && count != 0; ++attempt, step *= 0.5)
+        for (int attempt = 0; attempt < 3 && count != 0; ++attempt, step *= 0.5)
           count = factorise(ldlt, c_s, t_ss, sigma + step);
         if (count == 0)
           sigma += 2.0 * step;  // the last halving was one too many
@@ -340,12 +362,7 @@ CriticalLoadResult critical_load(const fe::Discretisation& d, const Sparse& geom
   result.method = options.method != EigenMethod::automatic ? options.method
                   : d.equations <= options.dense_limit     ? EigenMethod::dense
                                                            : EigenMethod::sparse;
-  Problem problem{d,
-                  Sparse(d.stiffness - dead_axial_force * geometric),
-                  Sparse(live_axial_force * geometric),
-                  options,
-                  result.method,
-                  live_axial_force > 0.0};
+  Problem problem{d, d.stiffness, geometric, options, result.method, live_axial_force > 0.0};
   auto finish = [&](StabilityTermination termination, std::string message) {
     result.termination = termination;
     result.message = std::move(message);
@@ -367,25 +384,24 @@ CriticalLoadResult critical_load(const fe::Discretisation& d, const Sparse& geom
   if (fewest.status == PairStatus::not_positive_definite) {
     if (weak.empty() || problem.solve(every).status == PairStatus::not_positive_definite)
       return finish(StabilityTermination::unstable_at_zero,
-                    "K + K_S - N_dead K_g is not positive definite: unstable under the dead axial force");
+                    "K + K_S is singular: a rigid motion no spring holds buckles under any compression");
     return finish(StabilityTermination::not_converged,
-                  "positive definite with every weakly active spring but not without: stability at lambda = 0 "
+                  "K + K_S is singular without the weakly active springs but not with them: stability at N = 0 "
                   "depends on the cone, which this solver does not decide");
   }
-  if (fewest.status == PairStatus::no_positive_eigenvalue || live_axial_force <= 0.0)
-    return finish(StabilityTermination::stable_for_all_factors,
-                  "no lambda > 0 lowers the stiffness (N_live <= 0 or K_g vanishes on the free motions)");
+  if (fewest.status == PairStatus::no_positive_eigenvalue)
+    return finish(StabilityTermination::stable_for_all_factors, "K_g vanishes on the free motions");
   if (fewest.status != PairStatus::ok) return finish(StabilityTermination::not_converged, fewest.reason);
-  result.lower_bound = fewest.lambda;
-  result.upper_bound = fewest.lambda;
+  // The sets' eigenvalues are axial forces; the bounds of the cone's critical force.
+  const double force_lower = fewest.lambda;
+  double force_upper = fewest.lambda;
   if (!weak.empty()) {
     const EigenPair most = problem.solve(every);
     if (most.status != PairStatus::ok) return finish(StabilityTermination::not_converged, most.reason);
-    result.upper_bound = most.lambda;
+    force_upper = most.lambda;
   }
 
   auto accept = [&](const SpringSet& set, const EigenPair& pair, double sign, std::string how) {
-    result.critical_load_factor = pair.lambda;
     result.spring = set;
     result.residual = pair.residual;
     Eigen::VectorXd mode = sign * pair.phi;
@@ -394,6 +410,20 @@ CriticalLoadResult critical_load(const fe::Discretisation& d, const Sparse& geom
       if (d.equation_of_dof[dof] >= 0 && d.role_of_dof(dof) == fe::DofRole::deflection)
         largest = std::max(largest, std::abs(mode[d.equation_of_dof[dof]]));
     result.mode = mode / (largest > 0.0 ? largest : mode.lpNorm<Eigen::Infinity>());
+    // N_cr = N_dead + lambda N_live.
+    const double force = pair.lambda;
+    if (force <= dead_axial_force)
+      return finish(
+          StabilityTermination::unstable_at_zero,
+          fmt::format("the critical axial force {:.10g} is below the dead one {:.10g}: unstable at lambda = 0 "
+                      "({})",
+                      force, dead_axial_force, how));
+    if (live_axial_force <= 0.0)
+      return finish(StabilityTermination::stable_for_all_factors,
+                    fmt::format("N_live <= 0 never reaches the critical axial force {:.10g} ({})", force, how));
+    result.critical_load_factor = (force - dead_axial_force) / live_axial_force;
+    result.lower_bound = (force_lower - dead_axial_force) / live_axial_force;
+    result.upper_bound = (force_upper - dead_axial_force) / live_axial_force;
     return finish(StabilityTermination::critical_load_found, std::move(how));
   };
 
@@ -405,8 +435,7 @@ CriticalLoadResult critical_load(const fe::Discretisation& d, const Sparse& geom
     const ConeCheck check = check_cone(d, contact, set, pair.phi, options.sign_tolerance);
     if (check.violations.empty())
       return accept(set, pair, check.sign,
-                    fmt::format("the mode meets the cone's conditions on spring set {} of {} tried", iteration,
-                                result.set_iterations));
+                    fmt::format("the mode meets the cone's conditions on spring set {} of the iteration", iteration));
     for (int i : check.violations) set[i] = !set[i];
     if (std::find(visited.begin(), visited.end(), set) != visited.end()) break;  // a cycle
     visited.push_back(set);
