@@ -89,7 +89,7 @@ struct Problem {
       return pair;
     }
     const Eigen::MatrixXd g_dense = Eigen::MatrixXd(g);
-    // mu = 1 / lambda of G phi = mu B_S phi: B_S definite, G only semidefinite.
+    // mu = 1 / N of K_g phi = mu B_S phi, B_S = K + K_S: B_S definite, K_g only semidefinite.
     const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(g_dense, b_s);
     if (solver.info() != Eigen::Success) {
       pair.reason = "the dense generalized eigensolver failed";
@@ -113,11 +113,13 @@ struct Problem {
 
   // The saddle-point matrix of the set in the discretisation's mixed form (K = G_s^T H^-1 G_s,
   // fe/discretisation.hpp), unknowns (stresses, u, reactions):
-  //   [ -H     G_s                 0     ]
+  //   [ -H     G_s         0     ]
   //   [ G_s^T  -sigma K_g  C_S^T ]
-  //   [ 0      C_S                 -T_SS ]
-  // whose Schur complement on u is B_S - sigma G. The K form's condition grows like N^4 and left
-  // the eigenvalue 1e-7 off at 2000 elements (the residual stalling at 7e-11); this one's like N^2.
+  //   [ 0      C_S         -T_SS ]
+  // whose Schur complement on u is K + K_S - sigma K_g. The stiffness form [K - sigma K_g, C_S^T;
+  // C_S, -T_SS] (LDL^T) left the eigenvalue 8e-8 off at 2000 elements and 3e-5 at 4000, and lost
+  // the foundation at 1e4 (k h beside 12/h^3: it found 9.92 for 64.81); this form's condition
+  // grows like N^2, and its answer at 1e4 elements agrees with 500's to 1e-10.
   Sparse mixed_saddle(const Sparse& c_s, const Sparse& t_ss, double sigma) const {
     const Eigen::Index ns = d.stresses(), n = b.rows(), s = c_s.rows();
     const Sparse& g_s = d.stress_coupling;
@@ -168,12 +170,12 @@ struct Problem {
     const Sparse c_s = p * d.coupling;
     const Sparse t_ss = p * d.flexibility * p.transpose();
     const Eigen::Index n = b.rows();
-    Lu ldlt;
-    ldlt.analyzePattern(mixed_saddle(c_s, t_ss, 0.0));
+    Lu lu;
+    lu.analyzePattern(mixed_saddle(c_s, t_ss, 0.0));
     double sigma = 0.0;
     // K + K_S is semidefinite: a failed factorisation at sigma = 0 is a singular one, a rigid
     // motion the springs leave free.
-    if (factorise(ldlt, c_s, t_ss, sigma) != 0) {
+    if (factorise(lu, c_s, t_ss, sigma) != 0) {
       pair.status = PairStatus::not_positive_definite;
       return pair;
     }
@@ -191,11 +193,11 @@ struct Problem {
       ++iterations;
       const Eigen::MatrixXd gx = g * x;
       rhs.middleRows(ns, n) = gx;
-      const Eigen::MatrixXd y = ldlt.solve(rhs).middleRows(ns, n);  // (B_S - sigma G) y = G x
+      const Eigen::MatrixXd y = lu.solve(rhs).middleRows(ns, n);  // (K + K_S - sigma K_g) y = K_g x
       Eigen::MatrixXd a_p = y.transpose() * gx, g_p = y.transpose() * (g * y);
       a_p = 0.5 * (a_p + a_p.transpose()).eval();
       g_p = 0.5 * (g_p + g_p.transpose()).eval();
-      // nu = 1 / (lambda - sigma), the largest first: the smallest lambda above sigma.
+      // nu = 1 / (N - sigma), the largest first: the smallest N above sigma.
       const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> ritz(g_p, a_p);
       if (ritz.info() != Eigen::Success) {
         pair.reason = "the Rayleigh-Ritz projection lost rank";
@@ -208,7 +210,7 @@ struct Problem {
       }
       const Eigen::MatrixXd c = ritz.eigenvectors().rowwise().reverse();
       const double lambda = sigma + 1.0 / nu;
-      // (B_S - sigma G) y c1 = G x c1, so B_S phi - lambda G phi needs no K_S.
+      // (K + K_S - sigma K_g) y c1 = K_g x c1, so the residual needs no K_S.
       const Eigen::VectorXd phi = y * c.col(0), g_phi = g * phi;
       const Eigen::VectorXd b_phi = gx * c.col(0) + sigma * g_phi;
       const double residual = (b_phi - lambda * g_phi).norm() / b_phi.norm();
@@ -221,7 +223,7 @@ struct Problem {
       if (residual <= options.tolerance || at_round_off) {
         // Sturm check: no eigenvalue of the set below lambda (1 - margin).
         const double below = lambda * (1.0 - options.sturm_margin);
-        if (below > sigma && factorise(ldlt, c_s, t_ss, below) != 0) {
+        if (below > sigma && factorise(lu, c_s, t_ss, below) != 0) {
           pair.reason = fmt::format("an eigenvalue below the converged {:.10g} was missed (Sturm parity)", lambda);
           return pair;
         }
@@ -238,11 +240,11 @@ struct Problem {
         double step = 0.9 * (lambda - sigma);
         int count = -1;
         for (int attempt = 0; attempt < 3 && count != 0; ++attempt, step *= 0.5)
-          count = factorise(ldlt, c_s, t_ss, sigma + step);
+          count = factorise(lu, c_s, t_ss, sigma + step);
         if (count == 0)
           sigma += 2.0 * step;  // the last halving was one too many
-        else if (factorise(ldlt, c_s, t_ss, sigma) != 0) {
-          pair.reason = "the sparse LDL^T failed at a shift already accepted";
+        else if (factorise(lu, c_s, t_ss, sigma) != 0) {
+          pair.reason = "the sparse LU failed at a shift already accepted";
           return pair;
         }
       }

@@ -16,17 +16,23 @@
 // stops being positive on some phi != 0: an eigenvalue complementarity problem on the cone of
 // admissible perturbations (phi and -phi are different perturbations there).
 //
-// Algorithm. On a fixed set S the problem is the generalized symmetric eigenproblem
-//   (K + K_S - N_dead K_g) phi = lambda N_live K_g phi,
-// with the left matrix B_S positive definite (else the state is unstable at lambda = 0) and K_g
-// only semidefinite: it is solved as the largest mu = 1 / lambda of N_live K_g phi = mu B_S phi.
-//  - dense (few equations): Eigen's GeneralizedSelfAdjointEigenSolver on B_S (K_S formed).
-//  - sparse: subspace iteration with Rayleigh-Ritz (Bathe's) on the saddle-point system
-//    [B_S - sigma G, C_S^T; C_S, -T_SS] (G = N_live K_g), factorised by a sparse LDL^T (AMD), so
-//    K_S (dense where T is not diagonal) is never formed; the shift sigma moves up towards the
-//    smallest eigenvalue. The LDL^T's inertia is a Sturm count (the saddle matrix has |S| + the
-//    number of eigenvalues below sigma negative pivots), which keeps every shift below the
-//    smallest eigenvalue and certifies the answer: none below lambda (1 - sturm_margin).
+// Algorithm. On a fixed set S the problem is the generalized symmetric eigenproblem in the axial
+// force, (K + K_S) phi = N K_g phi, with K + K_S positive definite whatever the loads (else a
+// rigid motion no spring holds) and K_g only semidefinite: it is solved as the largest
+// mu = 1 / N of K_g phi = mu (K + K_S) phi, and N_cr = N_dead + lambda_cr N_live gives the factor
+// (N_cr <= N_dead: unstable at lambda = 0).
+//  - dense (few equations): Eigen's GeneralizedSelfAdjointEigenSolver on K + K_S (K_S formed).
+//  - sparse: subspace iteration with Rayleigh-Ritz (Bathe's) on the mixed saddle-point system
+//    (the discretisation's stresses, fe/discretisation.hpp, K = G^T H^-1 G) with the reactions
+//    of S: [-H, G, 0; G^T, -sigma K_g, C_S^T; 0, C_S, -T_SS], factorised by a sparse LU, so
+//    K_S (dense where T is not diagonal) is never formed and the condition grows like N^2, not
+//    N^4 (in the stiffness form the foundation's springs, k h against EI/h^3, were lost to
+//    round-off at 1e4 elements). The shift sigma moves up towards the smallest eigenvalue. The
+//    LU's determinant sign is the parity of the number of eigenvalues below sigma (a Sturm count
+//    modulo 2): it keeps each shift below the smallest eigenvalue and checks the answer (no odd
+//    number of eigenvalues below N_cr (1 - sturm_margin)); a missed pair would pass (no sparse
+//    symmetric-indefinite factorisation with pivoting, which would give the count, is in the
+//    build).
 // The spring set is iterated from S = the nodes in contact (no weak springs, whose eigenvalue is a
 // lower bound of the cone's): the mode (of either sign, the one breaking fewer conditions) decides
 // the weakly active nodes' springs, until the set is a fixed point whose mode meets every
@@ -37,9 +43,9 @@
 // factor bounds the cone's critical factor from above, and the factor of S = the nodes in contact
 // bounds it from below (both reported); when they differ the answer is the smallest admissible
 // eigenpair found by the iteration (or the enumeration), not a proof of the global minimum, which
-// an EiCP solver would need. Only the smallest eigenvalue of each set is tried. A state whose B_S
-// is positive definite with every weak spring but not without is reported not_converged (its
-// stability at lambda = 0 depends on the cone). Beams only, N constant along the member.
+// an EiCP solver would need. Only the smallest eigenvalue of each set is tried. A state whose
+// K + K_S is singular without the weak springs but not with them is reported not_converged. The
+// sparse path's Sturm check is a parity (above). Beams only, N constant along the member.
 
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
@@ -86,9 +92,9 @@ struct CriticalLoadOptions {
 
 enum class StabilityTermination {
   critical_load_found,     // critical_load_factor and its mode, which meets the cone's conditions
-  stable_for_all_factors,  // N_live <= 0 (or K_g vanishes): no lambda > 0 buckles the state
-  unstable_at_zero,        // K + K_S - N_dead K_g is not positive definite even with every weak
-                           // spring: the state is unstable under the dead axial force alone
+  stable_for_all_factors,  // N_cr > N_dead and N_live <= 0 (or K_g vanishes): no lambda > 0 buckles
+  unstable_at_zero,        // N_cr <= N_dead (the mode is reported), or K + K_S is singular even
+                           // with every weak spring: unstable under the dead axial force alone
   not_converged,           // the set iteration cycled past enumeration, the subspace iteration hit
                            // its limit, or the cone decides stability at lambda = 0 (see message)
 };
@@ -109,8 +115,8 @@ struct CriticalLoadResult {
   std::vector<NodeContact> contact;     // the state the answer is for
   int set_iterations = -1;              // spring sets tried (enumeration included)
   int eigen_iterations = -1;            // sparse: subspace iterations over all sets (dense: 0)
-  int factorisations = -1;              // sparse LDL^T factorisations (dense: LLT of B_S)
-  double residual = -1.0;               // |B phi - lambda G phi| / |B phi| of the mode
+  int factorisations = -1;              // sparse LU factorisations (dense: LLT of K + K_S)
+  double residual = -1.0;               // |(K + K_S - N_cr K_g) phi| / |(K + K_S) phi| of the mode
   double time_s = -1.0;
   double dead_axial_force = 0.0, live_axial_force = 0.0;
   bool is_usable() const { return termination == StabilityTermination::critical_load_found; }
