@@ -363,3 +363,28 @@ TEST_CASE("stability: the sparse path at 1e4 and 1e5 elements (timing, reported)
     }
   }
 }
+
+TEST_CASE("stability: the cone decides stability under the dead load alone", "[stability]") {
+  // A weightless tensionless strut under a dead force between pi^2 and the bilateral strut's
+  // critical force: stable were the foundation bilateral, unstable on the cone (it lifts off).
+  const fe::Discretisation d = strut(32, 1e3);
+  const auto weak = every(d, NodeContact::weakly_active);
+  for (auto method : {EigenMethod::dense, EigenMethod::sparse}) {
+    CAPTURE(stability::to_string(method));
+    const auto lifted = stability::critical_load(d, 2.0 * pi2, 1.0, weak, with(method));
+    CHECK(lifted.termination == StabilityTermination::unstable_at_zero);
+    const auto [low, high] = deflection_range(d, lifted.mode);
+    CHECK(low == Approx(-1.0).epsilon(1e-12));  // the mode it fails in lifts off
+    CHECK(high <= 1e-12);
+    CHECK(stability::critical_load(d, 2.0 * pi2, 1.0, every(d, NodeContact::in_contact), with(method))
+              .critical_load_factor == Approx(bilateral_strut(1e3) - 2.0 * pi2).epsilon(1e-6));
+  }
+  // A free-free beam with every node lifted: nothing holds its rigid motions.
+  const fe::Discretisation free = fe::discretise(
+      model::make_member_model(test::beam_scene(1.0, 1.0, scene::EndSupport::free, scene::EndSupport::free, 1e3)), 16);
+  for (auto method : {EigenMethod::dense, EigenMethod::sparse}) {
+    const auto r = stability::critical_load(free, 0.0, 1.0, every(free, NodeContact::lifted), with(method));
+    CHECK(r.termination == StabilityTermination::unstable_at_zero);
+    CHECK_FALSE(r.is_usable());
+  }
+}
