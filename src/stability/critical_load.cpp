@@ -51,7 +51,7 @@ Sparse selection(const SpringSet& set) {
 
 enum class PairStatus { ok, not_positive_definite, no_positive_eigenvalue, not_converged };
 
-// The smallest positive eigenpair of (B + K_S) phi = lambda G phi on one spring set.
+// The smallest positive eigenpair of (K + K_S) phi = N K_g phi on one spring set (lambda holds N).
 struct EigenPair {
   PairStatus status = PairStatus::not_converged;
   std::string reason;
@@ -149,7 +149,7 @@ struct Problem {
   }
 
   // The mixed form's sparse LU (COLAMD, partial pivoting: the matrix is indefinite). Its
-  // determinant's sign is (-1)^(stresses + |S|) times that of B_S - sigma G, whose sign is the
+  // determinant's sign is (-1)^(stresses + |S|) times that of K + K_S - sigma K_g, whose sign is the
   // parity of the number of eigenvalues below sigma (a Sturm count, modulo 2; Eigen has no
   // sparse symmetric-indefinite factorisation with pivoting that would give the count itself).
   using Lu = Eigen::SparseLU<Sparse, Eigen::COLAMDOrdering<int>>;

@@ -82,7 +82,7 @@ struct CriticalLoadOptions {
   int dense_limit = 400;         // automatic: dense up to this many equations, else sparse
   int block_size = 8;            // sparse: vectors of the subspace iteration
   int max_iterations = 500;      // sparse: subspace iterations per spring set
-  double tolerance = 1e-10;      // sparse: |B phi - lambda G phi| / |B phi| of the converged mode
+  double tolerance = 1e-10;      // sparse: the mode's residual (a stalled one is accepted under its sqrt)
   double sturm_margin = 1e-7;    // sparse: no eigenvalue below lambda (1 - sturm_margin) (checked)
   double sign_tolerance = 1e-9;  // cone conditions: violated below -sign_tolerance times their scale
   int max_set_iterations = 50;   // spring-set fixed-point iterations
