@@ -7,7 +7,7 @@
 // Critical loads of a straight, weightless member:
 //   * bilateral pinned strut of length L: the sine modes w = sin(n pi x / L) turn
 //     EI w'''' + P w'' + K w = 0 into P = n^2 pi^2 EI / L^2 + K L^2 / (n^2 pi^2); the least over n
-//     is the critical load (Timoshenko & Gere, Theory of Elastic Stability, section 2.10);
+//     is the critical load (Timoshenko & Gere, Theory of Elastic Stability, ch. 2, bars on elastic foundations);
 //   * a long bilateral member: minimising EI a + K / a over a = (n pi / L)^2 > 0 gives
 //     2 sqrt(K EI), approached from above with 0 <= P_cr(L) - 2 sqrt(K EI) <= pi^2 EI / L^2
 //     (the nearest a lies within the spacing 2 sqrt(a*) pi / L of a* = sqrt(K / EI), where the
@@ -38,7 +38,7 @@
 //   and near 2 sqrt(K EI) (small a, slow decay) or for a stiff foundation (large K, where C2 ~
 //   w'(a) / beta dwarfs q/K) it dips below w = 0 a wavelength 2 pi / beta away: the member would
 //   lift off there too (status secondary_lift_off; the numbers are still the single-zone ones).
-//   With q = EI = K = 1 that happens for a <= 0.5, not for a >= 0.8; at K = 1e9, a = 0.5 the dip
+//   With q = EI = K = 1 that happens for a <= 0.48, not for a >= 0.6; at K = 1e9, a = 0.5 the dip
 //   is 3e-7 of the uplift (of the order of q/K), so the Hobbs trend is unaffected. (2) At P(a)
 //   the fixed-contact-set problem is singular: the buckle is a neutral mode of that contact set,
 //   its amplitude set by the contact condition w(a) = 0, as in Hobbs' analysis.
