@@ -129,7 +129,7 @@ struct MemberModel {
   // s is a step, g constant beyond the ends. Empty: g = 0. Contact where w >= g.
   std::vector<double> ground_gap_at;
   std::vector<double> ground_gap_value;
-  // The bilinear foundation's k in tension (the scene's tension_modulus or tension_nondimensional_k), <= every
+  // The bilinear foundation's k in tension (the scene's "tension_modulus" or "tension_nondimensional_k"), <= every
   // piece's k; the reaction is k max(w - g, 0) + tension_k min(w - g, 0)
   //   = tension_k (w - g) + (k - tension_k) max(w - g, 0):
   // a bilateral (Winkler) foundation of parameter tension_k on every piece plus the tensionless

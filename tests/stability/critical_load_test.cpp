@@ -281,7 +281,7 @@ TEST_CASE("stability: a uniformly loaded member in contact everywhere (w = q/k) 
     s.loads.push_back(test::uniform_load(0.0, 1.0, 1.0));
     const fe::Discretisation d = fe::discretise(model::make_member_model(s), 64);
     contact::ContactOptions options;
-    options.method = scene::Method::fast;
+    options.method = contact::Method::fast;
     const contact::ContactSolution state = contact::solve_contact(d, options);
     REQUIRE(state.summary.is_usable());
     const auto contact = stability::classify_contact(state.reaction, state.gap);

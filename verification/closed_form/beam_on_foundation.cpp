@@ -91,10 +91,48 @@ double dphi(const double phi[kSeries], int k, int d, double kappa) {
 
 struct Params {
   double L = 1.0, EI = 1.0, K = 0.0, beta = 0.0, lambda = 1.0;
+  double P = 0.0;  // axial force, compression positive
 };
+
+// Beam-column series (basis 2): the u-derivatives d = 0..3 of the six functions with Taylor
+// coefficients c_{m+4} = -axial c_{m+2} - kk c_m, started from c_j = 1 (j = 0..5, the others 0):
+// out[d][j] = sum_m c^{(j)}_{m+d} u^m / m!. phi_0..3 are the homogeneous basis, phi_4 and phi_5
+// solve phi'''' + axial phi'' + kk phi = 1 and = u. With |axial|, kk <= 1 and 0 <= u <= 1 the
+// terms fall like 1.3^m / m!: 40 of them reach round-off.
+void column_series(double u, double axial, double kk, double out[4][6]) {
+  constexpr int kTerms = 44;
+  for (int j = 0; j < 6; ++j) {
+    double c[kTerms + 4] = {};
+    if (j < 4) {
+      c[j] = 1.0;
+    }
+    for (int m = 0; m + 4 < kTerms + 4; ++m) c[m + 4] = -axial * c[m + 2] - kk * c[m] + (m == j - 4 ? 1.0 : 0.0);
+    for (int d = 0; d < 4; ++d) {
+      double sum = 0.0, power = 1.0;  // u^m / m!
+      for (int m = 0; m < kTerms; ++m) {
+        sum += c[m + d] * power;
+        power *= u / (m + 1);
+      }
+      out[d][j] = sum;
+    }
+  }
+}
 
 // B[d][j] = lambda^d d^d phi_j/dx^d (x), P[d] = lambda^d d^d w_p/dx^d (x), d = 0..3.
 void evaluate_basis(const Params& p, const Segment& s, double x, double B[4][4], double P[4]) {
+  if (s.basis == 2) {
+    double f[4][6];
+    column_series((x - s.a) / s.ell, s.axial, s.kappa, f);
+    const double r = p.lambda / s.ell, ell4 = s.ell * s.ell * s.ell * s.ell;
+    const double p4 = s.q0 * ell4 / p.EI, p5 = s.q1 * ell4 * s.ell / p.EI;
+    double scale = 1.0;
+    for (int d = 0; d < 4; ++d) {
+      for (int j = 0; j < 4; ++j) B[d][j] = scale * f[d][j];
+      P[d] = scale * (p4 * f[d][4] + p5 * f[d][5]);
+      scale *= r;
+    }
+    return;
+  }
   if (s.basis == 1) {
     using C = std::complex<double>;
     const double bl = s.beta * p.lambda;
@@ -141,6 +179,7 @@ Params params_of(const BeamProblem& pr) {
   p.K = pr.foundation_segments.empty() ? pr.foundation_modulus : 0.0;  // K_ref, as in beta()
   for (const auto& f : pr.foundation_segments) p.K = std::max(p.K, f.modulus);
   p.lambda = (p.K > 0.0) ? std::min(p.L, 1.0 / p.beta) : p.L;
+  p.P = pr.axial_force;
   return p;
 }
 
@@ -189,6 +228,7 @@ void validate(const BeamProblem& pr) {
   }
   if (!(pr.tension_modulus >= 0.0) || !std::isfinite(pr.tension_modulus))
     throw std::invalid_argument("closed_form: tension modulus must be >= 0");
+  if (!std::isfinite(pr.axial_force)) throw std::invalid_argument("closed_form: axial force not finite");
 }
 
 // Value and slope of the gap on the open interval (a, b) free of table positions: g = g0 + g1 (x - a).
@@ -279,6 +319,25 @@ Model build_model(const BeamProblem& pr, const std::vector<double>& x, const std
   m.x = x;
   m.x.front() = 0.0;
   m.x.back() = L;
+  std::vector<bool> flags = contact;
+  if (pr.axial_force != 0.0) {
+    // Beam-column: split every segment into pieces with |P| h^2 / EI <= 1 and k h^4 / EI <= 1.
+    std::vector<double> xs = {0.0};
+    std::vector<bool> fs;
+    for (std::size_t i = 0; i + 1 < m.x.size(); ++i) {
+      const double a = m.x[i], b = m.x[i + 1], mid = 0.5 * (a + b);
+      const double ground = pr.modulus_at(mid);
+      const double k = ground > 0.0 ? (contact[i] ? ground : pr.tension_modulus) : 0.0;
+      const double rate = std::max(std::sqrt(std::abs(pr.axial_force) / m.p.EI), std::pow(k / m.p.EI, 0.25));
+      const int pieces = std::max(1, static_cast<int>(std::ceil((b - a) * rate)));
+      for (int j = 1; j <= pieces; ++j) {
+        xs.push_back(j == pieces ? b : a + (b - a) * j / pieces);
+        fs.push_back(contact[i]);
+      }
+    }
+    m.x = std::move(xs);
+    flags = std::move(fs);
+  }
   const std::size_t nb = m.x.size();
   m.force.assign(nb, 0.0);
   m.moment.assign(nb, 0.0);
@@ -308,7 +367,7 @@ Model build_model(const BeamProblem& pr, const std::vector<double>& x, const std
     Segment& s = m.segs[i];
     s.a = m.x[i];
     s.b = m.x[i + 1];
-    s.contact = contact[i];
+    s.contact = flags[i];
     const double mid = 0.5 * (s.a + s.b);
     s.ground = pr.modulus_at(mid);
     s.k = s.ground > 0.0 ? (s.contact ? s.ground : pr.tension_modulus) : 0.0;
@@ -319,7 +378,12 @@ Model build_model(const BeamProblem& pr, const std::vector<double>& x, const std
     s.q1 += s.k * s.g1;
     const double h = s.b - s.a;
     const bool foundation = s.k > 0.0;
-    if (foundation && s.beta * h > 2.0) {
+    if (pr.axial_force != 0.0) {
+      s.basis = 2;
+      s.ell = h;
+      s.axial = pr.axial_force * h * h / m.p.EI;
+      s.kappa = s.k * h * h * h * h / m.p.EI;
+    } else if (foundation && s.beta * h > 2.0) {
       s.basis = 1;
       s.ell = m.p.lambda;
       s.kappa = 1.0;
@@ -360,9 +424,11 @@ MatrixXd assemble_matrix(const Model& m) {
         d1 = 3;
         break;
     }
+    // A free end's transverse force is EI w''' + P w' (beam-column): lambda^2 P / EI times lambda w'.
+    const double axial = (e == EndCondition::free) ? m.p.P * m.p.lambda * m.p.lambda / m.p.EI : 0.0;
     for (int j = 0; j < 4; ++j) {
       A(row, 4 * seg + j) = B[d0][j];
-      A(row + 1, 4 * seg + j) = B[d1][j];
+      A(row + 1, 4 * seg + j) = B[d1][j] + axial * B[1][j];
     }
     row += 2;
   };
@@ -391,6 +457,7 @@ VectorXd assemble_rhs(const Model& m, const std::vector<double>& force, const st
   VectorXd b = VectorXd::Zero(4 * ns);
   const double lam = m.p.lambda, EI = m.p.EI;
   const double l2 = lam * lam, l3 = l2 * lam;
+  const double axial = m.p.P * l2 / EI;  // the free end's P w' term, as in assemble_matrix
   double B[4][4], P[4];
   int row = 0;
   auto particular = [&](int seg, double x, double out[4]) {
@@ -413,7 +480,7 @@ VectorXd assemble_rhs(const Model& m, const std::vector<double>& force, const st
       break;
     case EndCondition::free:
       b(row) = l2 * moment.front() / EI - P[2];
-      b(row + 1) = l3 * force.front() / EI - P[3];
+      b(row + 1) = l3 * force.front() / EI - P[3] - axial * P[1];
       break;
   }
   row += 2;
@@ -436,7 +503,7 @@ VectorXd assemble_rhs(const Model& m, const std::vector<double>& force, const st
       break;
     case EndCondition::free:
       b(row) = -l2 * moment.back() / EI - P[2];
-      b(row + 1) = -l3 * force.back() / EI - P[3];
+      b(row + 1) = -l3 * force.back() / EI - P[3] - axial * P[1];
       break;
   }
   return b;

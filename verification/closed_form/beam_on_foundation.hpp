@@ -55,6 +55,18 @@
 // point, every foundation-piece end, every gap-table position.
 //
 // ---------------------------------------------------------------------------------------------
+// Beam-columns (issue 15): a constant axial force P along the beam (compression positive,
+// P < 0 tension) adds -P/2 int w'^2 to Pi, so every segment's equation becomes
+//   EI w'''' + P w'' + k w = q + k g,
+// whose characteristic roots (EI r^4 + P r^2 + k = 0) are, on a contact segment, alpha +- i beta
+// for |P| < 2 sqrt(k EI), a double imaginary pair at P = 2 sqrt(k EI), two imaginary pairs above
+// it (and two real pairs for tension below -2 sqrt(k EI)); on a lift-off segment 1, x and
+// cos/sin (cosh/sinh in tension) of mu x, mu^2 = |P| / EI. The P term changes only the free end's
+// condition: EI w''' + P w' = P0 at x = 0 (= -PL at x = L), the transverse force on the end;
+// interior jumps keep [EI w'''] = P_i since w' is continuous. The axial force is dead: it keeps
+// its direction (along the undeformed axis) as the beam deflects.
+//
+// ---------------------------------------------------------------------------------------------
 // Numerics
 // ---------------------------------------------------------------------------------------------
 // Each segment [a, b] carries four unknown coefficients of a local basis:
@@ -68,6 +80,15 @@
 //     q lambda^4/EI phi_4(u) (the q x^4/(24 EI) of the beam plus foundation corrections);
 //   * lift-off segment (or K = 0): the same functions with kappa = 0 (a cubic), in
 //     u = (x-a)/max(b-a, lambda), particular q (x-a)^4 / (24 EI).
+// With an axial force (P != 0) every segment is split into pieces of length h <= 1 / r_max,
+// r_max = max(sqrt(|P| / EI), (k / EI)^(1/4)), and each piece carries the Taylor-normalised
+// basis of its own equation in u = (x - a) / h: phi_j^(i)(0) = delta_ij (i, j = 0..3), Taylor
+// coefficients c_{m+4} = -(P h^2/EI) c_{m+2} - (k h^4/EI) c_m; the particular solutions are the
+// same recurrence started from c_4 = 1 (uniform load) and c_5 = 1 (linear part). On such a piece
+// |P h^2/EI| <= 1 and k h^4/EI <= 1, so the series converge fast without cancellation, and one
+// basis covers every regime (complex, double and imaginary roots, tension, and P -> 0) with no
+// special case; the extra breakpoints only add continuity rows (multiple shooting). P = 0 keeps
+// the bases below unchanged.
 // The 4m x 4m system (2 + 2 end conditions, 4 continuity/jump conditions per interior
 // breakpoint, derivative equations scaled by lambda^d) is equilibrated (row and column
 // scaling), factorised with Eigen's FullPivLU, and improved by one step of iterative
@@ -145,6 +166,7 @@ struct BeamProblem {
   std::vector<FoundationSegment> foundation_segments;  // non-empty: the foundation is these pieces only
   GapProfile gap;
   double tension_modulus = 0.0;  // K_t >= 0 where the foundation exists and w < g
+  double axial_force = 0.0;      // P along the whole beam, > 0 compression, < 0 tension (dead)
 
   // (K_ref / (4 EI))^(1/4), K_ref the largest modulus (foundation_modulus, or the largest piece).
   double beta() const;
@@ -177,7 +199,9 @@ struct Segment {
   double beta = 0.0;          // (k / (4 EI))^(1/4)
   double q0 = 0.0, q1 = 0.0;  // effective load q + k g = q0 + q1 (x - a)
   double g0 = 0.0, g1 = 0.0;  // gap g = g0 + g1 (x - a)
-  int basis = 0;              // 0: Krylov/Taylor series in u = (x-a)/ell, 1: scaled exponentials
+  int basis = 0;              // 0: Krylov/Taylor series in u = (x-a)/ell, 1: scaled exponentials,
+                              // 2: beam-column Taylor series (axial force) in u = (x-a)/ell
+  double axial = 0.0;         // P ell^2 / EI (basis 2)
   double ell = 1.0;           // length scale of u
   double kappa = 0.0;         // (beta ell)^4 for the series, 0 when k = 0
 };

@@ -4,8 +4,9 @@
 // "shear_max_abs", "at_shear_max_abs"} (moments sagging positive, V = dM/dx, the user's units). It reads the scene with
 // toml++ itself and shares no code with liftoff. It reads issue 12's ground keys too: [foundation] from/to,
 // [[foundation.segments]] (from, to, modulus or k), gap = {at, value} or gap_file (two-column CSV, relative to the
-// scene), tension_modulus, and loads of kind "distributed" (at, value tables). Exit 2 (one line on stderr) for a scene
-// it does not cover: arches, interior point supports, a modulus varying within a piece; exit 3 if the solve fails.
+// scene), tension_modulus, and loads of kind "distributed" (at, value tables) and "axial" (a constant compressive
+// force, issue 15). Exit 2 (one line on stderr) for a scene it does not cover: arches, interior point supports, a
+// modulus varying within a piece; exit 3 if the solve fails.
 #include <toml++/toml.h>
 
 #include <cmath>
@@ -130,6 +131,9 @@ int main(int argc, char** argv) {
       const std::string kind = load["kind"].value_or(std::string());
       const double value = load["value"].value_or(0.0);
       if (kind == "curvature") refuse(path, "loads.kind: an imposed curvature has no closed form here");
+      if (kind == "temperature") refuse(path, "loads.kind: a temperature load is not covered (give the axial force)");
+      // Issue 15: a constant axial force, compression positive, at full value like every load here.
+      if (kind == "axial") p.axial_force += value;
       if (kind == "force") p.forces.push_back({load["at"].value_or(0.0), value});
       if (kind == "moment") p.moments.push_back({load["at"].value_or(0.0), value});
       if (kind == "uniform")

@@ -305,13 +305,23 @@ def _read_loads(sc, raw):
         if not isinstance(ld, dict):
             raise SceneError(f"key '{where}': expected a table")
         _known(ld, ("kind", "value", "at", "from", "to", "case", "direction", "per"), where)
-        lk = _string(ld, "kind", where, ("force", "moment", "uniform", "distributed", "curvature"), None)
+        lk = _string(ld, "kind", where, ("force", "moment", "uniform", "distributed", "curvature", "axial"), None)
         # "dead" and "live" (scaled by the load factor), or a named load case of liftoff's
         # [[combinations]]: applied once, as liftoff's solve does (with a load factor, refused).
         case = ld.get("case", "live")
         if not isinstance(case, str) or not case:
             raise SceneError(f"key '{where}.case': expected a non-empty string, got {case!r}")
         item = {"kind": lk, "case": case}
+        if lk == "axial":
+            # issue 15: a constant axial force along the beam, value > 0 compressive
+            if arch:
+                raise SceneError(f"key '{where}.kind': an axial load is for beams only")
+            for key in ("at", "from", "to", "direction", "per"):
+                if key in ld:
+                    raise SceneError(f"key '{where}.{key}': not allowed on an axial load (constant along the member)")
+            item["value"] = _num(ld, "value", where)
+            loads.append(item)
+            continue
         if not arch:
             for key in ("direction", "per"):
                 if key in ld:
@@ -393,10 +403,42 @@ def read_scene(path):
 
     _read_foundation(sc, raw.get("foundation"), path)
     sc["loads"] = _read_loads(sc, raw)
+    sc["w0"] = _read_initial_shape(sc, raw.get("geometry"))
     sc["scene_elements"] = int(raw.get("solve", {}).get("elements", 200))
     sc["plain"] = (len(sc["segments"]) == 1 and sc["segments"][0][2] == sc["segments"][0][3] and sc["gap"] is None
                    and sc["Kt"] == 0.0 and sc["side"] == "inside")
     return sc
+
+
+def _read_initial_shape(sc, geo):
+    """[geometry] initial_shape = { at, value } (issue 15): the stress-free initial shape w0,
+    piecewise linear through the points (constant beyond them), beams only. The named shapes
+    (half-sine, bump) are not read here: a one-line error."""
+    if geo is None:
+        return None
+    if not isinstance(geo, dict):
+        raise SceneError("key 'geometry': expected a table")
+    _known(geo, ("initial_shape",), "geometry")
+    if "initial_shape" not in geo:
+        return None
+    where = "geometry.initial_shape"
+    if sc["kind"] != "beam":
+        raise SceneError(f"key '{where}': read for beams only")
+    shape = geo["initial_shape"]
+    if not isinstance(shape, dict) or set(shape) != {"at", "value"}:
+        raise SceneError(f"key '{where}': only a table {{ at = [...], value = [...] }} is read here")
+    at = _numbers(shape, "at", where, 2)
+    vals = _numbers(shape, "value", where, 2)
+    if len(at) != len(vals):
+        raise SceneError(f"key '{where}.value': expected as many values as positions in 'at'")
+    if any(b <= a for a, b in zip(at, at[1:])):
+        raise SceneError(f"key '{where}.at': expected increasing positions")
+    return (_table_positions(sc, at, where + ".at"), vals)
+
+
+def axial_force(sc, lam):
+    """The beam's axial force (compression positive) at load factor lam."""
+    return sum(_case_factor(ld["case"], lam) * ld["value"] for ld in sc["loads"] if ld["kind"] == "axial")
 
 
 def sc_pos(sc, user, where="position"):
@@ -448,7 +490,11 @@ def key_points(sc):
         pts += [seg[0], seg[1]]
     if sc["gap"] is not None:
         pts += [p for p in sc["gap"][0] if sc["s0"] < p < sc["s1"]]
+    if sc.get("w0") is not None:
+        pts += [p for p in sc["w0"][0] if sc["s0"] < p < sc["s1"]]
     for ld in sc["loads"]:
+        if ld["kind"] == "axial":
+            continue
         if ld["kind"] in ("uniform", "distributed"):
             pts += list(ld["at"])
         elif ld["kind"] == "curvature":
@@ -775,6 +821,14 @@ class Model:
             a += nit * ds(1) + nit * ds(2)
         if arch:
             a += cm * (u.dx(0) - w) * (uh.dx(0) - wh) * dx
+        # issue 15, beams: the axial force P (compression positive) adds -P/2 int w'^2 to the
+        # energy, i.e. -P int w' v' to the bilinear form. With a stress-free initial shape w0 the
+        # unknown is the deflection from it (bending and foundation act on it; the foundation
+        # follows the initial shape) while P acts on the total slope w0' + w': the load gains
+        # +P int w0' v'.
+        self.axial_force = 0.0 if arch else axial_force(sc, opts.load_factor)
+        if self.axial_force != 0.0:
+            a += -self.axial_force * w.dx(0) * wh.dx(0) * dx
         # line loads: radial ones (> 0 toward the foundation, i.e. along sigma * inward);
         # vertical ones (> 0 downward) have the inward component cos(theta) and the
         # tangential one sin(theta); per projection they carry |cos(theta)| more (dx = R cos dtheta)
@@ -791,6 +845,12 @@ class Model:
             Lq = Lq - cb * kT * kaph * dx + cb * ufl.avg(kT) * ufl.jump(ufl.grad(wh), nrm) * dS
             if facet_idx:
                 Lq = Lq + cb * kT * ufl.dot(ufl.grad(wh), nrm) * (ds(1) + ds(2))
+        if self.axial_force != 0.0 and sc.get("w0") is not None:
+            # w0 is linear on every cell (its breakpoints are vertices): a DG0 slope
+            w0a, w0b = cell_linear(lambda x: table_value(sc["w0"][0], sc["w0"][1], x, "const"), xa, xb)
+            w0_slope = fem.Function(V0)
+            w0_slope.x.array[c0] = (w0b - w0a) / (xb - xa)
+            Lq = Lq + self.axial_force * w0_slope * wh.dx(0) * dx
         self.L_form = fem.form(Lq)
 
         # residual forms F(uh; v) and their Jacobians, for dolfinx's NonlinearProblem. The
@@ -1263,6 +1323,8 @@ def main(argv=None):
         "tensionless": sc["tensionless"],
         "k": sc["k"],
         "load_factor": opts.load_factor,
+        "axial_force": axial_force(sc, opts.load_factor) if sc["kind"] == "beam" else None,
+        "initial_shape": sc["w0"] is not None,
         "discretisation": {
             "w": "P2 Lagrange, C0 interior penalty (symmetric), Nitsche for clamped w'",
             "u": f"P{opts.u_degree} Lagrange" if sc["kind"] == "arch" else None,
