@@ -47,7 +47,7 @@ TEST_CASE("long stress: a million elements, bilateral foundation (one sparse sol
   scene::Scene s = test::beam_scene(1.0, 1.0, EndSupport::pinned, EndSupport::clamped, 4 * std::pow(8.0, 4), false);
   s.loads = {test::point_force(0.3, 1.0), test::point_moment(0.6, 0.2), test::uniform_load(0.7, 0.9, 2.0)};
   closed_form::BeamProblem p;
-  p.k = 4 * std::pow(8.0, 4);
+  p.foundation_modulus = 4 * std::pow(8.0, 4);
   p.left = closed_form::EndCondition::pinned;
   p.right = closed_form::EndCondition::clamped;
   p.forces = {{0.3, 1.0}};
@@ -119,7 +119,7 @@ TEST_CASE("long stress: the 500 m pipeline at 1e5 and 1e6 elements against the c
   closed_form::BeamProblem p;
   p.length = 500.0;
   p.bending_stiffness = 3.12e7;
-  p.k = 2.0e5;
+  p.foundation_modulus = 2.0e5;
   p.left = p.right = closed_form::EndCondition::clamped;
   p.forces = {{250.0, -50e3}};
   p.uniform_loads = {{0.0, 500.0, 1000.0}};
