@@ -143,7 +143,11 @@ nlohmann::json to_json(const PathTrace& p) {
     j["steps"].push_back({{"lambda", s.load_factor},
                           {"monitor_deflection", s.monitor_deflection},
                           {"contact_regions", io::contact_regions_json(s.contact_regions)},
-                          {"iterations", s.iterations}});
+                          {"iterations", s.iterations},
+                          {"axial_force", s.axial_force},
+                          {"amplitude", s.amplitude},
+                          {"lifted_length", s.lifted_length},
+                          {"stability", continuation::to_string(s.stability)}});
   }
   return j;
 }

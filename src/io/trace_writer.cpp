@@ -194,6 +194,19 @@ const StepColumn step_columns[] = {
      [](TraceStep& s, std::vector<double> v) { s.monitor_deflection = v.at(0); }, nullptr, nullptr},
     {"lambda", ColumnKind::number, 0, [](const TraceStep& s) { return std::vector<double>{s.load_factor}; },
      [](TraceStep& s, std::vector<double> v) { s.load_factor = v.at(0); }, nullptr, nullptr},
+    {"axial_force", ColumnKind::number, 0, [](const TraceStep& s) { return std::vector<double>{s.axial_force}; },
+     [](TraceStep& s, std::vector<double> v) { s.axial_force = v.at(0); }, nullptr, nullptr},
+    {"amplitude", ColumnKind::number, 0, [](const TraceStep& s) { return std::vector<double>{s.amplitude}; },
+     [](TraceStep& s, std::vector<double> v) { s.amplitude = v.at(0); }, nullptr, nullptr},
+    {"lifted_length", ColumnKind::number, 0, [](const TraceStep& s) { return std::vector<double>{s.lifted_length}; },
+     [](TraceStep& s, std::vector<double> v) { s.lifted_length = v.at(0); }, nullptr, nullptr},
+    {"stability", ColumnKind::text, 0, nullptr, nullptr,
+     [](const TraceStep& s) { return std::string(path::to_string(s.stability)); },
+     [](TraceStep& s, const std::string& t) {
+       const std::optional<path::Stability> v = from_string<path::Stability>(t);
+       if (!v) throw OutputError(fmt::format("trace file: stability '{}' is not stable, unstable or unknown", t));
+       s.stability = *v;
+     }},
 };
 
 std::vector<std::string> split_paths(const std::string& joined) {

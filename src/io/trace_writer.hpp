@@ -21,7 +21,8 @@
 //   /sample_points   the points where w and r are recorded (user coordinate)
 //   /PATH/           one group per path run ("fe", "ritz", "fe_refined"); attributes complete,
 //                    termination, message, monitor (user coordinate)
-//   /PATH/steps/     lambda, monitor_deflection, iterations (steps); deflection, reaction
+//   /PATH/steps/     lambda, monitor_deflection, iterations, axial_force, amplitude, lifted_length
+//                    (steps); stability (steps, strings); deflection, reaction
 //                    (steps x samples); state_topology (steps, strings: state_topology_text);
 //                    contact_regions (rows of
 //                    step, begin, end); state (rows of step, value)

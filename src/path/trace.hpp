@@ -39,6 +39,8 @@ enum class EventKind {
   limit_at_load,      // a contact limit reaches a point load
   limit_at_end,       // a contact limit reaches or leaves the end of the foundation (member end)
   limit_point,        // a fold: lambda reaches a maximum or minimum along the path
+  bifurcation,        // the tangent stiffness on the current contact set turns singular away from a fold:
+                      // another branch crosses the path here (beam-columns, issue 15)
 };
 std::string_view to_string(EventKind);
 
@@ -76,6 +78,12 @@ struct FeContactSet {
 // (io/trace_writer.hpp) only in the trace file.
 using StateTopology = std::variant<std::monostate, RitzTopology, FeContactSet>;
 
+// Whether the equilibrium of a step is stable: its tangent stiffness, on the cone of admissible
+// perturbations of its contact set, positive definite (stable) or not (unstable); unknown where
+// the path does not check it (a member without axial force is stable by convexity).
+enum class Stability { unknown, stable, unstable };
+std::string_view to_string(Stability);
+
 // One recorded point of the path.
 struct TraceStep {
   double load_factor = 0.0;
@@ -84,6 +92,14 @@ struct TraceStep {
   std::vector<double> deflection;              // w at TraceOptions::sample_points (user length units)
   std::vector<double> reaction;                // foundation reaction there (force per length, compression > 0)
   int iterations = 0;                          // corrector iterations (Ritz) or pivots (FE) since the last step
+  // Beam-columns: the axial force N = N_dead + lambda N_live (user force units, compression > 0; 0
+  // without axial loads), the buckle amplitude (the largest lift of the member off the foundation
+  // surface, max of -(w - gap) over the foundation, user length, 0 where nothing lifts) and the lifted
+  // length (the total length of lift-off zones on the foundation, user coordinate), and the stability.
+  double axial_force = 0.0;
+  double amplitude = 0.0;
+  double lifted_length = 0.0;
+  Stability stability = Stability::unknown;
   // What a resumed trace needs to continue from this step without redoing anything, read by
   // the path that wrote it. Ritz: its topology and (unknowns, tangent, next step length,
   // amplitude scale), so a resumed run takes the same steps; FE: FeContactSet and one 0/1 per
@@ -145,4 +161,6 @@ template <>
 std::optional<path::TraceTermination> from_string(std::string_view);
 template <>
 std::optional<path::PathKind> from_string(std::string_view);
+template <>
+std::optional<path::Stability> from_string(std::string_view);
 }  // namespace liftoff

@@ -53,7 +53,11 @@ TEST_CASE("enum names: one table each, read both ways, spelled as the outputs ha
                           {EventKind::limit_at_support, "limit_at_support"},
                           {EventKind::limit_at_load, "limit_at_load"},
                           {EventKind::limit_at_end, "limit_at_end"},
-                          {EventKind::limit_point, "limit_point"}});
+                          {EventKind::limit_point, "limit_point"},
+                          {EventKind::bifurcation, "bifurcation"}});
+  check_names<path::Stability>({{path::Stability::unknown, "unknown"},
+                                {path::Stability::stable, "stable"},
+                                {path::Stability::unstable, "unstable"}});
   using continuation::TraceTermination;
   check_names<TraceTermination>({{TraceTermination::completed, "completed"},
                                  {TraceTermination::no_equilibrium, "no_equilibrium"},
