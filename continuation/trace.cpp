@@ -24,6 +24,8 @@ void TraceOptions::validate(double member_begin, double member_end) const {
     if (!(p >= lo && p <= hi)) fail(fmt::format("sample_points: expected positions in [{}, {}], got {}", lo, hi, p));
   if (!(monitor >= lo && monitor <= hi))
     fail(fmt::format("monitor: expected a position in [{}, {}], got {}", lo, hi, monitor));
+  if (max_amplitude && !(*max_amplitude > 0.0))
+    fail(fmt::format("max_amplitude: expected a length > 0, got {}", *max_amplitude));
   if (resume_from && !std::isfinite(resume_from->load_factor))
     fail("resume_from: the step's load factor must be finite");
 }

@@ -40,6 +40,9 @@ struct TraceOptions {
   int modes = 0;                      // Ritz path: 0 = automatic as in [ritz]
   double monitor = 0.0;               // user coordinate of the load-displacement curve's w
   std::vector<double> sample_points;  // user coordinates at which w and r are recorded
+  // Beam-columns: stop (completed) at the first step whose TraceStep::amplitude (user length)
+  // reaches this; absent: no bound (scene::TraceSettings::max_amplitude).
+  std::optional<double> max_amplitude;
   // Resume after this step (read back from an interrupted trace's file): the path restarts
   // from its lambda and state. It reports neither that step nor any event at or below its
   // lambda again: they are in the file already.

@@ -200,6 +200,7 @@ TraceOptions trace_options(const scene::Scene& scene, const TraceRequest& reques
                                                                                    : contact::to_contact(method);
   o.modes = request.modes.value_or(scene.ritz.modes);
   o.monitor = monitor_point(scene);
+  o.max_amplitude = t.max_amplitude;
   // Uniform, with both ends exact: begin + (end - begin) i / (n - 1) can round one ulp past the
   // end (L = 0.013), and the paths refuse a sample outside the member.
   o.sample_points.resize(t.samples);

@@ -220,6 +220,10 @@ struct TraceSettings {
   int samples = 101;              // uniformly spaced points along the member recorded per step
   bool refine = false;            // FE path: also trace with twice the elements and report
                                   // the events' differences as the discretisation error
+  // Beam-columns: the trace also ends (completed) at the first step whose buckle amplitude
+  // (TraceStep::amplitude, user length) reaches this, on whichever branch (a descending one
+  // after a limit point never reaches lambda_max). Absent: no such bound.
+  std::optional<double> max_amplitude;
   int line = 0;                   // line of the [trace] header, for messages (0: unknown)
 };
 

@@ -55,7 +55,7 @@ const std::vector<TableSpec>& schema() {
       {"trace",
        false,
        {"lambda_max", "lambda_min", "method", "control", "initial_step", "min_step", "max_step", "max_steps", "monitor",
-        "samples", "refine"}},
+        "samples", "refine", "max_amplitude"}},
       {"compare", false, {"source", "contact_half_angle_deg"}},
       {"units", false, {"system", "length", "force"}},
       {"combinations", true, {"name", "factors"}},
@@ -1132,6 +1132,7 @@ TraceSettings read_trace(const Section& s, const Member& member) {
   trace.monitor = s.number("monitor", member.position());
   trace.samples = s.integer("samples", 2, 1'000'000).value_or(trace.samples);
   trace.refine = s.flag("refine").value_or(trace.refine);
+  trace.max_amplitude = s.number("max_amplitude", positive());
   return trace;
 }
 
