@@ -95,7 +95,7 @@ def main():
                                               table)
         r = run(other, "--closed-form", program)
         lines = r.stderr.strip().splitlines()
-        check(r.returncode == 2 and len(lines) == 1 and "loads[2].kind" in lines[0],
+        check(r.returncode == 2 and len(lines) == 1 and "loads[2].kind" in lines[0] and other in lines[0],
               f"a scene with no closed form: exit 2, one line naming the key ({lines})")
     if failures:
         print(f"{len(failures)} check(s) failed", file=sys.stderr)

@@ -66,7 +66,7 @@ def read(path):
         bad(f"{path}: cannot read it as HDF5 ({e})")
 
 
-def closed_form_table(program, scene_text, max_amplitude):
+def closed_form_table(path, program, scene_text, max_amplitude):
     with tempfile.NamedTemporaryFile("w", suffix=".toml", delete=False) as f:
         f.write(scene_text)
         scene = f.name
@@ -76,7 +76,8 @@ def closed_form_table(program, scene_text, max_amplitude):
     finally:
         os.remove(scene)
     if r.returncode != 0:
-        bad(f"the file's scene has no closed-form localized buckle: {r.stderr.strip()}")
+        why = r.stderr.strip().replace(f"closed_form_reference: {scene}: ", "")
+        bad(f"{path}: /scene: no closed-form localized buckle for it ({why})")
     return json.loads(r.stdout)
 
 
@@ -98,7 +99,7 @@ def check(path, program, rows):
     if not paths:
         bad(f"{path}: no path in the file")
     top = max(float(np.max(p["amplitude"])) for p in paths.values())
-    table = closed_form_table(program, scene_text, max(1.5 * top, 1e-12))
+    table = closed_form_table(path, program, scene_text, max(1.5 * top, 1e-12))
     points = table["points"]
     cf_lifted = np.array([q["lifted_length"] for q in points])
     cf_force = np.array([q["axial_force"] for q in points])
