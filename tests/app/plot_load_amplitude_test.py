@@ -92,8 +92,9 @@ def main():
         drew(plot(h5), picture_names(prefix), "plot upheaval trace")
         figure = prefix + "_load_amplitude.png"
         blue, red = count_colour(figure, FE_BLUE), count_colour(figure, RITZ_RED)
-        # Each path's curve over two panels (about 700 x 1.6 pixels each) and its markers: a few thousand.
-        check(blue > 1500 and red > 1500, f"both paths drawn in their colours ({blue} blue, {red} red pixels)")
+        # Each path's curve over two panels (about 700 x 1.6 pixels each) and its markers: a few thousand,
+        # fe's partly under ritz's where they nearly coincide (about 1400 left).
+        check(blue > 1000 and red > 1500, f"both paths drawn in their colours ({blue} blue, {red} red pixels)")
         black = count_colour(figure, (0, 0, 0), tolerance=40)
 
         # Without the closed-form program: the figure still comes, without the black reference branch.
@@ -116,17 +117,21 @@ def main():
         check(abs(direct_black - black) <= 0.02 * black, f"plot_trace.py draws the branch too ({direct_black} black "
                                                          f"pixels, liftoff plot {black})")
 
-        # Stability: the same paths all stable are solid, so more of their colour than dashed.
-        stable = os.path.join(tmp, "stable.h5")
-        upheaval_fixture.write_upheaval_trace(stable, scene_text, table)
-        with h5py.File(stable, "a") as f:
-            for name in ("fe", "ritz"):
-                n = len(f[name]["steps"]["stability"])
-                del f[name]["steps"]["stability"]
-                f[name]["steps"]["stability"] = np.array(["stable"] * n, dtype=object)
-        drew(plot(stable), picture_names(os.path.join(tmp, "stable")), "plot all-stable trace")
-        solid_blue = count_colour(os.path.join(tmp, "stable_load_amplitude.png"), FE_BLUE)
-        check(solid_blue > 1.1 * blue, f"unstable steps dashed ({blue} blue pixels dashed, {solid_blue} all solid)")
+        # Stability: the fe path alone, stable then unstable, against the same path all stable (solid):
+        # the dashes leave out a part of the descending branch's pixels.
+        counts = {}
+        for name, all_stable in (("fe_only", False), ("fe_stable", True)):
+            path = os.path.join(tmp, name + ".h5")
+            upheaval_fixture.write_upheaval_trace(path, scene_text, table, paths=["fe"])
+            if all_stable:
+                with h5py.File(path, "a") as f:
+                    n = len(f["fe"]["steps"]["stability"])
+                    del f["fe"]["steps"]["stability"]
+                    f["fe"]["steps"]["stability"] = np.array(["stable"] * n, dtype=object)
+            drew(plot(path), picture_names(os.path.join(tmp, name)), f"plot {name} trace")
+            counts[name] = count_colour(os.path.join(tmp, name + "_load_amplitude.png"), FE_BLUE)
+        check(counts["fe_stable"] > 1.1 * counts["fe_only"], f"unstable steps dashed ({counts['fe_only']} blue "
+                                                             f"pixels dashed, {counts['fe_stable']} all solid)")
 
         # No axial force (an older trace, or a member without axial loads): the two old pictures only.
         for name, change in (("no_axial", "zero"), ("old_layout", "delete")):

@@ -27,21 +27,23 @@ def path_steps(table, imperfection, top):
     return a, p_cf * a / (a + imperfection), np.interp(a, amp, lifted) * (a > 0)
 
 
-def write_upheaval_trace(path, scene_text, table, top=1.0, length=200.0, samples=201):
+def write_upheaval_trace(path, scene_text, table, top=1.0, length=200.0, samples=201, paths=None):
+    """paths: the names of IMPERFECTIONS to write (default all)."""
     x = np.linspace(0.0, length, samples)
+    chosen = {name: a0 for name, a0 in IMPERFECTIONS.items() if paths is None or name in paths}
     with h5py.File(path, "w") as f:
         f.attrs["liftoff_version"] = "synthetic"
         f.attrs["kind"] = "trace"
         f.attrs["scene_name"] = "pipeline_upheaval.toml"
         f.attrs["coordinate"] = "x"
         f.attrs["options"] = "{}"
-        f.attrs["paths"] = ",".join(IMPERFECTIONS)
+        f.attrs["paths"] = ",".join(chosen)
         f.attrs["complete"] = 1
         f.attrs["units_length"] = "m"
         f.attrs["units_force"] = "N"
         f["scene"] = scene_text
         f["sample_points"] = x
-        for name, imperfection in IMPERFECTIONS.items():
+        for name, imperfection in chosen.items():
             amplitude, force, lifted = path_steps(table, imperfection, top)
             n = len(amplitude)
             lam = force / LIVE
