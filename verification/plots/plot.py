@@ -617,6 +617,20 @@ def interpolate_w(p, lam):
     return p["w"][i] if l1 == l0 else p["w"][i] + (lam - l0) / (l1 - l0) * (p["w"][j] - p["w"][i])
 
 
+def folds(p):
+    """Whether the path's lambda goes up and down (a limit point): then lambda does not locate a step."""
+    d = np.diff(p["lambda"])
+    return bool(np.any(d > 0) and np.any(d < 0))
+
+
+def event_w(p, lam, step):
+    """w at an event: interpolated in lambda on a monotonic path, the event's own step on a folding one
+    (where the nearest lambda may lie on the other branch)."""
+    if folds(p) and 0 <= step < len(p["w"]):
+        return p["w"][step]
+    return interpolate_w(p, lam)
+
+
 def load_displacement(trace, out, output):
     length = trace["units"][0]
     fig, ax = plt.subplots(figsize=(7, 5))
@@ -639,12 +653,13 @@ def load_displacement(trace, out, output):
         color = TRACE_STYLES.get(name, ("black", "-"))[0]
         # Events at the same load factor and of the same kind (both ends of a symmetric member) are
         # one point of this curve: one marker, one label.
-        merged = {}
-        for lam, kind, _ in p["events"]:
+        merged, steps = {}, {}
+        for (lam, kind, _), step in zip(p["events"], p["event_steps"]):
             key = (round(lam, 9), kind)
             merged[key] = merged.get(key, 0) + 1
+            steps.setdefault(key, step)
         for (lam, kind), count in merged.items():
-            w = interpolate_w(p, lam)
+            w = event_w(p, lam, steps[(lam, kind)])
             if w is None:
                 continue
             ax.plot(w, lam, KIND_MARKERS.get(kind, "o"), color=color, markersize=7, markerfacecolor="none")
@@ -658,6 +673,10 @@ def lift_off_map(trace, out, output):
     names = list(trace["paths"]) or ["(no path)"]
     scene = trace["scene_toml"]
     pieces = foundation_pieces(scene)
+    # A beam-column path through a limit point: lambda goes up and down, so the map is drawn against
+    # the buckle amplitude, which grows along it.
+    by_amplitude = is_beam_column(trace) and any(folds(p) for p in trace["paths"].values())
+    y_key = "amplitude" if by_amplitude else "lambda"
     fig, axes = plt.subplots(1, len(names), figsize=(5.6 * len(names), 5), sharey=True, squeeze=False)
     for ax, name in zip(axes[0], names):
         p = trace["paths"].get(name)
@@ -668,7 +687,7 @@ def lift_off_map(trace, out, output):
         if p is None or len(p["lambda"]) == 0:
             continue
         color = TRACE_STYLES.get(name, ("black", "-"))[0]
-        lam, regions = p["lambda"], p["regions"]
+        lam, regions = p[y_key], p["regions"]
         for i, (a, b) in enumerate(voids(pieces, trace["begin"], trace["end"])):
             ax.add_patch(Rectangle((a, lam.min()), b - a, lam.max() - lam.min(), facecolor="0.85", edgecolor="0.5",
                                    hatch="//", linewidth=0, zorder=0, label="no foundation" if i == 0 else None))
@@ -698,8 +717,9 @@ def lift_off_map(trace, out, output):
         ax.add_patch(Rectangle((0, 0), 0, 0, facecolor="white", edgecolor="0.3", linewidth=0.6,
                                label="lifted off (foundation, no contact)"))
         ax.set_ylim(lam.min(), lam.max() + 0.02 * (lam.max() - lam.min() or 1.0))
-    axes[0][0].set_ylabel("load factor lambda")
-    fig.suptitle(f"{os.path.basename(trace['scene'])}: lift-off map", fontsize=10)
+    axes[0][0].set_ylabel(f"buckle amplitude [{length}]" if by_amplitude else "load factor lambda")
+    fig.suptitle(f"{os.path.basename(trace['scene'])}: lift-off map" +
+                 (" against the buckle amplitude (lambda passes a limit point)" if by_amplitude else ""), fontsize=10)
     handles, labels = axes[0][0].get_legend_handles_labels()
     if handles:
         fig.legend(handles, labels, loc="lower center", ncol=len(handles), fontsize=8, frameon=False)
@@ -710,9 +730,10 @@ def lift_off_map(trace, out, output):
         p = trace["paths"].get(name)
         if p is None:
             continue
-        for event_lambda, kind, at in p["events"]:
-            ax.plot(at, event_lambda, KIND_MARKERS.get(kind, "o"), color="black", markersize=6)
-            placer.place(ax, f"{event_name(kind)}, lambda = {event_lambda:.4g}", (at, event_lambda), fontsize=7,
+        for (event_lambda, kind, at), step in zip(p["events"], p["event_steps"]):
+            y = p["amplitude"][step] if by_amplitude else event_lambda
+            ax.plot(at, y, KIND_MARKERS.get(kind, "o"), color="black", markersize=6)
+            placer.place(ax, f"{event_name(kind)}, lambda = {event_lambda:.4g}", (at, y), fontsize=7,
                          bbox=dict(boxstyle="round,pad=0.15", facecolor="white", edgecolor="none", alpha=0.8))
     output.save(fig, out)
 
