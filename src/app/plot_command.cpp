@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <iostream>
 
@@ -43,6 +44,9 @@ int run_plot(const PlotRequest& request) {
   argv.push_back(nullptr);
   std::cout.flush();  // the script writes to the same stdout and stderr
   std::cerr.flush();
+  // A trace with an axial force draws the perfect member's branch from verification/closed_form's
+  // program; the one built beside this liftoff unless the caller names another.
+  ::setenv("LIFTOFF_CLOSED_FORM", LIFTOFF_CLOSED_FORM, 0);
   pid_t child = 0;
   const int spawned = ::posix_spawn(&child, python.c_str(), nullptr, nullptr, argv.data(), environ);
   if (spawned != 0) throw OutputError(fmt::format("plot: cannot run '{}': {}", python, std::strerror(spawned)));

@@ -7,6 +7,20 @@
 // scene), tension_modulus, and loads of kind "distributed" (at, value tables) and "axial" (a constant compressive
 // force, issue 15). Exit 2 (one line on stderr) for a scene it does not cover: arches, interior point supports, a
 // modulus varying within a piece; exit 3 if the solve fails.
+//
+// closed_form_reference localized-buckle SCENE.toml [--points N] [--max-amplitude A] [--half-lengths a1,a2,...]:
+// the perfect member's localized buckle branch (beam_column.hpp, localized_buckle) for the scene's EI, foundation
+// modulus K and weight q (issue 15), as JSON on stdout: {"method": "closed-form localized buckle", "EI", "K", "q",
+// "settlement" (q/K), "bilateral_critical" (2 sqrt(K EI)), "hobbs_load_parameter" (P L^2/EI of the rigid-foundation
+// limit), "points": [{"half_length" a, "lifted_length" 2a, "axial_force" P(a), "amplitude", "status"}, ...]}. The
+// amplitude is what the trace paths call it: the largest lift off the ground, max of -w over the lifted zone (the
+// ground at w = 0, so the flat state's settlement q/K is included). The member is taken as infinite (its supports
+// and length do not enter; the half-lengths run up to half the member), straight (an initial_shape is the
+// imperfection the reference leaves out), weighed by its dead uniform loads over the whole member; axial loads
+// are the P of the branch and are ignored. Points run over a = (L/2) (k/N)^2, k = 1..N (default N = 400), stopping
+// after the first whose amplitude exceeds A; only the branch's admissible points are listed (status "found", or
+// "secondary lift-off" where the contact tail would lift off too: beam_column.hpp). Exit 2 (one line naming the
+// key) for a scene that is not a uniform beam with a uniform weight on a uniform tensionless foundation.
 #include <toml++/toml.h>
 
 #include <cmath>
@@ -18,7 +32,9 @@
 #include <string>
 #include <vector>
 
+#include "closed_form/beam_column.hpp"
 #include "closed_form/beam_on_foundation.hpp"
+#include "closed_form/upheaval.hpp"
 
 using namespace liftoff::closed_form;
 
@@ -69,20 +85,147 @@ GapProfile read_gap_file(const std::string& scene, const std::string& file) {
   return g;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  if (argc != 2) {
-    std::cerr << "usage: closed_form_reference SCENE.toml\n";
-    return 2;
-  }
-  const std::string path = argv[1];
-  toml::table scene;
+toml::table read_scene(const std::string& path) {
   try {
-    scene = toml::parse_file(path);
+    return toml::parse_file(path);
   } catch (const toml::parse_error& e) {
     refuse(path, std::string("not valid TOML: ") + std::string(e.description()));
   }
+}
+
+double positive_number(const std::string& scene, const toml::node_view<const toml::node>& node, const std::string& key,
+                       const std::string& expected) {
+  const auto v = node.value<double>();
+  if (!v || !(*v > 0.0) || !std::isfinite(*v)) refuse(scene, key + ": expected " + expected);
+  return *v;
+}
+
+double option_number(const std::string& name, const std::string& text) {
+  try {
+    std::size_t used = 0;
+    const double v = std::stod(text, &used);
+    if (used == text.size() && v > 0.0 && std::isfinite(v)) return v;
+  } catch (const std::exception&) {
+  }
+  std::cerr << "closed_form_reference: " << name << ": expected a positive number, got '" << text << "'\n";
+  std::exit(2);
+}
+
+// `localized-buckle SCENE.toml [options]`: the perfect member's branch P(a) as JSON (see the top of this file).
+int localized_buckle_command(int argc, char** argv) {
+  if (argc < 3) {
+    std::cerr << "usage: closed_form_reference localized-buckle SCENE.toml [--points N] [--max-amplitude A] "
+                 "[--half-lengths a1,a2,...]\n";
+    return 2;
+  }
+  const std::string path = argv[2];
+  int points = 400;
+  double max_amplitude = INFINITY;
+  std::vector<double> half_lengths;
+  for (int i = 3; i < argc; ++i) {
+    const std::string option = argv[i];
+    if (i + 1 >= argc) {
+      std::cerr << "closed_form_reference: " << option << ": expected a value after it\n";
+      return 2;
+    }
+    const std::string value = argv[++i];
+    if (option == "--points") {
+      const double n = option_number(option, value);
+      if (n != std::floor(n) || n > 1e6) {
+        std::cerr << "closed_form_reference: --points: expected a whole number up to 1e6, got '" << value << "'\n";
+        return 2;
+      }
+      points = static_cast<int>(n);
+    } else if (option == "--max-amplitude") {
+      max_amplitude = option_number(option, value);
+    } else if (option == "--half-lengths") {
+      std::istringstream list(value);
+      std::string item;
+      while (std::getline(list, item, ',')) half_lengths.push_back(option_number(option, item));
+    } else {
+      std::cerr << "closed_form_reference: " << option
+                << ": unknown option; expected --points, --max-amplitude or --half-lengths\n";
+      return 2;
+    }
+  }
+  const toml::table scene = read_scene(path);
+  if (scene["structure"]["kind"].value_or(std::string()) != "beam")
+    refuse(path, "structure.kind: expected \"beam\" (the localized buckle is a straight member's)");
+  const double length = positive_number(path, scene["structure"]["length"], "structure.length", "a positive number");
+  const double EI =
+      positive_number(path, scene["structure"]["EI"], "structure.EI", "one positive number (a uniform member)");
+  const auto foundation = scene["foundation"];
+  for (const char* key : {"segments", "from", "to", "gap", "gap_file"})
+    if (foundation[key])
+      refuse(path,
+             std::string("foundation.") + key + ": expected none (the reference is a uniform foundation everywhere)");
+  if (!foundation["tensionless"].value_or(true)) refuse(path, "foundation.tensionless: expected true");
+  if (foundation["tension_modulus"].value_or(0.0) != 0.0) refuse(path, "foundation.tension_modulus: expected 0");
+  double K = 0.0;
+  if (foundation["nondimensional_k"] || foundation["k"]) {
+    const char* key = foundation["nondimensional_k"] ? "nondimensional_k" : "k";
+    K = positive_number(path, foundation[key], std::string("foundation.") + key, "one positive number") * EI /
+        std::pow(length, 4);
+  } else {
+    K = positive_number(path, foundation["modulus"], "foundation.modulus",
+                        "one positive number (a uniform foundation)");
+  }
+  double q = 0.0;
+  if (const toml::array* loads = scene["loads"].as_array()) {
+    for (std::size_t i = 0; i < loads->size(); ++i) {
+      const toml::table* load = (*loads)[i].as_table();
+      const std::string key = "loads[" + std::to_string(i) + "]";
+      if (!load) refuse(path, key + ": expected a table");
+      const std::string kind = (*load)["kind"].value_or(std::string());
+      if (kind == "axial") continue;  // the branch's P
+      if (kind != "uniform")
+        refuse(path, key + ".kind: expected \"uniform\" (the weight) or \"axial\", got \"" + kind + "\"");
+      if ((*load)["case"].value_or(std::string("live")) != "dead")
+        refuse(path, key + ".case: expected \"dead\" (the weight does not grow with the axial force)");
+      if ((*load)["from"].value_or(0.0) != 0.0 || (*load)["to"].value_or(length) != length)
+        refuse(path, key + ": expected the weight over the whole member (no from/to)");
+      const auto value = (*load)["value"].value<double>();
+      if (!value) refuse(path, key + ".value: expected a number");
+      q += *value;
+    }
+  }
+  if (!(q > 0.0)) refuse(path, "loads: expected a dead uniform weight q > 0 toward the foundation");
+
+  const bool listed = !half_lengths.empty();
+  if (!listed)
+    for (int k = 1; k <= points; ++k) half_lengths.push_back(0.5 * length * std::pow(double(k) / points, 2));
+  std::printf(
+      "{\"method\": \"closed-form localized buckle\", \"EI\": %.17g, \"K\": %.17g, \"q\": %.17g, \"settlement\": "
+      "%.17g, \"bilateral_critical\": %.17g, \"hobbs_load_parameter\": %.17g, \"points\": [",
+      EI, K, q, q / K, long_member_critical(K, EI), hobbs_vertical_mode().load_parameter);
+  const char* separator = "";
+  for (double a : half_lengths) {
+    const LocalizedBuckle b = localized_buckle(K, EI, q, a);
+    if (b.status != BuckleStatus::found && b.status != BuckleStatus::secondary_lift_off) continue;
+    // The largest lift off the ground over the lifted zone (the crown for this mode; sampled to be sure).
+    double amplitude = b.uplift;
+    for (int i = 0; i <= 1000; ++i) amplitude = std::max(amplitude, -b.deflection(a * i / 1000.0));
+    std::printf(
+        "%s\n  {\"half_length\": %.17g, \"lifted_length\": %.17g, \"axial_force\": %.17g, \"amplitude\": "
+        "%.17g, \"status\": \"%s\"}",
+        separator, a, 2.0 * a, b.axial_force, amplitude, to_string(b.status).c_str());
+    separator = ",";
+    if (!listed && amplitude > max_amplitude) break;
+  }
+  std::printf("]}\n");
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc >= 2 && std::string(argv[1]) == "localized-buckle") return localized_buckle_command(argc, argv);
+  if (argc != 2) {
+    std::cerr << "usage: closed_form_reference SCENE.toml | localized-buckle SCENE.toml [options]\n";
+    return 2;
+  }
+  const std::string path = argv[1];
+  toml::table scene = read_scene(path);
   if (scene["structure"]["kind"].value_or(std::string()) != "beam") refuse(path, "only beams have a closed form");
   if (scene["supports"]["interior"]) refuse(path, "interior point supports are not covered");
 

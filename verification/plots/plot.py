@@ -11,7 +11,9 @@ existed are recognised by their layout). Writes, and prints the name of, each PN
   for arches the normal force) stacked against the position (arches: theta in degrees), contact
   regions shaded, stretches with no foundation hatched, the largest and smallest value of each
   diagram labelled with its position; arches also PREFIX_shape.png, the deformed arch in its plane.
-- trace: PREFIX_load_displacement.png and PREFIX_lift_off_map.png (plot_trace.py's figures).
+- trace: PREFIX_load_displacement.png and PREFIX_lift_off_map.png (plot_trace.py's figures); when the
+  steps carry an axial force (beam-columns), also PREFIX_load_amplitude.png: the axial force against
+  the buckle amplitude and the lifted length, the perfect member's closed-form branch beside it.
 - sweep: PREFIX_deflection.png and PREFIX_reaction.png, every case overlaid, one panel per method
   (plot_sweep.py's figures). Failed cases are left out and listed on the figure. --normalise
   divides each case's curve by its own largest magnitude (max |w|, max reaction), to compare shapes.
@@ -548,7 +550,8 @@ def plot_arch_shape(r, scene, units, out, output):
 
 TRACE_STYLES = {"fe": ("tab:blue", "-"), "ritz": ("tab:red", "--"), "fe_refined": ("tab:green", ":")}
 KIND_MARKERS = {"lift_off_opens": "v", "contact_opens": "^", "region_vanishes": "x", "lift_off_vanishes": "+",
-                "limit_at_support": "s", "limit_at_load": "D", "limit_at_end": ">", "limit_point": "*"}
+                "limit_at_support": "s", "limit_at_load": "D", "limit_at_end": ">", "limit_point": "*",
+                "bifurcation": "P"}
 
 
 def read_trace_path(group):
@@ -563,8 +566,21 @@ def read_trace_path(group):
     m = min(len(events[name]) for name in ("lambda", "kind", "at", "step"))
     event_list = [(float(events["lambda"][i]), text(events["kind"][i]), float(events["at"][i]))
                   for i in range(m) if 0 <= events["step"][i] < n]
+    event_steps = [int(events["step"][i]) for i in range(m) if 0 <= events["step"][i] < n]
+
+    # Beam-columns (issue 15): per step the axial force, the buckle amplitude, the lifted length and the
+    # stability; files written before them have none (read as 0 and "unknown").
+    def column(name, default):
+        if name not in steps:
+            return np.full(n, default)
+        values = steps[name][()]
+        values = values[:n] if len(values) >= n else np.concatenate((values, np.full(n - len(values), default)))
+        return np.array([text(v) for v in values]) if default == "unknown" else np.asarray(values, dtype=float)
+
     return {"lambda": lam, "w": steps["monitor_deflection"][:n], "regions": regions, "events": event_list,
-            "monitor": float(group.attrs.get("monitor", np.nan)),
+            "event_steps": event_steps, "axial_force": column("axial_force", 0.0),
+            "amplitude": column("amplitude", 0.0), "lifted_length": column("lifted_length", 0.0),
+            "stability": column("stability", "unknown"), "monitor": float(group.attrs.get("monitor", np.nan)),
             "termination": text(group.attrs.get("termination", "running"))}
 
 
@@ -581,7 +597,7 @@ def read_trace(path):
                 scene_text = text(f["scene"][()]) if "scene" in f else ""
                 return {"paths": paths, "coordinate": text(f.attrs["coordinate"]), "begin": float(x.min()),
                         "end": float(x.max()), "scene": text(f.attrs["scene_name"]), "units": units_of(f.attrs),
-                        "scene_toml": parse_scene(scene_text)}
+                        "scene_toml": parse_scene(scene_text), "scene_text": scene_text}
         except (OSError, KeyError) as e:
             print(f"{PROG}: {candidate}: {e}", file=sys.stderr)
     fail(BAD_INPUT, f"{path}: not a readable liftoff trace (expected the file of `liftoff trace --output`)")
@@ -599,6 +615,20 @@ def interpolate_w(p, lam):
     j = min(i + 1, len(p["lambda"]) - 1) if p["lambda"][i] < lam else max(i - 1, 0)
     l0, l1 = p["lambda"][i], p["lambda"][j]
     return p["w"][i] if l1 == l0 else p["w"][i] + (lam - l0) / (l1 - l0) * (p["w"][j] - p["w"][i])
+
+
+def folds(p):
+    """Whether the path's lambda goes up and down (a limit point): then lambda does not locate a step."""
+    d = np.diff(p["lambda"])
+    return bool(np.any(d > 0) and np.any(d < 0))
+
+
+def event_w(p, lam, step):
+    """w at an event: interpolated in lambda on a monotonic path, the event's own step on a folding one
+    (where the nearest lambda may lie on the other branch)."""
+    if folds(p) and 0 <= step < len(p["w"]):
+        return p["w"][step]
+    return interpolate_w(p, lam)
 
 
 def load_displacement(trace, out, output):
@@ -623,12 +653,13 @@ def load_displacement(trace, out, output):
         color = TRACE_STYLES.get(name, ("black", "-"))[0]
         # Events at the same load factor and of the same kind (both ends of a symmetric member) are
         # one point of this curve: one marker, one label.
-        merged = {}
-        for lam, kind, _ in p["events"]:
+        merged, steps = {}, {}
+        for (lam, kind, _), step in zip(p["events"], p["event_steps"]):
             key = (round(lam, 9), kind)
             merged[key] = merged.get(key, 0) + 1
+            steps.setdefault(key, step)
         for (lam, kind), count in merged.items():
-            w = interpolate_w(p, lam)
+            w = event_w(p, lam, steps[(lam, kind)])
             if w is None:
                 continue
             ax.plot(w, lam, KIND_MARKERS.get(kind, "o"), color=color, markersize=7, markerfacecolor="none")
@@ -642,6 +673,10 @@ def lift_off_map(trace, out, output):
     names = list(trace["paths"]) or ["(no path)"]
     scene = trace["scene_toml"]
     pieces = foundation_pieces(scene)
+    # A beam-column path through a limit point: lambda goes up and down, so the map is drawn against
+    # the buckle amplitude, which grows along it.
+    by_amplitude = is_beam_column(trace) and any(folds(p) for p in trace["paths"].values())
+    y_key = "amplitude" if by_amplitude else "lambda"
     fig, axes = plt.subplots(1, len(names), figsize=(5.6 * len(names), 5), sharey=True, squeeze=False)
     for ax, name in zip(axes[0], names):
         p = trace["paths"].get(name)
@@ -652,7 +687,7 @@ def lift_off_map(trace, out, output):
         if p is None or len(p["lambda"]) == 0:
             continue
         color = TRACE_STYLES.get(name, ("black", "-"))[0]
-        lam, regions = p["lambda"], p["regions"]
+        lam, regions = p[y_key], p["regions"]
         for i, (a, b) in enumerate(voids(pieces, trace["begin"], trace["end"])):
             ax.add_patch(Rectangle((a, lam.min()), b - a, lam.max() - lam.min(), facecolor="0.85", edgecolor="0.5",
                                    hatch="//", linewidth=0, zorder=0, label="no foundation" if i == 0 else None))
@@ -682,8 +717,9 @@ def lift_off_map(trace, out, output):
         ax.add_patch(Rectangle((0, 0), 0, 0, facecolor="white", edgecolor="0.3", linewidth=0.6,
                                label="lifted off (foundation, no contact)"))
         ax.set_ylim(lam.min(), lam.max() + 0.02 * (lam.max() - lam.min() or 1.0))
-    axes[0][0].set_ylabel("load factor lambda")
-    fig.suptitle(f"{os.path.basename(trace['scene'])}: lift-off map", fontsize=10)
+    axes[0][0].set_ylabel(f"buckle amplitude [{length}]" if by_amplitude else "load factor lambda")
+    fig.suptitle(f"{os.path.basename(trace['scene'])}: lift-off map" +
+                 (" against the buckle amplitude (lambda passes a limit point)" if by_amplitude else ""), fontsize=10)
     handles, labels = axes[0][0].get_legend_handles_labels()
     if handles:
         fig.legend(handles, labels, loc="lower center", ncol=len(handles), fontsize=8, frameon=False)
@@ -694,17 +730,200 @@ def lift_off_map(trace, out, output):
         p = trace["paths"].get(name)
         if p is None:
             continue
-        for event_lambda, kind, at in p["events"]:
-            ax.plot(at, event_lambda, KIND_MARKERS.get(kind, "o"), color="black", markersize=6)
-            placer.place(ax, f"{event_name(kind)}, lambda = {event_lambda:.4g}", (at, event_lambda), fontsize=7,
+        for (event_lambda, kind, at), step in zip(p["events"], p["event_steps"]):
+            y = p["amplitude"][step] if by_amplitude else event_lambda
+            ax.plot(at, y, KIND_MARKERS.get(kind, "o"), color="black", markersize=6)
+            placer.place(ax, f"{event_name(kind)}, lambda = {event_lambda:.4g}", (at, y), fontsize=7,
                          bbox=dict(boxstyle="round,pad=0.15", facecolor="white", edgecolor="none", alpha=0.8))
     output.save(fig, out)
 
 
-def plot_trace(path, prefix, output):
+# ----------------------------------------------------------------------------------------------
+# Beam-columns (issue 15): the axial force against the buckle amplitude and the lifted length, and
+# the perfect member's localized buckle from verification/closed_form as the reference branch.
+
+STABILITY_STYLES = {"stable": "-", "unstable": "--", "unknown": ":"}
+FORCE_PREFIXES = {"N": ["N", "kN", "MN", "GN"], "kN": ["kN", "MN", "GN"], "lbf": ["lbf", "klbf"], "kip": ["kip"]}
+
+
+def force_scale(force_unit, largest):
+    """(divisor, label): the force axis in a unit that keeps its numbers below 1000 (N -> kN, MN)."""
+    names = FORCE_PREFIXES.get(force_unit, [force_unit])
+    k = 0
+    while k + 1 < len(names) and largest >= 1000.0 ** (k + 1):
+        k += 1
+    if k == 0 and largest >= 1e4 and len(names) == 1:  # a unit without prefixes: say the power
+        k = int(math.log10(largest) // 3)
+        return 1000.0 ** k, f"1e{3 * k} {force_unit}"
+    return 1000.0 ** k, names[k]
+
+
+def is_beam_column(trace):
+    return any(np.any(p["axial_force"] != 0.0) for p in trace["paths"].values())
+
+
+def closed_form_program(explicit=None):
+    """verification/closed_form's program: --closed-form, else LIFTOFF_CLOSED_FORM (which `liftoff plot`
+    sets to the one built beside it), else closed_form_reference on the PATH; None if none runs."""
+    import shutil
+    for candidate in (explicit, os.environ.get("LIFTOFF_CLOSED_FORM"), shutil.which("closed_form_reference")):
+        if candidate and os.path.isfile(candidate) and os.access(candidate, os.X_OK):
+            return candidate
+    return None
+
+
+def perfect_member_branch(scene_text, program, max_amplitude=None):
+    """The closed form's localized buckle table for the scene ({"points": [...], ...}), None with the
+    reason when the scene is not a uniform heavy beam on a uniform tensionless foundation (or no program)."""
+    import json
+    import subprocess
+    import tempfile
+    if program is None:
+        return None, "closed_form_reference not found (set LIFTOFF_CLOSED_FORM)"
+    if not scene_text:
+        return None, "the file has no scene"
+    with tempfile.NamedTemporaryFile("w", suffix=".toml", delete=False) as f:
+        f.write(scene_text)
+        scene_file = f.name
+    try:
+        command = [program, "localized-buckle", scene_file]
+        if max_amplitude:
+            command += ["--max-amplitude", repr(float(max_amplitude))]
+        r = subprocess.run(command, capture_output=True, text=True, timeout=120)
+    except (OSError, subprocess.TimeoutExpired) as e:
+        return None, f"closed_form_reference failed ({e})"
+    finally:
+        os.remove(scene_file)
+    if r.returncode != 0:
+        reason = r.stderr.strip().splitlines()[-1] if r.stderr.strip() else f"exit {r.returncode}"
+        return None, reason.split(": ", 2)[-1]
+    try:
+        return json.loads(r.stdout), None
+    except ValueError:
+        return None, "closed_form_reference printed no JSON"
+
+
+def stability_runs(stability):
+    """(start, stop, kind) of the runs of equal stability; each run drawn through the next run's first
+    step, so the curve has no gap where the stability changes."""
+    runs, start = [], 0
+    for i in range(1, len(stability) + 1):
+        if i == len(stability) or stability[i] != stability[start]:
+            runs.append((start, min(i, len(stability) - 1), str(stability[start])))
+            start = i
+    return runs
+
+
+def event_state(p, step, lam):
+    """(axial force, amplitude, lifted length) at an event: its step's, the axial force from the path's
+    own affine N(lambda) = N_dead + lambda N_live when the steps span two load factors."""
+    i = min(max(step, 0), len(p["lambda"]) - 1)
+    lams, forces = p["lambda"], p["axial_force"]
+    force = forces[i]
+    if np.ptp(lams) > 0:
+        slope, intercept = np.polyfit(lams, forces, 1)
+        force = intercept + slope * lam
+    return float(force), float(p["amplitude"][i]), float(p["lifted_length"][i])
+
+
+def load_amplitude(trace, out, output, closed_form=None):
+    length, force = trace["units"]
+    paths = {name: p for name, p in trace["paths"].items() if len(p["lambda"])}
+    largest = max([float(np.max(np.abs(p["axial_force"]))) for p in paths.values()] + [0.0])
+    amplitude_top = max([float(np.max(p["amplitude"])) for p in paths.values()] + [0.0])
+    reference, why_not = perfect_member_branch(trace.get("scene_text", ""), closed_form_program(closed_form),
+                                               1.3 * amplitude_top if amplitude_top > 0 else None)
+    if reference:
+        largest = max(largest, reference["bilateral_critical"])
+    divisor, force_label = force_scale(force, largest)
+    fig, (ax, side) = plt.subplots(1, 2, figsize=(11, 5.4), sharey=True, gridspec_kw={"width_ratios": [3, 2]})
+    styles_seen = set()
+    for name, p in paths.items():
+        color = TRACE_STYLES.get(name, ("black", "-"))[0]
+        y = p["axial_force"] / divisor
+        for k, (a, b, kind) in enumerate(stability_runs(p["stability"])):
+            style = STABILITY_STYLES.get(kind, ":")
+            styles_seen.add(kind)
+            label = f"{name} ({p['termination']})" if k == 0 else None
+            ax.plot(p["amplitude"][a:b + 1], y[a:b + 1], color=color, linestyle=style, linewidth=1.6, label=label)
+            side.plot(p["lifted_length"][a:b + 1], y[a:b + 1], color=color, linestyle=style, linewidth=1.6)
+    if reference:
+        pts = reference["points"]
+        found = [q for q in pts if q["status"] == "found"]
+        secondary = [q for q in pts if q["status"] != "found"]
+        for group, style, label in ((found, "-", "perfect member (closed form)"),
+                                    (secondary, ":", "perfect member, its contact tail lifting off too")):
+            if group:
+                amp = [q["amplitude"] for q in group]
+                pf = [q["axial_force"] / divisor for q in group]
+                ax.plot(amp, pf, color="black", linestyle=style, linewidth=0.9, label=label, zorder=4)
+                side.plot([q["lifted_length"] for q in group], pf, color="black", linestyle=style, linewidth=0.9,
+                          zorder=4)
+        top = reference["bilateral_critical"] / divisor
+        for a_ in (ax, side):
+            a_.axhline(top, color="0.5", linewidth=0.7, linestyle="-.")
+    for name in ("stable", "unstable", "unknown"):
+        if name in styles_seen:
+            ax.plot([], [], color="0.3", linestyle=STABILITY_STYLES[name], label=name if name != "unknown"
+                    else "stability unknown")
+    for a_ in (ax, side):
+        a_.grid(True, alpha=0.3)
+        a_.set_xlim(left=0.0)
+        a_.tick_params(labelsize=8)
+    if paths:
+        lifted_top = max(float(np.max(p["lifted_length"])) for p in paths.values())
+        if amplitude_top > 0:
+            ax.set_xlim(0.0, 1.08 * amplitude_top)
+        if lifted_top > 0:
+            side.set_xlim(0.0, 1.08 * lifted_top)
+    ax.set_ylim(bottom=0.0, top=1.12 * largest / divisor if largest > 0 else None)
+    ax.set_xlabel(f"buckle amplitude [{length}] (largest lift off the foundation surface)")
+    ax.set_ylabel(f"axial force P [{force_label}] (compression > 0)")
+    side.set_xlabel(f"lifted length [{length}]")
+    fig.suptitle(f"{os.path.basename(trace['scene'])}: axial force against the buckle", fontsize=10)
+    ax.legend(fontsize=7, loc="upper right")
+    notes = []
+    if reference:
+        notes.append(f"dash-dot: 2 sqrt(K EI) = {fmt(reference['bilateral_critical'] / divisor)} {force_label}, "
+                     f"the bilateral critical load")
+    elif why_not:
+        notes.append(f"no closed-form reference: {why_not}")
+    notes.append("solid: stable, dashed: unstable, dotted: stability unknown; small markers: contact events")
+    fig.text(0.5, 0.01, "\n".join(textwrap.wrap(";  ".join(notes), 170)), ha="center", va="bottom", fontsize=7,
+             color="0.3")
+    fig.tight_layout(rect=(0, 0.05, 1, 1))
+    fig.canvas.draw()
+    placer = LabelPlacer(fig)
+    placer.boxes.append(ax.get_legend().get_window_extent(fig.canvas.get_renderer()))
+    for name, p in paths.items():
+        color = TRACE_STYLES.get(name, ("black", "-"))[0]
+        seen = set()
+        for (lam, kind, _), step in zip(p["events"], p["event_steps"]):
+            key = (round(lam, 9), kind)
+            if key in seen:  # both ends of a symmetric buckle: one point of these curves
+                continue
+            seen.add(key)
+            value, amp, lifted = event_state(p, step, lam)
+            major = kind in ("limit_point", "bifurcation")
+            marker = KIND_MARKERS.get(kind, "o")
+            size = 11 if major else 4
+            ax.plot(amp, value / divisor, marker, color=color, markersize=size, markerfacecolor="none" if not major
+                    else color, markeredgecolor="black" if major else color, zorder=6)
+            side.plot(lifted, value / divisor, marker, color=color, markersize=size * 0.8,
+                      markerfacecolor="none" if not major else color, zorder=6)
+            if major:
+                placer.place(ax, f"{event_name(kind)} ({name}): P = {fmt(value / divisor)} {force_label}",
+                             (amp, value / divisor), fontsize=7, color=color,
+                             bbox=dict(boxstyle="round,pad=0.15", facecolor="white", edgecolor="none", alpha=0.85))
+    output.save(fig, out)
+
+
+def plot_trace(path, prefix, output, closed_form=None):
     trace = read_trace(path)
     load_displacement(trace, prefix + "_load_displacement.png", output)
     lift_off_map(trace, prefix + "_lift_off_map.png", output)
+    if is_beam_column(trace):
+        load_amplitude(trace, prefix + "_load_amplitude.png", output, closed_form)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -1185,6 +1404,9 @@ def main(argv=None, kind=None):
                         help="sweeps: divide each case's curve by its own largest magnitude")
     parser.add_argument("--dolfinx", action="store_true", help="sweeps: add the dolfinx reference as a panel")
     parser.add_argument("--dolfinx-elements", type=int, default=400)
+    parser.add_argument("--closed-form", default=None,
+                        help="traces with an axial force: verification/closed_form's closed_form_reference, for the "
+                             "perfect member's branch (default: $LIFTOFF_CLOSED_FORM, then the PATH)")
     args = parser.parse_args(argv)
     path = args.file
     prefix = args.out or (path[:-3] if path.endswith(".h5") else path)
@@ -1218,7 +1440,7 @@ def main(argv=None, kind=None):
     elif found == "trace":
         if f is not None:
             f.close()
-        plot_trace(path, prefix, output)
+        plot_trace(path, prefix, output, args.closed_form)
     else:
         fail(BAD_INPUT, f"{path}: not a liftoff result file (no root attribute 'kind' or 'liftoff_version'); "
                         f"expected a file written by `liftoff solve/trace/sweep --output` or "
