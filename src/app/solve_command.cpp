@@ -163,8 +163,29 @@ void attach_critical_load(io::SolveReport& report, const model::MemberModel& mod
              refused = termination == contact::ContactTermination::unstable_equilibrium;
   if (model.kind != model::StructureKind::beam || !d.has_axial_force() || !(solved || refused)) return;
   if (solution.reaction.size() != d.reactions() || solution.gap.size() != d.reactions() ||
-      !solution.reaction.allFinite() || !solution.gap.allFinite())
+      solution.displacement.size() != d.dofs() || !solution.reaction.allFinite() || !solution.gap.allFinite() ||
+      !solution.displacement.allFinite())
     return;
+  // A refusal after a failed search (no state found) leaves the last iterate, no equilibrium: the
+  // cone is asked only about a state that satisfies K(N) u + C^T r = F, r >= 0 and gap >= 0 (1e-8
+  // of their scales; the solver's own acceptance is far tighter).
+  if (refused) {
+    Eigen::VectorXd u = Eigen::VectorXd::Zero(d.equations);
+    for (int dof = 0; dof < d.dofs(); ++dof)
+      if (const int eq = d.equation_of_dof[dof]; eq >= 0)
+        u[eq] = solution.displacement[dof] - (d.prescribed.size() == d.dofs() ? d.prescribed[dof] : 0.0);
+    const Eigen::VectorXd ku = d.stiffness * u, cr = d.coupling.transpose() * solution.reaction, f = d.load(1.0);
+    const double scale =
+        std::max({ku.lpNorm<Eigen::Infinity>(), cr.lpNorm<Eigen::Infinity>(), f.lpNorm<Eigen::Infinity>()});
+    const double r_scale = solution.reaction.lpNorm<Eigen::Infinity>(),
+                 g_scale = solution.gap.lpNorm<Eigen::Infinity>();
+    const bool balanced = (ku + cr - f).lpNorm<Eigen::Infinity>() <= 1e-8 * scale;
+    const bool signs = !d.tensionless ||
+                       (solution.reaction.minCoeff() >= -1e-8 * r_scale && solution.gap.minCoeff() >= -1e-8 * g_scale &&
+                        solution.reaction.cwiseProduct(solution.gap).cwiseAbs().maxCoeff() <=
+                            1e-8 * std::max(r_scale * g_scale, std::numeric_limits<double>::min()));
+    if (!balanced || !signs) return;
+  }
   // A bilateral foundation holds every node both ways: all in contact (its reactions may be of
   // either sign or zero, which classify_contact would read as lifted or weakly active).
   const std::vector<stability::NodeContact> contact =

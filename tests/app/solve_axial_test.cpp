@@ -2,17 +2,24 @@
 // against the closed forms of verification/closed_form/beam_column.hpp (independent of liftoff),
 // each within the FE error that a mesh convergence study measures.
 
+#include <hdf5.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <complex>
+#include <filesystem>
 #include <vector>
 
 #include "app/solve_command.hpp"
 #include "closed_form/beam_column.hpp"
+#include "io/hdf5_writer.hpp"
+#include "scene/scene_reader.hpp"
 #include "support/scenes.hpp"
 
 using namespace liftoff;
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -322,4 +329,62 @@ TEST_CASE("solve: second-order V and M of a loaded beam-column on a bilateral fo
     CHECK(m_errors[2] <= m_estimate);
     CHECK(v_errors[2] <= v_estimate);
   }
+}
+
+TEST_CASE("solve: the critical load reaches the summary, the JSON and the HDF5 file", "[app][axial][io]") {
+  // The shipped strut (verification/scenes/axial/pinned_strut_one_sided.toml): bowed into its
+  // support, in contact everywhere with positive reactions: every node a spring both ways, the
+  // bilateral strut's N_cr = P_E + K L^2/pi^2 = 6.389e6 N (n = 1), factor 2.590 on N = 2.467e6 N.
+  const scene::Scene s = scene::read_scene_file(std::string(LIFTOFF_SOURCE_DIR) +
+                                                "/verification/scenes/axial/pinned_strut_one_sided.toml");
+  app::SolveRequest request;
+  const io::SolveReport r = app::solve_scene(s, request);
+  REQUIRE(r.certified());
+  REQUIRE(r.stability);
+  const double exact = closed_form::bilateral_pinned_strut_critical(6.0, 1.0e7, 1.0e6).load;
+  // h^4 at 120 elements: the 8-element error 3.3e-5 (k = 1 above) times (8/120)^4 = 6.5e-10.
+  CHECK(r.stability->critical_axial_force == Approx(exact).epsilon(1e-8));
+  CHECK(r.stability->critical_load_factor == Approx(exact / 2.467e6).epsilon(1e-8));
+  CHECK(r.stability->stability == "stable");
+  CHECK(r.stability->lower_bound == r.stability->upper_bound);
+  // The design values are back under N (second-order statics), with the free body closed.
+  REQUIRE(r.design);
+  CHECK(r.design->moment_closure < 1e-12);
+  // The mode: sign free (no weak node), so its largest |w| is +1: the half sine, at midspan.
+  const std::vector<double>& mode = r.nodes.buckling_mode;
+  REQUIRE(mode.size() == 121);
+  CHECK(*std::max_element(mode.begin(), mode.end()) == Approx(1.0).epsilon(1e-14));
+  CHECK(mode[60] == Approx(1.0).epsilon(1e-12));
+  CHECK(mode[30] == Approx(std::sin(M_PI / 4)).epsilon(1e-6));  // the FE mode's h^2-accurate shape
+
+  const nlohmann::json j = io::to_json(r);
+  CHECK(j["stability"] == "stable");
+  CHECK(j["critical_load_factor"].get<double>() == r.stability->critical_load_factor);
+  CHECK(j["critical_axial_force"].get<double>() == r.stability->critical_axial_force);
+  CHECK(j["critical_load"]["method"] == "dense");
+  CHECK(j["critical_load"]["termination"] == "critical_load_found");
+  CHECK(j["critical_load"]["lower_bound"].get<double>() == r.stability->lower_bound);
+  CHECK(j["buckling_mode"]["w"].size() == 121);
+  CHECK_THAT(io::text_summary(r), Catch::Contains("stability     stable: critical load factor 2.58"));
+
+  const fs::path dir = fs::temp_directory_path() / ("liftoff_solve_axial_test_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path file = dir / "strut.h5";
+  io::write_hdf5(r, file, "test");
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  REQUIRE(f >= 0);
+  const hid_t dataset = H5Dopen2(f, "nodes/buckling_mode", H5P_DEFAULT);
+  REQUIRE(dataset >= 0);
+  std::vector<double> stored(mode.size());
+  CHECK(H5Dread(dataset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, stored.data()) >= 0);
+  CHECK(stored == mode);
+  H5Dclose(dataset);
+  double factor = 0.0;
+  const hid_t attribute = H5Aopen_by_name(f, "stability", "critical_load_factor", H5P_DEFAULT, H5P_DEFAULT);
+  REQUIRE(attribute >= 0);
+  CHECK(H5Aread(attribute, H5T_NATIVE_DOUBLE, &factor) >= 0);
+  CHECK(factor == r.stability->critical_load_factor);
+  H5Aclose(attribute);
+  H5Fclose(f);
+  fs::remove_all(dir);
 }
