@@ -625,7 +625,9 @@ io::SolveReport ritz_report(const scene::Scene& scene, const SolveRequest& reque
     // Beams: V and M by statics with the Ritz reaction and the certificate's support reactions
     // (the modal series' own derivatives do not converge at point loads: on the B70 sleeper they
     // gave |V| 46.9 kN against the statics' 70.0 kN). Arches: none (the same series, no statics).
-    if (report.usable && model.kind == model::StructureKind::beam) {
+    // Under an axial force these statics would be first-order (post/design.hpp's function-based
+    // form has no N y term): none, rather than a moment without N's share.
+    if (report.usable && model.kind == model::StructureKind::beam && !model.has_axial_force()) {
       std::vector<post::PointReaction> supports;
       for (const certify::SupportReaction& s : certificate.support_reactions)
         supports.push_back({s.at, s.force, s.moment});

@@ -170,6 +170,8 @@ void attach_scale(SolveReport& report, const scene::Scene& scene, const model::M
   report.scale = post::scale_figures(model, mesh);
   report.warnings = scene.warnings;
   for (std::string& w : post::scale_warnings(scene, model, *report.scale)) report.warnings.push_back(std::move(w));
+  // The critical load's disagreement with the contact solver's check (StabilityTable::warning).
+  if (report.stability && !report.stability->warning.empty()) report.warnings.push_back(report.stability->warning);
 }
 
 void attach_certificate(SolveReport& report, const certify::Certificate& certificate, const model::MemberModel& model) {
@@ -585,7 +587,6 @@ std::string text_summary(const SolveReport& r) {
                      t->stability, t->critical_load_factor, t->critical_axial_force, force, t->lower_bound,
                      t->upper_bound, t->method)
                : fmt::format("  stability     {}: {} ({})\n", t->stability, t->termination, t->message);
-    if (!t->warning.empty()) out += "  WARNING       " + t->warning + "\n";
   }
   if (!r.gauge_note.empty()) out += "  note          " + r.gauge_note + "\n";
   out += "  sign          w > 0 into the foundation\n";
