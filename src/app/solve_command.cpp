@@ -191,8 +191,16 @@ void attach_critical_load(io::SolveReport& report, const model::MemberModel& mod
   const std::vector<stability::NodeContact> contact =
       d.tensionless ? stability::classify_contact(solution.reaction, solution.gap)
                     : std::vector<stability::NodeContact>(d.reactions(), stability::NodeContact::in_contact);
-  const stability::CriticalLoadResult r = stability::critical_load(d, 0.0, d.axial_force, contact);
   io::StabilityTable t;
+  stability::CriticalLoadResult r;
+  try {
+    r = stability::critical_load(d, 0.0, d.axial_force, contact);
+  } catch (const std::invalid_argument& e) {  // misuse would be a bug: reported, not a crash
+    t.stability = "undetermined";
+    t.message = std::string("the critical load was not computed: ") + e.what();
+    report.stability = std::move(t);
+    return;
+  }
   t.method = std::string(stability::to_string(r.method));
   t.termination = std::string(stability::to_string(r.termination));
   t.message = r.message;
@@ -238,10 +246,11 @@ void attach_critical_load(io::SolveReport& report, const model::MemberModel& mod
   }
   if (t.stability == "unstable" && solved)
     t.warning = fmt::format(
-        "the critical load factor {:.6g} on the cone of admissible perturbations is not above 1 while the contact "
-        "solver's inertia check on the contact set (nodes with a positive reaction) passed this state: it is "
-        "unstable against perturbations that change the contact set",
-        t.critical_load_factor);
+        "the cone of admissible perturbations finds this state unstable ({}) while the contact solver's inertia "
+        "check on the contact set (nodes with a positive reaction) passed it: it is unstable against "
+        "perturbations that change the contact set",
+        std::isfinite(t.critical_load_factor) ? fmt::format("critical load factor {:.6g}", t.critical_load_factor)
+                                              : t.termination);
   if (t.stability == "stable" && refused)
     t.warning = fmt::format(
         "the contact solver's inertia check on the contact set (nodes with a positive reaction only) refused this "
