@@ -27,6 +27,7 @@
 #include "ritz/from_scene.hpp"
 #include "ritz/ritz_model.hpp"
 #include "ritz/ritz_solver.hpp"
+#include "stability/critical_load.hpp"
 
 namespace liftoff::app {
 
@@ -149,6 +150,116 @@ std::optional<post::DesignValues> design_values(const model::MemberModel& model,
   return post::design_from_samples(model, fields);
 }
 
+// The critical load of an FE state under an axial force (stability/critical_load.hpp), on the cone
+// of its contact state (classify_contact of its reactions and gaps), as the factor on the whole
+// axial force N (dead + live at lambda = 1: dead 0, live N): > 1 stable. Run on a solved state
+// and on one contact::solve_contact refused as unstable_equilibrium; where the cone and the
+// solver's inertia check on the contact set (contact/stability.hpp: springs where r > 0) disagree,
+// the report says so. Beams only (the eigen solver's scope).
+void attach_critical_load(io::SolveReport& report, const model::MemberModel& model, const fe::Discretisation& d,
+                          const contact::ContactSolution& solution) {
+  const contact::ContactTermination termination = solution.summary.termination;
+  const bool solved = solution.summary.is_usable(),
+             refused = termination == contact::ContactTermination::unstable_equilibrium;
+  if (model.kind != model::StructureKind::beam || !d.has_axial_force() || !(solved || refused)) return;
+  if (solution.reaction.size() != d.reactions() || solution.gap.size() != d.reactions() ||
+      solution.displacement.size() != d.dofs() || !solution.reaction.allFinite() || !solution.gap.allFinite() ||
+      !solution.displacement.allFinite())
+    return;
+  // A refusal after a failed search (no state found) leaves the last iterate, no equilibrium: the
+  // cone is asked only about a state that satisfies K(N) u + C^T r = F, r >= 0 and gap >= 0 (1e-8
+  // of their scales; the solver's own acceptance is far tighter).
+  if (refused) {
+    Eigen::VectorXd u = Eigen::VectorXd::Zero(d.equations);
+    for (int dof = 0; dof < d.dofs(); ++dof)
+      if (const int eq = d.equation_of_dof[dof]; eq >= 0)
+        u[eq] = solution.displacement[dof] - (d.prescribed.size() == d.dofs() ? d.prescribed[dof] : 0.0);
+    const Eigen::VectorXd ku = d.stiffness * u, cr = d.coupling.transpose() * solution.reaction, f = d.load(1.0);
+    const double scale =
+        std::max({ku.lpNorm<Eigen::Infinity>(), cr.lpNorm<Eigen::Infinity>(), f.lpNorm<Eigen::Infinity>()});
+    const double r_scale = solution.reaction.lpNorm<Eigen::Infinity>(),
+                 g_scale = solution.gap.lpNorm<Eigen::Infinity>();
+    const bool balanced = (ku + cr - f).lpNorm<Eigen::Infinity>() <= 1e-8 * scale;
+    const bool signs = !d.tensionless ||
+                       (solution.reaction.minCoeff() >= -1e-8 * r_scale && solution.gap.minCoeff() >= -1e-8 * g_scale &&
+                        solution.reaction.cwiseProduct(solution.gap).cwiseAbs().maxCoeff() <=
+                            1e-8 * std::max(r_scale * g_scale, std::numeric_limits<double>::min()));
+    if (!balanced || !signs) return;
+  }
+  // A bilateral foundation holds every node both ways: all in contact (its reactions may be of
+  // either sign or zero, which classify_contact would read as lifted or weakly active).
+  const std::vector<stability::NodeContact> contact =
+      d.tensionless ? stability::classify_contact(solution.reaction, solution.gap)
+                    : std::vector<stability::NodeContact>(d.reactions(), stability::NodeContact::in_contact);
+  io::StabilityTable t;
+  stability::CriticalLoadResult r;
+  try {
+    r = stability::critical_load(d, 0.0, d.axial_force, contact);
+  } catch (const std::invalid_argument& e) {  // misuse would be a bug: reported, not a crash
+    t.stability = "undetermined";
+    t.message = std::string("the critical load was not computed: ") + e.what();
+    report.stability = std::move(t);
+    return;
+  }
+  t.method = std::string(stability::to_string(r.method));
+  t.termination = std::string(stability::to_string(r.termination));
+  t.message = r.message;
+  t.set_iterations = r.set_iterations;
+  t.eigen_iterations = r.eigen_iterations;
+  t.residual = r.residual;
+  t.time_s = r.time_s;
+  using stability::StabilityTermination;
+  switch (r.termination) {
+    case StabilityTermination::critical_load_found:
+      t.stability = r.critical_load_factor > 1.0 ? "stable" : "unstable";
+      t.critical_load_factor = r.critical_load_factor;
+      t.critical_axial_force = r.critical_axial_force() * model.scales.force();
+      t.lower_bound = r.lower_bound;
+      t.upper_bound = r.upper_bound;
+      break;
+    case StabilityTermination::stable_for_all_factors:
+      t.stability = "stable";
+      break;
+    case StabilityTermination::unstable_at_zero:
+      t.stability = "unstable";
+      break;
+    case StabilityTermination::not_converged:
+      t.stability = "undetermined";
+      break;
+  }
+  if (r.mode.size() == d.equations) {
+    // The mode's sign is free where no node is weakly active (every admissible perturbation's
+    // negative is admissible too): the largest |w| is then made positive, so the file is the same
+    // on every run; elsewhere the solver's admissible orientation stands.
+    const Eigen::VectorXd all = d.expand(r.mode);
+    std::vector<double> mode;
+    double largest = 0.0;
+    for (int node = 0; node <= d.mesh.elements(); ++node) {
+      mode.push_back(all[d.deflection_dof(node)]);
+      if (std::abs(mode.back()) > std::abs(largest)) largest = mode.back();
+    }
+    const bool sign_free =
+        std::none_of(contact.begin(), contact.end(), [](auto c) { return c == stability::NodeContact::weakly_active; });
+    if (sign_free && largest < 0.0)
+      for (double& w : mode) w = -w;
+    report.nodes.buckling_mode = std::move(mode);
+  }
+  if (t.stability == "unstable" && solved)
+    t.warning = fmt::format(
+        "the cone of admissible perturbations finds this state unstable ({}) while the contact solver's inertia "
+        "check on the contact set (nodes with a positive reaction) passed it: it is unstable against "
+        "perturbations that change the contact set",
+        std::isfinite(t.critical_load_factor) ? fmt::format("critical load factor {:.6g}", t.critical_load_factor)
+                                              : t.termination);
+  if (t.stability == "stable" && refused)
+    t.warning = fmt::format(
+        "the contact solver's inertia check on the contact set (nodes with a positive reaction only) refused this "
+        "state, while the cone of admissible perturbations, with the weakly active nodes' springs where a "
+        "perturbation pushes in, finds the critical load factor {:.6g} above 1",
+        t.critical_load_factor);
+  report.stability = std::move(t);
+}
+
 io::SolveReport fe_report(const scene::Scene& scene, Method method, const SolveRequest& request) {
   const auto start = std::chrono::steady_clock::now();
   const model::MemberModel model = model::make_member_model(scene);
@@ -202,12 +313,13 @@ io::SolveReport fe_report(const scene::Scene& scene, Method method, const SolveR
   const int samples = std::max(1, std::min(request.samples_per_element, max_field_samples / elements));
   post::Fields fields =
       request.fields && certified ? post::sample_fields(model, d, fe.solution, samples) : post::Fields{};
-  // The statics of the free body are first-order: under an axial force they would miss its
-  // moment at the deflected shape, so no design values (the fields' M = -EI w'' stands).
+  // Under an axial force the statics are second-order (post/design.hpp: N's moment at the
+  // deflected shape, V normal to the undeformed axis).
   const std::optional<post::DesignValues> design =
-      certified && !model.has_axial_force() ? design_values(model, d, fe.solution, *certificate, fields) : std::nullopt;
+      certified ? design_values(model, d, fe.solution, *certificate, fields) : std::nullopt;
   io::SolveReport report = io::make_report(scene, model, d, fe.solution, fields, fe.regions);
   if (design) io::attach_design(report, *design, model);
+  if (!certificate || certified) attach_critical_load(report, model, d, fe.solution);
   report.method_requested = std::string(to_string(method));
   if (!fallback_reason.empty())
     report.method_reason = fallback_reason + (report.method_reason.empty() ? "" : " (" + report.method_reason + ")");
@@ -364,6 +476,7 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
       certified ? design_values(model, d, solution, certificate, fields) : std::nullopt;
   io::SolveReport report = io::make_report(scene, model, d, solution, fields, answer.contact);
   if (design) io::attach_design(report, *design, model);
+  if (certified) attach_critical_load(report, model, d, solution);
   report.method_requested = std::string(to_string(method));
   add_accuracy(report);
   io::attach_certificate(report, certificate, model);
@@ -521,7 +634,9 @@ io::SolveReport ritz_report(const scene::Scene& scene, const SolveRequest& reque
     // Beams: V and M by statics with the Ritz reaction and the certificate's support reactions
     // (the modal series' own derivatives do not converge at point loads: on the B70 sleeper they
     // gave |V| 46.9 kN against the statics' 70.0 kN). Arches: none (the same series, no statics).
-    if (report.usable && model.kind == model::StructureKind::beam) {
+    // Under an axial force these statics would be first-order (post/design.hpp's function-based
+    // form has no N y term): none, rather than a moment without N's share.
+    if (report.usable && model.kind == model::StructureKind::beam && !model.has_axial_force()) {
       std::vector<post::PointReaction> supports;
       for (const certify::SupportReaction& s : certificate.support_reactions)
         supports.push_back({s.at, s.force, s.moment});

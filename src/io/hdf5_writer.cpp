@@ -32,7 +32,8 @@ void write_table(hid_t file, const char* group_name, const FieldTable& t) {
                                                                         {"shear_force", &t.shear_force},
                                                                         {"normal_force", &t.normal_force},
                                                                         {"reaction", &t.reaction},
-                                                                        {"w_initial", &t.w_initial}};
+                                                                        {"w_initial", &t.w_initial},
+                                                                        {"buckling_mode", &t.buckling_mode}};
   for (const auto& [name, values] : columns)
     if (!values->empty()) write_array(group, name, *values);
 }
@@ -131,6 +132,18 @@ void write_report(hid_t file, const SolveReport& r) {
   if (!r.nodes.coordinate.empty()) write_table(file, "nodes", r.nodes);
 
   if (r.certificate) write_certificate(file, r);
+  if (const auto& t = r.stability) {  // the critical load (io/report.hpp's StabilityTable)
+    Handle group(H5Gcreate2(file, "stability", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "stability");
+    write_string_attribute(group, "stability", t->stability);
+    write_number_attribute(group, "critical_load_factor", t->critical_load_factor);
+    write_number_attribute(group, "critical_axial_force", t->critical_axial_force);
+    write_number_attribute(group, "lower_bound", t->lower_bound);
+    write_number_attribute(group, "upper_bound", t->upper_bound);
+    write_string_attribute(group, "method", t->method);
+    write_string_attribute(group, "termination", t->termination);
+    write_string_attribute(group, "message", t->message);
+    write_string_attribute(group, "warning", t->warning);
+  }
   if (const auto& c = r.no_equilibrium_certificate) {  // Lemke's ray: the proof of no equilibrium
     Handle group(H5Gcreate2(file, "no_equilibrium_certificate", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
                  "no_equilibrium_certificate");

@@ -9,7 +9,12 @@
 //   /contact_regions  n x 2, [begin, end] in the user's coordinate
 //   /fields/*         coordinate, w, rotation, bending_moment, shear_force, reaction
 //                     (+ u, normal_force for arches), sampled inside every element
-//   /nodes/*          coordinate, w, rotation, reaction (+ u) at the mesh nodes (FE only)
+//   /nodes/*          coordinate, w, rotation, reaction (+ u) at the mesh nodes (FE only); beams
+//                     with an initial shape also w_initial, under an axial force buckling_mode
+//                     (max |w| = 1, w > 0 into the foundation)
+//   /stability        beams under an axial force: attributes stability, critical_load_factor,
+//                     critical_axial_force (NaN: none), lower_bound, upper_bound, method,
+//                     termination, message, warning (io/report.hpp's StabilityTable)
 //   /certificate      attributes: passed, message, foundation_resultant, foundation_centroid,
 //                     applied_force, applied_moment (arches also the _x components), and per check
 //                     <name> and <name>_tolerance (certify/certificate.hpp)

@@ -170,6 +170,8 @@ void attach_scale(SolveReport& report, const scene::Scene& scene, const model::M
   report.scale = post::scale_figures(model, mesh);
   report.warnings = scene.warnings;
   for (std::string& w : post::scale_warnings(scene, model, *report.scale)) report.warnings.push_back(std::move(w));
+  // The critical load's disagreement with the contact solver's check (StabilityTable::warning).
+  if (report.stability && !report.stability->warning.empty()) report.warnings.push_back(report.stability->warning);
 }
 
 void attach_certificate(SolveReport& report, const certify::Certificate& certificate, const model::MemberModel& model) {
@@ -213,6 +215,21 @@ nlohmann::json design_json(const DesignTable& t) {
 }
 
 nlohmann::json number_or_null(double value) { return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(); }
+
+// The nested critical_load object (the two factors and the stability word are top-level).
+nlohmann::json critical_load_json(const StabilityTable& t) {
+  nlohmann::json j{{"lower_bound", number_or_null(t.lower_bound)},
+                   {"upper_bound", number_or_null(t.upper_bound)},
+                   {"method", t.method},
+                   {"termination", t.termination},
+                   {"message", t.message},
+                   {"set_iterations", t.set_iterations},
+                   {"eigen_iterations", t.eigen_iterations},
+                   {"residual", t.residual},
+                   {"time_s", t.time_s}};
+  if (!t.warning.empty()) j["warning"] = t.warning;
+  return j;
+}
 
 nlohmann::json support_reactions_json(const SolveReport& r) {
   nlohmann::json all = nlohmann::json::array();
@@ -306,6 +323,14 @@ nlohmann::json to_json(const SolveReport& r) {
   j["k"] = r.k;
   if (r.axial_force) j["axial_force"] = *r.axial_force;
   if (!r.nodes.w_initial.empty()) j["w_initial"] = {{"coordinate", r.nodes.coordinate}, {"value", r.nodes.w_initial}};
+  if (const auto& t = r.stability) {
+    j["stability"] = t->stability;
+    j["critical_load_factor"] = number_or_null(t->critical_load_factor);
+    j["critical_axial_force"] = number_or_null(t->critical_axial_force);
+    j["critical_load"] = critical_load_json(*t);
+    if (!r.nodes.buckling_mode.empty())
+      j["buckling_mode"] = {{"coordinate", r.nodes.coordinate}, {"w", r.nodes.buckling_mode}};
+  }
   j["contact_regions"] = contact_regions_json(r.contact_regions);
   j["w_max"] = r.w_max;
   j["at_w_max"] = r.at_w_max;
@@ -553,6 +578,16 @@ std::string text_summary(const SolveReport& r) {
   }
   if (r.certificate) out += certificate_lines(r);
   if (r.design) out += design_lines(r);
+  if (const auto& t = r.stability) {
+    const std::string force = with_unit(r.units.force);
+    out += std::isfinite(t->critical_load_factor)
+               ? fmt::format(
+                     "  stability     {}: critical load factor {:.6g} on the axial force (N_cr = {:.6g}{}; "
+                     "bounds [{:.6g}, {:.6g}], {} eigen solve)\n",
+                     t->stability, t->critical_load_factor, t->critical_axial_force, force, t->lower_bound,
+                     t->upper_bound, t->method)
+               : fmt::format("  stability     {}: {} ({})\n", t->stability, t->termination, t->message);
+  }
   if (!r.gauge_note.empty()) out += "  note          " + r.gauge_note + "\n";
   out += "  sign          w > 0 into the foundation\n";
   return out;

@@ -7,6 +7,7 @@
 // length) compression positive.
 
 #include <array>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -38,6 +39,31 @@ struct FieldTable {
   // Nodes of a beam with an initial shape: w0 there (length units), so that w + w_initial is the
   // total displacement from the straight line (w is measured from the stress-free shape).
   std::vector<double> w_initial;
+  // Nodes of a beam under an axial force whose critical load was computed: the buckling mode's w
+  // (StabilityTable), max |w| = 1, w > 0 into the foundation; nondimensional.
+  std::vector<double> buckling_mode;
+};
+
+// Beams under an axial force: the critical load of the state solved (stability/critical_load.hpp),
+// on the cone of admissible perturbations of its contact state. critical_load_factor is the
+// factor on the whole axial force N (dead + live at lambda = 1) at which this configuration loses
+// stability (> 1: stable); critical_axial_force = critical_load_factor N in force units. NaN when
+// no critical load was found (stable for every factor under a tension, or not converged).
+struct StabilityTable {
+  std::string stability;  // "stable", "unstable", or "undetermined" (the eigen solve did not converge)
+  double critical_load_factor = std::numeric_limits<double>::quiet_NaN();
+  double critical_axial_force = std::numeric_limits<double>::quiet_NaN();
+  double lower_bound = std::numeric_limits<double>::quiet_NaN();  // factors: the fewest springs (nodes in contact)
+  double upper_bound = std::numeric_limits<double>::quiet_NaN();  // and the most (every weakly active node too)
+  std::string method;                                             // "dense" or "sparse"
+  std::string termination;                                        // stability::StabilityTermination's name
+  std::string message;
+  int set_iterations = -1, eigen_iterations = -1;
+  double residual = -1.0;
+  double time_s = -1.0;
+  // Where the cone's answer and the contact solver's inertia check on the contact set
+  // (contact/stability.hpp, the refusal test) disagree, in words; empty when they agree.
+  std::string warning;
 };
 
 // The design values (post/design.hpp) in the user's units: moments, shears, pressure (force per
@@ -124,11 +150,12 @@ struct SolveReport {
   std::vector<ContactRegion> contact_regions;   // user coordinate
   double w_max = 0, at_w_max = 0, w_min = 0, at_w_min = 0;
   double max_reaction = 0;
-  double time_s = 0;                  // the whole solve: set-up, solver, post-processing
-  FieldTable fields;                  // FE: sampled inside every element; Ritz: on a uniform grid (empty when
-                                      // nothing asked for fields: SolveRequest::fields)
-  FieldTable nodes;                   // FE only: at the mesh nodes (w, u, rotation, reaction)
-  std::optional<DesignTable> design;  // certified answers only
+  double time_s = 0;                        // the whole solve: set-up, solver, post-processing
+  FieldTable fields;                        // FE: sampled inside every element; Ritz: on a uniform grid (empty when
+                                            // nothing asked for fields: SolveRequest::fields)
+  FieldTable nodes;                         // FE only: at the mesh nodes (w, u, rotation, reaction)
+  std::optional<DesignTable> design;        // certified answers only
+  std::optional<StabilityTable> stability;  // beams under an axial force, FE answers (solved or refused unstable)
 
   // The answer certificate (certify/certificate.hpp), in the user's units: check positions in the
   // user's coordinate, figures and support reactions converted. Absent when there was no answer.

@@ -142,7 +142,10 @@ DesignValues recover_beam_statics(const model::MemberModel& model, const fe::Dis
   }
 
   // Per element: the distributed force p = r - q (r the foundation's reaction, upward; q the
-  // applied load, toward the foundation), V = V0 + h int p, M = M0 + h int V.
+  // applied load, toward the foundation), V = V0 + h int p, M = M0 + h int V + N (y - y0) with
+  // y = w + w0 the axis' offset from the straight line (second order: the axial force's moment
+  // at the deflected shape, 0 without N).
+  const double axial_force = model.kind == model::StructureKind::beam ? model.axial_force(load_factor) : 0.0;
   std::vector<Poly> shear(elements), moment(elements), pressure(elements);
   std::vector<double> v_start(elements), m_start(elements), v_end(elements), m_end(elements);
   double v = 0.0, m = 0.0, w_scale = 0.0, g_scale = 0.0;
@@ -173,6 +176,14 @@ DesignValues recover_beam_statics(const model::MemberModel& model, const fe::Dis
     shear[e] = integral(h * p);
     shear[e][0] = v;
     moment[e] = integral(h * shear[e]);
+    if (axial_force != 0.0) {
+      // w0 linear between the element's ends: exact where its table's points are nodes (a
+      // sampled shape's kinks inside an element move M there by N times w0's deviation from
+      // the chord; the ends, and so the closure, stay exact).
+      const Poly y = w + linear(model.initial_shape(a), model.initial_shape(a + h));
+      moment[e] = moment[e] + axial_force * (y + Poly{-eval(y, 0.0)});
+      moment_terms += std::abs(axial_force) * (std::abs(eval(y, 1.0)) + std::abs(eval(y, 0.0)));
+    }
     moment[e][0] = m;
     v_start[e] = v, m_start[e] = m;
     v = v_end[e] = eval(shear[e], 1.0);
@@ -188,7 +199,8 @@ DesignValues recover_beam_statics(const model::MemberModel& model, const fe::Dis
   // The extremes.
   for (int e = 0; e < elements; ++e) {
     const double a = d.mesh.nodes[e], h = d.mesh.element_size(e);
-    for (double xi : sign_changes(shear[e])) {
+    // M' = h V + N y' (h V alone without N, whose zeros are taken from V itself).
+    for (double xi : sign_changes(axial_force != 0.0 ? derivative(moment[e]) : shear[e])) {
       const double value = eval(moment[e], xi);
       keep_max(out.moment_max, value, a + xi * h);
       keep_min(out.moment_min, value, a + xi * h);

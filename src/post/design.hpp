@@ -13,6 +13,12 @@
 // are integrated exactly (degree <= 5): at a free end they are zero to round-off when the answer
 // is in equilibrium, and the closure, V and M past the member's end, says how well it is.
 // Unlike -w''' per element, this V is the statics of the answer, not a derivative of its cubics.
+// Second order (a beam under a compressive axial force N, MemberModel::axial_force): V stays the
+// force normal to the undeformed axis, -w''' - N (w + w0)' (the supports' forces from the
+// certificate, whose balance counts N's nodal forces), and M gains the axial force's moment at
+// the deflected shape, M(s) = M(begin) + integral of V + N (y(s) - y(begin)), y = w + w0 the
+// axis' offset from the straight line (M = -w'' still); M's extremes are where M' = V + N y'
+// vanishes. w0 is taken linear on each element (exact when its table's points are nodes).
 //
 // Extremes: M's largest and smallest exactly (element ends and the zeros of V inside elements,
 // a quartic's roots bracketed between the zeros of its derivatives); |V|'s largest (element

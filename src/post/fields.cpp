@@ -64,6 +64,10 @@ Fields sample_fields(const model::MemberModel& model, const fe::Discretisation& 
   }
   std::vector<int> dofs;
   double kappa = 0.0;  // the element's imposed curvature (curvature ranges end at nodes)
+  // Beams under an axial force N: V = -w''' - N (w' + w0'), the force normal to the undeformed
+  // axis (w0' the initial shape's chord over the element, as post/design.cpp's statics take it).
+  const double axial_force = arch ? 0.0 : model.axial_force(load_factor);
+  double initial_slope = 0.0;
   // With the foundation outside, w > 0 is outward: the inward displacement is -w (arch_element.hpp),
   // and rotation, moment, shear and normal force keep their physical meaning.
   const double in = fe::arch_element::inward_sign(d.foundation_outside);
@@ -74,7 +78,7 @@ Fields sample_fields(const model::MemberModel& model, const fe::Discretisation& 
     f.w.push_back(x.w);
     f.rotation.push_back(arch ? -(x.u + in * x.dw) : -x.dw);
     f.bending_moment.push_back(arch ? -(x.du + in * x.d2w) : -(x.d2w + kappa));
-    f.shear_force.push_back(arch ? -(x.d2u + in * x.d3w) : -x.d3w);
+    f.shear_force.push_back(arch ? -(x.d2u + in * x.d3w) : -x.d3w - axial_force * (x.dw + initial_slope));
     // The total: the LCP's reaction plus a bilinear foundation's Winkler part K_t (w - g).
     const double winkler =
         d.element_tension_k[element] == 0.0 ? 0.0 : d.element_tension_k[element] * (x.w - model.ground_gap(f.s.back()));
@@ -96,6 +100,8 @@ Fields sample_fields(const model::MemberModel& model, const fe::Discretisation& 
     }
     dofs = d.element_dofs(e);  // once per element, not per sample
     kappa = model::imposed_curvature(model.loads, d.mesh.nodes[e] + 0.5 * d.mesh.element_size(e), load_factor);
+    initial_slope =
+        (model.initial_shape(d.mesh.nodes[e + 1]) - model.initial_shape(d.mesh.nodes[e])) / d.mesh.element_size(e);
     for (int i = 0; i < samples_per_element; ++i) add(e, static_cast<double>(i) / samples_per_element);
   }
   add(elements - 1, 1.0);

@@ -3,9 +3,11 @@
 //
 // Beams: rotation = -w' (counterclockwise), bending moment M = -(w'' + kappa_T) (sagging
 // positive; kappa_T the imposed curvature of curvature loads, so M is the elastic moment and a
-// free member curling freely carries none), shear V = dM/ds = -w'''. Arches: rotation = -(u + w'), M = -(u' + w''), V =
-// dM/ds, normal force N = EA R^2/EI (u' - w) (tension positive). The reaction is the seed's linear interpolation of the
-// nodal reactions (compression positive), zero off the foundation.
+// free member curling freely carries none), shear V = dM/ds = -w'''; under a compressive axial
+// force N (second-order theory) V = -w''' - N (w + w0)', the force normal to the undeformed axis
+// (what balances the foundation's reaction and the loads: dV/ds = r - q), no longer dM/ds. Arches: rotation = -(u +
+// w'), M = -(u' + w''), V = dM/ds, normal force N = EA R^2/EI (u' - w) (tension positive). The reaction is the seed's
+// linear interpolation of the nodal reactions (compression positive), zero off the foundation.
 
 #include <Eigen/Dense>
 #include <cmath>

@@ -364,7 +364,12 @@ CriticalLoadResult critical_load(const fe::Discretisation& d, const Sparse& geom
   result.method = options.method != EigenMethod::automatic ? options.method
                   : d.equations <= options.dense_limit     ? EigenMethod::dense
                                                            : EigenMethod::sparse;
-  Problem problem{d, d.stiffness, geometric, options, result.method, live_axial_force > 0.0};
+  // B = K without the axial force: a discretisation under N holds K(N) = K - N K_g in `stiffness`
+  // (fe/discretisation.hpp), which would count N twice here (the mixed form of the sparse path is
+  // K's alone); N K_g is added back with the K_g that was subtracted.
+  Sparse bare = d.stiffness;
+  if (d.has_axial_force()) bare += d.axial_force * d.geometric_stiffness;
+  Problem problem{d, std::move(bare), geometric, options, result.method};
   auto finish = [&](StabilityTermination termination, std::string message) {
     result.termination = termination;
     result.message = std::move(message);

@@ -125,8 +125,10 @@ struct CriticalLoadResult {
 
 // The critical load factor of `discretisation`'s beam in the state `contact` (one per reaction
 // node) under N = dead + lambda live, with the geometric stiffness `geometric` on the equations
-// (stability/geometric_stiffness.hpp). Misuse (sizes, an arch, non-finite input, bad options)
-// throws std::invalid_argument; every outcome is in the result.
+// (stability/geometric_stiffness.hpp). A discretisation assembled under an axial force holds
+// K(N) = K - N K_g in `stiffness`: its N K_g is added back, so the answer is the same whatever N
+// the discretisation was made under (dead and live here are the only axial forces counted). Misuse (sizes, an arch,
+// non-finite input, bad options) throws std::invalid_argument; every outcome is in the result.
 CriticalLoadResult critical_load(const fe::Discretisation& discretisation, const Eigen::SparseMatrix<double>& geometric,
                                  double dead_axial_force, double live_axial_force,
                                  const std::vector<NodeContact>& contact, const CriticalLoadOptions& options = {});

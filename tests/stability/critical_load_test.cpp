@@ -388,3 +388,35 @@ TEST_CASE("stability: the cone decides stability under the dead load alone", "[s
     CHECK_FALSE(r.is_usable());
   }
 }
+
+TEST_CASE("stability: a discretisation assembled under N (K(N) = K - N K_g) gives the same critical load",
+          "[stability]") {
+  // fe::discretise puts N K_g into `stiffness` when the member carries an axial force; the
+  // critical load of the weightless pinned strut must stay pi^2 whatever N it was assembled
+  // under (N counted once, as dead + lambda live here), on both paths.
+  const fe::Discretisation bare = strut(32, 1e2);
+  for (double force : {0.5 * pi2, 0.9 * pi2, 3.0 * pi2}) {
+    scene::Scene s = test::beam_scene(1.0, 1.0, scene::EndSupport::pinned, scene::EndSupport::pinned, 1e2);
+    scene::Load load;
+    load.kind = scene::LoadKind::axial;
+    load.value = force;
+    load.load_case = scene::LoadCase::dead;
+    s.loads.push_back(load);
+    const fe::Discretisation d = fe::discretise(model::make_member_model(s), 32);
+    REQUIRE(d.axial_force == Approx(force).epsilon(1e-15));
+    for (auto method : {EigenMethod::dense, EigenMethod::sparse}) {
+      const auto weak = every(d, NodeContact::weakly_active);
+      const auto under = stability::critical_load(d, 0.0, 1.0, weak, with(method));
+      const auto reference = stability::critical_load(bare, 0.0, 1.0, weak, with(method));
+      CAPTURE(force, stability::to_string(method), under.brief_report(), reference.brief_report());
+      REQUIRE(under.termination == StabilityTermination::critical_load_found);
+      // K - N K_g + N K_g is K to round-off (N |K_g| eps against pi^2 |K_g|): 1e-12 relative.
+      CHECK(under.critical_load_factor == Approx(reference.critical_load_factor).epsilon(1e-12));
+      CHECK(under.critical_load_factor == Approx(pi2).epsilon(1e-5));  // h^4 at 32 elements: 1.5e-7
+      // The factor on the whole force: N_cr / N.
+      const auto on_force = stability::critical_load(d, 0.0, force, weak, with(method));
+      CHECK(on_force.critical_load_factor * force == Approx(reference.critical_load_factor).epsilon(1e-12));
+      if (method == EigenMethod::dense) CHECK(under.eigen_iterations == 0);
+    }
+  }
+}
