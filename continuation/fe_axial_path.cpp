@@ -368,7 +368,7 @@ TraceResult AxialPath::run() {
         step *= 0.5;                                             // inside the step is located below
         continue;
       }
-      // Something happens in (current, target]: bisect for the first lambda where it does.
+      // Something happens in (current, target]: the first lambda where it does, to event_tolerance.
       double lo = current->lambda, hi = target;
       Point good = *current;
       // The inertia is watched inside the step only when it differs at its end (an LDL^T per
@@ -380,16 +380,43 @@ TraceResult AxialPath::run() {
         return watch_inertia && negative_eigenvalues(set_, p->lambda) != negative;
       };
       std::optional<Point> bad = next;
+      // Regula falsi (Illinois) on the smallest margin of the contact conditions and of the
+      // amplitude bound, continuous along the set's branch; a bisection whenever a step did not
+      // halve the bracket, and throughout when the inertia is watched.
+      auto margin = [&](const Point& p) {
+        double smallest = std::numeric_limits<double>::infinity();
+        if (d_.tensionless)
+          for (double v : relative_values(set_, p)) smallest = std::min(smallest, v + tie_tolerance);
+        if (options_.max_amplitude)
+          smallest = std::min(smallest, (*options_.max_amplitude - amplitude(p)) / *options_.max_amplitude);
+        return smallest;
+      };
+      const double nan = std::numeric_limits<double>::quiet_NaN();
+      double f_lo = margin(good), f_hi = bad ? margin(*bad) : nan;
+      int moved = 0;  // +1: lo moved last, -1: hi
+      bool bisect = watch_inertia;
       for (int i = 0; i < max_bisections && std::abs(hi - lo) > options_.event_tolerance; ++i) {
-        const double mid = 0.5 * (lo + hi);
+        const double width = std::abs(hi - lo);
+        double mid = 0.5 * (lo + hi);
+        if (!bisect && std::isfinite(f_lo) && std::isfinite(f_hi) && f_lo >= 0.0 && f_hi < 0.0) {
+          const double secant = hi - f_hi * (hi - lo) / (f_hi - f_lo);
+          if (secant > std::min(lo, hi) && secant < std::max(lo, hi)) mid = secant;
+        }
         auto p = solve(set_, mid);
         if (happens(p)) {
           hi = mid;
           bad = p;
+          f_hi = p ? margin(*p) : nan;
+          if (moved == -1) f_lo *= 0.5;
+          moved = -1;
         } else {
           lo = mid;
           good = *p;
+          f_lo = margin(*p);
+          if (moved == +1) f_hi *= 0.5;
+          moved = +1;
         }
+        bisect = watch_inertia || std::abs(hi - lo) > 0.5 * width;
       }
       locate_events(*current, good, topology);
       current = good;
@@ -429,11 +456,17 @@ TraceResult AxialPath::run() {
       // A breakpoint: the nodes infeasible just beyond switch; the new set's branch through it
       // goes on ahead (no fold) or behind (a limit point).
       ++breakpoints;
+      // Every node at zero there and falling switches, ties together (mirror nodes of a symmetric
+      // member cross at one lambda to round-off, and the located point may lie on either side of
+      // one of them): falling as seen a little beyond, far above round-off, far below the spacing
+      // of breakpoints.
       const std::vector<double> values = relative_values(set_, *bad);
+      const auto probe = solve(set_, bad->lambda + direction * 1e-7 * span);
+      const std::vector<double> beyond = probe ? relative_values(set_, *probe) : values;
       ContactSet switched = set_;
       int first_switched = -1;
       for (int i = 0; i < m; ++i)
-        if (values[i] < -tie_tolerance) {
+        if (values[i] < -tie_tolerance || (values[i] <= tie_tolerance && beyond[i] < -tie_tolerance)) {
           switched[i] = !switched[i];
           if (first_switched < 0) first_switched = i;
         }
