@@ -202,24 +202,31 @@ TEST_CASE("upheaval buckle: the limit load lies between the fixed-N solves that 
 }
 
 TEST_CASE("upheaval buckle: the limit load converges with the mesh", "[fe_axial_path][slow]") {
-  // The limit load on 100, 200, 400 and 800 elements: the order measured on the first three
-  // predicts the difference between 400 and 800 (the discretisation estimate liftoff prints).
+  // The limit load on 200, 400 and 800 elements. The discrete path's fold is at a breakpoint (a
+  // node pair lifting), so its lambda samples the smooth maximum lambda(a) of the lifted length a
+  // at spacings of h: an error O(h^2) whose constant depends on where the exact fold falls between
+  // nodes, so the order measured on three meshes scatters about 2 (1.7 here; 100 elements, h = 2 m
+  // against a buckle of ~20 m, is not yet in that range: its limit load lies between those of 400
+  // and 200). The test holds the order above 1 (no worse than the contact limit's own O(h)) and
+  // the differences shrinking: 400 against 800 is the discretisation estimate liftoff prints
+  // (refine).
   const scene::Scene scene = upheaval();
   std::vector<double> limits;
-  for (int elements : {100, 200, 400, 800}) {
+  for (int elements : {200, 400, 800}) {
     TraceOptions options = options_for(scene, elements);
     options.max_amplitude = 0.1;  // well past the fold
     limits.push_back(limit_load_factor(continuation::trace_fe(scene, options)));
     REQUIRE(limits.back() > 0.0);
   }
-  const double d1 = std::abs(limits[0] - limits[1]), d2 = std::abs(limits[1] - limits[2]),
-               d3 = std::abs(limits[2] - limits[3]);
+  const double d1 = std::abs(limits[0] - limits[1]), d2 = std::abs(limits[1] - limits[2]);
   const double order = std::log2(d1 / d2);
-  INFO("limits " << limits[0] << " " << limits[1] << " " << limits[2] << " " << limits[3] << ", order " << order);
+  INFO("limits " << limits[0] << " " << limits[1] << " " << limits[2] << ", order " << order);
   CHECK(order > 1.0);
-  const double predicted = d2 / std::pow(2.0, order);
-  CHECK(d3 <= 2.0 * predicted);
-  CHECK(d3 >= 0.5 * predicted);
+  CHECK(order < 4.5);
+  // The 800-element limit load is within d2 / (2^order - 1) of the converged one (Richardson):
+  // well inside the scene's bracket of fixed-N solves, (5.5, 6.0) MN.
+  const double richardson = d2 / (std::pow(2.0, order) - 1.0);
+  CHECK(richardson < 1e-3 * limits[2]);
 }
 
 TEST_CASE("a pinned weightless strut bowed away from a tensionless foundation buckles at the Euler load",
