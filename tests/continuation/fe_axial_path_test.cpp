@@ -15,6 +15,7 @@
 #include "certify/certificate.hpp"
 #include "contact/active_set_system.hpp"
 #include "contact/contact_solver.hpp"
+#include "contact/stability.hpp"
 #include "continuation/fe_path.hpp"
 #include "fe/discretisation.hpp"
 #include "model/from_scene.hpp"
@@ -266,4 +267,46 @@ max_amplitude = 0.1
   CHECK(result.steps.back().amplitude == Approx(0.1).epsilon(1e-6));
   CHECK(result.steps.back().axial_force / euler == Approx(1.0 - 1e-3).epsilon(2e-5));
   for (const auto& step : result.steps) CHECK(step.stability == path::Stability::stable);
+}
+
+TEST_CASE(
+    "the perfect pipeline: the fold at the bilateral critical load, bifurcations where the set's tangent is singular",
+    "[fe_axial_path]") {
+  // Without the hump the straight member in full contact is a bilateral beam-column up to
+  // 2 sqrt(K EI) = 12.00 MN (lambda = 12.0 for a long member; the clamped ends of the 200 m member
+  // add a little). On the descending branch the lifted span's antisymmetric mode crosses zero on
+  // one contact set after another: the symmetric path passes through (the load has no part
+  // along it) and each crossing is a bifurcation, checked here by the inertia of the tangent on
+  // that step's set on either side, on a member discretised with N as a dead load.
+  scene::Scene scene = upheaval();
+  scene.initial_shape = {};
+  TraceOptions options = options_for(scene, 200);
+  options.arc_length.lambda_max = 14.0;
+  options.max_amplitude = 0.1;
+  const TraceResult result = continuation::trace_fe(scene, options);
+  INFO(result.summary.message);
+  REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
+  const double critical = 2.0 * std::sqrt(2.0e5 * 1.8011e8) / 1e6;
+  double highest = 0.0;
+  for (const auto& step : result.steps) highest = std::max(highest, step.load_factor);
+  CHECK(highest / critical == Approx(1.0).epsilon(5e-3));
+  CHECK(limit_load_factor(result) == highest);
+  int bifurcations = 0;
+  for (const auto& event : result.events) {
+    if (event.kind != EventKind::bifurcation) continue;
+    ++bifurcations;
+    const auto nearest = std::min_element(result.steps.begin(), result.steps.end(), [&](const auto& a, const auto& b) {
+      return std::abs(a.load_factor - event.load_factor) < std::abs(b.load_factor - event.load_factor);
+    });
+    REQUIRE(std::abs(nearest->load_factor - event.load_factor) <= 1e-9);
+    std::vector<bool> set(nearest->state.size());
+    for (std::size_t i = 0; i < set.size(); ++i) set[i] = nearest->state[i] > 0.5;
+    auto negative = [&](double lambda) {
+      const model::MemberModel model = model::make_member_model(with_dead_axial(scene, lambda));
+      return contact::check_tangent(fe::discretise(model, 200), set).negative_eigenvalues;
+    };
+    INFO("bifurcation at lambda " << event.load_factor);
+    CHECK(negative(event.load_factor - 1e-6) != negative(event.load_factor + 1e-6));
+  }
+  CHECK(bifurcations >= 1);
 }
