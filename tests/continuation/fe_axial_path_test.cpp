@@ -310,3 +310,57 @@ TEST_CASE(
   }
   CHECK(bifurcations >= 1);
 }
+
+TEST_CASE("the exact FE path reports amplitude and lifted length", "[fe_axial_path]") {
+  // A simply supported beam pressed on its foundation and lifted at its left end by a live end
+  // moment: without an axial force the exact path runs, with axial_force 0 and stability unknown;
+  // its amplitude is the largest -w (sampled finely: no more than the sampled maximum's error
+  // above that) and its lifted length is the member's length less the contact regions'.
+  const std::string text = R"(
+[structure]
+kind = "beam"
+length = 1.0
+EI = 1.0
+[supports]
+left = "pinned"
+right = "pinned"
+[foundation]
+modulus = 1.0e4
+[[loads]]
+kind = "uniform"
+value = 100.0
+case = "dead"
+[[loads]]
+kind = "moment"
+at = 0.0
+value = 1.0
+case = "live"
+[trace]
+lambda_max = 3.0
+)";
+  const scene::Scene scene = scene::parse_scene(text, "end_moment.toml");
+  TraceOptions options = options_for(scene, 100);
+  options.sample_points.clear();
+  for (int i = 0; i <= 1000; ++i) options.sample_points.push_back(i / 1000.0);
+  const TraceResult result = continuation::trace_fe(scene, options);
+  INFO(result.summary.message);
+  REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
+  int lifted_steps = 0;
+  for (const auto& step : result.steps) {
+    CHECK(step.axial_force == 0.0);
+    CHECK(step.stability == path::Stability::unknown);
+    double lowest = 0.0;
+    for (double w : step.deflection) lowest = std::min(lowest, w);
+    double contact = 0.0;
+    for (const auto& region : step.contact_regions) contact += region.end - region.begin;
+    INFO("lambda " << step.load_factor);
+    CHECK(step.amplitude >= -lowest - 1e-15);
+    // Samples 1e-3 apart on a lift-off zone of width a miss its peak by about amplitude
+    // (1e-3 / a)^2 (w'' ~ amplitude / a^2 there); 4 times that is the bound.
+    if (step.lifted_length > 0.0)
+      CHECK(step.amplitude <= -lowest * (1.0 + 4.0 * std::pow(1e-3 / step.lifted_length, 2)) + 1e-15);
+    CHECK(step.lifted_length == Approx(1.0 - contact).margin(1e-6));
+    lifted_steps += step.amplitude > 0.0;
+  }
+  CHECK(lifted_steps >= 2);
+}
