@@ -230,6 +230,29 @@ ContactTopology contact_topology(const model::MemberModel& model, const fe::Disc
   return topology;
 }
 
+LiftMeasures lift_measures(const model::MemberModel& model, const fe::Discretisation& d,
+                           const Eigen::VectorXd& displacement, const SpecialPoints& points) {
+  LiftMeasures measures;
+  if (d.reactions() == 0 || !d.tensionless) return measures;
+  double lift = 0.0;  // max of g - w (nondimensional)
+  for (int e = 0; e < d.mesh.elements(); ++e) {
+    const double s0 = d.mesh.nodes[e], h = d.mesh.element_size(e);
+    if (s0 + 0.5 * h < points.begin || s0 + 0.5 * h > points.end) continue;
+    Eigen::Vector4d w = deflection_dofs(d, displacement, e);
+    if (model.has_ground_gap()) {
+      const double g0 = model.ground_gap_in(s0, h, 0.0), g1 = model.ground_gap_in(s0, h, 1.0);
+      w -= Eigen::Vector4d(g0, (g1 - g0) / h, g1, (g1 - g0) / h);
+    }
+    lift = std::max({lift, -cubic_at(w, h, 0.0), -cubic_at(w, h, 1.0)});
+    for (double xi : extrema(w, h)) lift = std::max(lift, -cubic_at(w, h, xi));
+  }
+  measures.amplitude = lift * model.scales.displacement();
+  for (const Piece& piece : contact_topology(model, d, displacement, points).pieces)
+    if (!piece.region.in_contact)
+      measures.lifted_length += std::abs(model.user_from_s(piece.region.end) - model.user_from_s(piece.region.begin));
+  return measures;
+}
+
 std::vector<TraceEvent> classify_events(const model::MemberModel& model, const SpecialPoints& points,
                                         const ContactTopology& before, const ContactTopology& after,
                                         double load_factor) {

@@ -56,6 +56,17 @@ struct ContactTopology {
 ContactTopology contact_topology(const model::MemberModel& model, const fe::Discretisation& d,
                                  const Eigen::VectorXd& displacement, const SpecialPoints& points);
 
+// The beam-column measures of a step (TraceStep::amplitude, lifted_length), in the user's units:
+// the largest lift of the member off the foundation surface, max of g - w over the foundation's
+// extent (sampled at the nodes and the element cubics' extrema, where it peaks; 0 where nothing
+// lifts), and the total length of the topology's lift-off pieces (user coordinate).
+struct LiftMeasures {
+  double amplitude = 0.0;
+  double lifted_length = 0.0;
+};
+LiftMeasures lift_measures(const model::MemberModel& model, const fe::Discretisation& d,
+                           const Eigen::VectorXd& displacement, const SpecialPoints& points);
+
 // The events between two topologies on either side of one change (at load factor
 // `load_factor`), with positions in the user's coordinate.
 std::vector<TraceEvent> classify_events(const model::MemberModel& model, const SpecialPoints& points,

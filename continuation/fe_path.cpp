@@ -13,6 +13,7 @@
 #include "contact/active_set_system.hpp"
 #include "contact/contact_solver.hpp"
 #include "continuation/events.hpp"
+#include "continuation/fe_axial_path.hpp"
 #include "fe/discretisation.hpp"
 #include "lcp/lemke.hpp"
 #include "model/from_scene.hpp"
@@ -478,6 +479,9 @@ TraceStep FePath::step_at(double lambda) {
     step.deflection.push_back(post::evaluate(d_, displacement, e, xi).w * scales.displacement());
     step.reaction.push_back(post::reaction_at(d_, reaction, e, xi) * scales.force_per_length());
   }
+  const LiftMeasures lift = lift_measures(model_, d_, displacement, points_);
+  step.amplitude = lift.amplitude;
+  step.lifted_length = lift.lifted_length;
   step.state_topology = path::FeContactSet{};
   step.state.assign(set_.begin(), set_.end());
   return step;
@@ -746,6 +750,10 @@ TraceResult FePath::run() {
 }  // namespace
 
 TraceResult trace_fe(const scene::Scene& scene, const TraceOptions& options, const TraceSink& sink) {
+  // A beam under an axial force, dead or live: K(N) varies along the path, no longer piecewise linear.
+  if (const model::MemberModel model = model::make_member_model(scene);
+      model.kind == model::StructureKind::beam && model.has_axial_force())
+    return trace_fe_axial(scene, options, sink);
   options.validate(scene.begin(), scene.end());
   FePath path(scene, options, sink);
   return path.run();

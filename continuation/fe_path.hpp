@@ -33,6 +33,10 @@
 // with no further solve. TraceStep::state of an FE step holds the contact set that carries
 // the path on from it (1 = in contact, one per reaction node; state_topology
 // path::FeContactSet), so that a resumed trace restarts without a contact solve.
+//
+// A beam under an axial force (dead or live) is not linear in lambda: trace_fe hands it to
+// trace_fe_axial (fe_axial_path.hpp). Steps of both carry amplitude and lifted_length
+// (events.hpp's lift_measures); axial_force and stability are the axial path's.
 
 #include <optional>
 #include <vector>

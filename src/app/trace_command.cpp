@@ -45,12 +45,14 @@ const scene::TraceSettings& trace_settings(const scene::Scene& scene) {
           "{}: key 'loads[{}].case': expected \"dead\" or \"live\" for `liftoff trace` (F = F_dead + lambda "
           "F_live), got \"{}\" (free case names are for [[combinations]] and `liftoff envelope`)",
           scene.source_name, i, scene.loads[i].case_name));
-  // The FE and Ritz paths are first-order: an axial force (second-order theory) is `solve`'s only.
+  // An axial force (second-order theory) is traced on beams (continuation/fe_axial_path.hpp); an arch's
+  // axial force is `solve`'s only.
   for (std::size_t i = 0; i < scene.loads.size(); ++i)
-    if (scene.loads[i].kind == scene::LoadKind::axial || scene.loads[i].kind == scene::LoadKind::temperature)
+    if ((scene.loads[i].kind == scene::LoadKind::axial || scene.loads[i].kind == scene::LoadKind::temperature) &&
+        scene.structure.kind != scene::StructureKind::beam)
       throw InputError(fmt::format(
-          "{}: key 'loads[{}].kind': expected a transverse load for `liftoff trace`, got \"{}\" (an axial force is "
-          "taken by `liftoff solve` only in this version; a path in the axial force is not traced yet)",
+          "{}: key 'loads[{}].kind': expected a transverse load for `liftoff trace` of an arch, got \"{}\" (an "
+          "arch's axial force is taken by `liftoff solve` only in this version)",
           scene.source_name, i, scene::to_string(scene.loads[i].kind)));
   return t;
 }

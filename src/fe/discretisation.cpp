@@ -14,7 +14,6 @@
 #include "fe/element.hpp"
 #include "fe/foundation_element.hpp"
 #include "fe/shape_functions.hpp"
-#include "fe/sparse_assembler.hpp"
 
 namespace liftoff::fe {
 
@@ -573,15 +572,13 @@ void restrict_to_equations(Discretisation& d, Assembly a) {
         to_sparse(d.equations, d.equations, std::move(a.geometric), &d.equation_of_dof, &d.equation_of_dof);
 }
 
-// Second-order theory (beams under an axial force): K(N) = K - N K_g from the beam-column
-// elements through the fixed-pattern assembler, and the initial shape's load N K_g w0 by case.
+// Second-order theory (beams under an axial force): K(N) = K - N K_g at the solve's load factor 1,
+// from the K_g the element loop assembled once (the one the mixed form and the certificate use
+// too, so every consumer sees the same K_g), and the initial shape's load N K_g w0 by case.
 void apply_axial_force(const model::MemberModel& model, Discretisation& d) {
   if (model.kind != model::StructureKind::beam || !model.has_axial_force()) return;
   d.axial_force = model.axial_force(1.0);
-  const StructuralElements set = structural_elements(model, d);
-  SparseAssembler assembler(set.dofs, d.equation_of_dof);
-  assembler.assemble(set.elements, Eigen::VectorXd::Zero(d.dofs()), 1.0);
-  d.stiffness = assembler.tangent();
+  d.stiffness = SparseMatrix(d.stiffness - d.axial_force * d.geometric_stiffness);
   if (d.initial_shape_load.size() == d.equations) {
     d.dead_load += model.axial_dead * d.initial_shape_load;
     d.live_load += model.axial_live * d.initial_shape_load;

@@ -121,8 +121,9 @@ class Discretisation {
   Eigen::VectorXd live_load;
   // Beams under a compressive axial force N (MemberModel::axial_force; second-order theory):
   // `stiffness` is K(N) = K - N K_g with N = axial_force, the force at the solve's load factor 1
-  // (dead + live), assembled from BeamColumnElements through the fixed-pattern assembler
-  // (sparse_assembler.hpp); geometric_stiffness is K_g on the equations (empty without N) and
+  // (dead + live), from K and geometric_stiffness, K_g on the equations (empty without N),
+  // assembled once in the element loop (a caller following N along a path, as
+  // continuation/fe_axial_path.cpp does, forms K - N K_g the same way); and
   // the mixed form above stays that of K alone (contact::ActiveSetSystem adds -N K_g to its
   // displacement block). The initial shape w0 enters as the load N integral of N_w'^T w0'
   // (= N K_g w0 for w0 in the Hermite space; exact for the piecewise linear w0), split dead and
@@ -201,8 +202,9 @@ Discretisation discretise(const model::MemberModel& model, Mesh mesh, std::vecto
 // The member's structural elements through the element seam (element.hpp), with their global
 // dofs in each element's local order: one beam or arch element per mesh element, a Winkler
 // element on each of winkler_elements (on the element's first four dofs, the Hermite dofs of w),
-// a linear element k a a^T per spring (on its `on` dofs). Their tangents summed on the equations
-// are `stiffness` (to round-off: the sums run in another order); a SparseAssembler
+// a linear element k a a^T per spring (on its `on` dofs); beam-columns under an axial force. Their
+// tangents at load factor 1 summed on the equations are `stiffness` (to round-off: the sums run in
+// another order); a SparseAssembler
 // (sparse_assembler.hpp) built on them re-assembles it in place.
 struct StructuralElements {
   std::vector<std::unique_ptr<const Element>> elements;

@@ -1,0 +1,47 @@
+#pragma once
+// The FE + LCP load history of a beam under an axial force N = N_dead + lambda N_live (second-order
+// theory, issue 15): trace_fe (fe_path.hpp) hands a beam with an axial force, dead or live, to this.
+//
+// The stiffness K(N) = K - N K_g depends on lambda, so the path is no longer piecewise linear; it is
+// curved and has folds. With the contact set A fixed (nodes in contact bilateral, lifted nodes free)
+// the equations of contact/active_set_system.hpp are linear in (u, r_A) for each lambda:
+//   [ K(N(lambda))  C_A^T ] [ u   ]   [ F_dead + lambda F_live ]
+//   [ C_A          -T_AA  ] [ r_A ] = [ -c_A                    ],
+// so the fixed-set state is one sparse solve at each lambda and its branch is a graph over lambda
+// wherever that matrix is nonsingular: a fixed set has no fold. The path is followed in lambda on
+// one set at a time, steps adaptive, each state solved exactly (no predictor, no Newton: the
+// pseudo-arc-length corrector has nothing to correct on a system linear in the unknowns); the
+// folds of the discrete path are where a set ends. After each step the contact conditions of the
+// set are checked in the user's terms (reaction >= 0 on it, gap >= 0 off it, as the exact FE path
+// does); where one fails the crossing is located by bisection to options.event_tolerance in lambda,
+// the node(s) switch, and the new set's branch through that point is taken on the side where it is
+// feasible: ahead in lambda the path goes on, behind it the path has passed a limit point, reported
+// as an event `limit_point` at that lambda (an extremum of lambda along the path), and lambda runs
+// the other way from there.
+//
+// Per step: TraceStep::axial_force (user force units), amplitude and lifted_length
+// (events.hpp's lift_measures) and stability from the inertia of the tangent on the step's contact
+// set (contact::check_tangent): at a state where every reaction in the set is positive and every gap
+// off it is positive, small perturbations keep the set, so that tangent is the whole second
+// variation and the check is exact (stable iff positive definite). A change of its number of
+// negative eigenvalues between two steps on one set (no breakpoint between them) is a point where
+// the fixed-set tangent is singular off a fold: located by bisection on the count and reported as
+// `bifurcation`.
+//
+// Stops: lambda_max (completed), lambda_min on a descending branch (completed), the first step whose
+// amplitude reaches TraceOptions::max_amplitude (located on the branch by bisection; completed,
+// the message says so), max_steps, or a breakpoint where no side of the new set is feasible
+// (solver_failure, saying where). Contact-topology events are located as in the exact path
+// (continuation/events.hpp), between steps on one set. The start is the contact solve at lambda_min
+// (solve_contact on the member with N(lambda_min) as a dead load), checked feasible by the fixed-set
+// state. Not handled (refused with a reason in the summary): a resumed trace, settled supports under
+// a live axial force.
+
+#include "continuation/trace.hpp"
+#include "scene/scene.hpp"
+
+namespace liftoff::continuation {
+
+TraceResult trace_fe_axial(const scene::Scene& scene, const TraceOptions& options, const TraceSink& sink = {});
+
+}  // namespace liftoff::continuation
