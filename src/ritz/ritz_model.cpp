@@ -403,11 +403,13 @@ std::optional<VectorXd> RitzModel::minimiser_for_limits(const VectorXd& limits_i
     throw std::invalid_argument(fmt::format("RitzModel: {} limits given, expected {}", limits_in.size(), limits()));
   VectorXd x = VectorXd::Zero(unknowns());
   x.tail(limits()) = limits_in;
-  MatrixXd h = reduced_hessian(x, lambda);
+  const MatrixXd h = reduced_hessian(x, lambda);
   // Scale to unit diagonal first: the bending stiffness of mode j grows like j^4, so unscaled
   // pivots span many decades for a well-posed problem. After scaling, a rigid motion nothing
-  // resists shows as a pivot at round-off level.
-  const VectorXd diagonal = h.diagonal();
+  // resists shows as a pivot at round-off level. (The diagonal without the axial force: with it
+  // the matrix may be indefinite, an unstable state that solve_ritz refuses once it is found.)
+  VectorXd diagonal = stiffness_.diagonal();
+  diagonal.head(modes_) += k_ * contact_gram(x).diagonal();
   if (!(diagonal.minCoeff() > 0.0)) return std::nullopt;
   const VectorXd scale = diagonal.cwiseSqrt().cwiseInverse();
   const Eigen::LDLT<MatrixXd> ldlt(scale.asDiagonal() * h * scale.asDiagonal());

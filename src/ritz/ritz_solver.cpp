@@ -119,17 +119,38 @@ Attempt solve_once(const RitzModel& model, const VectorXd& limits, const RitzOpt
   newton.unknown_scale = VectorXd::Constant(n, 1.0 / amplitude_scale);
   newton.unknown_scale.tail(n - a).setConstant(1.0);
 
-  attempt.newton = nonlinear::solve_newton(
-      [&](const VectorXd& x, VectorXd& r) {
-        if (!model.admissible(x)) return false;
-        model.residual(x, lambda, r);
-        return true;
-      },
-      [&](const VectorXd& x, const VectorXd&, Eigen::MatrixXd& j) {
-        model.jacobian(x, lambda, j);
-        return true;
-      },
-      attempt.x, newton);
+  // A start that already solves the equations (no limits: the linear minimiser is the answer) is
+  // taken as it is: KINSOL, handed a residual at round-off zero (a member loaded by its initial
+  // shape alone), has been seen to step off to 1e274 (not understood; see the report of issue 15).
+  VectorXd r0;
+  model.residual(attempt.x, lambda, r0);
+  const double r0_scaled = r0.cwiseAbs().cwiseProduct(newton.residual_scale).maxCoeff();
+  // (Near a critical load the linear solve's residual is the condition times eps: its round-off
+  // floor, not the tolerance, is what it can meet.)
+  const double r0_floor = scaled_round_off_floor(model, attempt.x, lambda, newton.residual_scale);
+  if (model.limits() == 0 && r0_scaled <= std::max(newton.residual_tolerance, r0_floor)) {
+    attempt.newton.termination = nonlinear::NewtonTermination::converged;
+    attempt.newton.message = "the linear minimiser solves the equations";
+    attempt.newton.iterations = 0;
+    attempt.newton.residual_evaluations = 1;
+    attempt.newton.jacobian_evaluations = 0;
+    attempt.newton.backtracks = 0;
+    attempt.newton.residual_history = {r0_scaled};
+    attempt.newton.final_residual = r0_scaled;
+    attempt.newton.time_s = 0.0;
+  } else {
+    attempt.newton = nonlinear::solve_newton(
+        [&](const VectorXd& x, VectorXd& r) {
+          if (!model.admissible(x)) return false;
+          model.residual(x, lambda, r);
+          return true;
+        },
+        [&](const VectorXd& x, const VectorXd&, Eigen::MatrixXd& j) {
+          model.jacobian(x, lambda, j);
+          return true;
+        },
+        attempt.x, newton);
+  }
   std::string accepted = "equilibrium found";
   if (!attempt.newton.is_usable()) {
     // A line search that stalls just above the tolerance may be at the round-off floor of the
