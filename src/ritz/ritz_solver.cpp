@@ -119,16 +119,21 @@ Attempt solve_once(const RitzModel& model, const VectorXd& limits, const RitzOpt
   newton.unknown_scale = VectorXd::Constant(n, 1.0 / amplitude_scale);
   newton.unknown_scale.tail(n - a).setConstant(1.0);
 
-  // A start that already solves the equations (no limits: the linear minimiser is the answer) is
-  // taken as it is: KINSOL, handed a residual at round-off zero (a member loaded by its initial
-  // shape alone), has been seen to step off to 1e274 (not understood; see the report of issue 15).
-  VectorXd r0;
-  model.residual(attempt.x, lambda, r0);
-  const double r0_scaled = r0.cwiseAbs().cwiseProduct(newton.residual_scale).maxCoeff();
-  // (Near a critical load the linear solve's residual is the condition times eps: its round-off
-  // floor, not the tolerance, is what it can meet.)
-  const double r0_floor = scaled_round_off_floor(model, attempt.x, lambda, newton.residual_scale);
-  if (model.limits() == 0 && r0_scaled <= std::max(newton.residual_tolerance, r0_floor)) {
+  // Under an axial force, a start that already solves the equations (no limits: the linear
+  // minimiser is the answer) is taken as it is: KINSOL, handed a residual at round-off zero (a
+  // member loaded by its initial shape alone), has been seen to step off to 1e274 (not understood).
+  // Near a critical load the linear solve's residual is the condition times eps: its round-off
+  // floor, not the tolerance, is what it can meet.
+  bool exact_start = false;
+  double r0_scaled = 0.0;
+  if (model.has_axial_force() && model.limits() == 0) {
+    VectorXd r0;
+    model.residual(attempt.x, lambda, r0);
+    r0_scaled = r0.cwiseAbs().cwiseProduct(newton.residual_scale).maxCoeff();
+    exact_start = r0_scaled <= std::max(newton.residual_tolerance,
+                                        scaled_round_off_floor(model, attempt.x, lambda, newton.residual_scale));
+  }
+  if (exact_start) {
     attempt.newton.termination = nonlinear::NewtonTermination::converged;
     attempt.newton.message = "the linear minimiser solves the equations";
     attempt.newton.iterations = 0;
