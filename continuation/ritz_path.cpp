@@ -183,6 +183,14 @@ class RitzTracer {
   std::vector<EventSpec> without_degenerate_openings(const RitzModel& model, const VectorXd& x,
                                                      std::vector<EventSpec> events) const;
   void record_event(double lambda, EventKind kind, double s, std::string description);
+  // The beam-column quantities of a state (TraceStep::amplitude, lifted_length, in user units)
+  // and the s of the largest lift.
+  struct Buckle {
+    double amplitude = 0.0;
+    double lifted_length = 0.0;
+    double crown = 0.0;
+  };
+  Buckle buckle(const RitzModel& model, const VectorXd& x) const;
   // Why a state may not be accepted: limits out of order, or the contact inequalities failing
   // on ritz::check_inequalities' grid by more than inequality_tolerance + allowance (relative to
   // max |w|), in words and user units. nullopt: the state is a contact solution.
@@ -237,6 +245,8 @@ class RitzTracer {
   std::optional<Pending> pending_;
   std::optional<PathPoint> restart_;  // a non-switching event: go on from here
   double restart_step_ = 0.0;
+  bool amplitude_reached_ = false;        // a step reached options_.max_amplitude (stop, completed)
+  std::optional<TraceEvent> limit_load_;  // the first limit point (beam-columns), for the message
 };
 
 // --------------------------------------------------------------------------------------------
@@ -392,8 +402,10 @@ double RitzTracer::force_scale(const RitzModel& model) const {
 void RitzTracer::rescale(const RitzModel& model, PathPoint& p) {
   const int a = model.amplitudes();
   double scale = force_scale(model) / std::max(member_.k, 1.0);
-  if (p.tangent_lambda > 0)
+  // (Beam-columns: only where the path starts; near a fold dx/dlambda grows without bound.)
+  if (p.tangent_lambda > 0 && (!model.has_axial_force() || amplitude_scale_ == 0.0))
     scale = std::max(scale, lambda_size() * p.tangent_x.head(a).lpNorm<Eigen::Infinity>() / p.tangent_lambda);
+  if (model.has_axial_force() && amplitude_scale_ > 0.0) scale = std::max(scale, amplitude_scale_);
   if (!std::isfinite(scale)) return;  // keep the scale in use
   amplitude_scale_ = scale;
   const PathFollower follower = make_follower(model);
@@ -623,6 +635,13 @@ void RitzTracer::record_step(const RitzModel& model, const PathPoint& point, int
     step.reaction.push_back(model.reaction(point.x, s) * scales.force_per_length());
   }
   step.iterations = iterations;
+  step.axial_force = model.axial_force(point.lambda) * scales.force();
+  const Buckle b = buckle(model, point.x);
+  step.amplitude = b.amplitude;
+  step.lifted_length = b.lifted_length;
+  if (model.has_axial_force())  // without one the energy is convex: stable, unchecked (unknown)
+    step.stability =
+        model.stability_margin(point.x, point.lambda) > 0.0 ? path::Stability::stable : path::Stability::unstable;
   step.state_topology =
       path::RitzTopology{model.topology().first_in_contact, model.topology().limits, modes_, at_event};
   const int n = static_cast<int>(point.x.size());
@@ -737,6 +756,26 @@ std::optional<std::string> RitzTracer::stepped_over(const RitzModel& model, cons
   return std::nullopt;
 }
 
+// The largest lift off the foundation surface (the ground is at w = 0: the Ritz model takes no
+// gap) on a grid of the foundation's extent that resolves the modes, and the lift-off pieces'
+// total length.
+RitzTracer::Buckle RitzTracer::buckle(const RitzModel& model, const VectorXd& x) const {
+  Buckle b;
+  const double a = member_.foundation_begin, e = member_.foundation_end;
+  std::vector<double> w;
+  const int intervals = std::max(400, 16 * model.modes());
+  model.w_on_grid(x, a, e, intervals, w);
+  double lift = 0.0;
+  for (std::size_t i = 0; i < w.size(); ++i)
+    if (-w[i] > lift) lift = -w[i], b.crown = a + (e - a) * static_cast<double>(i + 1) / intervals;
+  for (double s : {a, e})
+    if (-model.w(x, s) > lift) lift = -model.w(x, s), b.crown = s;
+  b.amplitude = lift * member_.scales.displacement();
+  for (const ContactRegion& piece : model.pieces(x))
+    if (!piece.in_contact && piece.end > piece.begin) b.lifted_length += user(piece.end) - user(piece.begin);
+  return b;
+}
+
 void RitzTracer::record_event(double lambda, EventKind kind, double s, std::string description) {
   TraceEvent event{lambda, kind, user(s), std::move(description)};
   if (sink_.on_event) sink_.on_event(event);
@@ -791,6 +830,29 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
         to = std::move(*near);
       }
     }
+    // Beam-columns: a fold (t_lambda changes sign), located on t_lambda and recorded as a
+    // limit_point event before the step (or the event) beyond it.
+    std::optional<PathPoint> fold;
+    const bool axial = model.has_axial_force();
+    if (axial && from.tangent_lambda != 0.0 && (from.tangent_lambda > 0) != (to.tangent_lambda > 0))
+      fold = follower.locate(
+          from, to, [](const PathPoint& p) { return p.tangent_lambda; }, tolerance);
+    const auto record_fold = [&] {
+      if (!fold) return;
+      const Buckle b = buckle(model, fold->x);
+      const bool maximum = from.tangent_lambda > 0;
+      TraceEvent event{
+          fold->lambda, EventKind::limit_point, user(b.crown),
+          fmt::format("limit_point: lambda reaches a {} at {:.10g}, axial force {:.6g}, amplitude {:.6g}, lifted "
+                      "length {:.6g} ({})",
+                      maximum ? "maximum" : "minimum", fold->lambda,
+                      model.axial_force(fold->lambda) * member_.scales.force(), b.amplitude, b.lifted_length,
+                      to_string(model.topology()))};
+      if (sink_.on_event) sink_.on_event(event);
+      if (!limit_load_) limit_load_ = event;
+      result_.events.push_back(std::move(event));
+      fold.reset();
+    };
     const std::vector<double> now = values_at(to.x);
     // Which events changed sign (a value that starts at zero, as right after a switch, does not
     // count: it is the event just handled).
@@ -815,7 +877,8 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
     // functions are not monotone along it): it is retried shorter. But for an end piece
     // vanishing where a member that only the foundation holds lifts off entirely (the last
     // lambda with any equilibrium: a fold), located like any event.
-    const bool turned = !(to.lambda > from.lambda) || !(to.tangent_lambda > 0);
+    // Under an axial force the energy is not convex: folds are part of the path (see above).
+    const bool turned = !axial && (!(to.lambda > from.lambda) || !(to.tangent_lambda > 0));
     if (turned && !(foundation_only_ && std::any_of(changed.begin(), changed.end(), [&](std::size_t i) {
                       return specs[i].function == EventFunction::length && !interior_length(model, specs[i]);
                     })))
@@ -854,7 +917,7 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
             pending.events.push_back(specs[i]);
         pending.events = without_degenerate_openings(model, first->x, std::move(pending.events));
         // (An event at `from` itself: a piece found within event_tolerance of vanishing there.)
-        if (!(first->lambda >= from.lambda))
+        if (!axial && !(first->lambda >= from.lambda))
           return reject(fmt::format("the event located at lambda = {:.10g} lies behind the step's start {:.10g}",
                                     first->lambda, from.lambda));
         // The state at the event must be a contact solution but for the event itself. A piece
@@ -866,6 +929,7 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
           if (auto why = state_failure(model, first->x, event_allowance(model, first->x, pending.events)))
             return reject(fmt::format("at the event located at lambda = {:.10g}: {}", first->lambda, *why));
         if (auto why = stepped_over(model, from.x, first->x)) return reject(*why);
+        if (fold && fold->arclength <= first->arclength) record_fold();
         to = *first;
         bool switches = false;
         for (const EventSpec& spec : pending.events)
@@ -905,7 +969,9 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
     // lengthening) would shrink the steps in lambda: the metric is rescaled (see rescale) and
     // the follow restarted from here.
     const double next = follower.next_step(ds, to.iterations);
-    if (to.lambda < options_.arc_length.lambda_max && to.tangent_lambda > 0 &&
+    record_fold();
+    // (Beam-columns keep the scale they started with: near a fold dx/dlambda grows without bound.)
+    if (!axial && to.lambda < options_.arc_length.lambda_max && to.tangent_lambda > 0 &&
         lambda_size() * to.tangent_x.head(model.amplitudes()).lpNorm<Eigen::Infinity>() / to.tangent_lambda >
             4.0 * amplitude_scale_) {
       rescale(model, to);
@@ -917,6 +983,10 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
     record_step(model, to, to.iterations, next);
     previous = now;
     previous_scale = w_scale(model, to.x);
+    if (options_.max_amplitude && result_.steps.back().amplitude >= *options_.max_amplitude) {
+      amplitude_reached_ = true;
+      return ObserverVerdict::stop;
+    }
     return ObserverVerdict::proceed;
   };
   return follower.follow(start, observer, first_step);
@@ -1082,7 +1152,18 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
     // The new tangent has lambda growing, as every path of contact solutions (see follow). The
     // old tangent cannot tell: at a piece vanishing it is that of a fold (t_lambda = 0), its
     // amplitude part of either sense.
-    const std::optional<PathPoint> start = follower.start(x, base.lambda, &newton);
+    // Beam-columns may switch on a falling branch: the new tangent keeps the old one's sense.
+    std::optional<PathPoint> orientation;
+    if (candidate.has_axial_force()) {
+      PathPoint o;
+      o.x = x;
+      o.lambda = base.lambda;
+      o.tangent_x = VectorXd::Zero(candidate.unknowns());
+      o.tangent_x.head(candidate.amplitudes()) = base.tangent_x.head(old.amplitudes());
+      o.tangent_lambda = base.tangent_lambda;
+      orientation = std::move(o);
+    }
+    const std::optional<PathPoint> start = follower.start(x, base.lambda, &newton, orientation);
     if (!start) {
       failure = "Newton: " + newton.message;
     } else if (auto why = state_failure(candidate, start->x, removal_allowance)) {
@@ -1183,6 +1264,11 @@ TraceResult RitzTracer::run() {
             ? fmt::format(" after the resumed step at lambda = {:.10g}", options_.resume_from->load_factor)
             : "");
   };
+  // Beam-columns: the limit load found, for the messages.
+  const auto limit_note = [&]() -> std::string {
+    if (!limit_load_) return "";
+    return fmt::format(" (limit point at lambda = {:.10g})", limit_load_->load_factor);
+  };
   const auto step_limit = [&] {
     return finish(TraceTermination::step_limit,
                   fmt::format("step limit: max_steps = {} steps recorded, lambda = {:.10g}; {}",
@@ -1193,6 +1279,11 @@ TraceResult RitzTracer::run() {
     const PathFollower follower = make_follower(*model_);
     const ArcLengthResult path = follow(*model_, follower, *start, step);
     result_.summary.rejected_steps += path.rejected_steps;
+    if (amplitude_reached_)
+      return finish(TraceTermination::completed,
+                    fmt::format("amplitude {:.6g} reached (max_amplitude = {:.6g}) at lambda = {:.10g}{}: {}{}",
+                                result_.steps.back().amplitude, *options_.max_amplitude,
+                                result_.summary.final_load_factor, limit_note(), figures(), resolution_note()));
     if (pending_ && !switch_topology(follower))
       return finish(result_.summary.termination, fmt::format("{}; {}", result_.summary.message, figures()));
     if (restart_ && path.termination == ArcLengthTermination::stopped_by_observer) {
@@ -1204,8 +1295,8 @@ TraceResult RitzTracer::run() {
     switch (path.termination) {
       case ArcLengthTermination::completed:
         return finish(TraceTermination::completed,
-                      fmt::format("lambda = {:.10g} reached: {}{}", result_.summary.final_load_factor, figures(),
-                                  resolution_note()));
+                      fmt::format("lambda = {:.10g} reached{}: {}{}", result_.summary.final_load_factor, limit_note(),
+                                  figures(), resolution_note()));
       case ArcLengthTermination::step_rejected:
         return finish(
             TraceTermination::solver_failure,

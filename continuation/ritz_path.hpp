@@ -25,8 +25,17 @@
 //   ritz::check_inequalities' grid, to 1e-9 of max |w| (an event's state: but for the event
 //   itself), with lambda growing along the path and no event stepped over. A step that is not
 //   is retried shorter; at min_step the path stops (solver_failure) and its message says which
-//   inequality failed where and by how much. The steps before stay valid. The path never turns
-//   back in lambda, so it reports no limit_point.
+//   inequality failed where and by how much. The steps before stay valid. Without an axial force
+//   the path never turns back in lambda, so it reports no limit_point.
+// - Beam-columns (an axial force, N = N_dead + lambda N_live): the residual depends on lambda
+//   through N too (RitzModel::residual_lambda_derivative). The path passes folds: each sign
+//   change of the tangent's lambda component is located to event_tolerance and recorded as a
+//   limit_point event (its description gives lambda, the axial force, amplitude and lifted
+//   length), a switch keeps the branch's sense, and the path follows the descending branch until
+//   TraceOptions::max_amplitude (completed), lambda_min or lambda_max. Every step carries
+//   axial_force, amplitude (largest lift off the foundation), lifted_length (lift-off pieces'
+//   total length), all in user units, and under an axial force its stability
+//   (RitzModel::stability_margin > 0: stable).
 // - Steps carry a resumable state: state_topology a path::RitzTopology (with the opening at a
 //   switching event, whose switch a resumed trace redoes) and
 //   state = (x, tangent_x, tangent_lambda, next step length, amplitude scale of the metric),

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "core/error.hpp"
@@ -54,9 +55,9 @@ std::optional<Unsupported> unsupported_input(const model::MemberModel& model, co
     return Unsupported{tension_key, "takes a tensionless or bilateral foundation (no modulus in tension)"};
   if (arch && model.foundation_outside)
     return Unsupported{"foundation.side", "takes the foundation inside the arch only, not side = \"outside\""};
-  if (model.has_axial_force())
+  if (arch && model.has_axial_force())
     return Unsupported{"loads",
-                       "has no axial force (kind = \"axial\" or \"temperature\") in its energy in this version"};
+                       "takes an axial force (kind = \"axial\" or \"temperature\") on beams only, not on arches"};
   for (const model::MemberLoad& load : model.loads) {
     if (load.kind == model::LoadKind::curvature)
       return Unsupported{"loads",
@@ -145,6 +146,34 @@ RitzModel::RitzModel(const model::MemberModel& model, int modes, Topology topolo
     stiffness_ = model.membrane_stiffness * gram(membrane, a, b) + gram(bending, a, b);
   }
   stiffness_ = 0.5 * (stiffness_ + stiffness_.transpose());  // exactly symmetric
+
+  // Second-order theory (beams): K_g = int phi_i' phi_j' over the member, and the imperfection's
+  // load per unit N, int w0' phi_i' = sum over the table's pieces of slope (phi_i(hi) - phi_i(lo))
+  // (w0' is constant on each piece and 0 beyond the table).
+  geometric_stiffness_ = MatrixXd::Zero(modes_, modes_);
+  imperfection_load_ = VectorXd::Zero(modes_);
+  if (!arch_ && model.has_axial_force()) {
+    axial_dead_ = model.axial_dead;
+    axial_live_ = model.axial_live;
+    require_finite(axial_dead_, "the axial force");
+    require_finite(axial_live_, "the axial force");
+    for (int r = 0; r < regions; ++r) {
+      const double lo = r == 0 ? a : std::max(a, breakpoints_[r - 1]);
+      const double hi = r == regions - 1 ? b : std::min(b, breakpoints_[r]);
+      if (hi > lo) geometric_stiffness_ += gram(w_derivatives_[r][1], lo, hi);
+    }
+    geometric_stiffness_ = 0.5 * (geometric_stiffness_ + geometric_stiffness_.transpose());
+    const std::vector<double>& at = model.initial_shape_at;
+    const std::vector<double>& w0 = model.initial_shape_value;
+    for (std::size_t i = 0; i + 1 < at.size() && i + 1 < w0.size(); ++i) {
+      require_finite(at[i + 1], "an initial shape position");
+      require_finite(w0[i + 1], "an initial shape value");
+      const double lo = std::max(at[i], a), hi = std::min(at[i + 1], b);
+      if (!(hi > lo)) continue;
+      const double slope = (w0[i + 1] - w0[i]) / (at[i + 1] - at[i]);
+      imperfection_load_ += slope * (phi_at(hi, 0) - phi_at(lo, 0));
+    }
+  }
 
   // Loads: the work of each load is F . A.
   dead_load_ = VectorXd::Zero(amplitudes_);
@@ -276,8 +305,12 @@ double RitzModel::energy(const VectorXd& x, double lambda) const {
   check_size(x);
   const VectorXd amplitudes = x.head(amplitudes_);
   const VectorXd deflection = x.head(modes_);
+  const double n = axial_force(lambda);
+  double axial = 0.0;
+  if (n != 0.0)
+    axial = -0.5 * n * deflection.dot(geometric_stiffness_ * deflection) - n * imperfection_load_.dot(deflection);
   return 0.5 * amplitudes.dot(stiffness_ * amplitudes) + 0.5 * k_ * deflection.dot(contact_gram(x) * deflection) -
-         load(lambda).dot(amplitudes);
+         load(lambda).dot(amplitudes) + axial;
 }
 
 VectorXd RitzModel::gradient(const VectorXd& x, double lambda) const {
@@ -312,15 +345,18 @@ void RitzModel::residual(const VectorXd& x, double lambda, VectorXd& f) const {
   const VectorXd amplitudes = x.head(amplitudes_);
   f.head(amplitudes_) = stiffness_ * amplitudes - load(lambda);
   f.head(modes_) += k_ * (contact_gram(x) * x.head(modes_));
+  if (const double n = axial_force(lambda); n != 0.0)
+    f.head(modes_) -= n * (geometric_stiffness_ * x.head(modes_) + imperfection_load_);
   for (int m = 0; m < limits(); ++m) f[limit_offset() + m] = w(x, x[limit_offset() + m]);
 }
 
 void RitzModel::jacobian(const VectorXd& x, double lambda, MatrixXd& J) const {
   check_size(x);
-  (void)lambda;  // the Jacobian does not depend on the load factor
   J.setZero(unknowns(), unknowns());
   J.topLeftCorner(amplitudes_, amplitudes_) = stiffness_;
   J.topLeftCorner(modes_, modes_) += k_ * contact_gram(x);
+  // Through N only: without an axial force the Jacobian does not depend on the load factor.
+  if (const double n = axial_force(lambda); n != 0.0) J.topLeftCorner(modes_, modes_) -= n * geometric_stiffness_;
   for (int m = 0; m < limits(); ++m) {
     const int row = limit_offset() + m;
     const double t = x[row];
@@ -338,7 +374,28 @@ VectorXd RitzModel::residual_lambda_derivative(const VectorXd& x) const {
   check_size(x);
   VectorXd d = VectorXd::Zero(unknowns());
   d.head(amplitudes_) = -live_load_;
+  if (axial_live_ != 0.0) d.head(modes_) -= axial_live_ * (geometric_stiffness_ * x.head(modes_) + imperfection_load_);
   return d;
+}
+
+MatrixXd RitzModel::reduced_hessian(const VectorXd& x, double lambda) const {
+  check_size(x);
+  MatrixXd h = stiffness_;
+  h.topLeftCorner(modes_, modes_) += k_ * contact_gram(x);
+  if (const double n = axial_force(lambda); n != 0.0) h.topLeftCorner(modes_, modes_) -= n * geometric_stiffness_;
+  return h;
+}
+
+double RitzModel::stability_margin(const VectorXd& x, double lambda) const {
+  const MatrixXd h = reduced_hessian(x, lambda);
+  // Scaled by the bending stiffness's diagonal (positive, growing like j^4), so that the margin
+  // compares with 1 whatever the mode numbers.
+  VectorXd scale = stiffness_.diagonal();
+  for (Eigen::Index i = 0; i < scale.size(); ++i) scale[i] = scale[i] > 0.0 ? 1.0 / std::sqrt(scale[i]) : 1.0;
+  const MatrixXd scaled = scale.asDiagonal() * h * scale.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<MatrixXd> eigen(scaled, Eigen::EigenvaluesOnly);
+  if (eigen.info() != Eigen::Success) return std::numeric_limits<double>::quiet_NaN();
+  return eigen.eigenvalues().minCoeff();
 }
 
 std::optional<VectorXd> RitzModel::minimiser_for_limits(const VectorXd& limits_in, double lambda) const {
@@ -346,17 +403,20 @@ std::optional<VectorXd> RitzModel::minimiser_for_limits(const VectorXd& limits_i
     throw std::invalid_argument(fmt::format("RitzModel: {} limits given, expected {}", limits_in.size(), limits()));
   VectorXd x = VectorXd::Zero(unknowns());
   x.tail(limits()) = limits_in;
-  MatrixXd h = stiffness_;
-  h.topLeftCorner(modes_, modes_) += k_ * contact_gram(x);
+  const MatrixXd h = reduced_hessian(x, lambda);
   // Scale to unit diagonal first: the bending stiffness of mode j grows like j^4, so unscaled
   // pivots span many decades for a well-posed problem. After scaling, a rigid motion nothing
-  // resists shows as a pivot at round-off level.
-  const VectorXd diagonal = h.diagonal();
+  // resists shows as a pivot at round-off level. (The diagonal without the axial force: with it
+  // the matrix may be indefinite, an unstable state that solve_ritz refuses once it is found.)
+  VectorXd diagonal = stiffness_.diagonal();
+  diagonal.head(modes_) += k_ * contact_gram(x).diagonal();
   if (!(diagonal.minCoeff() > 0.0)) return std::nullopt;
   const VectorXd scale = diagonal.cwiseSqrt().cwiseInverse();
   const Eigen::LDLT<MatrixXd> ldlt(scale.asDiagonal() * h * scale.asDiagonal());
   if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().cwiseAbs().minCoeff() > 1e-12)) return std::nullopt;
-  x.head(amplitudes_) = scale.asDiagonal() * ldlt.solve(scale.asDiagonal() * load(lambda));
+  VectorXd rhs = load(lambda);
+  rhs.head(modes_) += axial_force(lambda) * imperfection_load_;
+  x.head(amplitudes_) = scale.asDiagonal() * ldlt.solve(scale.asDiagonal() * rhs);
   if (!x.allFinite()) return std::nullopt;
   return x;
 }

@@ -14,6 +14,16 @@
 // work P w(s); a counterclockwise moment M does work -M w'(s) (beam) or -M (u + w')(s) (arch);
 // a uniform load q over [from, to] does work q int w. Arch forces act along the radius.
 //
+// Beams under a compressive axial force N = N_dead + lambda N_live (model::MemberModel::
+// axial_force, compression > 0; second-order theory) with a stress-free initial shape w0 (w is
+// measured from w0, positive toward the foundation, and the ground follows w0, so the foundation
+// term is unchanged) add
+//     - N/2 int w'^2 - N int w0' w'      (over the whole member)
+// = - N/2 W.K_g W - N f_0.W,  K_g = int phi_i' phi_j',  f_0 = int w0' phi_i' (closed form: w0 is
+// piecewise linear, so f_0 sums slope (phi_i(hi) - phi_i(lo)) over its pieces). The first softens
+// the stiffness, the second is the load -N w0'' of the imperfection. Neither depends on the
+// limits, so the limit equations are those without N. Arches take no axial force (refused).
+//
 // Everything that does not depend on the limits (stiffness, loads) is integrated once, in
 // closed form, at construction; the foundation term is integrated exactly over the current
 // pieces at every call, through a product table (product_table.hpp) built at construction, so
@@ -23,7 +33,7 @@
 // here solves the nonlinear system: that is a Newton solver's job.
 //
 // The system to solve is the REGULARISED stationarity condition:
-//     R_A = dPi/dA = K A + k G(t) W - F(lambda) = 0      (amplitude rows)
+//     R_A = dPi/dA = K A + k G(t) W - F(lambda) = 0      (amplitude rows; with N: - N (K_g W + f_0))
 //     R_m = w(t_m) = 0                                   (one row per limit)
 // in place of dPi/dt_m = sigma_m k/2 w(t_m)^2 = 0 (sigma_m = +1 if t_m ends a contact piece,
 // -1 if it starts one), which has a double root. At a solution the amplitude-limit block of
@@ -104,10 +114,26 @@ class RitzModel {
   // The regularised system (see above) and its analytic Jacobian; f and J are resized.
   void residual(const Eigen::VectorXd& x, double lambda, Eigen::VectorXd& f) const;
   void jacobian(const Eigen::VectorXd& x, double lambda, Eigen::MatrixXd& J) const;
-  // dR/dlambda = -(F_live, 0 for the limit rows); it does not depend on x or lambda.
+  // dR/dlambda = -(F_live + N_live (K_g W + f_0), 0 for the limit rows); it does not depend on
+  // lambda (nor on x without a live axial force).
   Eigen::VectorXd residual_lambda_derivative(const Eigen::VectorXd& x) const;
 
-  // The amplitudes minimising Pi for the given limits (a linear solve of (K + k G) A = F),
+  // Second-order theory (beams): N at lambda, K_g and f_0 (see above; zero without axial force).
+  double axial_force(double lambda) const { return axial_dead_ + lambda * axial_live_; }
+  bool has_axial_force() const { return axial_dead_ != 0.0 || axial_live_ != 0.0; }
+  const Eigen::MatrixXd& geometric_stiffness() const { return geometric_stiffness_; }
+  const Eigen::VectorXd& imperfection_load() const { return imperfection_load_; }
+  // The Hessian of Pi in the amplitudes at fixed limits, K - N K_g + k G(t): at a solution (w = 0
+  // at every limit) the Hessian's amplitude-limit blocks vanish, so this is the stiffness of the
+  // state against every perturbation that keeps its contact set. stability_margin: its smallest
+  // eigenvalue after scaling by diag(K)^(-1/2) on both sides; > 0: the state is stable (positive
+  // definite; lift-off zones pushed into the foundation only stiffen it), <= 0: unstable. NaN if
+  // the eigensolver fails.
+  Eigen::MatrixXd reduced_hessian(const Eigen::VectorXd& x, double lambda) const;
+  double stability_margin(const Eigen::VectorXd& x, double lambda) const;
+
+  // The amplitudes minimising Pi for the given limits (a linear solve of (K + k G) A = F; with an
+  // axial force (K - N K_g + k G) W = F + N f_0, stationary rather than minimising if unstable),
   // packed with the limits into an x. A starting point for Newton. nullopt if K + k G is
   // singular (a rigid motion that neither the supports nor the contact pieces resist).
   std::optional<Eigen::VectorXd> minimiser_for_limits(const Eigen::VectorXd& limits, double lambda) const;
@@ -158,6 +184,10 @@ class RitzModel {
   std::vector<std::vector<int>> w_term_function_;                        // [region]: the function each term is of
   std::vector<ProductTable> w_products_;                                 // [region]: phi_i phi_j, i <= j
   Eigen::MatrixXd stiffness_;
+  double axial_dead_ = 0.0;
+  double axial_live_ = 0.0;
+  Eigen::MatrixXd geometric_stiffness_;  // modes x modes
+  Eigen::VectorXd imperfection_load_;    // modes
   Eigen::VectorXd dead_load_;
   Eigen::VectorXd live_load_;
 };

@@ -22,6 +22,7 @@ constexpr EnumName<RitzTermination> ritz_termination_names[] = {
     {RitzTermination::inequalities_violated, "inequalities_violated"},
     {RitzTermination::modes_not_converged, "modes_not_converged"},
     {RitzTermination::no_starting_point, "no_starting_point"},
+    {RitzTermination::unstable_equilibrium, "unstable_equilibrium"},
 };
 }  // namespace
 
@@ -80,6 +81,7 @@ double scaled_round_off_floor(const RitzModel& model, const VectorXd& x, double 
   model.jacobian(x, lambda, jacobian);
   VectorXd terms = jacobian.leftCols(a).cwiseAbs() * x.head(a).cwiseAbs();
   terms.head(a) += (model.dead_load() + lambda * model.live_load()).cwiseAbs();
+  terms.head(model.modes()) += std::abs(model.axial_force(lambda)) * model.imperfection_load().cwiseAbs();
   const double eps = std::numeric_limits<double>::epsilon();
   return n * eps * terms.cwiseProduct(residual_scale).lpNorm<Eigen::Infinity>();
 }
@@ -92,7 +94,8 @@ struct Attempt {
   double max_violation = -1;
 };
 
-Attempt solve_once(const RitzModel& model, const VectorXd& limits, const RitzOptions& options) {
+Attempt solve_once(const RitzModel& model, const VectorXd& limits, const RitzOptions& options,
+                   const model::Scales& scales) {
   Attempt attempt;
   const double lambda = options.load_factor;
   const std::optional<VectorXd> start = model.minimiser_for_limits(limits, lambda);
@@ -107,7 +110,8 @@ Attempt solve_once(const RitzModel& model, const VectorXd& limits, const RitzOpt
   // Scale rows and unknowns to unit size, so one tolerance serves forces and deflections.
   const int n = model.unknowns(), a = model.amplitudes();
   const double force_scale =
-      std::max({(model.dead_load() + lambda * model.live_load()).lpNorm<Eigen::Infinity>(), 1e-300});
+      std::max({(model.dead_load() + lambda * model.live_load()).lpNorm<Eigen::Infinity>(),
+                std::abs(model.axial_force(lambda)) * model.imperfection_load().lpNorm<Eigen::Infinity>(), 1e-300});
   const double amplitude_scale = std::max(attempt.x.head(a).lpNorm<Eigen::Infinity>(), 1e-300);
   nonlinear::NewtonOptions newton = options.newton;
   newton.residual_scale = VectorXd::Constant(n, 1.0 / force_scale);
@@ -115,17 +119,43 @@ Attempt solve_once(const RitzModel& model, const VectorXd& limits, const RitzOpt
   newton.unknown_scale = VectorXd::Constant(n, 1.0 / amplitude_scale);
   newton.unknown_scale.tail(n - a).setConstant(1.0);
 
-  attempt.newton = nonlinear::solve_newton(
-      [&](const VectorXd& x, VectorXd& r) {
-        if (!model.admissible(x)) return false;
-        model.residual(x, lambda, r);
-        return true;
-      },
-      [&](const VectorXd& x, const VectorXd&, Eigen::MatrixXd& j) {
-        model.jacobian(x, lambda, j);
-        return true;
-      },
-      attempt.x, newton);
+  // Under an axial force, a start that already solves the equations (no limits: the linear
+  // minimiser is the answer) is taken as it is: KINSOL, handed a residual at round-off zero (a
+  // member loaded by its initial shape alone), has been seen to step off to 1e274 (not understood).
+  // Near a critical load the linear solve's residual is the condition times eps: its round-off
+  // floor, not the tolerance, is what it can meet.
+  bool exact_start = false;
+  double r0_scaled = 0.0;
+  if (model.has_axial_force() && model.limits() == 0) {
+    VectorXd r0;
+    model.residual(attempt.x, lambda, r0);
+    r0_scaled = r0.cwiseAbs().cwiseProduct(newton.residual_scale).maxCoeff();
+    exact_start = r0_scaled <= std::max(newton.residual_tolerance,
+                                        scaled_round_off_floor(model, attempt.x, lambda, newton.residual_scale));
+  }
+  if (exact_start) {
+    attempt.newton.termination = nonlinear::NewtonTermination::converged;
+    attempt.newton.message = "the linear minimiser solves the equations";
+    attempt.newton.iterations = 0;
+    attempt.newton.residual_evaluations = 1;
+    attempt.newton.jacobian_evaluations = 0;
+    attempt.newton.backtracks = 0;
+    attempt.newton.residual_history = {r0_scaled};
+    attempt.newton.final_residual = r0_scaled;
+    attempt.newton.time_s = 0.0;
+  } else {
+    attempt.newton = nonlinear::solve_newton(
+        [&](const VectorXd& x, VectorXd& r) {
+          if (!model.admissible(x)) return false;
+          model.residual(x, lambda, r);
+          return true;
+        },
+        [&](const VectorXd& x, const VectorXd&, Eigen::MatrixXd& j) {
+          model.jacobian(x, lambda, j);
+          return true;
+        },
+        attempt.x, newton);
+  }
   std::string accepted = "equilibrium found";
   if (!attempt.newton.is_usable()) {
     // A line search that stalls just above the tolerance may be at the round-off floor of the
@@ -150,6 +180,19 @@ Attempt solve_once(const RitzModel& model, const VectorXd& limits, const RitzOpt
         "the topology {} cannot hold here",
         attempt.max_violation, to_string(model.topology()));
     return attempt;
+  }
+  if (model.has_axial_force()) {
+    // Second-order theory answers stable states only: K - N K_g + k G must be positive definite.
+    const double margin = model.stability_margin(attempt.x, lambda);
+    if (!(margin > 0.0)) {
+      attempt.termination = RitzTermination::unstable_equilibrium;
+      attempt.message = fmt::format(
+          "refused: the axial force {:.6g} exceeds the critical load of the configuration found (the reduced "
+          "Hessian K - N K_g + k G of the topology {} is not positive definite, smallest scaled eigenvalue {:.3e}): "
+          "the equilibrium is unstable, and the member buckles away from it",
+          model.axial_force(lambda) * scales.force(), to_string(model.topology()), margin);
+      return attempt;
+    }
   }
   attempt.termination = RitzTermination::converged;
   attempt.message = accepted;
@@ -182,7 +225,7 @@ RitzSolution solve_ritz(const model::MemberModel& member, const Topology& topolo
   VectorXd w_now(field_intervals + 1), r_now(field_intervals + 1), w_before, r_before;
   for (int modes : sequence) {
     RitzModel model(member, modes, topology, options.enrichment);
-    Attempt attempt = solve_once(model, limits, options);
+    Attempt attempt = solve_once(model, limits, options, member.scales);
     summary.modes = modes;
     summary.termination = attempt.termination;
     summary.message = attempt.message;
@@ -191,6 +234,7 @@ RitzSolution solve_ritz(const model::MemberModel& member, const Topology& topolo
     summary.max_violation = attempt.max_violation;
     solution.unknowns = attempt.x;
     solution.model = std::move(model);
+    if (attempt.termination == RitzTermination::unstable_equilibrium) break;  // more modes only soften it
     if (attempt.termination != RitzTermination::converged) {
       // Automatic modes: a few modes may be too coarse for the topology (a free-free beam at
       // N = 4 has three rigid-like functions and one cosine); try more, from the initial limits.

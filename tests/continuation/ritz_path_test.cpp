@@ -561,3 +561,75 @@ TEST_CASE("ritz path: the summary counts what the result holds", "[ritz_path][is
   CHECK(rest.summary.message.find(figures(rest) + fmt::format(" after the resumed step at lambda = {:.10g}",
                                                               resumed.resume_from->load_factor)) != std::string::npos);
 }
+
+// Issue 15: the Ritz path in the axial force. The heavy pipeline over a hump under growing
+// compression (continuation/scenes/pipeline_upheaval.toml): lift-off at the crown, a limit point
+// that fixed-N FE solves bracket in (5.5, 6.0) MN (5.5 MN stable with uplift 6.3 mm, 6.0 MN
+// refused as unstable; the scene's comments), then the descending branch, the buckle growing and
+// lifting more of the pipe while the load falls.
+TEST_CASE("ritz path: the upheaval buckle passes its limit point inside the fixed-N bracket", "[ritz_path][axial]") {
+  scene::Scene s = test::continuation_scene("pipeline_upheaval");
+  TraceOptions options = scene_options(s, 201);
+  options.max_amplitude = 0.3;  // the scene's 1 m takes 230 steps; the fold and the branch beyond need 80
+  const TraceResult r = trace_ritz(s, options);
+  INFO(r.summary.message);
+  REQUIRE(r.summary.termination == TraceTermination::completed);
+  CHECK(r.summary.message.find("max_amplitude") != std::string::npos);
+  std::vector<TraceEvent> folds;
+  for (const TraceEvent& e : r.events)
+    if (e.kind == EventKind::limit_point) folds.push_back(e);
+  REQUIRE(folds.size() == 1);
+  const double limit = folds[0].load_factor;
+  fmt::print("upheaval: limit point at lambda = {:.8g} ({})\n", limit, folds[0].description);
+  CHECK(limit > 5.5);
+  CHECK(limit < 6.0);
+  CHECK(std::abs(folds[0].at - 100.0) < 1e-6);  // at the crown
+
+  // Every step: N = lambda x 1 MN; lambda rises to the fold and falls after it, the amplitude
+  // and the lifted length grow all along once lifted; stable before the fold, unstable after.
+  double lambda_max = -INFINITY, previous_amplitude = -1.0, previous_lifted = -1.0;
+  bool past_fold = false, passed = false;
+  for (std::size_t i = 0; i < r.steps.size(); ++i) {
+    const TraceStep& step = r.steps[i];
+    INFO("step " << i << " at lambda " << step.load_factor);
+    CHECK(step.axial_force == Approx(1e6 * step.load_factor).margin(1e-6));
+    CHECK(step.stability != path::Stability::unknown);
+    // Past the fold the tangent points to falling lambda (its lambda component, stored in the state).
+    const std::size_t n = (step.state.size() - 3) / 2;
+    past_fold = step.state[2 * n] < 0.0;
+    CHECK(step.stability == (past_fold ? path::Stability::unstable : path::Stability::stable));
+    CHECK((past_fold || !passed));  // once past, the path stays on the descending branch
+    passed = passed || past_fold;
+    CHECK(step.amplitude >= previous_amplitude);
+    CHECK(step.lifted_length >= previous_lifted);
+    previous_amplitude = step.amplitude;
+    previous_lifted = step.lifted_length;
+    lambda_max = std::max(lambda_max, step.load_factor);
+    if (i % 10 == 0 || i + 1 == r.steps.size())
+      fmt::print("  lambda {:.6f} N {:.6g} amplitude {:.5g} lifted length {:.5g} {}\n", step.load_factor,
+                 step.axial_force, step.amplitude, step.lifted_length, to_string(step.stability));
+  }
+  CHECK(passed);
+  CHECK(lambda_max <= limit + 1e-9);
+  CHECK(r.steps.back().amplitude >= 0.3);
+  CHECK(r.steps.back().load_factor < limit);
+  // The lifted buckle at the end is the one zone around the crown.
+  REQUIRE(r.steps.back().contact_regions.size() == 2);
+  CHECK(r.steps.back().lifted_length ==
+        Approx(r.steps.back().contact_regions[1].begin - r.steps.back().contact_regions[0].end).epsilon(1e-12));
+}
+
+TEST_CASE("ritz path: amplitude and lifted length are filled without an axial force too", "[ritz_path][axial]") {
+  const TraceResult r = trace_ritz(lift_off_beam(), options_for(32));
+  REQUIRE(r.summary.termination == TraceTermination::completed);
+  const TraceStep& last = r.steps.back();
+  CHECK(last.axial_force == 0.0);
+  CHECK(last.stability == path::Stability::unknown);  // convex: unchecked
+  // The beam lifts off at its centre (sample 5.0): the amplitude is at least the lift there and
+  // no more than a grid's worth above it (the largest lift is at the centre by symmetry).
+  REQUIRE(last.contact_regions.size() == 2);
+  CHECK(last.lifted_length == Approx(last.contact_regions[1].begin - last.contact_regions[0].end).epsilon(1e-12));
+  CHECK(last.amplitude == Approx(-last.deflection[2]).epsilon(1e-9));
+  CHECK(r.steps.front().amplitude == 0.0);
+  CHECK(r.steps.front().lifted_length == 0.0);
+}
