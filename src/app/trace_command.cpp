@@ -414,7 +414,7 @@ std::string text_summary(const TraceOutcome& outcome) {
   std::string out = fmt::format("scene         {}\nmonitor       w at {:.6g}\n", outcome.scene_name, outcome.monitor);
   for (const std::string& warning : outcome.warnings) out += "WARNING       " + warning + "\n";
   for (const PathTrace& p : outcome.paths) {
-    out += fmt::format("path {:<9}{}: {} steps{}, lambda {:.8g}{}\n", p.path,
+    out += fmt::format("path {:<8} {}: {} steps{}, lambda {:.8g}{}\n", p.path,
                        continuation::to_string(p.summary.termination), p.steps.size(),
                        p.resumed_steps > 0 ? fmt::format(" ({} resumed)", p.resumed_steps) : "",
                        p.steps.empty() ? p.summary.final_load_factor : p.steps.back().load_factor,

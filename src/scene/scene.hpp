@@ -224,7 +224,7 @@ struct TraceSettings {
   // (TraceStep::amplitude, user length) reaches this, on whichever branch (a descending one
   // after a limit point never reaches lambda_max). Absent: no such bound.
   std::optional<double> max_amplitude;
-  int line = 0;                   // line of the [trace] header, for messages (0: unknown)
+  int line = 0;  // line of the [trace] header, for messages (0: unknown)
 };
 
 // [compare]: a published result the summary sets the answer beside (the default scene: the seed
