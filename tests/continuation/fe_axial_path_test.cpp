@@ -13,6 +13,7 @@
 
 #include "app/trace_command.hpp"
 #include "certify/certificate.hpp"
+#include "closed_form/beam_column.hpp"
 #include "contact/active_set_system.hpp"
 #include "contact/contact_solver.hpp"
 #include "contact/stability.hpp"
@@ -309,6 +310,59 @@ TEST_CASE(
     CHECK(negative(event.load_factor - 1e-6) != negative(event.load_factor + 1e-6));
   }
   CHECK(bifurcations >= 1);
+}
+
+// The closed-form localized buckle of the perfect member (verification/closed_form, independent of
+// the FE code) whose crown stands `uplift` above the ground: bisection on its half-length, along
+// which the uplift grows.
+closed_form::LocalizedBuckle buckle_with_uplift(double modulus, double bending_stiffness, double weight,
+                                                double uplift) {
+  double lo = 1.0, hi = 150.0;
+  REQUIRE(closed_form::localized_buckle(modulus, bending_stiffness, weight, lo).uplift < uplift);
+  REQUIRE(closed_form::localized_buckle(modulus, bending_stiffness, weight, hi).uplift > uplift);
+  for (int i = 0; i < 80; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (closed_form::localized_buckle(modulus, bending_stiffness, weight, mid).uplift < uplift ? lo : hi) = mid;
+  }
+  return closed_form::localized_buckle(modulus, bending_stiffness, weight, 0.5 * (lo + hi));
+}
+
+TEST_CASE("the perfect pipeline's descending branch is the closed-form localized buckle", "[fe_axial_path][slow]") {
+  // Without the hump the path leaves the straight state at the bilateral critical load (the
+  // clamped ends' boundary layer is the only imperfection) and follows the localized buckle down.
+  // Far from the ends (beta L = 25.8) that branch is the infinite member's, known in closed form
+  // (P at a given crown uplift, the uplift being the paths' amplitude): each step from an uplift of
+  // 0.2 m on is compared with it. The FE error at 400 elements is estimated from 200: it must be
+  // below the 200-element error (convergence) and below the change from 200 to 400 elements
+  // (an error estimate that holds for any order p >= 1: e_400 <= |N_200 - N_400| / (2^p - 1)).
+  scene::Scene scene = upheaval();
+  scene.initial_shape = {};
+  const double modulus = 2.0e5, bending_stiffness = 1.8011e8, weight = 3000.0;
+  const auto branch_error = [&](int elements, double uplift) {
+    TraceOptions options = options_for(scene, elements);
+    options.arc_length.lambda_max = 14.0;
+    options.max_amplitude = uplift;
+    const TraceResult result = continuation::trace_fe(scene, options);
+    INFO(result.summary.message);
+    REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
+    const path::TraceStep& last = result.steps.back();
+    REQUIRE(last.amplitude == Approx(uplift).epsilon(1e-6));
+    const closed_form::LocalizedBuckle exact = buckle_with_uplift(modulus, bending_stiffness, weight, last.amplitude);
+    REQUIRE(exact.status == closed_form::BuckleStatus::found);
+    // The lifted zone of the closed form is 2a; the path's lifted length comes from its nodes'
+    // signs and cubic roots: the same within an element or so.
+    CHECK(std::abs(last.lifted_length - 2.0 * exact.half_length) < 2.0 * 200.0 / elements);
+    return std::pair{last.axial_force, exact.axial_force};
+  };
+  for (double uplift : {0.25, 1.0}) {
+    const auto [n200, p] = branch_error(200, uplift);
+    const auto [n400, p_again] = branch_error(400, uplift);
+    const double e200 = std::abs(n200 - p) / p, e400 = std::abs(n400 - p) / p, change = std::abs(n200 - n400) / p;
+    INFO("uplift " << uplift << " m: N 200 " << n200 << ", 400 " << n400 << ", closed form " << p << "; errors " << e200
+                   << ", " << e400 << ", change " << change);
+    CHECK(e400 < e200);
+    CHECK(e400 <= change);
+  }
 }
 
 TEST_CASE("the exact FE path reports amplitude and lifted length", "[fe_axial_path]") {
