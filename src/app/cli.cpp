@@ -642,6 +642,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     if (*envelope_command) return run_envelope_command(envelope, out, err);
   } catch (const InputError& e) {
     return fail("bad_input", e.what(), ExitCode::bad_input);
+  } catch (const UnstableEquilibrium& e) {
+    return fail("unstable_equilibrium", e.what(), ExitCode::unstable_equilibrium);
   } catch (const SolverFailure& e) {
     return fail("refused", e.what(), ExitCode::solver_failure);
   } catch (const OutputError& e) {

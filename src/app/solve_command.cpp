@@ -531,6 +531,9 @@ RitzStart ritz_starting_point(const scene::Scene& scene, const model::MemberMode
     return {ritz::starting_point_from_scene(scene.ritz, model), "topology from the scene"};
   // The robust sparse solver gives the start (Lemke only when asked for by name).
   const FeResult fe = solve_fe(scene, model, Method::fast, elements);
+  if (fe.solution.summary.termination == contact::ContactTermination::unstable_equilibrium)
+    throw UnstableEquilibrium(scene.source_name + ": the FE + LCP solution that gives the Ritz topology is unstable: " +
+                              fe.solution.summary.message);
   if (!fe.solution.summary.is_usable())
     throw SolverFailure(scene.source_name +
                         ": the FE + LCP solution that gives the Ritz topology failed: " + fe.solution.summary.message);
@@ -693,7 +696,8 @@ std::vector<io::SolveReport> solve_all_methods(const scene::Scene& scene, const 
     r.method = scene::to_string(method);
     r.method_requested = r.method;
     r.outcome = io::SolveOutcome::refused;
-    r.termination = io::to_string(r.outcome);
+    r.termination = dynamic_cast<const UnstableEquilibrium*>(&e) != nullptr ? "unstable_equilibrium"
+                                                                            : std::string(io::to_string(r.outcome));
     r.message = e.what();
     r.units = scene.units;
     r.warnings = scene.warnings;

@@ -40,6 +40,13 @@ class SolverFailure : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A solver found the axial force beyond the critical load of the configuration (exit code
+// unstable_equilibrium, not solver_failure): thrown where no report carries that termination.
+class UnstableEquilibrium : public SolverFailure {
+ public:
+  using SolverFailure::SolverFailure;
+};
+
 // Writing a result file failed; nothing half-written is left behind.
 class OutputError : public std::runtime_error {
  public:

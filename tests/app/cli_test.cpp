@@ -820,4 +820,8 @@ TEST_CASE("cli: an axial force reports its force and the initial shape; an unsta
   const nlohmann::json u = nlohmann::json::parse(unstable.out);
   CHECK(u["termination"] == "unstable_equilibrium");
   CHECK_THAT(u["message"].get<std::string>(), Catch::Matchers::Contains("exceeds the critical load"));
+  // The Ritz method's start is that FE solve: refused the same way, exit 5 (not a solver failure).
+  const Run ritz = run_cli({"solve", away.string(), "--method", "ritz", "--json"});
+  CHECK(ritz.status == 5);
+  CHECK(nlohmann::json::parse(ritz.out)["termination"] == "unstable_equilibrium");
 }
