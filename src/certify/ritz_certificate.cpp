@@ -70,6 +70,9 @@ double integrate(double a, double b, int pieces, const F& f) {
 // supports' generalised forces (and their work), per balance mode; the support reactions.
 struct Balance {
   std::vector<double> applied, applied_abs, foundation, foundation_abs, supports, supports_abs;
+  // Beams under an axial force N: its work on each balance mode m, -N integral (w + w0)' m' (the
+  // P term of the energy), which for a beam's rigid m (m' constant) is -N m' [w + w0] over the ends.
+  std::vector<double> axial, axial_abs;
   std::vector<SupportReaction> reactions;
   double centroid = 0.0;
 };
@@ -79,8 +82,21 @@ Balance balance_terms(const MemberModel& member, const RitzModel& ritz, const Ve
   Balance b;
   b.applied.assign(modes, 0.0);
   b.applied_abs = b.foundation = b.foundation_abs = b.supports = b.supports_abs = b.applied;
+  b.axial = b.axial_abs = b.applied;
   const bool arch = member.kind == StructureKind::arch;
   const double k = member.k;
+  if (!arch && member.has_axial_force()) {
+    const double n = member.axial_force(lambda), begin = member.s_begin, end = member.s_end;
+    const auto y = [&](double s) {
+      return ritz.w(x, s) + (member.has_initial_shape() ? member.initial_shape(s) : 0.0);
+    };
+    for (int j = 0; j < modes; ++j) {
+      const double slope =
+          (detail::balance_mode_at(member, j, end)[1] - detail::balance_mode_at(member, j, begin)[1]) / (end - begin);
+      b.axial[j] = -n * slope * (y(end) - y(begin));
+      b.axial_abs[j] = std::abs(n * slope) * (std::abs(y(end)) + std::abs(y(begin)));
+    }
+  }
   // Quadrature fine enough for the highest mode: 8 subintervals per half wave.
   const int per_length = 8 * std::max(4, ritz.modes());
   double integral = 0.0, first_moment = 0.0;
@@ -243,8 +259,8 @@ Certificate certify(const MemberModel& member, const ritz::RitzSolution& solutio
   if (half) b_half = balance_terms(member, *half->model, half->unknowns, lambda);
   c.support_reactions = b.reactions;
   for (int j = 0; j < detail::balance_mode_count(member.kind); ++j) {
-    const double scale = std::max(b.applied_abs[j] + b.supports_abs[j] + b.foundation_abs[j], 1e-300);
-    const double value = std::abs(b.applied[j] + b.supports[j] - b.foundation[j]) / scale;
+    const double scale = std::max(b.applied_abs[j] + b.supports_abs[j] + b.foundation_abs[j] + b.axial_abs[j], 1e-300);
+    const double value = std::abs(b.applied[j] + b.supports[j] - b.foundation[j] - b.axial[j]) / scale;
     // Truncation: the change of the support and foundation terms from half the modes, x 4; plus
     // the round-off of the terms (the quadrature sums many; 64 eps as the FE rows).
     double truncation = NAN;

@@ -83,13 +83,20 @@ double relative_residual(const Discretisation& d, const Unknowns& x, const Vecto
                                absolute_product(d.coupling.transpose(), x.reaction) + load.cwiseAbs();
   double residual = equilibrium.lpNorm<Eigen::Infinity>() / std::max(force_terms.maxCoeff(), 1e-300);
   // The rigid motions no support holds, as fe::discretise found them (on the equations).
+  // Under an axial force N, K(N) = K - N K_g does not annihilate them: rho^T K(N) u = -N (K_g rho)^T u,
+  // the moment of N on the displaced member (a free-free member tilted under compression).
   const MatrixXd& motions = d.free_rigid_motions;
   if (motions.cols() > 0) {
     const VectorXd reaction_forces = d.coupling.transpose() * x.reaction;
     const VectorXd balance_terms = absolute_product(d.coupling.transpose(), x.reaction) + load.cwiseAbs();
     for (int k = 0; k < motions.cols(); ++k) {
-      const double unbalanced = motions.col(k).dot(load - reaction_forces);
-      const double terms = motions.col(k).cwiseAbs().dot(balance_terms);
+      double unbalanced = motions.col(k).dot(load - reaction_forces);
+      double terms = motions.col(k).cwiseAbs().dot(balance_terms);
+      if (d.has_axial_force()) {
+        const VectorXd geometric = d.geometric_stiffness * motions.col(k);
+        unbalanced += d.axial_force * geometric.dot(x.displacement);
+        terms += std::abs(d.axial_force) * geometric.cwiseAbs().dot(x.displacement.cwiseAbs());
+      }
       residual = std::max(residual, std::abs(unbalanced) / std::max(terms, 1e-300));
     }
   }
