@@ -18,6 +18,7 @@
 #include "model/member_model.hpp"
 #include "post/contact_regions.hpp"
 #include "post/fields.hpp"
+#include "stability/critical_load.hpp"
 
 namespace liftoff::continuation {
 
@@ -70,6 +71,7 @@ class AxialPath {
   bool feasible(const ContactSet& set, const Point& p) const;
   double amplitude(const Point& p) const;
   int negative_eigenvalues(const ContactSet& set, double lambda);
+  path::Stability stability_at(const Point& p);
   std::optional<ContactSet> start_set(double lambda);
   TraceStep step_at(const Point& p);
   void emit_step(const Point& p);
@@ -142,6 +144,31 @@ int AxialPath::negative_eigenvalues(const ContactSet& set, double lambda) {
   return check.positive_definite ? 0 : std::max(check.negative_eigenvalues, 1);
 }
 
+// The set's tangent decides stability where every node of the set presses and every other one
+// stands off: small perturbations keep the set. A node touching with neither reaction nor gap
+// (weakly active: a weightless strut lying on its foundation) has a spring only where the
+// perturbation pushes in, which no fixed set represents: there the cone's critical load
+// (stability/critical_load.hpp) decides, stable when its factor on the present N exceeds 1.
+path::Stability AxialPath::stability_at(const Point& p) {
+  set_axial(p.lambda);
+  const std::vector<stability::NodeContact> contact = stability::classify_contact(p.state.reaction, p.state.gap);
+  if (std::none_of(contact.begin(), contact.end(),
+                   [](stability::NodeContact c) { return c == stability::NodeContact::weakly_active; }))
+    return negative_eigenvalues(set_, p.lambda) == 0 ? path::Stability::stable : path::Stability::unstable;
+  const stability::CriticalLoadResult cone = stability::critical_load(d_, 0.0, d_.axial_force, contact);
+  switch (cone.termination) {
+    case stability::StabilityTermination::critical_load_found:
+      return cone.critical_load_factor > 1.0 ? path::Stability::stable : path::Stability::unstable;
+    case stability::StabilityTermination::stable_for_all_factors:
+      return path::Stability::stable;
+    case stability::StabilityTermination::unstable_at_zero:
+      return path::Stability::unstable;
+    case stability::StabilityTermination::not_converged:
+      break;
+  }
+  return path::Stability::unknown;
+}
+
 std::optional<ContactSet> AxialPath::start_set(double lambda) {
   const int m = d_.reactions();
   if (!d_.tensionless) return ContactSet(m, true);
@@ -209,7 +236,7 @@ TraceStep AxialPath::step_at(const Point& p) {
   const LiftMeasures lift = lift_measures(model_, d_, displacement, points_);
   step.amplitude = lift.amplitude;
   step.lifted_length = lift.lifted_length;
-  step.stability = negative_eigenvalues(set_, p.lambda) == 0 ? path::Stability::stable : path::Stability::unstable;
+  step.stability = stability_at(p);
   step.state_topology = path::FeContactSet{};
   step.state.assign(set_.begin(), set_.end());
   return step;

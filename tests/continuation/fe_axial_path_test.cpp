@@ -270,6 +270,46 @@ max_amplitude = 0.1
   for (const auto& step : result.steps) CHECK(step.stability == path::Stability::stable);
 }
 
+TEST_CASE("a straight weightless strut lying on a tensionless foundation is stable below the Euler load only",
+          "[fe_axial_path]") {
+  // Nothing presses the strut on its foundation: every node touches it with neither reaction nor
+  // gap (weakly active). Its full contact set's tangent (bilateral springs) stays positive definite
+  // up to the bilateral load min_n (n^2 pi^2 + k / (n^2 pi^2)) EI / L^2 = 23.0 EI / L^2 (k = 129.6);
+  // the cone of admissible perturbations lets it buckle away at P_E = pi^2 EI / L^2 (issue 15), and
+  // the steps' stability must say so: stable below P_E, unstable above it.
+  const std::string text = R"(
+[structure]
+kind = "beam"
+length = 6.0
+EI = 1.0e7
+[supports]
+left = "pinned"
+right = "pinned"
+[foundation]
+modulus = 1.0e6
+[[loads]]
+kind = "axial"
+value = 1.0e6
+case = "live"
+[trace]
+lambda_max = 4.0
+)";
+  const scene::Scene scene = scene::parse_scene(text, "straight_strut.toml");
+  const TraceResult result = continuation::trace_fe(scene, options_for(scene, 64));
+  INFO(result.summary.message);
+  REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
+  const double euler = closed_form::tensionless_pinned_strut_critical(6.0, 1.0e7);  // 2.74e6 N
+  int above = 0;
+  for (const auto& step : result.steps) {
+    CAPTURE(step.axial_force);
+    // The FE Euler load at 64 elements is within 1e-6 of P_E: steps within 1e-3 of it are skipped.
+    if (std::abs(step.axial_force / euler - 1.0) < 1e-3) continue;
+    CHECK(step.stability == (step.axial_force < euler ? path::Stability::stable : path::Stability::unstable));
+    above += step.axial_force > euler;
+  }
+  CHECK(above >= 1);
+}
+
 TEST_CASE(
     "the perfect pipeline: the fold at the bilateral critical load, bifurcations where the set's tangent is singular",
     "[fe_axial_path]") {
