@@ -23,7 +23,9 @@
 // (events.hpp's lift_measures) and stability from the inertia of the tangent on the step's contact
 // set (contact::check_tangent): at a state where every reaction in the set is positive and every gap
 // off it is positive, small perturbations keep the set, so that tangent is the whole second
-// variation and the check is exact (stable iff positive definite). A change of its number of
+// variation and the check is exact (stable iff positive definite); a step with weakly active nodes
+// (touching with neither reaction nor gap) gets it from the cone's critical load instead
+// (stability/critical_load.hpp: stable when its factor on the step's N exceeds 1). A change of its number of
 // negative eigenvalues between two steps on one set (no breakpoint between them) is a point where
 // the fixed-set tangent is singular off a fold: located by bisection on the count and reported as
 // `bifurcation`.
