@@ -43,6 +43,11 @@ struct TraceOptions {
   // Beam-columns: stop (completed) at the first step whose TraceStep::amplitude (user length)
   // reaches this; absent: no bound (scene::TraceSettings::max_amplitude).
   std::optional<double> max_amplitude;
+  // Beam-columns: at a `bifurcation` where the path loses its stability (stable before, unstable
+  // after), leave the path for the bifurcated branch along the critical mode, in the direction
+  // that meets the contact conditions; false: report the bifurcation and stay on the path
+  // (scene::TraceSettings::switch_branch).
+  bool switch_branch = true;
   // Resume after this step (read back from an interrupted trace's file): the path restarts
   // from its lambda and state. It reports neither that step nor any event at or below its
   // lambda again: they are in the file already.

@@ -203,6 +203,7 @@ TraceOptions trace_options(const scene::Scene& scene, const TraceRequest& reques
   o.modes = request.modes.value_or(scene.ritz.modes);
   o.monitor = monitor_point(scene);
   o.max_amplitude = t.max_amplitude;
+  o.switch_branch = t.switch_branch;
   // Uniform, with both ends exact: begin + (end - begin) i / (n - 1) can round one ulp past the
   // end (L = 0.013), and the paths refuse a sample outside the member.
   o.sample_points.resize(t.samples);

@@ -224,6 +224,9 @@ struct TraceSettings {
   // (TraceStep::amplitude, user length) reaches this, on whichever branch (a descending one
   // after a limit point never reaches lambda_max). Absent: no such bound.
   std::optional<double> max_amplitude;
+  // Beam-columns: at a bifurcation point where the path loses its stability, follow the
+  // bifurcated branch (the member's buckled shape) instead of the now unstable one it was on.
+  bool switch_branch = true;
   int line = 0;  // line of the [trace] header, for messages (0: unknown)
 };
 

@@ -55,7 +55,7 @@ const std::vector<TableSpec>& schema() {
       {"trace",
        false,
        {"lambda_max", "lambda_min", "method", "control", "initial_step", "min_step", "max_step", "max_steps", "monitor",
-        "samples", "refine", "max_amplitude"}},
+        "samples", "refine", "max_amplitude", "switch_branch"}},
       {"compare", false, {"source", "contact_half_angle_deg"}},
       {"units", false, {"system", "length", "force"}},
       {"combinations", true, {"name", "factors"}},
@@ -1133,6 +1133,7 @@ TraceSettings read_trace(const Section& s, const Member& member) {
   trace.samples = s.integer("samples", 2, 1'000'000).value_or(trace.samples);
   trace.refine = s.flag("refine").value_or(trace.refine);
   trace.max_amplitude = s.number("max_amplitude", positive());
+  trace.switch_branch = s.flag("switch_branch").value_or(trace.switch_branch);
   return trace;
 }
 
