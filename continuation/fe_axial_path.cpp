@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <optional>
 
@@ -36,6 +37,9 @@ constexpr double acceptable_residual = 1e-8;
 // Bisections: the bracket in lambda is halved at most this often.
 constexpr int max_bisections = 200;
 
+// Stable when the cone's critical factor on the present axial force exceeds 1.
+path::Stability cone_verdict(const stability::CriticalLoadResult& cone);
+
 struct StepNotCertified {
   double lambda;
   std::string message;
@@ -45,6 +49,17 @@ struct StepNotCertified {
 struct Point {
   double lambda = 0.0;
   contact::ContactState state;
+};
+
+// A one-parameter family of fixed-set states: by lambda on one set, or along a critical mode at
+// one lambda (a bifurcated branch). Empty where the state cannot be had.
+using Family = std::function<std::optional<Point>(double)>;
+
+// What became of a bifurcation (AxialPath::switch_branch).
+enum class Switch {
+  stayed,    // no branch the contact conditions admit, or switching not asked for: the path goes on
+  switched,  // on the bifurcated branch, which goes on in lambda from `current`, on set_
+  finished,  // the trace ended on the bifurcated branch (result_ says how)
 };
 
 class AxialPath {
@@ -71,7 +86,14 @@ class AxialPath {
   bool feasible(const ContactSet& set, const Point& p) const;
   double amplitude(const Point& p) const;
   int negative_eigenvalues(const ContactSet& set, double lambda);
+  // The cone's critical load at a state with weakly active nodes (empty: there are none).
+  // along_branch: only nodes weak along the set's branch count (at zero here and a little
+  // further in lambda too, as on a strut that nothing presses down), not one passing zero here.
+  std::optional<stability::CriticalLoadResult> cone_at(const Point& p, bool along_branch = false);
   path::Stability stability_at(const Point& p);
+  // The count the path watches for bifurcations: the negative eigenvalues of set_'s tangent, or
+  // where nodes are weakly active, 0 if the cone says stable and at least 1 if not.
+  int instability(const Point& p);
   std::optional<ContactSet> start_set(double lambda);
   TraceStep step_at(const Point& p);
   void emit_step(const Point& p);
@@ -79,6 +101,29 @@ class AxialPath {
   ContactTopology topology_of(const Point& p) const;
   // Contact-topology events between a and b on set_ (a graph over lambda there).
   void locate_events(const Point& a, const Point& b, ContactTopology& topology_a);
+  // The same along any family, from family(t_a) (whose topology is topology_a) to b = family(t_b).
+  void locate_events(const Family& family, double t_a, const Point& b, double t_b, ContactTopology& topology_a);
+  // The null vector of the tangent on `set` near a singular point at lambda (inverse iteration):
+  // displacement, reactions and gaps of the mode (homogeneous: no load, no ground), max |u| = 1,
+  // its largest deflection lifting, and the singular point's lambda (its Rayleigh quotient).
+  // Empty if a solve fails.
+  struct CriticalMode {
+    contact::ContactState mode;
+    double lambda = 0.0;
+  };
+  std::optional<CriticalMode> critical_mode(const ContactSet& set, double lambda);
+  // The mode and lambda of the bifurcation located just after `at` on set_, set_ moved to the
+  // cone's spring set where nodes are weakly active.
+  std::optional<CriticalMode> bifurcation_mode(const Point& at);
+  // The side in lambda on which set_'s branch through `lambda` is feasible: +1, -1, 0 (neither).
+  double feasible_side(double lambda, double preferred);
+  // At a bifurcation located at `at` (on set_, just before the tangent turns singular), follows
+  // the bifurcated branch: at fixed lambda along the critical mode, in the direction the contact
+  // conditions admit, until a node switches (then on in lambda from there: `current`,
+  // `direction`) or the amplitude bound.
+  // `event` (the bifurcation) is emitted here, its description completed with what the path does.
+  Switch switch_branch(const Point& at, TraceEvent event, ContactTopology& topology, std::optional<Point>& current,
+                       double& direction);
   void finish(TraceTermination termination, std::string message, double lambda);
 
   TraceOptions options_;
@@ -93,6 +138,8 @@ class AxialPath {
   ContactSet set_;
   double axial_of_system_ = std::numeric_limits<double>::quiet_NaN();
   int solves_since_step_ = 0;
+  int folds_ = 0, bifurcations_ = 0, breakpoints_ = 0;
+  bool on_neutral_branch_ = false;  // steps at a bifurcation's lambda along its mode
 };
 
 void AxialPath::set_axial(double lambda) {
@@ -149,13 +196,51 @@ int AxialPath::negative_eigenvalues(const ContactSet& set, double lambda) {
 // (weakly active: a weightless strut lying on its foundation) has a spring only where the
 // perturbation pushes in, which no fixed set represents: there the cone's critical load
 // (stability/critical_load.hpp) decides, stable when its factor on the present N exceeds 1.
-path::Stability AxialPath::stability_at(const Point& p) {
+std::optional<stability::CriticalLoadResult> AxialPath::cone_at(const Point& p, bool along_branch) {
+  using stability::NodeContact;
+  auto weak = [](const std::vector<NodeContact>& contact) {
+    return std::any_of(contact.begin(), contact.end(), [](NodeContact c) { return c == NodeContact::weakly_active; });
+  };
+  std::vector<NodeContact> contact = stability::classify_contact(p.state.reaction, p.state.gap);
+  if (!weak(contact)) return std::nullopt;
+  if (along_branch) {
+    const double span = std::abs(options_.arc_length.lambda_max - options_.arc_length.lambda_min);
+    const auto further = solve(set_, p.lambda + 1e-3 * std::max(span, 1e-300));
+    if (!further) return std::nullopt;
+    // Zero there too, either sign (a node that crosses zero here is far from zero there).
+    const VectorXd& r = further->state.reaction;
+    const VectorXd& g = further->state.gap;
+    const double r_zero = 1e-8 * r.lpNorm<Eigen::Infinity>(), g_zero = 1e-8 * g.lpNorm<Eigen::Infinity>();
+    for (std::size_t i = 0; i < contact.size(); ++i) {
+      const auto j = static_cast<Eigen::Index>(i);
+      if (contact[i] == NodeContact::weakly_active && !(std::abs(r[j]) <= r_zero && std::abs(g[j]) <= g_zero))
+        contact[i] = set_[i] ? NodeContact::in_contact : NodeContact::lifted;
+    }
+    if (!weak(contact)) return std::nullopt;
+  }
   set_axial(p.lambda);
-  const std::vector<stability::NodeContact> contact = stability::classify_contact(p.state.reaction, p.state.gap);
-  if (std::none_of(contact.begin(), contact.end(),
-                   [](stability::NodeContact c) { return c == stability::NodeContact::weakly_active; }))
-    return negative_eigenvalues(set_, p.lambda) == 0 ? path::Stability::stable : path::Stability::unstable;
-  const stability::CriticalLoadResult cone = stability::critical_load(d_, 0.0, d_.axial_force, contact);
+  return stability::critical_load(d_, 0.0, d_.axial_force, contact);
+}
+
+int AxialPath::instability(const Point& p) {
+  const int negative = negative_eigenvalues(set_, p.lambda);
+  // (An infeasible state, beyond a breakpoint, has no cone: its negative reactions are no
+  // weakly active nodes.)
+  if (const auto cone = feasible(set_, p) ? cone_at(p, true) : std::nullopt) {
+    const path::Stability verdict = cone_verdict(*cone);
+    if (verdict == path::Stability::stable) return 0;
+    if (verdict == path::Stability::unstable) return std::max(negative, 1);
+  }
+  return negative;
+}
+
+path::Stability AxialPath::stability_at(const Point& p) {
+  const auto cone = cone_at(p);
+  if (!cone) return negative_eigenvalues(set_, p.lambda) == 0 ? path::Stability::stable : path::Stability::unstable;
+  return cone_verdict(*cone);
+}
+
+path::Stability cone_verdict(const stability::CriticalLoadResult& cone) {
   switch (cone.termination) {
     case stability::StabilityTermination::critical_load_found:
       return cone.critical_load_factor > 1.0 ? path::Stability::stable : path::Stability::unstable;
@@ -244,6 +329,7 @@ TraceStep AxialPath::step_at(const Point& p) {
 
 void AxialPath::emit_step(const Point& p) {
   TraceStep step = step_at(p);
+  if (on_neutral_branch_) step.stability = path::Stability::unstable;
   // Certified from its own fields (balance with K(N) at this lambda, the contact inequalities,
   // backward error) as the exact path's states are.
   set_axial(p.lambda);
@@ -274,15 +360,23 @@ void AxialPath::emit_event(const TraceEvent& event) {
 }
 
 void AxialPath::locate_events(const Point& a, const Point& b, ContactTopology& topology_a) {
+  locate_events([this](double lambda) { return solve(set_, lambda); }, a.lambda, b, b.lambda, topology_a);
+}
+
+void AxialPath::locate_events(const Family& family, double t_a, const Point& b, double t_b,
+                              ContactTopology& topology_a) {
   ContactTopology topology_b = topology_of(b);
-  double from = a.lambda;
+  double from = t_a;
+  // Along lambda the parameter is located to event_tolerance; along a mode (t from 0 to t_b),
+  // to the same fraction of the segment.
+  const double tolerance = options_.event_tolerance * std::max(1.0, std::abs(t_b - t_a));
   for (int guard = 0; guard < 64 && !topology_a.same_as(topology_b); ++guard) {
-    double lo = from, hi = b.lambda;
+    double lo = from, hi = t_b;
     ContactTopology before = topology_a;
     std::optional<Point> at_hi;
-    for (int i = 0; i < max_bisections && std::abs(hi - lo) > options_.event_tolerance; ++i) {
+    for (int i = 0; i < max_bisections && std::abs(hi - lo) > tolerance; ++i) {
       const double mid = 0.5 * (lo + hi);
-      const auto p = solve(set_, mid);
+      const auto p = family(mid);
       if (!p) break;
       ContactTopology at_mid = topology_of(*p);
       if (at_mid.same_as(topology_a)) {
@@ -293,10 +387,10 @@ void AxialPath::locate_events(const Point& a, const Point& b, ContactTopology& t
         at_hi = p;
       }
     }
-    if (!at_hi) at_hi = hi == b.lambda ? std::optional<Point>(b) : solve(set_, hi);
+    if (!at_hi) at_hi = hi == t_b ? std::optional<Point>(b) : family(hi);
     if (!at_hi) break;
     const ContactTopology after = topology_of(*at_hi);
-    const std::vector<TraceEvent> events = classify_events(model_, points_, before, after, hi);
+    const std::vector<TraceEvent> events = classify_events(model_, points_, before, after, at_hi->lambda);
     if (!events.empty()) {
       emit_step(*at_hi);
       for (const auto& event : events) emit_event(event);
@@ -305,6 +399,238 @@ void AxialPath::locate_events(const Point& a, const Point& b, ContactTopology& t
     topology_a = after;
   }
   topology_a = topology_b;
+}
+
+std::optional<AxialPath::CriticalMode> AxialPath::critical_mode(const ContactSet& set, double lambda) {
+  set_axial(lambda);
+  if (!system_.factorise(set)) return std::nullopt;
+  // M(lambda) x = N_live K_g u: the singular point lies close to lambda (see below), so the null
+  // vector dominates after one solve by orders; the rest clean up the start's other parts.
+  const double live = model_.axial_force(1.0) - model_.axial_force(0.0);
+  VectorXd u(d_.geometric_stiffness.rows());
+  for (Eigen::Index j = 0; j < u.size(); ++j) u[j] = std::sin(1.7 * static_cast<double>(j) + 0.3);  // no symmetry
+  contact::ContactState mode;
+  for (int iteration = 0; iteration < 4; ++iteration) {
+    const VectorXd load = live * (d_.geometric_stiffness * u);
+    mode = system_.solve(load);
+    ++solves_since_step_;
+    const double size = mode.displacement.lpNorm<Eigen::Infinity>();
+    if (!std::isfinite(size) || size == 0.0) return std::nullopt;
+    u = mode.displacement / size;
+  }
+  const double size = mode.displacement.lpNorm<Eigen::Infinity>();
+  double sign = 1.0 / size;
+  // Oriented so that its largest deflection lifts (w > 0 presses into the foundation).
+  const VectorXd dofs = d_.expand_displacement(mode.displacement);
+  double largest = 0.0;
+  for (int node = 0; node <= d_.mesh.elements(); ++node) {
+    const double value = dofs[d_.deflection_dof(node)];
+    if (std::abs(value) > std::abs(largest)) largest = value;
+  }
+  if (largest > 0.0) sign = -sign;
+  mode.displacement *= sign;
+  mode.reaction *= sign;
+  mode.gap *= sign;
+  // The fixed-set matrix S(lambda) = [K(N) C_A^T; C_A -T_AA] loses N_live K_g per unit lambda:
+  // S(lambda_c) x = 0 at lambda_c = lambda + x^T S(lambda) x / (N_live u^T K_g u), stationary
+  // in x, so second-order accurate. (The inertia that located the point counts a pivot below
+  // 1e-14 of the largest as singular, which on a fine mesh is early by 1e-14 cond(S).)
+  const VectorXd& x = mode.displacement;
+  const VectorXd& r = mode.reaction;
+  const double quadratic = x.dot(d_.stiffness * x) + 2.0 * r.dot(d_.coupling * x) - r.dot(d_.flexibility * r);
+  const double curvature = live * x.dot(d_.geometric_stiffness * x);
+  if (!(std::abs(curvature) > 0.0)) return std::nullopt;
+  return CriticalMode{std::move(mode), lambda + quadratic / curvature};
+}
+
+std::optional<AxialPath::CriticalMode> AxialPath::bifurcation_mode(const Point& at) {
+  // Weakly active nodes (touching, no reaction): the cone's critical mode says which of them
+  // keep a spring (push in) and which lift; the branch lies on that set, whose tangent is the
+  // one that turns singular (the path's state is on it too: those nodes carry nothing).
+  if (const auto cone = cone_at(at, true); cone && cone->is_usable())
+    for (int i = 0; i < d_.reactions(); ++i) set_[i] = cone->spring[i];
+  auto critical = critical_mode(set_, at.lambda);
+  if (!critical) return std::nullopt;
+  // The quotient is trusted near the located point only (else the iteration found another mode).
+  const double span = std::abs(options_.arc_length.lambda_max - options_.arc_length.lambda_min);
+  if (!(std::abs(critical->lambda - at.lambda) <= 1e-2 * std::max(std::abs(at.lambda), 1e-3 * span)))
+    critical->lambda = at.lambda;
+  return critical;
+}
+
+double AxialPath::feasible_side(double lambda, double preferred) {
+  const double span = std::max(std::abs(options_.arc_length.lambda_max - options_.arc_length.lambda_min), 1e-300);
+  for (double offset = std::max(1e-6 * span, 100.0 * options_.event_tolerance);
+       offset >= 10.0 * options_.event_tolerance; offset *= 1e-2)
+    for (double side : {preferred, -preferred}) {
+      const auto p = solve(set_, lambda + side * offset);
+      if (p && feasible(set_, *p)) return side;
+    }
+  return 0.0;
+}
+
+Switch AxialPath::switch_branch(const Point& at, TraceEvent event, ContactTopology& topology,
+                                std::optional<Point>& current, double& direction) {
+  auto announce = [&](std::string_view what) {
+    event.description += what;
+    emit_event(event);
+  };
+  const ContactSet path_set = set_;
+  const auto critical = bifurcation_mode(at);  // may move set_ to the cone's springs
+  if (!critical) {
+    set_ = path_set;
+    announce("; the critical mode could not be computed: the path goes on");
+    return Switch::stayed;
+  }
+  event.load_factor = critical->lambda;
+  const contact::ContactState* mode = &critical->mode;
+  // The path's state at the bifurcation, on the branch's set: extrapolated from `at` and a point
+  // before it (the matrix is singular there; the path is smooth through it).
+  Point origin = at;
+  origin.lambda = critical->lambda;
+  {
+    const double h = std::max(std::abs(critical->lambda - at.lambda), 1e-6 * std::max(std::abs(at.lambda), 1.0));
+    const auto here = solve(set_, at.lambda), before = solve(set_, at.lambda - h);
+    if (here && before) {
+      const double t = (critical->lambda - at.lambda) / h;
+      origin.state.displacement =
+          here->state.displacement + t * (here->state.displacement - before->state.displacement);
+      origin.state.reaction = here->state.reaction + t * (here->state.reaction - before->state.reaction);
+      origin.state.gap = here->state.gap + t * (here->state.gap - before->state.gap);
+    }
+  }
+  // Along base + a s phi every reaction (in the set) and gap (off it) is linear in a: the
+  // branch meets the contact conditions up to the first that falls to zero, and not at all in a
+  // direction that pushes a node already at zero through it (a touching node with no reaction:
+  // the cone of admissible perturbations).
+  const int m = d_.reactions();
+  const contact::ContactState& base = origin.state;
+  auto scale = [](const VectorXd& v) { return std::max(v.lpNorm<Eigen::Infinity>(), 1e-300); };
+  const double r_base = scale(base.reaction), g_base = scale(base.gap);
+  const double r_mode = scale(mode->reaction), g_mode = scale(mode->gap);
+  auto reach = [&](double s) {
+    double a_max = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < m; ++i) {
+      const double value = set_[i] ? base.reaction[i] : base.gap[i];
+      const double rate = s * (set_[i] ? mode->reaction[i] : mode->gap[i]);
+      if (!d_.tensionless || rate >= -tie_tolerance * (set_[i] ? r_mode : g_mode)) continue;
+      const bool at_zero = value <= tie_tolerance * (set_[i] ? r_base : g_base);
+      a_max = std::min(a_max, at_zero ? 0.0 : value / -rate);
+    }
+    return a_max;
+  };
+  const double up = reach(1.0), down = reach(-1.0);
+  if (!(up > 0.0) && !(down > 0.0)) {
+    set_ = path_set;
+    announce("; neither direction of the critical mode meets the contact conditions: the path goes on");
+    return Switch::stayed;
+  }
+  const double s = up >= down ? 1.0 : -1.0;  // ties: the largest deflection lifts
+  const double a_end = std::max(up, down);
+  auto on_branch = [&, s](double a) -> std::optional<Point> {
+    Point p = origin;
+    p.state.displacement += a * s * mode->displacement;
+    p.state.reaction += a * s * mode->reaction;
+    p.state.gap += a * s * mode->gap;
+    return p;
+  };
+  const double n = model_.axial_force(origin.lambda) * model_.scales.force();
+  // The amplitude bound on the branch, located by bisection on a (the amplitude grows with it).
+  const bool bounded = options_.max_amplitude.has_value();
+  double a_stop = a_end;
+  if (bounded && (!std::isfinite(a_end) || amplitude(*on_branch(a_end)) >= *options_.max_amplitude)) {
+    double lo = 0.0, hi = std::isfinite(a_end) ? a_end : 1.0;
+    for (int i = 0; i < 200 && amplitude(*on_branch(hi)) < *options_.max_amplitude; ++i) lo = hi, hi *= 2.0;
+    for (int i = 0; i < max_bisections && hi - lo > 1e-14 * hi; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (amplitude(*on_branch(mid)) < *options_.max_amplitude ? lo : hi) = mid;
+    }
+    a_stop = hi;
+  }
+  if (!std::isfinite(a_stop)) {
+    announce(
+        fmt::format("; the bifurcated branch stays at N = {:.6g} for every amplitude of the mode with no node "
+                    "switching (second-order theory: a neutral branch); set [trace] max_amplitude to follow it",
+                    n));
+    finish(TraceTermination::completed,
+           fmt::format("bifurcation at lambda = {:.10g} onto a neutral branch (no amplitude bound given): {} limit "
+                       "point(s), {} bifurcation(s)",
+                       origin.lambda, folds_, bifurcations_),
+           origin.lambda);
+    return Switch::finished;
+  }
+  // The branch is straight at fixed lambda: a few steps draw it; its events are located along it.
+  auto draw = [&] {
+    // Its states are neutral: the tangent is singular along the mode (not positive definite).
+    on_neutral_branch_ = true;
+    constexpr int branch_steps = 4;
+    double a_previous = 0.0;
+    for (int k = 1; k <= branch_steps; ++k) {
+      const double a = a_stop * k / branch_steps;
+      const Point p = *on_branch(a);
+      locate_events(on_branch, a_previous, p, a, topology);
+      emit_step(p);
+      a_previous = a;
+    }
+    on_neutral_branch_ = false;
+  };
+  if (a_stop < a_end) {
+    announce(fmt::format("; the path follows the bifurcated branch at N = {:.6g} up to amplitude {:.6g}", n,
+                         *options_.max_amplitude));
+    draw();
+    finish(TraceTermination::completed,
+           fmt::format("amplitude {:.6g} reached (max_amplitude) on the bifurcated branch at lambda = {:.10g}: {} "
+                       "limit point(s), {} bifurcation(s), {} event(s)",
+                       *options_.max_amplitude, origin.lambda, folds_, bifurcations_, result_.events.size()),
+           origin.lambda);
+    return Switch::finished;
+  }
+  // A node switches where the branch ends (every one at zero there and falling along it: ties of
+  // a symmetric member together); the new set's branch through that state goes on in lambda.
+  const Point end = *on_branch(a_end);
+  const std::vector<double> values = relative_values(set_, end);
+  ContactSet switched = set_;
+  int first_switched = -1;
+  for (int i = 0; i < m; ++i) {
+    const double rate = s * (set_[i] ? mode->reaction[i] : mode->gap[i]);
+    if (values[i] <= tie_tolerance && rate < -tie_tolerance * (set_[i] ? r_mode : g_mode)) {
+      switched[i] = !switched[i];
+      if (first_switched < 0) first_switched = i;
+    }
+  }
+  const ContactSet before = set_;
+  set_ = switched;
+  const auto on = solve(set_, origin.lambda);
+  const double side = on && first_switched >= 0 ? feasible_side(origin.lambda, direction) : 0.0;
+  const double where = model_.user_from_s(d_.mesh.nodes[d_.reaction_nodes[std::max(first_switched, 0)]]);
+  const char* how = before[std::max(first_switched, 0)] ? "lifts off" : "touches down";
+  if (side == 0.0) {
+    set_ = before;
+    announce(
+        fmt::format("; the bifurcated branch at N = {:.6g} ends where the node at {:.6g} {}, and no path goes "
+                    "on from there in lambda",
+                    n, where, how));
+    draw();
+    finish(TraceTermination::solver_failure,
+           fmt::format("the bifurcated branch at lambda = {:.10g} could not be continued past its first switch",
+                       origin.lambda),
+           origin.lambda);
+    return Switch::finished;
+  }
+  ++breakpoints_;
+  announce(
+      fmt::format("; the path follows the bifurcated branch at N = {:.6g} until the node at {:.6g} {}, then goes {} "
+                  "in lambda",
+                  n, where, how, side > 0 ? "up" : "down"));
+  {
+    const ContactSet on_set = set_;
+    set_ = before;  // the branch's steps are states of the set it leaves
+    draw();
+    set_ = on_set;
+  }
+  current = on;
+  direction = side;
+  return Switch::switched;
 }
 
 void AxialPath::finish(TraceTermination termination, std::string message, double lambda) {
@@ -326,8 +652,6 @@ TraceResult AxialPath::run() {
   const double lambda_start = options_.arc_length.lambda_min;
   const double max_step = options_.arc_length.max_step * span, initial_step = options_.arc_length.initial_step * span;
   const double min_step = std::max(options_.arc_length.min_step * span, 4.0 * options_.event_tolerance);
-  int folds = 0, bifurcations = 0, breakpoints = 0;
-
   auto done = [&]() {
     summary.factorisations = system_.factorisations();
     summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -335,7 +659,7 @@ TraceResult AxialPath::run() {
   };
   auto ending = [&](double lambda) {
     return fmt::format("lambda = {:.10g} reached: {} breakpoint(s), {} limit point(s), {} bifurcation(s), {} event(s)",
-                       lambda, breakpoints, folds, bifurcations, result_.events.size());
+                       lambda, breakpoints_, folds_, bifurcations_, result_.events.size());
   };
   try {
     if (options_.resume_from) {
@@ -359,7 +683,7 @@ TraceResult AxialPath::run() {
       return done();
     }
     emit_step(*current);
-    int negative = negative_eigenvalues(set_, current->lambda);
+    int negative = instability(*current);
     ContactTopology topology = topology_of(*current);
     double step = initial_step;
     double last_breakpoint = current->lambda;
@@ -378,7 +702,8 @@ TraceResult AxialPath::run() {
       if (at_end) target = direction > 0 ? lambda_max : lambda_min;
       std::optional<Point> next = solve(set_, target);
       const bool ok = next && feasible(set_, *next);
-      const int next_negative = next ? negative_eigenvalues(set_, target) : negative;
+      const int next_negative = next ? instability(*next) : negative;
+      if (negative < 0) negative = next_negative;  // the count of a branch just entered (see below)
       const bool past_amplitude = ok && options_.max_amplitude && amplitude(*next) >= *options_.max_amplitude;
       if (ok && next_negative == negative && !past_amplitude) {
         locate_events(*current, *next, topology);
@@ -404,7 +729,7 @@ TraceResult AxialPath::run() {
       auto happens = [&](const std::optional<Point>& p) {
         if (!p || !feasible(set_, *p)) return true;
         if (options_.max_amplitude && amplitude(*p) >= *options_.max_amplitude) return true;
-        return watch_inertia && negative_eigenvalues(set_, p->lambda) != negative;
+        return watch_inertia && instability(*p) != negative;
       };
       std::optional<Point> bad = next;
       // Regula falsi (Illinois) on the smallest margin of the contact conditions and of the
@@ -459,7 +784,7 @@ TraceResult AxialPath::run() {
         finish(TraceTermination::completed,
                fmt::format("amplitude {:.6g} reached (max_amplitude) at lambda = {:.10g}: {} limit point(s), {} "
                            "bifurcation(s), {} event(s)",
-                           *options_.max_amplitude, bad->lambda, folds, bifurcations, result_.events.size()),
+                           *options_.max_amplitude, bad->lambda, folds_, bifurcations_, result_.events.size()),
                bad->lambda);
         return done();
       }
@@ -467,22 +792,43 @@ TraceResult AxialPath::run() {
         // The tangent on this set turns singular between good and bad with no breakpoint: a
         // bifurcation point of the fixed-set problem (the path itself passes: the load has no
         // part along the critical mode, else its amplitude would have stopped it).
-        emit_step(*bad);
-        ++bifurcations;
-        emit_event({0.5 * (good.lambda + bad->lambda), EventKind::bifurcation, options_.monitor,
-                    fmt::format("the tangent stiffness on the contact set turns singular (from {} to {} negative "
-                                "eigenvalue(s)) at N = {:.6g}: another branch crosses the path",
-                                negative, negative_eigenvalues(set_, bad->lambda),
-                                model_.axial_force(bad->lambda) * model_.scales.force())});
-        negative = negative_eigenvalues(set_, bad->lambda);
-        current = bad;
+        const int after = instability(*bad);
+        TraceEvent event{0.5 * (good.lambda + bad->lambda), EventKind::bifurcation, options_.monitor,
+                         fmt::format("the tangent stiffness turns singular (from {} to {} unstable direction(s)) at "
+                                     "N = {:.6g}: another branch crosses the path",
+                                     negative, after, model_.axial_force(bad->lambda) * model_.scales.force())};
+        // Where the path loses its stability the member leaves it for the bifurcated branch;
+        // elsewhere (an unstable path, already left by the member) the crossing is reported.
+        if (options_.switch_branch && negative == 0 && after > 0) {
+          emit_step(good);
+          ++bifurcations_;
+          const Switch outcome = switch_branch(good, std::move(event), topology, current, direction);
+          if (outcome == Switch::finished) return done();
+          if (outcome == Switch::switched) {  // (topology: the branch's end, where its events ended)
+            negative = -1;                    // taken at the next step: here a node is at zero
+            step = initial_step;
+            last_breakpoint = current->lambda;
+            continue;
+          }
+          current = bad;
+          emit_step(*current);
+        } else {
+          const ContactSet path_set = set_;
+          if (const auto critical = bifurcation_mode(good)) event.load_factor = critical->lambda;
+          set_ = path_set;
+          emit_step(*bad);
+          emit_event(event);
+          ++bifurcations_;
+          current = bad;
+        }
+        negative = after;
         topology = topology_of(*current);
         step = initial_step;
         continue;
       }
       // A breakpoint: the nodes infeasible just beyond switch; the new set's branch through it
       // goes on ahead (no fold) or behind (a limit point).
-      ++breakpoints;
+      ++breakpoints_;
       // Every node at zero there and falling switches, ties together (mirror nodes of a symmetric
       // member cross at one lambda to round-off, and the located point may lie on either side of
       // one of them): falling as seen a little beyond, far above round-off, far below the spacing
@@ -508,17 +854,7 @@ TraceResult AxialPath::run() {
                current->lambda);
         return done();
       }
-      double chosen = 0.0;
-      for (double offset = std::max(1e-6 * span, 100.0 * options_.event_tolerance);
-           chosen == 0.0 && offset >= 10.0 * options_.event_tolerance; offset *= 1e-2) {
-        for (double side : {direction, -direction}) {
-          const auto p = solve(set_, current->lambda + side * offset);
-          if (p && feasible(set_, *p)) {
-            chosen = side;
-            break;
-          }
-        }
-      }
+      const double chosen = feasible_side(current->lambda, direction);
       if (chosen == 0.0) {
         set_ = before;
         emit_step(*current);
@@ -532,7 +868,7 @@ TraceResult AxialPath::run() {
       current = on;
       emit_step(*current);
       if (chosen != direction) {
-        ++folds;
+        ++folds_;
         const double s = d_.mesh.nodes[d_.reaction_nodes[first_switched]];
         emit_event(
             {current->lambda, EventKind::limit_point, model_.user_from_s(s),
@@ -543,7 +879,14 @@ TraceResult AxialPath::run() {
                          model_.user_from_s(s), before[first_switched] ? "lifts off" : "touches down")});
         direction = chosen;
       }
-      negative = negative_eigenvalues(set_, current->lambda);
+      // The switched nodes are at zero here (weakly active for the cone) but not on the branch
+      // beyond: the set's own count holds there, unless other nodes are weak too.
+      const std::vector<stability::NodeContact> contact =
+          stability::classify_contact(current->state.reaction, current->state.gap);
+      bool others_weak = false;
+      for (int i = 0; i < m; ++i)
+        others_weak |= contact[i] == stability::NodeContact::weakly_active && set_[i] == before[i];
+      negative = others_weak ? -1 : negative_eigenvalues(set_, current->lambda);
       topology = topology_of(*current);
       // The next breakpoint is likely as far as this one was from the last.
       step = std::clamp(2.0 * std::abs(current->lambda - last_breakpoint), min_step, initial_step);

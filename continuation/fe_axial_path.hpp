@@ -26,9 +26,22 @@
 // variation and the check is exact (stable iff positive definite); a step with weakly active nodes
 // (touching with neither reaction nor gap) gets it from the cone's critical load instead
 // (stability/critical_load.hpp: stable when its factor on the step's N exceeds 1). A change of its number of
-// negative eigenvalues between two steps on one set (no breakpoint between them) is a point where
-// the fixed-set tangent is singular off a fold: located by bisection on the count and reported as
-// `bifurcation`.
+// negative eigenvalues between two steps on one set (no breakpoint between them; where nodes stay
+// weakly active along the branch, of the cone's verdict) is a point where the tangent is singular
+// off a fold: located by bisection on the count, its lambda refined by the Rayleigh quotient of
+// the critical mode (inverse iteration on the fixed-set system), and reported as `bifurcation`.
+//
+// Branch switching (TraceOptions::switch_branch, default true). At a bifurcation where the path
+// loses its stability (no negative eigenvalue before, some after) the trace leaves it: the
+// bifurcated branch of second-order theory is straight at fixed lambda, base + a phi with phi the
+// critical mode (at weakly active nodes the cone's mode, whose spring set becomes the set), so
+// every reaction in the set and gap off it is linear in a; the sign of phi is the one the contact
+// conditions admit (a node at zero may not be pushed through), and the branch runs to the first
+// node at zero (switched, and the new set's branch taken on its feasible side in lambda, as at
+// any breakpoint) or to max_amplitude. Its steps are reported unstable (the tangent is singular,
+// not positive definite); with no node switching and no max_amplitude the branch is unbounded and
+// the trace ends there (completed, the message says so). Elsewhere (switch_branch false, or a
+// bifurcation on a path already unstable) the event is reported and the path goes on.
 //
 // Stops: lambda_max (completed), lambda_min on a descending branch (completed), the first step whose
 // amplitude reaches TraceOptions::max_amplitude (located on the branch by bisection; completed,

@@ -9,6 +9,7 @@
 
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <iomanip>
 #include <numbers>
 
 #include "app/trace_command.hpp"
@@ -295,10 +296,16 @@ case = "live"
 lambda_max = 4.0
 )";
   const scene::Scene scene = scene::parse_scene(text, "straight_strut.toml");
-  const TraceResult result = continuation::trace_fe(scene, options_for(scene, 64));
+  TraceOptions options = options_for(scene, 64);
+  options.switch_branch = false;  // stay on the straight path (the next test switches)
+  const TraceResult result = continuation::trace_fe(scene, options);
   INFO(result.summary.message);
   REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
   const double euler = closed_form::tensionless_pinned_strut_critical(6.0, 1.0e7);  // 2.74e6 N
+  // The cone's loss of stability is the one bifurcation reported (not the bilateral set's).
+  REQUIRE(result.events.size() == 1);
+  CHECK(result.events[0].kind == EventKind::bifurcation);
+  CHECK(result.events[0].load_factor * 1e6 / euler == Approx(1.0).epsilon(1e-6));
   int above = 0;
   for (const auto& step : result.steps) {
     CAPTURE(step.axial_force);
@@ -308,6 +315,170 @@ lambda_max = 4.0
     above += step.axial_force > euler;
   }
   CHECK(above >= 1);
+}
+
+// Branch switching (issue 15): a perfect member's path meets a bifurcation where it loses its
+// stability; with [trace] switch_branch (the default) the trace leaves it along the critical mode.
+
+// The strut above without its bow: nothing presses it on the foundation (every node weakly
+// active), so the cone decides: the straight state is stable up to P_E = pi^2 EI / L^2, where the
+// lifting half-sine is a neutral mode (second-order theory: any amplitude at P_E). The trace
+// reports the bifurcation there and follows that branch at fixed lambda to max_amplitude, the
+// member lifting off everywhere in a half-sine. P_E to the FE error: at most the change from 32 to
+// 64 elements (an estimate that holds for any order >= 1); the shape to the mode's FE error.
+TEST_CASE("a straight weightless strut on a tensionless foundation: the bifurcation at P_E and its lifted branch",
+          "[fe_axial_path]") {
+  const std::string text = R"(
+[structure]
+kind = "beam"
+length = 6.0
+EI = 1.0e7
+[supports]
+left = "pinned"
+right = "pinned"
+[foundation]
+modulus = 1.0e6
+[[loads]]
+kind = "axial"
+value = 1.0e6
+case = "live"
+[trace]
+lambda_max = 4.0
+max_amplitude = 0.05
+)";
+  const scene::Scene scene = scene::parse_scene(text, "straight_strut.toml");
+  const double euler = closed_form::tensionless_pinned_strut_critical(6.0, 1.0e7);  // 2.74e6 N
+  auto bifurcation = [&](int elements) {
+    const TraceResult result = continuation::trace_fe(scene, options_for(scene, elements));
+    INFO(result.summary.message);
+    REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
+    REQUIRE(result.events.size() == 1);
+    REQUIRE(result.events[0].kind == EventKind::bifurcation);
+    return std::pair{result, result.steps.back().axial_force};
+  };
+  const auto [result, n64] = bifurcation(64);
+  const auto [coarse, n32] = bifurcation(32);
+  const auto [coarser, n16] = bifurcation(16);
+  const double order = std::log2((n16 - euler) / (n32 - euler)), finer = std::log2((n32 - euler) / (n64 - euler));
+  INFO(std::setprecision(12) << "N at the bifurcation: 16 el. " << n16 << ", 32 el. " << n32 << ", 64 el. " << n64
+                             << ", P_E " << euler << "; observed orders " << order << ", " << finer);
+  CHECK(std::abs(n64 - euler) <= std::abs(n32 - n64));
+  // Hermite cubics with the consistent geometric stiffness: h^4 (Rayleigh quotient of the mode).
+  CHECK(order > 3.7);
+  CHECK(order < 4.3);
+  CHECK(finer > 3.7);
+  CHECK(finer < 4.3);
+  // The lifted branch: at the bifurcation's lambda, amplitude growing to max_amplitude, the
+  // member off its foundation in the half-sine -A sin(pi x / L) (A the amplitude).
+  const double lambda_c = result.events[0].load_factor;
+  int on_branch = 0;
+  double previous = 0.0;
+  for (const auto& step : result.steps) {
+    CAPTURE(step.load_factor, step.amplitude);
+    if (step.load_factor < lambda_c - 1e-9) {
+      CHECK(step.amplitude == 0.0);
+      CHECK(step.stability == path::Stability::stable);
+      continue;
+    }
+    if (step.amplitude == 0.0) continue;  // the straight state at the bifurcation
+    ++on_branch;
+    CHECK(step.amplitude > previous);
+    previous = step.amplitude;
+    CHECK(std::abs(step.load_factor - lambda_c) < 1e-9);
+    CHECK(step.stability == path::Stability::unstable);  // neutral: not positive definite
+    for (std::size_t i = 0; i < step.deflection.size(); ++i) {
+      const double x = options_for(scene, 64).sample_points[i];
+      CHECK(std::abs(step.deflection[i] + step.amplitude * std::sin(std::numbers::pi * x / 6.0)) <
+            1e-6 * step.amplitude);
+    }
+  }
+  CHECK(on_branch >= 2);
+  CHECK(result.steps.back().amplitude == Approx(0.05).epsilon(1e-9));
+}
+
+// A short heavy free-free member lying on a bilateral-stiffness foundation settles flat
+// (w = q / K, no bending), so its path in a growing axial force stays flat and stable up to the
+// member's least bilateral critical load, where it bifurcates (closed form: the free-free
+// characteristic determinant, verification/closed_form, here a tilting mode a little below the
+// rigid rotation's K L^2 / 12). The bifurcated branch tilts at that load until one end's reaction
+// falls to zero, then lifts that end off and descends in lambda (the lifted end's lost springs
+// lower the critical load), unstable, the lifted length growing. switch_branch = false keeps the
+// flat path instead, through the bifurcation, unstable above it.
+TEST_CASE("a heavy free-free member: the bifurcation at its bilateral critical load, then a descending branch",
+          "[fe_axial_path]") {
+  const std::string text = R"(
+[structure]
+kind = "beam"
+length = 2.0
+EI = 1.0e7
+[supports]
+left = "free"
+right = "free"
+[foundation]
+modulus = 1.0e6
+[[loads]]
+kind = "uniform"
+value = 1.0e4
+case = "dead"
+[[loads]]
+kind = "axial"
+value = 1.0e5
+case = "live"
+[trace]
+lambda_max = 6.0
+max_amplitude = 0.02
+)";
+  const scene::Scene scene = scene::parse_scene(text, "heavy_free_member.toml");
+  const double critical = closed_form::free_free_bilateral_critical(2.0, 1.0e7, 1.0e6);
+  REQUIRE(critical < 1.0e6 * 4.0 / 12.0);  // below the rigid rotation's Rayleigh quotient
+  auto bifurcation_load = [&](const TraceResult& result) {
+    for (const auto& event : result.events)
+      if (event.kind == EventKind::bifurcation) return event.load_factor * 1.0e5;
+    FAIL("no bifurcation: " << result.summary.message);
+    return 0.0;
+  };
+  const TraceResult result = continuation::trace_fe(scene, options_for(scene, 64));
+  const TraceResult coarse = continuation::trace_fe(scene, options_for(scene, 32));
+  INFO(result.summary.message);
+  REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
+  const double n64 = bifurcation_load(result), n32 = bifurcation_load(coarse);
+  INFO(std::setprecision(12) << "bifurcation: 32 el. " << n32 << ", 64 el. " << n64 << ", closed form " << critical);
+  CHECK(std::abs(n64 - critical) <= std::abs(n32 - n64));
+  CHECK(std::abs(n64 - critical) < 1e-6 * critical);
+  // Flat and stable below it; after it the lambda falls, the amplitude and lifted length grow.
+  const double lambda_c = n64 / 1.0e5;
+  bool reached = false, descending = false;
+  double previous_lambda = lambda_c, previous_lifted = 0.0;
+  for (const auto& step : result.steps) {
+    CAPTURE(step.load_factor, step.amplitude, step.lifted_length);
+    if (!reached && step.load_factor < lambda_c - 1e-9) {
+      CHECK(step.lifted_length == 0.0);
+      if (step.load_factor > 0.0) CHECK(step.stability == path::Stability::stable);
+      continue;
+    }
+    reached = true;
+    if (!descending && std::abs(step.load_factor - lambda_c) <= 1e-9) continue;  // the tilting branch
+    descending = true;
+    CHECK(step.load_factor <= previous_lambda);
+    CHECK(step.lifted_length >= previous_lifted - 1e-12);
+    CHECK(step.stability == path::Stability::unstable);
+    previous_lambda = step.load_factor, previous_lifted = step.lifted_length;
+  }
+  CHECK(descending);
+  CHECK(result.steps.back().load_factor < lambda_c - 0.1);
+  CHECK(result.steps.back().amplitude == Approx(0.02).epsilon(1e-6));
+
+  TraceOptions stay = options_for(scene, 64);
+  stay.switch_branch = false;
+  const TraceResult flat = continuation::trace_fe(scene, stay);
+  INFO(flat.summary.message);
+  REQUIRE(flat.summary.termination == continuation::TraceTermination::completed);
+  CHECK(bifurcation_load(flat) == Approx(n64).epsilon(1e-9));
+  CHECK(flat.steps.back().load_factor == 6.0);
+  for (const auto& step : flat.steps) {
+    CHECK(step.lifted_length == 0.0);
+    if (step.load_factor > lambda_c + 1e-6) CHECK(step.stability == path::Stability::unstable);
+  }
 }
 
 TEST_CASE(

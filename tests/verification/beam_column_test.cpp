@@ -268,6 +268,27 @@ TEST_CASE("critical loads: a weightless tensionless pinned strut buckles away at
 
 // ---- localized buckle of a heavy infinite member (closed_form/beam_column.hpp) -------------------
 
+TEST_CASE("critical loads: a free-free member's bilateral critical load tends to the rigid rotation's K L^2 / 12",
+          "[beam_column]") {
+  // The rigid rotation w = x - L / 2 has the Rayleigh quotient K L^2 / 12 (foundation energy
+  // K L^3 / 12 against the axial force's L per unit rotation squared): an upper bound of the least
+  // critical load, reached as K L^4 / EI -> 0, where the member's bending is a perturbation of
+  // first order in K L^4 / EI (the defect 1 - P / (K L^2 / 12) proportional to it).
+  const double L = 2.0, EI = 1.0e7;
+  auto defect = [&](double k) {
+    const double K = k * EI / std::pow(L, 4);
+    const double p = cf::free_free_bilateral_critical(L, EI, K);
+    REQUIRE(std::isfinite(p));
+    CHECK(p < K * L * L / 12.0);
+    return 1.0 - p / (K * L * L / 12.0);
+  };
+  const double d1 = defect(1e-2), d2 = defect(1e-3), d3 = defect(1.6);
+  INFO("defects " << d1 << " " << d2 << " " << d3);
+  CHECK(d1 / d2 == Approx(10.0).epsilon(1e-2));
+  CHECK(d3 > d1);
+  CHECK(std::isnan(cf::free_free_bilateral_critical(L, EI, 0.0)));
+}
+
 TEST_CASE("localized buckle: the branch starts at 2 sqrt(K EI) as the lifted length vanishes and descends",
           "[verification][beam_column]") {
   const double K = 1.0, EI = 1.0, q = 1.0, top = cf::long_member_critical(K, EI);

@@ -3,6 +3,7 @@
 #include "closed_form/beam_column.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 #include <utility>
@@ -68,6 +69,78 @@ double long_member_critical(double modulus, double bending_stiffness) {
 
 double tensionless_pinned_strut_critical(double length, double bending_stiffness) {
   return kPi * kPi * bending_stiffness / (length * length);
+}
+
+namespace {
+using Matrix4 = std::array<std::array<double, 4>, 4>;
+
+Matrix4 multiply(const Matrix4& a, const Matrix4& b) {
+  Matrix4 c{};
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      for (int k = 0; k < 4; ++k) c[i][j] += a[i][k] * b[k][j];
+  return c;
+}
+
+// exp(A) by a Taylor series on A / 2^s (norm below 1/2), squared s times.
+Matrix4 exponential(const Matrix4& a) {
+  double norm = 0.0;
+  for (const auto& row : a) {
+    double sum = 0.0;
+    for (double v : row) sum += std::abs(v);
+    norm = std::max(norm, sum);
+  }
+  int squarings = 0;
+  while (norm / std::ldexp(1.0, squarings) > 0.5) ++squarings;
+  Matrix4 scaled = a, term{}, result{};
+  for (auto& row : scaled)
+    for (double& v : row) v = std::ldexp(v, -squarings);
+  for (int i = 0; i < 4; ++i) term[i][i] = result[i][i] = 1.0;
+  for (int n = 1; n <= 30; ++n) {
+    term = multiply(term, scaled);
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) term[i][j] /= n, result[i][j] += term[i][j];
+  }
+  for (int i = 0; i < squarings; ++i) result = multiply(result, result);
+  return result;
+}
+
+// The free-end determinant at p = P L^2 / EI for k = K L^4 / EI (x in units of L).
+double free_free_determinant(double p, double k) {
+  const Matrix4 a{{{0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}, {-k, 0, -p, 0}}};
+  const Matrix4 transfer = exponential(a);
+  // The solutions free at x = 0: y(0) = (1, 0, 0, 0) and (0, 1, 0, -p) (w'' = 0, w''' + p w' = 0).
+  const std::array<std::array<double, 4>, 2> start{{{1, 0, 0, 0}, {0, 1, 0, -p}}};
+  // The end conditions at x = 1: w'' and w''' + p w'.
+  const std::array<std::array<double, 4>, 2> end{{{0, 0, 1, 0}, {0, p, 0, 1}}};
+  double m[2][2] = {};
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j)
+      for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) m[i][j] += end[i][r] * transfer[r][c] * start[j][c];
+  return m[0][0] * m[1][1] - m[0][1] * m[1][0];
+}
+}  // namespace
+
+double free_free_bilateral_critical(double length, double bending_stiffness, double modulus) {
+  const double k = modulus * std::pow(length, 4) / bending_stiffness;
+  if (!(k > 0.0 && k <= 1e4) || !positive(length) || !positive(bending_stiffness)) return std::nan("");
+  const double highest = k / 12.0 * (1.0 + 1e-6);
+  constexpr int samples = 4000;
+  double lo = 0.0, f_lo = free_free_determinant(0.0, k);
+  for (int i = 1; i <= samples; ++i) {
+    const double hi = highest * i / samples, f_hi = free_free_determinant(hi, k);
+    if ((f_lo > 0.0) != (f_hi > 0.0)) {
+      double a = lo, b = hi;
+      for (int n = 0; n < 200 && b - a > 1e-15 * b; ++n) {
+        const double mid = 0.5 * (a + b), f_mid = free_free_determinant(mid, k);
+        ((f_mid > 0.0) == (f_lo > 0.0) ? a : b) = mid;
+      }
+      return 0.5 * (a + b) * bending_stiffness / (length * length);
+    }
+    lo = hi, f_lo = f_hi;
+  }
+  return std::nan("");
 }
 
 std::string to_string(BuckleStatus status) {

@@ -61,6 +61,17 @@ double long_member_critical(double modulus, double bending_stiffness);
 // pi^2 EI / L^2 for every K >= 0: the tensionless pinned strut buckles away from the foundation.
 double tensionless_pinned_strut_critical(double length, double bending_stiffness);
 
+// The least critical load of a straight free-free member of length L on a bilateral foundation
+// (a heavy member lying on it, uniform weight: its flat state w = q / K does not bend, so this is
+// where the path of the perfect member bifurcates): the least P > 0 at which
+// EI w'''' + P w'' + K w = 0 with free ends (w'' = 0, EI w''' + P w' = 0 at both) has a solution
+// w != 0. The transfer matrix exp(A L) of y = (w, w', w'', w''') (Taylor series with scaling and
+// squaring) carries the two free-end solutions at x = 0 to x = L, where the 2 x 2 determinant of
+// the end conditions is searched for its first sign change from P = 0 up to K L^2 / 12 (the
+// Rayleigh quotient of the rigid rotation, an upper bound), then bisected to round-off. Returns
+// NaN for K L^4 / EI outside (0, 1e4] (the series would lose its digits).
+double free_free_bilateral_critical(double length, double bending_stiffness, double modulus);
+
 enum class BuckleStatus {
   found,               // the branch's point at this a, admissible (wrong-sign |w| <= 1e-9 of the scale)
   no_root,             // no root of the lift-off equation in (0, 2 sqrt(K EI))
