@@ -9,16 +9,14 @@
 #include <limits>
 #include <optional>
 
-#include "certify/certificate.hpp"
 #include "contact/active_set_system.hpp"
 #include "contact/contact_solver.hpp"
 #include "contact/stability.hpp"
 #include "continuation/events.hpp"
+#include "continuation/fe_states.hpp"
 #include "fe/discretisation.hpp"
 #include "model/from_scene.hpp"
 #include "model/member_model.hpp"
-#include "post/contact_regions.hpp"
-#include "post/fields.hpp"
 #include "stability/critical_load.hpp"
 
 namespace liftoff::continuation {
@@ -28,22 +26,17 @@ using ContactSet = std::vector<bool>;
 
 namespace {
 
-// A reaction (gap) above -this fraction of its scale counts as feasible: the fixed-set states are
+// A reaction (gap) above -tie_tolerance of its scale counts as feasible: the fixed-set states are
 // refined to round-off (relative residual ~1e-15), so values that small are zero; nodes that
-// physically switch at different loads differ by orders more (fe_path.cpp's tie_tolerance).
-constexpr double tie_tolerance = 1e-9;
-// A fixed-set solve whose relative residual exceeds this is not trusted (as fe_path.cpp).
-constexpr double acceptable_residual = 1e-8;
+// physically switch at different loads differ by orders more.
+using fe_states::acceptable_residual;
+using fe_states::StepNotCertified;
+using fe_states::tie_tolerance;
 // Bisections: the bracket in lambda is halved at most this often.
 constexpr int max_bisections = 200;
 
 // Stable when the cone's critical factor on the present axial force exceeds 1.
 path::Stability cone_verdict(const stability::CriticalLoadResult& cone);
-
-struct StepNotCertified {
-  double lambda;
-  std::string message;
-};
 
 // The fixed-set state at one lambda.
 struct Point {
@@ -299,54 +292,19 @@ ContactTopology AxialPath::topology_of(const Point& p) const {
 }
 
 TraceStep AxialPath::step_at(const Point& p) {
-  TraceStep step;
-  step.load_factor = p.lambda;
-  const VectorXd displacement = d_.expand_displacement(p.state.displacement);
-  for (const auto& region : post::contact_regions(model_, d_, displacement))
-    step.contact_regions.push_back({model_.user_from_s(region.begin), model_.user_from_s(region.end)});
-  auto at = [&](double user) {
-    const double s = std::clamp(model_.s_from_user(user), model_.s_begin, model_.s_end);
-    const int e = d_.mesh.element_containing(s);
-    return std::pair{e, (s - d_.mesh.nodes[e]) / d_.mesh.element_size(e)};
-  };
-  const model::Scales& scales = model_.scales;
-  const auto [me, mxi] = at(options_.monitor);
-  step.monitor_deflection = post::evaluate(d_, displacement, me, mxi).w * scales.displacement();
-  for (double x : options_.sample_points) {
-    const auto [e, xi] = at(x);
-    step.deflection.push_back(post::evaluate(d_, displacement, e, xi).w * scales.displacement());
-    step.reaction.push_back(post::reaction_at(d_, p.state.reaction, e, xi) * scales.force_per_length());
-  }
-  step.axial_force = model_.axial_force(p.lambda) * scales.force();
-  const LiftMeasures lift = lift_measures(model_, d_, displacement, points_);
-  step.amplitude = lift.amplitude;
-  step.lifted_length = lift.lifted_length;
-  step.stability = stability_at(p);
-  step.state_topology = path::FeContactSet{};
-  step.state.assign(set_.begin(), set_.end());
+  TraceStep step = fe_states::step_of(model_, d_, points_, options_, p.lambda,
+                                      d_.expand_displacement(p.state.displacement), p.state.reaction, set_);
+  step.axial_force = model_.axial_force(p.lambda) * model_.scales.force();
+  step.stability = on_neutral_branch_ ? path::Stability::unstable : stability_at(p);
   return step;
 }
 
 void AxialPath::emit_step(const Point& p) {
   TraceStep step = step_at(p);
-  if (on_neutral_branch_) step.stability = path::Stability::unstable;
   // Certified from its own fields (balance with K(N) at this lambda, the contact inequalities,
   // backward error) as the exact path's states are.
   set_axial(p.lambda);
-  contact::ContactSolution answer;
-  answer.displacement = d_.expand_displacement(p.state.displacement);
-  answer.reaction = p.state.reaction;
-  certify::CertifyOptions certify_options;
-  certify_options.load_factor = p.lambda;
-  certify_options.round_off = false;
-  certify_options.backward_tolerance = acceptable_residual;
-  certify_options.pointwise = false;
-  certify_options.sign_floor = acceptable_residual;
-  certify_options.global_scale = true;
-  const certify::Certificate certificate = certify::certify(model_, d_, answer, certify_options);
-  if (!certificate.passed)
-    throw StepNotCertified{p.lambda, fmt::format("the state at lambda = {:.10g} failed its certificate: {}", p.lambda,
-                                                 certificate.message)};
+  fe_states::certify_state(model_, d_, p.lambda, d_.expand_displacement(p.state.displacement), p.state.reaction);
   step.iterations = solves_since_step_;
   solves_since_step_ = 0;
   if (sink_.on_step) sink_.on_step(step);

@@ -9,17 +9,15 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "certify/certificate.hpp"
 #include "contact/active_set_system.hpp"
 #include "contact/contact_solver.hpp"
 #include "continuation/events.hpp"
 #include "continuation/fe_axial_path.hpp"
+#include "continuation/fe_states.hpp"
 #include "fe/discretisation.hpp"
 #include "lcp/lemke.hpp"
 #include "model/from_scene.hpp"
 #include "model/member_model.hpp"
-#include "post/contact_regions.hpp"
-#include "post/fields.hpp"
 
 namespace liftoff::continuation {
 
@@ -32,27 +30,13 @@ namespace {
 // largest reaction, or the largest term of T r - C u, over the rest of the path with the
 // current set) over the whole load range is no rate: the node is not moving toward zero.
 constexpr double zero_tolerance = 1e-10;
-// Nodes whose reaction (gap) is within this fraction of its scale at a breakpoint switch with
-// it. Mirror-image nodes of a symmetric scene reach zero at one lambda up to round-off, which
-// on a 160-element free-free beam (fixed-set system with cond ~1e10) is ~1e-9 of the scale;
-// two nodes that physically switch at different loads differ by the change of their values
-// over one element, orders above that. A tie that round-off splits anyway costs nothing: the
-// second node is found at zero and falling right after the switch, and is the next
-// breakpoint, at the same lambda, with one more factorisation. Switching a node 1e-9
-// (relative) early perturbs the state by as much, below the 1e-9 the path is tested to.
-constexpr double tie_tolerance = 1e-9;
-// A fixed-set solve whose relative residual exceeds this is not trusted (as contact_solver).
-constexpr double acceptable_residual = 1e-8;
+using fe_states::acceptable_residual;
+using fe_states::StepNotCertified;
+using fe_states::tie_tolerance;
 // Degenerate breakpoints: the contact solver is asked for the set this far (times the load range)
 // beyond the breakpoint, then 100 times closer, at most this many times.
 constexpr double beyond_offset = 1e-6;
 constexpr int beyond_attempts = 4;
-
-// A state whose certificate fails: the path stops before reporting it.
-struct StepNotCertified {
-  double lambda;
-  std::string message;
-};
 
 // The state along one segment of the path: affine in lambda for a fixed contact set.
 struct AffineState {
@@ -460,52 +444,15 @@ ContactTopology FePath::topology_at(double lambda) const {
 }
 
 TraceStep FePath::step_at(double lambda) {
-  TraceStep step;
-  step.load_factor = lambda;
-  const VectorXd displacement = d_.expand_displacement(state_.displacement(lambda));
-  const VectorXd reaction = state_.reaction(lambda);
-  for (const auto& region : post::contact_regions(model_, d_, displacement))
-    step.contact_regions.push_back({model_.user_from_s(region.begin), model_.user_from_s(region.end)});
-  auto at = [&](double user) {
-    const double s = std::clamp(model_.s_from_user(user), model_.s_begin, model_.s_end);
-    const int e = d_.mesh.element_containing(s);
-    return std::pair{e, (s - d_.mesh.nodes[e]) / d_.mesh.element_size(e)};
-  };
-  const model::Scales& scales = model_.scales;
-  const auto [me, mxi] = at(options_.monitor);
-  step.monitor_deflection = post::evaluate(d_, displacement, me, mxi).w * scales.displacement();
-  for (double x : options_.sample_points) {
-    const auto [e, xi] = at(x);
-    step.deflection.push_back(post::evaluate(d_, displacement, e, xi).w * scales.displacement());
-    step.reaction.push_back(post::reaction_at(d_, reaction, e, xi) * scales.force_per_length());
-  }
-  const LiftMeasures lift = lift_measures(model_, d_, displacement, points_);
-  step.amplitude = lift.amplitude;
-  step.lifted_length = lift.lifted_length;
-  step.state_topology = path::FeContactSet{};
-  step.state.assign(set_.begin(), set_.end());
-  return step;
+  return fe_states::step_of(model_, d_, points_, options_, lambda, d_.expand_displacement(state_.displacement(lambda)),
+                            state_.reaction(lambda), set_);
 }
 
 void FePath::emit_step(TraceStep step) {
-  // Every state is certified from its own fields (src/certify: balance with the support
-  // reactions, the contact inequalities, backward error) before it is reported; round-off
-  // against the discretisation is left to the solve of the same mesh (it costs a second solve).
-  // A state that fails ends the path there, the steps before it valid.
-  contact::ContactSolution answer;
-  answer.displacement = d_.expand_displacement(state_.displacement(step.load_factor));
-  answer.reaction = state_.reaction(step.load_factor);
-  certify::CertifyOptions certify_options;
-  certify_options.load_factor = step.load_factor;
-  certify_options.round_off = false;
-  certify_options.backward_tolerance = acceptable_residual;  // the path's own acceptance
-  certify_options.pointwise = false;                 // at the nodes (the discrete conditions), see CertifyOptions
-  certify_options.sign_floor = acceptable_residual;  // its states' accuracy decides signs no finer
-  certify_options.global_scale = true;               // as the path's own scales
-  const certify::Certificate certificate = certify::certify(model_, d_, answer, certify_options);
-  if (!certificate.passed)
-    throw StepNotCertified{step.load_factor, fmt::format("the state at lambda = {:.10g} failed its certificate: {}",
-                                                         step.load_factor, certificate.message)};
+  // Every state is certified from its own fields before it is reported: one that fails ends
+  // the path there, the steps before it valid.
+  fe_states::certify_state(model_, d_, step.load_factor, d_.expand_displacement(state_.displacement(step.load_factor)),
+                           state_.reaction(step.load_factor));
   step.iterations = pivots_since_step_;
   pivots_since_step_ = 0;
   if (sink_.on_step) sink_.on_step(step);

@@ -36,6 +36,12 @@ scene::Scene upheaval() {
   return scene::read_scene_file(std::string(LIFTOFF_SOURCE_DIR) + "/continuation/scenes/pipeline_upheaval.toml");
 }
 
+// A straight weightless pinned strut lying on a tensionless foundation, live axial force 1 MN per
+// lambda (L = 6 m, EI = 1e7 N m^2, K = 1e6 N/m^2).
+scene::Scene straight_strut() {
+  return scene::read_scene_file(std::string(LIFTOFF_SOURCE_DIR) + "/continuation/scenes/strut_bifurcation.toml");
+}
+
 TraceOptions options_for(const scene::Scene& scene, int elements) {
   app::TraceRequest request;
   request.elements = elements;
@@ -278,26 +284,10 @@ TEST_CASE("a straight weightless strut lying on a tensionless foundation is stab
   // up to the bilateral load min_n (n^2 pi^2 + k / (n^2 pi^2)) EI / L^2 = 23.0 EI / L^2 (k = 129.6);
   // the cone of admissible perturbations lets it buckle away at P_E = pi^2 EI / L^2 (issue 15), and
   // the steps' stability must say so: stable below P_E, unstable above it.
-  const std::string text = R"(
-[structure]
-kind = "beam"
-length = 6.0
-EI = 1.0e7
-[supports]
-left = "pinned"
-right = "pinned"
-[foundation]
-modulus = 1.0e6
-[[loads]]
-kind = "axial"
-value = 1.0e6
-case = "live"
-[trace]
-lambda_max = 4.0
-)";
-  const scene::Scene scene = scene::parse_scene(text, "straight_strut.toml");
+  const scene::Scene scene = straight_strut();
   TraceOptions options = options_for(scene, 64);
   options.switch_branch = false;  // stay on the straight path (the next test switches)
+  options.max_amplitude.reset();
   const TraceResult result = continuation::trace_fe(scene, options);
   INFO(result.summary.message);
   REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
@@ -320,33 +310,15 @@ lambda_max = 4.0
 // Branch switching (issue 15): a perfect member's path meets a bifurcation where it loses its
 // stability; with [trace] switch_branch (the default) the trace leaves it along the critical mode.
 
-// The strut above without its bow: nothing presses it on the foundation (every node weakly
-// active), so the cone decides: the straight state is stable up to P_E = pi^2 EI / L^2, where the
+// The strut above without its bow (continuation/scenes/strut_bifurcation.toml): nothing presses it on the foundation
+// (every node weakly active), so the cone decides: the straight state is stable up to P_E = pi^2 EI / L^2, where the
 // lifting half-sine is a neutral mode (second-order theory: any amplitude at P_E). The trace
 // reports the bifurcation there and follows that branch at fixed lambda to max_amplitude, the
 // member lifting off everywhere in a half-sine. P_E to the FE error: at most the change from 32 to
 // 64 elements (an estimate that holds for any order >= 1); the shape to the mode's FE error.
 TEST_CASE("a straight weightless strut on a tensionless foundation: the bifurcation at P_E and its lifted branch",
           "[fe_axial_path]") {
-  const std::string text = R"(
-[structure]
-kind = "beam"
-length = 6.0
-EI = 1.0e7
-[supports]
-left = "pinned"
-right = "pinned"
-[foundation]
-modulus = 1.0e6
-[[loads]]
-kind = "axial"
-value = 1.0e6
-case = "live"
-[trace]
-lambda_max = 4.0
-max_amplitude = 0.05
-)";
-  const scene::Scene scene = scene::parse_scene(text, "straight_strut.toml");
+  const scene::Scene scene = straight_strut();                                      // max_amplitude 0.03 m
   const double euler = closed_form::tensionless_pinned_strut_critical(6.0, 1.0e7);  // 2.74e6 N
   auto bifurcation = [&](int elements) {
     const TraceResult result = continuation::trace_fe(scene, options_for(scene, elements));
@@ -393,7 +365,7 @@ max_amplitude = 0.05
     }
   }
   CHECK(on_branch >= 2);
-  CHECK(result.steps.back().amplitude == Approx(0.05).epsilon(1e-9));
+  CHECK(result.steps.back().amplitude == Approx(0.03).epsilon(1e-9));
 }
 
 // A short heavy free-free member lying on a bilateral-stiffness foundation settles flat

@@ -1,0 +1,50 @@
+#pragma once
+// What the two FE paths (fe_path.hpp, fe_axial_path.hpp) share about the states they report: the
+// tolerances of their fixed-set solves, the TraceStep of a state, and its certificate.
+
+#include <Eigen/Dense>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "continuation/events.hpp"
+#include "continuation/trace.hpp"
+#include "fe/discretisation.hpp"
+#include "model/member_model.hpp"
+
+namespace liftoff::continuation::fe_states {
+
+// Nodes whose reaction (gap) is within this fraction of its scale at a breakpoint switch with
+// it. Mirror-image nodes of a symmetric scene reach zero at one lambda up to round-off, which
+// on a 160-element free-free beam (fixed-set system with cond ~1e10) is ~1e-9 of the scale;
+// two nodes that physically switch at different loads differ by the change of their values
+// over one element, orders above that. A tie that round-off splits anyway costs nothing: the
+// second node is found at zero and falling right after the switch, and is the next
+// breakpoint, at the same lambda, with one more factorisation. Switching a node 1e-9
+// (relative) early perturbs the state by as much, below the 1e-9 the path is tested to.
+inline constexpr double tie_tolerance = 1e-9;
+// A fixed-set solve whose relative residual exceeds this is not trusted (as contact_solver).
+inline constexpr double acceptable_residual = 1e-8;
+
+// The step of the state (displacement on every dof, reaction per reaction node) at lambda on the
+// contact set `set`: contact regions, w at the monitor and w and r at the sample points (user
+// units), amplitude and lifted length (events.hpp), the set as the step's state. Not filled:
+// axial_force, stability, iterations.
+TraceStep step_of(const model::MemberModel& model, const fe::Discretisation& d, const SpecialPoints& points,
+                  const TraceOptions& options, double lambda, const Eigen::VectorXd& displacement,
+                  const Eigen::VectorXd& reaction, const std::vector<bool>& set);
+
+// A state that failed its certificate: the path ends before it (its message says why).
+struct StepNotCertified {
+  double lambda;
+  std::string message;
+};
+
+// Certifies the state from its own fields (src/certify: balance with the support reactions and
+// K(N) at lambda, the contact inequalities at the nodes, backward error to acceptable_residual);
+// round-off against the discretisation is left to the solve of the same mesh (it costs a second
+// solve). Throws StepNotCertified when it fails.
+void certify_state(const model::MemberModel& model, const fe::Discretisation& d, double lambda,
+                   const Eigen::VectorXd& displacement, const Eigen::VectorXd& reaction);
+
+}  // namespace liftoff::continuation::fe_states
