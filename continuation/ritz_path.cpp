@@ -247,6 +247,8 @@ class RitzTracer {
   double restart_step_ = 0.0;
   bool amplitude_reached_ = false;        // a step reached options_.max_amplitude (stop, completed)
   std::optional<TraceEvent> limit_load_;  // the first limit point (beam-columns), for the message
+  int limit_points_ = 0;                  // beam-columns: limit_point and bifurcation events recorded,
+  int bifurcations_ = 0;                  // for the message
 };
 
 // --------------------------------------------------------------------------------------------
@@ -795,6 +797,9 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
   };
   std::vector<double> previous = values_at(start.x);
   double previous_scale = w_scale(model, start.x);
+  // Beam-columns: stability_margin at the last accepted point (NaN: none).
+  double previous_margin = model.has_axial_force() ? model.stability_margin(start.x, start.lambda)
+                                                   : std::numeric_limits<double>::quiet_NaN();
   const auto reject = [&](std::string why) {
     rejection_ = std::move(why);
     return ObserverVerdict::reject;
@@ -850,8 +855,41 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
                       to_string(model.topology()))};
       if (sink_.on_event) sink_.on_event(event);
       if (!limit_load_) limit_load_ = event;
+      ++limit_points_;
       result_.events.push_back(std::move(event));
       fold.reset();
+    };
+    // Beam-columns: a bifurcation, where stability_margin (the smallest eigenvalue of the
+    // reduced Hessian at fixed limits) changes sign while t_lambda keeps its own. At a fold the
+    // same Hessian turns singular too (the Jacobian is block triangular at a solution, see
+    // ritz_model.hpp): that sign change is the fold's, not reported twice.
+    std::optional<PathPoint> bifurcation;
+    double margin_to = std::numeric_limits<double>::quiet_NaN();
+    if (axial) {
+      margin_to = model.stability_margin(to.x, to.lambda);
+      if (!fold && std::isfinite(previous_margin) && std::isfinite(margin_to) &&
+          (previous_margin > 0.0) != (margin_to > 0.0)) {
+        bifurcation = follower.locate(
+            from, to, [&](const PathPoint& p) { return model.stability_margin(p.x, p.lambda); }, tolerance);
+        // A point where t_lambda is all but zero is a fold seen through round-off (its sign and
+        // the margin's may disagree next to it): no bifurcation.
+        if (bifurcation && !(std::abs(bifurcation->tangent_lambda) > 1e-6)) bifurcation.reset();
+      }
+    }
+    const auto record_bifurcation = [&] {
+      if (!bifurcation) return;
+      const Buckle b = buckle(model, bifurcation->x);
+      const bool losing = previous_margin > 0.0;
+      record_event(bifurcation->lambda, EventKind::bifurcation,
+                   b.amplitude > 0.0 ? b.crown : member_.s_from_user(options_.monitor),
+                   fmt::format("bifurcation: the tangent stiffness on the contact set turns singular ({} to {}) at "
+                               "lambda = {:.10g}, axial force {:.6g}: another branch crosses the path (amplitude "
+                               "{:.6g}, lifted length {:.6g}, {})",
+                               losing ? "stable" : "unstable", losing ? "unstable" : "stable", bifurcation->lambda,
+                               model.axial_force(bifurcation->lambda) * member_.scales.force(), b.amplitude,
+                               b.lifted_length, to_string(model.topology())));
+      ++bifurcations_;
+      bifurcation.reset();
     };
     const std::vector<double> now = values_at(to.x);
     // Which events changed sign (a value that starts at zero, as right after a switch, does not
@@ -930,6 +968,7 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
             return reject(fmt::format("at the event located at lambda = {:.10g}: {}", first->lambda, *why));
         if (auto why = stepped_over(model, from.x, first->x)) return reject(*why);
         if (fold && fold->arclength <= first->arclength) record_fold();
+        if (bifurcation && bifurcation->arclength <= first->arclength) record_bifurcation();
         to = *first;
         bool switches = false;
         for (const EventSpec& spec : pending.events)
@@ -970,6 +1009,7 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
     // the follow restarted from here.
     const double next = follower.next_step(ds, to.iterations);
     record_fold();
+    record_bifurcation();
     // (Beam-columns keep the scale they started with: near a fold dx/dlambda grows without bound.)
     if (!axial && to.lambda < options_.arc_length.lambda_max && to.tangent_lambda > 0 &&
         lambda_size() * to.tangent_x.head(model.amplitudes()).lpNorm<Eigen::Infinity>() / to.tangent_lambda >
@@ -983,6 +1023,7 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
     record_step(model, to, to.iterations, next);
     previous = now;
     previous_scale = w_scale(model, to.x);
+    previous_margin = margin_to;
     if (options_.max_amplitude && result_.steps.back().amplitude >= *options_.max_amplitude) {
       amplitude_reached_ = true;
       return ObserverVerdict::stop;
@@ -1258,8 +1299,11 @@ TraceResult RitzTracer::run() {
       return fmt::format("{} {}{}", n, what, n == 1 ? "" : "s");
     };
     return fmt::format(
-        "{} ({} rejected), {}, {} modes{}", count(static_cast<std::size_t>(result_.summary.steps), "step"),
+        "{} ({} rejected), {}, {} modes{}{}", count(static_cast<std::size_t>(result_.summary.steps), "step"),
         result_.summary.rejected_steps, count(result_.events.size(), "event"), modes_,
+        model_ && model_->has_axial_force()
+            ? fmt::format(", {} limit point(s), {} bifurcation(s)", limit_points_, bifurcations_)
+            : "",
         options_.resume_from
             ? fmt::format(" after the resumed step at lambda = {:.10g}", options_.resume_from->load_factor)
             : "");

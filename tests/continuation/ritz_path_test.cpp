@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <complex>
 #include <sstream>
 #include <string>
 
@@ -632,4 +633,83 @@ TEST_CASE("ritz path: amplitude and lifted length are filled without an axial fo
   CHECK(last.amplitude == Approx(-last.deflection[2]).epsilon(1e-9));
   CHECK(r.steps.front().amplitude == 0.0);
   CHECK(r.steps.front().lifted_length == 0.0);
+}
+
+namespace {
+
+// The least n = N L^2 / EI at which the straight free-free member (x in [-1/2, 1/2], EI = L = 1)
+// on a bilateral foundation k buckles in an odd mode: w'''' + n w'' + k w = 0, w'' = 0 and
+// w''' + n w' = 0 at x = +-1/2. With r^2 a root of s^2 + n s + k = 0 (complex for n < 2 sqrt(k)),
+// w = A sinh(r x) + B sinh(conj(r) x), and the determinant of the two end conditions is
+// 2 i Im(f conj(g)), f = r^2 sinh(r/2), g = (r^3 + n r) cosh(r/2): its least root by bisection
+// from a scan (n in (0, 2 sqrt(k))). (continuation/scenes/free_free_bifurcation.toml: k = 100,
+// n = 7.950686; Hermite-cubic FE and `liftoff solve`'s critical load factor agree.)
+double free_free_odd_critical(double k) {
+  const auto determinant = [k](double n) {
+    const std::complex<double> r = std::sqrt((-n + std::sqrt(std::complex<double>(n * n - 4.0 * k))) / 2.0);
+    const std::complex<double> f = r * r * std::sinh(r / 2.0), g = (r * r * r + n * r) * std::cosh(r / 2.0);
+    return (f * std::conj(g)).imag();
+  };
+  const double top = 2.0 * std::sqrt(k);
+  constexpr int samples = 2000;
+  for (int i = 0; i < samples; ++i) {
+    double a = top * (i + 1e-6) / samples, b = top * (i + 1) / samples - 1e-9;
+    if ((determinant(a) > 0) == (determinant(b) > 0)) continue;
+    for (int j = 0; j < 200 && b - a > 1e-15 * top; ++j) {
+      const double m = 0.5 * (a + b);
+      ((determinant(m) > 0) == (determinant(a) > 0) ? a : b) = m;
+    }
+    return 0.5 * (a + b);
+  }
+  return NAN;
+}
+
+}  // namespace
+
+// Issue 15: a perfect member bifurcates. The heavy free-free member on its foundation stays
+// straight (w = q/K, full contact) under any axial force, and loses its stability where the
+// bilateral beam-column buckles: at the odd (tilting) mode's critical load, lambda = n_cr here
+// (N = lambda 100 kN = lambda EI / L^2). The Ritz path reports a `bifurcation` there (not a
+// limit point: lambda keeps growing), its error estimated by modes m against 2 m, and the
+// stability of the steps flips there.
+TEST_CASE("ritz path: a perfect heavy free-free member bifurcates at its tilting mode's critical load",
+          "[ritz_path][axial]") {
+  const double exact = free_free_odd_critical(100.0);
+  REQUIRE(exact == Approx(7.950686).epsilon(1e-6));
+  double previous = NAN;
+  for (int modes : {16, 32}) {
+    INFO("modes " << modes);
+    scene::Scene s = test::continuation_scene("free_free_bifurcation");
+    TraceOptions options = scene_options(s, 201);
+    options.modes = modes;
+    const TraceResult r = trace_ritz(s, options);
+    INFO(r.summary.message);
+    REQUIRE(r.summary.termination == TraceTermination::completed);
+    REQUIRE(r.events.size() == 1);
+    const TraceEvent& e = r.events[0];
+    CHECK(e.kind == EventKind::bifurcation);
+    CHECK(r.summary.message.find("0 limit point(s), 1 bifurcation(s)") != std::string::npos);
+    CHECK(e.description.find("axial force") != std::string::npos);
+    fmt::print("free-free bifurcation, {} modes: lambda = {:.10g} (exact {:.10g}; {})\n", modes, e.load_factor, exact,
+               e.description);
+    // A Ritz critical load bounds the exact one from above.
+    CHECK(e.load_factor >= exact - 1e-9);
+    if (!std::isnan(previous)) {
+      // The estimate of the error of the coarser (m vs 2 m) covers the finer's.
+      CHECK(e.load_factor <= previous);
+      CHECK(e.load_factor - exact <= previous - e.load_factor);
+    }
+    previous = e.load_factor;
+    // The straight state all along: stable below the event, unstable above; lambda grows.
+    double lambda = -INFINITY;
+    for (const TraceStep& step : r.steps) {
+      INFO("lambda " << step.load_factor);
+      CHECK(step.load_factor > lambda);
+      lambda = step.load_factor;
+      CHECK(step.monitor_deflection == Approx(0.01).epsilon(1e-9));
+      CHECK(step.stability == (step.load_factor < e.load_factor ? path::Stability::stable : path::Stability::unstable));
+    }
+    CHECK(r.steps.front().load_factor < e.load_factor);
+    CHECK(r.steps.back().load_factor > e.load_factor);
+  }
 }
