@@ -682,6 +682,7 @@ TEST_CASE("ritz path: a perfect heavy free-free member bifurcates at its tilting
     scene::Scene s = test::continuation_scene("free_free_bifurcation");
     TraceOptions options = scene_options(s, 201);
     options.modes = modes;
+    options.switch_branch = false;  // stay on the straight path (the switch: the test below)
     const TraceResult r = trace_ritz(s, options);
     INFO(r.summary.message);
     REQUIRE(r.summary.termination == TraceTermination::completed);
@@ -712,4 +713,81 @@ TEST_CASE("ritz path: a perfect heavy free-free member bifurcates at its tilting
     CHECK(r.steps.front().load_factor < e.load_factor);
     CHECK(r.steps.back().load_factor > e.load_factor);
   }
+}
+
+// Issue 15: branch switching. At the same bifurcation the path leaves the straight state along
+// the critical (tilting) mode, on the side where it lifts the member off: one free end lifts
+// (the foundation admits no other side), and the branch of that topology falls in lambda as the
+// lifted length grows (unstable: the tilt is resisted by less and less foundation). Every step
+// is a contact solution (the path checks it); modes m and 2 m agree on the branch.
+TEST_CASE("ritz path: at the perfect member's bifurcation the path switches to the tilted branch, an end lifting",
+          "[ritz_path][axial]") {
+  const double exact = free_free_odd_critical(100.0);
+  std::vector<TraceResult> traces;
+  for (int modes : {16, 32}) {
+    INFO("modes " << modes);
+    scene::Scene s = test::continuation_scene("free_free_bifurcation");
+    TraceOptions options = scene_options(s, 201);
+    options.modes = modes;
+    options.max_amplitude = 0.05;  // 5 q/K: well past the start of the branch
+    const TraceResult r = trace_ritz(s, options);
+    INFO(r.summary.message);
+    REQUIRE(r.summary.termination == TraceTermination::completed);
+    CHECK(r.summary.message.find("max_amplitude") != std::string::npos);
+    REQUIRE(r.events.size() == 1);
+    const TraceEvent& e = r.events[0];
+    CHECK(e.kind == EventKind::bifurcation);
+    CHECK(e.description.find("the path switches to the bifurcated branch") != std::string::npos);
+    fmt::print("free-free branch switch, {} modes: {}\n", modes, e.description);
+    CHECK(e.load_factor >= exact - 1e-9);
+    CHECK(e.load_factor - exact < 1e-3);
+    // Before: the straight state, stable, lambda growing; the step at the bifurcation; after:
+    // one end lifted, unstable, lambda falling and the lift growing.
+    std::size_t at = 0;
+    while (at < r.steps.size() && r.steps[at].load_factor < e.load_factor) ++at;
+    REQUIRE(at + 2 < r.steps.size());
+    for (std::size_t i = 0; i < at; ++i) {
+      CHECK(r.steps[i].stability == path::Stability::stable);
+      CHECK(r.steps[i].lifted_length == 0.0);
+    }
+    CHECK(r.steps[at].load_factor == Approx(e.load_factor).epsilon(1e-12));
+    CHECK(r.steps[at].lifted_length == 0.0);
+    double lambda = r.steps[at].load_factor, amplitude = 0.0, lifted = 0.0;
+    for (std::size_t i = at + 1; i < r.steps.size(); ++i) {
+      const TraceStep& step = r.steps[i];
+      INFO("step " << i << " lambda " << step.load_factor);
+      CHECK(step.stability == path::Stability::unstable);
+      CHECK(step.load_factor < lambda);
+      CHECK(step.amplitude > amplitude);
+      CHECK(step.lifted_length > lifted);
+      REQUIRE(step.contact_regions.size() == 1);  // one end lifted
+      const bool left_lifted = step.contact_regions[0].begin > 0.0;
+      CHECK((left_lifted ? step.contact_regions[0].end : step.contact_regions[0].begin) ==
+            Approx(left_lifted ? 10.0 : 0.0));
+      lambda = step.load_factor, amplitude = step.amplitude, lifted = step.lifted_length;
+    }
+    // The branch starts at the bifurcation: its first point within a small lift of it.
+    CHECK(r.steps[at + 1].load_factor > e.load_factor - 0.05);
+    CHECK(r.steps[at + 1].amplitude < 0.005);
+    CHECK(r.steps.back().amplitude >= 0.05);
+    traces.push_back(r);
+  }
+  // Modes m and 2 m on the branch: the lifted length at the last 16-mode step's lambda,
+  // interpolated on the 32-mode branch, within 1e-3 (measured 1.5e-5; the critical loads of 16
+  // and 32 modes differ by 5e-5).
+  const TraceStep& coarse = traces[0].steps.back();
+  const std::vector<TraceStep>& fine = traces[1].steps;
+  bool compared = false;
+  for (std::size_t i = 1; i < fine.size(); ++i) {
+    const TraceStep &a = fine[i - 1], &b = fine[i];
+    if (a.lifted_length == 0.0 || !(a.load_factor >= coarse.load_factor && b.load_factor <= coarse.load_factor))
+      continue;
+    const double t = (a.load_factor - coarse.load_factor) / (a.load_factor - b.load_factor);
+    const double lifted = a.lifted_length + t * (b.lifted_length - a.lifted_length);
+    fmt::print("  lambda {:.6f}: lifted length {:.6f} (16 modes), {:.6f} (32 modes)\n", coarse.load_factor,
+               coarse.lifted_length, lifted);
+    CHECK(coarse.lifted_length == Approx(lifted).epsilon(1e-3));
+    compared = true;
+  }
+  CHECK(compared);
 }
