@@ -993,7 +993,6 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
           const PathPoint at = *bifurcation;
           if (record_bifurcation()) {  // the branch leaves before this event
             to = at;
-            record_step(model, to, to.iterations, ds);
             branch_step_ = ds;
             return ObserverVerdict::stop;
           }
@@ -1041,8 +1040,9 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
     if (bifurcation) {
       const PathPoint at = *bifurcation;
       if (record_bifurcation()) {
+        // (The bifurcation point is no step: a trace resumed from it could not tell the branch
+        // it left by; resumed from the step before, it finds the switch again.)
         to = at;
-        record_step(model, to, to.iterations, next);
         branch_step_ = next;
         return ObserverVerdict::stop;
       }

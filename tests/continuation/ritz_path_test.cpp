@@ -741,18 +741,18 @@ TEST_CASE("ritz path: at the perfect member's bifurcation the path switches to t
     fmt::print("free-free branch switch, {} modes: {}\n", modes, e.description);
     CHECK(e.load_factor >= exact - 1e-9);
     CHECK(e.load_factor - exact < 1e-3);
-    // Before: the straight state, stable, lambda growing; the step at the bifurcation; after:
-    // one end lifted, unstable, lambda falling and the lift growing.
+    // Before: the straight state, stable, lambda growing (the bifurcation point is no step);
+    // after: one end lifted, unstable, lambda falling and the lift growing.
     std::size_t at = 0;
-    while (at < r.steps.size() && r.steps[at].load_factor < e.load_factor) ++at;
-    REQUIRE(at + 2 < r.steps.size());
-    for (std::size_t i = 0; i < at; ++i) {
-      CHECK(r.steps[i].stability == path::Stability::stable);
-      CHECK(r.steps[i].lifted_length == 0.0);
+    while (at < r.steps.size() && r.steps[at].lifted_length == 0.0) {
+      CHECK(r.steps[at].stability == path::Stability::stable);
+      CHECK(r.steps[at].load_factor < e.load_factor);
+      ++at;
     }
-    CHECK(r.steps[at].load_factor == Approx(e.load_factor).epsilon(1e-12));
-    CHECK(r.steps[at].lifted_length == 0.0);
-    double lambda = r.steps[at].load_factor, amplitude = 0.0, lifted = 0.0;
+    REQUIRE(at > 0);
+    REQUIRE(at + 2 < r.steps.size());
+    --at;  // the last straight step
+    double lambda = e.load_factor, amplitude = 0.0, lifted = 0.0;
     for (std::size_t i = at + 1; i < r.steps.size(); ++i) {
       const TraceStep& step = r.steps[i];
       INFO("step " << i << " lambda " << step.load_factor);
@@ -790,4 +790,39 @@ TEST_CASE("ritz path: at the perfect member's bifurcation the path switches to t
     compared = true;
   }
   CHECK(compared);
+}
+
+TEST_CASE("ritz path: a trace resumed before or after a branch switch reproduces the original", "[ritz_path][axial]") {
+  scene::Scene s = test::continuation_scene("free_free_bifurcation");
+  TraceOptions options = scene_options(s, 11);
+  options.modes = 16;
+  options.max_amplitude = 0.02;
+  const TraceResult original = trace_ritz(s, options);
+  INFO(original.summary.message);
+  REQUIRE(original.summary.termination == TraceTermination::completed);
+  REQUIRE(original.events.size() == 1);
+  std::size_t straight = 0;  // the last step before the switch
+  while (original.steps[straight + 1].lifted_length == 0.0) ++straight;
+  for (std::size_t from : {straight, straight + 3}) {
+    CAPTURE(from, original.steps[from].load_factor);
+    TraceOptions resumed_options = options;
+    resumed_options.resume_from = original.steps[from];
+    const TraceResult resumed = trace_ritz(s, resumed_options);
+    INFO(resumed.summary.message);
+    REQUIRE(resumed.summary.termination == TraceTermination::completed);
+    REQUIRE(resumed.steps.size() == original.steps.size() - from - 1);
+    for (std::size_t i = 0; i < resumed.steps.size(); ++i) {
+      const TraceStep& a = original.steps[from + 1 + i];
+      const TraceStep& b = resumed.steps[i];
+      CHECK(b.load_factor == Approx(a.load_factor).epsilon(1e-12));
+      CHECK(b.amplitude == Approx(a.amplitude).epsilon(1e-9));
+      CHECK(b.lifted_length == Approx(a.lifted_length).epsilon(1e-9));
+    }
+    // The bifurcation again when resumed before it, not after.
+    REQUIRE(resumed.events.size() == (from == straight ? 1u : 0u));
+    if (from == straight) {
+      CHECK(resumed.events[0].kind == EventKind::bifurcation);
+      CHECK(resumed.events[0].load_factor == Approx(original.events[0].load_factor).epsilon(1e-12));
+    }
+  }
 }
