@@ -7,6 +7,10 @@
 //     between accepted steps, evaluates the event functions (below), locates the first that
 //     changed sign to event_tolerance in lambda and stops the driver there;
 //  3. switch: the topology the event implies, a first equilibrium in it, and back to 2.
+// Beam-columns also watch, between accepted steps, the sign of t_lambda (a fold: limit_point)
+// and of stability_margin without a fold (a bifurcation); at a bifurcation that loses the
+// stability the path may leave for the bifurcated branch (switch_branch, below) and go back to 2
+// in that branch's topology.
 //
 // Event functions of a topology (each > 0 while the topology holds):
 //  - per contact piece: the smallest interior minimum of w (lift_off_opens when it reaches 0),
