@@ -826,3 +826,65 @@ TEST_CASE("ritz path: a trace resumed before or after a branch switch reproduces
     }
   }
 }
+
+// The branch's states are equilibria of the whole member, checked from the recorded fields
+// alone: the rigid motions of the free-free member (a translation and a rotation about the
+// centre) take no strain energy, so the reaction r balances the weight, int r dx = q L, and
+// its moment about the centre balances that of the axial force at the displaced ends,
+// int r (x - L/2) dx = N (w(L) - w(0)) (the variation of -N/2 int w'^2 along the rotation).
+// The Ritz basis holds both motions, so the model meets these to its solver's tolerance. The
+// integrals: the trapezoid rule over the one contact region, from its limit (r = 0 there, where
+// r has its kink) through the samples inside it, on 2001 samples; its error, O(h^2) on that
+// smooth integrand, estimated by the rule on every other sample (a third of the difference; the
+// difference itself is the bound).
+TEST_CASE("ritz path: the tilted branch after the switch balances the weight and the axial force's moment",
+          "[ritz_path][axial]") {
+  scene::Scene s = test::continuation_scene("free_free_bifurcation");
+  TraceOptions options = scene_options(s, 2001);
+  options.modes = 32;
+  options.max_amplitude = 0.05;
+  const TraceResult r = trace_ritz(s, options);
+  INFO(r.summary.message);
+  REQUIRE(r.summary.termination == TraceTermination::completed);
+  const std::vector<double>& x = options.sample_points;
+  int checked = 0;
+  for (const TraceStep& step : r.steps) {
+    if (step.lifted_length == 0.0) continue;
+    INFO("lambda " << step.load_factor);
+    REQUIRE(step.contact_regions.size() == 1);
+    const double a = step.contact_regions[0].begin, b = step.contact_regions[0].end;
+    // (position, reaction) through the contact region, every `stride`-th sample inside it.
+    const auto nodes = [&](int stride) {
+      std::vector<std::pair<double, double>> p;
+      std::vector<std::size_t> inside;
+      for (std::size_t i = 0; i < x.size(); ++i)
+        if (x[i] > a && x[i] < b) inside.push_back(i);
+      p.emplace_back(a, a > 0.0 ? 0.0 : step.reaction.front());
+      for (std::size_t j = 0; j < inside.size(); j += stride) p.emplace_back(x[inside[j]], step.reaction[inside[j]]);
+      p.emplace_back(b, b < length ? 0.0 : step.reaction.back());
+      return p;
+    };
+    const auto trapezoid = [&](int stride, double moment_arm) {
+      const auto p = nodes(stride);
+      double sum = 0.0;
+      for (std::size_t i = 1; i < p.size(); ++i) {
+        const double f0 = p[i - 1].second * (moment_arm ? p[i - 1].first - 0.5 * length : 1.0);
+        const double f1 = p[i].second * (moment_arm ? p[i].first - 0.5 * length : 1.0);
+        sum += 0.5 * (f0 + f1) * (p[i].first - p[i - 1].first);
+      }
+      return sum;
+    };
+    const double weight = q * length;
+    const double tilt = step.axial_force * (step.deflection.back() - step.deflection.front());
+    const double f1 = trapezoid(1, 0.0), f2 = trapezoid(2, 0.0);
+    const double m1 = trapezoid(1, 1.0), m2 = trapezoid(2, 1.0);
+    CHECK(std::abs(f1 - weight) <= std::abs(f1 - f2) + 1e-12 * weight);
+    CHECK(std::abs(m1 - tilt) <= std::abs(m1 - m2) + 1e-12 * weight * length);
+    if (checked++ % 10 == 0)
+      fmt::print(
+          "  lambda {:.6f}: int r = {:.12g} (q L = {}, rule difference {:.1e}), moment {:.12g} vs N dw = "
+          "{:.12g} ({:.1e})\n",
+          step.load_factor, f1, weight, std::abs(f1 - f2), m1, tilt, std::abs(m1 - m2));
+  }
+  CHECK(checked > 5);
+}
