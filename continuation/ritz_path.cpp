@@ -1300,7 +1300,11 @@ std::optional<RitzTracer::Branch> RitzTracer::switch_branch(const RitzModel& mod
   const int samples = std::max(400, 16 * modes_);
   const double h = member_.length() / samples;
   const double w_size = std::max(w_scale(model, at.x), 1e-300);
-  double best = infinity, touch = 0.0, sign = 1.0;
+  double best = infinity, sign = 1.0;
+  struct Sample {
+    double s, a, sign;
+  };
+  std::vector<Sample> lifts;  // at each sample, the multiple a of the mode, of the sign that lifts, touching there
   const std::vector<ContactRegion> pieces = model.pieces(at.x);
   for (const ContactRegion& piece : pieces) {
     if (!piece.in_contact) continue;
@@ -1312,21 +1316,29 @@ std::optional<RitzTracer::Branch> RitzTracer::switch_branch(const RitzModel& mod
       const double s = lo + (hi - lo) * i / n;
       const double w = model.w(at.x, s), f = model.w(mode, s);
       if (!(std::abs(f) > 1e-12 * std::abs(w))) continue;
-      const double a = w / std::abs(f);  // the lift of the mode's sign -f / |f| touches here
-      if (a < best * (1.0 - 1e-12)) best = a, touch = s, sign = f < 0 ? 1.0 : -1.0;
+      lifts.push_back({s, w / std::abs(f), f < 0 ? 1.0 : -1.0});
+      if (lifts.back().a < best * (1.0 - 1e-12)) best = lifts.back().a, sign = lifts.back().sign;
     }
   }
   if (!std::isfinite(best) || !(best > 0.0)) {
     why = "the critical mode lifts no contact piece off";
     return std::nullopt;
   }
+  // Every point where it touches at that multiple (to 1e-6: a symmetric mode lifts both ends, or
+  // two mirror points, at once), one per cluster of samples.
+  std::vector<double> touches;
+  for (const Sample& sample : lifts)
+    if (sample.sign == sign && sample.a <= best * (1.0 + 1e-6) &&
+        (touches.empty() || sample.s - touches.back() > 4.0 * h))
+      touches.push_back(sample.s);
   // Next to a limit, the mode would only move it (the zone grows in the same topology).
-  for (const ContactRegion& piece : pieces)
-    for (double t : {piece.begin, piece.end})
-      if (t > member_.foundation_begin && t < member_.foundation_end && std::abs(touch - t) < 2.0 * h) {
-        why = fmt::format("the critical mode lifts the member first next to the contact limit at {:.6g}", user(t));
-        return std::nullopt;
-      }
+  for (double touch : touches)
+    for (const ContactRegion& piece : pieces)
+      for (double t : {piece.begin, piece.end})
+        if (t > member_.foundation_begin && t < member_.foundation_end && std::abs(touch - t) < 2.0 * h) {
+          why = fmt::format("the critical mode lifts the member first next to the contact limit at {:.6g}", user(t));
+          return std::nullopt;
+        }
   mode *= sign;
   constexpr double overshoot = 1.02;
   VectorXd base = at.x;
@@ -1336,7 +1348,7 @@ std::optional<RitzTracer::Branch> RitzTracer::switch_branch(const RitzModel& mod
       why = "the critical mode pushes a lift-off piece into the foundation";
       return std::nullopt;
     }
-  // 3. The new zone's limits: the roots of the base's w around the touching point.
+  // 3. The new zones' limits: the roots of the base's w around each touching point.
   const auto root = [&](double from, double to) {
     double a = from, b = to, fa = model.w(base, a);
     for (int k = 0; k < 200 && std::abs(b - a) > 1e-15 * member_.length(); ++k) {
@@ -1348,7 +1360,7 @@ std::optional<RitzTracer::Branch> RitzTracer::switch_branch(const RitzModel& mod
     }
     return 0.5 * (a + b);
   };
-  const auto scan = [&](double limit_s) {  // from touch toward limit_s, the first w >= 0
+  const auto scan = [&](double touch, double limit_s) {  // from touch toward limit_s, the first w >= 0
     constexpr int steps = 4096;
     double previous = touch;
     for (int i = 1; i <= steps; ++i) {
@@ -1358,22 +1370,28 @@ std::optional<RitzTracer::Branch> RitzTracer::switch_branch(const RitzModel& mod
     }
     return limit_s;
   };
-  ContactRegion host{member_.foundation_begin, member_.foundation_end, true};
-  for (const ContactRegion& piece : pieces)
-    if (piece.in_contact && touch >= piece.begin && touch <= piece.end) host = piece;
   std::vector<double> limits(at.x.data() + model.limit_offset(), at.x.data() + model.unknowns());
   bool first_in_contact = model.topology().first_in_contact;
-  double fixed = 0.0, widening = 1.0;  // the limit held in the Newton below, and its sense as the zone widens
-  if (touch <= member_.foundation_begin + 0.5 * h) {
-    fixed = scan(host.end);
-    first_in_contact = !first_in_contact;
-  } else if (touch >= member_.foundation_end - 0.5 * h) {
-    fixed = scan(host.begin), widening = -1.0;
-  } else {
-    fixed = scan(host.begin), widening = -1.0;
-    limits.push_back(scan(host.end));
+  // The limit held in the Newton below (the first zone's), and its sense as that zone widens.
+  std::optional<double> fixed;
+  double widening = 1.0;
+  for (double touch : touches) {
+    ContactRegion host{member_.foundation_begin, member_.foundation_end, true};
+    for (const ContactRegion& piece : pieces)
+      if (piece.in_contact && touch >= piece.begin && touch <= piece.end) host = piece;
+    double limit = 0.0, sense = -1.0;
+    if (touch <= member_.foundation_begin + 0.5 * h) {
+      limit = scan(touch, host.end), sense = 1.0;
+      first_in_contact = !first_in_contact;
+    } else if (touch >= member_.foundation_end - 0.5 * h) {
+      limit = scan(touch, host.begin);
+    } else {
+      limit = scan(touch, host.begin);
+      limits.push_back(scan(touch, host.end));
+    }
+    limits.push_back(limit);
+    if (!fixed) fixed = limit, widening = sense;
   }
-  limits.push_back(fixed);
   std::sort(limits.begin(), limits.end());
   const Topology topology{first_in_contact, static_cast<int>(limits.size())};
   RitzModel candidate(member_, modes_, topology, enrichment_);
@@ -1381,7 +1399,7 @@ std::optional<RitzTracer::Branch> RitzTracer::switch_branch(const RitzModel& mod
   x.head(candidate.amplitudes()) = base.head(amplitudes);
   for (int m = 0; m < topology.limits; ++m) x[candidate.limit_offset() + m] = limits[m];
   const int held =
-      candidate.limit_offset() + static_cast<int>(std::find(limits.begin(), limits.end(), fixed) - limits.begin());
+      candidate.limit_offset() + static_cast<int>(std::find(limits.begin(), limits.end(), *fixed) - limits.begin());
   // 4. Newton with that limit held, lambda free.
   double lambda = at.lambda;
   const double force = force_scale(candidate);
@@ -1408,7 +1426,7 @@ std::optional<RitzTracer::Branch> RitzTracer::switch_branch(const RitzModel& mod
   }
   if (!converged || !candidate.admissible(x)) {
     why = fmt::format("Newton on the topology {} with the limit at {:.6g} held did not converge", to_string(topology),
-                      user(fixed));
+                      user(*fixed));
     return std::nullopt;
   }
   // 5. The first point of the branch, its tangent widening the zone.

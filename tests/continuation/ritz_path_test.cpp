@@ -644,10 +644,12 @@ namespace {
 // 2 i Im(f conj(g)), f = r^2 sinh(r/2), g = (r^3 + n r) cosh(r/2): its least root by bisection
 // from a scan (n in (0, 2 sqrt(k))). (continuation/scenes/free_free_bifurcation.toml: k = 100,
 // n = 7.950686; Hermite-cubic FE and `liftoff solve`'s critical load factor agree.)
-double free_free_odd_critical(double k) {
-  const auto determinant = [k](double n) {
+// The even modes: sinh and cosh swapped (w = A cosh(r x) + B cosh(conj(r) x)).
+double free_free_critical(double k, bool odd) {
+  const auto determinant = [k, odd](double n) {
     const std::complex<double> r = std::sqrt((-n + std::sqrt(std::complex<double>(n * n - 4.0 * k))) / 2.0);
-    const std::complex<double> f = r * r * std::sinh(r / 2.0), g = (r * r * r + n * r) * std::cosh(r / 2.0);
+    const std::complex<double> f = r * r * (odd ? std::sinh(r / 2.0) : std::cosh(r / 2.0)),
+                               g = (r * r * r + n * r) * (odd ? std::cosh(r / 2.0) : std::sinh(r / 2.0));
     return (f * std::conj(g)).imag();
   };
   const double top = 2.0 * std::sqrt(k);
@@ -674,7 +676,7 @@ double free_free_odd_critical(double k) {
 // stability of the steps flips there.
 TEST_CASE("ritz path: a perfect heavy free-free member bifurcates at its tilting mode's critical load",
           "[ritz_path][axial]") {
-  const double exact = free_free_odd_critical(100.0);
+  const double exact = free_free_critical(100.0, true);
   REQUIRE(exact == Approx(7.950686).epsilon(1e-6));
   double previous = NAN;
   for (int modes : {16, 32}) {
@@ -722,7 +724,7 @@ TEST_CASE("ritz path: a perfect heavy free-free member bifurcates at its tilting
 // is a contact solution (the path checks it); modes m and 2 m agree on the branch.
 TEST_CASE("ritz path: at the perfect member's bifurcation the path switches to the tilted branch, an end lifting",
           "[ritz_path][axial]") {
-  const double exact = free_free_odd_critical(100.0);
+  const double exact = free_free_critical(100.0, true);
   std::vector<TraceResult> traces;
   for (int modes : {16, 32}) {
     INFO("modes " << modes);
@@ -887,4 +889,46 @@ TEST_CASE("ritz path: the tilted branch after the switch balances the weight and
           step.load_factor, f1, weight, std::abs(f1 - f2), m1, tilt, std::abs(m1 - m2));
   }
   CHECK(checked > 5);
+}
+
+// The same member on a stiffer foundation, k = 300: the even mode comes first (n = 15.52454 from
+// the closed form's even branch; odd 20.58365), symmetric, lifting both ends at once. The
+// path switches with a lift-off zone at each end, and the branch stays symmetric.
+TEST_CASE("ritz path: a symmetric critical mode lifts both ends at once on the switched branch", "[ritz_path][axial]") {
+  const double exact = free_free_critical(300.0, false);
+  REQUIRE(exact == Approx(15.52454).epsilon(1e-6));
+  REQUIRE(free_free_critical(300.0, true) > exact);
+  double previous = NAN;
+  for (int modes : {16, 32}) {
+    INFO("modes " << modes);
+    scene::Scene s = test::continuation_scene("free_free_bifurcation");
+    s.foundation.k = 300.0;
+    s.trace->lambda_max = 18.0;
+    TraceOptions options = scene_options(s, 201);
+    options.modes = modes;
+    options.max_amplitude = 0.01;
+    const TraceResult r = trace_ritz(s, options);
+    INFO(r.summary.message);
+    REQUIRE(r.summary.termination == TraceTermination::completed);
+    REQUIRE(r.events.size() == 1);
+    const TraceEvent& e = r.events[0];
+    CHECK(e.kind == EventKind::bifurcation);
+    CHECK(e.description.find("the path switches to the bifurcated branch") != std::string::npos);
+    fmt::print("free-free k = 300, {} modes: {}\n", modes, e.description);
+    CHECK(e.load_factor >= exact - 1e-9);
+    if (!std::isnan(previous)) CHECK(e.load_factor - exact <= previous - e.load_factor);
+    previous = e.load_factor;
+    int lifted = 0;
+    for (const TraceStep& step : r.steps) {
+      if (step.lifted_length == 0.0) continue;
+      ++lifted;
+      INFO("lambda " << step.load_factor);
+      CHECK(step.stability == path::Stability::unstable);
+      CHECK(step.load_factor < e.load_factor);
+      REQUIRE(step.contact_regions.size() == 1);
+      CHECK(step.contact_regions[0].begin > 0.0);
+      CHECK(step.contact_regions[0].begin == Approx(length - step.contact_regions[0].end).epsilon(1e-8));
+    }
+    CHECK(lifted > 5);
+  }
 }
