@@ -1274,9 +1274,10 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
 // added, as far as the contact conditions allow: x + a phi, with a's sign the one that lifts the
 // member off first (the least a > 0 at which w + a phi touches zero in a contact piece, away from
 // its limits: where the reaction is smallest relative to the mode's lift). A tensionless
-// foundation admits that side only once it touches: there a lift-off zone opens, and the branch
-// is that of the topology with the new zone. Its first point: w + 1.02 a phi dips below zero
-// near the touching point, whose roots guess the new limits; one of them held fixed, Newton
+// foundation admits that side only once it touches: there a lift-off zone opens (at every point
+// that touches at that a), and the branch is that of the topology with the new zones. Its first
+// point: w + 1.02 a phi dips below zero near each touching point, whose roots guess the new
+// limits; the first zone's one limit held fixed, Newton
 // solves the new topology's equations for the other unknowns and lambda (that limit's column of
 // the Jacobian replaced by dR/dlambda). The branch is then followed with the zone widening.
 // Not handled (why says so): a critical mode that lifts where a lift-off zone already ends (the

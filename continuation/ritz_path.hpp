@@ -46,8 +46,9 @@
 // - Branch switching: at a bifurcation where the path turns from stable to unstable, with
 //   options.switch_branch, the path leaves along the critical mode (the reduced Hessian's
 //   eigenvector of its smallest eigenvalue), on the side where it lifts the member off first
-//   (the least multiple at which w + a mode touches zero in a contact piece); the lift-off zone
-//   opens there (at a free foundation end, or inside the piece), the new topology's first point
+//   (the least multiple at which w + a mode touches zero in a contact piece); a lift-off zone
+//   opens at each point where it touches at that multiple (at a free foundation end, or inside
+//   the piece; a symmetric mode lifts both ends at once), the new topology's first point
 //   is solved with one new limit held and lambda free, and the branch is followed with the zone
 //   widening. The event's description ends "the path switches to the bifurcated branch (...)", or
 //   says why the path stays on its branch: a mode that lifts first next to an existing limit (the
