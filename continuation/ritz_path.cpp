@@ -7,6 +7,10 @@
 //     between accepted steps, evaluates the event functions (below), locates the first that
 //     changed sign to event_tolerance in lambda and stops the driver there;
 //  3. switch: the topology the event implies, a first equilibrium in it, and back to 2.
+// Beam-columns also watch, between accepted steps, the sign of t_lambda (a fold: limit_point)
+// and of stability_margin without a fold (a bifurcation); at a bifurcation that loses the
+// stability the path may leave for the bifurcated branch (switch_branch, below) and go back to 2
+// in that branch's topology.
 //
 // Event functions of a topology (each > 0 while the topology holds):
 //  - per contact piece: the smallest interior minimum of w (lift_off_opens when it reaches 0),
@@ -170,6 +174,14 @@ class RitzTracer {
   ArcLengthResult follow(const RitzModel& model, const PathFollower& follower, const PathPoint& start,
                          double first_step);
   bool switch_topology(const PathFollower& follower);
+  // Beam-columns: the bifurcated branch at a bifurcation point `at` of `model`'s path (see
+  // switch_branch in the definition). nullopt, with why filled, if it is not found.
+  struct Branch {
+    RitzModel model;
+    PathPoint point;
+    int iterations = 0;
+  };
+  std::optional<Branch> switch_branch(const RitzModel& model, const PathPoint& at, std::string& why);
 
   // Helpers.
   std::vector<EventSpec> event_specs(const RitzModel& model) const;
@@ -247,6 +259,10 @@ class RitzTracer {
   double restart_step_ = 0.0;
   bool amplitude_reached_ = false;        // a step reached options_.max_amplitude (stop, completed)
   std::optional<TraceEvent> limit_load_;  // the first limit point (beam-columns), for the message
+  int limit_points_ = 0;                  // beam-columns: limit_point and bifurcation events recorded,
+  int bifurcations_ = 0;                  // for the message
+  std::optional<Branch> branch_;          // a bifurcated branch to continue on (options_.switch_branch)
+  double branch_step_ = 0.0;
 };
 
 // --------------------------------------------------------------------------------------------
@@ -795,6 +811,9 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
   };
   std::vector<double> previous = values_at(start.x);
   double previous_scale = w_scale(model, start.x);
+  // Beam-columns: stability_margin at the last accepted point (NaN: none).
+  double previous_margin = model.has_axial_force() ? model.stability_margin(start.x, start.lambda)
+                                                   : std::numeric_limits<double>::quiet_NaN();
   const auto reject = [&](std::string why) {
     rejection_ = std::move(why);
     return ObserverVerdict::reject;
@@ -850,8 +869,52 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
                       to_string(model.topology()))};
       if (sink_.on_event) sink_.on_event(event);
       if (!limit_load_) limit_load_ = event;
+      ++limit_points_;
       result_.events.push_back(std::move(event));
       fold.reset();
+    };
+    // Beam-columns: a bifurcation, where stability_margin (the smallest eigenvalue of the
+    // reduced Hessian at fixed limits) changes sign while t_lambda keeps its own. At a fold the
+    // same Hessian turns singular too (the Jacobian is block triangular at a solution, see
+    // ritz_model.hpp): that sign change is the fold's, not reported twice.
+    std::optional<PathPoint> bifurcation;
+    double margin_to = std::numeric_limits<double>::quiet_NaN();
+    if (axial) {
+      margin_to = model.stability_margin(to.x, to.lambda);
+      if (!fold && std::isfinite(previous_margin) && std::isfinite(margin_to) &&
+          (previous_margin > 0.0) != (margin_to > 0.0)) {
+        bifurcation = follower.locate(
+            from, to, [&](const PathPoint& p) { return model.stability_margin(p.x, p.lambda); }, tolerance);
+        // A point where t_lambda is all but zero is a fold seen through round-off (its sign and
+        // the margin's may disagree next to it): no bifurcation.
+        if (bifurcation && !(std::abs(bifurcation->tangent_lambda) > 1e-6)) bifurcation.reset();
+      }
+    }
+    // Returns true if the path switches to the bifurcated branch there (branch_ set; the
+    // observer then stops at the bifurcation point).
+    const auto record_bifurcation = [&] {
+      if (!bifurcation) return false;
+      const Buckle b = buckle(model, bifurcation->x);
+      const bool losing = previous_margin > 0.0;
+      std::string switched;
+      if (losing && options_.switch_branch) {
+        std::string why;
+        branch_ = switch_branch(model, *bifurcation, why);
+        switched = branch_ ? fmt::format("; the path switches to the bifurcated branch ({}, lambda = {:.10g})",
+                                         to_string(branch_->model.topology()), branch_->point.lambda)
+                           : "; the path stays on this branch: no bifurcated branch found (" + why + ")";
+      }
+      record_event(bifurcation->lambda, EventKind::bifurcation,
+                   b.amplitude > 0.0 ? b.crown : member_.s_from_user(options_.monitor),
+                   fmt::format("bifurcation: the tangent stiffness on the contact set turns singular ({} to {}) at "
+                               "lambda = {:.10g}, axial force {:.6g}: another branch crosses the path (amplitude "
+                               "{:.6g}, lifted length {:.6g}, {}){}",
+                               losing ? "stable" : "unstable", losing ? "unstable" : "stable", bifurcation->lambda,
+                               model.axial_force(bifurcation->lambda) * member_.scales.force(), b.amplitude,
+                               b.lifted_length, to_string(model.topology()), switched));
+      ++bifurcations_;
+      bifurcation.reset();
+      return branch_.has_value();
     };
     const std::vector<double> now = values_at(to.x);
     // Which events changed sign (a value that starts at zero, as right after a switch, does not
@@ -930,6 +993,14 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
             return reject(fmt::format("at the event located at lambda = {:.10g}: {}", first->lambda, *why));
         if (auto why = stepped_over(model, from.x, first->x)) return reject(*why);
         if (fold && fold->arclength <= first->arclength) record_fold();
+        if (bifurcation && bifurcation->arclength <= first->arclength) {
+          const PathPoint at = *bifurcation;
+          if (record_bifurcation()) {  // the branch leaves before this event
+            to = at;
+            branch_step_ = ds;
+            return ObserverVerdict::stop;
+          }
+        }
         to = *first;
         bool switches = false;
         for (const EventSpec& spec : pending.events)
@@ -970,6 +1041,16 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
     // the follow restarted from here.
     const double next = follower.next_step(ds, to.iterations);
     record_fold();
+    if (bifurcation) {
+      const PathPoint at = *bifurcation;
+      if (record_bifurcation()) {
+        // (The bifurcation point is no step: a trace resumed from it could not tell the branch
+        // it left by; resumed from the step before, it finds the switch again.)
+        to = at;
+        branch_step_ = next;
+        return ObserverVerdict::stop;
+      }
+    }
     // (Beam-columns keep the scale they started with: near a fold dx/dlambda grows without bound.)
     if (!axial && to.lambda < options_.arc_length.lambda_max && to.tangent_lambda > 0 &&
         lambda_size() * to.tangent_x.head(model.amplitudes()).lpNorm<Eigen::Infinity>() / to.tangent_lambda >
@@ -983,6 +1064,7 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
     record_step(model, to, to.iterations, next);
     previous = now;
     previous_scale = w_scale(model, to.x);
+    previous_margin = margin_to;
     if (options_.max_amplitude && result_.steps.back().amplitude >= *options_.max_amplitude) {
       amplitude_reached_ = true;
       return ObserverVerdict::stop;
@@ -1186,6 +1268,190 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
   return false;
 }
 
+// The bifurcated branch at a bifurcation point `at` (lambda_c) where the path loses its
+// stability. The critical mode phi (the amplitudes' eigenvector of the reduced Hessian's smallest
+// eigenvalue, zero there) solves the fixed-topology equations at lambda_c for any multiple
+// added, as far as the contact conditions allow: x + a phi, with a's sign the one that lifts the
+// member off first (the least a > 0 at which w + a phi touches zero in a contact piece, away from
+// its limits: where the reaction is smallest relative to the mode's lift). A tensionless
+// foundation admits that side only once it touches: there a lift-off zone opens (at every point
+// that touches at that a), and the branch is that of the topology with the new zones. Its first
+// point: w + 1.02 a phi dips below zero near each touching point, whose roots guess the new
+// limits; the first zone's one limit held fixed, Newton
+// solves the new topology's equations for the other unknowns and lambda (that limit's column of
+// the Jacobian replaced by dR/dlambda). The branch is then followed with the zone widening.
+// Not handled (why says so): a critical mode that lifts where a lift-off zone already ends (the
+// zone would grow in the same topology), one that pushes a lift-off piece into the foundation.
+std::optional<RitzTracer::Branch> RitzTracer::switch_branch(const RitzModel& model, const PathPoint& at,
+                                                            std::string& why) {
+  const int amplitudes = model.amplitudes();
+  // 1. The critical mode, scaled as stability_margin scales the Hessian.
+  VectorXd scale = model.stiffness().diagonal();
+  for (Eigen::Index i = 0; i < scale.size(); ++i) scale[i] = scale[i] > 0.0 ? 1.0 / std::sqrt(scale[i]) : 1.0;
+  const Eigen::SelfAdjointEigenSolver<MatrixXd> eigen(scale.asDiagonal() * model.reduced_hessian(at.x, at.lambda) *
+                                                      scale.asDiagonal());
+  if (eigen.info() != Eigen::Success) {
+    why = "the eigensolver failed";
+    return std::nullopt;
+  }
+  VectorXd mode = VectorXd::Zero(model.unknowns());
+  mode.head(amplitudes) = scale.asDiagonal() * eigen.eigenvectors().col(0);
+  // 2. Where and at which amplitude it first lifts the member off, on a grid of the contact
+  //    pieces (a foundation end that is free included, the pieces' limits excluded).
+  const int samples = std::max(400, 16 * modes_);
+  const double h = member_.length() / samples;
+  const double w_size = std::max(w_scale(model, at.x), 1e-300);
+  double best = infinity, sign = 1.0;
+  struct Sample {
+    double s, a, sign;
+  };
+  std::vector<Sample> lifts;  // at each sample, the multiple a of the mode, of the sign that lifts, touching there
+  const std::vector<ContactRegion> pieces = model.pieces(at.x);
+  for (const ContactRegion& piece : pieces) {
+    if (!piece.in_contact) continue;
+    const bool begins = piece.begin <= member_.foundation_begin && !end_supported(true);
+    const bool ends = piece.end >= member_.foundation_end && !end_supported(false);
+    const double lo = begins ? piece.begin : piece.begin + h, hi = ends ? piece.end : piece.end - h;
+    const int n = std::max(1, static_cast<int>(std::ceil((hi - lo) / h)));
+    for (int i = 0; i <= n && hi >= lo; ++i) {
+      const double s = lo + (hi - lo) * i / n;
+      const double w = model.w(at.x, s), f = model.w(mode, s);
+      if (!(std::abs(f) > 1e-12 * std::abs(w))) continue;
+      lifts.push_back({s, w / std::abs(f), f < 0 ? 1.0 : -1.0});
+      if (lifts.back().a < best * (1.0 - 1e-12)) best = lifts.back().a, sign = lifts.back().sign;
+    }
+  }
+  if (!std::isfinite(best) || !(best > 0.0)) {
+    why = "the critical mode lifts no contact piece off";
+    return std::nullopt;
+  }
+  // Every point where it touches at that multiple (to 1e-6: a symmetric mode lifts both ends, or
+  // two mirror points, at once), one per cluster of samples.
+  std::vector<double> touches;
+  for (const Sample& sample : lifts)
+    if (sample.sign == sign && sample.a <= best * (1.0 + 1e-6) &&
+        (touches.empty() || sample.s - touches.back() > 4.0 * h))
+      touches.push_back(sample.s);
+  // Next to a limit, the mode would only move it (the zone grows in the same topology).
+  for (double touch : touches)
+    for (const ContactRegion& piece : pieces)
+      for (double t : {piece.begin, piece.end})
+        if (t > member_.foundation_begin && t < member_.foundation_end && std::abs(touch - t) < 2.0 * h) {
+          why = fmt::format("the critical mode lifts the member first next to the contact limit at {:.6g}", user(t));
+          return std::nullopt;
+        }
+  mode *= sign;
+  constexpr double overshoot = 1.02;
+  VectorXd base = at.x;
+  base.head(amplitudes) += overshoot * best * mode.head(amplitudes);
+  for (const ContactRegion& piece : pieces)
+    if (!piece.in_contact && extreme(model, base, piece.begin, piece.end, false).value < -1e-9 * w_size) {
+      why = "the critical mode pushes a lift-off piece into the foundation";
+      return std::nullopt;
+    }
+  // 3. The new zones' limits: the roots of the base's w around each touching point.
+  const auto root = [&](double from, double to) {
+    double a = from, b = to, fa = model.w(base, a);
+    for (int k = 0; k < 200 && std::abs(b - a) > 1e-15 * member_.length(); ++k) {
+      const double m = 0.5 * (a + b), fm = model.w(base, m);
+      if ((fm > 0) == (fa > 0))
+        a = m, fa = fm;
+      else
+        b = m;
+    }
+    return 0.5 * (a + b);
+  };
+  const auto scan = [&](double touch, double limit_s) {  // from touch toward limit_s, the first w >= 0
+    constexpr int steps = 4096;
+    double previous = touch;
+    for (int i = 1; i <= steps; ++i) {
+      const double next = touch + (limit_s - touch) * i / steps;
+      if (model.w(base, next) >= 0) return root(previous, next);
+      previous = next;
+    }
+    return limit_s;
+  };
+  std::vector<double> limits(at.x.data() + model.limit_offset(), at.x.data() + model.unknowns());
+  bool first_in_contact = model.topology().first_in_contact;
+  // The limit held in the Newton below (the first zone's), and its sense as that zone widens.
+  std::optional<double> fixed;
+  double widening = 1.0;
+  for (double touch : touches) {
+    ContactRegion host{member_.foundation_begin, member_.foundation_end, true};
+    for (const ContactRegion& piece : pieces)
+      if (piece.in_contact && touch >= piece.begin && touch <= piece.end) host = piece;
+    double limit = 0.0, sense = -1.0;
+    if (touch <= member_.foundation_begin + 0.5 * h) {
+      limit = scan(touch, host.end), sense = 1.0;
+      first_in_contact = !first_in_contact;
+    } else if (touch >= member_.foundation_end - 0.5 * h) {
+      limit = scan(touch, host.begin);
+    } else {
+      limit = scan(touch, host.begin);
+      limits.push_back(scan(touch, host.end));
+    }
+    limits.push_back(limit);
+    if (!fixed) fixed = limit, widening = sense;
+  }
+  std::sort(limits.begin(), limits.end());
+  const Topology topology{first_in_contact, static_cast<int>(limits.size())};
+  RitzModel candidate(member_, modes_, topology, enrichment_);
+  VectorXd x(candidate.unknowns());
+  x.head(candidate.amplitudes()) = base.head(amplitudes);
+  for (int m = 0; m < topology.limits; ++m) x[candidate.limit_offset() + m] = limits[m];
+  const int held =
+      candidate.limit_offset() + static_cast<int>(std::find(limits.begin(), limits.end(), *fixed) - limits.begin());
+  // 4. Newton with that limit held, lambda free.
+  double lambda = at.lambda;
+  const double force = force_scale(candidate);
+  VectorXd residual_scale = VectorXd::Constant(candidate.unknowns(), 1.0 / force);
+  residual_scale.tail(topology.limits).setConstant(1.0 / w_size);
+  VectorXd r;
+  MatrixXd j;
+  bool converged = false;
+  for (int iteration = 0; iteration < 50 && !converged; ++iteration) {
+    candidate.residual(x, lambda, r);
+    if (!r.allFinite()) break;
+    if (r.cwiseProduct(residual_scale).lpNorm<Eigen::Infinity>() <= 1e-12) {
+      converged = true;
+      break;
+    }
+    candidate.jacobian(x, lambda, j);
+    j.col(held) = candidate.residual_lambda_derivative(x);
+    const VectorXd delta =
+        (residual_scale.asDiagonal() * j).colPivHouseholderQr().solve(-residual_scale.cwiseProduct(r));
+    if (!delta.allFinite()) break;
+    for (int m = 0; m < candidate.unknowns(); ++m)
+      if (m != held) x[m] += delta[m];
+    lambda += delta[held];
+  }
+  if (!converged || !candidate.admissible(x)) {
+    why = fmt::format("Newton on the topology {} with the limit at {:.6g} held did not converge", to_string(topology),
+                      user(*fixed));
+    return std::nullopt;
+  }
+  // 5. The first point of the branch, its tangent widening the zone.
+  const PathFollower follower = make_follower(candidate);
+  PathPoint orientation;
+  orientation.x = x;
+  orientation.lambda = lambda;
+  orientation.tangent_x = VectorXd::Zero(candidate.unknowns());
+  orientation.tangent_x[held] = widening;
+  orientation.tangent_lambda = 0.0;
+  nonlinear::NewtonSummary newton;
+  std::optional<PathPoint> point = follower.start(x, lambda, &newton, orientation);
+  if (!point) {
+    why = "no tangent at the branch's first point: " + newton.message;
+    return std::nullopt;
+  }
+  if (auto failure = state_failure(candidate, point->x)) {
+    why =
+        fmt::format("the branch's first point at lambda = {:.10g} is no contact solution: {}", point->lambda, *failure);
+    return std::nullopt;
+  }
+  return Branch{std::move(candidate), std::move(*point), newton.iterations};
+}
+
 TraceResult RitzTracer::run() {
   const auto clock = std::chrono::steady_clock::now();
   result_.summary.path = PathKind::ritz;
@@ -1258,8 +1524,11 @@ TraceResult RitzTracer::run() {
       return fmt::format("{} {}{}", n, what, n == 1 ? "" : "s");
     };
     return fmt::format(
-        "{} ({} rejected), {}, {} modes{}", count(static_cast<std::size_t>(result_.summary.steps), "step"),
+        "{} ({} rejected), {}, {} modes{}{}", count(static_cast<std::size_t>(result_.summary.steps), "step"),
         result_.summary.rejected_steps, count(result_.events.size(), "event"), modes_,
+        model_ && model_->has_axial_force()
+            ? fmt::format(", {} limit point(s), {} bifurcation(s)", limit_points_, bifurcations_)
+            : "",
         options_.resume_from
             ? fmt::format(" after the resumed step at lambda = {:.10g}", options_.resume_from->load_factor)
             : "");
@@ -1286,6 +1555,16 @@ TraceResult RitzTracer::run() {
                                 result_.summary.final_load_factor, limit_note(), figures(), resolution_note()));
     if (pending_ && !switch_topology(follower))
       return finish(result_.summary.termination, fmt::format("{}; {}", result_.summary.message, figures()));
+    if (branch_) {
+      Branch branch = std::move(*branch_);
+      branch_.reset();
+      model_.emplace(std::move(branch.model));
+      rescale(*model_, branch.point);
+      record_step(*model_, branch.point, branch.iterations, branch_step_);
+      start = branch.point;
+      step = branch_step_;
+      continue;
+    }
     if (restart_ && path.termination == ArcLengthTermination::stopped_by_observer) {
       start = restart_;
       step = restart_step_;

@@ -26,7 +26,7 @@
 //   itself), with lambda growing along the path and no event stepped over. A step that is not
 //   is retried shorter; at min_step the path stops (solver_failure) and its message says which
 //   inequality failed where and by how much. The steps before stay valid. Without an axial force
-//   the path never turns back in lambda, so it reports no limit_point.
+//   the path never turns back in lambda, so it reports no limit_point (nor bifurcation).
 // - Beam-columns (an axial force, N = N_dead + lambda N_live): the residual depends on lambda
 //   through N too (RitzModel::residual_lambda_derivative). The path passes folds: each sign
 //   change of the tangent's lambda component is located to event_tolerance and recorded as a
@@ -36,14 +36,33 @@
 //   axial_force, amplitude (largest lift off the foundation), lifted_length (lift-off pieces'
 //   total length), all in user units, and under an axial force its stability
 //   (RitzModel::stability_margin > 0: stable).
+// - Bifurcations (beam-columns): a sign change of stability_margin between two accepted steps
+//   of one topology while tangent_lambda keeps its sign is located on the margin to
+//   event_tolerance and recorded as a `bifurcation` event (lambda, axial force, amplitude,
+//   lifted length; at the crown if the member has lifted, else at options.monitor). A sign
+//   change at a fold is the fold's (the reduced Hessian turns singular there too): only the
+//   limit_point is recorded. A sign change across a topology switch, or two within one step
+//   (a fold and a bifurcation together), is not seen.
+// - Branch switching: at a bifurcation where the path turns from stable to unstable, with
+//   options.switch_branch, the path leaves along the critical mode (the reduced Hessian's
+//   eigenvector of its smallest eigenvalue), on the side where it lifts the member off first
+//   (the least multiple at which w + a mode touches zero in a contact piece); a lift-off zone
+//   opens at each point where it touches at that multiple (at a free foundation end, or inside
+//   the piece; a symmetric mode lifts both ends at once), the new topology's first point
+//   is solved with one new limit held and lambda free, and the branch is followed with the zone
+//   widening. The event's description ends "the path switches to the bifurcated branch (...)", or
+//   says why the path stays on its branch: a mode that lifts first next to an existing limit (the
+//   zone would grow in its own topology), one that pushes a lift-off piece into the foundation, a
+//   Newton that fails. The bifurcation point itself is no step (a trace resumed from the step
+//   before finds the switch again).
 // - Steps carry a resumable state: state_topology a path::RitzTopology (with the opening at a
 //   switching event, whose switch a resumed trace redoes) and
 //   state = (x, tangent_x, tangent_lambda, next step length, amplitude scale of the metric),
 //   so a resumed trace takes exactly the steps the original took. A resumed state that is no
 //   contact solution is refused (solver_failure).
-// - summary.message: "lambda = ... reached: S steps (R rejected), E events, N modes" and the
-//   estimated resolution of point forces where it applies; a failure's reason otherwise, with
-//   the same figures.
+// - summary.message: "lambda = ... reached: S steps (R rejected), E events, N modes" (beam-columns
+//   add ", F limit point(s), B bifurcation(s)") and the estimated resolution of point forces
+//   where it applies; a failure's reason otherwise, with the same figures.
 // Outcomes are in summary.termination: no_equilibrium when the member has lifted off entirely
 // and nothing else holds it, solver_failure when no equilibrium is found at lambda_min or after
 // a switch, when no step satisfies the checks above, or for a refused number of modes. Misuse
