@@ -10,7 +10,8 @@
 //
 // closed_form_reference localized-buckle SCENE.toml [--points N] [--max-amplitude A] [--half-lengths a1,a2,...]:
 // the perfect member's localized buckle branch (beam_column.hpp, localized_buckle) for the scene's EI, foundation
-// modulus K and weight q (issue 15), as JSON on stdout: {"method": "closed-form localized buckle", "EI", "K", "q",
+// modulus K and weight q (issue 15), as JSON on stdout: {"method": "closed-form localized buckle", "length" (the
+// scene's member length), "EI", "K", "q",
 // "settlement" (q/K), "bilateral_critical" (2 sqrt(K EI)), "hobbs_load_parameter" (P L^2/EI of the rigid-foundation
 // limit), "points": [{"half_length" a, "lifted_length" 2a, "axial_force" P(a), "amplitude", "status"}, ...]}. The
 // amplitude is what the trace paths call it: the largest lift off the ground, max of -w over the lifted zone (the
@@ -195,9 +196,9 @@ int localized_buckle_command(int argc, char** argv) {
   if (!listed)
     for (int k = 1; k <= points; ++k) half_lengths.push_back(0.5 * length * std::pow(double(k) / points, 2));
   std::printf(
-      "{\"method\": \"closed-form localized buckle\", \"EI\": %.17g, \"K\": %.17g, \"q\": %.17g, \"settlement\": "
-      "%.17g, \"bilateral_critical\": %.17g, \"hobbs_load_parameter\": %.17g, \"points\": [",
-      EI, K, q, q / K, long_member_critical(K, EI), hobbs_vertical_mode().load_parameter);
+      "{\"method\": \"closed-form localized buckle\", \"length\": %.17g, \"EI\": %.17g, \"K\": %.17g, \"q\": "
+      "%.17g, \"settlement\": %.17g, \"bilateral_critical\": %.17g, \"hobbs_load_parameter\": %.17g, \"points\": [",
+      length, EI, K, q, q / K, long_member_critical(K, EI), hobbs_vertical_mode().load_parameter);
   const char* separator = "";
   for (double a : half_lengths) {
     const LocalizedBuckle b = localized_buckle(K, EI, q, a);

@@ -798,9 +798,18 @@ def perfect_member_branch(scene_text, program, max_amplitude=None):
         reason = r.stderr.strip().splitlines()[-1] if r.stderr.strip() else f"exit {r.returncode}"
         return None, reason.split(": ", 2)[-1]
     try:
-        return json.loads(r.stdout), None
+        reference = json.loads(r.stdout)
     except ValueError:
         return None, "closed_form_reference printed no JSON"
+    # The closed form is the infinite member's: on a finite one it holds while the buckle and the
+    # contact tails on either side (a wavelength 2 pi / beta each, beta = (K / 4 EI)^(1/4)) fit.
+    tails = 2.0 * math.pi / (reference["K"] / (4.0 * reference["EI"])) ** 0.25
+    length = reference.get("length", math.inf)
+    reference["points"] = [q for q in reference["points"] if q["lifted_length"] + tails <= length]
+    if not reference["points"]:
+        return None, (f"the member (L = {length:.4g}) is too short for the infinite member's localized buckle "
+                      f"(its contact tails alone take 2 pi / beta = {tails:.4g})")
+    return reference, None
 
 
 def stability_runs(stability):
