@@ -813,13 +813,22 @@ def perfect_member_branch(scene_text, program, max_amplitude=None):
 
 
 def stability_runs(stability):
-    """(start, stop, kind) of the runs of equal stability; each run drawn through the next run's first
-    step, so the curve has no gap where the stability changes."""
-    runs, start = [], 0
+    """(start, stop, kind) of the runs of equal stability, stop inclusive. The segment between two runs
+    (no gap where the stability changes) takes the less assured of the two (unstable over unknown over
+    stable): a stretch is never drawn stable beyond its last stable step."""
+    rank = {"stable": 0, "unknown": 1, "unstable": 2}
+    raw, start = [], 0
     for i in range(1, len(stability) + 1):
         if i == len(stability) or stability[i] != stability[start]:
-            runs.append((start, min(i, len(stability) - 1), str(stability[start])))
+            raw.append((start, i - 1, str(stability[start])))
             start = i
+    runs = []
+    for j, (a, b, kind) in enumerate(raw):
+        if j > 0 and rank.get(kind, 1) > rank.get(raw[j - 1][2], 1):
+            a -= 1
+        if j + 1 < len(raw) and rank.get(kind, 1) >= rank.get(raw[j + 1][2], 1):
+            b += 1
+        runs.append((a, b, kind))
     return runs
 
 
