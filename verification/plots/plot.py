@@ -802,7 +802,7 @@ def perfect_member_branch(scene_text, program, max_amplitude=None):
     except ValueError:
         return None, "closed_form_reference printed no JSON"
     # The closed form is the infinite member's: on a finite one it holds while the buckle and the
-    # contact tails on either side (a wavelength 2 pi / beta each, beta = (K / 4 EI)^(1/4)) fit.
+    # contact tails on either side (half a wavelength, pi / beta, each; beta = (K / 4 EI)^(1/4)) fit.
     tails = 2.0 * math.pi / (reference["K"] / (4.0 * reference["EI"])) ** 0.25
     length = reference.get("length", math.inf)
     reference["points"] = [q for q in reference["points"] if q["lifted_length"] + tails <= length]
