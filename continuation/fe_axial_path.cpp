@@ -216,15 +216,14 @@ std::optional<stability::CriticalLoadResult> AxialPath::cone_at(const Point& p, 
 }
 
 int AxialPath::instability(const Point& p) {
-  const int negative = negative_eigenvalues(set_, p.lambda);
   // (An infeasible state, beyond a breakpoint, has no cone: its negative reactions are no
   // weakly active nodes.)
   if (const auto cone = feasible(set_, p) ? cone_at(p, true) : std::nullopt) {
     const path::Stability verdict = cone_verdict(*cone);
     if (verdict == path::Stability::stable) return 0;
-    if (verdict == path::Stability::unstable) return std::max(negative, 1);
+    if (verdict == path::Stability::unstable) return std::max(negative_eigenvalues(set_, p.lambda), 1);
   }
-  return negative;
+  return negative_eigenvalues(set_, p.lambda);
 }
 
 path::Stability AxialPath::stability_at(const Point& p) {
@@ -494,9 +493,8 @@ Switch AxialPath::switch_branch(const Point& at, TraceEvent event, ContactTopolo
   };
   const double n = model_.axial_force(origin.lambda) * model_.scales.force();
   // The amplitude bound on the branch, located by bisection on a (the amplitude grows with it).
-  const bool bounded = options_.max_amplitude.has_value();
   double a_stop = a_end;
-  if (bounded && (!std::isfinite(a_end) || amplitude(*on_branch(a_end)) >= *options_.max_amplitude)) {
+  if (options_.max_amplitude && (!std::isfinite(a_end) || amplitude(*on_branch(a_end)) >= *options_.max_amplitude)) {
     double lo = 0.0, hi = std::isfinite(a_end) ? a_end : 1.0;
     for (int i = 0; i < 200 && amplitude(*on_branch(hi)) < *options_.max_amplitude; ++i) lo = hi, hi *= 2.0;
     for (int i = 0; i < max_bisections && hi - lo > 1e-14 * hi; ++i) {
