@@ -420,15 +420,8 @@ def trace(model, crown_max, steps, locate_events=True, refine_limits=True):
     prev_sig = None
     events = []
     for i in range(1, steps + 1):
-        delta = i * ds
-        if len(path) >= 2:
-            (d0, l0, x0), (d1, l1, x1) = path[-2], path[-1]
-            s = (delta - d1) / (d1 - d0)
-            xg, lg = x1 + s * (x1 - x0), l1 + s * (l1 - l0)
-        else:
-            xg, lg = x, lam
-        x, lam, _, _ = model.solve(xg, lg, delta)
-        path.append((delta, lam, x.copy()))
+        x, lam = _advance(model, path, i * ds)
+        path.append((i * ds, lam, x.copy()))
         sig = model.signature(x) if model.p.k > 0 else None
         if locate_events and prev_sig is not None and sig != prev_sig:
             events.append(_locate_event(model, path[-2], path[-1], prev_sig))
@@ -442,6 +435,31 @@ def trace(model, crown_max, steps, locate_events=True, refine_limits=True):
             limits.append(_refine_extremum(model, path, i) if refine_limits else
                           {"crown": path[i][0], "lambda": lams[i]})
     return out, limits, events
+
+
+def _predict(path, delta):
+    """Secant predictor through the last two points (the first step starts from the last point)."""
+    (d1, l1, x1) = path[-1]
+    if len(path) < 2:
+        return x1, l1
+    (d0, l0, x0) = path[-2]
+    s = (delta - d1) / (d1 - d0)
+    return x1 + s * (x1 - x0), l1 + s * (l1 - l0)
+
+
+def _advance(model, path, delta, depth=0):
+    """Solve at crown deflection delta from the path's end; on a Newton failure, halve the step
+    (intermediate points are not kept), at most 6 times."""
+    try:
+        x, lam, _, _ = model.solve(*_predict(path, delta), delta)
+        return x, lam
+    except SolveFailure:
+        if depth >= 6:
+            raise SolveFailure(f"Newton failed at crown deflection {delta:.6g} even with the step halved 6 times "
+                               "(the crown deflection may turn back along the path: crown control cannot follow)")
+    mid = (path[-1][0] + delta) / 2
+    xm, lm = _advance(model, path, mid, depth + 1)
+    return _advance(model, path[-1:] + [(mid, lm, xm)], delta, depth + 1)
 
 
 def _refine_extremum(model, path, i, iters=8):
