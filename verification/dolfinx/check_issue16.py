@@ -94,9 +94,9 @@ def exact_imperfect_path(k, q0, a0, e, A1s):
     return out
 
 
-def trace(p, n, crown_max, steps):
+def trace(p, n, crown_max, steps, stability=True):
     m = vk.Model(p, n)
-    return m, vk.trace(m, crown_max, steps)
+    return m, vk.trace(m, crown_max, steps, stability=stability)
 
 
 # ---- (a) ----
@@ -149,7 +149,7 @@ def part_b():
     for n in meshes:
         t0 = time.perf_counter()
         p = vk.Problem(L=L, EI=EI, EA=EA, k=k, sines=[(1, a0)], load_sines=[(1, q0)])
-        m, (path, limits, _) = trace(p, n, 2.2 * a, 44)
+        m, (path, limits, _, stab) = trace(p, n, 2.2 * a, 44)
         lp = limits[0]
         errs.append(lp["lambda"] - lam_lim)
         perr = max(abs(pt["lambda"] - lam_of(k, q0, a0, 0.0, pt["crown"], 0.0)) for pt in path)
@@ -157,13 +157,41 @@ def part_b():
         a2 = max(abs(pt["A2"]) for pt in path)
         print(f"  {n:4d} elements: limit lambda {lp['lambda']:.12g} at crown {lp['crown']:.10g}, error {errs[-1]:.3e} "
               f"(crown {lp['crown'] - A_lim:.1e}); path max |lambda error| {perr:.3e}; limit points {len(limits)}; "
-              f"max |A2| {a2:.1e} ({time.perf_counter() - t0:.1f} s)")
+              f"max |A2| {a2:.1e}; stability events {[ev['kind'] for ev in stab]} ({time.perf_counter() - t0:.1f} s)")
+        check(stab and stab[0]["kind"] == "limit_point" and abs(stab[0]["lambda"] - lp["lambda"]) <= 1e-9 * lam_lim,
+              "(b) the first stability event is not the limit point")
     ob, op = orders(errs), orders(perrs)
     rich = errs[-1] + (errs[-1] - errs[-2]) / 3
     print(f"  observed orders: limit load {', '.join(f'{o:.3f}' for o in ob)}; path {', '.join(f'{o:.3f}' for o in op)}; "
           f"Richardson limit load off by {rich:.2e}")
     check(all(ORDER[0] <= o <= ORDER[1] for o in ob + op), "(b) observed order outside [1.7, 2.3]")
     check(abs(rich) <= 0.05 * abs(errs[-1]), "(b) Richardson misses the one-mode limit load by > 5% of the finest error")
+
+
+# ---- (c) perfect arch: the bifurcation point ----
+
+def part_c_perfect():
+    k, a, q0 = 20.0, 8.0 * R_GYR, 1.0
+    a0 = -a
+    P2 = EI * B2 ** 2 + k / B2 ** 2
+    A_bif = -a0 - math.sqrt(a0 ** 2 - 4 * P2 / (EA * B1 ** 2))
+    lam_bif = lam_of(k, q0, a0, 0.0, A_bif, 0.0)
+    print(f"(c) perfect arch a = 8 r, bilateral k = {k:g}: the symmetric path's N reaches -P2 = {-P2:.10g} at "
+          f"A1 = {A_bif:.10g}, lambda = {lam_bif:.10g} (before the limit point): the first stability event")
+    errs = []
+    for n in (32, 64):
+        p = vk.Problem(L=L, EI=EI, EA=EA, k=k, sines=[(1, a0)], load_sines=[(1, q0)])
+        m, (path, limits, _, stab) = trace(p, n, 1.25 * a, 50)
+        ev = stab[0]
+        errs.append((ev["crown"] - A_bif, ev["lambda"] - lam_bif, ev["N"] + P2))
+        print(f"  {n:4d} elements: {ev['kind']} at crown {ev['crown']:.10g} (error {errs[-1][0]:.2e}), lambda "
+              f"{ev['lambda']:.10g} (error {errs[-1][1]:.2e}), N {ev['N']:.10g} (N + P2 = {errs[-1][2]:.2e}); "
+              f"negative eigenvalues {ev['negative_eigenvalues_from']} -> {ev['negative_eigenvalues_to']}")
+        check(ev["kind"] == "bifurcation", "(c) the first stability event of the perfect arch is not a bifurcation")
+    for idx, label in enumerate(("crown", "lambda", "N")):
+        o = math.log2(abs(errs[0][idx] / errs[1][idx]))
+        print(f"  observed order ({label}): {o:.3f}")
+        check(ORDER[0] <= o <= ORDER[1], f"(c) perfect: observed order of {label} outside [1.7, 2.3]")
 
 
 # ---- (c), (d) ----
@@ -202,7 +230,7 @@ def part_c(tensionless):
         t0 = time.perf_counter()
         p = vk.Problem(L=L, EI=EI, EA=EA, k=k, tensionless=tensionless, sines=[(1, a0), (2, e)],
                        load_sines=[(1, q0)])
-        m, (path, limits, events) = trace(p, n, 1.25 * a, 100)
+        m, (path, limits, events, _) = trace(p, n, 1.25 * a, 100, stability=False)
         if tensionless:
             ev = events[0] if events else None
             print(f"  {n:4d} elements: first contact event {ev and ev['from']} -> {ev and ev['to']} at crown "
@@ -235,6 +263,7 @@ def main():
     t0 = time.perf_counter()
     part_a()
     part_b()
+    part_c_perfect()
     part_c(False)
     part_c(True)
     print(f"{len(failures)} failed ({time.perf_counter() - t0:.0f} s)")

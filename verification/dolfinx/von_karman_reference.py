@@ -368,6 +368,20 @@ class Model:
                 break
         raise SolveFailure(f"Newton did not converge in {max_it} iterations (lambda {lam:.6g})")
 
+    def slope(self, x, lam):
+        """d lambda / d delta along the crown-controlled path at a converged (x, lam)."""
+        import scipy.sparse as sp
+        import scipy.sparse.linalg as spla
+        fr = self.free
+        _, J = self.residual(x, lam)
+        ic = int(np.searchsorted(fr, self.crown))
+        col = sp.csr_matrix(-self.f[fr].reshape(-1, 1))
+        row = sp.csr_matrix(([1.0], ([0], [ic])), shape=(1, len(fr)))
+        K = sp.bmat([[J[fr][:, fr], col], [row, None]]).tocsc()
+        rhs = np.zeros(len(fr) + 1)
+        rhs[-1] = 1.0
+        return float(spla.spsolve(K, rhs)[-1])
+
     # ---- output quantities ----
     def crown_deflection(self, x):
         return float(x[self.crown])
@@ -400,7 +414,15 @@ class Model:
                     pieces.append([a, b, pos])
         return [(float(a), float(b)) for a, b, pos in pieces if pos]
 
-    def signature(self, x):
+    def index(self, x, lam, max_dofs=2000):
+        """Negative eigenvalues of the tangent stiffness on the free dofs (dense; None beyond max_dofs)."""
+        if len(self.free) > max_dofs:
+            return None
+        _, J = self.residual(x, lam)
+        Jff = J[self.free][:, self.free].toarray()
+        return int(np.sum(np.linalg.eigvalsh((Jff + Jff.T) / 2) < 0.0))
+
+    def signature(self, x, lam=None):
         """The contact set's topology: number of regions and whether the ends are in contact."""
         reg = self.contact(x)
         tol = 1e-9 * self.p.L
@@ -410,31 +432,46 @@ class Model:
 # ---------------------------------------------------------------------------------------------
 # continuation
 
-def trace(model, crown_max, steps, locate_events=True, refine_limits=True):
+def trace(model, crown_max, steps, locate_events=True, refine_limits=True, stability=True):
     """Displacement control of the crown from 0 to crown_max in `steps` equal steps. Returns the path
-    (delta, lambda, N, A2, contact regions per point), the limit loads and the contact events."""
+    (crown, lambda, N, A2, contact regions, negative eigenvalues of the tangent stiffness per point),
+    the limit points (extrema of lambda, refined), the contact events and the stability events (a
+    change of the number of negative eigenvalues, located by bisection: `limit_point` where it
+    coincides with an extremum of lambda, else `bifurcation`; skipped with stability=False or beyond
+    2000 free dofs, since the eigenvalues are dense)."""
     x = np.zeros(model.ndofs)
-    lam = 0.0
     ds = crown_max / steps
     path = [(0.0, 0.0, x.copy())]
-    prev_sig = None
-    events = []
+    index = (lambda xx, ll: model.index(xx, ll)) if stability else (lambda xx, ll: None)
+    prev_sig, prev_idx = None, index(x, 0.0)
+    events, index_changes = [], []
     for i in range(1, steps + 1):
         x, lam = _advance(model, path, i * ds)
         path.append((i * ds, lam, x.copy()))
         sig = model.signature(x) if model.p.k > 0 else None
         if locate_events and prev_sig is not None and sig != prev_sig:
-            events.append(_locate_event(model, path[-2], path[-1], prev_sig))
-        prev_sig = sig
+            events.append(_locate(model, path[-2], path[-1], model.signature, "contact"))
+        idx = index(x, lam)
+        if locate_events and idx is not None and prev_idx is not None and idx != prev_idx:
+            index_changes.append(_locate(model, path[-2], path[-1], lambda xx, ll: model.index(xx, ll), "stability"))
+        prev_sig, prev_idx = sig, idx
     out = [{"crown": d, "lambda": l, "N": model.thrust(xx), "A2": model.second_mode(xx),
-            "contact": model.contact(xx) if model.p.k > 0 else []} for d, l, xx in path]
+            "contact": model.contact(xx) if model.p.k > 0 else [], "negative_eigenvalues": index(xx, l)}
+           for d, l, xx in path]
     limits = []
     lams = [l for _, l, _ in path]
     for i in range(1, len(path) - 1):
-        if lams[i] >= lams[i - 1] and lams[i] > lams[i + 1]:
-            limits.append(_refine_extremum(model, path, i) if refine_limits else
-                          {"crown": path[i][0], "lambda": lams[i]})
-    return out, limits, events
+        for sign, kind in ((1.0, "max"), (-1.0, "min")):
+            if sign * lams[i] >= sign * lams[i - 1] and sign * lams[i] > sign * lams[i + 1]:
+                lp = _refine_extremum(model, path, i, sign) if refine_limits else {"crown": path[i][0], "lambda": lams[i]}
+                lp["kind"] = kind
+                limits.append(lp)
+    for ev in index_changes:
+        # a limit point within the same step (a bifurcation that close to a limit point would be
+        # called a limit point: refine the steps to separate them)
+        near = [lp for lp in limits if abs(lp["crown"] - ev["crown"]) <= ds]
+        ev["kind"] = "limit_point" if near else "bifurcation"
+    return out, limits, events, index_changes
 
 
 def _predict(path, delta):
@@ -462,36 +499,50 @@ def _advance(model, path, delta, depth=0):
     return _advance(model, path[-1:] + [(mid, lm, xm)], delta, depth + 1)
 
 
-def _refine_extremum(model, path, i, iters=8):
-    """Successive parabolic interpolation of lambda(delta) around the sampled maximum at i."""
-    pts = [(path[j][0], path[j][1], path[j][2]) for j in (i - 1, i, i + 1)]
-    for _ in range(iters):
-        (a, fa, _), (b, fb, xb), (c, fc, _) = sorted(pts, key=lambda t: t[0])
-        den = (b - a) * (fb - fc) - (b - c) * (fb - fa)
-        if den == 0:
-            break
-        m = b - 0.5 * ((b - a) ** 2 * (fb - fc) - (b - c) ** 2 * (fb - fa)) / den
-        if not (a < m < c) or abs(m - b) <= 1e-12 * abs(c - a):
-            break
-        xm, lm, _, _ = model.solve(xb, fb, m)
-        pts = sorted([(a, fa, None), (b, fb, xb), (c, fc, None), (m, lm, xm)], key=lambda t: -t[1])[:3]
-        pts = [t if t[2] is not None else (t[0], t[1], xm) for t in pts]
-    best = max(pts, key=lambda t: t[1])
-    return {"crown": best[0], "lambda": best[1]}
-
-
-def _locate_event(model, before, after, sig_before, iters=34):
-    (da, la, xa), (db, lb, xb) = before, after
-    sig_after = model.signature(xb)
+def _refine_extremum(model, path, i, sign=1.0, iters=40):
+    """The extremum of lambda(delta) bracketed by the steps i - 1 and i + 1: bisection on the sign of
+    the path's exact slope d lambda/d delta (the bordered tangent)."""
+    (da, la, xa), (db, lb, xb) = path[i - 1], path[i + 1]
+    sa = model.slope(xa, la)
+    if sa * model.slope(xb, lb) > 0:      # both sides climb: the extremum is at the middle sample
+        return {"crown": path[i][0], "lambda": path[i][1]}
     for _ in range(iters):
         dm = (da + db) / 2
         xm, lm, _, _ = model.solve(xa, la, dm)
-        if model.signature(xm) == sig_before:
+        if model.slope(xm, lm) * sa > 0:
             da, la, xa = dm, lm, xm
         else:
             db, lb, xb = dm, lm, xm
-    return {"crown": (da + db) / 2, "lambda": (la + lb) / 2, "from": list(sig_before), "to": list(sig_after),
-            "contact_after": model.contact(xb)}
+    pick = max if sign > 0 else min
+    return {"crown": (da + db) / 2, "lambda": pick(la, lb)}
+
+
+def _locate(model, before, after, signature, what, iters=30):
+    """Bisection in the crown deflection for the change of signature(x, lambda) between two points."""
+    (da, la, xa), (db, lb, xb) = before, after
+    sig_before = signature(xa, la)
+    sig_after = signature(xb, lb)
+    bracketed = True
+    for _ in range(iters):
+        dm = (da + db) / 2
+        try:
+            xm, lm, _, _ = model.solve(xa, la, dm)
+        except SolveFailure:
+            # next to a bifurcation point the bordered matrix is singular too (the crown does not
+            # move in the antisymmetric mode): keep the bracket reached
+            bracketed = False
+            break
+        if signature(xm, lm) == sig_before:
+            da, la, xa = dm, lm, xm
+        else:
+            db, lb, xb = dm, lm, xm
+    out = {"crown": (da + db) / 2, "lambda": (la + lb) / 2, "N": model.thrust(xb), "A2": model.second_mode(xb),
+           "bracket": db - da, "bisection_converged": bracketed}
+    if what == "contact":
+        out.update({"from": list(sig_before), "to": list(sig_after), "contact_after": model.contact(xb)})
+    else:
+        out.update({"negative_eigenvalues_from": sig_before, "negative_eigenvalues_to": sig_after})
+    return out
 
 
 def main(argv=None):
@@ -515,7 +566,7 @@ def main(argv=None):
         crown_max = opts.crown_max or (2.5 * rise if rise > 0 else p.L / 50)
         t0 = time.perf_counter()
         model = Model(p, n, opts.u_degree)
-        path, limits, events = trace(model, crown_max, opts.steps)
+        path, limits, events, stability = trace(model, crown_max, opts.steps)
     except SceneError as e:
         print(f"{opts.scene}: {e}", file=sys.stderr)
         return 2
@@ -523,7 +574,7 @@ def main(argv=None):
         print(f"{opts.scene}: {e}", file=sys.stderr)
         return 3
     result = {"method": "dolfinx-von-karman", "scene": opts.scene, "elements": n, "u_degree": opts.u_degree,
-              "path": path, "limit_points": limits, "contact_events": events,
+              "path": path, "limit_points": limits, "contact_events": events, "stability_events": stability,
               "time_s": time.perf_counter() - t0}
     if opts.json == "-":
         json.dump(result, sys.stdout, indent=1)
@@ -533,7 +584,10 @@ def main(argv=None):
     if opts.json != "-":
         print(f"{n} elements, {len(path) - 1} steps to crown deflection {crown_max:g} ({result['time_s']:.1f} s)")
         for lp in limits:
-            print(f"  limit point: lambda {lp['lambda']:.10g} at crown deflection {lp['crown']:.8g}")
+            print(f"  limit point ({lp['kind']} of lambda): lambda {lp['lambda']:.10g} at crown deflection {lp['crown']:.8g}")
+        for ev in stability:
+            print(f"  {ev['kind']}: lambda {ev['lambda']:.10g} at crown deflection {ev['crown']:.8g}, N {ev['N']:.8g}, "
+                  f"negative eigenvalues {ev['negative_eigenvalues_from']} -> {ev['negative_eigenvalues_to']}")
         for ev in events:
             print(f"  contact event: lambda {ev['lambda']:.10g} at crown deflection {ev['crown']:.8g}, "
                   f"regions {['[%.6g, %.6g]' % r for r in ev['contact_after']]}")
