@@ -35,9 +35,16 @@ Discretisation (not liftoff's Hermite cubics + LCP):
   * continuation: displacement control of the crown (x = L/2, a vertex): the crown deflection delta
     is prescribed and lambda is an unknown (bordered Newton: [[J, -f], [e_c^T, 0]], sparse LU),
     predictor the secant through the last two points, so limit points in lambda are passed.
-    Limit loads: the largest lambda, located by successive parabolic interpolation in delta.
-    Contact events: a change of the contact set's topology between two steps, located by bisection
-    in delta (to 1e-10 of the step).
+    A Newton failure halves the step (6 times at most); where the crown deflection itself turns back
+    along the path, crown control cannot follow and the script says so (exit 3).
+  * limit points: the extrema of lambda(delta), located by bisection on the sign of the exact slope
+    d lambda/d delta (the bordered tangent); stability: the number of negative eigenvalues of the
+    tangent stiffness on the free dofs (dense, up to 2000 dofs) at every step; a change is located
+    by bisection and called `limit_point` if it falls in the step of an extremum of lambda, else
+    `bifurcation` (next to a bifurcation the bordered matrix is singular as well, so the bisection
+    stops when Newton fails there and reports the bracket reached).
+  * contact events: a change of the contact set's topology (number of regions w > 0, ends in
+    contact) between two steps, located by bisection in delta (30 halvings of the step).
 Exit codes: 0 solved, 2 bad scene or command line, 3 Newton failed.
 """
 
