@@ -18,7 +18,8 @@ are unloaded, and N couples them only through N itself):
 (b) perfect arch, symmetric path (A2 = 0, a symmetric mesh keeps it): lambda(A1) = [(EI b1^4 + k) A1
     + EA b1^4 A1 (A1 + 2 a0)(A1 + a0)/4] / q0, whose maximum is at 3 (A1 + a0)^2 = a0^2 - s^2,
     s^2 = 4 (EI b1^4 + k)/(EA b1^4) (first root): the limit load. a/r = 4.5 (r^2 = EI/EA): the limit
-    point comes before the bifurcation. The reference's path maximum at 16, 32, 64 elements.
+    point comes before the bifurcation. The reference's path maximum at 16, 32, 64 elements, and at
+    32 by arc-length control (the same discrete problem: the same maximum to 1e-9).
 (c) a/r = 8 with e = a/100: mode 2 can only grow when N -> -P2, P2 = EI b2^2 + k/b2^2 (the second
     mode's critical load with the foundation); the perfect arch bifurcates where the symmetric
     path's N reaches -P2, before its limit point. The imperfect path is exact too: at each crown
@@ -160,6 +161,14 @@ def part_b():
               f"max |A2| {a2:.1e}; stability events {[ev['kind'] for ev in stab]} ({time.perf_counter() - t0:.1f} s)")
         check(stab and stab[0]["kind"] == "limit_point" and abs(stab[0]["lambda"] - lp["lambda"]) <= 1e-9 * lam_lim,
               "(b) the first stability event is not the limit point")
+    # the arc-length control solves the same discrete problem: the same limit point (to the bisection)
+    p = vk.Problem(L=L, EI=EI, EA=EA, k=k, sines=[(1, a0)], load_sines=[(1, q0)])
+    m = vk.Model(p, 32)
+    path_arc, limits_arc, _, _ = vk.trace(m, 2.2 * a, 44, control="arclength", stability=False)
+    diff = limits_arc[0]["lambda"] - (lam_lim + errs[1])
+    print(f"  arc-length control (32 elements, {len(path_arc) - 1} steps): limit lambda {limits_arc[0]['lambda']:.12g}, "
+          f"minus crown control's {diff:.1e}")
+    check(abs(diff) <= 1e-9 * lam_lim, "(b) arc-length and crown control disagree on the limit load")
     ob, op = orders(errs), orders(perrs)
     rich = errs[-1] + (errs[-1] - errs[-2]) / 3
     print(f"  observed orders: limit load {', '.join(f'{o:.3f}' for o in ob)}; path {', '.join(f'{o:.3f}' for o in op)}; "

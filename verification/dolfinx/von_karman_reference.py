@@ -344,26 +344,39 @@ class Model:
         R = self._vector(self.F) + rf - lam * self.f
         return R, (self._matrix(self.J) + Jf) if want_jac else None
 
-    def solve(self, x, lam, delta=None, tol=1e-10, max_it=30):
-        """Newton from (x, lam): load control (delta None) or crown displacement control."""
+    def _bordered(self, J, row):
+        """[[J_ff, -f], [row]] with row = (vector over the free dofs, coefficient of lambda)."""
         import scipy.sparse as sp
+        fr = self.free
+        col = sp.csr_matrix(-self.f[fr].reshape(-1, 1))
+        r = sp.csr_matrix(np.asarray(row[0], dtype=float).reshape(1, -1))
+        corner = sp.csr_matrix([[float(row[1])]])
+        return sp.bmat([[J[fr][:, fr], col], [r, corner]]).tocsc()
+
+    def crown_row(self):
+        e = np.zeros(len(self.free))
+        e[int(np.searchsorted(self.free, self.crown))] = 1.0
+        return e, 0.0
+
+    def solve(self, x, lam, delta=None, tol=1e-10, max_it=30, constraint=None):
+        """Newton from (x, lam): load control (delta and constraint None), crown displacement control
+        (x_crown = delta), or a linear constraint (vector over the free dofs, coefficient of
+        lambda, value): row . x_free + coefficient * lambda = value (the arc-length step)."""
         import scipy.sparse.linalg as spla
         fr = self.free
         fscale = max(np.abs(self.f).max(), 1e-300)
+        if delta is not None:
+            constraint = self.crown_row() + (delta,)
         x = x.copy()
         for it in range(max_it):
             R, J = self.residual(x, lam)
-            Jff = J[fr][:, fr]
-            if delta is None:
-                step = spla.spsolve(Jff.tocsc(), -R[fr])
+            if constraint is None:
+                step = spla.spsolve(J[fr][:, fr].tocsc(), -R[fr])
                 dlam = 0.0
             else:
-                ic = int(np.searchsorted(fr, self.crown))
-                col = sp.csr_matrix(-self.f[fr].reshape(-1, 1))
-                row = sp.csr_matrix(([1.0], ([0], [ic])), shape=(1, len(fr)))
-                K = sp.bmat([[Jff, col], [row, None]]).tocsc()
-                rhs = np.concatenate([-R[fr], [delta - x[self.crown]]])
-                sol = spla.spsolve(K, rhs)
+                K = self._bordered(J, constraint[:2])
+                gap = constraint[2] - (constraint[0] @ x[fr] + constraint[1] * lam)
+                sol = spla.spsolve(K, np.concatenate([-R[fr], [gap]]))
                 step, dlam = sol[:-1], sol[-1]
             x[fr] += step
             lam += dlam
@@ -375,19 +388,14 @@ class Model:
                 break
         raise SolveFailure(f"Newton did not converge in {max_it} iterations (lambda {lam:.6g})")
 
-    def slope(self, x, lam):
-        """d lambda / d delta along the crown-controlled path at a converged (x, lam)."""
-        import scipy.sparse as sp
+    def slope(self, x, lam, row=None):
+        """d lambda / d parameter along the path whose parameter is row . (x_free, lambda) (default:
+        the crown deflection), at a converged (x, lam): the bordered tangent."""
         import scipy.sparse.linalg as spla
-        fr = self.free
         _, J = self.residual(x, lam)
-        ic = int(np.searchsorted(fr, self.crown))
-        col = sp.csr_matrix(-self.f[fr].reshape(-1, 1))
-        row = sp.csr_matrix(([1.0], ([0], [ic])), shape=(1, len(fr)))
-        K = sp.bmat([[J[fr][:, fr], col], [row, None]]).tocsc()
-        rhs = np.zeros(len(fr) + 1)
+        rhs = np.zeros(len(self.free) + 1)
         rhs[-1] = 1.0
-        return float(spla.spsolve(K, rhs)[-1])
+        return float(spla.spsolve(self._bordered(J, row or self.crown_row()), rhs)[-1])
 
     # ---- output quantities ----
     def crown_deflection(self, x):
@@ -439,45 +447,94 @@ class Model:
 # ---------------------------------------------------------------------------------------------
 # continuation
 
-def trace(model, crown_max, steps, locate_events=True, refine_limits=True, stability=True):
-    """Displacement control of the crown from 0 to crown_max in `steps` equal steps. Returns the path
-    (crown, lambda, N, A2, contact regions, negative eigenvalues of the tangent stiffness per point),
-    the limit points (extrema of lambda, refined), the contact events and the stability events (a
-    change of the number of negative eigenvalues, located by bisection: `limit_point` where it
-    coincides with an extremum of lambda, else `bifurcation`; skipped with stability=False or beyond
-    2000 free dofs, since the eigenvalues are dense)."""
-    x = np.zeros(model.ndofs)
-    ds = crown_max / steps
-    path = [(0.0, 0.0, x.copy())]
+def trace(model, crown_max, steps, locate_events=True, refine_limits=True, stability=True, control="crown"):
+    """Path from zero load to crown deflection crown_max: `crown` control in `steps` equal steps of
+    the crown deflection, or `arclength` (the first step by crown control, then steps of the same
+    length in (x, s lambda), s making both parts of that first step equal; at most 8 * steps).
+    Returns the path (crown, lambda, N, A2, contact regions, negative eigenvalues of the tangent
+    stiffness per point), the limit points (extrema of lambda, refined), the contact events and the
+    stability events (a change of the number of negative eigenvalues, located by bisection:
+    `limit_point` where it falls in the step of an extremum of lambda, else `bifurcation`; skipped
+    with stability=False or beyond 2000 free dofs, since the eigenvalues are dense)."""
     index = (lambda xx, ll: model.index(xx, ll)) if stability else (lambda xx, ll: None)
-    prev_sig, prev_idx = None, index(x, 0.0)
-    events, index_changes = [], []
-    for i in range(1, steps + 1):
-        x, lam = _advance(model, path, i * ds)
-        path.append((i * ds, lam, x.copy()))
-        sig = model.signature(x) if model.p.k > 0 else None
-        if locate_events and prev_sig is not None and sig != prev_sig:
-            events.append(_locate(model, path[-2], path[-1], model.signature, "contact"))
-        idx = index(x, lam)
-        if locate_events and idx is not None and prev_idx is not None and idx != prev_idx:
-            index_changes.append(_locate(model, path[-2], path[-1], lambda xx, ll: model.index(xx, ll), "stability"))
-        prev_sig, prev_idx = sig, idx
+    fr = model.free
+    ds = crown_max / steps
+    x = np.zeros(model.ndofs)
+    path = [(0.0, 0.0, x.copy())]   # (crown, lambda, state)
+    steps_taken = []                 # per step: (row, parameter at its start, at its end)
+    if control == "crown":
+        row = model.crown_row()
+        for i in range(1, steps + 1):
+            x, lam = _advance(model, path, i * ds)
+            path.append((i * ds, lam, x.copy()))
+            steps_taken.append((row, (i - 1) * ds, i * ds))
+    elif control == "arclength":
+        x, lam, _, _ = model.solve(x, 0.0, ds)
+        scale = np.linalg.norm(x[fr]) / abs(lam)
+        vec = lambda xx, ll: np.concatenate([xx[fr], [scale * ll]])  # noqa: E731
+        arc = np.linalg.norm(vec(x, lam))
+        path.append((ds, lam, x.copy()))
+        steps_taken.append((model.crown_row(), 0.0, ds))
+        while path[-1][0] < crown_max and len(path) <= 8 * steps:
+            (_, la, xa), (_, lb, xb) = path[-2], path[-1]
+            t = vec(xb, lb) - vec(xa, la)
+            t /= np.linalg.norm(t)
+            row = (t[:-1], t[-1] * scale)
+            p0 = float(t @ vec(xb, lb))
+            h = arc
+            for _ in range(7):
+                pred = vec(xb, lb) + h * t
+                xg = xb.copy()
+                xg[fr] = pred[:-1]
+                try:
+                    x, lam, _, _ = model.solve(xg, pred[-1] / scale, constraint=row + (p0 + h,))
+                    break
+                except SolveFailure:
+                    h /= 2
+            else:
+                raise SolveFailure(f"arc-length step failed at crown deflection {path[-1][0]:.6g} even with "
+                                   "the step halved 6 times")
+            path.append((model.crown_deflection(x), lam, x.copy()))
+            steps_taken.append((row, p0, p0 + h))
+    else:
+        raise ValueError(control)
+
+    def solver(row):
+        return lambda xx, ll, p: model.solve(xx, ll, constraint=row + (p,))[:2]
+    events, index_changes, limits = [], [], []
+    sigs = [model.signature(xx) if model.p.k > 0 else None for _, _, xx in path]
+    idxs = [index(xx, ll) for _, ll, xx in path]
+    for j, (row, pa, pb) in enumerate(steps_taken):
+        a, b = path[j], path[j + 1]
+        if not locate_events:
+            break
+        if j > 0 and sigs[j] != sigs[j + 1]:
+            events.append(_locate(model, pa, pb, a, b, lambda xx, ll: model.signature(xx), "contact", solver(row)))
+        if idxs[j] is not None and idxs[j + 1] is not None and idxs[j] != idxs[j + 1]:
+            index_changes.append(_locate(model, pa, pb, a, b, lambda xx, ll: model.index(xx, ll), "stability",
+                                         solver(row)))
+        sa, sb = model.slope(a[2], a[1], row), model.slope(b[2], b[1], row)
+        if j > 0 and sa * sb < 0:
+            kind = "max" if sa > 0 else "min"
+            if refine_limits:
+                lp = _locate(model, pa, pb, a, b, lambda xx, ll: model.slope(xx, ll, row) > 0, "limit", solver(row))
+            else:
+                lp = {"crown": b[0], "lambda": b[1]}
+            lp["kind"] = kind
+            limits.append(lp)
     out = [{"crown": d, "lambda": l, "N": model.thrust(xx), "A2": model.second_mode(xx),
-            "contact": model.contact(xx) if model.p.k > 0 else [], "negative_eigenvalues": index(xx, l)}
-           for d, l, xx in path]
-    limits = []
-    lams = [l for _, l, _ in path]
-    for i in range(1, len(path) - 1):
-        for sign, kind in ((1.0, "max"), (-1.0, "min")):
-            if sign * lams[i] >= sign * lams[i - 1] and sign * lams[i] > sign * lams[i + 1]:
-                lp = _refine_extremum(model, path, i, sign) if refine_limits else {"crown": path[i][0], "lambda": lams[i]}
-                lp["kind"] = kind
-                limits.append(lp)
+            "contact": model.contact(xx) if model.p.k > 0 else [], "negative_eigenvalues": i}
+           for (d, l, xx), i in zip(path, idxs)]
     for ev in index_changes:
         # a limit point within the same step (a bifurcation that close to a limit point would be
         # called a limit point: refine the steps to separate them)
-        near = [lp for lp in limits if abs(lp["crown"] - ev["crown"]) <= ds]
-        ev["kind"] = "limit_point" if near else "bifurcation"
+        near = [lp for lp in limits if abs(lp["crown"] - ev["crown"]) <= ds and abs(lp["lambda"] - ev["lambda"])
+                <= 1e-6 * max(abs(lp["lambda"]), 1.0)]
+        same = [ce for ce in events if abs(ce["crown"] - ev["crown"]) <= ds and abs(ce["lambda"] - ev["lambda"])
+                <= 1e-6 * max(abs(ce["lambda"]), 1.0)]
+        # a tensionless foundation's tangent jumps where the contact set changes: a count that
+        # changes there is a contact event, not a singular point
+        ev["kind"] = "limit_point" if near else ("contact_change" if same else "bifurcation")
     return out, limits, events, index_changes
 
 
@@ -500,54 +557,39 @@ def _advance(model, path, delta, depth=0):
     except SolveFailure:
         if depth >= 6:
             raise SolveFailure(f"Newton failed at crown deflection {delta:.6g} even with the step halved 6 times "
-                               "(the crown deflection may turn back along the path: crown control cannot follow)")
+                               "(the crown deflection may turn back along the path: crown control cannot follow; "
+                               "try --control arclength)")
     mid = (path[-1][0] + delta) / 2
     xm, lm = _advance(model, path, mid, depth + 1)
     return _advance(model, path[-1:] + [(mid, lm, xm)], delta, depth + 1)
 
 
-def _refine_extremum(model, path, i, sign=1.0, iters=40):
-    """The extremum of lambda(delta) bracketed by the steps i - 1 and i + 1: bisection on the sign of
-    the path's exact slope d lambda/d delta (the bordered tangent)."""
-    (da, la, xa), (db, lb, xb) = path[i - 1], path[i + 1]
-    sa = model.slope(xa, la)
-    if sa * model.slope(xb, lb) > 0:      # both sides climb: the extremum is at the middle sample
-        return {"crown": path[i][0], "lambda": path[i][1]}
-    for _ in range(iters):
-        dm = (da + db) / 2
-        xm, lm, _, _ = model.solve(xa, la, dm)
-        if model.slope(xm, lm) * sa > 0:
-            da, la, xa = dm, lm, xm
-        else:
-            db, lb, xb = dm, lm, xm
-    pick = max if sign > 0 else min
-    return {"crown": (da + db) / 2, "lambda": pick(la, lb)}
-
-
-def _locate(model, before, after, signature, what, iters=30):
-    """Bisection in the crown deflection for the change of signature(x, lambda) between two points."""
-    (da, la, xa), (db, lb, xb) = before, after
+def _locate(model, pa, pb, before, after, signature, what, solve_at, iters=30):
+    """Bisection in the step's parameter (pa at `before`, pb at `after`) for the change of
+    signature(x, lambda)."""
+    (_, la, xa), (_, lb, xb) = before, after
     sig_before = signature(xa, la)
     sig_after = signature(xb, lb)
     bracketed = True
     for _ in range(iters):
-        dm = (da + db) / 2
+        pm = (pa + pb) / 2
         try:
-            xm, lm, _, _ = model.solve(xa, la, dm)
+            xm, lm = solve_at(xa, la, pm)
         except SolveFailure:
             # next to a bifurcation point the bordered matrix is singular too (the crown does not
             # move in the antisymmetric mode): keep the bracket reached
             bracketed = False
             break
         if signature(xm, lm) == sig_before:
-            da, la, xa = dm, lm, xm
+            pa, la, xa = pm, lm, xm
         else:
-            db, lb, xb = dm, lm, xm
-    out = {"crown": (da + db) / 2, "lambda": (la + lb) / 2, "N": model.thrust(xb), "A2": model.second_mode(xb),
-           "bracket": db - da, "bisection_converged": bracketed}
+            pb, lb, xb = pm, lm, xm
+    pick = (max if sig_before else min) if what == "limit" else (lambda u, v: (u + v) / 2)
+    out = {"crown": (model.crown_deflection(xa) + model.crown_deflection(xb)) / 2, "lambda": pick(la, lb),
+           "N": model.thrust(xb), "A2": model.second_mode(xb), "bracket": pb - pa, "bisection_converged": bracketed}
     if what == "contact":
         out.update({"from": list(sig_before), "to": list(sig_after), "contact_after": model.contact(xb)})
-    else:
+    elif what == "stability":
         out.update({"negative_eigenvalues_from": sig_before, "negative_eigenvalues_to": sig_after})
     return out
 
@@ -559,6 +601,8 @@ def main(argv=None):
     ap.add_argument("--crown-max", type=float, default=None,
                     help="final crown deflection (default: 2.5 times the rise of a half-sine initial shape, or L/50)")
     ap.add_argument("--steps", type=int, default=60)
+    ap.add_argument("--control", choices=("crown", "arclength"), default="crown",
+                    help="crown displacement control (default) or arc-length (where the crown turns back)")
     ap.add_argument("--u-degree", type=int, default=3, choices=(2, 3, 4))
     ap.add_argument("--json", default=None)
     opts = ap.parse_args(argv)
@@ -573,14 +617,14 @@ def main(argv=None):
         crown_max = opts.crown_max or (2.5 * rise if rise > 0 else p.L / 50)
         t0 = time.perf_counter()
         model = Model(p, n, opts.u_degree)
-        path, limits, events, stability = trace(model, crown_max, opts.steps)
+        path, limits, events, stability = trace(model, crown_max, opts.steps, control=opts.control)
     except SceneError as e:
         print(f"{opts.scene}: {e}", file=sys.stderr)
         return 2
     except SolveFailure as e:
         print(f"{opts.scene}: {e}", file=sys.stderr)
         return 3
-    result = {"method": "dolfinx-von-karman", "scene": opts.scene, "elements": n, "u_degree": opts.u_degree,
+    result = {"method": "dolfinx-von-karman", "scene": opts.scene, "elements": n, "u_degree": opts.u_degree, "control": opts.control,
               "path": path, "limit_points": limits, "contact_events": events, "stability_events": stability,
               "time_s": time.perf_counter() - t0}
     if opts.json == "-":
@@ -589,7 +633,8 @@ def main(argv=None):
         with open(opts.json, "w") as fh:
             json.dump(result, fh, indent=1)
     if opts.json != "-":
-        print(f"{n} elements, {len(path) - 1} steps to crown deflection {crown_max:g} ({result['time_s']:.1f} s)")
+        print(f"{n} elements, {len(path) - 1} steps ({opts.control} control) to crown deflection {path[-1]['crown']:.6g}, "
+              f"lambda {path[-1]['lambda']:.6g} (asked: crown {crown_max:g}; {result['time_s']:.1f} s)")
         for lp in limits:
             print(f"  limit point ({lp['kind']} of lambda): lambda {lp['lambda']:.10g} at crown deflection {lp['crown']:.8g}")
         for ev in stability:
