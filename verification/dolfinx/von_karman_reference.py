@@ -36,11 +36,16 @@ Discretisation (not liftoff's Hermite cubics + LCP):
     is prescribed and lambda is an unknown (bordered Newton: [[J, -f], [e_c^T, 0]], sparse LU),
     predictor the secant through the last two points, so limit points in lambda are passed.
     A Newton failure halves the step (6 times at most); where the crown deflection itself turns back
-    along the path, crown control cannot follow and the script says so (exit 3).
-  * limit points: the extrema of lambda(delta), located by bisection on the sign of the exact slope
-    d lambda/d delta (the bordered tangent); stability: the number of negative eigenvalues of the
+    along the path, crown control cannot follow and the script says so (exit 3). `--control
+    arclength` then: after a first crown-controlled step, steps of that step's length in
+    (x_free, s lambda) (s equalising both parts of the first step) along the secant, with the
+    linear constraint t . (x, s lambda) = t . previous + h (same bordered Newton), halved on a
+    failure; it stops at crown_max or after 8 * steps steps.
+  * limit points: the extrema of lambda along the path, located by bisection within a step on the
+    sign of the exact slope d lambda/d parameter (the bordered tangent); stability: the number of negative eigenvalues of the
     tangent stiffness on the free dofs (dense, up to 2000 dofs) at every step; a change is located
-    by bisection and called `limit_point` if it falls in the step of an extremum of lambda, else
+    by bisection and called `limit_point` if it falls in the step of an extremum of lambda,
+    `contact_change` if it falls on a contact event (a tensionless tangent jumps there), else
     `bifurcation` (next to a bifurcation the bordered matrix is singular as well, so the bisection
     stops when Newton fails there and reports the bracket reached).
   * contact events: a change of the contact set's topology (number of regions w > 0, ends in
