@@ -35,7 +35,8 @@ Discretisation (not liftoff's Hermite cubics + LCP):
   * continuation: displacement control of the crown (x = L/2, a vertex): the crown deflection delta
     is prescribed and lambda is an unknown (bordered Newton: [[J, -f], [e_c^T, 0]], sparse LU),
     predictor the secant through the last two points, so limit points in lambda are passed.
-    A Newton failure halves the step (6 times at most); where the crown deflection itself turns back
+    A Newton failure, or a corrector larger than the last step (Newton left the branch), halves the
+    step (6 times at most); where the crown deflection itself turns back
     along the path, crown control cannot follow and the script says so (exit 3). `--control
     arclength` then: after a first crown-controlled step, steps of that step's length in
     (x_free, s lambda) (s equalising both parts of the first step) along the secant, with the
@@ -493,6 +494,8 @@ def trace(model, crown_max, steps, locate_events=True, refine_limits=True, stabi
                 xg[fr] = pred[:-1]
                 try:
                     x, lam, _, _ = model.solve(xg, pred[-1] / scale, constraint=row + (p0 + h,))
+                    if np.linalg.norm(vec(x, lam) - pred) > h:   # left the branch
+                        raise SolveFailure("the corrector left the branch")
                     break
                 except SolveFailure:
                     h /= 2
@@ -557,7 +560,12 @@ def _advance(model, path, delta, depth=0):
     """Solve at crown deflection delta from the path's end; on a Newton failure, halve the step
     (intermediate points are not kept), at most 6 times."""
     try:
-        x, lam, _, _ = model.solve(*_predict(path, delta), delta)
+        xg, lg = _predict(path, delta)
+        x, lam, _, _ = model.solve(xg, lg, delta)
+        # a corrector as large as the last step means Newton left the branch (the crown deflection
+        # folds back nearby and another branch has the same crown deflection): not accepted
+        if len(path) >= 2 and np.abs(x - xg).max() > np.abs(path[-1][2] - path[-2][2]).max():
+            raise SolveFailure("the corrector left the branch")
         return x, lam
     except SolveFailure:
         if depth >= 6:
