@@ -45,6 +45,10 @@ constexpr double round_off_margin = 10.0;
 // A set's solve whose refinement leaves more than this is no basis for a step (as the
 // acceptable error of contact_solver.cpp).
 constexpr double max_solve_error = 1e-6;
+// ActiveSetOptions::unrefined_first_set: signs wrong by more than this (relative, as
+// sign_tolerance) are trusted from an unrefined solve (the mixed form's round-off before
+// refinement is ~eps N^2, 1e-8 at 1e4 elements).
+constexpr double unrefined_sign_tolerance = 1e-6;
 
 // Nodes on the wrong side: in contact with r < 0, or lifted off with gap < 0 (ascending).
 std::vector<int> infeasible_nodes(const fe::Discretisation& d, const ContactState& state,
@@ -105,7 +109,26 @@ ActiveSetResult solve_active_set(const fe::Discretisation& d, const VectorXd& lo
     RefinementOptions refinement;
     refinement.target_error = options.intermediate_error;
     refinement.residual = false;
-    if (factorised) result.state = system.solve(load, offset, refinement);
+    if (factorised && options.unrefined_first_set && summary.iterations == 1) {
+      RefinementOptions unrefined;
+      unrefined.max_steps = 0;
+      unrefined.residual = false;
+      const ContactState rough = system.solve(load, offset, unrefined);
+      std::vector<int> clearly_wrong = infeasible_nodes(d, rough, in_contact, unrefined_sign_tolerance);
+      if (!clearly_wrong.empty()) {
+        // A block step on those nodes alone; the count (at this looser tolerance) is no best.
+        result.state = rough;
+        summary.infeasible_history.push_back(static_cast<int>(clearly_wrong.size()));
+        last_good = in_contact;
+        last_infeasible = clearly_wrong;
+        for (int i : clearly_wrong) in_contact[i] = !in_contact[i];
+        ++summary.block_steps;
+        continue;
+      }
+      result.state = system.refine_last_solve(refinement);  // as solve() would have: the same steps
+    } else if (factorised) {
+      result.state = system.solve(load, offset, refinement);
+    }
     if (!factorised || !(result.state.error_estimate <= max_solve_error)) {
       if (last_good.empty() || singular_retry) {
         summary.termination = ActiveSetTermination::singular_system;
@@ -128,7 +151,7 @@ ActiveSetResult solve_active_set(const fe::Discretisation& d, const VectorXd& lo
     // (The data's round-off, data_error(), is a worst-case bound, far too wide for this.)
     double tolerance = std::max(options.sign_tolerance, round_off_margin * result.state.error_estimate);
     std::vector<int> infeasible = infeasible_nodes(d, result.state, in_contact, tolerance);
-    if (infeasible.empty()) {
+    if (infeasible.empty() && options.refine_answer) {
       // The set found: its answer to round-off (refinement continued from where the set's own
       // stopped, unless it is there already), and its signs checked again at that accuracy.
       if (result.state.error_estimate > 1e-13)
@@ -220,6 +243,10 @@ CoarseStart coarse_start(const model::MemberModel& model, const fe::Discretisati
   if (3 * coarse_elements > d.mesh.elements()) return out;
   ActiveSetOptions coarse_options = options;
   coarse_options.estimate_round_off = false;  // only this mesh's answer is reported
+  // The coarse set only seeds this mesh's, whose iteration checks every sign: signs at the
+  // loosest accuracy a step may rest on (max_solve_error), no refinement to round-off.
+  coarse_options.refine_answer = false;
+  coarse_options.intermediate_error = max_solve_error;
   const fe::Discretisation coarse = fe::discretise(model, coarse_elements);
   const NestedResult below = solve_active_set_nested(model, coarse, load_factor, coarse_options, nested);
   out.coarse_sets = below.coarse_sets + below.result.summary.iterations;
@@ -236,7 +263,9 @@ NestedResult solve_active_set_nested(const model::MemberModel& model, const fe::
   NestedResult out;
   out.coarse_sets = start.coarse_sets;
   out.levels = start.levels;
-  out.result = solve_active_set(d, d.load(load_factor), options, std::move(start.initial), d.ground_gap);
+  ActiveSetOptions here = options;
+  if (!start.initial.empty()) here.unrefined_first_set = true;  // a coarser mesh's set: rarely the answer
+  out.result = solve_active_set(d, d.load(load_factor), here, std::move(start.initial), d.ground_gap);
   return out;
 }
 

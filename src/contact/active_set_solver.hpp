@@ -58,6 +58,17 @@ struct ActiveSetOptions {
   double intermediate_error = 1e-9;
   // Also compute ActiveSetResult::round_off_bound (Hager's estimate, up to 12 more solves).
   bool estimate_round_off = false;
+  // Refine the set found to round-off and check its signs again. False for a mesh whose set only
+  // seeds a finer one (coarse_start): its answer stays at intermediate_error, and the finer mesh's
+  // own iteration checks every sign again.
+  bool refine_answer = true;
+  // Read the first set's signs from its solve before any refinement: nodes wrong by more than
+  // unrefined_sign_tolerance (of the largest reaction or gap term, far beyond that solve's
+  // round-off) are flipped at once, the set left unrefined; if there are none it is refined as
+  // any set. For a first set that is a good guess but rarely the answer (a coarser mesh's,
+  // solve_active_set_nested and solve_contact set it), where refining a set about to be left is
+  // wasted. A sign misread costs one more set, never the answer: the set found is checked refined.
+  bool unrefined_first_set = false;
   void validate() const;  // throws std::invalid_argument naming the field
 };
 
@@ -104,11 +115,16 @@ ActiveSetResult solve_active_set(const fe::Discretisation& discretisation, const
 // The limits then start within a coarse element of their place, so this mesh needs two or
 // three sets instead of ten or more from the bilateral start (each a factorisation of the
 // largest system). `discretisation` must be discretise(model, ...) of this model.
+// A coarse mesh need not resolve the foundation: its set is only a seed, whose every sign the
+// finer mesh checks. The defaults (down to 100 elements, 0.1 per decay length) make each level's
+// start good enough that the coarse levels together cost less than one more set on this mesh
+// (the long member of accuracy_bench ratio at 1e4 elements: 100 -> 1000 -> 1e4 elements).
+// The coarse meshes' sets are solved to intermediate_error only, never refined to round-off.
 // The summary counts this mesh's sets; coarse_sets counts the coarser meshes'.
 struct NestedOptions {
   int coarsening = 10;
-  int min_elements = 500;
-  double elements_per_decay_length = 1.0;
+  int min_elements = 100;
+  double elements_per_decay_length = 0.1;
   void validate() const;
 };
 struct NestedResult {

@@ -402,7 +402,9 @@ ContactSolution solve_contact(const Discretisation& d, const ContactOptions& opt
     } else if (d.uniform_member) {
       start = coarse_start(*d.uniform_member, d, options.load_factor, options.active_set);
     }
-    ActiveSetResult fast = solve_active_set(d, load / load_scale, options.active_set, std::move(start.initial), offset);
+    ActiveSetOptions fast_options = options.active_set;
+    if (start.levels > 1 && !start.initial.empty()) fast_options.unrefined_first_set = true;  // rarely the answer
+    ActiveSetResult fast = solve_active_set(d, load / load_scale, fast_options, std::move(start.initial), offset);
     if (start.levels > 1 && fast.summary.is_usable())
       fast.summary.message += fmt::format(", started from a coarser mesh's set ({} sets on {} coarser meshes)",
                                           start.coarse_sets, start.levels - 1);

@@ -252,15 +252,15 @@ scene::Scene seven_lift_off_zones() {
 TEST_CASE("nested iteration: a coarser mesh's contact set starts this one, same answer in fewer sets here",
           "[contact][fast][nested]") {
   // seven_lift_off_zones: from the bilateral start the limits creep by about a node per block step
-  // (11 sets at 1e4 elements); from the contact set of 1000 elements carried over, 2 sets
-  // (verification/bench/accuracy_bench.cpp ratio).
+  // (11 sets at 1e4 elements); from the contact set of 1000 elements carried over (itself seeded
+  // by 100 elements), 2 sets (verification/bench/accuracy_bench.cpp ratio).
   const auto model = model::make_member_model(seven_lift_off_zones());
   const auto d = fe::discretise(model, 10000);
   const auto plain = contact::solve_active_set(d, d.load(1.0), {});
   const auto nested = contact::solve_active_set_nested(model, d, 1.0, {});
   REQUIRE(plain.summary.is_usable());
   REQUIRE(nested.result.summary.is_usable());
-  CHECK(nested.levels == 2);
+  CHECK(nested.levels == 3);  // 100 -> 1000 -> 1e4 elements
   CHECK(nested.result.in_contact == plain.in_contact);
   CHECK(test::relative_difference(nested.result.state.displacement, plain.state.displacement) < 1e-12);
   CAPTURE(plain.summary.iterations, nested.result.summary.iterations, nested.coarse_sets);
@@ -289,4 +289,43 @@ TEST_CASE("fast through solve_contact: a large uniform mesh starts from a coarse
   CHECK(test::relative_difference(fast.reaction, plain.state.reaction) < 1e-12);
   // A mesh not made by discretise(model, N) has no member to coarsen.
   CHECK_FALSE(fe::discretise(model, fe::make_mesh(model, 100)).uniform_member);
+}
+
+TEST_CASE("a coarse set is not refined to round-off, and a seeded first set's clear signs are read unrefined",
+          "[contact][fast][nested]") {
+  // seven_lift_off_zones at 1e4 elements, seeded by the contact set of 1000 elements.
+  const auto model = model::make_member_model(seven_lift_off_zones());
+  const auto coarse = fe::discretise(model, 1000);
+  const auto d = fe::discretise(model, 10000);
+  const auto refined = contact::solve_active_set(coarse, coarse.load(1.0), {});
+  contact::ActiveSetOptions seed_options;
+  seed_options.refine_answer = false;
+  seed_options.intermediate_error = 1e-6;
+  const auto seed = contact::solve_active_set(coarse, coarse.load(1.0), seed_options);
+  REQUIRE(refined.summary.is_usable());
+  REQUIRE(seed.summary.is_usable());
+  // The same set; its answer left at the intermediate accuracy, no residual computed.
+  CHECK(seed.in_contact == refined.in_contact);
+  CHECK(seed.state.error_estimate <= 1e-6);
+  CHECK(seed.state.error_estimate > refined.state.error_estimate);
+  CHECK(seed.state.residual == -1.0);
+
+  // The fine mesh from the set the coarse answer suggests: the first set read unrefined gives the
+  // same answer (the set found is refined and checked), in no more sets.
+  const auto plain = contact::solve_active_set(d, d.load(1.0), {});
+  const auto start = contact::coarse_start(model, d, 1.0, {}, contact::NestedOptions{10, 1000, 0.1});
+  REQUIRE(start.levels == 2);
+  contact::ActiveSetOptions unrefined_options;
+  unrefined_options.unrefined_first_set = true;
+  const auto usual = contact::solve_active_set(d, d.load(1.0), {}, start.initial, d.ground_gap);
+  const auto unrefined = contact::solve_active_set(d, d.load(1.0), unrefined_options, start.initial, d.ground_gap);
+  REQUIRE(usual.summary.is_usable());
+  REQUIRE(unrefined.summary.is_usable());
+  CAPTURE(usual.summary.iterations, unrefined.summary.iterations, usual.summary.infeasible_history,
+          unrefined.summary.infeasible_history);
+  CHECK(unrefined.in_contact == plain.in_contact);
+  CHECK(test::relative_difference(unrefined.state.displacement, plain.state.displacement) < 1e-12);
+  CHECK(test::relative_difference(unrefined.state.reaction, plain.state.reaction) < 1e-12);
+  CHECK(unrefined.summary.iterations <= usual.summary.iterations);
+  CHECK(unrefined.summary.iterations >= 2);  // the seed was not the answer: the unrefined read was used
 }
