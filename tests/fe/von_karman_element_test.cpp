@@ -266,8 +266,17 @@ TEST_CASE("von Karman element: bad arguments are refused with a message", "[fe][
   slopes[2] = std::numeric_limits<double>::infinity();
   CHECK_THROWS_AS(VonKarmanBeamElement(0.1, 1.0, slopes), std::invalid_argument);
   const VonKarmanBeamElement element(0.1, 1.0);
+  CHECK_FALSE(element.is_linear());
   CHECK_THROWS_AS(element.evaluate(ElementState{VectorXd::Zero(4), 0.0}), std::invalid_argument);
   CHECK_THROWS_AS(element.energy(VectorXd::Zero(7)), std::invalid_argument);
+  // The seam's contract: once sized, the response's storage is reused.
+  ElementResponse response;
+  element.evaluate(ElementState{random_displacement(0.1), 0.0}, response);
+  const double* force = response.internal_force.data();
+  const double* tangent = response.tangent.data();
+  element.evaluate(ElementState{random_displacement(0.2), 0.0}, response);
+  CHECK(response.internal_force.data() == force);
+  CHECK(response.tangent.data() == tangent);
 }
 
 // ---------------------------------------------------------------------------------------------
