@@ -259,6 +259,21 @@ TEST_CASE("shallow arch: with a foundation the thresholds move; beyond kappa = 4
   CHECK(b.second_bifurcation.deflection > b.lower_limit.deflection);
   CHECK(b.second_bifurcation.load > b.first_bifurcation.load);
   CHECK(analyse(arch_of(7.0, 4.0)).first == FirstCritical::neutral_bifurcation);
+  CHECK(b.covered);
+}
+
+TEST_CASE("shallow arch: beyond kappa = 36 a higher mode bifurcates first, which is not covered",
+          "[verification][shallow_arch]") {
+  // The thrust of mode n is EI beta^2 (n^2 + kappa / n^2): n = 2 and 3 tie at kappa = 36.
+  CHECK(analyse(arch_of(20.0, 35.0)).critical_mode == 2);
+  CHECK(analyse(arch_of(20.0, 35.0)).covered);
+  const ShallowArchAnalysis a = analyse(arch_of(20.0, 40.0));
+  CHECK(a.critical_mode == 3);
+  CHECK(!a.covered);
+  CHECK_THAT(a.reason, Catch::StartsWith("not covered: mode 3"));
+  CHECK(analyse(arch_of(20.0, 300.0)).critical_mode == 4);  // 16 + 300/16 = 34.75 < 9 + 300/9, 25 + 12
+  // Below the least mode's threshold (a/r <= 2 sqrt(9 + 40/9) = 7.33) nothing bifurcates: covered.
+  CHECK(analyse(arch_of(7.3, 40.0)).covered);
 }
 
 TEST_CASE("shallow arch: tensionless agrees with bilateral up to the first lift-off at an end",

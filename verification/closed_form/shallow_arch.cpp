@@ -230,6 +230,17 @@ ShallowArchAnalysis analyse(const ShallowArch& arch) {
                   std::min(out.limit_rise, out.bifurcation_rise));
   }
   out.reason = text;
+  // The least thrust among the modes n >= 2 (n^2 + kappa / n^2 is convex in n^2: stop once it grows).
+  double least = 4 + kappa / 4;
+  for (int n = 3;; ++n) {
+    const double thrust_n = n * n + kappa / (n * n);
+    if (thrust_n >= least) break;
+    least = thrust_n, out.critical_mode = n;
+  }
+  out.covered = out.critical_mode == 2 || alpha * alpha <= 4 * least;
+  if (!out.covered)
+    out.reason = "not covered: mode " + std::to_string(out.critical_mode) +
+                 " bifurcates before the second one (k > 36 EI (pi/L)^4); " + out.reason;
   return out;
 }
 
@@ -334,7 +345,8 @@ int shallow_arch_command(int argc, char** argv) {
     print_point("first_lift_off", a.first_lift_off);
     print_point("last_lift_off", a.last_lift_off);
   }
-  std::printf(", \"first\": \"%s\", \"reason\": \"%s\"", to_string(a.first).c_str(), a.reason.c_str());
+  std::printf(", \"critical_mode\": %d, \"covered\": %s, \"first\": \"%s\", \"reason\": \"%s\"", a.critical_mode,
+              a.covered ? "true" : "false", to_string(a.first).c_str(), a.reason.c_str());
   if (points > 0) {
     std::printf(", \"symmetric_path\": [");
     for (int i = 0; i <= points; ++i) {

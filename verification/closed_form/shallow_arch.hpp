@@ -19,9 +19,13 @@
 // Two-mode solution. With s_n = sin(n pi x / L), beta = pi / L, w = A1 s1 + A2 s2 turns every term
 // of the Euler-Lagrange equation into a combination of s1 and s2 (N is a constant), so the Galerkin
 // equations in (A1, A2) are the exact equilibrium equations: the two-mode solution is exact (the
-// higher modes are not loaded and stay zero on the branches below; they could bifurcate only where
-// N reaches n^2 pi^2 EI / L^2 + k L^2 / (n^2 pi^2) for n >= 3, beyond the n = 2 point for
-// k < 36 EI beta^4). Nondimensional: xi = A1 / r, eta = A2 / r, alpha = a / r,
+// higher modes are not loaded and stay zero on the branches below; mode n could bifurcate only where
+// the thrust -N reaches n^2 pi^2 EI / L^2 + k L^2 / (n^2 pi^2), and along the symmetric path the
+// thrust grows monotonically up to the flat state, so the least of these over n >= 2 is met first:
+// n = 2 while k < 36 EI beta^4 (9 + kappa/9 > 4 + kappa/4). For a stiffer foundation a higher mode
+// bifurcates first and this reference does not cover it: analyse() says so (critical_mode,
+// covered = false) and its bifurcation figures are then the second mode's, not the first event).
+// Nondimensional: xi = A1 / r, eta = A2 / r, alpha = a / r,
 // kappa = k / (EI beta^4), p = lambda q0 / (EI beta^4 r), and
 //   N = (EI beta^2 / 4) E,  E = xi^2 + 4 eta^2 - 2 alpha xi,
 //   Pi = (L EI beta^4 r^2 / 4) Pihat,  Pihat = (1 + kappa) xi^2 + (16 + kappa) eta^2 + E^2 / 8 - 2 p xi.
@@ -150,7 +154,9 @@ struct ShallowArchAnalysis {
   bool has_contact_event = false;
   ArchPoint first_lift_off, last_lift_off;  // on the bifurcated branch, |A2| = A1 / 2; lift-off between
   FirstCritical first = FirstCritical::none;
-  std::string reason;  // readable: what happens under increasing load
+  int critical_mode = 2;  // the n >= 2 of the least thrust n^2 + kappa / n^2 (in EI beta^2)
+  bool covered = true;    // critical_mode == 2, or no mode n >= 2 is reached (a/r below its threshold)
+  std::string reason;     // readable: what happens under increasing load
 };
 ShallowArchAnalysis analyse(const ShallowArch& arch);
 
