@@ -242,7 +242,7 @@ TEST_CASE("shallow arch: the classical thresholds of the bare arch (a/r = 2, 4, 
   CHECK(b.branch_slope * arch.radius_of_gyration() / arch.load_unit() == Approx(-3.0).epsilon(1e-13));
 }
 
-TEST_CASE("shallow arch: with a foundation the thresholds move; beyond kappa = 4 the bifurcation is stable",
+TEST_CASE("shallow arch: with a foundation the thresholds move, and beyond kappa = 4 the bifurcation is stable",
           "[verification][shallow_arch]") {
   // kappa = 2: limit points from a/r = 2 sqrt 3, bifurcation first from sqrt 21.
   CHECK(analyse(arch_of(3.4, 2.0)).first == FirstCritical::none);

@@ -230,6 +230,9 @@ ShallowArchAnalysis analyse(const ShallowArch& arch) {
                   std::min(out.limit_rise, out.bifurcation_rise));
   }
   out.reason = text;
+  if (bifurcation_first && out.has_contact_event)
+    out.reason += "; on a tensionless foundation the branch lifts off at an end at lambda = " +
+                  std::to_string(out.first_lift_off.load) + ", beyond which this reference does not follow it";
   // The least thrust among the modes n >= 2 (n^2 + kappa / n^2 is convex in n^2: stop once it grows).
   double least = 4 + kappa / 4;
   for (int n = 3;; ++n) {
