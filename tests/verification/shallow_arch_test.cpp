@@ -351,3 +351,37 @@ TEST_CASE("shallow arch: invalid input is refused naming the field", "[verificat
   arch.foundation_modulus = -1.0;
   CHECK_THROWS_WITH(analyse(arch), Catch::Contains("modulus"));
 }
+
+TEST_CASE("shallow arch: under load control the stable state jumps for kappa < 4 and moves on for kappa > 4",
+          "[verification][shallow_arch]") {
+  // Every equilibrium at lambda (the cubic's roots and the bifurcated branch's point), kept where the
+  // closed-form Hessian is positive definite; the state reached from lambda = 0 is followed as the
+  // nearest stable one over 4000 load steps. The largest step of A1, relative to the rise: about
+  // 1e-3 while the path moves on (the grid's step), of the order of the rise across a snap.
+  const auto largest_jump = [](const ShallowArch& arch) {
+    const ShallowArchAnalysis a = analyse(arch);
+    const double top = 1.2 * std::max(a.first_bifurcation.load, a.second_bifurcation.load);
+    double current = 0.0, jump = 0.0;
+    const int steps = 4000;
+    for (int i = 1; i <= steps; ++i) {
+      const double lambda = top * i / steps;
+      std::vector<std::pair<double, double>> states;
+      for (double a1 : symmetric_deflections(arch, lambda)) states.push_back({a1, 0.0});
+      if (a.branch_slope != 0.0) {
+        const double a1 = a.first_bifurcation.deflection + (lambda - a.first_bifurcation.load) / a.branch_slope;
+        if (bifurcated_asymmetry(arch, a1) > 0) states.push_back({a1, bifurcated_asymmetry(arch, a1)});
+      }
+      double best = NAN;
+      for (const auto& [a1, a2] : states) {
+        const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(energy_hessian(arch, a1, a2));
+        if (eig.eigenvalues()(0) > 0 && !(std::abs(a1 - current) >= std::abs(best - current))) best = a1;
+      }
+      REQUIRE(std::isfinite(best));
+      jump = std::max(jump, std::abs(best - current));
+      current = best;
+    }
+    return jump / arch.rise;
+  };
+  CHECK(largest_jump(arch_of(8.0, 2.0)) > 1.0);   // snaps across the crown
+  CHECK(largest_jump(arch_of(8.0, 9.0)) < 0.01);  // follows the rising asymmetric branch
+}
