@@ -74,7 +74,8 @@
 // For kappa > 4 the bifurcation exists from a / r = sqrt(16 + kappa) on (below the limit-point
 // threshold 2 sqrt(1 + kappa)), it always precedes the limit point, and its branch is stable and
 // rising: under load control the arch leaves the symmetric path there, follows the asymmetric
-// branch and rejoins the symmetric path at t = +tB, beyond the lower limit point: no snap-through.
+// branch and rejoins the symmetric path at t = +tB, beyond the lower limit point (if there are
+// limit points): no snap-through with a bilateral foundation.
 // At kappa = 4 the branch is neutral (constant load 5 alpha, the bifurcation load).
 //
 // 3. Tensionless foundation. w = r sin(theta) (xi + 2 eta cos theta), theta = pi x / L. On the
