@@ -35,6 +35,7 @@
 
 #include "closed_form/beam_column.hpp"
 #include "closed_form/beam_on_foundation.hpp"
+#include "closed_form/shallow_arch.hpp"
 #include "closed_form/upheaval.hpp"
 
 using namespace liftoff::closed_form;
@@ -221,8 +222,10 @@ int localized_buckle_command(int argc, char** argv) {
 
 int main(int argc, char** argv) {
   if (argc >= 2 && std::string(argv[1]) == "localized-buckle") return localized_buckle_command(argc, argv);
+  if (argc >= 2 && std::string(argv[1]) == "shallow-arch") return shallow_arch_command(argc, argv);  // --help
   if (argc != 2) {
-    std::cerr << "usage: closed_form_reference SCENE.toml | localized-buckle SCENE.toml [options]\n";
+    std::cerr
+        << "usage: closed_form_reference SCENE.toml | localized-buckle SCENE.toml [options] | shallow-arch --help\n";
     return 2;
   }
   const std::string path = argv[1];
