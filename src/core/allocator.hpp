@@ -7,8 +7,8 @@
 // buffer above the mmap threshold (128 kB, rising) is mapped and unmapped each time and the
 // heap's top is trimmed above 128 kB, so each new buffer is paid for again in kernel page
 // faults (13-16 % of `liftoff solve --tolerance 1e-8` on the seed beams, profiled). Below the
-// thresholds set here the freed memory stays in the process and is reused; a process that solves one scene and exits
-// gives it back at exit. Elsewhere than glibc this does nothing.
+// thresholds set here the freed memory stays in the process and is reused; a process that solves
+// one scene and exits gives it back at exit. Elsewhere than glibc this does nothing.
 
 #if defined(__GLIBC__)
 #include <malloc.h>
