@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <memory>
 #include <stdexcept>
 #include <tuple>
 
@@ -220,6 +222,13 @@ Assembly assemble(const model::MemberModel& model, const Discretisation& d) {
 
   const bool axial = beam && model.has_axial_force();
   if (axial) a.initial_shape = Eigen::VectorXd::Zero(n);
+  // The element matrices depend on h alone: computed once per run of equal sizes (a segment of a
+  // mesh is uniform), the same numbers as per element.
+  double cached_h = std::numeric_limits<double>::quiet_NaN();
+  std::unique_ptr<const LinearElement> element;
+  Eigen::MatrixXd g;
+  Eigen::VectorXd element_compliance;
+  Eigen::Matrix<double, 2, 4> foundation_coupling;
   for (int e = 0; e < mesh.elements(); ++e) {
     const double h = mesh.element_size(e);
     const double middle = mesh.nodes[e] + 0.5 * h;
@@ -242,15 +251,19 @@ Assembly assemble(const model::MemberModel& model, const Discretisation& d) {
       }
       for (int j = 0; j < 4; ++j) a.initial_shape[dofs[j]] += load[j];
     }
-    const auto element = member_element(model, h);
+    if (!(h == cached_h)) {
+      cached_h = h;
+      element = member_element(model, h);
+      g = beam ? Eigen::MatrixXd(beam_element::stress_coupling(h))
+               : Eigen::MatrixXd(arch_element::stress_coupling(h, model.foundation_outside));
+      element_compliance = beam ? Eigen::VectorXd(beam_element::compliance(h))
+                                : Eigen::VectorXd(arch_element::compliance(h, model.membrane_stiffness));
+      foundation_coupling = foundation_element::coupling(h);
+    }
     const Eigen::MatrixXd& k = element->stiffness();
     for (int i = 0; i < k.rows(); ++i)
       for (int j = 0; j < k.cols(); ++j) a.stiffness.emplace_back(dofs[i], dofs[j], k(i, j));
-    const Eigen::MatrixXd g = beam ? Eigen::MatrixXd(beam_element::stress_coupling(h))
-                                   : Eigen::MatrixXd(arch_element::stress_coupling(h, model.foundation_outside));
-    a.compliance.segment(static_cast<Eigen::Index>(spe) * e, spe) =
-        beam ? Eigen::VectorXd(beam_element::compliance(h))
-             : Eigen::VectorXd(arch_element::compliance(h, model.membrane_stiffness));
+    a.compliance.segment(static_cast<Eigen::Index>(spe) * e, spe) = element_compliance;
     for (int i = 0; i < g.rows(); ++i)
       for (int j = 0; j < g.cols(); ++j)
         if (g(i, j) != 0.0) a.stress_coupling.emplace_back(spe * e + i, dofs[j], g(i, j));
@@ -280,7 +293,7 @@ Assembly assemble(const model::MemberModel& model, const Discretisation& d) {
       }
     }
     if (d.foundation_on_element[e]) {
-      const auto c = foundation_element::coupling(h);
+      const auto& c = foundation_coupling;
       const auto t = foundation_element::flexibility(h, d.element_k[e].begin, d.element_k[e].end);
       const std::array<int, 2> r = d.element_reactions(e);
       for (int i = 0; i < 2; ++i) {
@@ -364,9 +377,43 @@ SparseMatrix to_sparse(int rows, int cols, Triplets triplets, const std::vector<
     }
     triplets.resize(kept);
   }
+  // Compressed columns by a counting sort on the column, rows sorted stably within each column and
+  // duplicates summed in the order they come: setFromTriplets' sums, bit for bit, without its
+  // row-major copy and second transposition.
+  std::vector<int> start(static_cast<std::size_t>(cols) + 1, 0);
+  for (const auto& t : triplets) ++start[t.col() + 1];
+  for (int c = 0; c < cols; ++c) start[c + 1] += start[c];
+  std::vector<int> row(triplets.size()), next(start.begin(), start.end() - 1);
+  std::vector<double> value(triplets.size());
+  for (const auto& t : triplets) {
+    const int at = next[t.col()]++;
+    row[at] = t.row();
+    value[at] = t.value();
+  }
+  int kept = 0;
+  std::vector<int> outer(static_cast<std::size_t>(cols) + 1, 0);
+  for (int c = 0; c < cols; ++c) {
+    const int begin = start[c], end = start[c + 1];
+    for (int p = begin + 1; p < end; ++p)  // insertion sort: stable, and a column holds a few entries
+      for (int q = p; q > begin && row[q - 1] > row[q]; --q) {
+        std::swap(row[q - 1], row[q]);
+        std::swap(value[q - 1], value[q]);
+      }
+    for (int p = begin; p < end; ++p) {
+      if (kept > outer[c] && row[p] == row[kept - 1]) {
+        value[kept - 1] += value[p];
+      } else {
+        row[kept] = row[p];
+        value[kept++] = value[p];
+      }
+    }
+    outer[c + 1] = kept;
+  }
   SparseMatrix m(rows, cols);
-  m.setFromTriplets(triplets.begin(), triplets.end());
-  m.makeCompressed();
+  m.resizeNonZeros(kept);
+  std::copy(outer.begin(), outer.end(), m.outerIndexPtr());
+  std::copy(row.begin(), row.begin() + kept, m.innerIndexPtr());
+  std::copy(value.begin(), value.begin() + kept, m.valuePtr());
   return m;
 }
 

@@ -62,6 +62,64 @@ TEST_CASE("a foundation on chosen elements: reaction nodes are those elements' n
   CHECK((k - Eigen::MatrixXd(d.stiffness)).norm() <= 1e-12 * Eigen::MatrixXd(d.stiffness).norm());
 }
 
+namespace {
+
+// An independent assembly: each element's matrices computed for it alone, summed by Eigen's
+// setFromTriplets in element order (what discretise did before it computed them once per run of
+// equal sizes and compressed the columns itself).
+fe::SparseMatrix reference_matrix(int rows, int cols, const std::vector<Eigen::Triplet<double>>& triplets) {
+  fe::SparseMatrix m(rows, cols);
+  m.setFromTriplets(triplets.begin(), triplets.end());
+  m.makeCompressed();
+  return m;
+}
+
+void check_identical(const fe::SparseMatrix& a, const fe::SparseMatrix& b) {
+  REQUIRE(a.rows() == b.rows());
+  REQUIRE(a.cols() == b.cols());
+  REQUIRE(a.nonZeros() == b.nonZeros());
+  for (int c = 0; c <= a.cols(); ++c) REQUIRE(a.outerIndexPtr()[c] == b.outerIndexPtr()[c]);
+  for (Eigen::Index p = 0; p < a.nonZeros(); ++p) {
+    CAPTURE(p);
+    REQUIRE(a.innerIndexPtr()[p] == b.innerIndexPtr()[p]);
+    REQUIRE(a.valuePtr()[p] == b.valuePtr()[p]);  // bit for bit
+  }
+}
+
+}  // namespace
+
+TEST_CASE("K and C are the sums of per-element matrices in element order, bit for bit", "[fe][assembly]") {
+  scene::Scene s = test::beam_scene(2.0, 1.0, EndSupport::pinned, EndSupport::free, 1e3);
+  s.foundation.from = 0.3;
+  s.loads = {test::point_force(0.77, 1.0)};  // segments of three different element sizes
+  const model::MemberModel model = model::make_member_model(s);
+  const fe::Mesh mesh = fe::make_mesh(model, 23);
+  std::vector<bool> foundation(mesh.elements(), false);
+  for (int e = 0; e < mesh.elements(); ++e)
+    foundation[e] = mesh.nodes[e] + 0.5 * mesh.element_size(e) > model.foundation_begin && e % 5 != 2;
+  const fe::Discretisation d = fe::discretise(model, mesh, foundation);
+  const fe::StructuralElements elements = fe::structural_elements(model, d);
+  std::vector<Eigen::Triplet<double>> k, c;
+  for (int e = 0; e < mesh.elements(); ++e) {
+    const auto* element = dynamic_cast<const fe::LinearElement*>(elements.elements[e].get());
+    REQUIRE(element != nullptr);
+    const std::vector<int>& dofs = elements.dofs[e];
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) {
+        const int row = d.equation_of_dof[dofs[i]], col = d.equation_of_dof[dofs[j]];
+        if (row >= 0 && col >= 0) k.emplace_back(row, col, element->stiffness()(i, j));
+      }
+    if (!d.foundation_on_element[e]) continue;
+    const Eigen::Matrix<double, 2, 4> coupling = fe::foundation_element::coupling(mesh.element_size(e));
+    const std::array<int, 2> r = d.element_reactions(e);
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 4; ++j)
+        if (d.equation_of_dof[dofs[j]] >= 0) c.emplace_back(r[i], d.equation_of_dof[dofs[j]], coupling(i, j));
+  }
+  check_identical(d.stiffness, reference_matrix(d.equations, d.equations, k));
+  check_identical(d.coupling, reference_matrix(d.reactions(), d.equations, c));
+}
+
 TEST_CASE("rigid motions: which structures need the foundation to stand", "[fe][stability]") {
   auto unstable = [](EndSupport left, EndSupport right, std::vector<double> interior = {}) {
     scene::Scene s = test::beam_scene(1.0, 1.0, left, right, 1e3);

@@ -45,6 +45,7 @@
 #include "contact/active_set_system.hpp"
 #include "contact/contact_solver.hpp"
 #include "contact/fitted_limits.hpp"
+#include "core/allocator.hpp"
 #include "fe/discretisation.hpp"
 #include "fe/mixed_form.hpp"
 #include "model/from_scene.hpp"
@@ -661,6 +662,7 @@ void newton_section(int max_elements) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  liftoff::tune_allocator();  // as the liftoff executable does: the same allocator in both timings
   std::vector<std::string> sections;
   int max_elements = 1000000;
   for (int i = 1; i < argc; ++i) {

@@ -42,6 +42,7 @@
 #include "closed_form/scene_problem.hpp"
 #include "contact/active_set_system.hpp"
 #include "contact/contact_solver.hpp"
+#include "core/allocator.hpp"
 #include "core/error.hpp"
 #include "fe/discretisation.hpp"
 #include "measure.hpp"
@@ -581,6 +582,7 @@ void ratios_section(const Options& o, const fs::path& scratch, const std::vector
 }  // namespace
 
 int main(int argc, char** argv) {
+  liftoff::tune_allocator();  // as the liftoff executable does: the same allocator in both timings
   Options o;
   CLI::App app{"liftoff_bench: run time against error, scaling and speed ratios of liftoff's methods"};
   app.add_option("--out", o.out,
