@@ -65,10 +65,11 @@
 //     p = (1 + kappa) alpha + tL^3 / 2 (the bifurcation points, if any, lie on the unstable part);
 //   a / r > sqrt(22 - kappa / 2): asymmetric (unstable-symmetric) bifurcation at
 //     p = (1 + kappa) alpha + 3 (4 - kappa) tB / 4, before the limit point.
-// For kappa = 0 these are the classical thresholds of the sinusoidal arch under a sinusoidal load
-// (Fung & Kaplan 1952, "Buckling of low arches or curved beams of small curvature", NACA TN 2840;
-// Hoff & Bruce 1954, "Dynamic analysis of the buckling of laterally loaded flat arches", J. Math.
-// Phys. 32): no snap-through for
+// For kappa = 0 these thresholds (derived above, not copied) are those of the classical analyses of
+// the sinusoidal arch under a sinusoidal load (Fung & Kaplan 1952, "Buckling of low arches or
+// curved beams of small curvature", NACA TN 2840; Hoff & Bruce 1954, "Dynamic analysis of the
+// buckling of laterally loaded flat arches", J. Math. Phys. 32; cited from memory, not checked
+// against the papers, whose rise parameters may be scaled differently): no snap-through for
 // a / r < 2, symmetric (limit-point) snap-through for 2 < a / r < sqrt(22) = 4.690, asymmetric
 // (bifurcation) snap-through for a / r > 4.690; bifurcation points on the path from a / r = 4.
 // For kappa > 4 the bifurcation exists from a / r = sqrt(16 + kappa) on (below the limit-point
