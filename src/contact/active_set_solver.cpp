@@ -209,14 +209,17 @@ namespace {
 
 // The contact set on `fine` that a coarse answer suggests: a reaction node is in contact where the
 // coarse deflection (its Hermite cubic, the first four local dofs of both element kinds) exceeds the ground gap g.
+// A node where w = g exactly (a support holds w there, e.g. a pinned end on the ground) has no
+// sign of its own: its reaction is an O(h^2) artefact of either sign. It is in contact where the
+// mean of w - g over its shape's half-elements (their midpoints, weighted by their lengths: what C
+// and c test) is positive, as the fine mesh's gap when lifted off would say; taking the plain
+// comparison there cost a whole second fine set on the long member (both pinned ends).
 std::vector<bool> carried_contact_set(const model::MemberModel& model, const fe::Discretisation& coarse,
                                       const VectorXd& coarse_displacement, const fe::Discretisation& fine) {
   const VectorXd all = coarse.expand_displacement(coarse_displacement);
-  std::vector<bool> in_contact(fine.reactions());
   int e = 0;  // the fine reaction nodes are in order along the member: walk the coarse elements once
   std::vector<int> dofs = coarse.element_dofs(e);
-  for (int i = 0; i < fine.reactions(); ++i) {
-    const double s = fine.mesh.nodes[fine.reaction_nodes[i]];
+  auto w_minus_g = [&](double s) {
     const int containing = coarse.mesh.element_containing(s);
     if (containing != e) {
       e = containing;
@@ -225,7 +228,32 @@ std::vector<bool> carried_contact_set(const model::MemberModel& model, const fe:
     const double h = coarse.mesh.element_size(e);
     const Eigen::Vector4d w_dofs(all[dofs[0]], all[dofs[1]], all[dofs[2]], all[dofs[3]]);
     const double xi = std::clamp((s - coarse.mesh.nodes[e]) / h, 0.0, 1.0);
-    in_contact[i] = fe::hermite_cubic(xi, h).value.dot(w_dofs) > model.ground_gap(s);
+    return fe::hermite_cubic(xi, h).value.dot(w_dofs) - model.ground_gap(s);
+  };
+  const std::vector<double>& nodes = fine.mesh.nodes;
+  std::vector<bool> in_contact(fine.reactions());
+  for (int i = 0; i < fine.reactions(); ++i) {
+    const int node = fine.reaction_nodes[i];
+    const double s = nodes[node];
+    const double here = w_minus_g(s);
+    if (here != 0.0) {
+      in_contact[i] = here > 0.0;
+      continue;
+    }
+    // A split reaction (a jump of k or g) tests only its own element: the left one first.
+    const bool split = fine.reaction_is_split(i);
+    const bool left_only = split && i + 1 < fine.reactions() && fine.reaction_nodes[i + 1] == node;
+    const bool right_only = split && !left_only;
+    double mean = 0.0;
+    if (!right_only && node > 0 && nodes[node - 1] >= model.foundation_begin) {
+      const double h = s - nodes[node - 1];
+      mean += h * w_minus_g(s - 0.5 * h);
+    }
+    if (!left_only && node + 1 < static_cast<int>(nodes.size()) && nodes[node + 1] <= model.foundation_end) {
+      const double h = nodes[node + 1] - s;
+      mean += h * w_minus_g(s + 0.5 * h);
+    }
+    in_contact[i] = mean > 0.0;
   }
   return in_contact;
 }
