@@ -210,13 +210,14 @@ namespace {
 // The contact set on `fine` that a coarse answer suggests: a reaction node is in contact where the
 // coarse deflection (its Hermite cubic, the first four local dofs of both element kinds) exceeds the ground gap g.
 // A node where w = g exactly (a support holds w there, e.g. a pinned end on the ground) has no
-// sign of its own: its reaction is an O(h^2) artefact of either sign. It is in contact where the
-// mean of w - g over its shape's half-elements (their midpoints, weighted by their lengths: what C
-// and c test) is positive, as the fine mesh's gap when lifted off would say; taking the plain
-// comparison there cost a whole second fine set on the long member (both pinned ends).
+// sign of its own: its reaction is an O(h^2) artefact of either sign. It takes the coarse answer's
+// own status at that node (a support is a node of every mesh; the coarse sign test decided the
+// same artefact), or else the sign of the mean of w - g over its half-elements (their midpoints,
+// weighted by their lengths: what C and c test). Read as w > g, the long member's pinned ends cost
+// a whole second fine set.
 std::vector<bool> carried_contact_set(const model::MemberModel& model, const fe::Discretisation& coarse,
-                                      const VectorXd& coarse_displacement, const fe::Discretisation& fine) {
-  const VectorXd all = coarse.expand_displacement(coarse_displacement);
+                                      const ActiveSetResult& coarse_answer, const fe::Discretisation& fine) {
+  const VectorXd all = coarse.expand_displacement(coarse_answer.state.displacement);
   int e = 0;  // the fine reaction nodes are in order along the member: walk the coarse elements once
   std::vector<int> dofs = coarse.element_dofs(e);
   auto w_minus_g = [&](double s) {
@@ -244,6 +245,14 @@ std::vector<bool> carried_contact_set(const model::MemberModel& model, const fe:
     const bool split = fine.reaction_is_split(i);
     const bool left_only = split && i + 1 < fine.reactions() && fine.reaction_nodes[i + 1] == node;
     const bool right_only = split && !left_only;
+    const int coarse_node = coarse.mesh.node_at(s);
+    const auto first = std::lower_bound(coarse.reaction_nodes.begin(), coarse.reaction_nodes.end(), coarse_node);
+    if (coarse_node >= 0 && first != coarse.reaction_nodes.end() && *first == coarse_node) {
+      int j = static_cast<int>(first - coarse.reaction_nodes.begin());
+      if (right_only && j + 1 < coarse.reactions() && coarse.reaction_nodes[j + 1] == coarse_node) ++j;
+      in_contact[i] = coarse_answer.in_contact[j];
+      continue;
+    }
     double mean = 0.0;
     if (!right_only && node > 0 && nodes[node - 1] >= model.foundation_begin) {
       const double h = s - nodes[node - 1];
@@ -280,8 +289,7 @@ CoarseStart coarse_start(const model::MemberModel& model, const fe::Discretisati
   out.coarse_sets = below.coarse_sets + below.result.summary.iterations;
   out.levels = below.levels + 1;
   // A coarse failure only costs the better start: this mesh starts from every node in contact.
-  if (below.result.summary.is_usable())
-    out.initial = carried_contact_set(model, coarse, below.result.state.displacement, d);
+  if (below.result.summary.is_usable()) out.initial = carried_contact_set(model, coarse, below.result, d);
   return out;
 }
 
