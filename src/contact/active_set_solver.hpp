@@ -111,7 +111,7 @@ ActiveSetResult solve_active_set(const fe::Discretisation& discretisation, const
 // first solved on a mesh `coarsening` times coarser (recursively; a coarse mesh has at least
 // min_elements and elements_per_decay_length per foundation decay length 1/beta, and is used
 // only if at most a third of this mesh), and the contact set found there (w > g of the coarse
-// answer at each node; at a node a support holds at w = g, the sign of w - g on its half-elements)
+// answer at each node; at a node a support holds at w = g, the coarse answer's own status there)
 // is the first set here.
 // The limits then start within a coarse element of their place, so this mesh needs one to
 // three sets instead of ten or more from the bilateral start (each a factorisation of the
