@@ -209,14 +209,18 @@ namespace {
 
 // The contact set on `fine` that a coarse answer suggests: a reaction node is in contact where the
 // coarse deflection (its Hermite cubic, the first four local dofs of both element kinds) exceeds the ground gap g.
+// A node where w = g exactly (a support holds w there, e.g. a pinned end on the ground) has no
+// sign of its own: its reaction is an O(h^2) artefact of either sign. It takes the coarse answer's
+// own status at that node (a support is a node of every mesh; the coarse sign test decided the
+// same artefact), or else the sign of the mean of w - g over its half-elements (their midpoints,
+// weighted by their lengths: what C and c test). Read as w > g, the long member's pinned ends cost
+// a whole second fine set.
 std::vector<bool> carried_contact_set(const model::MemberModel& model, const fe::Discretisation& coarse,
-                                      const VectorXd& coarse_displacement, const fe::Discretisation& fine) {
-  const VectorXd all = coarse.expand_displacement(coarse_displacement);
-  std::vector<bool> in_contact(fine.reactions());
+                                      const ActiveSetResult& coarse_answer, const fe::Discretisation& fine) {
+  const VectorXd all = coarse.expand_displacement(coarse_answer.state.displacement);
   int e = 0;  // the fine reaction nodes are in order along the member: walk the coarse elements once
   std::vector<int> dofs = coarse.element_dofs(e);
-  for (int i = 0; i < fine.reactions(); ++i) {
-    const double s = fine.mesh.nodes[fine.reaction_nodes[i]];
+  auto w_minus_g = [&](double s) {
     const int containing = coarse.mesh.element_containing(s);
     if (containing != e) {
       e = containing;
@@ -225,7 +229,40 @@ std::vector<bool> carried_contact_set(const model::MemberModel& model, const fe:
     const double h = coarse.mesh.element_size(e);
     const Eigen::Vector4d w_dofs(all[dofs[0]], all[dofs[1]], all[dofs[2]], all[dofs[3]]);
     const double xi = std::clamp((s - coarse.mesh.nodes[e]) / h, 0.0, 1.0);
-    in_contact[i] = fe::hermite_cubic(xi, h).value.dot(w_dofs) > model.ground_gap(s);
+    return fe::hermite_cubic(xi, h).value.dot(w_dofs) - model.ground_gap(s);
+  };
+  const std::vector<double>& nodes = fine.mesh.nodes;
+  std::vector<bool> in_contact(fine.reactions());
+  for (int i = 0; i < fine.reactions(); ++i) {
+    const int node = fine.reaction_nodes[i];
+    const double s = nodes[node];
+    const double here = w_minus_g(s);
+    if (here != 0.0) {
+      in_contact[i] = here > 0.0;
+      continue;
+    }
+    // A split reaction (a jump of k or g) tests only its own element: the left one first.
+    const bool split = fine.reaction_is_split(i);
+    const bool left_only = split && i + 1 < fine.reactions() && fine.reaction_nodes[i + 1] == node;
+    const bool right_only = split && !left_only;
+    const int coarse_node = coarse.mesh.node_at(s);
+    const auto first = std::lower_bound(coarse.reaction_nodes.begin(), coarse.reaction_nodes.end(), coarse_node);
+    if (coarse_node >= 0 && first != coarse.reaction_nodes.end() && *first == coarse_node) {
+      int j = static_cast<int>(first - coarse.reaction_nodes.begin());
+      if (right_only && j + 1 < coarse.reactions() && coarse.reaction_nodes[j + 1] == coarse_node) ++j;
+      in_contact[i] = coarse_answer.in_contact[j];
+      continue;
+    }
+    double mean = 0.0;
+    if (!right_only && node > 0 && nodes[node - 1] >= model.foundation_begin) {
+      const double h = s - nodes[node - 1];
+      mean += h * w_minus_g(s - 0.5 * h);
+    }
+    if (!left_only && node + 1 < static_cast<int>(nodes.size()) && nodes[node + 1] <= model.foundation_end) {
+      const double h = nodes[node + 1] - s;
+      mean += h * w_minus_g(s + 0.5 * h);
+    }
+    in_contact[i] = mean > 0.0;
   }
   return in_contact;
 }
@@ -252,8 +289,7 @@ CoarseStart coarse_start(const model::MemberModel& model, const fe::Discretisati
   out.coarse_sets = below.coarse_sets + below.result.summary.iterations;
   out.levels = below.levels + 1;
   // A coarse failure only costs the better start: this mesh starts from every node in contact.
-  if (below.result.summary.is_usable())
-    out.initial = carried_contact_set(model, coarse, below.result.state.displacement, d);
+  if (below.result.summary.is_usable()) out.initial = carried_contact_set(model, coarse, below.result, d);
   return out;
 }
 

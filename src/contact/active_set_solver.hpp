@@ -28,7 +28,7 @@
 // solved only as accurately as their signs need (intermediate_error); the set found is refined
 // to round-off and its signs checked again. The limits creep by about a node per step once the
 // set is close, so on large meshes solve_active_set_nested below starts from a coarser mesh's
-// answer instead (2 sets on the fine mesh instead of 11-12 on a long member).
+// answer instead (1-2 sets on the fine mesh instead of 11-12 on a long member).
 //
 // What it does not do: it returns no ray when there is no equilibrium; the caller
 // (contact_solver.hpp) falls back to Lemke, with a note, whenever this solver does not end in
@@ -110,9 +110,10 @@ ActiveSetResult solve_active_set(const fe::Discretisation& discretisation, const
 // Nested iteration, for large meshes: the same problem (F = F_dead + load_factor F_live) is
 // first solved on a mesh `coarsening` times coarser (recursively; a coarse mesh has at least
 // min_elements and elements_per_decay_length per foundation decay length 1/beta, and is used
-// only if at most a third of this mesh), and the contact set found there (w > 0 of the coarse
-// answer at each node) is the first set here.
-// The limits then start within a coarse element of their place, so this mesh needs two or
+// only if at most a third of this mesh), and the contact set found there (w > g of the coarse
+// answer at each node; at a node a support holds at w = g, the coarse answer's own status there)
+// is the first set here.
+// The limits then start within a coarse element of their place, so this mesh needs one to
 // three sets instead of ten or more from the bilateral start (each a factorisation of the
 // largest system). `discretisation` must be discretise(model, ...) of this model.
 // A coarse mesh need not resolve the foundation: its set is only a seed, whose every sign the
