@@ -301,6 +301,72 @@ TEST_CASE("von Karman Ritz: KINSOL on the restrained straight beam under a sine 
   }
 }
 
+TEST_CASE("von Karman Ritz: KINSOL on the sinusoidal shallow arch meets its symmetric path and bifurcated branch",
+          "[ritz][von_karman]") {
+  // a / r = 5 on kappa = 2 (bilateral): the bifurcation precedes the limit point (a / r > sqrt(21)).
+  // At 0.8 times the bifurcation load the first root of the symmetric cubic; at a load on the
+  // bifurcated branch (unstable for kappa < 4, but a regular root) its (A1, |A2|). Six modes (the
+  // pinned ends' cubics among them): the exact solution lies in the span, so to round-off.
+  closed_form::ShallowArch arch;
+  arch.axial_stiffness = 1e4;
+  arch.rise = 5.0 * arch.radius_of_gyration();
+  arch.foundation_modulus = 2.0 * std::pow(pi, 4);
+  arch.load_amplitude = 30.0;
+  const closed_form::ShallowArchAnalysis analysis = closed_form::analyse(arch);
+  REQUIRE(analysis.has_bifurcation);
+  REQUIRE(analysis.first == closed_form::FirstCritical::unstable_bifurcation);
+  const model::MemberModel m = beam(EndSupport::pinned, EndSupport::pinned, arch.foundation_modulus, false);
+  const RitzModel r(m, 6, Topology{true, 0});
+  MembraneOptions options = restrained(arch.axial_stiffness);
+  options.initial_shape = TrigPolynomial::sine(pi, 0.0, -arch.rise);
+  const VonKarmanMembrane membrane(m, r, options);
+  const VectorXd load = sine_load(r, arch.load_amplitude);
+  auto solve = [&](double lambda, VectorXd& x) {
+    return nonlinear::solve_newton(
+        [&](const VectorXd& y, VectorXd& f) {
+          r.residual(y, 0.0, f);
+          f -= lambda * load;
+          membrane.add_to_residual(y, f);
+          return true;
+        },
+        [&](const VectorXd& y, const VectorXd&, MatrixXd& J) {
+          r.jacobian(y, 0.0, J);
+          membrane.add_to_jacobian(y, J);
+          return true;
+        },
+        x);
+  };
+  {
+    const double lambda = 0.8 * analysis.first_bifurcation.load;
+    const double a1 = closed_form::symmetric_deflections(arch, lambda).front();
+    VectorXd x = VectorXd::Zero(r.unknowns());
+    x[0] = 0.8 * a1;
+    const nonlinear::NewtonSummary summary = solve(lambda, x);
+    INFO(summary.brief_report());
+    REQUIRE(summary.is_usable());
+    CHECK(x[0] == Approx(a1).epsilon(1e-12));
+    CHECK(x.tail(r.modes() - 1).cwiseAbs().maxCoeff() < 1e-12 * a1);
+    CHECK(-membrane.normal_force(x) == Approx(closed_form::thrust(arch, a1, 0.0)).epsilon(1e-11));
+  }
+  {
+    const double a1 = 0.5 * (analysis.first_bifurcation.deflection + analysis.second_bifurcation.deflection) -
+                      0.3 * (analysis.second_bifurcation.deflection - analysis.first_bifurcation.deflection) / 2;
+    const double lambda = closed_form::bifurcated_load(arch, a1), a2 = closed_form::bifurcated_asymmetry(arch, a1);
+    REQUIRE(a2 > 0.1 * a1);
+    VectorXd x = VectorXd::Zero(r.unknowns());
+    x[0] = 1.05 * a1;
+    x[1] = 0.9 * a2;
+    const nonlinear::NewtonSummary summary = solve(lambda, x);
+    INFO(summary.brief_report() << "; A1 " << a1 << ", A2 " << a2 << ", lambda " << lambda);
+    REQUIRE(summary.is_usable());
+    CHECK(x[0] == Approx(a1).epsilon(1e-12));
+    CHECK(x[1] == Approx(a2).epsilon(1e-12));
+    CHECK(x.tail(r.modes() - 2).cwiseAbs().maxCoeff() < 1e-12 * a1);
+    // The thrust there is the second mode's critical load with the foundation (shallow_arch.hpp).
+    CHECK(-membrane.normal_force(x) == Approx(4 * pi * pi + arch.foundation_modulus / (4 * pi * pi)).epsilon(1e-11));
+  }
+}
+
 TEST_CASE("von Karman Ritz: Newton with moving limits on a tensionless foundation converges quadratically",
           "[ritz][von_karman]") {
   // A pinned beam, axially restrained, on a stiff tensionless foundation under a central force:
