@@ -23,7 +23,7 @@
 // At least one end axially free: N = 0, and the term is zero (the beam stays linear in w).
 // With an axial force in the RitzModel too (compression N_c, its -N_c (W.K_g W / 2 + f_0.W)),
 // the sum is, up to a constant, the restrained beam with a prestrain -N_c / EA (a temperature
-// rise): EA/(2L) (e - L N_c / EA)^2 = Pi_m - N_c e + const.
+// rise): EA/(2L) (e - L N_c / EA)^2 = Pi_m - N_c e + const (with the same w0: the member's table).
 // What is neglected is the element's list: moderate rotations, loads and foundation along the
 // chord's normal, no shear deformation. Beams only (arches have their own membrane energy).
 

@@ -426,6 +426,26 @@ TEST_CASE("von Karman Ritz: Newton with moving limits on a tensionless foundatio
   CHECK(order > 1.7);
 }
 
+TEST_CASE("von Karman Ritz: with RitzModel's axial force it is the restrained beam with a prestrain",
+          "[ritz][von_karman]") {
+  // RitzModel's -N_c e plus Pi_m = EA/(2L) (e - L N_c/EA)^2 - L N_c^2/(2 EA): a temperature rise
+  // N_c = EA alpha T on restrained ends, as the header says.
+  model::MemberModel plain = beam(EndSupport::clamped, EndSupport::pinned, 80.0, true);
+  plain.initial_shape_at = {0.0, 0.3, 0.7, 1.0};
+  plain.initial_shape_value = {0.0, -0.02, -0.01, 0.0};
+  model::MemberModel heated = plain;
+  heated.axial_dead = 6.0;
+  const RitzModel r_plain(plain, 8, Topology{true, 1}), r_heated(heated, 8, Topology{true, 1});
+  const double ea = 5e3;
+  const VonKarmanMembrane membrane(heated, r_heated, restrained(ea));
+  VectorXd x(r_heated.unknowns());
+  for (int i = 0; i < r_heated.modes(); ++i) x[i] = 0.015 * std::cos(0.3 + 1.7 * i) / (1 + i);
+  x[r_heated.limit_offset()] = 0.45;
+  const double e = membrane.stretch(x), nc = heated.axial_dead;
+  const double expected = r_plain.energy(x, 0.0) + 0.5 * ea * std::pow(e - nc / ea, 2) - nc * nc / (2 * ea);  // L = 1
+  CHECK(r_heated.energy(x, 0.0) + membrane.energy(x) == Approx(expected).epsilon(1e-13));
+}
+
 TEST_CASE("von Karman Ritz: axially free ends carry no membrane force", "[ritz][von_karman]") {
   model::MemberModel m = beam(EndSupport::pinned, EndSupport::free, 40.0, true);
   m.initial_shape_at = {0.0, 1.0};
