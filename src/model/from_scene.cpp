@@ -148,6 +148,12 @@ MemberModel make_member_model(const scene::Scene& scene) {
     model.initial_shape_at.push_back(model.s_from_user(scene.initial_shape.at[i]));
     model.initial_shape_value.push_back(scene.initial_shape.value[i] / scales.displacement());
   }
+  if (scene.initial_shape.shape == "half_sine" || scene.initial_shape.shape == "bump") {
+    const double from = model.s_from_user(scene.initial_shape.from);
+    model.initial_sine =
+        MemberModel::InitialSine{scene.initial_shape.amplitude / scales.displacement(), from,
+                                 model.s_from_user(scene.initial_shape.from + scene.initial_shape.length) - from};
+  }
   for (const auto& load : scene.loads) {
     if (load.kind == scene::LoadKind::axial || load.kind == scene::LoadKind::temperature) {
       const double force = load.axial_force(structure) / scales.force();

@@ -28,10 +28,15 @@ constexpr EnumName<LoadDirection> load_direction_names[] = {
     {LoadDirection::vertical, "vertical"},
     {LoadDirection::horizontal, "horizontal"},
 };
+constexpr EnumName<Theory> theory_names[] = {
+    {Theory::linear, "linear"},
+    {Theory::von_karman, "von_karman"},
+};
 }  // namespace
 
 std::string_view to_string(EndSupport support) { return name_in<EndSupport>(end_support_names, support); }
 std::string_view to_string(LoadDirection direction) { return name_in<LoadDirection>(load_direction_names, direction); }
+std::string_view to_string(Theory theory) { return name_in<Theory>(theory_names, theory); }
 
 double MemberModel::s_from_user(double position) const {
   return kind == StructureKind::beam ? position / scales.length : position * degrees;
@@ -114,6 +119,20 @@ double piecewise_linear(const std::vector<double>& at, const std::vector<double>
 double MemberModel::ground_gap(double s) const { return piecewise_linear(ground_gap_at, ground_gap_value, s); }
 
 double MemberModel::initial_shape(double s) const { return piecewise_linear(initial_shape_at, initial_shape_value, s); }
+
+double MemberModel::initial_slope(double s) const {
+  if (initial_sine) {
+    const InitialSine& sine = *initial_sine;
+    if (s < sine.from || s >= sine.from + sine.length) return 0.0;
+    const double wavenumber = std::numbers::pi / sine.length;
+    return sine.amplitude * wavenumber * std::cos(wavenumber * (s - sine.from));
+  }
+  const std::vector<double>& at = initial_shape_at;
+  if (at.empty() || s < at.front() || s >= at.back()) return 0.0;
+  const auto upper = std::upper_bound(at.begin(), at.end(), s);
+  const std::size_t j = static_cast<std::size_t>(upper - at.begin()), i = j - 1;
+  return (initial_shape_value[j] - initial_shape_value[i]) / (at[j] - at[i]);
+}
 
 bool MemberModel::is_foundation_edge(double s) const {
   const double tol = 1e-12 * length();

@@ -27,6 +27,11 @@ enum class StructureKind { beam, arch };
 // Arch ends: pinned (u = w = 0), roller (w = 0), clamped (u = w = rotation = 0), free.
 enum class EndSupport { pinned, clamped, free, roller };
 std::string_view to_string(EndSupport);  // the scene's word for it, for messages
+// Kinematics ([structure] theory): linear (first order, or second order under a given axial
+// force), or von Karman (moderate rotations: membrane strain u' + w0' w' + w'^2/2 coupled to
+// bending, fe/von_karman_element.hpp; issue 16).
+enum class Theory { linear, von_karman };
+std::string_view to_string(Theory);  // the scene's word for it
 // No table load here: a scene's distributed load arrives as uniform (linear) pieces.
 // curvature: an imposed free (thermal) curvature, an initial strain rather than a force.
 enum class LoadKind { force, moment, uniform, curvature };
@@ -101,7 +106,13 @@ struct MemberModel {
   StructureKind kind = StructureKind::beam;
   double s_begin = 0.0;
   double s_end = 1.0;
-  double membrane_stiffness = 0.0;  // arches: EA R^2 / EI
+  double membrane_stiffness = 0.0;  // arches: EA R^2 / EI; beams under von Karman: EA l^2 / EI
+  Theory theory = Theory::linear;
+  // Beams under von Karman: whether each end's axial displacement is held (u = 0; the scene's
+  // support key axial = "restrained" | "free", restrained by default at pinned and clamped ends,
+  // free at free ends). Not read under linear theory.
+  bool left_axially_restrained = true;
+  bool right_axially_restrained = true;
   EndSupport left = EndSupport::pinned;
   EndSupport right = EndSupport::pinned;
   std::vector<double> point_supports;  // s
@@ -148,13 +159,27 @@ struct MemberModel {
   // force: the load N K_g w0 (fe/discretisation.hpp).
   std::vector<double> initial_shape_at;
   std::vector<double> initial_shape_value;
+  // A named initial shape ({ shape = "half_sine" } or "bump") kept exact as well:
+  // w0 = amplitude sin(pi (s - from) / length) on [from, from + length], 0 elsewhere (over the
+  // length scale, s). The table above samples it (scene.hpp's initial_shape_samples per half-wave)
+  // for the linear paths, where w0 enters only through the axial load; the von Karman models read
+  // this one (initial_slope), whose membrane strain w0' w' needs w0' itself, not a second-order copy.
+  struct InitialSine {
+    double amplitude = 0.0;
+    double from = 0.0;
+    double length = 1.0;
+  };
+  std::optional<InitialSine> initial_sine;
 
   // N at the load factor lambda.
   double axial_force(double load_factor) const { return axial_dead + load_factor * axial_live; }
   bool has_axial_force() const { return axial_dead != 0.0 || axial_live != 0.0; }
   bool has_initial_shape() const { return !initial_shape_at.empty(); }
-  // w0 at s (0 without an initial shape); at a step, the value to its right.
+  // w0 at s (0 without an initial shape); at a step, the value to its right. The table's.
   double initial_shape(double s) const;
+  // w0' at s: initial_sine's exact slope when there is one (at the sine's ends, the slope to the
+  // right), else the table's (its segment to the right of s; 0 beyond the ends or without one).
+  double initial_slope(double s) const;
 
   // User coordinate (x, or theta in degrees) <-> member coordinate s.
   double s_from_user(double position) const;

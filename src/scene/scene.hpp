@@ -175,6 +175,11 @@ struct InitialShape {
   std::vector<double> at;
   std::vector<double> value;
   std::string shape;  // "table", "half_sine" or "bump" as written; empty without one
+  // A named shape's sine, kept exact (MemberModel::initial_sine): amplitude sin(pi (x - from) / length) on
+  // [from, from + length] (user units). Unused for a table.
+  double amplitude = 0.0;
+  double from = 0.0;
+  double length = 0.0;
   bool empty() const { return at.empty(); }
 };
 // The samples per half-wave of a named initial shape (piecewise linear between them).

@@ -1229,6 +1229,9 @@ InitialShape read_initial_shape(const Section& s, const Member& member) {
       table.fail("length", fmt::format("expected a bump within the member {}, got {} .. {}", member.interval(false),
                                        from, from + length));
   }
+  shape.amplitude = amplitude;
+  shape.from = from;
+  shape.length = length;
   for (int i = 0; i <= initial_shape_samples; ++i) {
     const double t = static_cast<double>(i) / initial_shape_samples;
     shape.at.push_back(i == initial_shape_samples ? from + length : from + t * length);

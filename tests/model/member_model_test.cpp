@@ -7,12 +7,15 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <numbers>
 
 #include "closed_form/scene_problem.hpp"
 #include "contact/active_set_solver.hpp"
 #include "contact/fitted_limits.hpp"
 #include "fe/discretisation.hpp"
 #include "model/from_scene.hpp"
+#include "scene/scene_reader.hpp"
 #include "support/scenes.hpp"
 #include "support/solve.hpp"
 
@@ -356,4 +359,51 @@ TEST_CASE("foundation pieces: a modulus linear within a piece converges at h^4 (
               change.back(), order);
   CHECK(order > 3.7);
   CHECK(order < 4.3);
+}
+
+TEST_CASE("a named initial shape keeps its exact slope; a table gives its segments' slopes", "[model][axial]") {
+  const std::string beam = R"([structure]
+kind = "beam"
+length = 2.0
+EI = 1.0
+
+[supports]
+left = "pinned"
+right = "pinned"
+
+[foundation]
+nondimensional_k = 1.0e2
+
+[[loads]]
+kind = "force"
+at = 0.5
+value = 1.0
+
+[geometry]
+)";
+  SECTION("a bump: the sine itself, not its 256-interval table") {
+    const model::MemberModel m = model::make_member_model(scene::parse_scene(
+        beam + "initial_shape = { shape = \"bump\", amplitude = 0.1, at = 1.0, length = 0.5 }\n", "x.toml"));
+    REQUIRE(m.initial_sine.has_value());
+    const double l = m.scales.length;  // s = x / l
+    const double wavenumber = std::numbers::pi / (0.5 / l), a = 0.1 / l;
+    for (const double x : {0.8, 0.9, 1.0, 1.13}) {
+      const double s = x / l;
+      // the table's slope differs from the sine's by O(h^2) ~ 1e-5 relative: round-off here
+      CHECK(std::abs(m.initial_slope(s) - a * wavenumber * std::cos(wavenumber * (s - 0.75 / l))) <=
+            8 * std::numeric_limits<double>::epsilon() * a * wavenumber);
+    }
+    CHECK(m.initial_slope(0.7 / l) == 0.0);
+    CHECK(m.initial_slope(1.3 / l) == 0.0);
+  }
+  SECTION("a table") {
+    const model::MemberModel m =
+        model::make_member_model(scene::parse_scene(beam + "initial_shape = { at = [0.0, 1.0, 2.0], value = [0.0, "
+                                                           "-0.01, 0.0] }\n",
+                                                    "x.toml"));
+    CHECK_FALSE(m.initial_sine.has_value());
+    // w0 / l against s = x / l: the slope in x, 0.01 per unit length
+    CHECK(m.initial_slope(0.25) == Approx(-0.01).epsilon(1e-14));
+    CHECK(m.initial_slope(0.75) == Approx(0.01).epsilon(1e-14));
+  }
 }
