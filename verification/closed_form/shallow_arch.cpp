@@ -136,33 +136,12 @@ Eigen::Matrix2d energy_hessian(const ShallowArch& arch, double a1, double a2) {
   return arch.length * arch.bending_stiffness * std::pow(beta(arch), 4) / 4 * h;
 }
 
-std::string to_string(BranchStability s) {
-  switch (s) {
-    case BranchStability::stable:
-      return "stable";
-    case BranchStability::unstable:
-      return "unstable";
-    case BranchStability::neutral:
-      return "neutral";
-  }
-  return "?";
-}
-
-std::string to_string(FirstCritical f) {
-  switch (f) {
-    case FirstCritical::none:
-      return "none";
-    case FirstCritical::limit_point:
-      return "limit_point";
-    case FirstCritical::unstable_bifurcation:
-      return "unstable_bifurcation";
-    case FirstCritical::neutral_bifurcation:
-      return "neutral_bifurcation";
-    case FirstCritical::stable_bifurcation:
-      return "stable_bifurcation";
-  }
-  return "?";
-}
+// Names in the enums' declaration order (shallow_arch.hpp).
+constexpr const char* branch_stability_names[] = {"stable", "unstable", "neutral"};
+constexpr const char* first_critical_names[] = {"none", "limit_point", "unstable_bifurcation", "neutral_bifurcation",
+                                                "stable_bifurcation"};
+std::string to_string(BranchStability s) { return branch_stability_names[static_cast<int>(s)]; }
+std::string to_string(FirstCritical f) { return first_critical_names[static_cast<int>(f)]; }
 
 ShallowArchAnalysis analyse(const ShallowArch& arch) {
   arch.validate();
