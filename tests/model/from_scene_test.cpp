@@ -42,7 +42,7 @@ model::MemberModel model_of(const std::string& text) {
 
 }  // namespace
 
-TEST_CASE("linear theory: no membrane stiffness for a beam, whatever its EA", "[model][von_karman]") {
+TEST_CASE("the model of a linear scene: no membrane stiffness for a beam, whatever its EA", "[model][von_karman]") {
   const model::MemberModel m = model_of(beam);
   CHECK(m.theory == model::Theory::linear);
   CHECK(m.membrane_stiffness == 0.0);
@@ -85,7 +85,8 @@ TEST_CASE("von Karman: the theory, EA L^2/EI and the ends' axial restraints reac
   }
 }
 
-TEST_CASE("an arch keeps its membrane stiffness EA R^2/EI under linear theory", "[model][von_karman]") {
+TEST_CASE("the model of an arch scene keeps its membrane stiffness EA R^2/EI under linear theory",
+          "[model][von_karman]") {
   const model::MemberModel m = model_of(R"([structure]
 kind = "arch"
 radius = 10.0

@@ -1254,7 +1254,8 @@ TEST_CASE("a malformed initial shape is refused naming the key", "[scene][axial]
 }
 
 // Issue 16: [structure] theory and the ends' axial restraint (key `axial` of a support table).
-TEST_CASE("theory and the ends' axial restraints read, with their defaults", "[scene][von_karman]") {
+TEST_CASE("a von Karman scene: theory and the ends' axial restraints read, with their defaults",
+          "[scene][von_karman]") {
   SECTION("linear by default; the restraints' defaults by end kind, which linear theory does not read") {
     const Scene linear = parse_scene(beam_scene, "scene.toml");
     CHECK(linear.structure.theory == Theory::linear);
@@ -1302,7 +1303,7 @@ TEST_CASE("theory and the ends' axial restraints read, with their defaults", "[s
   }
 }
 
-TEST_CASE("theory and axial: each mistake is one keyed line", "[scene][von_karman][errors]") {
+TEST_CASE("a von Karman scene: each mistake in theory and axial is one keyed line", "[scene][von_karman][errors]") {
   const std::string von_karman = edited(beam_scene, "EI = 1.0", "EI = 1.0\nEA = 4.0e4\ntheory = \"von_karman\"");
   //  1 [structure]  2 kind  3 length  4 EI  5 EA  6 theory   8 [supports]  9 left  10 right
   CHECK(error_of(edited(beam_scene, "kind = \"beam\"", "kind = \"beam\"\ntheory = \"nonlinear\"")) ==
