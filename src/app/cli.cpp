@@ -24,6 +24,7 @@
 #include "app/plot_command.hpp"
 #include "app/solve_command.hpp"
 #include "app/sweep_command.hpp"
+#include "app/theory_gate.hpp"
 #include "app/trace_command.hpp"
 #include "core/error.hpp"
 #include "default_scene.hpp"
@@ -265,10 +266,13 @@ void write_text_last(const std::string& path, const std::string& text, const std
   }
 }
 
-// A command's start: the scene and every output checked before any work, then the scene read.
-scene::Scene checked_scene(const ProblemArguments& problem, const std::vector<RunFile>& outputs) {
+// A command's start: the scene and every output checked before any work, then the scene read and
+// its theory checked against the command's solvers (app/theory_gate.hpp).
+scene::Scene checked_scene(const ProblemArguments& problem, const std::vector<RunFile>& outputs, Command command) {
   check_files(scene_input(problem.scene_path), outputs);
-  return load_scene(problem.scene_path);
+  scene::Scene scene = load_scene(problem.scene_path);
+  require_honoured_theory(scene, command);
+  return scene;
 }
 
 SolveRequest make_request(const ProblemArguments& args) {
@@ -322,7 +326,7 @@ void print_sweep_warnings(const std::vector<io::SweepCase>& cases, std::ostream&
 // stderr; exit 3 if a case failed (its error is in both outputs).
 int run_sweep_command(const SweepArguments& args, std::ostream& out, std::ostream& err) {
   const std::vector<RunFile> outputs = atomic_outputs({{"--output", args.output}, {"--csv", args.csv}});
-  const scene::Scene scene = checked_scene(args.problem, outputs);
+  const scene::Scene scene = checked_scene(args.problem, outputs, Command::sweep);
   std::vector<SweepParameter> parameters;
   std::vector<std::string> keys;
   for (const std::string& set : args.sets) {
@@ -379,7 +383,7 @@ int run_sweep_command(const SweepArguments& args, std::ostream& out, std::ostrea
 
 int run_solve(const SolveArguments& args, RunContext& context, std::ostream& out, std::ostream& err) {
   const std::vector<RunFile> outputs = atomic_outputs({{"--output", args.output}, {"--csv-fields", args.csv_fields}});
-  const scene::Scene scene = checked_scene(args.problem, outputs);
+  const scene::Scene scene = checked_scene(args.problem, outputs, Command::solve);
   if (!context.method_requested) context.method_requested = scene::to_string(scene.solve.method);
   SolveRequest request = make_request(args.problem);
   request.fields = !args.output.empty() || !args.csv_fields.empty();  // only these files hold sampled fields
@@ -419,7 +423,7 @@ int run_trace_command(const TraceArguments& args, RunContext& context, std::ostr
     outputs.push_back({"--output", args.output, args.output, ""});
     outputs.push_back({"--output", args.output, io::trace_backup_path(args.output), "backup file"});
   }
-  const scene::Scene scene = checked_scene(args.problem, outputs);
+  const scene::Scene scene = checked_scene(args.problem, outputs, Command::trace);
   if (!context.method_requested && scene.trace)
     context.method_requested = scene::to_string(scene.trace->method.value_or(scene.solve.method));
   const SolveRequest solve = make_request(args.problem);
@@ -491,7 +495,7 @@ struct EnvelopeArguments {
 // exit 3 if a case failed (the envelope is then incomplete, and says so in every output).
 int run_envelope_command(const EnvelopeArguments& args, std::ostream& out, std::ostream& err) {
   const std::vector<RunFile> outputs = atomic_outputs({{"--hdf5", args.hdf5}, {"--json", args.json}});
-  const scene::Scene scene = checked_scene(args.problem, outputs);
+  const scene::Scene scene = checked_scene(args.problem, outputs, Command::envelope);
   EnvelopeRequest request;
   request.solve = make_request(args.problem);
   if (request.solve.method == scene::Method::all)

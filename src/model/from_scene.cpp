@@ -47,6 +47,16 @@ LoadKind to_model(scene::LoadKind kind) {
   throw std::logic_error("to_model: a distributed or axial load has no model kind (uniform pieces, axial force)");
 }
 
+Theory to_model(scene::Theory theory) {
+  switch (theory) {
+    case scene::Theory::linear:
+      return Theory::linear;
+    case scene::Theory::von_karman:
+      return Theory::von_karman;
+  }
+  throw std::logic_error("to_model: unknown theory");
+}
+
 LoadCase to_model(scene::LoadCase load_case) {
   return load_case == scene::LoadCase::dead ? LoadCase::dead : LoadCase::live;
 }
@@ -73,11 +83,16 @@ MemberModel make_member_model(const scene::Scene& scene) {
   const auto& structure = scene.structure;
   MemberModel model;
   model.kind = to_model(structure.kind);
+  model.theory = to_model(structure.theory);
   model.scales.bending_stiffness = structure.bending_stiffness;
   if (structure.kind == scene::StructureKind::beam) {
     model.scales.length = structure.length;
     model.s_begin = 0.0;
     model.s_end = 1.0;
+    // The von Karman beam's membrane stiffness (the reader requires EA there); linear beams have none.
+    if (structure.theory == scene::Theory::von_karman)
+      model.membrane_stiffness =
+          structure.axial_stiffness.value_or(0.0) * structure.length * structure.length / structure.bending_stiffness;
   } else {
     model.scales.length = structure.radius;
     model.s_begin = -structure.half_angle_deg * degrees;
@@ -89,6 +104,8 @@ MemberModel make_member_model(const scene::Scene& scene) {
 
   model.left = to_model(scene.supports.left);
   model.right = to_model(scene.supports.right);
+  model.left_axially_restrained = scene.supports.left_axially_restrained;
+  model.right_axially_restrained = scene.supports.right_axially_restrained;
   for (double position : scene.supports.interior) model.point_supports.push_back(model.s_from_user(position));
   // Springs: k_s l^3/EI, k_r l/EI; settlements in l.
   const double length = scales.length, ei = scales.bending_stiffness;

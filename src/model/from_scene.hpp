@@ -16,6 +16,7 @@ EndSupport to_model(scene::EndSupport);
 // A distributed (table) load has no model kind: make_member_model makes it uniform pieces; asking
 // for its kind is a programming error (throws).
 LoadKind to_model(scene::LoadKind);
+Theory to_model(scene::Theory);
 LoadCase to_model(scene::LoadCase);
 LoadDirection to_model(scene::LoadDirection);
 LoadBasis to_model(scene::LoadBasis);

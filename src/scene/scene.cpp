@@ -53,6 +53,10 @@ constexpr EnumName<TraceControl> trace_controls[] = {
     {TraceControl::arc_length, "arc_length"},
     {TraceControl::load, "load"},
 };
+constexpr EnumName<Theory> theories[] = {
+    {Theory::linear, "linear"},
+    {Theory::von_karman, "von_karman"},
+};
 
 }  // namespace
 
@@ -65,6 +69,7 @@ std::string_view to_string(LoadBasis v) { return name_in<LoadBasis>(load_bases, 
 std::string_view to_string(FoundationSide v) { return name_in<FoundationSide>(foundation_sides, v); }
 std::string_view to_string(Method v) { return name_in<Method>(methods, v); }
 std::string_view to_string(TraceControl v) { return name_in<TraceControl>(trace_controls, v); }
+std::string_view to_string(Theory v) { return name_in<Theory>(theories, v); }
 
 std::optional<StructureKind> parse_structure_kind(std::string_view s) {
   return value_in<StructureKind>(structure_kinds, s);
@@ -76,6 +81,7 @@ std::optional<Method> parse_method(std::string_view s) { return value_in<Method>
 std::optional<TraceControl> parse_trace_control(std::string_view s) {
   return value_in<TraceControl>(trace_controls, s);
 }
+std::optional<Theory> parse_theory(std::string_view s) { return value_in<Theory>(theories, s); }
 
 double Load::axial_force(const Structure& structure) const {
   if (kind == LoadKind::axial) return value;

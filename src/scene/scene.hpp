@@ -48,6 +48,10 @@ enum class Method { dual, primal, fast, automatic, ritz, all };
 // How `liftoff trace` follows the load history: pseudo-arc-length (through folds) or plain load
 // control (lambda stepped directly).
 enum class TraceControl { arc_length, load };
+// [structure] theory: linear (first order, or second order under a given axial force) or von
+// Karman (moderate rotations: the membrane strain u' + w0' w' + w'^2/2 coupled to bending; beams
+// only for now, model/member_model.hpp).
+enum class Theory { linear, von_karman };
 
 std::string_view to_string(StructureKind);
 std::string_view to_string(EndSupport);
@@ -58,12 +62,14 @@ std::string_view to_string(LoadBasis);
 std::string_view to_string(FoundationSide);
 std::string_view to_string(Method);
 std::string_view to_string(TraceControl);
+std::string_view to_string(Theory);
 std::optional<StructureKind> parse_structure_kind(std::string_view);
 std::optional<EndSupport> parse_end_support(std::string_view);
 std::optional<LoadKind> parse_load_kind(std::string_view);
 std::optional<LoadCase> parse_load_case(std::string_view);
 std::optional<Method> parse_method(std::string_view);  // "auto" -> automatic
 std::optional<TraceControl> parse_trace_control(std::string_view);
+std::optional<Theory> parse_theory(std::string_view);
 
 struct Structure {
   StructureKind kind = StructureKind::beam;
@@ -71,7 +77,8 @@ struct Structure {
   double radius = 0.0;                    // arch: R
   double half_angle_deg = 0.0;            // arch: gamma, the arch spans -gamma..gamma
   double bending_stiffness = 0.0;         // EI
-  std::optional<double> axial_stiffness;  // EA (required for arches)
+  std::optional<double> axial_stiffness;  // EA (required for arches and under von Karman)
+  Theory theory = Theory::linear;         // key `theory`; von_karman: beams only, needs EA
 };
 
 // The table form of a support (keys kind, stiffness, rotational_stiffness, settlement): springs
@@ -97,6 +104,12 @@ struct Supports {
   SupportDetail left_detail, right_detail;
   std::vector<double> interior_settlement;       // parallel to interior (empty: none settles)
   std::vector<InteriorSpring> interior_springs;  // elastic point supports, sorted by at
+  // Whether each end's axial displacement is held (u = 0): a support table's key
+  // axial = "restrained" | "free", read only under theory = "von_karman". Restrained by default
+  // at pinned and clamped ends, free at free and spring ends (a free end cannot be restrained).
+  // Under linear theory the defaults, which nothing reads.
+  bool left_axially_restrained = true;
+  bool right_axially_restrained = true;
 };
 
 // One piece of the foundation ([[foundation.segments]]): its extent and its modulus, exactly one

@@ -42,7 +42,7 @@ struct TableSpec {
 
 const std::vector<TableSpec>& schema() {
   static const std::vector<TableSpec> tables = {
-      {"structure", false, {"kind", "length", "radius", "half_angle_deg", "EI", "EA"}},
+      {"structure", false, {"kind", "length", "radius", "half_angle_deg", "EI", "EA", "theory"}},
       {"supports", false, {"left", "right", "interior"}},
       {"foundation",
        false,
@@ -463,10 +463,17 @@ Structure read_structure(const Section& s) {
   Structure st;
   st.kind = s.required_choice("kind", {StructureKind::beam, StructureKind::arch});
   st.bending_stiffness = s.required_number("EI", positive());
+  st.theory = s.choice("theory", {Theory::linear, Theory::von_karman}).value_or(Theory::linear);
+  if (st.theory == Theory::von_karman && st.kind == StructureKind::arch)
+    s.wrong("theory", "\"linear\" for an arch",
+            "the arch's von Karman (Marguerre) form is not available yet: beams only; a shallow arch of any shape "
+            "is a beam with [geometry] initial_shape");
   if (st.kind == StructureKind::beam) {
     for (const auto key : {"radius", "half_angle_deg"}) s.refuse(key, "for a beam (arches only)");
     st.length = s.required_number("length", positive());
-    st.axial_stiffness = s.number("EA", positive());  // optional; a beam does not use it
+    st.axial_stiffness = s.number("EA", positive());  // optional but under von Karman
+    if (st.theory == Theory::von_karman && !st.axial_stiffness)
+      s.missing("EA", "a number > 0 with theory = \"von_karman\": the membrane stiffness EA L^2/EI");
   } else {
     s.refuse("length", "for an arch (beams only; an arch has radius and half_angle_deg)");
     st.radius = s.required_number("radius", positive());
@@ -482,22 +489,32 @@ Structure read_structure(const Section& s) {
     s.fail(key, fmt::format("expected a size whose fourth power over EI is a finite, nonzero double (the "
                             "nondimensional numbers K l^4/EI, P l^2/EI overflow), got {}",
                             l));
-  if (st.kind == StructureKind::arch) {
+  if (st.kind == StructureKind::arch || st.theory == Theory::von_karman) {  // the membrane stiffness is read
     const double membrane = *st.axial_stiffness * l * l / st.bending_stiffness;
     if (!std::isfinite(membrane) || !(membrane > 0))
-      s.fail("EA", fmt::format("expected EA R^2/EI to be a finite, nonzero double, got EA = {}", *st.axial_stiffness));
+      s.fail("EA", fmt::format("expected EA {}^2/EI to be a finite, nonzero double, got EA = {}",
+                               st.kind == StructureKind::arch ? "R" : "L", *st.axial_stiffness));
   }
   return st;
 }
 
-// The table form of a support: { kind, stiffness, rotational_stiffness, settlement } (ends) or
-// { at, kind, ... } (interior points: kind pinned or spring). Returns the kind (free for a spring).
-EndSupport read_support_table(const Section& t, const Member& member, bool interior, SupportDetail& detail) {
+// An end's axial restraint by default: held at pinned and clamped ends, free at free and spring
+// ends (and at an arch's roller, which nothing reads: arches have no von Karman form yet).
+bool axially_restrained_by_default(EndSupport kind, bool spring) {
+  return !spring && (kind == EndSupport::pinned || kind == EndSupport::clamped);
+}
+
+// The table form of a support: { kind, stiffness, rotational_stiffness, settlement, axial } (ends)
+// or { at, kind, ... } (interior points: kind pinned or spring; they hold w only). Returns the kind
+// (free for a spring); `axially_restrained` (ends only) is the end's axial restraint, `axial` read
+// only under von Karman theory.
+EndSupport read_support_table(const Section& t, const Member& member, Theory theory, bool interior,
+                              SupportDetail& detail, bool* axially_restrained = nullptr) {
   const std::string name = t.path("");
   const TableSpec spec{
       std::string_view(name).substr(0, name.size() - 1), false,
       interior ? std::vector<std::string_view>{"at", "kind", "stiffness", "rotational_stiffness", "settlement"}
-               : std::vector<std::string_view>{"kind", "stiffness", "rotational_stiffness", "settlement"}};
+               : std::vector<std::string_view>{"kind", "stiffness", "rotational_stiffness", "settlement", "axial"}};
   t.check_keys(spec);
   const toml::node* kind_node = t.find("kind");
   const toml::value<std::string>* kind_text = kind_node != nullptr ? kind_node->as_string() : nullptr;
@@ -537,15 +554,30 @@ EndSupport read_support_table(const Section& t, const Member& member, bool inter
     t.refuse("settlement",
              "on a spring without translational stiffness (the settlement displaces the spring's far end along w)");
   detail.settlement = t.number("settlement", any_number()).value_or(0.0);
+  if (axially_restrained == nullptr) return kind;
+  *axially_restrained = axially_restrained_by_default(kind, detail.spring);
+  const toml::node* axial = t.find("axial");
+  if (axial == nullptr) return kind;
+  if (theory != Theory::von_karman)
+    t.fail("axial", fmt::format("not allowed with theory = \"{}\" (an axial restraint acts only with theory = "
+                                "\"von_karman\", [structure] theory: linear theory has no membrane strain)",
+                                to_string(theory)));
+  const toml::value<std::string>* text = axial->as_string();
+  if (text == nullptr || (text->get() != "restrained" && text->get() != "free"))
+    t.wrong("axial", R"("restrained" or "free")");
+  if (text->get() == "restrained" && kind == EndSupport::free && !detail.spring)
+    t.wrong("axial", R"("free" on a free end)", "nothing holds a free end axially; a spring end may be restrained");
+  *axially_restrained = text->get() == "restrained";
   return kind;
 }
 
-Supports read_supports(const Section& s, const Member& member) {
+Supports read_supports(const Section& s, const Member& member, Theory theory) {
   Supports sp;
-  for (const auto& [key, end, detail] :
-       {std::tuple{"left", &sp.left, &sp.left_detail}, std::tuple{"right", &sp.right, &sp.right_detail}}) {
+  for (const auto& [key, end, detail, restrained] :
+       {std::tuple{"left", &sp.left, &sp.left_detail, &sp.left_axially_restrained},
+        std::tuple{"right", &sp.right, &sp.right_detail, &sp.right_axially_restrained}}) {
     if (const toml::node* node = s.find(key); node != nullptr && node->is_table()) {
-      *end = read_support_table(s.section(key), member, false, *detail);
+      *end = read_support_table(s.section(key), member, theory, false, *detail, restrained);
       continue;
     }
     const auto support =
@@ -557,6 +589,7 @@ Supports read_supports(const Section& s, const Member& member) {
                                  : R"("pinned", "clamped" or "free", or a table { kind = ... })");
     }
     *end = *support;
+    *restrained = axially_restrained_by_default(*end, false);
   }
   // interior: numbers (rigid points) or tables { at, kind = "pinned" | "spring", ... }.
   std::vector<std::pair<double, SupportDetail>> points;
@@ -571,7 +604,7 @@ Supports read_supports(const Section& s, const Member& member) {
       double at = 0.0;
       if (item.is_table()) {
         const Section t(s.source(), *item.as_table(), item_path);
-        read_support_table(t, member, true, detail);
+        read_support_table(t, member, theory, true, detail);
         at = t.required_number("at", inside);
       } else {
         at = s.number_at(item, item_path, inside);
@@ -1263,7 +1296,7 @@ Scene parse_scene(std::string_view toml_text, std::string source_name) {
   check_schema(root, source);
   scene.structure = read_structure(root.required_section("structure"));
   const Member member{scene.begin(), scene.end(), scene.structure.kind == StructureKind::arch};
-  scene.supports = read_supports(root.required_section("supports"), member);
+  scene.supports = read_supports(root.required_section("supports"), member, scene.structure.theory);
   scene.foundation = read_foundation(root.required_section("foundation"), member, scene.warnings);
   if (const toml::node* loads = root.find("loads")) {
     const toml::array& array = *loads->as_array();  // the shape is checked above
@@ -1271,6 +1304,10 @@ Scene parse_scene(std::string_view toml_text, std::string source_name) {
       const Section load(source, *array.get(i)->as_table(), fmt::format("loads[{}]", i));
       scene.loads.push_back(read_load(load, member));
       const Load& read = scene.loads.back();
+      if ((read.kind == LoadKind::axial || read.kind == LoadKind::temperature) &&
+          scene.structure.theory == Theory::von_karman)
+        load.wrong("kind", "a transverse load with theory = \"von_karman\"",
+                   "a given axial force and the membrane force from the deflection are not combined yet");
       if (read.kind == LoadKind::temperature && !scene.structure.axial_stiffness)
         load.fail("kind",
                   "expected [structure] EA for a temperature load (N = EA alpha dT of a fully axially "

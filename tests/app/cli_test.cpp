@@ -825,3 +825,56 @@ TEST_CASE("cli: an axial force reports its force and the initial shape; an unsta
   CHECK(ritz.status == 5);
   CHECK(nlohmann::json::parse(ritz.out)["termination"] == "unstable_equilibrium");
 }
+
+TEST_CASE("cli: a von Karman scene is read, then refused by solve, sweep, trace and envelope: exit 2, one line",
+          "[app][von_karman]") {
+  // Issue 16's shallow arch (verification/dolfinx/scenes/issue16/): a valid scene that no solver
+  // honours yet (app/theory_gate.hpp), refused before any work, nothing written.
+  std::ifstream in(std::string(LIFTOFF_SOURCE_DIR) +
+                   "/verification/dolfinx/scenes/issue16/shallow_arch_tensionless.toml");
+  REQUIRE(in);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  Scratch scratch;
+  const fs::path scene = scratch.write("arch.toml", text +
+                                                        "\n[trace]\nlambda_max = 1.0\n\n[[combinations]]\nname = "
+                                                        "\"ULS\"\nfactors = { live = 1.5 }\n");
+  const fs::path output = scratch.dir / "out.h5";
+  const auto refusal = [&](const std::string& command) {
+    return "liftoff: " + scene.string() +
+           ": key 'structure.theory': theory = \"von_karman\" is read but no solver honours it yet (liftoff " +
+           command + "); expected \"linear\" until one does\n";
+  };
+  const std::vector<std::pair<std::string, std::vector<std::string>>> commands = {
+      {"solve", {"solve", scene.string(), "--output", output.string()}},
+      {"solve", {"solve", scene.string(), "--method", "all", "--output", output.string()}},
+      {"solve", {"solve", scene.string(), "--method", "ritz"}},
+      {"sweep", {"sweep", scene.string(), "--set", "loads[0].value=1,2", "--output", output.string()}},
+      {"trace", {"trace", scene.string(), "--output", output.string()}},
+      {"envelope", {"envelope", scene.string(), "--hdf5", output.string()}},
+  };
+  for (const auto& [command, args] : commands) {
+    CAPTURE(args);
+    const Run r = run_cli(args);
+    CHECK(r.status == 2);
+    CHECK(r.out.empty());
+    CHECK(r.err == refusal(command));
+    CHECK_FALSE(fs::exists(output));
+  }
+  // --json: the one failure object, bad input.
+  const Run json = run_cli({"solve", scene.string(), "--json"});
+  CHECK(json.status == 2);
+  const nlohmann::json j = nlohmann::json::parse(json.out);
+  CHECK(j["termination"] == "bad_input");
+  CHECK_THAT(j["message"].get<std::string>(), Catch::Matchers::Contains("key 'structure.theory'"));
+  // The same member under linear theory (no axial restraints to read) solves: the refusal is the theory's.
+  std::string linear = text;
+  linear.replace(linear.find("theory = \"von_karman\""), 21, "theory = \"linear\"");
+  for (const std::string end : {"left", "right"}) {
+    const std::string table = end + " = { kind = \"pinned\", axial = \"restrained\" }";
+    REQUIRE(linear.find(table) != std::string::npos);
+    linear.replace(linear.find(table), table.size(), end + " = \"pinned\"");
+  }
+  const Run solved = run_cli({"solve", scratch.write("linear.toml", linear).string()});
+  CAPTURE(solved.err);
+  CHECK(solved.status == 0);
+}
