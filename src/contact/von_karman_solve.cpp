@@ -316,7 +316,7 @@ VonKarmanResult VonKarmanSystem::solve(const VectorXd& load, const VonKarmanOpti
                          options.residual_tolerance * ev.size, it));
         return false;
       }
-      VonKarmanIteration record{set_index, residual, 1.0, 0.0, false};
+      VonKarmanIteration record{set_index, residual, ev.energy, 1.0, 0.0, false};
       VectorXd rhs = VectorXd::Zero(n + m);
       rhs.head(n) = -ev.residual;
       VectorXd p;

@@ -86,6 +86,7 @@ std::string_view to_string(VonKarmanTermination);
 struct VonKarmanIteration {
   int contact_set = 0;    // which set (0, 1, ...) the step was taken on
   double residual = 0.0;  // |R|_inf before the step
+  double energy = 0.0;    // Pi on the set before the step
   double step = 0.0;      // the step length taken (1: the full Newton step)
   double shift = 0.0;     // mu (0: the Newton step itself)
   bool gradient_step = false;

@@ -184,3 +184,199 @@ TEST_CASE("von Karman solve: a sinusoidal shallow arch on a bilateral foundation
     }
   }
 }
+
+namespace {
+
+// A restrained beam on k = 100 under a dead load pressing it on (50 on the whole span) and a live
+// load lifting its right half (50 lambda upward there): every node in contact at small lambda,
+// the right half lifting beyond some lambda.
+model::MemberModel lifting_beam(bool tensionless) {
+  model::MemberModel m = member(100.0, tensionless, 1e4);
+  model::MemberLoad dead, live;
+  dead.kind = live.kind = model::LoadKind::uniform;
+  dead.value = 50.0, dead.from = 0.0, dead.to = 1.0, dead.load_case = model::LoadCase::dead;
+  live.value = -50.0, live.from = 0.5, live.to = 1.0;
+  m.loads = {dead, live};
+  return m;
+}
+
+// w at xi in element e (Hermite), from the nodal w and w'.
+double w_at(const fe::Discretisation& d, const VonKarmanResult& r, int e, double xi) {
+  const Eigen::Vector4d shape = fe::hermite_cubic(xi, d.mesh.element_size(e)).value;
+  return shape[0] * r.w[e] + shape[1] * r.theta[e] + shape[2] * r.w[e + 1] + shape[3] * r.theta[e + 1];
+}
+
+}  // namespace
+
+TEST_CASE("von Karman solve: tensionless is bilateral below the first lift-off, and differs beyond it",
+          "[contact][von_karman]") {
+  const model::MemberModel bilateral_model = lifting_beam(false), tensionless_model = lifting_beam(true);
+  const fe::Discretisation bd = fe::discretise(bilateral_model, 32), td = fe::discretise(tensionless_model, 32);
+  const VonKarmanSystem bilateral(bilateral_model, bd), tensionless(tensionless_model, td);
+  for (double lambda : {0.5, 3.0}) {
+    const VonKarmanResult b = bilateral.solve(lambda, VonKarmanOptions{});
+    const VonKarmanResult t = tensionless.solve(lambda, VonKarmanOptions{});
+    CAPTURE(lambda, b.message, t.message);
+    REQUIRE(b.is_usable());
+    REQUIRE(t.is_usable());
+    CHECK(t.stable);
+    const double largest_w = b.w.cwiseAbs().maxCoeff(), largest_r = b.reaction.cwiseAbs().maxCoeff();
+    if (b.reaction.minCoeff() > 0.0) {
+      // Below the event: the bilateral answer pulls nowhere, so it is the tensionless one (same set,
+      // same iterates: equal to round-off).
+      CHECK(lambda == 0.5);
+      CHECK(std::all_of(t.in_contact.begin(), t.in_contact.end(), [](bool c) { return c; }));
+      CHECK((t.x - b.x).lpNorm<Eigen::Infinity>() <= 1e-12 * b.x.lpNorm<Eigen::Infinity>());
+      continue;
+    }
+    CHECK(lambda == 3.0);
+    // Beyond it: the bilateral answer pulls; the tensionless one meets every inequality at every
+    // reaction node (r >= 0, gap >= 0, r gap = 0 to round-off) and is another answer.
+    CHECK(b.reaction.minCoeff() < -1e-3 * largest_r);
+    CHECK(std::count(t.in_contact.begin(), t.in_contact.end(), false) >= 4);
+    const double r_scale = t.reaction.cwiseAbs().maxCoeff(), w_scale = t.w.cwiseAbs().maxCoeff();
+    CHECK(t.reaction.minCoeff() >= -1e-12 * r_scale);
+    CHECK(t.gap.minCoeff() >= -1e-12 * w_scale);
+    CHECK(t.reaction.cwiseProduct(t.gap).cwiseAbs().maxCoeff() <= 1e-12 * r_scale * w_scale);
+    CHECK((t.w - b.w).cwiseAbs().maxCoeff() > 0.02 * largest_w);  // 5 % here, round-off 1e-12
+    // At samples: the reaction (hat functions of r >= 0) cannot pull; where an element and its
+    // neighbours are lifted (no reaction at their nodes) the beam stays off the foundation, w <= 0.
+    int lifted_samples = 0;
+    for (int e = 1; e + 1 < td.mesh.elements(); ++e) {
+      const auto ends = td.element_reactions(e), before = td.element_reactions(e - 1),
+                 after = td.element_reactions(e + 1);
+      if (t.reaction[ends[0]] != 0.0 || t.reaction[ends[1]] != 0.0 || t.reaction[before[0]] != 0.0 ||
+          t.reaction[after[1]] != 0.0)
+        continue;
+      for (int k = 0; k <= 8; ++k) {
+        CHECK(w_at(td, t, e, k / 8.0) <= 0.0);
+        ++lifted_samples;
+      }
+    }
+    CHECK(lifted_samples > 0);
+  }
+}
+
+TEST_CASE("von Karman solve: small loads reproduce the linear FE answer (`fast`) to O(load^2)",
+          "[contact][von_karman]") {
+  // A straight restrained beam on a stiff tensionless foundation under a central point force: the
+  // deflection's lobes lift off near the ends. Linear theory ignores the membrane; von Karman adds
+  // N ~ EA w^2 and a force N w'' ~ w^3: relative differences fall like the load squared.
+  model::MemberModel m = member(1e4, true, 1e4);
+  model::MemberLoad force;
+  force.kind = model::LoadKind::force;
+  force.at = 0.5;
+  force.value = 1.0;
+  m.loads = {force};
+  const fe::Discretisation d = fe::discretise(m, 40);
+  const VonKarmanSystem system(m, d);
+  std::vector<double> departure;
+  for (double p : {3.0, 1.5, 0.75}) {
+    const contact::ActiveSetResult linear = contact::solve_active_set(d, p * d.load(1.0), contact::ActiveSetOptions{});
+    REQUIRE(linear.summary.is_usable());
+    const VonKarmanResult r = system.solve(p, VonKarmanOptions{});
+    CAPTURE(p, r.message);
+    REQUIRE(r.is_usable());
+    CHECK(r.in_contact == linear.in_contact);
+    CHECK(std::count(r.in_contact.begin(), r.in_contact.end(), false) >= 2);
+    const VectorXd w = r.x.head(d.equations);
+    departure.push_back((w - linear.state.displacement).lpNorm<Eigen::Infinity>() /
+                        linear.state.displacement.lpNorm<Eigen::Infinity>());
+  }
+  CAPTURE(departure);
+  CHECK(departure[0] < 0.05);
+  for (std::size_t i = 0; i + 1 < departure.size(); ++i)
+    CHECK(std::log2(departure[i] / departure[i + 1]) == Approx(2.0).margin(0.05));
+}
+
+namespace {
+
+// The one-mode state w = A sin(pi s) of the arch w0 = -rise sin(pi s) on the unknowns, with the u
+// that makes the membrane strain constant: u' = eps - w0' w' - w'^2 / 2 (the element test's).
+VectorXd one_mode(const fe::Discretisation& d, const VonKarmanSystem& system, double amplitude, double rise) {
+  VectorXd x = VectorXd::Zero(system.unknowns());
+  for (int node = 0; node < static_cast<int>(d.mesh.nodes.size()); ++node) {
+    const double s = d.mesh.nodes[node];
+    const int w = d.equation_of_dof[d.deflection_dof(node)], slope = d.equation_of_dof[d.slope_dof(node)],
+              u = system.axial_unknown(node);
+    if (w >= 0) x[w] = amplitude * std::sin(pi * s);
+    if (slope >= 0) x[slope] = amplitude * pi * std::cos(pi * s);
+    if (u >= 0) x[u] = -(pi / 4) * (amplitude * amplitude / 2 - rise * amplitude) * std::sin(2 * pi * s);
+  }
+  return x;
+}
+
+}  // namespace
+
+TEST_CASE("von Karman solve: beyond a limit point the energy line search makes progress where plain Newton does not",
+          "[contact][von_karman]") {
+  closed_form::ShallowArch arch;  // the arch of the symmetric-path test: limit points, no bifurcation
+  arch.axial_stiffness = 1e4;
+  arch.rise = 4.0 * arch.radius_of_gyration();
+  arch.foundation_modulus = 2.0 * pi4;
+  const auto analysis = closed_form::analyse(arch);
+  const double lambda_limit = analysis.upper_limit.load;
+  const model::MemberModel m = member(arch.foundation_modulus, false, arch.axial_stiffness, arch.rise);
+  const fe::Discretisation d = fe::discretise(m, 16);
+  const VonKarmanSystem system(m, d);
+  VonKarmanOptions plain;
+  plain.globalisation = contact::VonKarmanGlobalisation::none;
+
+  SECTION("a load step across the limit point: from the state at 0.99 lambda_L to 1.02 lambda_L") {
+    // The only equilibrium at 1.02 lambda_L is the snapped one (one root of the cubic), far from
+    // the start; the tangent at the start is nearly singular (the limit point is 1 % away).
+    const VonKarmanResult before = system.solve(sine_load(d, system, 0.99 * lambda_limit), VonKarmanOptions{});
+    REQUIRE(before.is_usable());
+    const double lambda = 1.02 * lambda_limit;
+    const std::vector<double> roots = closed_form::symmetric_deflections(arch, lambda);
+    REQUIRE(roots.size() == 1);
+    const VectorXd load = sine_load(d, system, lambda);
+    const VonKarmanResult searched = system.solve(load, VonKarmanOptions{}, before.x);
+    const VonKarmanResult newton = system.solve(load, plain, before.x);
+    CAPTURE(searched.message, newton.message, searched.history.size(), newton.history.size());
+    REQUIRE(searched.is_usable());
+    CHECK(searched.stable);
+    // The snapped state, to the discretisation's error at n = 16 (order 4: 1e-5 or below here).
+    CHECK(std::abs(midspan(searched) - roots.front()) <= 1e-4 * roots.front());
+    CHECK(midspan(searched) > 2 * midspan(before));
+    // Every step decreased the energy (the line search's guarantee; the Newton steps taken near the
+    // answer, where Pi's change is below its round-off, are allowed to leave it equal).
+    for (std::size_t i = 0; i + 1 < searched.history.size(); ++i)
+      CHECK(searched.history[i + 1].energy <=
+            searched.history[i].energy + 1e-13 * std::abs(searched.history[i].energy));
+    CHECK(searched.history.size() <= 10);
+    // Plain Newton wanders: its full steps overshoot along the near-null direction and it needs
+    // over four times the steps (44 against 9 here); with the same budget it ends in
+    // iteration_limit, a termination, never a wrong `solved`.
+    REQUIRE(newton.is_usable());
+    CHECK(newton.history.size() >= 4 * searched.history.size());
+    VonKarmanOptions budget = plain;
+    budget.max_newton_iterations = 10;
+    const VonKarmanResult limited = system.solve(load, budget, before.x);
+    CHECK(limited.termination == VonKarmanTermination::iteration_limit);
+    CHECK_FALSE(limited.is_usable());
+  }
+
+  SECTION("a start at the unstable middle branch: plain Newton stays on it, the line search leaves it") {
+    const double lambda = 0.95 * lambda_limit;
+    const std::vector<double> roots = closed_form::symmetric_deflections(arch, lambda);
+    REQUIRE(roots.size() == 3);
+    const VectorXd load = sine_load(d, system, lambda);
+    const VectorXd start = one_mode(d, system, roots[1], arch.rise);
+    const VonKarmanResult newton = system.solve(load, plain, start);
+    const VonKarmanResult searched = system.solve(load, VonKarmanOptions{}, start);
+    CAPTURE(newton.message, searched.message, roots[0], roots[1], roots[2], midspan(newton), midspan(searched));
+    // Plain Newton converges to the unstable equilibrium and says so (stable = false).
+    REQUIRE(newton.is_usable());
+    CHECK(std::abs(midspan(newton) - roots[1]) <= 1e-4 * roots[1]);
+    CHECK_FALSE(newton.stable);
+    // The shifted Newton steps descend off the saddle to a stable state on one of the outer branches.
+    REQUIRE(searched.is_usable());
+    CHECK(searched.stable);
+    const double to_outer =
+        std::min(std::abs(midspan(searched) - roots[0]) / roots[0], std::abs(midspan(searched) - roots[2]) / roots[2]);
+    CHECK(to_outer <= 1e-4);
+    CHECK(std::any_of(searched.history.begin(), searched.history.end(),
+                      [](const contact::VonKarmanIteration& it) { return it.shift > 0.0; }));
+  }
+}
