@@ -22,24 +22,31 @@
 // whether S is positive definite (Sylvester: S > 0 iff the factor has exactly |A| negative pivots).
 // Where it is not (past a limit point, on an unstable branch) K_t is shifted by mu diag|K_t| with
 // mu raised tenfold until it is (a modified Newton step, always a descent direction); the step
-// length then comes from Armijo backtracking on Pi_A; a direction that is still not a descent
-// direction in floating point is replaced by the gradient direction -R. An outer loop over contact
-// sets does what the `fast` solver does (contact/active_set_solver.hpp): after the set's
-// equilibrium, reactions that pull are released and inactive nodes with a negative gap are added
-// (block steps); a set seen before switches to single flips of the worst node, and a set seen
-// again after that ends the solve as `contact_cycling`.
+// length then comes from Armijo backtracking on Pi_A. A direction that is still not a descent
+// direction in floating point is replaced by the scaled gradient -D^-1 R (D = diag|K_t|). An
+// energy line search rather than KINSOL's: the first step from zero raises |R| (the membrane
+// strain w'^2 / 2 is not yet relieved by u) while it lowers the energy, and backtracking on |R|
+// crawls there (fe/von_karman_element_test.cpp's note).
+// The outer loop over contact sets does what the `fast` solver does
+// (contact/active_set_solver.hpp): after the set's equilibrium, reactions that pull are released
+// and inactive nodes with a negative gap are added (block steps); a set seen before switches to
+// single flips of the worst node, and a set seen again after that ends the solve as
+// `contact_cycling`.
 //
-// What is guaranteed. Per inner step: Pi_A decreases (Armijo), so the inner iteration cannot
-// cycle or blow up; near a solution with S positive definite the full step is taken and the
-// convergence is quadratic (the tangent is consistent; the history shows it). There is no global
-// guarantee: the energy is not convex, so the equilibrium found is a local minimum of Pi_A (a
-// stable state for its set) reached from the start, which past a limit point depends on the start
-// (the load path): the path driver passes the previous step's answer. The outer loop has no
-// finite-termination proof (the contact problem is not an LCP with a P-matrix any more); it is
+// What is guaranteed. Per inner step: Pi_A decreases (Armijo), or, for a full unshifted Newton
+// step only, |R| halves (near the answer Pi's change falls below its round-off while |R| still
+// measures progress); so the inner iteration cannot cycle or run away. Near a solution with S
+// positive definite the full step is taken and the convergence is quadratic (the tangent is
+// consistent; the history shows it). There is no global guarantee: the energy is not convex, so
+// the equilibrium found is a local minimum of Pi_A (a stable state for its set) reached from the
+// start, which past a limit point depends on the start (the load path): the path driver passes
+// the previous step's answer (`start`, and its contact set). The outer loop has no
+// finite-termination proof (the contact problem is no longer an LCP with a P-matrix); it is
 // bounded by max_contact_sets and the cycle guard. Every failure is a termination other than
 // `solved`, with a reason; `solved` is returned only when the residual is below the tolerance and
 // every sign holds. With globalisation = none the inner loop is plain Newton (full steps, no
-// shift): for comparison, and for a caller that wants an unstable equilibrium near its start.
+// shift, a sparse LU): for comparison, and for a caller that wants the equilibrium nearest its
+// start, stable or not (VonKarmanResult::stable says which).
 
 #include <Eigen/Dense>
 #include <string>

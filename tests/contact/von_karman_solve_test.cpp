@@ -380,3 +380,65 @@ TEST_CASE("von Karman solve: beyond a limit point the energy line search makes p
                       [](const contact::VonKarmanIteration& it) { return it.shift > 0.0; }));
   }
 }
+
+TEST_CASE("von Karman solve: an axially free end carries no membrane force, so the answer is the linear one",
+          "[contact][von_karman]") {
+  // One end free (N = 0 then, whatever w), or both (u's rigid motion fixed as a gauge): the straight
+  // beam is the linear beam, and the tensionless answer is `fast`'s to round-off, with u = -int w'^2 / 2.
+  for (const auto& [left, right] : {std::pair{true, false}, std::pair{false, false}}) {
+    model::MemberModel m = member(1e4, true, 1e4);
+    m.left_axially_restrained = left;
+    m.right_axially_restrained = right;
+    model::MemberLoad force;
+    force.kind = model::LoadKind::force;
+    force.at = 0.5;
+    force.value = 30.0;  // ten times the largest load of the small-load test: far from linear if restrained
+    m.loads = {force};
+    const fe::Discretisation d = fe::discretise(m, 40);
+    const VonKarmanSystem system(m, d);
+    CHECK(system.unknowns() == d.equations + 40);  // 41 nodes, one u fixed: restrained or the gauge
+    const VonKarmanResult r = system.solve(1.0, VonKarmanOptions{});
+    const contact::ActiveSetResult linear = contact::solve_active_set(d, d.load(1.0), contact::ActiveSetOptions{});
+    CAPTURE(left, right, r.message);
+    REQUIRE(r.is_usable());
+    REQUIRE(linear.summary.is_usable());
+    CHECK(r.in_contact == linear.in_contact);
+    const double size = linear.state.displacement.lpNorm<Eigen::Infinity>();
+    CHECK((r.x.head(d.equations) - linear.state.displacement).lpNorm<Eigen::Infinity>() <= 1e-10 * size);
+    for (double n : r.normal_force) CHECK(std::abs(n) <= 1e-8 * 1e4 * size * size);
+    CHECK(r.u[0] == 0.0);
+    CHECK(r.u[40] < 0.0);  // the free end moves in as the beam bends
+  }
+}
+
+TEST_CASE("von Karman solve: bad input is refused with a message", "[contact][von_karman]") {
+  const model::MemberModel good = member(100.0, true, 1e4);
+  const fe::Discretisation d = fe::discretise(good, 8);
+  model::MemberModel linear = good;
+  linear.theory = model::Theory::linear;
+  CHECK_THROWS_AS(VonKarmanSystem(linear, d), std::invalid_argument);
+  model::MemberModel no_membrane = good;
+  no_membrane.membrane_stiffness = 0.0;
+  CHECK_THROWS_AS(VonKarmanSystem(no_membrane, d), std::invalid_argument);
+  model::MemberModel axial = good;
+  axial.axial_dead = 1.0;
+  CHECK_THROWS_AS(VonKarmanSystem(axial, d), std::invalid_argument);
+  model::MemberModel arch = good;
+  arch.kind = model::StructureKind::arch;
+  CHECK_THROWS_AS(VonKarmanSystem(arch, d), std::invalid_argument);
+  const VonKarmanSystem system(good, d);
+  CHECK_THROWS_AS(system.solve(VectorXd::Zero(3), VonKarmanOptions{}), std::invalid_argument);
+  CHECK_THROWS_AS(system.solve(1.0, VonKarmanOptions{}, VectorXd::Zero(2)), std::invalid_argument);
+  CHECK_THROWS_AS(system.solve(1.0, VonKarmanOptions{}, {}, std::vector<bool>(2, true)), std::invalid_argument);
+  for (auto spoil : std::vector<void (*)(VonKarmanOptions&)>{
+           [](VonKarmanOptions& o) { o.max_newton_iterations = 0; },
+           [](VonKarmanOptions& o) { o.residual_tolerance = -1.0; }, [](VonKarmanOptions& o) { o.armijo = 0.7; },
+           [](VonKarmanOptions& o) { o.sign_tolerance = std::nan(""); },
+           [](VonKarmanOptions& o) { o.max_contact_sets = 0; }}) {
+    VonKarmanOptions o;
+    spoil(o);
+    CHECK_THROWS_AS(o.validate(), std::invalid_argument);
+    CHECK_THROWS_AS(system.solve(1.0, o), std::invalid_argument);
+  }
+  CHECK(contact::to_string(VonKarmanTermination::contact_cycling) == "contact_cycling");
+}
