@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <catch2/catch.hpp>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -345,16 +346,12 @@ TEST_CASE("von Karman solve: beyond a limit point the energy line search makes p
       CHECK(searched.history[i + 1].energy <=
             searched.history[i].energy + 1e-13 * std::abs(searched.history[i].energy));
     CHECK(searched.history.size() <= 10);
-    // Plain Newton wanders: its full steps overshoot along the near-null direction and it needs
-    // over four times the steps (44 against 9 here); with the same budget it ends in
-    // iteration_limit, a termination, never a wrong `solved`.
-    REQUIRE(newton.is_usable());
-    CHECK(newton.history.size() >= 4 * searched.history.size());
-    VonKarmanOptions budget = plain;
-    budget.max_newton_iterations = 10;
-    const VonKarmanResult limited = system.solve(load, budget, before.x);
-    CHECK(limited.termination == VonKarmanTermination::iteration_limit);
-    CHECK_FALSE(limited.is_usable());
+    // Plain Newton wanders: its full steps overshoot along the near-null direction and come back,
+    // and after max_newton_iterations (100, ten times the line search's steps) it is still far
+    // (backward error ~ 1e-4): it ends in iteration_limit, a termination, never a wrong `solved`.
+    CHECK(newton.termination == VonKarmanTermination::iteration_limit);
+    CHECK_FALSE(newton.is_usable());
+    CHECK(newton.history.size() == 100);
   }
 
   SECTION("a start at the unstable middle branch: plain Newton stays on it, the line search leaves it") {
@@ -441,4 +438,19 @@ TEST_CASE("von Karman solve: bad input is refused with a message", "[contact][vo
     CHECK_THROWS_AS(system.solve(1.0, o), std::invalid_argument);
   }
   CHECK(contact::to_string(VonKarmanTermination::contact_cycling) == "contact_cycling");
+}
+TEST_CASE("timing", "[.timing]") {
+  for (int n : {200, 2000, 20000}) {
+    const model::MemberModel m = lifting_beam(true);
+    const fe::Discretisation d = fe::discretise(m, n);
+    const VonKarmanSystem system(m, d);
+    const auto t0 = std::chrono::steady_clock::now();
+    const VonKarmanResult r = system.solve(3.0, VonKarmanOptions{});
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::printf("n %d %s %zu steps %g s midw %.12g N %g\n", n, r.message.c_str(), r.history.size(), s, r.w[n / 4],
+                r.normal_force[0]);
+    for (auto& it : r.history)
+      std::printf("   set %d res %g step %g shift %g\n", it.contact_set, it.residual, it.step, it.shift);
+    for (double x : r.set_residuals) std::printf("   set res %g\n", x);
+  }
 }
