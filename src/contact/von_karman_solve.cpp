@@ -71,6 +71,7 @@ void VonKarmanOptions::validate() const {
   positive(residual_tolerance, "residual_tolerance");
   positive(initial_shift, "initial_shift");
   positive(sign_tolerance, "sign_tolerance");
+  positive(max_error, "max_error");
   if (!(armijo > 0.0 && armijo < 0.5)) throw std::invalid_argument("armijo must be in (0, 0.5)");
 }
 
@@ -90,6 +91,8 @@ std::string_view to_string(VonKarmanTermination t) {
       return "contact_cycling";
     case VonKarmanTermination::contact_set_limit:
       return "contact_set_limit";
+    case VonKarmanTermination::inaccurate:
+      return "inaccurate";
   }
   return "unknown";
 }
@@ -479,9 +482,23 @@ VonKarmanResult VonKarmanSystem::solve(const VectorXd& load, const VonKarmanOpti
   }
   result.normal_force = normal_forces(result.x);
   if (result.is_usable()) {
+    // Stability from the inertia; the error from one more Newton correction, which at a converged
+    // answer is what the residual's round-off moves it by (the primal K's condition grows like h^-4).
     const Evaluation ev = evaluate(result.x, load, set, true);
-    Eigen::SimplicialLDLT<SparseMatrix> ldlt(evaluate.saddle(ev, set, 0.0, nullptr));
+    const SparseMatrix a = evaluate.saddle(ev, set, 0.0, nullptr);
+    Eigen::SimplicialLDLT<SparseMatrix> ldlt(a);
     result.stable = positive_definite(ldlt, set.size());
+    Eigen::SparseLU<SparseMatrix> lu(a);
+    VectorXd rhs = VectorXd::Zero(a.rows());
+    rhs.head(n) = -ev.residual;
+    const double size = std::max(result.x.lpNorm<Eigen::Infinity>(), std::numeric_limits<double>::min());
+    result.error_estimate = lu.info() == Eigen::Success ? lu.solve(rhs).head(n).lpNorm<Eigen::Infinity>() / size
+                                                        : std::numeric_limits<double>::infinity();
+    if (!(result.error_estimate <= options.max_error))
+      fail(VonKarmanTermination::inaccurate,
+           fmt::format("the answer's estimated relative error {:.1e} exceeds max_error {:.1e}: round-off of the "
+                       "primal system on {} elements (its condition grows like h^-4); use fewer elements",
+                       result.error_estimate, options.max_error, d.mesh.elements()));
   }
   return result;
 }
