@@ -36,7 +36,7 @@
 // of degree <= 3, so at given deflections the P4 (Legendre) part of beta^2 / 2 on the element
 // stays as a spurious membrane strain, ~ (beta'' h^2)^2 / 560 P4(xi) as in the von Karman beam
 // with a quartic u (von_karman_element.hpp), falling like h^4 against the physical beta^2 / 2 (the
-// test measures the assembled arch against the von Karman beam at EA R^2 / EI up to 1e6).
+// test measures the assembled arch against the von Karman beam at EA R^2 / EI = 5e4 and 8e5).
 //
 // Quadrature: the 5-point Gauss rule of ArchElement. It is exact for the linear part (degree 6);
 // for the nonlinear terms (degree up to 16) it defines the energy, with an error ~ h^10 relative
