@@ -16,11 +16,12 @@
 // Green strain of the centre line is e + (e^2 + beta^2) / 2 with e = u' - sigma w the linear
 // stretch and beta the rotation of the tangent; moderate rotations drop e^2 against beta^2
 // (e ~ beta^2 << beta) and keep the curvature change linear. Donnell's shallow form also drops u
-// from beta (u ~ (rise / span) w' in a shallow arch); keeping it, as here, makes the rigid
-// rotation about the centre, u = sin c, sigma w = 1 - cos c, strain free to second order:
-// eps = -(1 - cos c)^2 / 2 = O(c^4), chi = 0 (the tests check it), while the first-order rotation
-// u = c, w = 0 stretches the arch by exactly eps = c^2 / 2, as a straight von Karman beam is
-// stretched by an unshortened rotation.
+// from beta: in a shallow arch of half-angle alpha a nearly inextensional u (u' = sigma w) is
+// ~ alpha w against w' ~ w / alpha, so u / w' ~ alpha^2 ~ 16 (rise / span)^2; keeping it, as here,
+// makes the rigid rotation about the centre, u = sin c, sigma w = 1 - cos c, strain free to
+// second order: eps = -(1 - cos c)^2 / 2 = O(c^4), chi = 0 (the tests check it), while the
+// first-order rotation u = c, w = 0 stretches the arch by exactly eps = c^2 / 2, as a straight
+// von Karman beam is stretched by an unshortened rotation.
 //
 // What the model neglects: rotations are moderate (beta^2 small against 1; the linear stretch's
 // square e^2 against beta^2), Euler-Bernoulli (no shear), the curvature change linear; loads and
@@ -39,10 +40,10 @@
 // test measures the assembled arch against the von Karman beam at EA R^2 / EI = 5e4 and 8e5).
 //
 // Quadrature: the 5-point Gauss rule of ArchElement. It is exact for the linear part (degree 6);
-// for the nonlinear terms (degree up to 16) it defines the energy, with an error ~ h^10 relative
-// for smooth fields. f_int and K_t are the exact derivatives of that energy. With the rows
-// a (eps_lin = a q), r (beta = r q), c (chi = c q) of the local dofs q at each point, and
-// b = a + beta r = d eps / d q:
+// for the nonlinear terms (degree up to 16) it defines the energy, off the exact integral by
+// h^11 times the integrand's tenth derivative, up to a constant. f_int and K_t are the exact derivatives of that
+// energy. With the rows a (eps_lin = a q), r (beta = r q), c (chi = c q) of the local dofs q at each point, and b = a +
+// beta r = d eps / d q:
 //   f_int = sum_g W_g h (EA eps b^T + chi c^T),
 //   K_t   = sum_g W_g h (EA b^T b + c^T c + EA eps r^T r),
 // symmetric (f_int has a potential; K_t is symmetrised to the last bit). At q = 0, K_t is
