@@ -42,8 +42,8 @@ closed_form::ShallowArch reference() {
   return arch;
 }
 
-scene::Scene arch_scene() {
-  scene::Scene s = test::beam_scene(1.0, 1.0, scene::EndSupport::pinned, scene::EndSupport::pinned, k, false);
+scene::Scene arch_scene(bool tensionless = false) {
+  scene::Scene s = test::beam_scene(1.0, 1.0, scene::EndSupport::pinned, scene::EndSupport::pinned, k, tensionless);
   s.ritz.topology = {true};  // bilateral: one piece, in contact
   s.ritz.modes = 16;
   return s;
@@ -131,4 +131,32 @@ TEST_CASE("Ritz path, von Karman: the shallow arch snaps through at the closed f
   }
   CHECK(stable > 2);
   CHECK(unstable > 2);
+}
+
+TEST_CASE("Ritz path, von Karman: on a tensionless foundation the symmetric snap-through is the bilateral one",
+          "[continuation][ritz][von_karman]") {
+  // On the symmetric path w = A1 sin(pi s) >= 0 for every lambda >= 0 (shallow_arch.hpp, item 3):
+  // no contact event, and the tensionless path is the bilateral path step for step.
+  TraceOptions options;
+  options.arc_length.lambda_min = 0.0;
+  options.arc_length.lambda_max = 1.3 * closed_form::analyse(reference()).upper_limit.load;
+  options.arc_length.initial_step = 0.25;
+  options.arc_length.max_step = 0.5;
+  options.monitor = 0.5;
+  const scene::Scene bilateral_scene = arch_scene(false), tensionless_scene = arch_scene(true);
+  const TraceResult bilateral = trace_ritz(bilateral_scene, arch_member(bilateral_scene), options);
+  const TraceResult tensionless = trace_ritz(tensionless_scene, arch_member(tensionless_scene), options);
+  INFO(tensionless.summary.message);
+  REQUIRE(tensionless.summary.termination == TraceTermination::completed);
+  REQUIRE(tensionless.events.size() == bilateral.events.size());
+  for (std::size_t i = 0; i < tensionless.events.size(); ++i) {
+    CHECK(tensionless.events[i].kind == EventKind::limit_point);
+    CHECK(tensionless.events[i].load_factor == Approx(bilateral.events[i].load_factor).epsilon(1e-12));
+  }
+  REQUIRE(tensionless.steps.size() == bilateral.steps.size());
+  for (std::size_t i = 0; i < tensionless.steps.size(); ++i) {
+    CHECK(tensionless.steps[i].load_factor == Approx(bilateral.steps[i].load_factor).epsilon(1e-12));
+    CHECK(tensionless.steps[i].monitor_deflection == Approx(bilateral.steps[i].monitor_deflection).epsilon(1e-12));
+    CHECK(tensionless.steps[i].contact_regions.size() == 1);
+  }
 }
