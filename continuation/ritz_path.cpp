@@ -7,7 +7,8 @@
 //     between accepted steps, evaluates the event functions (below), locates the first that
 //     changed sign to event_tolerance in lambda and stops the driver there;
 //  3. switch: the topology the event implies, a first equilibrium in it, and back to 2.
-// Beam-columns also watch, between accepted steps, the sign of t_lambda (a fold: limit_point)
+// Beam-columns (and von Karman beams, whose membrane term makes the energy non-convex as well)
+// also watch, between accepted steps, the sign of t_lambda (a fold: limit_point)
 // and of stability_margin without a fold (a bifurcation); at a bifurcation that loses the
 // stability the path may leave for the bifurcated branch (switch_branch, below) and go back to 2
 // in that branch's topology.
@@ -53,6 +54,7 @@
 #include <limits>
 #include <optional>
 #include <stdexcept>
+#include <utility>
 
 #include "contact/contact_solver.hpp"
 #include "continuation/arclength.hpp"
@@ -148,8 +150,8 @@ constexpr double inequality_tolerance = 1e-9;
 
 class RitzTracer {
  public:
-  RitzTracer(const scene::Scene& scene, const TraceOptions& options, const TraceSink& sink)
-      : scene_(scene), options_(options), sink_(sink), member_(model::make_member_model(scene)) {}
+  RitzTracer(const scene::Scene& scene, model::MemberModel member, const TraceOptions& options, const TraceSink& sink)
+      : scene_(scene), options_(options), sink_(sink), member_(std::move(member)) {}
 
   TraceResult run();
 
@@ -231,6 +233,11 @@ class RitzTracer {
   }
   bool end_supported(bool left) const;
   double user(double s) const { return member_.user_from_s(s); }
+  // The compressive force in user units (TraceStep::axial_force): the given axial force less the
+  // von Karman membrane force (tension > 0; zero without the term).
+  double compression(const RitzModel& model, const VectorXd& x, double lambda) const {
+    return (model.axial_force(lambda) - model.membrane_force(x)) * member_.scales.force();
+  }
 
   const scene::Scene& scene_;
   const TraceOptions& options_;
@@ -419,9 +426,9 @@ void RitzTracer::rescale(const RitzModel& model, PathPoint& p) {
   const int a = model.amplitudes();
   double scale = force_scale(model) / std::max(member_.k, 1.0);
   // (Beam-columns: only where the path starts; near a fold dx/dlambda grows without bound.)
-  if (p.tangent_lambda > 0 && (!model.has_axial_force() || amplitude_scale_ == 0.0))
+  if (p.tangent_lambda > 0 && (!model.can_lose_stability() || amplitude_scale_ == 0.0))
     scale = std::max(scale, lambda_size() * p.tangent_x.head(a).lpNorm<Eigen::Infinity>() / p.tangent_lambda);
-  if (model.has_axial_force() && amplitude_scale_ > 0.0) scale = std::max(scale, amplitude_scale_);
+  if (model.can_lose_stability() && amplitude_scale_ > 0.0) scale = std::max(scale, amplitude_scale_);
   if (!std::isfinite(scale)) return;  // keep the scale in use
   amplitude_scale_ = scale;
   const PathFollower follower = make_follower(model);
@@ -651,11 +658,11 @@ void RitzTracer::record_step(const RitzModel& model, const PathPoint& point, int
     step.reaction.push_back(model.reaction(point.x, s) * scales.force_per_length());
   }
   step.iterations = iterations;
-  step.axial_force = model.axial_force(point.lambda) * scales.force();
+  step.axial_force = compression(model, point.x, point.lambda);
   const Buckle b = buckle(model, point.x);
   step.amplitude = b.amplitude;
   step.lifted_length = b.lifted_length;
-  if (model.has_axial_force())  // without one the energy is convex: stable, unchecked (unknown)
+  if (model.can_lose_stability())  // else the energy is convex: stable, unchecked (unknown)
     step.stability =
         model.stability_margin(point.x, point.lambda) > 0.0 ? path::Stability::stable : path::Stability::unstable;
   step.state_topology =
@@ -812,8 +819,8 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
   std::vector<double> previous = values_at(start.x);
   double previous_scale = w_scale(model, start.x);
   // Beam-columns: stability_margin at the last accepted point (NaN: none).
-  double previous_margin = model.has_axial_force() ? model.stability_margin(start.x, start.lambda)
-                                                   : std::numeric_limits<double>::quiet_NaN();
+  double previous_margin = model.can_lose_stability() ? model.stability_margin(start.x, start.lambda)
+                                                      : std::numeric_limits<double>::quiet_NaN();
   const auto reject = [&](std::string why) {
     rejection_ = std::move(why);
     return ObserverVerdict::reject;
@@ -821,6 +828,15 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
 
   const auto observer = [&](const PathPoint& from, PathPoint& to) {
     const double ds = to.arclength - from.arclength;
+    // Von Karman: a shallow arch's path folds twice within a short stretch of x, and a long step
+    // near the first fold can land on the far stable branch (the corrector's hyperplane meets it),
+    // skipping both folds with t_lambda > 0 at either end. Lambda then moved against both
+    // tangents, which no smooth stretch of a branch does: the step is retried shorter.
+    if (model.has_membrane() && (from.tangent_lambda > 0) == (to.tangent_lambda > 0) &&
+        (to.lambda - from.lambda) * from.tangent_lambda < 0.0)
+      return reject(fmt::format(
+          "lambda moved from {:.10g} to {:.10g}, against the tangent at both ends: the step jumped across folds",
+          from.lambda, to.lambda));
     // A piece between two limits vanishing: its limits meet where lambda is largest, a singular
     // point of the regularised equations (w'(t) -> 0 at both, their rows alike) past which only
     // the mirror image continues (limits swapped, lambda falling). A step across it cannot be
@@ -852,7 +868,8 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
     // Beam-columns: a fold (t_lambda changes sign), located on t_lambda and recorded as a
     // limit_point event before the step (or the event) beyond it.
     std::optional<PathPoint> fold;
-    const bool axial = model.has_axial_force();
+    // (Von Karman's membrane term, like an axial force, makes the energy non-convex: "axial" below.)
+    const bool axial = model.can_lose_stability();
     if (axial && from.tangent_lambda != 0.0 && (from.tangent_lambda > 0) != (to.tangent_lambda > 0))
       fold = follower.locate(
           from, to, [](const PathPoint& p) { return p.tangent_lambda; }, tolerance);
@@ -864,9 +881,8 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
           fold->lambda, EventKind::limit_point, user(b.crown),
           fmt::format("limit_point: lambda reaches a {} at {:.10g}, axial force {:.6g}, amplitude {:.6g}, lifted "
                       "length {:.6g} ({})",
-                      maximum ? "maximum" : "minimum", fold->lambda,
-                      model.axial_force(fold->lambda) * member_.scales.force(), b.amplitude, b.lifted_length,
-                      to_string(model.topology()))};
+                      maximum ? "maximum" : "minimum", fold->lambda, compression(model, fold->x, fold->lambda),
+                      b.amplitude, b.lifted_length, to_string(model.topology()))};
       if (sink_.on_event) sink_.on_event(event);
       if (!limit_load_) limit_load_ = event;
       ++limit_points_;
@@ -910,8 +926,8 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
                                "lambda = {:.10g}, axial force {:.6g}: another branch crosses the path (amplitude "
                                "{:.6g}, lifted length {:.6g}, {}){}",
                                losing ? "stable" : "unstable", losing ? "unstable" : "stable", bifurcation->lambda,
-                               model.axial_force(bifurcation->lambda) * member_.scales.force(), b.amplitude,
-                               b.lifted_length, to_string(model.topology()), switched));
+                               compression(model, bifurcation->x, bifurcation->lambda), b.amplitude, b.lifted_length,
+                               to_string(model.topology()), switched));
       ++bifurcations_;
       bifurcation.reset();
       return branch_.has_value();
@@ -1236,7 +1252,7 @@ bool RitzTracer::switch_topology(const PathFollower& old_follower) {
     // amplitude part of either sense.
     // Beam-columns may switch on a falling branch: the new tangent keeps the old one's sense.
     std::optional<PathPoint> orientation;
-    if (candidate.has_axial_force()) {
+    if (candidate.can_lose_stability()) {
       PathPoint o;
       o.x = x;
       o.lambda = base.lambda;
@@ -1526,7 +1542,7 @@ TraceResult RitzTracer::run() {
     return fmt::format(
         "{} ({} rejected), {}, {} modes{}{}", count(static_cast<std::size_t>(result_.summary.steps), "step"),
         result_.summary.rejected_steps, count(result_.events.size(), "event"), modes_,
-        model_ && model_->has_axial_force()
+        model_ && model_->can_lose_stability()
             ? fmt::format(", {} limit point(s), {} bifurcation(s)", limit_points_, bifurcations_)
             : "",
         options_.resume_from
@@ -1595,7 +1611,13 @@ TraceResult RitzTracer::run() {
 }  // namespace
 
 TraceResult trace_ritz(const scene::Scene& scene, const TraceOptions& options, const TraceSink& sink) {
-  RitzTracer tracer(scene, options, sink);
+  RitzTracer tracer(scene, model::make_member_model(scene), options, sink);
+  return tracer.run();
+}
+
+TraceResult trace_ritz(const scene::Scene& scene, const model::MemberModel& member, const TraceOptions& options,
+                       const TraceSink& sink) {
+  RitzTracer tracer(scene, member, options, sink);
   return tracer.run();
 }
 

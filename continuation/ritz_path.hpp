@@ -26,7 +26,13 @@
 //   itself), with lambda growing along the path and no event stepped over. A step that is not
 //   is retried shorter; at min_step the path stops (solver_failure) and its message says which
 //   inequality failed where and by how much. The steps before stay valid. Without an axial force
-//   the path never turns back in lambda, so it reports no limit_point (nor bifurcation).
+//   or von Karman's membrane term the path never turns back in lambda, so it reports no
+//   limit_point (nor bifurcation).
+// - Von Karman beams (RitzModel::has_membrane: theory = von_karman, both ends axially
+//   restrained): the membrane term makes the energy non-convex like an axial force, and the path
+//   treats them alike: folds (a shallow arch's snap-through) are limit_point events, stability is
+//   checked and reported per step, bifurcations are watched; axial_force reports the compressive
+//   force, the given axial force less the membrane force (the thrust).
 // - Beam-columns (an axial force, N = N_dead + lambda N_live): the residual depends on lambda
 //   through N too (RitzModel::residual_lambda_derivative). The path passes folds: each sign
 //   change of the tangent's lambda component is located to event_tolerance and recorded as a
@@ -71,10 +77,16 @@
 // as ritz::RitzModel does (std::invalid_argument, liftoff::MechanismError).
 
 #include "continuation/trace.hpp"
+#include "model/member_model.hpp"
 #include "scene/scene.hpp"
 
 namespace liftoff::continuation {
 
 TraceResult trace_ritz(const scene::Scene& scene, const TraceOptions& options, const TraceSink& sink = {});
+// The same with the member given, in place of model::make_member_model(scene) (the scene still
+// gives the [ritz] settings, the start's topology and the user coordinate): a seam for members
+// the scene cannot describe yet, e.g. a von Karman beam under a sine load built field by field.
+TraceResult trace_ritz(const scene::Scene& scene, const model::MemberModel& member, const TraceOptions& options,
+                       const TraceSink& sink = {});
 
 }  // namespace liftoff::continuation

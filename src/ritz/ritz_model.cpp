@@ -5,9 +5,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <stdexcept>
+#include <utility>
 
 #include "core/error.hpp"
+#include "ritz/von_karman_membrane.hpp"
 
 namespace liftoff::ritz {
 
@@ -55,6 +58,9 @@ std::optional<Unsupported> unsupported_input(const model::MemberModel& model, co
     return Unsupported{tension_key, "takes a tensionless or bilateral foundation (no modulus in tension)"};
   if (arch && model.foundation_outside)
     return Unsupported{"foundation.side", "takes the foundation inside the arch only, not side = \"outside\""};
+  if (arch && model.theory == model::Theory::von_karman)
+    return Unsupported{"structure.theory",
+                       "takes von Karman kinematics (theory = \"von_karman\") on beams only, not on arches"};
   if (arch && model.has_axial_force())
     return Unsupported{"loads",
                        "takes an axial force (kind = \"axial\" or \"temperature\") on beams only, not on arches"};
@@ -218,6 +224,28 @@ RitzModel::RitzModel(const model::MemberModel& model, int modes, Topology topolo
           "key 'supports': the supports leave the arch free to rotate rigidly about its centre of curvature, which "
           "the foundation cannot resist, and the moments drive that rotation, so no equilibrium exists; expected "
           "supports that prevent it (e.g. a pinned end)");
+
+  // Von Karman beams: the membrane term, when both ends hold the member axially (else N = 0).
+  if (!arch_ && model.theory == model::Theory::von_karman && model.left_axially_restrained &&
+      model.right_axially_restrained) {
+    MembraneOptions options;
+    options.membrane_stiffness = model.membrane_stiffness;
+    options.ends = AxialEnds::restrained;
+    // A half sine over the whole member is kept exact; anything else is the table (piecewise linear).
+    if (const auto& sine = model.initial_sine) {
+      const double tolerance = 1e-12 * model.length();
+      if (std::abs(sine->from - a) <= tolerance && std::abs(sine->from + sine->length - b) <= tolerance &&
+          sine->length > 0.0)
+        options.initial_shape = TrigPolynomial::sine(std::numbers::pi / sine->length,
+                                                     -std::numbers::pi * sine->from / sine->length, sine->amplitude);
+    }
+    membrane_ = std::make_shared<const VonKarmanMembrane>(model, *this, std::move(options));
+  }
+}
+
+double RitzModel::membrane_force(const VectorXd& x) const {
+  check_size(x);
+  return membrane_ ? membrane_->normal_force(x) : 0.0;
 }
 
 void RitzModel::check_size(const VectorXd& x) const {
@@ -309,6 +337,7 @@ double RitzModel::energy(const VectorXd& x, double lambda) const {
   double axial = 0.0;
   if (n != 0.0)
     axial = -0.5 * n * deflection.dot(geometric_stiffness_ * deflection) - n * imperfection_load_.dot(deflection);
+  if (membrane_) axial += membrane_->energy(x);
   return 0.5 * amplitudes.dot(stiffness_ * amplitudes) + 0.5 * k_ * deflection.dot(contact_gram(x) * deflection) -
          load(lambda).dot(amplitudes) + axial;
 }
@@ -347,6 +376,7 @@ void RitzModel::residual(const VectorXd& x, double lambda, VectorXd& f) const {
   f.head(modes_) += k_ * (contact_gram(x) * x.head(modes_));
   if (const double n = axial_force(lambda); n != 0.0)
     f.head(modes_) -= n * (geometric_stiffness_ * x.head(modes_) + imperfection_load_);
+  if (membrane_) membrane_->add_to_residual(x, f);
   for (int m = 0; m < limits(); ++m) f[limit_offset() + m] = w(x, x[limit_offset() + m]);
 }
 
@@ -357,6 +387,7 @@ void RitzModel::jacobian(const VectorXd& x, double lambda, MatrixXd& J) const {
   J.topLeftCorner(modes_, modes_) += k_ * contact_gram(x);
   // Through N only: without an axial force the Jacobian does not depend on the load factor.
   if (const double n = axial_force(lambda); n != 0.0) J.topLeftCorner(modes_, modes_) -= n * geometric_stiffness_;
+  if (membrane_) membrane_->add_to_jacobian(x, J);
   for (int m = 0; m < limits(); ++m) {
     const int row = limit_offset() + m;
     const double t = x[row];
@@ -383,6 +414,7 @@ MatrixXd RitzModel::reduced_hessian(const VectorXd& x, double lambda) const {
   MatrixXd h = stiffness_;
   h.topLeftCorner(modes_, modes_) += k_ * contact_gram(x);
   if (const double n = axial_force(lambda); n != 0.0) h.topLeftCorner(modes_, modes_) -= n * geometric_stiffness_;
+  if (membrane_) h.topLeftCorner(modes_, modes_) += membrane_->amplitude_hessian(x);
   return h;
 }
 

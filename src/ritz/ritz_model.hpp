@@ -24,6 +24,17 @@
 // the stiffness, the second is the load -N w0'' of the imperfection. Neither depends on the
 // limits, so the limit equations are those without N. Arches take no axial force (refused).
 //
+// Beams under von Karman kinematics (model::MemberModel::theory == von_karman) add the membrane
+// energy of von_karman_membrane.hpp, Pi_m = EA e(W)^2 / (2 L), to Pi, its gradient to the
+// amplitude rows of the residual and its Hessian (EA/L) b b^T + N K_g to the Jacobian, the Hessian
+// and the reduced Hessian (so to stability_margin): built from the member's membrane_stiffness,
+// its ends' axial restraint and w0 (initial_sine kept exact, as a TrigPolynomial, when it is one
+// half sine over the whole member; the initial_shape table otherwise). N comes from the exact
+// condensation of u when BOTH ends are axially restrained; with one end free or both, nothing
+// holds the member axially, N = 0 and the term vanishes (the answers are linear theory's). It
+// does not depend on the limits nor on lambda. Arches under von Karman are refused
+// (unsupported_input: their shallow-shell membrane energy is not in this model).
+//
 // Everything that does not depend on the limits (stiffness, loads) is integrated once, in
 // closed form, at construction; the foundation term is integrated exactly over the current
 // pieces at every call, through a product table (product_table.hpp) built at construction, so
@@ -41,6 +52,7 @@
 // nonsingular when K + k G is and w'(t_m) != 0: Newton converges quadratically.
 
 #include <Eigen/Dense>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -51,6 +63,8 @@
 #include "ritz/product_table.hpp"
 
 namespace liftoff::ritz {
+
+class VonKarmanMembrane;  // von_karman_membrane.hpp
 
 // Which pieces of the foundation's extent are in contact: the first (from foundation_begin)
 // as first_in_contact says, then alternating at each of the `limits` contact limits.
@@ -118,6 +132,16 @@ class RitzModel {
   // lambda (nor on x without a live axial force).
   Eigen::VectorXd residual_lambda_derivative(const Eigen::VectorXd& x) const;
 
+  // Von Karman beams with both ends axially restrained: the membrane term (null otherwise, also
+  // when the term is zero because an end is axially free). membrane_force: its N at x (tension
+  // > 0; 0 without the term).
+  bool has_membrane() const { return membrane_ != nullptr; }
+  const VonKarmanMembrane* membrane() const { return membrane_.get(); }
+  double membrane_force(const Eigen::VectorXd& x) const;
+  // Whether Pi may lose convexity, so that stability is to be checked: an axial force or the
+  // membrane term.
+  bool can_lose_stability() const { return has_axial_force() || has_membrane(); }
+
   // Second-order theory (beams): N at lambda, K_g and f_0 (see above; zero without axial force).
   double axial_force(double lambda) const { return axial_dead_ + lambda * axial_live_; }
   bool has_axial_force() const { return axial_dead_ != 0.0 || axial_live_ != 0.0; }
@@ -133,7 +157,8 @@ class RitzModel {
   double stability_margin(const Eigen::VectorXd& x, double lambda) const;
 
   // The amplitudes minimising Pi for the given limits (a linear solve of (K + k G) A = F; with an
-  // axial force (K - N K_g + k G) W = F + N f_0, stationary rather than minimising if unstable),
+  // axial force (K - N K_g + k G) W = F + N f_0, stationary rather than minimising if unstable;
+  // with the membrane term, its tangent at W = 0, (EA/L) f_0 f_0^T, is added to the matrix),
   // packed with the limits into an x. A starting point for Newton. nullopt if K + k G is
   // singular (a rigid motion that neither the supports nor the contact pieces resist).
   std::optional<Eigen::VectorXd> minimiser_for_limits(const Eigen::VectorXd& limits, double lambda) const;
@@ -190,6 +215,7 @@ class RitzModel {
   Eigen::VectorXd imperfection_load_;    // modes
   Eigen::VectorXd dead_load_;
   Eigen::VectorXd live_load_;
+  std::shared_ptr<const VonKarmanMembrane> membrane_;  // immutable: copies of the model share it
 };
 
 }  // namespace liftoff::ritz

@@ -181,9 +181,19 @@ Attempt solve_once(const RitzModel& model, const VectorXd& limits, const RitzOpt
         attempt.max_violation, to_string(model.topology()));
     return attempt;
   }
-  if (model.has_axial_force()) {
-    // Second-order theory answers stable states only: K - N K_g + k G must be positive definite.
+  if (model.can_lose_stability()) {
+    // Second-order theory answers stable states only: K - N K_g + k G must be positive definite
+    // (von Karman: plus the membrane term's Hessian).
     const double margin = model.stability_margin(attempt.x, lambda);
+    if (!(margin > 0.0) && !model.has_axial_force()) {
+      attempt.termination = RitzTermination::unstable_equilibrium;
+      attempt.message = fmt::format(
+          "refused: the equilibrium found is unstable (von Karman: the reduced Hessian of the topology {} with the "
+          "membrane term, membrane force {:.6g}, is not positive definite, smallest scaled eigenvalue {:.3e}): past "
+          "a limit or bifurcation point the member snaps away from it; trace the path to follow it",
+          to_string(model.topology()), model.membrane_force(attempt.x) * scales.force(), margin);
+      return attempt;
+    }
     if (!(margin > 0.0)) {
       attempt.termination = RitzTermination::unstable_equilibrium;
       attempt.message = fmt::format(

@@ -44,7 +44,8 @@ enum class RitzTermination {
                           // contact piece or w > 0 in a lift-off piece): the topology is wrong
   modes_not_converged,    // automatic modes: the limits still moved at max_modes
   no_starting_point,      // K + k G singular for the initial limits: nothing holds the member
-  unstable_equilibrium,   // under an axial force: a contact solution, but K - N K_g + k G is not
+  unstable_equilibrium,   // under an axial force or von Karman's membrane term: a contact solution,
+                          // but the reduced Hessian (K - N K_g + k G, plus the membrane's) is not
                           // positive definite there (RitzModel::stability_margin <= 0): refused
 };
 std::string_view to_string(RitzTermination);

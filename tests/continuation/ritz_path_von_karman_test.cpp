@@ -1,0 +1,162 @@
+// The Ritz load path with von Karman's membrane term (issue 16, item 4): the sinusoidal shallow
+// arch snapping through its limit point, against verification/closed_form/shallow_arch.hpp.
+//
+// L = 1, EI = 1, pinned ends axially restrained, w0 = -a sin(pi s) (initial_sine, exact),
+// EA = 1e4 (r = 0.01), a / r = 3.5, on a bilateral foundation with kappa = k / (EI pi^4) = 1, so
+// that the symmetric path has an upper and a lower limit point and no bifurcation point
+// (a / r < sqrt(16 + kappa)). The scene has no sine load nor von Karman keys yet, so the member is
+// built field by field and handed to trace_ritz's member seam. The load q0 sin(pi s) is the
+// piecewise linear interpolant on 64 pieces scaled by 1 / c1 (see
+// tests/ritz/ritz_solver_von_karman_test.cpp): with fewer than 127 sine modes its Ritz load
+// vector is exactly the sine's, up to round-off, so the path is the closed form's two-mode path
+// and the limit loads agree to the event tolerance, not to a discretisation error.
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "closed_form/shallow_arch.hpp"
+#include "continuation/ritz_path.hpp"
+#include "model/from_scene.hpp"
+#include "support/scenes.hpp"
+
+using namespace liftoff;
+using namespace liftoff::continuation;
+
+namespace {
+
+constexpr double pi = std::numbers::pi;
+constexpr double membrane_stiffness = 1e4;
+constexpr double relative_rise = 3.5;
+constexpr double k = pi * pi * pi * pi;
+constexpr int load_pieces = 64;
+
+closed_form::ShallowArch reference() {
+  closed_form::ShallowArch arch;
+  arch.axial_stiffness = membrane_stiffness;
+  arch.rise = relative_rise * std::sqrt(1.0 / membrane_stiffness);
+  arch.foundation_modulus = k;
+  arch.load_amplitude = 1.0;
+  return arch;
+}
+
+scene::Scene arch_scene(bool tensionless = false) {
+  scene::Scene s = test::beam_scene(1.0, 1.0, scene::EndSupport::pinned, scene::EndSupport::pinned, k, tensionless);
+  s.ritz.topology = {true};  // bilateral: one piece, in contact
+  s.ritz.modes = 16;
+  return s;
+}
+
+model::MemberModel arch_member(const scene::Scene& scene) {
+  model::MemberModel m = model::make_member_model(scene);
+  m.theory = model::Theory::von_karman;
+  m.membrane_stiffness = membrane_stiffness;
+  m.left_axially_restrained = m.right_axially_restrained = true;
+  m.initial_sine = model::MemberModel::InitialSine{-reference().rise, 0.0, 1.0};
+  const double theta = pi / (2.0 * load_pieces), c1 = std::pow(std::sin(theta) / theta, 2);
+  m.loads.clear();
+  for (int i = 0; i < load_pieces; ++i) {
+    const double a = static_cast<double>(i) / load_pieces, b = static_cast<double>(i + 1) / load_pieces;
+    model::MemberLoad l;
+    l.kind = model::LoadKind::uniform;
+    l.from = a;
+    l.to = b;
+    l.value = std::sin(pi * a) / c1;
+    l.slope = (std::sin(pi * b) - std::sin(pi * a)) / c1 / (b - a);
+    m.loads.push_back(l);
+  }
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("Ritz path, von Karman: the shallow arch snaps through at the closed form's limit point",
+          "[continuation][ritz][von_karman]") {
+  const closed_form::ShallowArchAnalysis analysis = closed_form::analyse(reference());
+  REQUIRE(analysis.has_limit_points);
+  REQUIRE(!analysis.has_bifurcation);
+  const double upper = analysis.upper_limit.load, lower = analysis.lower_limit.load;
+  REQUIRE(lower > 0.0);
+
+  const scene::Scene scene = arch_scene();
+  TraceOptions options;
+  options.arc_length.lambda_min = 0.0;
+  options.arc_length.lambda_max = 1.3 * upper;
+  options.arc_length.initial_step = 0.25;
+  options.arc_length.max_step = 0.5;
+  options.monitor = 0.5;
+  options.sample_points = {0.25, 0.5};
+  const TraceResult result = trace_ritz(scene, arch_member(scene), options);
+  INFO(result.summary.message);
+  REQUIRE(result.summary.termination == TraceTermination::completed);
+
+  std::vector<TraceEvent> folds;
+  for (const TraceEvent& e : result.events)
+    if (e.kind == EventKind::limit_point) folds.push_back(e);
+  REQUIRE(folds.size() == 2);
+  // The snap-through load, then the lower limit point on the way back up (events located to
+  // event_tolerance in lambda; the Ritz path is the closed form's up to round-off).
+  CHECK(std::abs(folds[0].load_factor - upper) <= 10 * options.event_tolerance * upper);
+  CHECK(std::abs(folds[1].load_factor - lower) <= 10 * options.event_tolerance * upper);
+  CHECK(folds[0].description.find("maximum") != std::string::npos);
+  CHECK(folds[1].description.find("minimum") != std::string::npos);
+
+  // Stability changes sign at each limit point: stable below the upper one on the loading
+  // branch, unstable between the two, stable again beyond the lower one. Along the path the
+  // crown deflection grows monotonically; it tells the branches apart.
+  const double crown_upper = analysis.upper_limit.deflection, crown_lower = analysis.lower_limit.deflection;
+  int stable = 0, unstable = 0;
+  for (const TraceStep& step : result.steps) {
+    INFO("lambda = " << step.load_factor << ", crown " << step.monitor_deflection);
+    REQUIRE(step.stability != path::Stability::unknown);
+    const double w = step.monitor_deflection;
+    // Within 1e-6 of a limit point the sign of the margin is round-off's: not asserted there.
+    if (w < crown_upper * (1 - 1e-6)) {
+      CHECK(step.stability == path::Stability::stable);
+      ++stable;
+    }
+    if (w > crown_upper * (1 + 1e-6) && w < crown_lower * (1 - 1e-6)) {
+      CHECK(step.stability == path::Stability::unstable);
+      ++unstable;
+    }
+    if (w > crown_lower * (1 + 1e-6)) {
+      CHECK(step.stability == path::Stability::stable);
+      ++stable;
+    }
+    // On the symmetric path of the closed form, every step: lambda(A1) and the thrust.
+    CHECK(step.load_factor == Approx(closed_form::symmetric_load(reference(), w)).epsilon(1e-9));
+    CHECK(step.axial_force == Approx(closed_form::thrust(reference(), w, 0.0)).epsilon(1e-8));
+  }
+  CHECK(stable > 2);
+  CHECK(unstable > 2);
+}
+
+TEST_CASE("Ritz path, von Karman: on a tensionless foundation the symmetric snap-through is the bilateral one",
+          "[continuation][ritz][von_karman]") {
+  // On the symmetric path w = A1 sin(pi s) >= 0 for every lambda >= 0 (shallow_arch.hpp, item 3):
+  // no contact event, and the tensionless path is the bilateral path step for step.
+  TraceOptions options;
+  options.arc_length.lambda_min = 0.0;
+  options.arc_length.lambda_max = 1.3 * closed_form::analyse(reference()).upper_limit.load;
+  options.arc_length.initial_step = 0.25;
+  options.arc_length.max_step = 0.5;
+  options.monitor = 0.5;
+  const scene::Scene bilateral_scene = arch_scene(false), tensionless_scene = arch_scene(true);
+  const TraceResult bilateral = trace_ritz(bilateral_scene, arch_member(bilateral_scene), options);
+  const TraceResult tensionless = trace_ritz(tensionless_scene, arch_member(tensionless_scene), options);
+  INFO(tensionless.summary.message);
+  REQUIRE(tensionless.summary.termination == TraceTermination::completed);
+  REQUIRE(tensionless.events.size() == bilateral.events.size());
+  for (std::size_t i = 0; i < tensionless.events.size(); ++i) {
+    CHECK(tensionless.events[i].kind == EventKind::limit_point);
+    CHECK(tensionless.events[i].load_factor == Approx(bilateral.events[i].load_factor).epsilon(1e-12));
+  }
+  REQUIRE(tensionless.steps.size() == bilateral.steps.size());
+  for (std::size_t i = 0; i < tensionless.steps.size(); ++i) {
+    CHECK(tensionless.steps[i].load_factor == Approx(bilateral.steps[i].load_factor).epsilon(1e-12));
+    CHECK(tensionless.steps[i].monitor_deflection == Approx(bilateral.steps[i].monitor_deflection).epsilon(1e-12));
+    CHECK(tensionless.steps[i].contact_regions.size() == 1);
+  }
+}
