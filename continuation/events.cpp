@@ -87,7 +87,7 @@ SpecialPoints special_points(const model::MemberModel& model) {
   std::vector<std::pair<double, bool>> points;
   for (double s : model.point_supports) points.emplace_back(s, true);
   for (const auto& load : model.loads)
-    if (load.kind != model::LoadKind::uniform) points.emplace_back(load.at, false);
+    if (!load.has_extent()) points.emplace_back(load.at, false);
   std::sort(points.begin(), points.end());
   for (const auto& [s, support] : points) {
     if (s <= p.begin + tol || s >= p.end - tol) continue;

@@ -498,7 +498,7 @@ std::vector<EventSpec> RitzTracer::event_specs(const RitzModel& model) const {
   // Limits passing load points.
   std::vector<double> points;
   for (const model::MemberLoad& load : member_.loads) {
-    if (load.kind == model::LoadKind::uniform) continue;
+    if (load.has_extent()) continue;
     if (load.at > member_.foundation_begin && load.at < member_.foundation_end) points.push_back(load.at);
   }
   std::sort(points.begin(), points.end());

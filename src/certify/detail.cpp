@@ -74,7 +74,7 @@ VectorXd applied_nodal_loads(const model::MemberModel& model, const fe::Discreti
   const bool arch = model.kind == StructureKind::arch;
   for (const model::MemberLoad& load : model.loads) {
     const double value = load.value * (load.load_case == model::LoadCase::dead ? 1.0 : load_factor);
-    if (load.kind == model::LoadKind::uniform || load.kind == model::LoadKind::curvature) {
+    if (load.has_extent()) {
       const double factor = load.load_case == model::LoadCase::dead ? 1.0 : load_factor;
       for (int e = 0; e < d.mesh.elements(); ++e) {
         const double h = d.mesh.element_size(e), middle = d.mesh.nodes[e] + 0.5 * h;
@@ -88,15 +88,16 @@ VectorXd applied_nodal_loads(const model::MemberModel& model, const fe::Discreti
           }
           continue;
         }
-        for (const fe::GaussPoint& g : fe::gauss5) {  // linear q x cubic N: exact on beams
-          const double s = d.mesh.nodes[e] + g.xi * h;
+        // linear q x cubic N: exact on beams (Gauss 5); a sine to round-off (model::load_quadrature)
+        for (const model::LoadQuadraturePoint& g : model::load_quadrature(load, d.mesh.nodes[e], d.mesh.nodes[e] + h)) {
+          const double s = g.s, xi = (s - d.mesh.nodes[e]) / h;
           const double q = factor * load.intensity(s);
           const Eigen::Vector2d c = arch ? arch_force_on_dofs(model, load, s) : Eigen::Vector2d(1.0, 0.0);
-          const Eigen::Vector4d shape = fe::hermite_cubic(g.xi, h).value;
-          for (int j = 0; j < 4; ++j) f[dofs[j]] += g.weight * h * q * c[0] * shape[j];
+          const Eigen::Vector4d shape = fe::hermite_cubic(xi, h).value;
+          for (int j = 0; j < 4; ++j) f[dofs[j]] += g.weight * q * c[0] * shape[j];
           if (!arch) continue;
-          const auto u_shape = fe::lagrange_quartic(g.xi, h).value;
-          for (int j = 0; j < 5; ++j) f[dofs[4 + j]] += g.weight * h * q * c[1] * u_shape[j];
+          const auto u_shape = fe::lagrange_quartic(xi, h).value;
+          for (int j = 0; j < 5; ++j) f[dofs[4 + j]] += g.weight * q * c[1] * u_shape[j];
         }
       }
       continue;

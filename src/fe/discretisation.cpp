@@ -316,11 +316,14 @@ Assembly assemble(const model::MemberModel& model, const Discretisation& d) {
         const auto consistent = arch_element_load(mesh.nodes[e], h, load.direction, load.per, model.foundation_outside,
                                                   [&](double s) { return load.intensity(s); });
         for (int j = 0; j < arch_element::dofs; ++j) target[dofs[j]] += consistent[j];
-      } else if (load.kind == model::LoadKind::uniform) {
-        // Linear q times cubic shapes: degree 4, exact with five Gauss points.
+      } else if (load.kind == model::LoadKind::sine && !beam) {
+        throw std::logic_error("fe: a sine load on an arch (the scene reader refuses it)");
+      } else if (load.is_distributed_force()) {
+        // q times cubic shapes: linear q exactly (degree 4, Gauss 5); a sine to round-off
+        // (model::load_quadrature).
         Eigen::Vector4d consistent = Eigen::Vector4d::Zero();
-        for (const GaussPoint& g : gauss5)
-          consistent += (g.weight * h * load.intensity(mesh.nodes[e] + g.xi * h)) * hermite_cubic(g.xi, h).value;
+        for (const model::LoadQuadraturePoint& g : model::load_quadrature(load, mesh.nodes[e], mesh.nodes[e] + h))
+          consistent += (g.weight * load.intensity(g.s)) * hermite_cubic((g.s - mesh.nodes[e]) / h, h).value;
         for (int j = 0; j < 4; ++j) target[dofs[j]] += consistent[j];
       } else if (load.kind == model::LoadKind::curvature) {
         // An initial strain: Pi = 1/2 int (w'' + kappa)^2 gives F = -kappa int N'' = -kappa [N']_0^h,
@@ -346,7 +349,7 @@ Assembly assemble(const model::MemberModel& model, const Discretisation& d) {
   }
 
   for (const model::MemberLoad& load : model.loads) {
-    if (load.kind == model::LoadKind::uniform || load.kind == model::LoadKind::curvature) continue;
+    if (load.has_extent()) continue;
     Eigen::VectorXd& target = load.load_case == model::LoadCase::dead ? a.dead_load : a.live_load;
     const int node = mesh.node_at(load.at);
     if (load.kind == model::LoadKind::force && model.kind == model::StructureKind::arch) {

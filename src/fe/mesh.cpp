@@ -34,8 +34,7 @@ std::vector<double> mesh_breakpoints(const model::MemberModel& model) {
   for (const model::SupportSpring& spring : model.springs) points.push_back(spring.s);
   for (double s : model.ground_gap_at) points.push_back(s);  // g is linear within elements
   for (const auto& load : model.loads) {
-    if (load.kind == model::LoadKind::uniform ||
-        load.kind == model::LoadKind::curvature) {  // a distributed table's points too
+    if (load.has_extent()) {  // a distributed table's points too
       points.push_back(load.from);
       points.push_back(load.to);
     } else {

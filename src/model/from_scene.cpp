@@ -39,6 +39,8 @@ LoadKind to_model(scene::LoadKind kind) {
       return LoadKind::uniform;
     case scene::LoadKind::curvature:
       return LoadKind::curvature;
+    case scene::LoadKind::sine:
+      return LoadKind::sine;
     case scene::LoadKind::distributed:
     case scene::LoadKind::axial:
     case scene::LoadKind::temperature:
@@ -211,6 +213,10 @@ MemberModel make_member_model(const scene::Scene& scene) {
         break;
       case scene::LoadKind::uniform:
         member_load.value = load.value / scales.force_per_length();
+        break;
+      case scene::LoadKind::sine:
+        member_load.value = load.value / scales.force_per_length();
+        member_load.half_waves = load.half_waves;
         break;
       case scene::LoadKind::curvature:  // 1/length -> per unit of the length scale
         member_load.value = load.value * scales.length;

@@ -34,7 +34,9 @@ enum class Theory { linear, von_karman };
 std::string_view to_string(Theory);  // the scene's word for it
 // No table load here: a scene's distributed load arrives as uniform (linear) pieces.
 // curvature: an imposed free (thermal) curvature, an initial strain rather than a force.
-enum class LoadKind { force, moment, uniform, curvature };
+// sine: value sin(half_waves pi (s - from) / (to - from)) on [from, to], a force per length (beams
+// only; the scene reader refuses it on arches and fe/arch_loads.hpp would too).
+enum class LoadKind { force, moment, uniform, curvature, sine };
 // Arches only: along what a load's value acts. radial: toward the foundation; tangential and
 // horizontal: toward increasing theta / to the right; vertical: downward.
 enum class LoadDirection { radial, tangential, vertical, horizontal };
@@ -69,10 +71,34 @@ struct MemberLoad {
   LoadCase load_case = LoadCase::live;
   LoadDirection direction = LoadDirection::radial;  // arches (fe/arch_loads.hpp)
   LoadBasis per = LoadBasis::arc;
+  int half_waves = 1;  // sine: n >= 1
 
-  // The force per length of a uniform (linear) load at s in [from, to].
-  double intensity(double s) const { return value + slope * (s - from); }
+  // A force per length on [from, to] (uniform or sine), as opposed to a point action or a curvature.
+  bool is_distributed_force() const { return kind == LoadKind::uniform || kind == LoadKind::sine; }
+  // Whether the load acts on [from, to] (distributed forces and curvatures) rather than at `at`.
+  bool has_extent() const { return is_distributed_force() || kind == LoadKind::curvature; }
+  // sine: the wavenumber n pi / (to - from) of its sine.
+  double wavenumber() const;
+  // The force per length at s in [from, to]: a uniform load's linear intensity, or a sine's.
+  double intensity(double s) const;
+  // Exact integrals of a distributed force over [a, b] (clipped to [from, to]): its resultant
+  // int q ds, and int (x - s) q(s) ds, the moment about x of the load on [a, b] (closed forms of
+  // the linear and the sine intensity; for the sine, 1 - cos and t - sin t by their half-angle and
+  // series forms where they would cancel).
+  double resultant(double a, double b) const;
+  double moment_about(double x, double a, double b) const;
 };
+
+// A quadrature rule over [a, b] for int q(s) p(s) ds with q a distributed force and p a
+// polynomial of degree <= 3 (a Hermite cubic): exact for a uniform (linear) load (Gauss, 5
+// points); for a sine, 8-point Gauss on pieces of at most a quarter wave, whose error bound
+// (k h)^16 (8!)^4 / (17 (16!)^3) with k h <= pi/2 is below 1e-19 of the integral's scale: the
+// error is round-off. Points (s, weight) with the weight already multiplied by the length.
+struct LoadQuadraturePoint {
+  double s = 0.0;
+  double weight = 0.0;
+};
+std::vector<LoadQuadraturePoint> load_quadrature(const MemberLoad& load, double a, double b);
 
 // The imposed curvature (nondimensional) at s: the sum of the curvature loads covering s, with
 // the case's factor (dead 1, live load_factor). Breakpoints are nodes, so s inside an element

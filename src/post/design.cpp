@@ -73,6 +73,37 @@ std::vector<double> sign_changes(const Poly& p) {
   return out;
 }
 
+// The zeros in (0, 1) where f changes sign, for f not a polynomial (an element under a sine
+// load): f on 64 equal parts, each sign change bisected to round-off. A pair of zeros inside one
+// part is missed; a part is at most 1/64 of an element, where the sine's phase moves < 0.05 rad
+// on any mesh that resolves the load.
+template <class F>
+std::vector<double> sign_changes_of(const F& f) {
+  constexpr int parts = 64;
+  std::vector<double> out;
+  double a = 0.0, fa = f(0.0);
+  for (int i = 1; i <= parts; ++i) {
+    const double b0 = static_cast<double>(i) / parts, fb0 = f(b0);
+    if (fa * fb0 < 0.0) {
+      double lo = a, hi = b0, flo = fa;
+      for (int step = 0; step < 200; ++step) {
+        const double m = 0.5 * (lo + hi);
+        if (m <= lo || m >= hi) break;
+        const double fm = f(m);
+        if (fm == 0.0) {
+          lo = hi = m;
+          break;
+        }
+        ((fm < 0.0) == (flo < 0.0) ? lo : hi) = m;
+        if ((fm < 0.0) == (flo < 0.0)) flo = fm;
+      }
+      out.push_back(0.5 * (lo + hi));
+    }
+    a = b0, fa = fb0;
+  }
+  return out;
+}
+
 // Where a polynomial may take its extremes on [0, 1]: the ends and its stationary points.
 std::vector<double> candidates(const Poly& p) {
   std::vector<double> out{0.0, 1.0};
@@ -147,6 +178,26 @@ DesignValues recover_beam_statics(const model::MemberModel& model, const fe::Dis
   // at the deflected shape, 0 without N).
   const double axial_force = model.kind == model::StructureKind::beam ? model.axial_force(load_factor) : 0.0;
   std::vector<Poly> shear(elements), moment(elements), pressure(elements);
+  // Sine loads per element (load, case factor): q, and their V and M from the element's start,
+  // exact (MemberLoad::resultant, moment_about), added to the polynomials' values.
+  std::vector<std::vector<std::pair<const model::MemberLoad*, double>>> sines(elements);
+  const auto sine_q = [&](int e, double xi) {
+    double sum = 0.0;
+    for (const auto& [load, c] : sines[e]) sum += c * load->intensity(d.mesh.nodes[e] + xi * d.mesh.element_size(e));
+    return sum;
+  };
+  const auto sine_v = [&](int e, double xi) {
+    const double a = d.mesh.nodes[e], x = a + xi * d.mesh.element_size(e);
+    double sum = 0.0;
+    for (const auto& [load, c] : sines[e]) sum -= c * load->resultant(a, x);
+    return sum;
+  };
+  const auto sine_m = [&](int e, double xi) {
+    const double a = d.mesh.nodes[e], x = a + xi * d.mesh.element_size(e);
+    double sum = 0.0;
+    for (const auto& [load, c] : sines[e]) sum -= c * load->moment_about(x, a, x);
+    return sum;
+  };
   std::vector<double> v_start(elements), m_start(elements), v_end(elements), m_end(elements);
   double v = 0.0, m = 0.0, w_scale = 0.0, g_scale = 0.0;
   for (int e = 0; e < elements; ++e) {
@@ -166,12 +217,16 @@ DesignValues recover_beam_statics(const model::MemberModel& model, const fe::Dis
     const double middle = a + 0.5 * h;
     for (const model::MemberLoad& load : model.loads) {
       // As the assembly applies it: on the elements whose middle the load covers.
-      if (load.kind != model::LoadKind::uniform || middle < load.from || middle > load.to) continue;
+      if (!load.is_distributed_force() || middle < load.from || middle > load.to) continue;
       const double c = factor_of(load, load_factor);
-      q = q + linear(c * load.intensity(a), c * load.intensity(a + h));
+      if (load.kind == model::LoadKind::sine)
+        sines[e].push_back({&load, c});  // not a polynomial: its V and M added in closed form
+      else
+        q = q + linear(c * load.intensity(a), c * load.intensity(a + h));
     }
     const Poly p = r + (-1.0) * q;
-    for (double xi : {0.0, 0.5, 1.0}) force_terms += h / 3.0 * (std::abs(eval(r, xi)) + std::abs(eval(q, xi)));
+    for (double xi : {0.0, 0.5, 1.0})
+      force_terms += h / 3.0 * (std::abs(eval(r, xi)) + std::abs(eval(q, xi)) + std::abs(sine_q(e, xi)));
     pressure[e] = r;
     shear[e] = integral(h * p);
     shear[e][0] = v;
@@ -186,8 +241,8 @@ DesignValues recover_beam_statics(const model::MemberModel& model, const fe::Dis
     }
     moment[e][0] = m;
     v_start[e] = v, m_start[e] = m;
-    v = v_end[e] = eval(shear[e], 1.0);
-    m = m_end[e] = eval(moment[e], 1.0);
+    v = v_end[e] = eval(shear[e], 1.0) + sine_v(e, 1.0);
+    m = m_end[e] = eval(moment[e], 1.0) + sine_m(e, 1.0);
   }
   v += jump_v[elements];
   m += jump_m[elements];
@@ -200,12 +255,24 @@ DesignValues recover_beam_statics(const model::MemberModel& model, const fe::Dis
   for (int e = 0; e < elements; ++e) {
     const double a = d.mesh.nodes[e], h = d.mesh.element_size(e);
     // M' = h V + N y' (h V alone without N, whose zeros are taken from V itself).
-    for (double xi : sign_changes(axial_force != 0.0 ? derivative(moment[e]) : shear[e])) {
-      const double value = eval(moment[e], xi);
-      keep_max(out.moment_max, value, a + xi * h);
-      keep_min(out.moment_min, value, a + xi * h);
+    if (sines[e].empty()) {
+      for (double xi : sign_changes(axial_force != 0.0 ? derivative(moment[e]) : shear[e])) {
+        const double value = eval(moment[e], xi);
+        keep_max(out.moment_max, value, a + xi * h);
+        keep_min(out.moment_min, value, a + xi * h);
+      }
+      for (double xi : candidates(shear[e])) keep_max(out.shear_max_abs, std::abs(eval(shear[e], xi)), a + xi * h);
+    } else {  // with a sine's exact V and M: their derivatives' sign changes by bisection
+      const Poly dm = derivative(moment[e]), dv = derivative(shear[e]);
+      for (double xi : sign_changes_of([&](double t) { return eval(dm, t) + h * sine_v(e, t); })) {
+        const double value = eval(moment[e], xi) + sine_m(e, xi);
+        keep_max(out.moment_max, value, a + xi * h);
+        keep_min(out.moment_min, value, a + xi * h);
+      }
+      std::vector<double> at{0.0, 1.0};
+      for (double xi : sign_changes_of([&](double t) { return eval(dv, t) - h * sine_q(e, t); })) at.push_back(xi);
+      for (double xi : at) keep_max(out.shear_max_abs, std::abs(eval(shear[e], xi) + sine_v(e, xi)), a + xi * h);
     }
-    for (double xi : candidates(shear[e])) keep_max(out.shear_max_abs, std::abs(eval(shear[e], xi)), a + xi * h);
     // Element ends: the values on this element's side of the node (jumps are between elements).
     keep_max(out.moment_max, m_start[e], a), keep_min(out.moment_min, m_start[e], a);
     keep_max(out.moment_max, m_end[e], a + h), keep_min(out.moment_min, m_end[e], a + h);
@@ -239,8 +306,8 @@ DesignValues recover_beam_statics(const model::MemberModel& model, const fe::Dis
     std::vector<double> vs, ms;
     vs.reserve(fields->s.size()), ms.reserve(fields->s.size());
     auto add = [&](int e, double xi) {
-      vs.push_back(eval(shear[e], xi));
-      ms.push_back(eval(moment[e], xi));
+      vs.push_back(eval(shear[e], xi) + sine_v(e, xi));
+      ms.push_back(eval(moment[e], xi) + sine_m(e, xi));
     };
     for (int e = 0; e < elements; ++e) {
       if (e > 0 && jumps[e]) add(e - 1, 1.0);
@@ -279,29 +346,37 @@ DesignValues recover_beam_statics(const model::MemberModel& model, const std::fu
   std::vector<double> points = fields.s;
   for (const Jump& j : jumps) points.push_back(j.s);
   for (const model::MemberLoad& load : model.loads)
-    if (load.kind == model::LoadKind::uniform) points.insert(points.end(), {load.from, load.to});
+    if (load.is_distributed_force()) points.insert(points.end(), {load.from, load.to});
   for (const model::FoundationPiece& piece : model.pieces()) points.insert(points.end(), {piece.begin, piece.end});
   points.insert(points.end(), reaction_breaks.begin(), reaction_breaks.end());
   std::erase_if(points, [&](double s) { return !(s >= model.s_begin && s <= model.s_end); });
   std::sort(points.begin(), points.end());
   points.erase(std::unique(points.begin(), points.end()), points.end());
 
-  auto applied = [&](double s) {  // q at s inside an interval (load ranges end at breakpoints)
+  // q at s inside an interval (load ranges end at breakpoints): linear loads (sine: false) or sines.
+  auto applied = [&](double s, bool sine) {
     double q = 0.0;
     for (const model::MemberLoad& load : model.loads)
-      if (load.kind == model::LoadKind::uniform && s >= load.from && s <= load.to)
+      if (load.is_distributed_force() && (load.kind == model::LoadKind::sine) == sine && s >= load.from && s <= load.to)
         q += factor_of(load, load_factor) * load.intensity(s);
     return q;
   };
-  // V and M at x in [a, b] from their values at a (no breakpoint inside).
+  // V and M at x in [a, b] from their values at a (no breakpoint inside): the reaction and the
+  // linear loads by Gauss (exact for the loads), the sines' resultant and moment in closed form.
   auto advance = [&](double a, double x, double v, double m, bool count = false) {
     double dv = 0.0, dm = 0.0;
     for (const fe::GaussPoint& g : fe::gauss5) {
-      const double t = a + g.xi * (x - a), p = reaction(t) - applied(t), weight = g.weight * (x - a);
+      const double t = a + g.xi * (x - a), p = reaction(t) - applied(t, false), weight = g.weight * (x - a);
       dv += weight * p;
       dm += weight * (x - t) * p;
-      if (count) force_terms += weight * (std::abs(reaction(t)) + std::abs(applied(t)));
+      if (count)
+        force_terms += weight * (std::abs(reaction(t)) + std::abs(applied(t, false)) + std::abs(applied(t, true)));
     }
+    for (const model::MemberLoad& load : model.loads)
+      if (load.kind == model::LoadKind::sine) {
+        dv -= factor_of(load, load_factor) * load.resultant(a, x);
+        dm -= factor_of(load, load_factor) * load.moment_about(x, a, x);
+      }
     return std::pair{v + dv, m + v * (x - a) + dm};
   };
   double v = 0.0, m = 0.0;

@@ -69,6 +69,8 @@ std::optional<Unsupported> unsupported_input(const model::MemberModel& model, co
       return Unsupported{"loads",
                          "has no imposed curvature (kind = \"curvature\", an initial strain) in its energy in this "
                          "version"};
+    if (arch && load.kind == model::LoadKind::sine)
+      return Unsupported{"loads", "takes a sine load (kind = \"sine\") on beams only, not on arches"};
     if (arch && load.kind != model::LoadKind::moment && load.direction != model::LoadDirection::radial)
       return Unsupported{"loads", fmt::format("takes radial arch loads only, not direction = \"{}\"",
                                               model::to_string(load.direction))};
@@ -208,6 +210,15 @@ RitzModel::RitzModel(const model::MemberModel& model, int modes, Topology topolo
           target[j] += split_integral(load.from, load.to, [&](int r, double lo, double hi) {
             const TrigPolynomial& phi = w_derivatives_[r][0][j];
             return q0 * phi.integral(lo, hi) + (q1 != 0.0 ? q1 * (s_times * phi).integral(lo, hi) : 0.0);
+          });
+        break;
+      }
+      case model::LoadKind::sine: {
+        // q = value sin(k (s - from)) on [from, to]: a trigonometric term, so int q phi is exact.
+        const TrigPolynomial q = TrigPolynomial::sine(load.wavenumber(), -load.wavenumber() * load.from, load.value);
+        for (int j = 0; j < modes_; ++j)
+          target[j] += split_integral(load.from, load.to, [&](int r, double lo, double hi) {
+            return (q * w_derivatives_[r][0][j]).integral(lo, hi);
           });
         break;
       }

@@ -26,6 +26,7 @@ constexpr EnumName<LoadKind> load_kinds[] = {
     {LoadKind::curvature, "curvature"},
     {LoadKind::axial, "axial"},
     {LoadKind::temperature, "temperature"},
+    {LoadKind::sine, "sine"},
 };
 constexpr EnumName<LoadCase> load_cases[] = {
     {LoadCase::live, "live"},

@@ -26,7 +26,9 @@ enum class EndSupport { pinned, clamped, free, roller };
 // compressive axial force along the whole member (value > 0 compresses); temperature, a uniform
 // temperature rise dT (value) with the expansion coefficient alpha, the compressive force
 // N = EA alpha dT of a fully axially restrained member. Both act through second-order theory.
-enum class LoadKind { force, moment, uniform, distributed, curvature, axial, temperature };
+// sine: value sin(half_waves pi (x - from) / (to - from)) on [from, to], force per length like
+// uniform (the closed forms' load; beams only).
+enum class LoadKind { force, moment, uniform, distributed, curvature, axial, temperature, sine };
 // Arches only: along what a load's value acts. radial: toward the foundation (today's); tangential
 // and horizontal: toward increasing theta / to the right; vertical: downward (gravity). Uniform
 // loads take radial or vertical, point forces any of the four.
@@ -160,8 +162,9 @@ struct Load {
   LoadKind kind = LoadKind::force;
   double at = 0.0;     // force and moment: position
   double value = 0.0;  // force, moment, force per unit length (uniform) or curvature kappa_T
-  double from = 0.0;   // uniform, curvature: extent; the reader fills the member's ends by default
+  double from = 0.0;   // uniform, curvature, sine: extent; the reader fills the member's ends by default
   double to = 0.0;
+  int half_waves = 1;  // sine: n >= 1, the half-waves on [from, to] (key `n`)
   // distributed: q(position) piecewise linear through (table_at[i], table_value[i]); positions
   // non-decreasing (a repeated one is a step), q = 0 outside [table_at.front(), table_at.back()].
   std::vector<double> table_at;

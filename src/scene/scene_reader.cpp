@@ -48,7 +48,7 @@ const std::vector<TableSpec>& schema() {
        false,
        {"nondimensional_k", "modulus", "tensionless", "from", "to", "segments", "side", "gap", "gap_file",
         "tension_modulus", "tension_nondimensional_k", "k", "tension_k"}},
-      {"loads", true, {"kind", "at", "value", "from", "to", "case", "direction", "per", "alpha"}},
+      {"loads", true, {"kind", "at", "value", "from", "to", "case", "direction", "per", "alpha", "n"}},
       {"geometry", false, {"initial_shape"}},
       {"solve", false, {"method", "elements", "tolerance"}},
       {"ritz", false, {"modes", "max_modes", "mode_tolerance", "topology", "limits"}},
@@ -936,7 +936,15 @@ std::string read_case_name(const Section& s) {
 Load read_load(const Section& s, const Member& member) {
   Load load;
   load.kind = s.required_choice("kind", {LoadKind::force, LoadKind::moment, LoadKind::uniform, LoadKind::distributed,
-                                         LoadKind::curvature, LoadKind::axial, LoadKind::temperature});
+                                         LoadKind::curvature, LoadKind::axial, LoadKind::temperature, LoadKind::sine});
+  if (load.kind == LoadKind::sine && member.arch)
+    s.fail("kind",
+           "expected \"force\", \"moment\", \"uniform\" or \"distributed\" for an arch, got \"sine\" (a sinusoidal "
+           "load is supported on beams only)");
+  if (load.kind == LoadKind::sine)
+    load.half_waves = s.integer("n", 1, 1'000'000).value_or(1);
+  else
+    s.refuse("n", "but with kind = \"sine\" (the number of half-waves)");
   const bool axial = load.kind == LoadKind::axial || load.kind == LoadKind::temperature;
   if (axial && member.arch)
     s.fail("kind", fmt::format("expected \"force\", \"moment\", \"uniform\" or \"distributed\" for an arch, got \"{}\" "
@@ -951,7 +959,7 @@ Load read_load(const Section& s, const Member& member) {
     if (load.kind == LoadKind::temperature) load.alpha = s.required_number("alpha", positive());
   } else if (load.kind == LoadKind::distributed) {
     read_distributed(s, member, load);
-  } else if (load.kind == LoadKind::uniform || load.kind == LoadKind::curvature) {
+  } else if (load.kind == LoadKind::uniform || load.kind == LoadKind::curvature || load.kind == LoadKind::sine) {
     if (load.kind == LoadKind::curvature && member.arch)
       s.fail("kind",
              "expected \"force\", \"moment\", \"uniform\" or \"distributed\" for an arch, got "

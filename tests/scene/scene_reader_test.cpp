@@ -345,7 +345,7 @@ TEST_CASE("an unknown value of a choice is refused", "[scene][errors]") {
       R"(scene.toml:18: key 'solve.method': expected "dual", "primal", "fast", "auto", "ritz" or "all", got "fastest")");
   CHECK(
       error_of(edited(beam_scene, "kind = \"force\"", "kind = \"torque\"")) ==
-      R"(scene.toml:14: key 'loads[0].kind': expected "force", "moment", "uniform", "distributed", "curvature", "axial" or "temperature", got "torque")");
+      R"(scene.toml:14: key 'loads[0].kind': expected "force", "moment", "uniform", "distributed", "curvature", "axial", "temperature" or "sine", got "torque")");
   // A free case name is a load case for [[combinations]]; a name that is no word is refused.
   CHECK(
       error_of(edited(beam_scene, "value = 1.0", "value = 1.0\ncase = \"perm anent\"")) ==
@@ -431,6 +431,49 @@ TEST_CASE("at and from/to belong to different kinds of load", "[scene][errors]")
         "scene.toml:15: key 'loads[0].at': not allowed for a uniform load (it acts on from..to)");
   CHECK(error_of(edited(beam_scene, "at = 0.5", "at = 0.5\nfrom = 0.0")) ==
         "scene.toml:16: key 'loads[0].from': not allowed for a force (it acts at one point, 'at')");
+}
+
+// kind = "sine": value sin(n pi (x - from) / (to - from)), n half-waves, from..to the member by default.
+TEST_CASE("a sine load reads its value, half-waves and extent", "[scene][sine]") {
+  const std::string whole = R"([[loads]]
+kind = "sine"
+value = 2.5
+case = "dead"
+)";
+  const Scene scene = parse_scene(beam_scene + whole, "scene.toml");
+  REQUIRE(scene.loads.size() == 2);
+  CHECK(scene.loads[1].kind == LoadKind::sine);
+  CHECK(scene.loads[1].value == 2.5);
+  CHECK(scene.loads[1].half_waves == 1);
+  CHECK(scene.loads[1].from == 0.0);
+  CHECK(scene.loads[1].to == 2.0);
+  CHECK(scene.loads[1].load_case == LoadCase::dead);
+  const Scene part =
+      parse_scene(beam_scene + "[[loads]]\nkind = \"sine\"\nvalue = -1\nn = 3\nfrom = 0.5\nto = 1.5\n", "scene.toml");
+  CHECK(part.loads[1].half_waves == 3);
+  CHECK(part.loads[1].from == 0.5);
+  CHECK(part.loads[1].to == 1.5);
+  CHECK(parse_load_kind("sine") == LoadKind::sine);
+}
+
+TEST_CASE("a sine load's mistakes are refused by key", "[scene][sine][errors]") {
+  const std::string head = "[[loads]]\nkind = \"sine\"\nvalue = 1.0\n";  // lines 17-19
+  CHECK(error_of(beam_scene + head + "n = 1.5\n") ==
+        "scene.toml:20: key 'loads[1].n': expected an integer in [1, 1000000], got 1.5");
+  CHECK(error_of(beam_scene + head + "n = 0\n") ==
+        "scene.toml:20: key 'loads[1].n': expected an integer in [1, 1000000], got 0");
+  CHECK(error_of(beam_scene + head + "from = 1.5\nto = 0.5\n") ==
+        "scene.toml:21: key 'loads[1].to': expected from < to, got from = 1.5 and to = 0.5");
+  CHECK(error_of(beam_scene + head + "at = 1.0\n") ==
+        "scene.toml:20: key 'loads[1].at': not allowed for a sine load (it acts on from..to)");
+  CHECK(error_of(beam_scene + "[[loads]]\nkind = \"uniform\"\nvalue = 1.0\nn = 2\n") ==
+        "scene.toml:20: key 'loads[1].n': not allowed but with kind = \"sine\" (the number of half-waves)");
+  CHECK_THAT(error_of(beam_scene + "[[loads]]\nkind = \"sine\"\nn = 2\n"),
+             StartsWith("scene.toml:17: key 'loads[1].value': missing"));
+  CHECK(
+      error_of(edited(arch_scene, "kind = \"force\"", "kind = \"sine\"")) ==
+      "scene.toml:16: key 'loads[0].kind': expected \"force\", \"moment\", \"uniform\" or \"distributed\" for an arch, "
+      "got \"sine\" (a sinusoidal load is supported on beams only)");
 }
 
 TEST_CASE("elements must be an integer in range", "[scene][errors]") {

@@ -22,6 +22,8 @@ inline BeamProblem problem_of(const model::MemberModel& model) {
   p.left = end_condition_of(model.left);
   p.right = end_condition_of(model.right);
   for (const auto& l : model.loads) {  // positions from the member's begin
+    if (l.kind == model::LoadKind::sine)
+      throw std::invalid_argument("closed_form::problem_of: a sine load, which the reference does not carry");
     if (l.kind == model::LoadKind::force) p.forces.push_back({l.at - model.s_begin, l.value});
     if (l.kind == model::LoadKind::moment) p.moments.push_back({l.at - model.s_begin, l.value});
     if (l.kind == model::LoadKind::uniform && l.slope == 0.0)

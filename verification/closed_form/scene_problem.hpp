@@ -62,8 +62,9 @@ inline BeamProblem problem_of(const scene::Scene& s, CaseFactors factors = {}) {
         break;
       case scene::LoadKind::distributed:
       case scene::LoadKind::curvature:
+      case scene::LoadKind::sine:
         throw std::invalid_argument("closed_form::problem_of: " + s.source_name +
-                                    " has a distributed or curvature load, which the reference does not carry");
+                                    " has a distributed, sine or curvature load, which the reference does not carry");
       case scene::LoadKind::axial:
       case scene::LoadKind::temperature:  // first-order theory: an axial force is not carried
         throw std::invalid_argument("closed_form::problem_of: " + s.source_name +
