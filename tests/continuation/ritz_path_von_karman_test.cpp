@@ -4,12 +4,13 @@
 // L = 1, EI = 1, pinned ends axially restrained, w0 = -a sin(pi s) (initial_sine, exact),
 // EA = 1e4 (r = 0.01), a / r = 3.5, on a bilateral foundation with kappa = k / (EI pi^4) = 1, so
 // that the symmetric path has an upper and a lower limit point and no bifurcation point
-// (a / r < sqrt(16 + kappa)). The scene has no sine load nor von Karman keys yet, so the member is
-// built field by field and handed to trace_ritz's member seam. The load q0 sin(pi s) is the
-// piecewise linear interpolant on 64 pieces scaled by 1 / c1 (see
-// tests/ritz/ritz_solver_von_karman_test.cpp): with fewer than 127 sine modes its Ritz load
-// vector is exactly the sine's, up to round-off, so the path is the closed form's two-mode path
-// and the limit loads agree to the event tolerance, not to a discretisation error.
+// (a / r < sqrt(16 + kappa)). The member is built field by field (the scene has no von Karman
+// keys for this seam) and handed to trace_ritz's member seam. The load q0 sin(pi s) is a sine
+// load (model::LoadKind::sine), integrated exactly into the Ritz load vector (q0 on the first
+// mode, round-off on the others), so the path is the closed form's two-mode path and the limit
+// loads agree to the event tolerance, not to a discretisation error. (It used to be a scaled
+// piecewise linear interpolant on 64 pieces, whose load vector was also exact to round-off for
+// fewer than 127 modes by aliasing: the tolerances, set by the event location, do not change.)
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -31,7 +32,6 @@ constexpr double pi = std::numbers::pi;
 constexpr double membrane_stiffness = 1e4;
 constexpr double relative_rise = 3.5;
 constexpr double k = pi * pi * pi * pi;
-constexpr int load_pieces = 64;
 
 closed_form::ShallowArch reference() {
   closed_form::ShallowArch arch;
@@ -55,18 +55,12 @@ model::MemberModel arch_member(const scene::Scene& scene) {
   m.membrane_stiffness = membrane_stiffness;
   m.left_axially_restrained = m.right_axially_restrained = true;
   m.initial_sine = model::MemberModel::InitialSine{-reference().rise, 0.0, 1.0};
-  const double theta = pi / (2.0 * load_pieces), c1 = std::pow(std::sin(theta) / theta, 2);
-  m.loads.clear();
-  for (int i = 0; i < load_pieces; ++i) {
-    const double a = static_cast<double>(i) / load_pieces, b = static_cast<double>(i + 1) / load_pieces;
-    model::MemberLoad l;
-    l.kind = model::LoadKind::uniform;
-    l.from = a;
-    l.to = b;
-    l.value = std::sin(pi * a) / c1;
-    l.slope = (std::sin(pi * b) - std::sin(pi * a)) / c1 / (b - a);
-    m.loads.push_back(l);
-  }
+  model::MemberLoad load;
+  load.kind = model::LoadKind::sine;
+  load.from = 0.0;
+  load.to = 1.0;
+  load.value = 1.0;
+  m.loads = {load};
   return m;
 }
 
