@@ -154,3 +154,58 @@ TEST_CASE("Ritz path, von Karman: on a tensionless foundation the symmetric snap
     CHECK(tensionless.steps[i].contact_regions.size() == 1);
   }
 }
+
+TEST_CASE("Ritz path, von Karman: a / r = 8 bifurcates at the closed form's load", "[continuation][ritz][von_karman]") {
+  // a / r = 8 > sqrt(22 - kappa / 2): the asymmetric bifurcation comes before the limit point
+  // (shallow_arch.hpp, item 2), at p = (1 + kappa) alpha + 3 (4 - kappa) tB / 4, on the bare arch
+  // and on a bilateral foundation (kappa = 2). The symmetric path is stable up to it and unstable
+  // beyond (E < -(16 + kappa)), and every step stays on the closed form's symmetric path.
+  // Branch switching is off: on a bilateral foundation RitzTracer::switch_branch looks for the
+  // mode to lift the member off, which it cannot (see the report of branch sine16; not fixed).
+  for (const double kappa : {0.0, 2.0}) {
+    closed_form::ShallowArch arch = reference();
+    arch.rise = 8.0 * std::sqrt(1.0 / membrane_stiffness);
+    arch.foundation_modulus = kappa * pi * pi * pi * pi;
+    const closed_form::ShallowArchAnalysis analysis = closed_form::analyse(arch);
+    REQUIRE(analysis.has_bifurcation);
+    REQUIRE(analysis.first == closed_form::FirstCritical::unstable_bifurcation);
+    const double bifurcation = analysis.first_bifurcation.load, crown = analysis.first_bifurcation.deflection;
+    scene::Scene scene = arch_scene();
+    scene.foundation.k = arch.foundation_modulus;
+    model::MemberModel member = arch_member(scene);
+    member.initial_sine = model::MemberModel::InitialSine{-arch.rise, 0.0, 1.0};
+    TraceOptions options;
+    options.arc_length.lambda_min = 0.0;
+    options.arc_length.lambda_max = 1.3 * bifurcation;
+    options.arc_length.initial_step = 0.25 * bifurcation;
+    options.arc_length.max_step = 0.5 * bifurcation;
+    options.monitor = 0.5;
+    options.sample_points = {0.25, 0.5};
+    options.switch_branch = false;
+    const TraceResult result = trace_ritz(scene, member, options);
+    INFO("kappa = " << kappa << ": " << result.summary.message << "; closed form bifurcation " << bifurcation);
+    REQUIRE(result.summary.termination == TraceTermination::completed);
+    std::vector<TraceEvent> bifurcations;
+    for (const TraceEvent& e : result.events)
+      if (e.kind == EventKind::bifurcation) bifurcations.push_back(e);
+    REQUIRE(bifurcations.size() == 1);
+    // Located to event_tolerance in lambda, as the limit points above.
+    CHECK(std::abs(bifurcations[0].load_factor - bifurcation) <= 10 * options.event_tolerance * bifurcation);
+    int stable = 0, unstable = 0;
+    for (const TraceStep& step : result.steps) {
+      const double w = step.monitor_deflection;
+      INFO("lambda = " << step.load_factor << ", crown " << w);
+      CHECK(step.load_factor == Approx(closed_form::symmetric_load(arch, w)).epsilon(1e-9));
+      if (w < crown * (1 - 1e-6)) {
+        CHECK(step.stability == path::Stability::stable);
+        ++stable;
+      }
+      if (w > crown * (1 + 1e-6)) {
+        CHECK(step.stability == path::Stability::unstable);
+        ++unstable;
+      }
+    }
+    CHECK(stable >= 1);
+    CHECK(unstable >= 1);
+  }
+}
