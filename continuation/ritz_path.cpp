@@ -184,6 +184,9 @@ class RitzTracer {
     int iterations = 0;
   };
   std::optional<Branch> switch_branch(const RitzModel& model, const PathPoint& at, std::string& why);
+  // The same on a bilateral foundation: the branch in the same topology, along `mode`.
+  std::optional<Branch> switch_in_topology(const RitzModel& model, const PathPoint& at, const VectorXd& mode,
+                                           std::string& why);
 
   // Helpers.
   std::vector<EventSpec> event_specs(const RitzModel& model) const;
@@ -1312,6 +1315,12 @@ std::optional<RitzTracer::Branch> RitzTracer::switch_branch(const RitzModel& mod
   }
   VectorXd mode = VectorXd::Zero(model.unknowns());
   mode.head(amplitudes) = scale.asDiagonal() * eigen.eigenvectors().col(0);
+  // Von Karman on a bilateral foundation: nothing lifts off, the bifurcated branch keeps the
+  // topology (the shallow arch's asymmetric branch). Its first point: the amplitude the mode
+  // moves most held a little off the bifurcation point, lambda free; the tangent leads away from
+  // the point. (A linear beam-column's branch is at constant lambda: left as it was, no switch.)
+  if (!member_.tensionless && member_.theory == model::Theory::von_karman)
+    return switch_in_topology(model, at, mode, why);
   // 2. Where and at which amplitude it first lifts the member off, on a grid of the contact
   //    pieces (a foundation end that is free included, the pieces' limits excluded).
   const int samples = std::max(400, 16 * modes_);
@@ -1463,6 +1472,57 @@ std::optional<RitzTracer::Branch> RitzTracer::switch_branch(const RitzModel& mod
   if (auto failure = state_failure(candidate, point->x)) {
     why =
         fmt::format("the branch's first point at lambda = {:.10g} is no contact solution: {}", point->lambda, *failure);
+    return std::nullopt;
+  }
+  return Branch{std::move(candidate), std::move(*point), newton.iterations};
+}
+
+std::optional<RitzTracer::Branch> RitzTracer::switch_in_topology(const RitzModel& model, const PathPoint& at,
+                                                                 const VectorXd& mode, std::string& why) {
+  Eigen::Index held = 0;
+  mode.head(model.amplitudes()).cwiseAbs().maxCoeff(&held);
+  // A step off the point of 1e-3 of w's size along the mode: small beside the branch's own
+  // curvature, large beside Newton's tolerance (1e-12).
+  const double w_size = std::max(w_scale(model, at.x), 1e-300);
+  const double offset = 1e-3 * w_size / std::abs(mode[held]);
+  RitzModel candidate = model;
+  VectorXd x = at.x + offset * mode;
+  double lambda = at.lambda;
+  const VectorXd residual_scale = VectorXd::Constant(candidate.unknowns(), 1.0 / force_scale(candidate));
+  VectorXd r;
+  MatrixXd j;
+  bool converged = false;
+  for (int iteration = 0; iteration < 50 && !converged; ++iteration) {
+    candidate.residual(x, lambda, r);
+    if (!r.allFinite()) break;
+    if (r.cwiseProduct(residual_scale).lpNorm<Eigen::Infinity>() <= 1e-12) {
+      converged = true;
+      break;
+    }
+    candidate.jacobian(x, lambda, j);
+    j.col(held) = candidate.residual_lambda_derivative(x);
+    const VectorXd delta =
+        (residual_scale.asDiagonal() * j).colPivHouseholderQr().solve(-residual_scale.cwiseProduct(r));
+    if (!delta.allFinite()) break;
+    for (int m = 0; m < candidate.unknowns(); ++m)
+      if (m != held) x[m] += delta[m];
+    lambda += delta[held];
+  }
+  if (!converged) {
+    why = "Newton with the critical mode's amplitude held off the bifurcation point did not converge";
+    return std::nullopt;
+  }
+  const PathFollower follower = make_follower(candidate);
+  PathPoint orientation;
+  orientation.x = x;
+  orientation.lambda = lambda;
+  orientation.tangent_x = VectorXd::Zero(candidate.unknowns());
+  orientation.tangent_x[held] = mode[held] > 0.0 ? 1.0 : -1.0;
+  orientation.tangent_lambda = 0.0;
+  nonlinear::NewtonSummary newton;
+  std::optional<PathPoint> point = follower.start(x, lambda, &newton, orientation);
+  if (!point) {
+    why = "no tangent at the branch's first point: " + newton.message;
     return std::nullopt;
   }
   return Branch{std::move(candidate), std::move(*point), newton.iterations};

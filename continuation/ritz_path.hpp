@@ -60,7 +60,11 @@
 //   says why the path stays on its branch: a mode that lifts first next to an existing limit (the
 //   zone would grow in its own topology), one that pushes a lift-off piece into the foundation, a
 //   Newton that fails. The bifurcation point itself is no step (a trace resumed from the step
-//   before finds the switch again).
+//   before finds the switch again). Von Karman members on a bilateral foundation switch within
+//   their topology (nothing lifts off): the first point holds the mode's largest amplitude 1e-3
+//   of w's size off the bifurcation point, lambda free (the shallow arch's asymmetric branch,
+//   tested against its closed form). Where that branch meets the path again at a second
+//   bifurcation the tracer switches again and shuttles between the two points: not handled.
 // - Steps carry a resumable state: state_topology a path::RitzTopology (with the opening at a
 //   switching event, whose switch a resumed trace redoes) and
 //   state = (x, tangent_x, tangent_lambda, next step length, amplitude scale of the metric),
