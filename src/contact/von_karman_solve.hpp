@@ -194,6 +194,11 @@ class VonKarmanSystem {
     std::vector<int> dof, unknown;
     std::function<double(const Eigen::VectorXd&)> energy;
     std::function<double(const Eigen::VectorXd&, double)> normal_force;
+    // The terms summed into the element's force, in magnitude, per local dof (the backward
+    // error's scale); empty: |K_t| |q_e| + |f_int| of the nonlinear part. The arch's integrated
+    // K hides the cancellation of u' against w at each point (nearly inextensional bending at
+    // EA R^2 / EI ~ 1e6), so it sums the points' terms itself.
+    std::function<Eigen::VectorXd(const Eigen::VectorXd&)> force_terms;
   };
 
  private:
