@@ -1,5 +1,6 @@
 #include "seed_arch/departure.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -32,6 +33,8 @@ ArchFigures SeedArchStudy::figures(const Eigen::VectorXd& every_dof, double crow
   f.usable = true;
   f.crown_deflection = every_dof[discretisation_.deflection_dof(crown_node_)];
   f.crown_thrust = -crown_normal_force;
+  for (int node = 0; node < static_cast<int>(discretisation_.mesh.nodes.size()); ++node)
+    f.largest_slope = std::max(f.largest_slope, std::abs(every_dof[discretisation_.slope_dof(node)]));
   const std::vector<ContactRegion> regions = post::contact_regions(von_karman_model_, discretisation_, every_dof);
   f.contact_regions = static_cast<int>(regions.size());
   for (const ContactRegion& r : regions)

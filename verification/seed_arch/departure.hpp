@@ -28,8 +28,9 @@ struct ArchFigures {
   double crown_deflection = 0.0;  // w(0) / R (> 0 into the foundation)
   double half_angle_deg = 0.0;    // the contact region around the crown: half its angle
   int contact_regions = 0;
-  double crown_thrust = 0.0;  // -N(0) R^2 / EI (compression positive)
-  bool stable = true;         // von Karman: S positive definite on the contact set
+  double crown_thrust = 0.0;   // -N(0) R^2 / EI (compression positive)
+  bool stable = true;          // von Karman: S positive definite on the contact set
+  double largest_slope = 0.0;  // max |w'| over the nodes (radians): the rotation's size, beta^2 << 1?
 };
 
 struct DepartureRow {
