@@ -6,7 +6,7 @@
 // Today every solver is linear: `solve` (every method, `--method all` included), `sweep`,
 // `trace` (both paths) and `envelope` refuse theory = "von_karman" with one line naming
 // `structure.theory`; `liftoff plot` draws what these wrote, so it has nothing to refuse. The
-// reader has already checked such a scene (scene/scene_reader.hpp: beams only, EA, the ends'
+// reader has already checked such a scene (scene/scene_reader.hpp: beams and arches, EA, the ends'
 // axial restraint) and the member model carries it (model/member_model.hpp). A von Karman solver
 // replaces the refusal here, for the commands it serves.
 

@@ -1,16 +1,33 @@
 #pragma once
-// The FE von Karman beam on a tensionless foundation at one load factor (issue 16, item 2): the
-// equilibrium
+// The FE von Karman beam, or circular arch, on a tensionless foundation at one load factor (issue
+// 16, items 1 and 2): the equilibrium
 //   f_int(x) + C^T r = F,   gap = T r - C w + c >= 0,  r >= 0,  r.gap = 0,
-// with f_int the von Karman elements' internal force (fe/von_karman_element.hpp) plus the linear
-// parts of the discretisation (Winkler part of a bilinear foundation, springs), C, T, c the
-// foundation of fe::discretise, and F a load on the unknowns (F_dead + lambda F_live, or any
-// vector the caller builds). It lives in contact/ beside the linear `fast` solver, whose sign
-// checks its outer loop repeats.
+// with f_int the von Karman elements' internal force (beams fe/von_karman_element.hpp, arches
+// fe/arch_von_karman_element.hpp) plus the linear parts of the discretisation (Winkler part of a
+// bilinear foundation, springs), C, T, c the foundation of fe::discretise, and F a load on the
+// unknowns (F_dead + lambda F_live, or any vector the caller builds). It lives in contact/ beside
+// the linear `fast` solver, whose sign checks its outer loop repeats. The element kind enters only
+// through the element list (one entry per mesh element: the element, the linear part of it already
+// in the discretisation's K, where its local dofs sit); the Newton, line search and contact-set
+// loop below are the same for both.
 //
-// Unknowns x = (the discretisation's equations: Hermite w, w' left free by the supports; then the
-// axial u at every node not axially restrained). With neither end restrained, u at the first node
-// is fixed as a gauge (no axial load exists, so the axial rigid motion carries no work).
+// Unknowns x, beams: (the discretisation's equations: Hermite w, w' left free by the supports;
+// then the axial u at every node not axially restrained). With neither end restrained, u at the
+// first node is fixed as a gauge (no axial load exists, so the axial rigid motion carries no work).
+// Arches: the discretisation's equations alone (u is already one of its unknowns); each end's u
+// and w are the arch's own supports (model::EndSupport): pinned u = w = 0, clamped also the
+// rotation, roller w = 0 with u free (no thrust is taken at the end: N = 0 there), free nothing.
+// An arch on two rollers keeps the discretisation's gauge (u = 0 at the crown): under linear
+// theory the rotation about the centre is strain free; under this theory it stretches the arch by
+// c^2 / 2 (the rollers hold the ends on their tangents while the rotation would move them along
+// the circle), so the gauge is no longer free of consequence but it is consistent with a symmetric
+// answer, and an asymmetric answer of such an arch is out of reach here.
+// Arches: the foundation and the loads act along the undeformed normal (C and F are the linear
+// discretisation's), not the current one: the difference is a force of the order of the rotation
+// beta times the reaction (or load), tangential, i.e. relative order beta, which the shallow
+// (Marguerre/Donnell) approximation drops with beta^2 against 1 in the strain; the reaction's
+// tangential component k w beta is dropped the same way. This is the current radial direction
+// within the approximation, not beyond it.
 //
 // Method, and why. For a fixed contact set A (reactions on A bilateral, r = 0 elsewhere) the
 // problem is smooth and has a potential,
@@ -51,16 +68,21 @@
 // Limits. The Newton systems are the primal ones (K_t on w, w', u), whose condition grows like
 // h^-4: the answer's error, estimated by one more Newton correction at it, is ~1e-10 on 200
 // elements, 1e-7 on 2000 and percents on 5000, where the solve ends `inaccurate` (max_error)
-// rather than `solved`. The linear solvers' mixed form (contact/active_set_system.hpp) would lift
-// this; members needing more than ~2000 elements are out of reach here.
+// rather than `solved`. The seed's arch (EA R^2 / EI = 3e6) converges to ~1e-10 on 400 elements and
+// 2e-8 on 2000, with one step of iterative refinement of each Newton direction (without it the
+// line search stalled at |R| ~ 1e-7 on 400 elements). The linear solvers' mixed form (contact/active_set_system.hpp)
+// would lift this; members needing more than ~2000 elements are out of reach here.
 
 #include <Eigen/Dense>
+#include <functional>
 #include <limits>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "fe/discretisation.hpp"
+#include "fe/element.hpp"
 #include "fe/von_karman_element.hpp"
 #include "model/member_model.hpp"
 
@@ -132,9 +154,10 @@ struct VonKarmanResult {
   int contact_sets = 0;
 };
 
-// The nonlinear system of one member on one mesh. model: a beam with theory = von_karman and
-// membrane_stiffness > 0, no given axial force; discretisation: fe::discretise of it. Throws
-// std::invalid_argument naming what is wrong otherwise. The discretisation must outlive the system.
+// The nonlinear system of one member on one mesh. model: a beam or an arch with theory =
+// von_karman and membrane_stiffness > 0, no given axial force; discretisation: fe::discretise of
+// it (the same kind). Throws std::invalid_argument naming what is wrong otherwise. The
+// discretisation must outlive the system.
 class VonKarmanSystem {
  public:
   VonKarmanSystem(const model::MemberModel& model, const fe::Discretisation& discretisation);
@@ -153,18 +176,47 @@ class VonKarmanSystem {
   }
 
   // The total potential on a contact set, and the per-element normal forces, at x (for tests and
-  // the path driver).
+  // the path driver). Beams: N is constant on an element; arches: N = EA eps varies along it, and
+  // normal_forces gives its mean over the element (the Gauss rule's), normal_force the value at xi
+  // in [0, 1] of element e.
   double energy(const Eigen::VectorXd& x, const Eigen::VectorXd& load, const std::vector<bool>& in_contact) const;
   std::vector<double> normal_forces(const Eigen::VectorXd& x) const;
-  // The axial unknown of a mesh node (-1: restrained or the gauge).
+  double normal_force(const Eigen::VectorXd& x, int element, double xi) const;
+  // The axial unknown of a mesh node (-1: restrained or the gauge; always -1 for arches, whose u
+  // is a discretisation dof).
   int axial_unknown(int node) const { return axial_unknown_[node]; }
+
+  // One mesh element's nonlinear part: the element (through the seam), the linear stiffness of it
+  // that the discretisation's K already holds (subtracted from its response), where its local dofs
+  // are (dof: the discretisation's dof, read through expand_displacement, or -1; unknown: its
+  // index in x, or -1 where fixed), and what the seam does not give (energy, N at xi).
+  struct Piece {
+    std::shared_ptr<const fe::Element> element;
+    Eigen::MatrixXd linear;
+    std::vector<int> dof, unknown;
+    std::function<double(const Eigen::VectorXd&)> energy;
+    std::function<double(const Eigen::VectorXd&, double)> normal_force;
+    // The terms summed into the element's force, in magnitude, per local dof (the backward
+    // error's scale); empty: |K_t| |q_e| + |f_int| of the nonlinear part. The arch's integrated
+    // K hides the cancellation of u' against w at each point (nearly inextensional bending at
+    // EA R^2 / EI ~ 1e6), so it sums the points' terms itself.
+    std::function<Eigen::VectorXd(const Eigen::VectorXd&)> force_terms;
+  };
 
  private:
   const fe::Discretisation* discretisation_;
   double membrane_stiffness_;
   std::vector<int> axial_nodes_;    // the nodes whose u is unknown
   std::vector<int> axial_unknown_;  // per node
-  std::vector<fe::VonKarmanBeamElement> elements_;
+  std::vector<Piece> pieces_;
 };
+
+// The circular arch under von Karman theory at one load factor: VonKarmanSystem(model,
+// discretisation).solve(load_factor, options, start), for `liftoff solve` and the studies. model:
+// an arch with theory = von_karman (else std::invalid_argument); the result as for beams, its u
+// the arch's tangential displacement at the nodes and w, theta = w' its radial ones.
+VonKarmanResult solve_arch_von_karman(const model::MemberModel& model, const fe::Discretisation& discretisation,
+                                      double load_factor, const VonKarmanOptions& options = {},
+                                      const Eigen::VectorXd& start = {}, std::vector<bool> initial_set = {});
 
 }  // namespace liftoff::contact

@@ -51,8 +51,8 @@ enum class Method { dual, primal, fast, automatic, ritz, all };
 // control (lambda stepped directly).
 enum class TraceControl { arc_length, load };
 // [structure] theory: linear (first order, or second order under a given axial force) or von
-// Karman (moderate rotations: the membrane strain u' + w0' w' + w'^2/2 coupled to bending; beams
-// only for now, model/member_model.hpp).
+// Karman (moderate rotations: the membrane strain u' + w0' w' + w'^2/2 coupled to bending; beams,
+// and circular arches in the Marguerre/Donnell form, model/member_model.hpp).
 enum class Theory { linear, von_karman };
 
 std::string_view to_string(StructureKind);
@@ -80,7 +80,7 @@ struct Structure {
   double half_angle_deg = 0.0;            // arch: gamma, the arch spans -gamma..gamma
   double bending_stiffness = 0.0;         // EI
   std::optional<double> axial_stiffness;  // EA (required for arches and under von Karman)
-  Theory theory = Theory::linear;         // key `theory`; von_karman: beams only, needs EA
+  Theory theory = Theory::linear;         // key `theory`; von_karman needs EA
 };
 
 // The table form of a support (keys kind, stiffness, rotational_stiffness, settlement): springs
@@ -107,7 +107,7 @@ struct Supports {
   std::vector<double> interior_settlement;       // parallel to interior (empty: none settles)
   std::vector<InteriorSpring> interior_springs;  // elastic point supports, sorted by at
   // Whether each end's axial displacement is held (u = 0): a support table's key
-  // axial = "restrained" | "free", read only under theory = "von_karman". Restrained by default
+  // axial = "restrained" | "free", beams only, read only under theory = "von_karman". Restrained by default
   // at pinned and clamped ends, free at free and spring ends (a free end cannot be restrained).
   // Under linear theory the defaults, which nothing reads.
   bool left_axially_restrained = true;

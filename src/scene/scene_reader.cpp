@@ -464,10 +464,8 @@ Structure read_structure(const Section& s) {
   st.kind = s.required_choice("kind", {StructureKind::beam, StructureKind::arch});
   st.bending_stiffness = s.required_number("EI", positive());
   st.theory = s.choice("theory", {Theory::linear, Theory::von_karman}).value_or(Theory::linear);
-  if (st.theory == Theory::von_karman && st.kind == StructureKind::arch)
-    s.wrong("theory", "\"linear\" for an arch",
-            "the arch's von Karman (Marguerre) form is not available yet: beams only; a shallow arch of any shape "
-            "is a beam with [geometry] initial_shape");
+  // Arches under von Karman: the circular arch's Marguerre/Donnell form (fe/arch_von_karman_element.hpp),
+  // EA required as for every arch; the ends' u is the support kind's (read_support_table).
   if (st.kind == StructureKind::beam) {
     for (const auto key : {"radius", "half_angle_deg"}) s.refuse(key, "for a beam (arches only)");
     st.length = s.required_number("length", positive());
@@ -499,7 +497,7 @@ Structure read_structure(const Section& s) {
 }
 
 // An end's axial restraint by default: held at pinned and clamped ends, free at free and spring
-// ends (and at an arch's roller, which nothing reads: arches have no von Karman form yet).
+// ends. Beams only: an arch's u is a discretisation unknown held or released by the end's kind.
 bool axially_restrained_by_default(EndSupport kind, bool spring) {
   return !spring && (kind == EndSupport::pinned || kind == EndSupport::clamped);
 }
@@ -558,6 +556,11 @@ EndSupport read_support_table(const Section& t, const Member& member, Theory the
   *axially_restrained = axially_restrained_by_default(kind, detail.spring);
   const toml::node* axial = t.find("axial");
   if (axial == nullptr) return kind;
+  if (member.arch)
+    t.fail("axial", fmt::format("not allowed for an arch (an arch end's kind sets its tangential displacement u under "
+                                "either theory: pinned and clamped hold u, roller and free release it; got kind "
+                                "\"{}\")",
+                                detail.spring ? "spring" : std::string(to_string(kind))));
   if (theory != Theory::von_karman)
     t.fail("axial", fmt::format("not allowed with theory = \"{}\" (an axial restraint acts only with theory = "
                                 "\"von_karman\", [structure] theory: linear theory has no membrane strain)",

@@ -345,12 +345,17 @@ TEST_CASE("von Karman solve: beyond a limit point the energy line search makes p
       CHECK(searched.history[i + 1].energy <=
             searched.history[i].energy + 1e-13 * std::abs(searched.history[i].energy));
     CHECK(searched.history.size() <= 10);
-    // Plain Newton wanders: its full steps overshoot along the near-null direction and come back,
-    // and after max_newton_iterations (100, ten times the line search's steps) it is still far
-    // (backward error ~ 1e-4): it ends in iteration_limit, a termination, never a wrong `solved`.
-    CHECK(newton.termination == VonKarmanTermination::iteration_limit);
-    CHECK_FALSE(newton.is_usable());
-    CHECK(newton.history.size() == 100);
+    // Plain Newton wanders: its full steps overshoot along the near-null direction and come back.
+    // Where it ends is chaotic (a last-bit change of the start, e.g. the line search's iterative
+    // refinement, turned 100 steps without convergence into 71 steps to the snapped state): the
+    // robust claims are that it takes many times the line search's steps, and that it never ends
+    // in a wrong `solved` (iteration_limit, or the snapped state).
+    CHECK(newton.history.size() >= 5 * searched.history.size());
+    if (newton.is_usable()) {
+      CHECK(std::abs(midspan(newton) - roots.front()) <= 1e-4 * roots.front());
+    } else {
+      CHECK(newton.termination == VonKarmanTermination::iteration_limit);
+    }
   }
 
   SECTION("a start at the unstable middle branch: plain Newton stays on it, the line search leaves it") {

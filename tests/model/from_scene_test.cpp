@@ -102,3 +102,33 @@ nondimensional_k = 1.0e3
   CHECK(m.theory == model::Theory::linear);
   CHECK(m.membrane_stiffness == 4.0e3 * 10.0 * 10.0 / 2.0);
 }
+
+TEST_CASE("von Karman arch: the theory and EA R^2/EI reach the model; the ends' u is the support kind's",
+          "[model][von_karman][arch]") {
+  const std::string arch = R"([structure]
+kind = "arch"
+radius = 100.0
+half_angle_deg = 10.0
+EI = 1.4
+EA = 420.0
+theory = "von_karman"
+
+[supports]
+left = "pinned"
+right = "roller"
+
+[foundation]
+nondimensional_k = 1.0e6
+
+[[loads]]
+kind = "force"
+at = 0.0
+value = 0.1
+)";
+  const model::MemberModel m = model_of(arch);
+  CHECK(m.kind == model::StructureKind::arch);
+  CHECK(m.theory == model::Theory::von_karman);
+  CHECK(m.membrane_stiffness == Approx(420.0 * 100.0 * 100.0 / 1.4).epsilon(1e-15));
+  CHECK(m.left == model::EndSupport::pinned);
+  CHECK(m.right == model::EndSupport::roller);
+}

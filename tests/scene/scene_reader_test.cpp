@@ -1354,10 +1354,19 @@ TEST_CASE("a von Karman scene: each mistake in theory and axial is one keyed lin
   CHECK(error_of(edited(beam_scene, "kind = \"beam\"", "kind = \"beam\"\ntheory = \"von_karman\"")) ==
         "scene.toml:1: key 'structure.EA': missing (expected a number > 0 with theory = \"von_karman\": the membrane "
         "stiffness EA L^2/EI)");
-  CHECK(error_of(edited(arch_scene, "kind = \"arch\"", "kind = \"arch\"\ntheory = \"von_karman\"")) ==
-        "scene.toml:3: key 'structure.theory': expected \"linear\" for an arch, got \"von_karman\" (the arch's von "
-        "Karman (Marguerre) form is not available yet: beams only; a shallow arch of any shape is a beam with "
-        "[geometry] initial_shape)");
+  // Arches take von Karman theory (the circular arch's Marguerre/Donnell form); an end's u is its kind's,
+  // so `axial` is refused on an arch under either theory.
+  {
+    const Scene arch =
+        parse_scene(edited(arch_scene, "kind = \"arch\"", "kind = \"arch\"\ntheory = \"von_karman\""), "scene.toml");
+    CHECK(arch.structure.theory == Theory::von_karman);
+    CHECK(arch.structure.kind == StructureKind::arch);
+  }
+  CHECK(error_of(edited(edited(arch_scene, "kind = \"arch\"", "kind = \"arch\"\ntheory = \"von_karman\""),
+                        "left = \"pinned\"", "left = { kind = \"pinned\", axial = \"free\" }")) ==
+        "scene.toml:10: key 'supports.left.axial': not allowed for an arch (an arch end's kind sets its tangential "
+        "displacement u under either theory: pinned and clamped hold u, roller and free release it; got kind "
+        "\"pinned\")");
   CHECK(error_of(edited(von_karman, "EA = 4.0e4", "EA = 1.0e308")) ==
         "scene.toml:5: key 'structure.EA': expected EA L^2/EI to be a finite, nonzero double, got EA = 1e+308");
   // Under linear theory `axial` would do nothing: refused, so nobody believes it acts.
