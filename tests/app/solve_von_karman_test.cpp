@@ -70,8 +70,9 @@ MembraneBeam membrane_beam(double ea, double k, double q) {
 
 double midspan_w(const io::SolveReport& r) {
   const auto& x = r.nodes.coordinate;
-  const auto it =
-      std::min_element(x.begin(), x.end(), [](double a, double b) { return std::abs(a - 0.5) < std::abs(b - 0.5); });
+  const double middle = 0.5 * (x.front() + x.back());
+  const auto it = std::min_element(x.begin(), x.end(),
+                                   [&](double a, double b) { return std::abs(a - middle) < std::abs(b - middle); });
   return r.nodes.w[it - x.begin()];
 }
 
