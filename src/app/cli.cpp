@@ -391,9 +391,11 @@ int run_solve(const SolveArguments& args, RunContext& context, std::ostream& out
   if (request.method.value_or(scene.solve.method) == scene::Method::all)
     return run_all(scene, request, args, context, out, err);
   const io::SolveReport report = solve_scene(scene, request);
-  const ExitCode status = report.usable                                  ? ExitCode::success
-                          : report.termination == "unstable_equilibrium" ? ExitCode::unstable_equilibrium
-                                                                         : ExitCode::solver_failure;
+  const ExitCode status = report.usable ? ExitCode::success
+                          // a von Karman load path's limit point is a loss of stability too
+                          : report.termination == "unstable_equilibrium" || report.termination == "limit_point"
+                              ? ExitCode::unstable_equilibrium
+                              : ExitCode::solver_failure;
   if (!report.usable) err << "liftoff: " << scene.source_name << ": " << report.message << "\n";
   if (report.usable) write_solve_outputs(report, args);
   if (args.json) {

@@ -9,6 +9,8 @@
 #include <optional>
 #include <stdexcept>
 
+#include "app/theory_gate.hpp"
+#include "app/von_karman_solve_command.hpp"
 #include "certify/certificate.hpp"
 #include "certify/resultant_check.hpp"
 #include "contact/contact_solver.hpp"
@@ -529,6 +531,9 @@ struct RitzStart {
 RitzStart ritz_starting_point(const scene::Scene& scene, const model::MemberModel& model, int elements) {
   if (!scene.ritz.topology.empty())
     return {ritz::starting_point_from_scene(scene.ritz, model), "topology from the scene"};
+  if (model.theory == model::Theory::von_karman)  // the von Karman contact pattern, not the linear one's
+    return {ritz::starting_point_from_regions(von_karman_fe_regions(scene, elements), model),
+            fmt::format("topology and initial limits from a von Karman FE solution with {} elements", elements)};
   // The robust sparse solver gives the start (Lemke only when asked for by name).
   const FeResult fe = solve_fe(scene, model, Method::fast, elements);
   if (fe.solution.summary.termination == contact::ContactTermination::unstable_equilibrium)
@@ -639,7 +644,8 @@ io::SolveReport ritz_report(const scene::Scene& scene, const SolveRequest& reque
     // gave |V| 46.9 kN against the statics' 70.0 kN). Arches: none (the same series, no statics).
     // Under an axial force these statics would be first-order (post/design.hpp's function-based
     // form has no N y term): none, rather than a moment without N's share.
-    if (report.usable && model.kind == model::StructureKind::beam && !model.has_axial_force()) {
+    if (report.usable && model.kind == model::StructureKind::beam && !model.has_axial_force() &&
+        model.theory == model::Theory::linear) {
       std::vector<post::PointReaction> supports;
       for (const certify::SupportReaction& s : certificate.support_reactions)
         supports.push_back({s.at, s.force, s.moment});
@@ -655,13 +661,68 @@ io::SolveReport ritz_report(const scene::Scene& scene, const SolveRequest& reque
       }
     }
   }
+  // Von Karman: the membrane force, uniform in the Ritz model (one value, at midspan; the fields'
+  // normal_force carries it at every sample), and stable (solve_ritz refuses an unstable state).
+  if (model.theory == model::Theory::von_karman && solution.summary.is_usable() && solution.model) {
+    report.theory = "von_karman";
+    report.stable = true;
+    const double n = solution.model->membrane_force(solution.unknowns) * model.scales.force();
+    report.membrane_force = {n};
+    report.membrane_force_at = {model.user_from_s(0.5 * (model.s_begin + model.s_end))};
+    report.fields.normal_force.assign(report.fields.coordinate.size(), n);
+  }
   report.time_s = seconds_since(start);
+  return report;
+}
+
+// Von Karman kinematics: the table of app/theory_gate.hpp decides which methods run; FE (auto,
+// fast) is the load path of app/von_karman_solve_command.hpp, ritz the Ritz model with its
+// membrane term.
+io::SolveReport solve_von_karman_scene(const scene::Scene& scene, const SolveRequest& request, scene::Method method) {
+  const bool from_option = request.method.has_value();
+  if (request.tolerance || scene.solve.tolerance)
+    require_honoured_theory(scene, Command::solve, Solver::fe_tolerance,
+                            request.tolerance ? std::optional<std::string>("option '--tolerance'") : std::nullopt);
+  if (method == scene::Method::dual || method == scene::Method::primal)
+    require_honoured_theory(scene, Command::solve, Solver::fe_lemke,
+                            from_option ? std::optional<std::string>("option '--method'") : std::nullopt);
+  if (method == scene::Method::ritz || (method == scene::Method::automatic && !scene.ritz.topology.empty())) {
+    require_honoured_theory(scene, Command::solve, Solver::ritz);
+    if (scene.ritz.topology.empty()) {
+      // The Ritz model solves at the whole load directly, from the von Karman FE answer's contact
+      // pattern: that answer must exist, i.e. the load path must reach the whole load. If it
+      // meets a limit point, the Ritz answer is refused the same way (a Ritz Newton from there
+      // would find some equilibrium of the load, not the loading's).
+      SolveRequest path = request;
+      path.fields = false;
+      io::SolveReport fe = von_karman_fe_report(scene, path, scene::to_string(method));
+      if (!fe.usable) {
+        io::SolveReport refused = fe;
+        refused.method = "ritz";
+        refused.method_requested = std::string(scene::to_string(method));
+        refused.certificate.reset();
+        refused.message = "the von Karman FE load path that gives the Ritz start: " + fe.message;
+        return refused;
+      }
+    }
+    io::SolveReport report = ritz_report(scene, request);
+    if (method == scene::Method::automatic) {
+      report.method_requested = "auto";
+      report.method_reason = "ritz: the scene's [ritz] table gives the contact topology (" + report.method_reason + ")";
+    }
+    return report;
+  }
+  require_honoured_theory(scene, Command::solve, Solver::fe_fast);
+  io::SolveReport report = von_karman_fe_report(scene, request, scene::to_string(method));
+  if (method == scene::Method::automatic)
+    report.method_reason = "fast: the von Karman FE solve (" + report.method_reason + ")";
   return report;
 }
 
 io::SolveReport solve_scene_unscaled(const scene::Scene& scene, const SolveRequest& request) {
   const scene::Method method = request.method.value_or(scene.solve.method);
   if (method == scene::Method::all) throw std::invalid_argument("solve_scene: use solve_all_methods for Method::all");
+  if (scene.structure.theory != scene::Theory::linear) return solve_von_karman_scene(scene, request, method);
   if (method == scene::Method::automatic && !scene.ritz.topology.empty()) {
     io::SolveReport report = ritz_report(scene, request);
     report.method_requested = "auto";
@@ -704,6 +765,14 @@ std::vector<io::SolveReport> solve_all_methods(const scene::Scene& scene, const 
     return r;
   };
   for (scene::Method method : {scene::Method::primal, scene::Method::dual, scene::Method::fast, scene::Method::ritz}) {
+    // A method the scene's theory is not served by (app/theory_gate.hpp): refused, with the reason.
+    const Solver solver = method == scene::Method::ritz   ? Solver::ritz
+                          : method == scene::Method::fast ? Solver::fe_fast
+                                                          : Solver::fe_lemke;
+    if (const std::optional<std::string> reason = theory_refusal(scene, solver)) {
+      reports.push_back(refused(method, InputError(scene.source_name + ": key 'solve.method': " + *reason)));
+      continue;
+    }
     try {
       SolveRequest one = request;
       one.method = method;

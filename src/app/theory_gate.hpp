@@ -1,14 +1,26 @@
 #pragma once
-// Which kinematics ([structure] theory) the commands' solvers honour: the one place where a scene
-// whose theory no solver of the command honours is refused, before any work and before any
-// output is written (InputError, exit 2), rather than solved by linear theory without a word.
+// Which kinematics ([structure] theory) each command's solvers honour: one table, consulted by
+// the library's entry points themselves (app::solve_scene, solve_all_methods, run_sweep through
+// them, run_envelope through solve_scene, run_trace), so that no caller, the CLI or a future
+// Python API, can get a linear answer for a scene whose theory the solver does not honour. A
+// refusal is an InputError before any work and before any output is written (the CLI: exit 2,
+// one line naming the key).
 //
-// Today every solver is linear: `solve` (every method, `--method all` included), `sweep`,
-// `trace` (both paths) and `envelope` refuse theory = "von_karman" with one line naming
-// `structure.theory`; `liftoff plot` draws what these wrote, so it has nothing to refuse. The
-// reader has already checked such a scene (scene/scene_reader.hpp: beams and arches, EA, the ends'
-// axial restraint) and the member model carries it (model/member_model.hpp). A von Karman solver
-// replaces the refusal here, for the commands it serves.
+// The table (theory_gate.cpp), for theory = "von_karman" and beams. Circular arches under von Karman
+// are read (scene_reader) and have a contact solve (contact::solve_arch_von_karman, used by the seed
+// arch's departure study, verification/seed_arch/), but no certificate of their answers yet: every
+// solver refuses them (key structure.theory), since no answer may be reported solved unchecked.
+//   solve: auto and fast  -> the FE von Karman solve along the load path (contact/von_karman_solve.hpp)
+//          ritz           -> the Ritz model with its membrane term (ritz/ritz_model.hpp)
+//          dual, primal   -> refused (key solve.method): Lemke solves an LCP, linear only
+//          a tolerance    -> refused (key solve.tolerance): the limit-fitted sequence is linear only
+//   sweep, envelope: what solve honours (they solve through solve_scene)
+//   trace: the Ritz path (continuation::trace_ritz); the FE path refused (key trace.method) until
+//          its von Karman path exists: one entry to flip, `fe_path` below.
+// theory = "linear" is honoured by every solver.
+
+#include <optional>
+#include <string>
 
 #include "scene/scene.hpp"
 
@@ -16,8 +28,31 @@ namespace liftoff::app {
 
 enum class Command { solve, sweep, trace, envelope };
 
-// Throws InputError ("SCENE: key 'structure.theory': ...") when no solver of `command` honours the
-// scene's theory; returns otherwise.
+// The solvers a command may run on a scene.
+enum class Solver {
+  fe_fast,       // solve: auto (FE) and fast
+  fe_lemke,      // solve: dual and primal
+  fe_tolerance,  // solve: any FE method with [solve] tolerance (limit-fitted meshes)
+  ritz,          // solve: ritz (with or without a tolerance)
+  fe_path,       // trace: the FE path (fe, fe_refined)
+  ritz_path,     // trace: the Ritz path
+};
+
+// Whether `solver` honours `theory`.
+bool honours(Solver solver, scene::Theory theory);
+
+// Throws InputError ("SCENE: key 'KEY': ...", KEY the key that chose the solver: structure.theory,
+// solve.method, solve.tolerance, trace.method; `key` overrides it, e.g. an option "--method")
+// when `solver` does not honour the scene's theory; returns otherwise.
+void require_honoured_theory(const scene::Scene& scene, Command command, Solver solver,
+                             const std::optional<std::string>& key = std::nullopt);
+
+// The reason, in words, why `solver` does not honour the scene's theory (nullopt: it does): for a
+// `--method all` column that is refused rather than thrown.
+std::optional<std::string> theory_refusal(const scene::Scene& scene, Solver solver);
+
+// The CLI's early check: throws when no solver of `command` honours the scene's theory (the
+// entry points then check the solver they run).
 void require_honoured_theory(const scene::Scene& scene, Command command);
 
 }  // namespace liftoff::app

@@ -7,6 +7,7 @@
 #include <limits>
 #include <memory>
 
+#include "app/theory_gate.hpp"
 #include "contact/from_scene.hpp"
 #include "continuation/fe_path.hpp"
 #include "continuation/ritz_path.hpp"
@@ -217,7 +218,14 @@ std::vector<std::string> trace_path_names(const scene::Scene& scene, const Trace
   const scene::TraceSettings& t = trace_settings(scene);
   const scene::Method method = trace_method(scene, request);
   std::vector<std::string> names;
-  if (method != scene::Method::ritz) names.push_back("fe");
+  if (method != scene::Method::ritz) {
+    // The FE path's theory (app/theory_gate.hpp): refused for von Karman until its path exists.
+    require_honoured_theory(scene, Command::trace, Solver::fe_path,
+                            request.method ? std::optional<std::string>("option '--method'")
+                            : t.method     ? std::optional<std::string>("key 'trace.method'")
+                                           : std::optional<std::string>("key 'solve.method'"));
+    names.push_back("fe");
+  }
   if (method == scene::Method::ritz || method == scene::Method::all) {
     // As `solve --method ritz`: what the Ritz model cannot take is bad input for it (exit 2).
     const model::MemberModel model = model::make_member_model(scene);

@@ -106,6 +106,9 @@ inline constexpr std::string_view complementarity = "complementarity";
 inline constexpr std::string_view backward_error = "backward_error";
 inline constexpr std::string_view round_off = "round_off";
 inline constexpr std::string_view settlement = "settlement";
+inline constexpr std::string_view membrane_uniform = "membrane_uniform";              // von Karman beams
+inline constexpr std::string_view membrane_free_end = "membrane_free_end";            // von Karman beams
+inline constexpr std::string_view membrane_compatibility = "membrane_compatibility";  // von Karman beams
 }  // namespace check_name
 
 struct Check {
@@ -199,6 +202,27 @@ Certificate certify(const model::MemberModel& model, const fe::Discretisation& d
 // `ritz_options`: as the answer was solved (load factor, modes, Newton tolerance, enrichment).
 Certificate certify(const model::MemberModel& model, const ritz::RitzSolution& solution,
                     const ritz::RitzOptions& ritz_options, const CertifyOptions& options = {});
+
+// A von Karman beam's answer on an FE mesh (contact/von_karman_solve.hpp), as it is reported:
+// displacement on every dof (w, w'; settled supports included), axial the u of every node (0 where
+// held), reaction per reaction node, normal_force the reported N of each element (tension positive).
+struct VonKarmanAnswer {
+  Eigen::VectorXd displacement, axial, reaction;
+  std::vector<double> normal_force;
+};
+
+// The certificate of a von Karman beam's answer, from its fields alone. Checks (certificate.hpp's
+// names, CERTIFICATE.md): backward_error (the transverse and axial rows of the von Karman element
+// equations, 512 eps); force_balance and moment_balance (the membrane's nodal forces count on the
+// rotation as the thrust's moment at the displaced ends); membrane_uniform (N' = 0: N's spread
+// over the elements), membrane_free_end (N = 0 at an axially free end), membrane_compatibility
+// (the reported N against EA eps of the fields, and with both ends held its mean against EA/L
+// integral of (w0' w' + w'^2 / 2)); reaction_sign, penetration, complementarity at the nodes
+// (tolerance: sign_floor, the solver's sign tolerance, times 8). The support reactions' tangential
+// is the axial reaction at a held end (along increasing x: the thrust). No round_off check (the
+// primal system's round-off is not measured here; the solver's own error estimate is reported).
+Certificate certify(const model::MemberModel& model, const fe::Discretisation& discretisation,
+                    const VonKarmanAnswer& answer, const CertifyOptions& options = {});
 
 // In the user's units (forces, moments, positions: x or theta in degrees).
 struct UserFigures {

@@ -12,6 +12,7 @@
 #include "fe/arch_element.hpp"
 #include "fe/beam_element.hpp"
 #include "fe/shape_functions.hpp"
+#include "fe/von_karman_element.hpp"
 #include "linalg/banded_lu.hpp"
 
 namespace liftoff::certify {
@@ -876,6 +877,252 @@ Certificate certify(const MemberModel& model, const Discretisation& d, const con
   }
   c.round_off_estimate = round_off.measured ? std::max(round_off.w, round_off.r) : -1.0;
 
+  detail::conclude(c, model);
+  return c;
+}
+
+// ---- von Karman beams ------------------------------------------------------------------------
+
+Certificate certify(const MemberModel& model, const Discretisation& d, const VonKarmanAnswer& answer,
+                    const CertifyOptions& options) {
+  options.validate();
+  Certificate c;
+  const VectorXd& u_given = answer.displacement;
+  const VectorXd& r_given = answer.reaction;
+  const VectorXd& axial = answer.axial;
+  const int elements = d.mesh.elements(), nodes = elements + 1;
+  if (model.kind != StructureKind::beam || model.theory != model::Theory::von_karman || model.has_axial_force() ||
+      !(model.membrane_stiffness > 0.0)) {
+    c.message = "not a von Karman beam (the von Karman certificate needs theory = von_karman, EA, no axial load)";
+    return c;
+  }
+  if (u_given.size() != d.dofs() || r_given.size() != d.reactions() || axial.size() != nodes ||
+      static_cast<int>(answer.normal_force.size()) != elements || !u_given.allFinite() || !r_given.allFinite() ||
+      !axial.allFinite()) {
+    c.message =
+        "no answer to certify: the displacements, axial displacements, reactions or normal forces are missing "
+        "or not finite";
+    return c;
+  }
+  const double lambda = options.load_factor, ea = model.membrane_stiffness;
+  // The linear parts (bending K_e u_e, the foundation's C^T r and gaps, springs, loads), as for
+  // a linear answer (the model has no given axial force, so no second-order term).
+  NodalForces f = nodal_forces(model, d, u_given, r_given, lambda);
+  // The membrane's nodal forces per element, from the fields: f_int of the von Karman element
+  // (fe/von_karman_element.hpp) less its bending part, N (a_0 + K_g w) on w and (-N, N) on u; and
+  // the membrane strain's terms in magnitude, EA (|u0| + |u1| + integral |w0' w'| + w'^2 / 2) / h,
+  // the scale of N (its terms cancel where u' relieves w'^2 / 2).
+  VectorXd membrane = VectorXd::Zero(d.dofs()), axial_residual = VectorXd::Zero(nodes),
+           axial_magnitude = VectorXd::Zero(nodes);
+  std::vector<double> normal_force(elements), strain_terms(elements);
+  double membrane_scale = 0.0, strain_integral = 0.0;  // strain_integral: integral of w0' w' + w'^2 / 2
+  fe::ElementResponse response;
+  for (int e = 0; e < elements; ++e) {
+    const double s0 = d.mesh.nodes[e], h = d.mesh.element_size(e);
+    const std::vector<int> dofs = d.element_dofs(e);
+    VectorXd local(6);
+    for (int j = 0; j < 4; ++j) local[j] = u_given[dofs[j]];
+    local[4] = axial[e];
+    local[5] = axial[e + 1];
+    const fe::von_karman_element::InitialSlopes slopes =
+        fe::von_karman_element::sample_initial_slopes([&model](double s) { return model.initial_slope(s); }, s0, h);
+    const fe::VonKarmanBeamElement element(h, ea, slopes);
+    element.evaluate(fe::ElementState{local, 0.0}, response);
+    const Eigen::Vector4d bending = fe::beam_element::stiffness(h) * local.head<4>();
+    // |u0| + |u1|, not |u1 - u0|: u carries its round-off relative to its own size.
+    double terms = std::abs(local[5]) + std::abs(local[4]);
+    Eigen::Vector4d coupling_terms = Eigen::Vector4d::Zero();  // |integral of N_w' (w0' + w')|, in magnitude
+    for (int q = 0; q < fe::von_karman_element::quadrature_points; ++q) {
+      const Eigen::Vector4d d1 = fe::hermite_cubic(fe::gauss5[q].xi, h).d1;
+      const double slope = d1.dot(local.head<4>()), weight = fe::gauss5[q].weight * h;
+      terms += weight * (std::abs(slopes[q] * slope) + 0.5 * slope * slope);
+      strain_integral += weight * (slopes[q] * slope + 0.5 * slope * slope);
+      coupling_terms += weight * d1.cwiseAbs() * (std::abs(slopes[q]) + d1.cwiseAbs().dot(local.head<4>().cwiseAbs()));
+    }
+    strain_terms[e] = ea * terms / h;
+    membrane_scale = std::max(membrane_scale, strain_terms[e]);
+    normal_force[e] = element.normal_force(local);
+    for (int j = 0; j < 4; ++j) {
+      const double value = response.internal_force[j] - bending[j];
+      membrane[dofs[j]] += value;
+      // N's own terms (it is a difference of them: u' relieves w'^2 / 2) times the coupling's.
+      f.magnitude[dofs[j]] += std::abs(value) + (std::abs(normal_force[e]) + strain_terms[e]) * coupling_terms[j];
+    }
+    for (int j = 0; j < 2; ++j) {
+      axial_residual[e + j] += response.internal_force[4 + j];
+      axial_magnitude[e + j] += strain_terms[e];
+    }
+  }
+  const VectorXd residual = f.internal + membrane + f.foundation + f.springs - f.applied;
+  const std::vector<int> supported = detail::supported_dofs(model, d);
+  std::vector<bool> is_supported(d.dofs(), false);
+  for (int dof : supported) is_supported[dof] = true;
+  const bool left = model.left_axially_restrained, right = model.right_axially_restrained;
+  auto axially_held = [&](int node) { return (node == 0 && left) || (node == nodes - 1 && right); };
+
+  // backward_error: the transverse rows (w, w') the supports leave free, and the axial rows of
+  // every node not held axially. The solver accepts a row at 256 eps of the forces summed into it
+  // (VonKarmanOptions::residual_tolerance), summed in magnitude as here; computing it again rounds
+  // a few eps more: 512 eps.
+  const double row_tolerance = 512 * eps;
+  {
+    Check check = detail::make_check(check_name::backward_error, 0.0, row_tolerance);
+    for (int dof = 0; dof < d.dofs(); ++dof) {
+      if (d.equation_of_dof[dof] < 0 || f.magnitude[dof] == 0.0) continue;
+      const double value = std::abs(residual[dof]) / f.magnitude[dof];
+      if (value > check.value) check.value = value, check.at = d.position_of_dof(dof);
+    }
+    for (int node = 0; node < nodes; ++node) {
+      if (axially_held(node) || axial_magnitude[node] == 0.0) continue;
+      const double value = std::abs(axial_residual[node]) / axial_magnitude[node];
+      if (value > check.value) check.value = value, check.at = d.mesh.nodes[node];
+    }
+    c.checks.push_back(check);
+  }
+
+  // Support reactions: the residual at the fixed dofs; the axial one (the thrust) at a held end,
+  // along increasing s, in `tangential`.
+  c.support_reactions = detail::support_reactions(model, d, residual, is_supported);
+  for (int node : {0, nodes - 1}) {
+    if (!axially_held(node)) continue;
+    auto it = std::find_if(c.support_reactions.begin(), c.support_reactions.end(),
+                           [&](const SupportReaction& s) { return s.at == d.mesh.nodes[node]; });
+    if (it == c.support_reactions.end()) {
+      SupportReaction held;
+      held.at = d.mesh.nodes[node];
+      c.support_reactions.push_back(held);
+      it = c.support_reactions.end() - 1;
+    }
+    it->tangential = axial_residual[node];
+  }
+  std::stable_sort(c.support_reactions.begin(), c.support_reactions.end(),
+                   [](const SupportReaction& a, const SupportReaction& b) { return a.at < b.at; });
+
+  // Balance on the translation and the rotation about the begin. The membrane's nodal forces do
+  // no work on the translation (the Hermite slopes of a translation vanish) and on the rotation
+  // they are the moment of N at the displaced ends (N [w0 + w] between the ends, N from each
+  // element): the thrust's moment, counted like a load. Tolerance as for a linear answer
+  // (certificate.hpp), with the rows' residuals at the solver's 256 eps.
+  const double rows = 256 * eps;
+  const Eigen::MatrixXd modes = detail::balance_modes(model, d);
+  std::vector<double> applied(modes.cols()), foundation(modes.cols());
+  for (int j = 0; j < modes.cols(); ++j) {
+    const VectorXd m = modes.col(j);
+    double a = 0, a_abs = 0, phi = 0, phi_abs = 0, g = 0, g_abs = 0, bound = 0, assembly = 0, springs = 0,
+           springs_abs = 0, thrust = 0, thrust_abs = 0;
+    for (int dof = 0; dof < d.dofs(); ++dof) {
+      assembly += m[dof] * f.assembly_defect[dof];
+      a += m[dof] * f.applied[dof];
+      a_abs += std::abs(m[dof] * f.applied[dof]);
+      phi += m[dof] * f.foundation[dof];
+      phi_abs += std::abs(m[dof] * f.foundation[dof]);
+      springs += m[dof] * f.springs[dof];
+      springs_abs += std::abs(m[dof] * f.springs[dof]);
+      thrust += m[dof] * membrane[dof];
+      thrust_abs += std::abs(m[dof] * membrane[dof]);
+      bound += m[dof] * m[dof] * f.magnitude[dof] * f.magnitude[dof];
+      if (is_supported[dof]) {
+        g += m[dof] * residual[dof];
+        g_abs += std::abs(m[dof] * residual[dof]);
+      }
+    }
+    applied[j] = a;
+    foundation[j] = phi;
+    const double scale = a_abs + g_abs + phi_abs + springs_abs + thrust_abs;
+    const double tolerance = 2 * std::abs(assembly) + 4 * rows * std::sqrt(bound) + rows * scale;
+    c.checks.push_back(scale > 0
+                           ? detail::make_check(detail::balance_name(d.kind, j),
+                                                std::abs(a + g - phi - springs - thrust) / scale, tolerance / scale)
+                           : detail::make_check(detail::balance_name(d.kind, j), 0.0, rows));
+  }
+  {
+    double integral = 0.0, moment = 0.0;
+    const std::vector<std::array<int, 2>> reactions = detail::element_reactions(d);
+    for (int e = 0; e < elements; ++e) {
+      const auto [ra, rb] = reactions[e];
+      if (!on_foundation(d, e) || ra < 0 || rb < 0) continue;
+      const double h = d.mesh.element_size(e), sa = d.mesh.nodes[e], sb = d.mesh.nodes[e + 1];
+      integral += 0.5 * h * (r_given[ra] + r_given[rb]);
+      moment += h / 6.0 * (r_given[ra] * (2 * sa + sb) + r_given[rb] * (sa + 2 * sb));
+    }
+    detail::fill_resultants(c, model, applied, foundation, integral != 0.0 ? moment / integral : 0.0);
+  }
+
+  // The membrane force. Continuum: N' = 0 (axial equilibrium, no axial load), so N is uniform;
+  // N = 0 at an axially free end; with both ends held, u(0) = u(L) = 0 and N = EA/L integral
+  // of (w0' w' + w'^2 / 2) (compatibility). Discrete: the axial row at node i is N_(i-1) - N_i,
+  // so N's spread is a sum of the axial rows' residuals (each within 256 eps of its terms, of
+  // random sign: 4 sqrt(n) of them, as the balance's random walk), relative to the largest
+  // element's strain terms; a free end's N is one row (512 eps). Compatibility compares the
+  // reported N (what the outputs carry) with EA eps of the fields: per element and, with both
+  // ends held, its length-weighted mean with EA/L integral (...) (the same quadrature as the
+  // element's: 64 eps of the terms for the sums' rounding).
+  {
+    const double scale = std::max(membrane_scale, std::numeric_limits<double>::min());
+    const auto [lowest, highest] = std::minmax_element(normal_force.begin(), normal_force.end());
+    c.checks.push_back(detail::make_check(check_name::membrane_uniform, (*highest - *lowest) / scale,
+                                          4 * std::sqrt(static_cast<double>(nodes)) * row_tolerance));
+    if (!left || !right) {
+      const double end = !left ? normal_force.front() : normal_force.back();
+      Check check = detail::make_check(check_name::membrane_free_end, std::abs(end) / scale, row_tolerance);
+      check.at = !left ? d.mesh.nodes.front() : d.mesh.nodes.back();
+      c.checks.push_back(check);
+    }
+    Check compatibility = detail::make_check(check_name::membrane_compatibility, 0.0, 64 * eps);
+    double weighted = 0.0;
+    for (int e = 0; e < elements; ++e) {
+      const double value = std::abs(answer.normal_force[e] - normal_force[e]) / scale;
+      if (!(value <= compatibility.value)) compatibility.value = value, compatibility.at = d.mesh.nodes[e];
+      weighted += answer.normal_force[e] * d.mesh.element_size(e);
+    }
+    if (left && right) {
+      const double length = d.mesh.nodes.back() - d.mesh.nodes.front();
+      const double value = std::abs(weighted - ea * strain_integral) / length / scale;
+      if (!(value <= compatibility.value)) compatibility.value = value, compatibility.at.reset();
+    }
+    c.checks.push_back(compatibility);
+  }
+
+  // Contact conditions at the nodes (the discrete ones, weighted gaps recomputed from the fields
+  // by quadrature). The solver changes a node's state only beyond VonKarmanOptions::sign_tolerance
+  // (1e-10) of the largest reaction or C w term, so a node at r = gap = 0 may keep a value of
+  // either sign of that relative size: the tolerance is that, times the sign safety factor
+  // (CertifyOptions::sign_floor carries it; at least 16 eps). Pointwise conditions inside the
+  // elements are not checked for von Karman answers.
+  const double sign_tolerance = detail::sign_safety * std::max(detail::minimum_round_off, options.sign_floor);
+  const int m = d.reactions();
+  const double r_scale = m > 0 ? r_given.cwiseAbs().maxCoeff() : 0.0;
+  double w_largest = 0.0;
+  for (int node = 0; node < nodes; ++node) w_largest = std::max(w_largest, std::abs(u_given[d.deflection_dof(node)]));
+  const std::vector<std::array<int, 2>> reaction_of_node = detail::element_reactions(d);
+  Check sign = detail::make_check(check_name::reaction_sign, 0.0, sign_tolerance);
+  Check penetration = detail::make_check(check_name::penetration, 0.0, sign_tolerance);
+  Check complementarity = detail::make_check(check_name::complementarity, 0.0, sign_tolerance);
+  auto worse = [](Check& check, double value, double s) {
+    if (value > check.value) check.value = value, check.at = s;
+  };
+  for (int i = 0; i < m; ++i) {
+    const int node = d.reaction_nodes[i];
+    const double s = d.mesh.nodes[node];
+    double support = 0.0;
+    if (node > 0 && on_foundation(d, node - 1) && reaction_of_node[node - 1][1] == i)
+      support += 0.5 * d.mesh.element_size(node - 1);
+    if (node < elements && on_foundation(d, node) && reaction_of_node[node][0] == i)
+      support += 0.5 * d.mesh.element_size(node);
+    const double gap_terms = std::max(f.gap_terms[i], support * w_largest);
+    const double relative_r = r_scale > 0 ? r_given[i] / r_scale : 0.0;
+    const double relative_gap = gap_terms > 0 ? f.gap[i] / gap_terms : 0.0;
+    if (d.tensionless) {
+      if (d.equation_of_dof[d.deflection_dof(node)] >= 0) worse(sign, -relative_r, s);
+      worse(penetration, -relative_gap, s);
+      worse(complementarity, std::min(std::abs(relative_r), std::abs(relative_gap)), s);
+    } else {
+      worse(complementarity, std::abs(relative_gap), s);
+    }
+  }
+  if (d.tensionless) c.checks.push_back(sign), c.checks.push_back(penetration);
+  c.checks.push_back(complementarity);
+  c.round_off_note = "round-off not measured for von Karman answers";
   detail::conclude(c, model);
   return c;
 }

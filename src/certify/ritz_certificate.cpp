@@ -92,8 +92,12 @@ Balance balance_terms(const MemberModel& member, const RitzModel& ritz, const Ve
   b.axial = b.axial_abs = b.applied;
   const bool arch = member.kind == StructureKind::arch;
   const double k = member.k;
-  if (!arch && member.has_axial_force()) {
-    const double n = member.axial_force(lambda), begin = member.s_begin, end = member.s_end;
+  // Von Karman beams with both ends held: the membrane force N (tension positive, uniform in this
+  // model) acts as an axial load of value -N.
+  const double membrane = !arch && ritz.has_membrane() ? ritz.membrane_force(x) : 0.0;
+  if (!arch && (member.has_axial_force() || membrane != 0.0)) {
+    const double n = member.has_axial_force() ? member.axial_force(lambda) : -membrane, begin = member.s_begin,
+                 end = member.s_end;
     const auto y = [&](double s) {
       return ritz.w(x, s) + (member.has_initial_shape() ? member.initial_shape(s) : 0.0);
     };
@@ -170,6 +174,8 @@ Balance balance_terms(const MemberModel& member, const RitzModel& ritz, const Ve
       const double energy = integrate(member.s_begin, member.s_end, quadrature, [&](double s) {
         const std::array<double, 5> v = test(s);
         const double du = arch ? ritz.u(x, s, 1) : 0.0, w = ritz.w(x, s), d2w = ritz.w(x, s, 2);
+        if (!arch)  // the membrane's virtual work N (w0' + w') v' (zero without the term)
+          return d2w * v[4] + (membrane != 0.0 ? membrane * (member.initial_slope(s) + ritz.w(x, s, 1)) * v[3] : 0.0);
         return member.membrane_stiffness * (du - w) * (v[1] - v[2]) + (du + d2w) * (v[1] + v[4]);
       });
       double foundation_work = 0.0;
@@ -193,7 +199,10 @@ Balance balance_terms(const MemberModel& member, const RitzModel& ritz, const Ve
       }
       g[c] = energy + foundation_work - load_work;
     }
-    b.reactions.push_back({end, 0.0 - g[0], 0.0 - g[1], arch ? g[2] - g[1] : 0.0});  // no -0
+    // Beams: tangential carries the membrane's axial reaction at a held end (along +s): -N at the
+    // begin, N at the end.
+    b.reactions.push_back(
+        {end, 0.0 - g[0], 0.0 - g[1], arch ? g[2] - g[1] : (side == 0 ? -membrane : membrane)});  // no -0
     for (int j = 0; j < modes; ++j) {
       const Eigen::Vector3d m = detail::balance_mode_at(member, j, end);  // (u, w, w')
       b.supports[j] += m[1] * g[0] + m[2] * g[1] + m[0] * g[2];

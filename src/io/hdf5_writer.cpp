@@ -58,13 +58,14 @@ void write_certificate(hid_t file, const SolveReport& r) {
     write_number_attribute(group, check.name, check.value);
     write_number_attribute(group, check.name + "_tolerance", check.tolerance);
   }
-  const bool arch = r.kind == scene::StructureKind::arch;
+  // Arches: the tangential reaction; von Karman beams: the horizontal (axial) one, along +x.
+  const bool fourth = r.kind == scene::StructureKind::arch || r.theory == "von_karman";
   std::vector<double> rows;
   for (const certify::SupportReaction& s : u.support_reactions) {
     rows.insert(rows.end(), {s.at, s.force, s.moment});
-    if (arch) rows.push_back(s.tangential);
+    if (fourth) rows.push_back(s.tangential);
   }
-  write_array(file, "support_reactions", rows, arch ? 4 : 3);
+  write_array(file, "support_reactions", rows, fourth ? 4 : 3);
 }
 
 // /design (attributes: <name> and <name>_at for moment_max, moment_min, shear_max_abs,
@@ -119,6 +120,14 @@ void write_report(hid_t file, const SolveReport& r) {
   write_string_attribute(file, "sign_convention", sign_convention);
   write_number_attribute(file, "tensionless", static_cast<int>(r.tensionless));
   write_number_attribute(file, "k", r.k);
+  write_string_attribute(file, "theory", r.theory);
+  if (r.stable) write_number_attribute(file, "stable", static_cast<int>(*r.stable));
+  if (!r.membrane_force.empty()) {  // von Karman beams: rows (at, N) per element, tension positive
+    std::vector<double> rows;
+    for (std::size_t e = 0; e < r.membrane_force.size(); ++e)
+      rows.insert(rows.end(), {r.membrane_force_at[e], r.membrane_force[e]});
+    write_array(file, "membrane_force", rows, 2);
+  }
   write_units(file, r.units);
   write_scale(file, r);
 

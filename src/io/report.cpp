@@ -165,6 +165,7 @@ SolveReport make_report(const scene::Scene& scene, const model::MemberModel& mod
 
 void attach_scale(SolveReport& report, const scene::Scene& scene, const model::MemberModel& model) {
   report.units = scene.units;
+  report.theory = std::string(scene::to_string(scene.structure.theory));
   std::vector<double> mesh;  // FE: the nodes in s (Ritz: none)
   for (const double x : report.nodes.coordinate) mesh.push_back(model.s_from_user(x));
   report.scale = post::scale_figures(model, mesh);
@@ -236,8 +237,9 @@ nlohmann::json support_reactions_json(const SolveReport& r) {
   for (const certify::SupportReaction& s : r.certificate_figures.support_reactions) {
     nlohmann::json one{{"at", s.at}, {"force", s.force}, {"moment", s.moment}};
     if (r.kind == StructureKind::arch) one["tangential"] = s.tangential;
-    if (s.spring) one["spring"] = true;                         // an elastic support: its springs' force
-    if (s.settlement != 0.0) one["settlement"] = s.settlement;  // the support's prescribed w
+    if (r.theory == "von_karman") one["horizontal"] = s.tangential;  // the axial reaction, along +x
+    if (s.spring) one["spring"] = true;                              // an elastic support: its springs' force
+    if (s.settlement != 0.0) one["settlement"] = s.settlement;       // the support's prescribed w
     all.push_back(one);
   }
   return all;
@@ -322,6 +324,12 @@ nlohmann::json to_json(const SolveReport& r) {
   j["tensionless"] = r.tensionless;
   j["k"] = r.k;
   if (r.axial_force) j["axial_force"] = *r.axial_force;
+  j["theory"] = r.theory;
+  if (r.stable) j["stable"] = *r.stable;
+  if (!r.membrane_force.empty())
+    j["membrane_force"] = {{"per", "element"}, {"at", r.membrane_force_at}, {"value", r.membrane_force}};
+  if (r.theory == "von_karman" && !r.nodes.u.empty())
+    j["u"] = {{"coordinate", r.nodes.coordinate}, {"value", r.nodes.u}};
   if (!r.nodes.w_initial.empty()) j["w_initial"] = {{"coordinate", r.nodes.coordinate}, {"value", r.nodes.w_initial}};
   if (const auto& t = r.stability) {
     j["stability"] = t->stability;
@@ -397,6 +405,9 @@ std::string solver_line(const SolveReport& r) {
                        r.residual, r.time_s);
   if (r.limit_fitted)
     return fmt::format("{} elements (limit-fitted: every contact limit a node), residual {:.1e}, {:.3f} s", r.elements,
+                       r.residual, r.time_s);
+  if (r.active_set_iterations >= 0 && r.factorisations < 0)  // von Karman: no factorisation count
+    return fmt::format("{} elements, {} contact sets, residual {:.1e}, {:.3f} s", r.elements, r.active_set_iterations,
                        r.residual, r.time_s);
   if (r.active_set_iterations >= 0)
     return fmt::format("{} elements, {} contact sets, {} factorisations, residual {:.1e}, {:.3f} s", r.elements,
@@ -492,6 +503,8 @@ std::string certificate_lines(const SolveReport& r) {
                               s.at, unit, s.spring ? "spring " : "", s.force, force);
       if (s.settlement != 0.0)
         supports += fmt::format(", settlement {:.6g}{}", s.settlement, with_unit(r.units.length));
+      if (r.theory == "von_karman" && s.tangential != 0.0)
+        supports += fmt::format(", horizontal {:.6g}{}", s.tangential, force);
       if (s.moment != 0.0) supports += fmt::format(", moment {:.6g}{}", s.moment, moment);
       if (arch && s.tangential != 0.0) supports += fmt::format(", tangential {:.6g}{}", s.tangential, force);
     }
@@ -587,6 +600,12 @@ std::string text_summary(const SolveReport& r) {
                      t->stability, t->critical_load_factor, t->critical_axial_force, force, t->lower_bound,
                      t->upper_bound, t->method)
                : fmt::format("  stability     {}: {} ({})\n", t->stability, t->termination, t->message);
+  }
+  if (!r.membrane_force.empty()) {
+    const auto [lowest, highest] = std::minmax_element(r.membrane_force.begin(), r.membrane_force.end());
+    out += fmt::format("  membrane      N = {:.6g}{} (tension positive; {:.6g} to {:.6g} over the elements), {}\n",
+                       0.5 * (*lowest + *highest), with_unit(r.units.force), *lowest, *highest,
+                       r.stable && *r.stable ? "stable" : "not stable");
   }
   if (!r.gauge_note.empty()) out += "  note          " + r.gauge_note + "\n";
   out += "  sign          w > 0 into the foundation\n";

@@ -94,6 +94,16 @@ struct SolveReport {
   // Beams under an axial force: the acting compressive force N (dead + live at lambda = 1, force
   // units, positive compresses); absent without one.
   std::optional<double> axial_force;
+  // The kinematics the answer was solved under ([structure] theory): "linear" or "von_karman".
+  std::string theory = "linear";
+  // Von Karman beams (empty / absent otherwise): the membrane force N = EA (u' + w0' w' + w'^2/2)
+  // of each element (tension positive, force units; constant on an element, uniform along the
+  // member in the continuum) at the elements' midpoints (user coordinate); whether the answer is
+  // a stable equilibrium on its contact set; the axial displacement u is nodes.u (length units,
+  // positive toward increasing x), and the axial reaction at each held end is the support
+  // reaction's `horizontal` (along increasing x).
+  std::vector<double> membrane_force, membrane_force_at;
+  std::optional<bool> stable;
   scene::Units units;  // the scene's [units]: labels for every output
   // The foundation's scale (post/scale.hpp): K, beta, beta L, 1/beta, beta h; absent in a report
   // of a method that did not run.
