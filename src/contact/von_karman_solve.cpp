@@ -277,6 +277,36 @@ std::vector<double> VonKarmanSystem::normal_forces(const VectorXd& x) const {
   return forces;
 }
 
+VectorXd VonKarmanSystem::internal_force(const VectorXd& x) const {
+  const fe::Discretisation& d = *discretisation_;
+  const Evaluator evaluate{d, elements_, axial_unknown_, unknowns()};
+  return evaluate(x, VectorXd::Zero(unknowns()), make_set(d, std::vector<bool>(d.reactions(), false)), false).residual;
+}
+
+SparseMatrix VonKarmanSystem::tangent_stiffness(const VectorXd& x) const {
+  const fe::Discretisation& d = *discretisation_;
+  const Evaluator evaluate{d, elements_, axial_unknown_, unknowns()};
+  const Evaluation ev =
+      evaluate(x, VectorXd::Zero(unknowns()), make_set(d, std::vector<bool>(d.reactions(), false)), true);
+  Triplets t(ev.membrane);
+  // Explicit zeros on every element coupling: the pattern must not depend on x (a zero normal
+  // force or a straight member leaves some membrane terms exactly zero).
+  const VectorXd w_all = d.expand_displacement(x.head(d.equations));
+  std::array<int, 6> index{};
+  VectorXd local;
+  for (int e = 0; e < static_cast<int>(elements_.size()); ++e) {
+    evaluate.gather(e, x, w_all, index, local);
+    for (int i = 0; i < 6; ++i)
+      for (int j = 0; j < 6; ++j)
+        if (index[i] >= 0 && index[j] >= 0) t.emplace_back(index[i], index[j], 0.0);
+  }
+  for (int k = 0; k < d.stiffness.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(d.stiffness, k); it; ++it) t.emplace_back(it.row(), it.col(), it.value());
+  SparseMatrix kt(unknowns(), unknowns());
+  kt.setFromTriplets(t.begin(), t.end());
+  return kt;
+}
+
 double VonKarmanSystem::energy(const VectorXd& x, const VectorXd& load, const std::vector<bool>& in_contact) const {
   const Evaluator evaluate{*discretisation_, elements_, axial_unknown_, unknowns()};
   return evaluate(x, load, make_set(*discretisation_, in_contact), false).energy;

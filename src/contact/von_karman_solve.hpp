@@ -55,6 +55,7 @@
 // this; members needing more than ~2000 elements are out of reach here.
 
 #include <Eigen/Dense>
+#include <Eigen/SparseCore>
 #include <limits>
 #include <string>
 #include <string_view>
@@ -158,6 +159,14 @@ class VonKarmanSystem {
   std::vector<double> normal_forces(const Eigen::VectorXd& x) const;
   // The axial unknown of a mesh node (-1: restrained or the gauge).
   int axial_unknown(int node) const { return axial_unknown_[node]; }
+  // The set-free part of the equations, for a path driver that carries the reactions as unknowns
+  // itself (continuation/fe_von_karman_path.hpp): f_int(x), the elements' internal force plus the
+  // linear parts of the discretisation (no load, no reactions), and its Jacobian K_t. K_t's
+  // sparsity pattern does not depend on x (every element's 6 x 6 coupling and K's pattern are
+  // stored, zeros included), so a caller may analyse it once.
+  Eigen::VectorXd internal_force(const Eigen::VectorXd& x) const;
+  Eigen::SparseMatrix<double> tangent_stiffness(const Eigen::VectorXd& x) const;
+  const fe::Discretisation& discretisation() const { return *discretisation_; }
 
  private:
   const fe::Discretisation* discretisation_;
