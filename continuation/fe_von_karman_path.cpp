@@ -311,7 +311,50 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
   const auto crown = [&](const PathPoint& p) { return tracer.step_of(set, p, points, options).monitor_deflection; };
   record_step(tracer.step_of(set, *point, points, options));
 
+  // The events of switching `flipped` in the node set `before` (at lambda), from the node set's
+  // pieces: a node leaving inside a piece opens a lift-off zone, the last node of a piece leaving
+  // ends it; a node joining inside a zone opens a contact region, the last node of a zone joining
+  // closes it; a node at the foundation's end switching moves a limit onto or off it (at a support:
+  // limit_at_support). Otherwise a limit moves on by a node: no event. (The cubics' signs,
+  // events.hpp, see lift-off zones shorter than an element that the nodes do not: near a pinned end
+  // they open and close with every node the limit passes, so the path counts on its nodes.)
+  const auto set_events = [&](const std::vector<bool>& before, const std::vector<int>& flipped, double lambda) {
+    std::vector<TraceEvent> events;
+    // A supported end's node has w = 0: its sign is that of w' there (times h^2), no piece of its
+    // own; the pieces are counted on the nodes inside, the end's limit at its neighbour.
+    const int first = points.begin_supported ? 1 : 0;
+    const int last = d.reactions() - 1 - (points.end_supported ? 1 : 0);
+    for (int i : flipped) {
+      if (i < first || i > last) continue;
+      const bool leaving = before[i];
+      const double at = tracer.user_position(i);
+      const bool left_same = i > first && before[i - 1] == before[i];
+      const bool right_same = i < last && before[i + 1] == before[i];
+      EventKind kind;
+      std::string what;
+      if (i == first || i == last) {
+        const bool supported = i == first ? points.begin_supported : points.end_supported;
+        kind = supported ? EventKind::limit_at_support : EventKind::limit_at_end;
+        if (i == first ? right_same : left_same)  // the neighbour stays as the node was
+          what = leaving ? "a lift-off zone opens at the end" : "a contact region opens at the end";
+        else
+          what = leaving ? "the contact region at the end vanishes" : "a lift-off zone closes at the end";
+      } else if (left_same && right_same) {
+        kind = leaving ? EventKind::lift_off_opens : EventKind::contact_opens;
+        what =
+            leaving ? "a lift-off zone opens inside a contact region" : "a contact region opens inside a lift-off zone";
+      } else if (!left_same && !right_same) {
+        kind = leaving ? EventKind::region_vanishes : EventKind::lift_off_vanishes;
+        what = leaving ? "a contact region vanishes" : "a lift-off zone vanishes";
+      } else {
+        continue;  // a limit moves on by a node
+      }
+      events.push_back({lambda, kind, at, fmt::format("{} (node at {:.6g}, lambda = {:.10g})", what, at, lambda)});
+    }
+    return events;
+  };
   int folds = 0, bifurcations = 0, contact_events = 0;
+  int immediate_switches = 0;  // switches back at a step's start, in a row
   bool switched = false;
   // The switched branch's critical mode (x part) and its origin: its amplitude along the mode
   // changing sign is the branch meeting the path it left (or its mirror image) again.
@@ -363,15 +406,32 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
       }
       const VectorXd start_values = tracer.sign_values(set, previous.x),
                      end_values = tracer.sign_values(set, accepted.x);
-      // Nodes at zero at the step's start (just switched, or touching) are watched from the next
-      // step on; one of them failing at once means the switch does not hold.
-      for (int i = 0; i < d.reactions() && d.tensionless; ++i)
-        if (!(start_values[i] > tie_tolerance) && end_values[i] < -tie_tolerance) {
-          failure = fmt::format(
-              "the contact set at lambda = {:.10g} does not hold: the node at {:.6g} fails its sign at once",
-              previous.lambda, tracer.user_position(i));
+      // Nodes at zero at the step's start (just switched, or grazing: a pinned end's node, whose
+      // value is w' there times h^2) failing at once switch back at the start itself, an event
+      // there; twice in a row at one point means no set holds there (solver_failure).
+      {
+        std::vector<bool> in_contact = set.in_contact;
+        std::vector<int> flipped;
+        for (int i = 0; i < d.reactions() && d.tensionless; ++i)
+          if (!(start_values[i] > tie_tolerance) && end_values[i] < -tie_tolerance)
+            in_contact[i] = !in_contact[i], flipped.push_back(i);
+        if (!flipped.empty()) {
+          if (immediate_switches >= 2) {
+            failure = fmt::format(
+                "no contact set holds at lambda = {:.10g}: the node at {:.6g} fails its sign at once on every set "
+                "tried",
+                previous.lambda, tracer.user_position(flipped[0]));
+            return ObserverVerdict::stop;
+          }
+          ++immediate_switches;
+          for (TraceEvent& e : set_events(set.in_contact, flipped, previous.lambda))
+            record_event(std::move(e)), ++contact_events;
+          accepted = previous;
+          next_set = make_set(d, std::move(in_contact));
           return ObserverVerdict::stop;
         }
+      }
+      immediate_switches = 0;
       const auto event = [&](const PathPoint& p) {
         const VectorXd v = tracer.sign_values(set, p.x);
         double least = 1.0;
@@ -389,21 +449,18 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
         const VectorXd at = tracer.sign_values(set, located->x), past = tracer.sign_values(set, accepted.x);
         std::vector<bool> in_contact = set.in_contact;
         std::vector<int> flipped;
+        // The node(s) crossing with the least value at the located point (within the tie).
+        double least = std::numeric_limits<double>::infinity();
         for (int i = 0; i < d.reactions(); ++i)
-          if (start_values[i] > tie_tolerance && at[i] < tie_tolerance && past[i] < 0.0)
+          if (start_values[i] > tie_tolerance && past[i] < 0.0) least = std::min(least, at[i]);
+        for (int i = 0; i < d.reactions(); ++i)
+          if (start_values[i] > tie_tolerance && past[i] < 0.0 && at[i] <= least + tie_tolerance)
             in_contact[i] = !in_contact[i], flipped.push_back(i);
         if (flipped.empty()) {
           failure = fmt::format("a contact event located at lambda = {:.10g} names no node", located->lambda);
           return ObserverVerdict::stop;
         }
-        std::vector<TraceEvent> events = classify_events(member, points, tracer.topology(previous.x, points),
-                                                         tracer.topology(accepted.x, points), located->lambda);
-        if (events.empty())
-          for (int i : flipped)
-            events.push_back({located->lambda, set.in_contact[i] ? EventKind::lift_off_opens : EventKind::contact_opens,
-                              tracer.user_position(i),
-                              fmt::format("node at {:.6g} {} at lambda = {:.10g}", tracer.user_position(i),
-                                          set.in_contact[i] ? "lifts off" : "comes into contact", located->lambda)});
+        std::vector<TraceEvent> events = set_events(set.in_contact, flipped, located->lambda);
         for (TraceEvent& e : events) e.load_factor = located->lambda;
         accepted = std::move(*located);
         pending_events = std::move(events);

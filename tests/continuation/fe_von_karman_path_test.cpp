@@ -207,20 +207,30 @@ TEST_CASE("FE von Karman path: bilateral and tensionless foundations agree until
     CAPTURE(elements, bilateral.summary.message, tensionless.summary.message);
     REQUIRE(bilateral.summary.termination == TraceTermination::completed);
     CHECK(of_kind(bilateral, EventKind::lift_off_opens).empty());
-    // The tensionless path's first contact event, and the step recorded at it.
+    // The tensionless path's first contact event: a lift-off zone opening at a pinned end (the
+    // closed form's w = r xi sin(theta) (1 -+ cos(theta)) touching zero there).
     auto first_contact = std::find_if(tensionless.events.begin(), tensionless.events.end(), [](const TraceEvent& e) {
       return e.kind != EventKind::bifurcation && e.kind != EventKind::limit_point;
     });
     REQUIRE(first_contact != tensionless.events.end());
-    CHECK(first_contact->kind == EventKind::lift_off_opens);
     CAPTURE(first_contact->load_factor, first_contact->at, first_contact->description);
+    CHECK(first_contact->kind == EventKind::limit_at_support);
+    CHECK(first_contact->description.find("lift-off zone opens at the end") != std::string::npos);
     errors.push_back(first_contact->load_factor - analysis.first_lift_off.load);
+    // Until the tensionless path's contact set first changes (the step's state: one 0/1 per
+    // reaction; the first change may be the pinned end's node, whose sign is w' there, no event), the two paths solve
+    // the same equations: the same steps, to the last bit.
     std::size_t until = 0;
-    while (until < tensionless.steps.size() && tensionless.steps[until].load_factor != first_contact->load_factor)
-      ++until;
+    const auto full = [](const TraceStep& step) {
+      return std::all_of(step.state.begin(), step.state.end(), [](double c) { return c == 1.0; });
+    };
+    while (until < tensionless.steps.size() && full(tensionless.steps[until])) ++until;
     REQUIRE(until < tensionless.steps.size());
     REQUIRE(bilateral.steps.size() > until);
-    for (std::size_t i = 0; i < until; ++i) {
+    CHECK(tensionless.steps[until].load_factor >= first_contact->load_factor);
+    // (Step until - 1 is where the set changes: located there by the tensionless path alone.)
+    REQUIRE(until >= 2);
+    for (std::size_t i = 0; i + 1 < until; ++i) {
       CAPTURE(i);
       CHECK(tensionless.steps[i].load_factor == bilateral.steps[i].load_factor);
       CHECK(tensionless.steps[i].monitor_deflection == bilateral.steps[i].monitor_deflection);
@@ -240,19 +250,65 @@ TEST_CASE("FE von Karman path: issue 16's shallow arch snaps through with a cont
   // tensionless, uniform load on the left half. The unloaded half lifts off at once (the start is
   // taken at lambda = 1, past that degenerate point), the arch snaps through (a limit point; the
   // dolfinx reference: lambda 21.14 at 64 elements) and the unloaded half comes back into contact
-  // on the falling branch (20.50). Both paths are traced through the limit point and must agree.
+  // on the falling branch (20.50 there): its lift-off zone closes at the pinned end.
   scene::Scene s = scene::read_scene_file(std::string(LIFTOFF_SOURCE_DIR) +
                                           "/verification/dolfinx/scenes/issue16/shallow_arch_tensionless.toml");
   const model::MemberModel m = model::make_member_model(s);
+  std::vector<TraceResult> fe;
+  for (int elements : {64, 128}) {
+    TraceOptions o = options(30.0, elements);
+    o.arc_length.lambda_min = 1.0;
+    fe.push_back(trace_fe_von_karman(m, o));
+    const TraceResult& r = fe.back();
+    CAPTURE(elements, r.summary.message);
+    REQUIRE(r.summary.termination == TraceTermination::completed);
+    // Through the snap-through (maximum), the zone closing on the falling branch, the lower limit
+    // point (minimum) and up again to lambda_max, in that order.
+    REQUIRE(r.events.size() == 3);
+    CHECK(r.events[0].kind == EventKind::limit_point);
+    CHECK(r.events[0].description.find("maximum") != std::string::npos);
+    CHECK(r.events[1].kind == EventKind::limit_at_support);
+    CHECK(r.events[1].description.find("lift-off zone closes at the end") != std::string::npos);
+    CHECK(r.events[1].load_factor < r.events[0].load_factor);
+    CHECK(r.events[2].kind == EventKind::limit_point);
+    CHECK(r.events[2].description.find("minimum") != std::string::npos);
+    // Stable up to the snap-through, unstable on the falling branch.
+    for (const TraceStep& step : r.steps) {
+      if (step.load_factor < r.events[0].load_factor - 1.0 && step.monitor_deflection < 0.02)
+        CHECK(step.stability == path::Stability::stable);
+    }
+  }
+  const double limit_64 = fe[0].events[0].load_factor, limit_128 = fe[1].events[0].load_factor;
+  const double closing_64 = fe[0].events[1].load_factor, closing_128 = fe[1].events[1].load_factor;
+  CAPTURE(limit_64, limit_128, closing_64, closing_128);
+  // The dolfinx reference at 64 elements (von_karman_reference.py --json, run 2026-12-03: limit point
+  // 21.1414344, zone closing 20.5031489, both bisected to 2e-12): an independent discretisation whose
+  // own error is not estimated (one mesh), so this is a cross-check, not a derived bound: the gaps
+  // observed are 4.6e-4 (limit) and 8e-5 (closing) relative, while ours move by 2.3e-6 and 1.1e-4
+  // from 64 to 128 elements. Bound: 1e-3 relative.
+  CHECK(std::abs(limit_64 - 21.1414344) <= 1e-3 * 21.1414344);
+  CHECK(std::abs(closing_64 - 20.5031489) <= 1e-3 * 20.5031489);
+  // The closing converges like h^2 at most (a node joins: the limit is placed to within an element).
+  CHECK(std::abs(closing_64 - closing_128) <= 1e-3 * closing_64);
+
+  // The Ritz path of the same member, started on the FE path's topology at lambda_min (the linear
+  // FE solve its automatic start would take knows nothing of the arch: the straight beam stays in
+  // contact): the same limit point within the FE estimate |lambda_64 - lambda_128| (the Ritz
+  // path's own is below: 32 modes, a sine series of a smooth field).
+  REQUIRE(fe[0].steps[0].contact_regions.size() == 1);
+  const ContactRegion first = fe[0].steps[0].contact_regions[0];
+  REQUIRE(first.begin == 0.0);
+  s.ritz.topology = {true, false};
+  s.ritz.limits = {first.end};
   TraceOptions o = options(30.0, 64);
   o.arc_length.lambda_min = 1.0;
-  const TraceResult fe = trace_fe_von_karman(m, o);
-  INFO(fe.summary.message);
-  for (const TraceEvent& e : fe.events)
-    UNSCOPED_INFO(to_string(e.kind) << " " << e.load_factor << " " << e.description);
-  REQUIRE(fe.summary.termination == TraceTermination::completed);
-  const std::vector<TraceEvent> folds = of_kind(fe, EventKind::limit_point);
-  REQUIRE(!folds.empty());
-  CHECK(folds[0].load_factor == Approx(21.14).epsilon(5e-3));
-  CHECK(false);
+  const TraceResult ritz = trace_ritz(s, m, o);
+  INFO(ritz.summary.message);
+  const std::vector<TraceEvent> ritz_folds = of_kind(ritz, EventKind::limit_point);
+  REQUIRE(!ritz_folds.empty());
+  CHECK(ritz_folds[0].description.find("maximum") != std::string::npos);
+  CHECK(std::abs(ritz_folds[0].load_factor - limit_128) <= 2 * std::abs(limit_64 - limit_128));
+  // Known gap (reported, not asserted): the Ritz path stops before the zone closes at the pinned
+  // end (no contact solution beyond lambda ~ 20.39: "contact limits out of order or outside the
+  // foundation"), so the event loads are compared with dolfinx only.
 }
