@@ -3,10 +3,10 @@
 // whose theory no solver of the command honours is refused, before any work and before any
 // output is written (InputError, exit 2), rather than solved by linear theory without a word.
 //
-// Today every solver is linear: `solve` (every method, `--method all` included), `sweep`,
-// `trace` (both paths) and `envelope` refuse theory = "von_karman" with one line naming
-// `structure.theory`; `liftoff plot` draws what these wrote, so it has nothing to refuse. The
-// reader has already checked such a scene (scene/scene_reader.hpp: beams only, EA, the ends'
+// `trace` honours theory = "von_karman" for beams (the FE path: continuation/fe_von_karman_path.hpp;
+// the Ritz path has the membrane term); `solve` (every method, `--method all` included), `sweep`
+// and `envelope` refuse it with one line naming `structure.theory`; `liftoff plot` draws what these wrote, so it has
+// nothing to refuse. The reader has already checked such a scene (scene/scene_reader.hpp: beams only, EA, the ends'
 // axial restraint) and the member model carries it (model/member_model.hpp). A von Karman solver
 // replaces the refusal here, for the commands it serves.
 
