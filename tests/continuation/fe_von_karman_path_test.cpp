@@ -312,3 +312,24 @@ TEST_CASE("FE von Karman path: issue 16's shallow arch snaps through with a cont
   // end (no contact solution beyond lambda ~ 20.39: "contact limits out of order or outside the
   // foundation"), so the event loads are compared with dolfinx only.
 }
+
+TEST_CASE("FE von Karman path: load control stops at the limit point that arc-length control passes",
+          "[continuation][fe][von_karman]") {
+  // The comparison option: load control cannot pass a fold in lambda; it ends step_too_small just
+  // below the limit load that the arc-length path locates (same mesh).
+  const closed_form::ShallowArch a = arch(4.5, 0.0);
+  const double upper = closed_form::analyse(a).upper_limit.load;
+  const TraceResult arc = trace_fe_von_karman(member(a, false), options(1.3 * upper, 16), {}, sine_load);
+  REQUIRE(arc.summary.termination == TraceTermination::completed);
+  const double fold = of_kind(arc, EventKind::limit_point).at(0).load_factor;
+  TraceOptions o = options(1.3 * upper, 16);
+  o.arc_length.control = PathControl::load;
+  const TraceResult load = trace_fe_von_karman(member(a, false), o, {}, sine_load);
+  INFO(load.summary.message);
+  CHECK(load.summary.termination == TraceTermination::step_too_small);
+  REQUIRE(!load.steps.empty());
+  // At the fold the Jacobian is singular, so the corrector's residual tolerance (1e-11, scaled)
+  // resolves lambda only to about its square root there: within 1e-6 of the fold, either side.
+  CHECK(std::abs(load.steps.back().load_factor - fold) <= 1e-6 * fold);
+  CHECK(of_kind(load, EventKind::limit_point).empty());
+}
