@@ -39,8 +39,7 @@ constexpr Entry table[] = {
      "the limit-fitted meshes of a tolerance are linear theory only; expected no tolerance (the von Karman FE "
      "solve uses [solve] elements)"},
     {Solver::ritz_path, true, "trace.method", ""},
-    {Solver::fe_path, false, "trace.method",
-     "the FE load path is linear theory only (its von Karman path is not built yet); expected \"ritz\""},
+    {Solver::fe_path, true, "trace.method", ""},
 };
 
 const Entry& entry(Solver solver) {

@@ -15,8 +15,7 @@
 //          dual, primal   -> refused (key solve.method): Lemke solves an LCP, linear only
 //          a tolerance    -> refused (key solve.tolerance): the limit-fitted sequence is linear only
 //   sweep, envelope: what solve honours (they solve through solve_scene)
-//   trace: the Ritz path (continuation::trace_ritz); the FE path refused (key trace.method) until
-//          its von Karman path exists: one entry to flip, `fe_path` below.
+//   trace: the FE path (continuation/fe_von_karman_path.hpp) and the Ritz path (continuation::trace_ritz)
 // theory = "linear" is honoured by every solver.
 
 #include <optional>

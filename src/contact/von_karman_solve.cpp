@@ -352,6 +352,31 @@ double VonKarmanSystem::normal_force(const VectorXd& x, int element, double xi) 
   return pieces_[element].normal_force(local, xi);
 }
 
+VectorXd VonKarmanSystem::internal_force(const VectorXd& x) const {
+  const fe::Discretisation& d = *discretisation_;
+  const Evaluator evaluate{d, pieces_, unknowns()};
+  return evaluate(x, VectorXd::Zero(unknowns()), make_set(d, std::vector<bool>(d.reactions(), false)), false).residual;
+}
+
+SparseMatrix VonKarmanSystem::tangent_stiffness(const VectorXd& x) const {
+  const fe::Discretisation& d = *discretisation_;
+  const Evaluator evaluate{d, pieces_, unknowns()};
+  const Evaluation ev =
+      evaluate(x, VectorXd::Zero(unknowns()), make_set(d, std::vector<bool>(d.reactions(), false)), true);
+  Triplets t(ev.membrane);
+  // Explicit zeros on every element coupling: the pattern must not depend on x (a zero normal
+  // force or a straight member leaves some membrane terms exactly zero).
+  for (const Piece& piece : pieces_)
+    for (int i : piece.unknown)
+      for (int j : piece.unknown)
+        if (i >= 0 && j >= 0) t.emplace_back(i, j, 0.0);
+  for (int k = 0; k < d.stiffness.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(d.stiffness, k); it; ++it) t.emplace_back(it.row(), it.col(), it.value());
+  SparseMatrix kt(unknowns(), unknowns());
+  kt.setFromTriplets(t.begin(), t.end());
+  return kt;
+}
+
 double VonKarmanSystem::energy(const VectorXd& x, const VectorXd& load, const std::vector<bool>& in_contact) const {
   const Evaluator evaluate{*discretisation_, pieces_, unknowns()};
   return evaluate(x, load, make_set(*discretisation_, in_contact), false).energy;

@@ -74,6 +74,7 @@
 // would lift this; members needing more than ~2000 elements are out of reach here.
 
 #include <Eigen/Dense>
+#include <Eigen/SparseCore>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -185,6 +186,14 @@ class VonKarmanSystem {
   // The axial unknown of a mesh node (-1: restrained or the gauge; always -1 for arches, whose u
   // is a discretisation dof).
   int axial_unknown(int node) const { return axial_unknown_[node]; }
+  // The set-free part of the equations, for a path driver that carries the reactions as unknowns
+  // itself (continuation/fe_von_karman_path.hpp): f_int(x), the elements' internal force plus the
+  // linear parts of the discretisation (no load, no reactions), and its Jacobian K_t. K_t's
+  // sparsity pattern does not depend on x (every element's 6 x 6 coupling and K's pattern are
+  // stored, zeros included), so a caller may analyse it once.
+  Eigen::VectorXd internal_force(const Eigen::VectorXd& x) const;
+  Eigen::SparseMatrix<double> tangent_stiffness(const Eigen::VectorXd& x) const;
+  const fe::Discretisation& discretisation() const { return *discretisation_; }
 
   // One mesh element's nonlinear part: the element (through the seam), the linear stiffness of it
   // that the discretisation's K already holds (subtracted from its response), where its local dofs

@@ -829,9 +829,9 @@ TEST_CASE("cli: an axial force reports its force and the initial shape; an unsta
 TEST_CASE("cli: a von Karman scene is solved by solve, sweep and envelope; the unserved methods are refused, exit 2",
           "[app][von_karman]") {
   // Issue 16's shallow arch (verification/dolfinx/scenes/issue16/). The theory table
-  // (app/theory_gate.hpp): solve auto/fast/ritz, sweep and envelope solve it; dual, primal, a
-  // tolerance and the FE trace path are refused before any work, one line naming the key,
-  // nothing written.
+  // (app/theory_gate.hpp): solve auto/fast/ritz, sweep and envelope solve it (trace too: both
+  // paths, tests/app/trace_test.cpp); dual, primal and a tolerance are refused before any work,
+  // one line naming the key, nothing written.
   std::ifstream in(std::string(LIFTOFF_SOURCE_DIR) +
                    "/verification/dolfinx/scenes/issue16/shallow_arch_tensionless.toml");
   REQUIRE(in);
@@ -848,9 +848,6 @@ TEST_CASE("cli: a von Karman scene is solved by solve, sweep and envelope; the u
       {"option '--tolerance': theory = \"von_karman\": the limit-fitted meshes of a tolerance are linear theory "
        "only; expected no tolerance (the von Karman FE solve uses [solve] elements) (liftoff solve)",
        {"solve", scene.string(), "--tolerance", "1e-4", "--output", output.string()}},
-      {"key 'solve.method': theory = \"von_karman\": the FE load path is linear theory only (its von Karman path "
-       "is not built yet); expected \"ritz\" (liftoff trace)",
-       {"trace", scene.string(), "--output", output.string()}},
   };
   for (const auto& [message, args] : refused) {
     CAPTURE(args);

@@ -729,3 +729,33 @@ TEST_CASE("trace CLI: the Ritz path killed with SIGKILL keeps its steps and resu
     CHECK(done.events[i].load_factor == Approx(expected.events[i].load_factor).margin(1e-8));
   }
 }
+
+TEST_CASE("trace CLI: a von Karman beam is traced by the FE path through its snap-through",
+          "[app][trace][von_karman]") {
+  // Issue 16's shallow arch (verification/dolfinx/scenes/issue16/), the theory gate open for trace:
+  // the FE path from the unloaded state through the limit point (fe_von_karman_path_test.cpp has
+  // the figures: 21.13167 on 64 elements) and back up, thrust and stability per step.
+  std::ifstream in(std::string(LIFTOFF_SOURCE_DIR) +
+                   "/verification/dolfinx/scenes/issue16/shallow_arch_tensionless.toml");
+  REQUIRE(in);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  Scratch scratch;
+  const fs::path scene = scratch.dir / "arch.toml";
+  {
+    std::ofstream out(scene);
+    out << text << "\n[trace]\nlambda_max = 25.0\n";
+  }
+  const std::string h5 = (scratch.dir / "arch.h5").string();
+  const Run r = run_cli({"trace", scene.string(), "--json", "-o", h5});
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  const nlohmann::json& fe = j.contains("paths") ? j["paths"][0] : j;
+  INFO(fe.dump().substr(0, 2000));
+  bool maximum = false;
+  for (const auto& e : fe["events"])
+    if (e["kind"] == "limit_point" && std::abs(e["lambda"].get<double>() - 21.13167) < 1e-4) maximum = true;
+  CHECK(maximum);
+  const io::TraceFileRecord file = io::read_trace_file(h5);
+  CHECK(file.complete);
+}

@@ -1,0 +1,85 @@
+#pragma once
+// The FE load path of a von Karman beam on a tensionless or bilateral foundation (issue 16,
+// item 4): the equilibria of contact/von_karman_solve.hpp followed in the load factor through
+// contact events, limit points (a shallow arch's snap-through) and bifurcations.
+//
+// Equations. On a contact set A the unknowns are y = (x, r_A), x the von Karman unknowns
+// (VonKarmanSystem: w, w' on the equations, then the free axial u) and r_A the reactions on A:
+//   G(y, lambda) = ( f_int(x) + C_A^T r_A - F_dead - lambda F_live ,  C_A w - c_A - T_AA r_A ) = 0,
+// whose Jacobian is the symmetric saddle matrix [K_t C_A^T; C_A -T_AA] that VonKarmanSystem's
+// Newton factorises (f_int and K_t are its internal_force and tangent_stiffness: nothing is
+// assembled twice). Eliminating r_A leaves the set's potential's Hessian S = K_t + C_A^T T_AA^-1 C_A.
+// The path is followed by continuation/arclength.hpp's PathFollower (pseudo-arc-length in
+// (y, lambda) with the bordered corrector, or load control: TraceOptions::arc_length.control), on
+// one contact set at a time. The metric weights w, w' and u by 1 / w_ref (w_ref the rise of an
+// initial sine, else 1e-3) and the reactions 1e-3 less, so a step length is comparable to a change
+// of lambda and the reactions barely steer it.
+//
+// Between two accepted steps, in this order (each located between the two points on the path
+// parameter, to TraceOptions::event_tolerance in lambda):
+//  - contact events (tensionless foundations): a reaction on A reaching zero or a gap off A
+//    reaching zero, on the event function min over nodes of r_i / (k w_ref) and gap_i / (h w_ref)
+//    (nodes at zero at the step's start left out), secant (Illinois) on the arclength; the crossing
+//    node(s) with the least value there (ties within 1e-8) switch, the step at the switch is
+//    recorded, and the path continues from it on the new set (its first point solved at that
+//    lambda, its tangent oriented as the old one). Events are named from the node set's pieces: a
+//    node leaving inside a contact piece opens a lift-off zone (lift_off_opens), the last node of a
+//    piece leaving ends it (region_vanishes), and the converse (contact_opens, lift_off_vanishes);
+//    the first or last node switching moves a limit onto or off the foundation's end
+//    (limit_at_support where a support is, else limit_at_end); otherwise a limit moves on by a node
+//    (no event, as in the linear FE path). A supported end's node has w = 0 and a sign that is w'
+//    there times h^2: it switches with the rest but has no piece of its own (the end's limit is at
+//    its neighbour). A node at zero at a step's start (just switched, or grazing) whose sign fails
+//    at once switches back there (an event at that point); twice in a row ends the path
+//    (solver_failure). Events.hpp's classification on the cubics' signs is not used: near a pinned
+//    end it sees lift-off zones shorter than an element open and close at every node.
+//  - limit points: a sign change of the tangent's d lambda / d s, located on it: `limit_point`.
+//  - bifurcations: a change of the number of negative eigenvalues of S (the saddle factor's
+//    negative pivots less |A|, Sylvester) without a limit point in the step, located by bisection
+//    on that count: `bifurcation`. At one where the path loses its stability (none before, some
+//    after) and with TraceOptions::switch_branch, the path leaves along the null vector of S there
+//    (inverse iteration with the saddle factor; the sign making its largest component positive),
+//    as a pseudo-arc-length step whose predictor is that vector: the corrector's hyperplane,
+//    orthogonal to it, meets the bifurcated branch and not the path. Once per trace. The switched
+//    branch is followed until its amplitude along that vector changes sign (it meets the path it
+//    left, or its mirror image begins: a shallow arch's asymmetric branch is a closed loop): located,
+//    recorded as a `bifurcation` event, and the trace ends there (completed, the message says so).
+//    A step that holds a limit point and a stability change, or two changes, is retried shorter
+//    (down to 100 min_step) so that each is located on its own.
+// Per step: crown (TraceOptions::monitor) deflection, w and r at the sample points, contact regions,
+// amplitude and lifted length (fe_states::step_of), the thrust -N as axial_force (user force units,
+// compression > 0: N is constant along a member with both ends restrained; the mean otherwise) and
+// the stability (S positive definite: stable; the inertia is exact on a set whose reactions and gaps
+// are all strictly positive, the states between events).
+//
+// Start: the contact solve at lambda_min (VonKarmanSystem::solve from zero); the unloaded state (every
+// node at zero, any set holds) takes the set of a solve at lambda_min + min_step.
+// Stops: lambda_max or lambda_min (completed), the switched branch back on the path (completed), max_steps
+// (step_limit), the corrector failing at the minimum step (step_too_small: where load control meets a limit point), a
+// start that does not converge or a switch that does not hold (solver_failure). Not handled: resume_from (refused,
+// solver_failure), max_amplitude (ignored), states are not certified (src/certify is linear).
+// Misuse (a member that is no von Karman beam) throws std::invalid_argument as VonKarmanSystem does.
+
+#include <Eigen/Dense>
+#include <functional>
+
+#include "continuation/trace.hpp"
+#include "fe/discretisation.hpp"
+#include "model/member_model.hpp"
+
+namespace liftoff::contact {
+class VonKarmanSystem;
+}
+
+namespace liftoff::continuation {
+
+// A live load on the system's unknowns, built by the caller (a seam for loads the scene cannot
+// describe yet, e.g. the sine load q0 sin(pi x / L)): F = lambda * live_load; empty: the member's
+// own loads (F_dead + lambda F_live, VonKarmanSystem::load).
+using VonKarmanLiveLoad = std::function<Eigen::VectorXd(const fe::Discretisation&, const contact::VonKarmanSystem&)>;
+
+// The path of `member` (theory = von_karman) on TraceOptions::elements equal elements.
+TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOptions& options,
+                                const TraceSink& sink = {}, const VonKarmanLiveLoad& live_load = {});
+
+}  // namespace liftoff::continuation
