@@ -83,8 +83,8 @@ void require_honoured_theory(const scene::Scene& scene, Command command) {
   // Beams: every command has a von Karman solver (trace: both paths); the entry points check the
   // one they run. Arches: none.
   if (auto reason = arch_refusal(scene))
-    throw InputError(fmt::format("{}: key 'structure.theory': {} (liftoff {})", scene.source_name, *reason,
-                                 name(command)));
+    throw InputError(
+        fmt::format("{}: key 'structure.theory': {} (liftoff {})", scene.source_name, *reason, name(command)));
 }
 
 }  // namespace liftoff::app

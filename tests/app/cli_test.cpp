@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
@@ -889,4 +890,32 @@ TEST_CASE("cli: a von Karman scene is solved by solve, sweep and envelope; the u
   CHECK(limit.status == 5);
   CHECK_THAT(limit.err, Catch::Matchers::Contains("limit point") && Catch::Matchers::Contains("use liftoff trace"));
   CHECK_FALSE(fs::exists(output));
+}
+
+TEST_CASE("cli: a von Karman arch is read, then refused by every command (no certificate yet): exit 2, one line",
+          "[app][von_karman]") {
+  // The arch's von Karman contact solve exists (contact::solve_arch_von_karman, the seed arch's
+  // departure study), but its answers have no certificate, so the theory table
+  // (app/theory_gate.hpp) refuses it before any work, keyed to structure.theory, nothing written.
+  std::ifstream in(std::string(LIFTOFF_SOURCE_DIR) + "/verification/scenes/seed_arch_pinned.toml");
+  REQUIRE(in);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  text.replace(text.find("[structure]\n"), 12, "[structure]\ntheory = \"von_karman\"\n");
+  Scratch scratch;
+  const fs::path scene = scratch.write("arch.toml", text);
+  const fs::path output = scratch.dir / "out.h5";
+  for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+           {"solve", scene.string(), "--output", output.string()},
+           {"solve", scene.string(), "--method", "ritz", "--output", output.string()},
+           {"sweep", scene.string(), "--set", "loads[0].value=0.1,0.2", "--output", output.string()},
+           {"trace", scene.string(), "--output", output.string()}}) {
+    CAPTURE(args);
+    const Run r = run_cli(args);
+    CHECK(r.status == 2);
+    CHECK(r.out.empty());
+    CHECK_THAT(r.err, Catch::Matchers::StartsWith("liftoff: " + scene.string() + ": key 'structure.theory': ") &&
+                          Catch::Matchers::Contains("no certificate yet"));
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    CHECK_FALSE(fs::exists(output));
+  }
 }

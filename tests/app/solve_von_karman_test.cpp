@@ -248,10 +248,49 @@ TEST_CASE("solve von Karman: the library refuses the methods that do not honour 
       CHECK(r.theory == "von_karman");
     }
   }
-  // trace: the FE path refused, keyed.
-  app::TraceRequest fe_path;
-  fe_path.method = scene::Method::fast;
-  CHECK_THROWS_WITH(app::run_trace(s, fe_path), Catch::Matchers::Contains("FE load path is linear theory only"));
+  // A circular arch under von Karman: its answers have no certificate yet, so every entry point
+  // refuses it, keyed to structure.theory (the trace paths too).
+  const scene::Scene arch = scene::parse_scene(R"([structure]
+kind = "arch"
+theory = "von_karman"
+radius = 100.0
+half_angle_deg = 10.0
+EI = 1.4
+EA = 420.0
+
+[supports]
+left = "pinned"
+right = "pinned"
+
+[foundation]
+nondimensional_k = 1.0e6
+
+[[loads]]
+kind = "force"
+at = 0.0
+value = 0.1
+
+[trace]
+lambda_max = 1.0
+)",
+                                               "arch.toml");
+  // The message of what `solve` throws (empty if it throws nothing or something else).
+  auto refusal = [](auto&& call) -> std::string {
+    try {
+      call();
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return {};
+  };
+  app::SolveRequest ritz;
+  ritz.method = scene::Method::ritz;
+  for (const std::string& message :
+       {refusal([&] { app::solve_scene(arch, {}); }), refusal([&] { app::solve_scene(arch, ritz); }),
+        refusal([&] { app::run_trace(arch, {}); })}) {
+    CHECK_THAT(message, Catch::Matchers::Contains("key 'structure.theory'"));
+    CHECK_THAT(message, Catch::Matchers::Contains("no certificate yet"));
+  }
 }
 
 TEST_CASE("solve von Karman: a sweep solves each case by the von Karman path", "[app][von_karman]") {
