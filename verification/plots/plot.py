@@ -634,9 +634,21 @@ def event_w(p, lam, step):
 def load_displacement(trace, out, output):
     length = trace["units"][0]
     fig, ax = plt.subplots(figsize=(7, 5))
+    # Paths that know their stability (von Karman members, beam-columns) draw it: solid stable,
+    # dashed unstable, dotted unknown; the others keep their path's style.
+    staged = False
     for name, p in trace["paths"].items():
         color, style = TRACE_STYLES.get(name, ("black", "-"))
-        ax.plot(p["w"], p["lambda"], color=color, linestyle=style, label=f"{name} ({p['termination']})")
+        if not is_von_karman(trace) or all(str(k) == "unknown" for k in p["stability"]):
+            ax.plot(p["w"], p["lambda"], color=color, linestyle=style, label=f"{name} ({p['termination']})")
+            continue
+        staged = True
+        ax.plot([], [], color=color, label=f"{name} ({p['termination']})")
+        for a, b, kind in stability_runs(p["stability"]):
+            ax.plot(p["w"][a:b + 1], p["lambda"][a:b + 1], color=color, linestyle=STABILITY_STYLES.get(kind, ":"))
+    if staged:
+        for kind in ("stable", "unstable"):
+            ax.plot([], [], color="black", linestyle=STABILITY_STYLES[kind], label=kind)
     ax.axvline(0.0, color="black", linewidth=0.5)
     ax.grid(True, alpha=0.3)
     monitor = next(iter(trace["paths"].values()))["monitor"] if trace["paths"] else np.nan
@@ -758,7 +770,16 @@ def force_scale(force_unit, largest):
     return 1000.0 ** k, names[k]
 
 
+def is_von_karman(trace):
+    """Whether the trace's scene takes von Karman kinematics (its axial force is the membrane force)."""
+    return (trace.get("scene_toml") or {}).get("structure", {}).get("theory") == "von_karman"
+
+
 def is_beam_column(trace):
+    """Steps that carry a given axial force (beam-columns, issue 15). A von Karman member's thrust is
+    its response, not a load N(lambda): the axial-force figure would misread it, so it is not drawn."""
+    if is_von_karman(trace):
+        return False
     return any(np.any(p["axial_force"] != 0.0) for p in trace["paths"].values())
 
 
