@@ -181,19 +181,17 @@ void write_file(const EnvelopeReport& r, const std::filesystem::path& path, cons
     const char* text = r.scene_text.c_str();
     check(H5Dwrite(dataset, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, &text), "scene");
   }
-  {
-    Handle group(H5Gcreate2(file, "envelope", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "envelope");
-    const std::pair<const char*, const std::vector<double>*> columns[] = {{"coordinate", &r.coordinate},
-                                                                          {"w_max", &r.w_max},
-                                                                          {"w_min", &r.w_min},
-                                                                          {"pressure_max", &r.pressure_max},
-                                                                          {"pressure_min", &r.pressure_min},
-                                                                          {"moment_max", &r.moment_max},
-                                                                          {"moment_min", &r.moment_min},
-                                                                          {"shear_max", &r.shear_max},
-                                                                          {"shear_min", &r.shear_min}};
-    for (const auto& [name, values] : columns) write_array(group, name, *values);
-  }
+  hdf5::write_columns(file, "envelope",
+                      {{"coordinate", &r.coordinate},
+                       {"w_max", &r.w_max},
+                       {"w_min", &r.w_min},
+                       {"pressure_max", &r.pressure_max},
+                       {"pressure_min", &r.pressure_min},
+                       {"moment_max", &r.moment_max},
+                       {"moment_min", &r.moment_min},
+                       {"shear_max", &r.shear_max},
+                       {"shear_min", &r.shear_min}},
+                      hdf5::EmptyColumns::write);
   {
     Handle group(H5Gcreate2(file, "extremes", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "extremes");
     for (const auto& [name, e] : extremes(r)) {

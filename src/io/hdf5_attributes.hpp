@@ -10,6 +10,7 @@
 #include <hdf5.h>
 
 #include <algorithm>
+#include <initializer_list>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -80,6 +81,24 @@ inline void write_array(hid_t group, const char* name, const std::vector<double>
   Handle space(H5Screate_simple(columns == 1 ? 1 : 2, dims, nullptr), H5Sclose, name);
   Handle dataset(H5Dcreate2(group, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose, name);
   if (!values.empty()) check(H5Dwrite(dataset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), name);
+}
+
+// A named column of doubles, for write_columns.
+struct Column {
+  const char* name;
+  const std::vector<double>* values;
+};
+
+// What write_columns does with an empty column: the solve file leaves out a field the answer has
+// not (u of a linear beam), the envelope file writes every column it has.
+enum class EmptyColumns { skip, write };
+
+// A group `group_name` in `parent` holding each column as a one-dimensional dataset.
+inline void write_columns(hid_t parent, const char* group_name, std::initializer_list<Column> columns,
+                          EmptyColumns empty) {
+  Handle group(H5Gcreate2(parent, group_name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, group_name);
+  for (const Column& c : columns)
+    if (empty == EmptyColumns::write || !c.values->empty()) write_array(group, c.name, *c.values);
 }
 
 // `text` as a fixed-length UTF-8 string (h5py returns bytes; the trace writer reads it back).

@@ -23,19 +23,18 @@ using hdf5::write_string_attribute;
 using hdf5::write_text;
 
 void write_table(hid_t file, const char* group_name, const FieldTable& t) {
-  Handle group(H5Gcreate2(file, group_name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, group_name);
-  const std::pair<const char*, const std::vector<double>*> columns[] = {{"coordinate", &t.coordinate},
-                                                                        {"w", &t.w},
-                                                                        {"u", &t.u},
-                                                                        {"rotation", &t.rotation},
-                                                                        {"bending_moment", &t.bending_moment},
-                                                                        {"shear_force", &t.shear_force},
-                                                                        {"normal_force", &t.normal_force},
-                                                                        {"reaction", &t.reaction},
-                                                                        {"w_initial", &t.w_initial},
-                                                                        {"buckling_mode", &t.buckling_mode}};
-  for (const auto& [name, values] : columns)
-    if (!values->empty()) write_array(group, name, *values);
+  hdf5::write_columns(file, group_name,
+                      {{"coordinate", &t.coordinate},
+                       {"w", &t.w},
+                       {"u", &t.u},
+                       {"rotation", &t.rotation},
+                       {"bending_moment", &t.bending_moment},
+                       {"shear_force", &t.shear_force},
+                       {"normal_force", &t.normal_force},
+                       {"reaction", &t.reaction},
+                       {"w_initial", &t.w_initial},
+                       {"buckling_mode", &t.buckling_mode}},
+                      hdf5::EmptyColumns::skip);
 }
 
 // /certificate (attributes: passed, message, the resultants, <check> and <check>_tolerance per
@@ -184,10 +183,11 @@ void write_report(hid_t file, const SolveReport& r) {
     write_number_attribute(solver, "tolerance", r.tolerance);
     write_number_attribute(solver, "round_off_floor", r.round_off_floor);
     if (r.elements >= 0) {
-      write_number_attribute(solver, "estimated_limit_error", r.estimated_limit_error);
-      write_number_attribute(solver, "estimated_w_error", r.estimated_w_error);
-      write_number_attribute(solver, "estimated_reaction_error", r.estimated_reaction_error);
-      write_number_attribute(solver, "observed_order", r.observed_order);
+      const std::pair<const char*, double> estimates[] = {{"estimated_limit_error", r.estimated_limit_error},
+                                                          {"estimated_w_error", r.estimated_w_error},
+                                                          {"estimated_reaction_error", r.estimated_reaction_error},
+                                                          {"observed_order", r.observed_order}};
+      for (const auto& [name, value] : estimates) write_number_attribute(solver, name, value);
       write_number_attribute(solver, "limit_fitted", r.limit_fitted ? 1 : 0);
       write_array(solver, "elements_used",
                   std::vector<double>(r.refinement_elements.begin(), r.refinement_elements.end()));

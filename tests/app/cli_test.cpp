@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "support/cli.hpp"
+#include "support/scene_text.hpp"
 #include "support/scenes.hpp"
 #include "support/scratch.hpp"
 
@@ -29,16 +30,7 @@ std::string scene_path(const std::string& name) {
   return std::string(LIFTOFF_SOURCE_DIR) + "/verification/scenes/" + name + ".toml";
 }
 
-const char* valid_beam = R"(
-[structure]
-kind = "beam"
-length = 2.0
-EI = 3.0
-[supports]
-left = "pinned"
-right = "pinned"
-[foundation]
-nondimensional_k = 1.0e4
+const std::string valid_beam = std::string("\n") + beam_text("2.0", "3.0") + R"(nondimensional_k = 1.0e4
 [[loads]]
 kind = "force"
 at = 1.0

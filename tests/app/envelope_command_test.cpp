@@ -17,6 +17,7 @@
 #include "core/error.hpp"
 #include "scene/scene_reader.hpp"
 #include "support/cli.hpp"
+#include "support/scene_text.hpp"
 #include "support/scenes.hpp"
 #include "support/scratch.hpp"
 
@@ -229,15 +230,7 @@ TEST_CASE("a tandem axle across a slab: interior positions are Hetenyi's, a join
 TEST_CASE("a case that fails is reported, and the envelope is incomplete (exit 3)", "[app][envelope]") {
   // A free member that only the foundation holds, with a Q moment alone that no compressive
   // foundation can balance: the combination "Q" has no equilibrium.
-  const std::string text = R"([structure]
-kind = "beam"
-length = 3.0
-EI = 5.4e8
-[supports]
-left = "free"
-right = "free"
-[foundation]
-modulus = 3.0e7
+  const std::string text = test::beam_text("3.0", "5.4e8", "\"free\"", "\"free\"") + R"(modulus = 3.0e7
 [[loads]]
 kind = "force"
 at = 1.5

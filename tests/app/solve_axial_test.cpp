@@ -16,6 +16,7 @@
 #include "closed_form/beam_column.hpp"
 #include "io/hdf5_writer.hpp"
 #include "scene/scene_reader.hpp"
+#include "support/scene_text.hpp"
 #include "support/scenes.hpp"
 
 using namespace liftoff;
@@ -396,16 +397,8 @@ TEST_CASE("solve: a free-free member under an axial force balances N's moment, F
   // residual growing like N). A 10 m member, EI = 1e6, K = 1e6 (k = 1e4), weight 1000, lifted by
   // 4000 at x = 3, bowed 10 mm away from the foundation, 100 kN compression (Euler load of the
   // free member's lifted stretch far above it).
-  const std::string text = R"(
-[structure]
-kind = "beam"
-length = 10.0
-EI = 1.0e6
-[supports]
-left = "free"
-right = "free"
-[foundation]
-modulus = 1.0e6
+  const std::string text =
+      std::string("\n") + test::beam_text("10.0", "1.0e6", "\"free\"", "\"free\"") + R"(modulus = 1.0e6
 [[loads]]
 kind = "uniform"
 value = 1000.0

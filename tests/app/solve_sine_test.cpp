@@ -24,6 +24,7 @@
 #include "app/solve_command.hpp"
 #include "certify/certificate.hpp"
 #include "scene/scene_reader.hpp"
+#include "support/scene_text.hpp"
 
 using namespace liftoff;
 
@@ -35,16 +36,8 @@ const double pi = std::acos(-1.0);
 // load given as TOML lines.
 constexpr double L = 2.0, EI = 3.0, K = 40.0;
 scene::Scene beam(const std::string& load, bool tensionless = false) {
-  const std::string text = R"([structure]
-kind = "beam"
-length = 2.0
-EI = 3.0
-[supports]
-left = "pinned"
-right = "pinned"
-[foundation]
-modulus = 40.0
-tensionless = )" + std::string(tensionless ? "true" : "false") +
+  const std::string text = test::beam_text("2.0", "3.0") +
+                           "modulus = 40.0\ntensionless = " + std::string(tensionless ? "true" : "false") +
                            "\n[[loads]]\n" + load;
   return scene::parse_scene(text, "sine.toml");
 }

@@ -24,6 +24,7 @@
 #include "model/member_model.hpp"
 #include "post/fields.hpp"
 #include "scene/scene_reader.hpp"
+#include "support/scene_text.hpp"
 
 using namespace liftoff;
 using continuation::EventKind;
@@ -244,16 +245,7 @@ TEST_CASE("a pinned weightless strut bowed away from a tensionless foundation bu
   // amplitude a0 / (1 - P / P_E) of the half-sine bow grows without bound as P approaches
   // P_E = pi^2 EI / L^2 whatever k, and the trace stops at max_amplitude = 1000 a0, where
   // P = (1 - 1e-3) P_E (plus the FE error of P_E, ~1e-6 at 64 elements).
-  const std::string text = R"(
-[structure]
-kind = "beam"
-length = 10.0
-EI = 1.0e4
-[supports]
-left = "pinned"
-right = "pinned"
-[foundation]
-modulus = 1.0e3
+  const std::string text = std::string("\n") + test::beam_text("10.0", "1.0e4") + R"(modulus = 1.0e3
 [geometry]
 initial_shape = { shape = "half_sine", amplitude = -1.0e-4 }
 [[loads]]
@@ -378,16 +370,8 @@ TEST_CASE("a straight weightless strut on a tensionless foundation: the bifurcat
 // flat path instead, through the bifurcation, unstable above it.
 TEST_CASE("a heavy free-free member: the bifurcation at its bilateral critical load, then a descending branch",
           "[fe_axial_path]") {
-  const std::string text = R"(
-[structure]
-kind = "beam"
-length = 2.0
-EI = 1.0e7
-[supports]
-left = "free"
-right = "free"
-[foundation]
-modulus = 1.0e6
+  const std::string text =
+      std::string("\n") + test::beam_text("2.0", "1.0e7", "\"free\"", "\"free\"") + R"(modulus = 1.0e6
 [[loads]]
 kind = "uniform"
 value = 1.0e4
@@ -553,16 +537,7 @@ TEST_CASE("the exact FE path reports amplitude and lifted length", "[fe_axial_pa
   // moment: without an axial force the exact path runs, with axial_force 0 and stability unknown;
   // its amplitude is the largest -w (sampled finely: no more than the sampled maximum's error
   // above that) and its lifted length is the member's length less the contact regions'.
-  const std::string text = R"(
-[structure]
-kind = "beam"
-length = 1.0
-EI = 1.0
-[supports]
-left = "pinned"
-right = "pinned"
-[foundation]
-modulus = 1.0e4
+  const std::string text = std::string("\n") + test::beam_text("1.0", "1.0") + R"(modulus = 1.0e4
 [[loads]]
 kind = "uniform"
 value = 100.0

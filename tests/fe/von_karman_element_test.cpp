@@ -21,6 +21,7 @@
 #include "fe/sparse_assembler.hpp"
 #include "nonlinear/linear_solver.hpp"
 #include "nonlinear/newton.hpp"
+#include "support/element_checks.hpp"
 
 using namespace liftoff;
 using namespace liftoff::fe;
@@ -100,31 +101,13 @@ TEST_CASE("von Karman element: K_t is the Jacobian of f_int, to the exact trunca
   // Two step sizes a factor 2 apart. f_int is a cubic in u_e, so the central difference's error is
   // exactly delta^2 / 6 f''' plus round-off: the observed error is the truncation, not a guess.
   const double base = std::ldexp(1.0, -8) * std::max(scale, 1e-2);
-  double worst = 0.0, largest_truncation = 0.0;
-  for (double delta : {base, base / 2}) {
-    for (int j = 0; j < 6; ++j) {
-      ElementState plus = state, minus = state;
-      plus.displacement[j] += delta;
-      minus.displacement[j] -= delta;
-      const Vector6d difference =
-          (element.evaluate(plus).internal_force - element.evaluate(minus).internal_force) / (2.0 * delta);
-      const Vector6d truncation = delta * delta / 6.0 * third_derivative(h, ea, j);
-      // Round-off: each f_int a few dozen roundings of sizes.force (at u +- delta e_j: within a
-      // factor 2 of it here), divided by 2 delta; K_t's own a few dozen of sizes.tangent; the
-      // rounded u_j +- delta moves the step by eps |u_j| per side.
-      const Vector6d allowance = (64 * eps) * (2.0 * sizes.force / delta + sizes.tangent.col(j)) +
-                                 sizes.tangent.col(j) * (2 * eps * (std::abs(state.displacement[j]) + delta) / delta) +
-                                 Vector6d::Constant(std::numeric_limits<double>::min());
-      const Vector6d misfit = difference - at.tangent.col(j) - truncation;
-      worst = std::max(worst, (misfit.cwiseAbs().array() / allowance.array()).maxCoeff());
-      largest_truncation = std::max(largest_truncation, (truncation.cwiseAbs().array() / allowance.array()).maxCoeff());
-    }
-  }
-  CAPTURE(largest_truncation);
-  CHECK(worst <= 1.0);
+  const test::JacobianMisfit misfit = test::tangent_misfit(element, state, at.tangent, base, sizes.force, sizes.tangent,
+                                                           [&](int j) { return third_derivative(h, ea, j); });
+  CAPTURE(misfit.largest_truncation);
+  CHECK(misfit.worst <= 1.0);
   // The check has teeth: somewhere the truncation term is far above the round-off allowance, so a
   // tangent missing it (or anything of its size) would fail.
-  if (ea * scale * scale > 1.0) CHECK(largest_truncation > 10.0);
+  if (ea * scale * scale > 1.0) CHECK(misfit.largest_truncation > 10.0);
 }
 
 TEST_CASE("von Karman element: K_t symmetric to the last bit, f_int the gradient of the energy",
@@ -145,18 +128,7 @@ TEST_CASE("von Karman element: K_t symmetric to the last bit, f_int the gradient
     // meets f_int to round-off: a few dozen roundings of the energy's size, over delta.
     const Sizes sizes = round_off_sizes(h, ea, slopes, u);
     const double delta = std::ldexp(1.0, -6) * std::max(scale, 1e-2);
-    for (int j = 0; j < 6; ++j) {
-      auto central = [&](double step) {
-        VectorXd plus = u, minus = u;
-        plus[j] += step;
-        minus[j] -= step;
-        return (element.energy(plus) - element.energy(minus)) / (2.0 * step);
-      };
-      const double extrapolated = (4.0 * central(delta / 2) - central(delta)) / 3.0;
-      const double allowance = 64 * eps * (4.0 * sizes.energy / delta + sizes.force[j]);
-      CAPTURE(j, extrapolated, at.internal_force[j], allowance);
-      CHECK(std::abs(extrapolated - at.internal_force[j]) <= allowance);
-    }
+    test::check_energy_gradient(element, u, at.internal_force, delta, sizes.energy, sizes.force);
   }
 }
 
@@ -269,14 +241,9 @@ TEST_CASE("von Karman element: bad arguments are refused with a message", "[fe][
   CHECK_FALSE(element.is_linear());
   CHECK_THROWS_AS(element.evaluate(ElementState{VectorXd::Zero(4), 0.0}), std::invalid_argument);
   CHECK_THROWS_AS(element.energy(VectorXd::Zero(7)), std::invalid_argument);
-  // The seam's contract: once sized, the response's storage is reused.
-  ElementResponse response;
-  element.evaluate(ElementState{random_displacement(0.1), 0.0}, response);
-  const double* force = response.internal_force.data();
-  const double* tangent = response.tangent.data();
-  element.evaluate(ElementState{random_displacement(0.2), 0.0}, response);
-  CHECK(response.internal_force.data() == force);
-  CHECK(response.tangent.data() == tangent);
+  const VectorXd first = random_displacement(0.1);
+  const VectorXd second = random_displacement(0.2);
+  test::check_response_storage_reused(element, first, second);
 }
 
 // ---------------------------------------------------------------------------------------------

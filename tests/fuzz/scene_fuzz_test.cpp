@@ -36,6 +36,7 @@
 
 #include "fuzz/process.hpp"
 #include "fuzz/scene_generator.hpp"
+#include "support/scene_text.hpp"
 #include "support/scratch.hpp"
 
 namespace fs = std::filesystem;
@@ -597,15 +598,7 @@ Case malformed_case(Random& random, int) {
   return c;
 }
 
-const char* small_beam = R"([structure]
-kind = "beam"
-length = 2.0
-EI = 3.0
-[supports]
-left = "pinned"
-right = "pinned"
-[foundation]
-k = 1.0e4
+const std::string small_beam = liftoff::test::beam_text("2.0", "3.0") + R"(k = 1.0e4
 [[loads]]
 kind = "force"
 at = 1.0

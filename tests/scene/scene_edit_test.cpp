@@ -6,20 +6,12 @@
 
 #include "core/error.hpp"
 #include "scene/scene_reader.hpp"
+#include "support/scene_text.hpp"
 
 using namespace liftoff;
 
 namespace {
-const char* text = R"(
-[structure]
-kind = "beam"
-length = 1.0
-EI = 1.0
-[supports]
-left = "pinned"
-right = "pinned"
-[foundation]
-k = 1.0e4
+const std::string text = std::string("\n") + test::beam_text("1.0", "1.0") + R"(k = 1.0e4
 [[loads]]
 kind = "force"
 at = 0.5
