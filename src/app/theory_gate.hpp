@@ -6,16 +6,20 @@
 // refusal is an InputError before any work and before any output is written (the CLI: exit 2,
 // one line naming the key).
 //
-// The table (theory_gate.cpp), for theory = "von_karman" and beams. Circular arches under von Karman
-// are read (scene_reader) and have a contact solve (contact::solve_arch_von_karman, used by the seed
-// arch's departure study, verification/seed_arch/), but no certificate of their answers yet: every
-// solver refuses them (key structure.theory), since no answer may be reported solved unchecked.
+// The table (theory_gate.cpp), for theory = "von_karman" and beams:
 //   solve: auto and fast  -> the FE von Karman solve along the load path (contact/von_karman_solve.hpp)
 //          ritz           -> the Ritz model with its membrane term (ritz/ritz_model.hpp)
 //          dual, primal   -> refused (key solve.method): Lemke solves an LCP, linear only
-//          a tolerance    -> refused (key solve.tolerance): the limit-fitted sequence is linear only
+//          a tolerance    -> refused (key solve.tolerance): the limit-fitted meshes are linear only
 //   sweep, envelope: what solve honours (they solve through solve_scene)
 //   trace: the FE path (continuation/fe_von_karman_path.hpp) and the Ritz path (continuation::trace_ritz)
+// For circular arches under von Karman (the Marguerre/Donnell element, fe/arch_von_karman_element.hpp):
+//   solve: auto and fast  -> the FE von Karman arch solve along the load path from zero (as beams),
+//                            its answer certified (certify::certify of a VonKarmanAnswer)
+//          every other method, a tolerance -> refused, key structure.theory
+//   sweep, envelope, trace -> refused, key structure.theory (not served yet: a sweep's or an
+//                            envelope's answers would be certified like solve's, but no test
+//                            covers them; no path traces an arch under this theory)
 // theory = "linear" is honoured by every solver.
 
 #include <optional>
