@@ -94,14 +94,16 @@ std::optional<std::string> theory_refusal(const scene::Scene& scene, Solver solv
   return fmt::format("theory = \"{}\": {}", scene::to_string(scene.structure.theory), entry(solver).reason);
 }
 
+std::string refusal_key(const scene::Scene& scene, Solver solver) {
+  return von_karman_arch(scene) ? "structure.theory" : entry(solver).key;
+}
+
 void require_honoured_theory(const scene::Scene& scene, Command command, Solver solver,
                              const std::optional<std::string>& key) {
   require_honoured_theory(scene, command);
   const std::optional<std::string> reason = theory_refusal(scene, solver);
   if (!reason) return;
-  const std::string where = von_karman_arch(scene) ? std::string("key 'structure.theory'")
-                            : key                  ? *key
-                                                   : fmt::format("key '{}'", entry(solver).key);
+  const std::string where = key && !von_karman_arch(scene) ? *key : fmt::format("key '{}'", refusal_key(scene, solver));
   throw InputError(fmt::format("{}: {}: {} (liftoff {})", scene.source_name, where, *reason, name(command)));
 }
 

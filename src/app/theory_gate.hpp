@@ -53,6 +53,9 @@ void require_honoured_theory(const scene::Scene& scene, Command command, Solver 
 // The reason, in words, why `solver` does not honour the scene's theory (nullopt: it does): for a
 // `--method all` column that is refused rather than thrown.
 std::optional<std::string> theory_refusal(const scene::Scene& scene, Solver solver);
+// The key such a refusal names: structure.theory for a von Karman arch (its theory is what the
+// solver does not serve), else the key that chose the solver (solve.method, solve.tolerance, ...).
+std::string refusal_key(const scene::Scene& scene, Solver solver);
 
 // The CLI's early check: throws when no solver of `command` honours the scene's theory (the
 // entry points then check the solver they run).

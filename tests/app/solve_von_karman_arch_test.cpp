@@ -92,3 +92,22 @@ TEST_CASE("solve von Karman arch: the seed's arch gives the departure study's fi
   REQUIRE(r.certificate->support_reactions.size() == 2);
   for (const certify::SupportReaction& support : r.certificate->support_reactions) CHECK(support.tangential != 0.0);
 }
+
+TEST_CASE("solve von Karman arch: --method all solves fast and refuses the others keyed structure.theory",
+          "[app][von_karman][arch]") {
+  const scene::Scene scene =
+      scene::read_scene_file(source_dir + "/verification/scenes/von_karman/seed_arch_pinned_von_karman.toml");
+  const std::vector<io::SolveReport> reports = app::solve_all_methods(scene, {});
+  REQUIRE(reports.size() == 4);
+  for (const io::SolveReport& r : reports) {
+    CAPTURE(r.method, r.message);
+    if (r.method == "fast") {
+      CHECK(r.certified());
+      CHECK(r.theory == "von_karman");
+    } else {
+      CHECK(r.outcome == io::SolveOutcome::refused);
+      CHECK_THAT(r.message, Catch::Matchers::Contains("key 'structure.theory'") &&
+                                Catch::Matchers::Contains("theory = \"von_karman\" on an arch"));
+    }
+  }
+}
