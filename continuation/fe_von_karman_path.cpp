@@ -401,10 +401,15 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
   // step reaching max_amplitude ends it too (completed). Under a live_load (a load the member model
   // does not describe, so the certificate cannot balance it) the states are not certified.
   std::string not_certified;
-  const bool fixed_lambda = options.arc_length.control == PathControl::load;
+  // Polished at its lambda under load control and at the range's ends (landed on exactly).
+  const auto polish = [&](const ContactSet& on, const PathPoint& p) {
+    const bool fixed_lambda = options.arc_length.control == PathControl::load ||
+                              p.lambda == options.arc_length.lambda_max || p.lambda == options.arc_length.lambda_min;
+    return tracer.polished(on, p, fixed_lambda);
+  };
   bool amplitude_reached = false;
   const auto record_point = [&](const ContactSet& on, const PathPoint& corrected) {
-    const PathPoint p = tracer.polished(on, corrected, fixed_lambda);
+    const PathPoint p = polish(on, corrected);
     const certify::Certificate certificate =
         live_load ? certify::Certificate{} : tracer.certificate(on, p.x, p.lambda, options);
     if (!live_load && !certificate.passed) {
@@ -495,7 +500,7 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
     const StepObserver observer = [&](const PathPoint& previous, PathPoint& accepted) {
       // Every decision below on the polished point (Tracer::polished): the corrector's tolerance
       // leaves the state off by ~1e-7 of w_ref near a limit point, more than the signs it decides.
-      accepted = tracer.polished(set, accepted, fixed_lambda);
+      accepted = polish(set, accepted);
       // 1. Contact events, the first along the step.
       // 0. A step holding a limit point and a change of stability beyond it, or two changes, is
       // retried shorter (they are told apart by their own sides), down to 100 min_step.
@@ -557,7 +562,7 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
       }
       immediate_switches = 0;
       const auto event = [&](const PathPoint& p) {
-        const VectorXd v = tracer.sign_values(set, tracer.polished(set, p, fixed_lambda).x);
+        const VectorXd v = tracer.sign_values(set, polish(set, p).x);
         double least = 1.0;
         for (int i = 0; i < d.reactions(); ++i)
           if (start_values[i] > tie_tolerance) least = std::min(least, v[i]);
@@ -570,7 +575,7 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
                                 previous.lambda, accepted.lambda);
           return ObserverVerdict::stop;
         }
-        *located = tracer.polished(set, *located, fixed_lambda);
+        *located = polish(set, *located);
         const VectorXd at = tracer.sign_values(set, located->x), past = tracer.sign_values(set, accepted.x);
         std::vector<bool> in_contact = set.in_contact;
         std::vector<int> flipped;
