@@ -105,17 +105,15 @@ class Tracer {
     return scale;
   }
 
-  // The state a point records: the corrector's point with Newton corrections of the bordered
-  // system (G = 0 and the step's hyperplane through the point, normal to its tangent in the path's
-  // metric; load control: at its lambda), while they reduce |G| (each row against its terms at
-  // the state, as the certificate measures it), at most 6 (the later ones refine the solve's own
-  // round-off). The corrector stops at its tolerance (1e-11 of each equation's size at the
-  // unloaded state); more corrections take the point to round-off, where the certificate holds it
-  // to its own tolerance (512 eps of each row's terms), with no conversion between the two
-  // scales. Not at fixed lambda
-  // (near a limit point G_y is nearly singular, and a fixed-lambda correction would move the state
-  // along its null vector by far more than the path's accuracy): the bordered matrix is regular
-  // there.
+  // The point the path decides on and records: the corrector's point with Newton corrections of
+  // the bordered system (G = 0 and the hyperplane through the point normal to its tangent in the
+  // path's metric; fixed_lambda: at its lambda), while they reduce |G| (each row against its terms
+  // at the state, as the certificate measures it), at most 6. The corrector stops at 1e-11 of each
+  // equation's size at the unloaded state, which near a limit point leaves the state off by ~1e-7
+  // of w_ref (more than the signs the events decide); the corrections take it to round-off, where
+  // the certificate holds it to its own backward tolerance (512 eps of each row's terms). Not at
+  // fixed lambda on an arc-length path: near a limit point G_y is nearly singular and such a
+  // correction would move the state along its null vector; the bordered matrix is regular there.
   PathPoint polished(const ContactSet& set, const PathPoint& point, bool fixed_lambda) const {
     PathPoint best = point;
     VectorXd g;

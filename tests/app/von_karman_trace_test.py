@@ -37,14 +37,11 @@ ROOT = os.path.join(HERE, "..", "..")
 sys.path.insert(0, os.path.join(ROOT, "verification", "plots"))
 import plot  # noqa: E402
 
+sys.path.insert(0, HERE)
+# The plot tests' one checker (prints ok/FAIL, collects the failures).
+from plot_load_amplitude_test import check, failures  # noqa: E402
+
 SCENES = os.path.join(ROOT, "verification", "scenes", "von_karman")
-failures = []
-
-
-def check(condition, what):
-    print(("ok    " if condition else "FAIL  ") + what)
-    if not condition:
-        failures.append(what)
 
 
 def trace(liftoff, scene, output):
