@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <Eigen/SparseCholesky>
+#include <Eigen/SparseLU>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -12,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "certify/certificate.hpp"
 #include "contact/von_karman_solve.hpp"
 #include "continuation/arclength.hpp"
 #include "continuation/events.hpp"
@@ -29,38 +31,20 @@ using Triplets = std::vector<Eigen::Triplet<double>>;
 // together (mirror nodes of a symmetric member reach zero at one lambda up to round-off).
 constexpr double tie_tolerance = 1e-8;
 
-// The selection of one contact set: C_A (padded to the system's unknowns), T_AA, c_A.
-struct ContactSet {
-  std::vector<bool> in_contact;
-  std::vector<int> members;  // reaction indices on the set
-  SparseMatrix coupling;     // |A| x equations
-  SparseMatrix flexibility;  // |A| x |A|
-  VectorXd ground_gap;       // c_A
-  int size() const { return static_cast<int>(members.size()); }
-};
-
-ContactSet make_set(const fe::Discretisation& d, std::vector<bool> in_contact) {
-  ContactSet set;
-  set.in_contact = std::move(in_contact);
-  for (int i = 0; i < d.reactions(); ++i)
-    if (set.in_contact[i]) set.members.push_back(i);
-  Triplets select;
-  for (int a = 0; a < set.size(); ++a) select.emplace_back(a, set.members[a], 1.0);
-  SparseMatrix p(set.size(), d.reactions());
-  p.setFromTriplets(select.begin(), select.end());
-  set.coupling = p * d.coupling;
-  set.flexibility = p * d.flexibility * SparseMatrix(p.transpose());
-  set.ground_gap = VectorXd::Zero(set.size());
-  if (d.ground_gap.size() == d.reactions())
-    for (int a = 0; a < set.size(); ++a) set.ground_gap[a] = d.ground_gap[set.members[a]];
-  return set;
-}
+using ContactSet = contact::ContactSelection;
+constexpr auto make_set = contact::select_contact_set;
 
 class Tracer {
  public:
   Tracer(const model::MemberModel& model, const fe::Discretisation& d, const contact::VonKarmanSystem& system,
-         VectorXd dead, VectorXd live, double w_ref)
-      : model_(model), d_(d), system_(system), dead_(std::move(dead)), live_(std::move(live)), w_ref_(w_ref) {
+         VectorXd dead, VectorXd live, double w_ref, VonKarmanStateSeam seam)
+      : model_(model),
+        d_(d),
+        system_(system),
+        dead_(std::move(dead)),
+        live_(std::move(live)),
+        w_ref_(w_ref),
+        seam_(std::move(seam)) {
     n_ = system.unknowns();
     double h = std::numeric_limits<double>::infinity();
     for (int e = 0; e < d.mesh.elements(); ++e) h = std::min(h, d.mesh.element_size(e));
@@ -72,19 +56,10 @@ class Tracer {
 
   // The bordered equations of the set.
   PathProblem problem(const ContactSet& set) const {
-    const int m = set.size(), neq = d_.equations;
+    const int m = set.size();
     PathProblem p;
     p.unknowns = n_ + m;
-    p.residual = [this, &set, m, neq](const VectorXd& y, double lambda, VectorXd& g) {
-      if (!y.allFinite()) return false;
-      g.resize(n_ + m);
-      g.head(n_) = system_.internal_force(y.head(n_)) - dead_ - lambda * live_;
-      if (m > 0) {
-        g.head(neq) += set.coupling.transpose() * y.tail(m);
-        g.tail(m) = set.coupling * y.head(neq) - set.ground_gap - set.flexibility * y.tail(m);
-      }
-      return g.allFinite();
-    };
+    p.residual = [this, &set](const VectorXd& y, double lambda, VectorXd& g) { return residual(set, y, lambda, g); };
     p.sparse_jacobian = [this, &set](const VectorXd& y, double, SparseMatrix& g_y) {
       if (!y.allFinite()) return false;
       g_y = saddle(set, y);
@@ -95,17 +70,99 @@ class Tracer {
       g_lambda.head(n_) = -live_;
       return true;
     };
-    p.unknown_scale = VectorXd::Constant(n_ + m, 1.0 / w_ref_);
-    if (m > 0) p.unknown_scale.tail(m).setConstant(1e-3 / reaction_unit_);
+    p.unknown_scale = unknown_scale(set);
     // The corrector's test relative to each equation's size: |G_i| against sum_j |dG_i/dy_j| y_ref_j
     // at the unloaded state (the membrane terms of EA and the h^-3 of bending included), so that its
     // tolerance means the same on every mesh.
+    p.residual_scale = residual_scale(set);
+    return p;
+  }
+
+  bool residual(const ContactSet& set, const VectorXd& y, double lambda, VectorXd& g) const {
+    if (!y.allFinite()) return false;
+    const int m = set.size(), neq = d_.equations;
+    g.resize(n_ + m);
+    g.head(n_) = system_.internal_force(y.head(n_)) - dead_ - lambda * live_;
+    if (m > 0) {
+      g.head(neq) += set.coupling.transpose() * y.tail(m);
+      g.tail(m) = set.coupling * y.head(neq) - set.ground_gap - set.flexibility * y.tail(m);
+    }
+    return g.allFinite();
+  }
+
+  VectorXd residual_scale(const ContactSet& set) const {
+    const int m = set.size();
     VectorXd typical = VectorXd::Constant(n_ + m, w_ref_);
     if (m > 0) typical.tail(m).setConstant(reaction_unit_);
     const SparseMatrix j0 = saddle(set, VectorXd::Zero(n_ + m));
     const VectorXd size = SparseMatrix(j0.cwiseAbs()) * typical;
-    p.residual_scale = size.cwiseMax(std::numeric_limits<double>::min()).cwiseInverse();
-    return p;
+    return size.cwiseMax(std::numeric_limits<double>::min()).cwiseInverse();
+  }
+
+  VectorXd unknown_scale(const ContactSet& set) const {
+    VectorXd scale = VectorXd::Constant(n_ + set.size(), 1.0 / w_ref_);
+    scale.tail(set.size()).setConstant(1e-3 / reaction_unit_);
+    return scale;
+  }
+
+  // The point the path decides on and records: the corrector's point with Newton corrections of
+  // the bordered system (G = 0 and the hyperplane through the point normal to its tangent in the
+  // path's metric; fixed_lambda: at its lambda), while they reduce |G| (each row against its terms
+  // at the state, as the certificate measures it), at most 6. The corrector stops at 1e-11 of each
+  // equation's size at the unloaded state, which near a limit point leaves the state off by ~1e-7
+  // of w_ref (more than the signs the events decide); the corrections take it to round-off, where
+  // the certificate holds it to its own backward tolerance (512 eps of each row's terms). Not at
+  // fixed lambda on an arc-length path: near a limit point G_y is nearly singular and such a
+  // correction would move the state along its null vector; the bordered matrix is regular there.
+  PathPoint polished(const ContactSet& set, const PathPoint& point, bool fixed_lambda) const {
+    PathPoint best = point;
+    VectorXd g;
+    if (!residual(set, best.x, best.lambda, g)) return point;
+    VectorXd normal = VectorXd::Zero(best.x.size());
+    if (point.tangent_x.size() == best.x.size() && !fixed_lambda)
+      normal = point.tangent_x.cwiseProduct(unknown_scale(set).array().square().matrix());
+    VectorXd g_lambda = VectorXd::Zero(best.x.size());
+    g_lambda.head(n_) = -live_;
+    // |G| as the certificate measures it: each equation against the terms summed into it at the
+    // state (|J| |y| and the loads, the ground gap).
+    VectorXd terms = SparseMatrix(saddle(set, best.x).cwiseAbs()) * best.x.cwiseAbs();
+    terms.head(n_) += (dead_ + best.lambda * live_).cwiseAbs();
+    terms.tail(set.size()) += set.ground_gap.cwiseAbs();
+    const VectorXd weight = terms.cwiseMax(std::numeric_limits<double>::min()).cwiseInverse();
+    double norm = g.cwiseProduct(weight).lpNorm<Eigen::Infinity>();
+    const int size = static_cast<int>(best.x.size());
+    for (int it = 0; it < 6 && norm > 0.0; ++it) {
+      // [J G_lambda; normal^T t_lambda] (dy, dl) = (-G, 0) as one sparse system: eliminating dy
+      // through J loses, at a limit point, what the bordering gains (measured: the arch's limit
+      // point stalled at 3e-13, against the certificate's 1.1e-13).
+      const SparseMatrix j = saddle(set, best.x);
+      Triplets t;
+      t.reserve(j.nonZeros() + 2 * size + 1);
+      for (int k = 0; k < j.outerSize(); ++k)
+        for (SparseMatrix::InnerIterator e(j, k); e; ++e) t.emplace_back(e.row(), e.col(), e.value());
+      for (int i = 0; i < size; ++i) {
+        if (g_lambda[i] != 0.0) t.emplace_back(i, size, g_lambda[i]);
+        if (normal[i] != 0.0) t.emplace_back(size, i, normal[i]);
+      }
+      t.emplace_back(size, size, fixed_lambda ? 1.0 : point.tangent_lambda);
+      SparseMatrix bordered(size + 1, size + 1);
+      bordered.setFromTriplets(t.begin(), t.end());
+      Eigen::SparseLU<SparseMatrix> lu(bordered);
+      if (lu.info() != Eigen::Success) break;
+      VectorXd rhs = VectorXd::Zero(size + 1);
+      rhs.head(size) = -g;
+      const VectorXd step = lu.solve(rhs);
+      if (lu.info() != Eigen::Success || !step.allFinite()) break;
+      PathPoint next = best;
+      next.x = best.x + step.head(size);
+      next.lambda = best.lambda + step[size];
+      VectorXd g_next;
+      if (!residual(set, next.x, next.lambda, g_next) ||
+          !(g_next.cwiseProduct(weight).lpNorm<Eigen::Infinity>() < norm))
+        break;
+      best = std::move(next), g = std::move(g_next), norm = g.cwiseProduct(weight).lpNorm<Eigen::Infinity>();
+    }
+    return best;
   }
 
   SparseMatrix saddle(const ContactSet& set, const VectorXd& y) const {
@@ -198,6 +255,41 @@ class Tracer {
     return step;
   }
 
+  // The certificate of a path point (certify/certificate.hpp, the von Karman answer from its fields
+  // alone) at the path's own accuracy:
+  //  - backward error: the certificate's own tolerance, for y polished() to round-off.
+  //  - signs: the path accepts a node's value r_i / (k w_ref) or gap_i / (h w_ref) down to
+  //    -max(tie_tolerance, event_tolerance) (below, an event is located or a node switches at
+  //    once); the certificate's are r_i / max r and gap_i / (h max |w|) or larger: the floor is
+  //    that bound in its units, max(k w_ref / max r, w_ref / max |w|) times it, at most 1e-4 (the
+  //    certificate takes floors below 1e-3 / 8; a larger one is a state within 1e-4 w_ref of the
+  //    unloaded one, whose nodes' signs the certificate then checks more finely than the path).
+  certify::Certificate certificate(const ContactSet& set, VectorXd y, double lambda,
+                                   const TraceOptions& options) const {
+    if (seam_) seam_(lambda, y);
+    certify::VonKarmanAnswer answer;
+    answer.displacement = d_.expand_displacement(y.head(d_.equations));
+    answer.reaction = reactions(set, y);
+    const int nodes = d_.mesh.elements() + 1;
+    answer.axial = VectorXd::Zero(nodes);
+    for (int node = 0; node < nodes; ++node)
+      if (const int k = system_.axial_unknown(node); k >= 0) answer.axial[node] = y[k];
+    answer.normal_force = system_.normal_forces(y.head(n_));
+    double w_largest = 0.0;
+    for (int node = 0; node < nodes; ++node)
+      w_largest = std::max(w_largest, std::abs(answer.displacement[d_.deflection_dof(node)]));
+    const double r_largest = answer.reaction.size() > 0 ? answer.reaction.cwiseAbs().maxCoeff() : 0.0;
+    const double tiny = std::numeric_limits<double>::min();
+    const double w_ratio = std::max(1.0, w_ref_ / std::max(w_largest, tiny));
+    certify::CertifyOptions o;
+    o.load_factor = lambda;
+    o.round_off = false;
+    o.pointwise = false;
+    o.sign_floor = std::min(1e-4, std::max(tie_tolerance, options.event_tolerance) *
+                                      std::max(w_ratio, r_largest > 0.0 ? reaction_unit_ / r_largest : 0.0));
+    return certify::certify(model_, d_, answer, o);
+  }
+
   ContactTopology topology(const VectorXd& y, const SpecialPoints& points) const {
     return contact_topology(model_, d_, d_.expand_displacement(y.head(d_.equations)), points);
   }
@@ -210,6 +302,7 @@ class Tracer {
   const contact::VonKarmanSystem& system_;
   VectorXd dead_, live_;
   double w_ref_;
+  VonKarmanStateSeam seam_;
   int n_ = 0;
   double reaction_unit_ = 1.0, gap_unit_ = 1.0;
 };
@@ -234,7 +327,7 @@ PathPoint carry(const PathPoint& p, const ContactSet& from, const ContactSet& to
 }  // namespace
 
 TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOptions& options, const TraceSink& sink,
-                                const VonKarmanLiveLoad& live_load) {
+                                const VonKarmanLiveLoad& live_load, const VonKarmanStateSeam& seam) {
   const auto started = std::chrono::steady_clock::now();
   options.validate(member.user_from_s(member.s_begin), member.user_from_s(member.s_end));
   TraceResult result;
@@ -250,7 +343,8 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
   };
   if (options.resume_from)
     return finish(TraceTermination::solver_failure,
-                  "refused: the FE von Karman path does not resume yet (run the trace again from the start)");
+                  "TraceOptions.resume_from: refused: the FE von Karman path does not resume yet (run the trace "
+                  "again from the start)");
 
   const fe::Discretisation d = fe::discretise(member, options.elements);
   const contact::VonKarmanSystem system(member, d);
@@ -267,7 +361,7 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
     live = system.load(1.0) - dead;
   }
   const double w_ref = member.initial_sine ? std::max(std::abs(member.initial_sine->amplitude), 1e-6) : 1e-3;
-  const Tracer tracer(member, d, system, dead, live, w_ref);
+  const Tracer tracer(member, d, system, dead, live, w_ref, seam);
   const SpecialPoints points = special_points(member);
 
   // The start: the contact solve at lambda_min from zero.
@@ -300,16 +394,38 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
                     fmt::format("the start at lambda = {:.10g} did not converge on its contact set: {}", lambda0,
                                 summary.message));
   }
-  const auto record_step = [&](const TraceStep& step) {
-    result.steps.push_back(step);
+  // Every state is certified from its own fields (Tracer::certificate) before it is reported: one
+  // that fails is not recorded and ends the path (solver_failure), the steps before it valid. A
+  // step reaching max_amplitude ends it too (completed). Under a live_load (a load the member model
+  // does not describe, so the certificate cannot balance it) the states are not certified.
+  std::string not_certified;
+  // Polished at its lambda under load control and at the range's ends (landed on exactly).
+  const auto polish = [&](const ContactSet& on, const PathPoint& p) {
+    const bool fixed_lambda = options.arc_length.control == PathControl::load ||
+                              p.lambda == options.arc_length.lambda_max || p.lambda == options.arc_length.lambda_min;
+    return tracer.polished(on, p, fixed_lambda);
+  };
+  bool amplitude_reached = false;
+  const auto record_point = [&](const ContactSet& on, const PathPoint& corrected) {
+    const PathPoint p = polish(on, corrected);
+    const certify::Certificate certificate =
+        live_load ? certify::Certificate{} : tracer.certificate(on, p.x, p.lambda, options);
+    if (!live_load && !certificate.passed) {
+      not_certified =
+          fmt::format("the state at lambda = {:.10g} failed its certificate: {}", p.lambda, certificate.message);
+      return false;
+    }
+    result.steps.push_back(tracer.step_of(on, p, points, options));
     if (sink.on_step) sink.on_step(result.steps.back());
+    if (options.max_amplitude && result.steps.back().amplitude >= *options.max_amplitude) amplitude_reached = true;
+    return true;
   };
   const auto record_event = [&](TraceEvent event) {
     result.events.push_back(std::move(event));
     if (sink.on_event) sink.on_event(result.events.back());
   };
   const auto crown = [&](const PathPoint& p) { return tracer.step_of(set, p, points, options).monitor_deflection; };
-  record_step(tracer.step_of(set, *point, points, options));
+  if (!record_point(set, *point)) return finish(TraceTermination::solver_failure, not_certified);
 
   // The events of switching `flipped` in the node set `before` (at lambda), from the node set's
   // pieces: a node leaving inside a piece opens a lift-off zone, the last node of a piece leaving
@@ -360,6 +476,11 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
   // changing sign is the branch meeting the path it left (or its mirror image) again.
   VectorXd branch_mode, branch_origin;
   std::optional<double> first_step;
+  const auto amplitude_message = [&] {
+    return fmt::format("max_amplitude = {:.6g} reached at lambda = {:.10g} (amplitude {:.6g})", *options.max_amplitude,
+                       result.steps.back().load_factor, result.steps.back().amplitude);
+  };
+  if (amplitude_reached) return finish(TraceTermination::completed, amplitude_message());
   for (;;) {
     const PathFollower follower(tracer.problem(set), [&] {
       ArcLengthOptions o = options.arc_length;
@@ -375,6 +496,9 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
     std::string failure;
     std::vector<TraceEvent> pending_events;  // the contact events of the step being recorded
     const StepObserver observer = [&](const PathPoint& previous, PathPoint& accepted) {
+      // Every decision below on the polished point (Tracer::polished): the corrector's tolerance
+      // leaves the state off by ~1e-7 of w_ref near a limit point, more than the signs it decides.
+      accepted = polish(set, accepted);
       // 1. Contact events, the first along the step.
       // 0. A step holding a limit point and a change of stability beyond it, or two changes, is
       // retried shorter (they are told apart by their own sides), down to 100 min_step.
@@ -394,7 +518,10 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
         if (amplitude(accepted) <= 0.0 && amplitude(previous) > 0.0) {
           if (auto located = follower.locate(previous, accepted, amplitude, options.event_tolerance))
             accepted = std::move(*located);
-          record_step(tracer.step_of(set, accepted, points, options));
+          if (!record_point(set, accepted)) {
+            failure = not_certified;
+            return ObserverVerdict::stop;
+          }
           record_event({accepted.lambda, EventKind::bifurcation, options.monitor,
                         fmt::format("the bifurcated branch meets the path it left at lambda = {:.10g} (crown "
                                     "deflection {:.6g}): the trace ends here",
@@ -433,7 +560,7 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
       }
       immediate_switches = 0;
       const auto event = [&](const PathPoint& p) {
-        const VectorXd v = tracer.sign_values(set, p.x);
+        const VectorXd v = tracer.sign_values(set, polish(set, p).x);
         double least = 1.0;
         for (int i = 0; i < d.reactions(); ++i)
           if (start_values[i] > tie_tolerance) least = std::min(least, v[i]);
@@ -446,6 +573,7 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
                                 previous.lambda, accepted.lambda);
           return ObserverVerdict::stop;
         }
+        *located = polish(set, *located);
         const VectorXd at = tracer.sign_values(set, located->x), past = tracer.sign_values(set, accepted.x);
         std::vector<bool> in_contact = set.in_contact;
         std::vector<int> flipped;
@@ -472,12 +600,19 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
       if (fold) {
         const auto t_lambda = [](const PathPoint& p) { return p.tangent_lambda; };
         if (auto located = follower.locate(previous, accepted, t_lambda, options.event_tolerance)) {
+          // Recorded as a step of its own: the curve passes through its extremum, and the event's
+          // step is the limit point itself (the pictures draw it there).
+          if (!record_point(set, *located)) {
+            failure = not_certified;
+            return ObserverVerdict::stop;
+          }
+          // As recorded (polished: its lambda within the corrector's accuracy of the located one).
+          const TraceStep& limit = result.steps.back();
           const bool maximum = previous.tangent_lambda > 0;
-          const double w = crown(*located);
-          record_event({located->lambda, EventKind::limit_point, options.monitor,
+          record_event({limit.load_factor, EventKind::limit_point, options.monitor,
                         fmt::format("limit point: lambda reaches a {} {:.10g} (crown deflection {:.6g}, thrust {:.6g})",
-                                    maximum ? "maximum" : "minimum", located->lambda, w,
-                                    tracer.step_of(set, *located, points, options).axial_force)});
+                                    maximum ? "maximum" : "minimum", limit.load_factor, limit.monitor_deflection,
+                                    limit.axial_force)});
           ++folds;
         }
       }
@@ -514,11 +649,13 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
           return ObserverVerdict::stop;
         }
       }
-      const TraceStep step = tracer.step_of(set, accepted, points, options);
-      record_step(step);
+      if (!record_point(set, accepted)) {
+        failure = not_certified;
+        return ObserverVerdict::stop;
+      }
       for (TraceEvent& e : pending_events) record_event(std::move(e)), ++contact_events;
       pending_events.clear();
-      if (next_set) return ObserverVerdict::stop;
+      if (next_set || amplitude_reached) return ObserverVerdict::stop;
       return ObserverVerdict::proceed;
     };
     const ArcLengthResult run = follower.follow(*point, observer, first_step);
@@ -530,6 +667,7 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
           result.steps.size(), result.summary.rejected_steps, contact_events, folds, bifurcations, options.elements);
     };
     if (!failure.empty()) return finish(TraceTermination::solver_failure, failure + ": " + counts());
+    if (amplitude_reached) return finish(TraceTermination::completed, amplitude_message() + ": " + counts());
     if (run.termination == ArcLengthTermination::completed)
       return finish(TraceTermination::completed,
                     fmt::format("lambda = {:.10g} reached: {}", result.steps.back().load_factor, counts()));
@@ -584,8 +722,9 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
         return finish(
             TraceTermination::solver_failure,
             fmt::format("no point found on the bifurcated branch at lambda = {:.10g}: {}", b.lambda, counts()));
-      record_step(tracer.step_of(set, *branch, points, options));
+      if (!record_point(set, *branch)) return finish(TraceTermination::solver_failure, not_certified + ": " + counts());
       point = std::move(branch);
+      if (amplitude_reached) return finish(TraceTermination::completed, amplitude_message());
       continue;
     }
     return finish(TraceTermination::solver_failure, run.message + ": " + counts());

@@ -51,13 +51,27 @@
 // compression > 0: N is constant along a member with both ends restrained; the mean otherwise) and
 // the stability (S positive definite: stable; the inertia is exact on a set whose reactions and gaps
 // are all strictly positive, the states between events).
+// Certified: every recorded state passes certify/certificate.hpp's von Karman certificate (balance
+// with its support reactions and thrust, the membrane checks, the contact signs at the nodes, the
+// backward error) at the path's own accuracy (the corrector's tolerance and the sign values it
+// accepts, converted to the certificate's scales: Tracer::certificate says how), as the linear FE
+// paths certify theirs: a recorded step is a certified one. The states the path decides its events
+// on and records are the corrector's points taken to round-off by Newton corrections of the
+// bordered system (Tracer::polished: the certificate's own backward tolerance then holds; the
+// corrector's 1e-11 leaves ~1e-7 of w_ref near a limit point, more than the contact signs need);
+// this costs a factorisation per evaluation of a contact event's function. A state that fails is not recorded and ends
+// the path there (solver_failure, the certificate's message): it is checked once its step's events are located (a step
+// ending past a contact event fails its signs by design), so it is not retried shorter. Under a live_load seam (a load
+// the member model does not describe, which the certificate's balance cannot see) the states are not certified.
 //
 // Start: the contact solve at lambda_min (VonKarmanSystem::solve from zero); the unloaded state (every
 // node at zero, any set holds) takes the set of a solve at lambda_min + min_step.
-// Stops: lambda_max or lambda_min (completed), the switched branch back on the path (completed), max_steps
-// (step_limit), the corrector failing at the minimum step (step_too_small: where load control meets a limit point), a
-// start that does not converge or a switch that does not hold (solver_failure). Not handled: resume_from (refused,
-// solver_failure), max_amplitude (ignored), states are not certified (src/certify is linear).
+// Stops: lambda_max or lambda_min (completed), the switched branch back on the path (completed), the
+// first step whose amplitude reaches TraceOptions::max_amplitude (completed), max_steps (step_limit),
+// the corrector failing at the minimum step (step_too_small: where load control meets a limit point),
+// a start that does not converge, a switch that does not hold or a state failing its certificate
+// (solver_failure). Not handled: resume_from (refused: solver_failure, the message names
+// TraceOptions.resume_from).
 // Misuse (a member that is no von Karman beam) throws std::invalid_argument as VonKarmanSystem does.
 
 #include <Eigen/Dense>
@@ -78,8 +92,14 @@ namespace liftoff::continuation {
 // own loads (F_dead + lambda F_live, VonKarmanSystem::load).
 using VonKarmanLiveLoad = std::function<Eigen::VectorXd(const fe::Discretisation&, const contact::VonKarmanSystem&)>;
 
+// A seam for tests: called on a copy of every path point's unknowns (x, then the reactions on the
+// set) before its certificate checks it (e.g. a reaction made to pull, to see the step refused);
+// what is recorded is the path's own state. Empty: none.
+using VonKarmanStateSeam = std::function<void(double lambda, Eigen::VectorXd& unknowns)>;
+
 // The path of `member` (theory = von_karman) on TraceOptions::elements equal elements.
 TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOptions& options,
-                                const TraceSink& sink = {}, const VonKarmanLiveLoad& live_load = {});
+                                const TraceSink& sink = {}, const VonKarmanLiveLoad& live_load = {},
+                                const VonKarmanStateSeam& seam = {});
 
 }  // namespace liftoff::continuation

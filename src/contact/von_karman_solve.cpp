@@ -26,27 +26,13 @@ using Triplets = std::vector<Eigen::Triplet<double>>;
 
 bool all_finite(const VectorXd& v) { return v.allFinite(); }
 
-// The contact set's selection: C_A, T_AA and T_AA's factor (SPD: T is a flexibility).
-struct ContactSet {
-  std::vector<bool> in_contact;
-  std::vector<int> members;                                     // reaction indices on the set
-  SparseMatrix coupling;                                        // C_A: |A| x equations
-  SparseMatrix flexibility;                                     // T_AA
+// The contact set's selection with T_AA's factor (SPD: T is a flexibility).
+struct ContactSet : ContactSelection {
   std::shared_ptr<Eigen::SimplicialLDLT<SparseMatrix>> factor;  // shared: the factor is not copyable
-  int size() const { return static_cast<int>(members.size()); }
 };
 
 ContactSet make_set(const fe::Discretisation& d, std::vector<bool> in_contact) {
-  ContactSet set;
-  set.in_contact = std::move(in_contact);
-  for (int i = 0; i < d.reactions(); ++i)
-    if (set.in_contact[i]) set.members.push_back(i);
-  Triplets select;
-  for (int a = 0; a < set.size(); ++a) select.emplace_back(a, set.members[a], 1.0);
-  SparseMatrix p(set.size(), d.reactions());
-  p.setFromTriplets(select.begin(), select.end());
-  set.coupling = p * d.coupling;
-  set.flexibility = p * d.flexibility * SparseMatrix(p.transpose());
+  ContactSet set{select_contact_set(d, std::move(in_contact)), nullptr};
   if (set.size() > 0) set.factor = std::make_shared<Eigen::SimplicialLDLT<SparseMatrix>>(set.flexibility);
   return set;
 }
@@ -61,6 +47,23 @@ struct Evaluation {
 };
 
 }  // namespace
+
+ContactSelection select_contact_set(const fe::Discretisation& d, std::vector<bool> in_contact) {
+  ContactSelection set;
+  set.in_contact = std::move(in_contact);
+  for (int i = 0; i < d.reactions(); ++i)
+    if (set.in_contact[i]) set.members.push_back(i);
+  Triplets select;
+  for (int a = 0; a < set.size(); ++a) select.emplace_back(a, set.members[a], 1.0);
+  SparseMatrix p(set.size(), d.reactions());
+  p.setFromTriplets(select.begin(), select.end());
+  set.coupling = p * d.coupling;
+  set.flexibility = p * d.flexibility * SparseMatrix(p.transpose());
+  set.ground_gap = VectorXd::Zero(set.size());
+  if (d.ground_gap.size() == d.reactions())
+    for (int a = 0; a < set.size(); ++a) set.ground_gap[a] = d.ground_gap[set.members[a]];
+  return set;
+}
 
 void VonKarmanOptions::validate() const {
   auto positive = [](double v, const char* name) {
@@ -256,9 +259,7 @@ struct Evaluator {
       }
     }
     if (set.size() > 0) {
-      VectorXd gap_a = set.coupling * q;
-      if (d.ground_gap.size() == d.reactions())
-        for (int a = 0; a < set.size(); ++a) gap_a[a] -= d.ground_gap[set.members[a]];
+      const VectorXd gap_a = set.coupling * q - set.ground_gap;
       ev.reaction_a = set.factor->solve(gap_a);
       ev.residual.head(n) += set.coupling.transpose() * ev.reaction_a;
       size_vector.head(n) += SparseMatrix(set.coupling.cwiseAbs().transpose()) * ev.reaction_a.cwiseAbs();

@@ -155,6 +155,20 @@ struct VonKarmanResult {
   int contact_sets = 0;
 };
 
+// The selection of one contact set A of a discretisation: its reaction indices, C_A (|A| x the
+// discretisation's equations), T_AA and c_A (the ground gap on A; zero where the discretisation
+// has none). The solve below and the path driver (continuation/fe_von_karman_path.hpp) build
+// their set equations from it.
+struct ContactSelection {
+  std::vector<bool> in_contact;  // per reaction node
+  std::vector<int> members;      // reaction indices on the set
+  Eigen::SparseMatrix<double> coupling;
+  Eigen::SparseMatrix<double> flexibility;
+  Eigen::VectorXd ground_gap;
+  int size() const { return static_cast<int>(members.size()); }
+};
+ContactSelection select_contact_set(const fe::Discretisation& discretisation, std::vector<bool> in_contact);
+
 // The nonlinear system of one member on one mesh. model: a beam or an arch with theory =
 // von_karman and membrane_stiffness > 0, no given axial force; discretisation: fe::discretise of
 // it (the same kind). Throws std::invalid_argument naming what is wrong otherwise. The

@@ -333,3 +333,76 @@ TEST_CASE("FE von Karman path: load control stops at the limit point that arc-le
   CHECK(std::abs(load.steps.back().load_factor - fold) <= 1e-6 * fold);
   CHECK(of_kind(load, EventKind::limit_point).empty());
 }
+
+namespace {
+
+model::MemberModel demo_arch() {
+  const scene::Scene s = scene::read_scene_file(std::string(LIFTOFF_SOURCE_DIR) +
+                                                "/verification/dolfinx/scenes/issue16/shallow_arch_tensionless.toml");
+  return model::make_member_model(s);
+}
+
+}  // namespace
+
+TEST_CASE("FE von Karman path: every recorded state is certified, and a state that fails ends the path",
+          "[continuation][fe][von_karman][certify]") {
+  const model::MemberModel m = demo_arch();
+  TraceOptions o = options(30.0, 64);
+  o.arc_length.lambda_min = 1.0;
+  // The seam sees the unknowns of every state the certificate checks; untouched, all pass.
+  int certified = 0;
+  const TraceResult clean = trace_fe_von_karman(m, o, {}, {}, [&](double, VectorXd&) { ++certified; });
+  INFO(clean.summary.message);
+  REQUIRE(clean.summary.termination == TraceTermination::completed);
+  CHECK(certified >= static_cast<int>(clean.steps.size()));
+  // The limit points are recorded as steps of their own, at their event's load.
+  for (const TraceEvent& e : of_kind(clean, EventKind::limit_point)) {
+    CAPTURE(e.load_factor);
+    CHECK(std::any_of(clean.steps.begin(), clean.steps.end(),
+                      [&](const TraceStep& s) { return s.load_factor == e.load_factor; }));
+  }
+
+  // One reaction made to pull beyond lambda = 10: that state fails its certificate (balance and
+  // the reaction's sign) and is not recorded; the path ends there, the steps before it kept.
+  const TraceResult spoilt = trace_fe_von_karman(m, o, {}, {}, [&](double lambda, VectorXd& y) {
+    // y = (x, r_A): the last entry is a reaction on the set (the loaded half is in contact).
+    if (lambda > 10.0) y[y.size() - 1] = -1.0;
+  });
+  INFO(spoilt.summary.message);
+  CHECK(spoilt.summary.termination == TraceTermination::solver_failure);
+  CHECK(spoilt.summary.message.find("failed its certificate") != std::string::npos);
+  REQUIRE(!spoilt.steps.empty());
+  CHECK(spoilt.steps.back().load_factor <= 10.0);
+  for (std::size_t i = 0; i < spoilt.steps.size(); ++i)
+    CHECK(spoilt.steps[i].load_factor == clean.steps[i].load_factor);
+}
+
+TEST_CASE("FE von Karman path: max_amplitude stops the path; resume_from is refused by name",
+          "[continuation][fe][von_karman]") {
+  const model::MemberModel m = demo_arch();
+  TraceOptions o = options(30.0, 64);
+  o.arc_length.lambda_min = 1.0;
+  const TraceResult full = trace_fe_von_karman(m, o);
+  REQUIRE(full.summary.termination == TraceTermination::completed);
+  // The unloaded half lifts off from the start: its amplitude grows along the path. Stop at half
+  // its largest value: the first step at or past it, and no step after.
+  double largest = 0.0;
+  for (const TraceStep& s : full.steps) largest = std::max(largest, s.amplitude);
+  REQUIRE(largest > 0.0);
+  o.max_amplitude = 0.5 * largest;
+  const TraceResult bounded = trace_fe_von_karman(m, o);
+  INFO(bounded.summary.message);
+  CHECK(bounded.summary.termination == TraceTermination::completed);
+  CHECK(bounded.summary.message.find("max_amplitude") != std::string::npos);
+  REQUIRE(!bounded.steps.empty());
+  CHECK(bounded.steps.back().amplitude >= *o.max_amplitude);
+  for (std::size_t i = 0; i + 1 < bounded.steps.size(); ++i) CHECK(bounded.steps[i].amplitude < *o.max_amplitude);
+  CHECK(bounded.steps.size() < full.steps.size());
+
+  o.max_amplitude.reset();
+  o.resume_from = full.steps[3];
+  const TraceResult resumed = trace_fe_von_karman(m, o);
+  CHECK(resumed.summary.termination == TraceTermination::solver_failure);
+  CHECK(resumed.summary.message.find("TraceOptions.resume_from") != std::string::npos);
+  CHECK(resumed.steps.empty());
+}

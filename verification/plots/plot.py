@@ -13,7 +13,10 @@ existed are recognised by their layout). Writes, and prints the name of, each PN
   diagram labelled with its position; arches also PREFIX_shape.png, the deformed arch in its plane.
 - trace: PREFIX_load_displacement.png and PREFIX_lift_off_map.png (plot_trace.py's figures); when the
   steps carry an axial force (beam-columns), also PREFIX_load_amplitude.png: the axial force against
-  the buckle amplitude and the lifted length, the perfect member's closed-form branch beside it.
+  the buckle amplitude and the lifted length, the perfect member's closed-form branch beside it. A
+  folding path's map is drawn against the buckle amplitude (beam-columns) or the monitored deflection
+  (von Karman members; the path length in (w, lambda) where w turns back too), limit points and
+  bifurcations marked across it, so that the branches between two limit points do not overlap.
 - sweep: PREFIX_deflection.png and PREFIX_reaction.png, every case overlaid, one panel per method
   (plot_sweep.py's figures). Failed cases are left out and listed on the figure. --normalise
   divides each case's curve by its own largest magnitude (max |w|, max reaction), to compare shapes.
@@ -617,6 +620,23 @@ def interpolate_w(p, lam):
     return p["w"][i] if l1 == l0 else p["w"][i] + (lam - l0) / (l1 - l0) * (p["w"][j] - p["w"][i])
 
 
+def monotonic(values):
+    """Whether the values never turn back (a map's ordinate must not)."""
+    d = np.diff(values)
+    return bool(np.all(d >= 0) or np.all(d <= 0))
+
+
+def path_length(p):
+    """The length along the load-deflection curve with w and lambda each scaled to its range: grows
+    along any path, whatever turns back."""
+    w, lam = np.asarray(p["w"], dtype=float), np.asarray(p["lambda"], dtype=float)
+    if len(w) == 0:
+        return np.zeros(0)
+    dw = np.diff(w) / (np.ptp(w) or 1.0)
+    dl = np.diff(lam) / (np.ptp(lam) or 1.0)
+    return np.concatenate(([0.0], np.cumsum(np.hypot(dw, dl))))
+
+
 def folds(p):
     """Whether the path's lambda goes up and down (a limit point): then lambda does not locate a step."""
     d = np.diff(p["lambda"])
@@ -685,10 +705,18 @@ def lift_off_map(trace, out, output):
     names = list(trace["paths"]) or ["(no path)"]
     scene = trace["scene_toml"]
     pieces = foundation_pieces(scene)
-    # A beam-column path through a limit point: lambda goes up and down, so the map is drawn against
-    # the buckle amplitude, which grows along it.
-    by_amplitude = is_beam_column(trace) and any(folds(p) for p in trace["paths"].values())
-    y_key = "amplitude" if by_amplitude else "lambda"
+    # A path through a limit point: lambda goes up and down, so against lambda the branches between
+    # the limit points overlap. A beam-column's map is drawn against the buckle amplitude, which grows
+    # along it; a von Karman member's against the monitored deflection (the abscissa of its
+    # load-deflection curve, which a snap-through carries on growing through both limit points), or,
+    # where that turns back too, against the path length (path_length).
+    folding = any(folds(p) for p in trace["paths"].values())
+    by_amplitude = is_beam_column(trace) and folding
+    by_deflection = is_von_karman(trace) and folding and all(monotonic(p["w"]) for p in trace["paths"].values())
+    by_path_length = is_von_karman(trace) and folding and not by_deflection
+    for p in trace["paths"].values():
+        p["path_length"] = path_length(p)
+    y_key = "amplitude" if by_amplitude else "w" if by_deflection else "path_length" if by_path_length else "lambda"
     fig, axes = plt.subplots(1, len(names), figsize=(5.6 * len(names), 5), sharey=True, squeeze=False)
     for ax, name in zip(axes[0], names):
         p = trace["paths"].get(name)
@@ -729,9 +757,17 @@ def lift_off_map(trace, out, output):
         ax.add_patch(Rectangle((0, 0), 0, 0, facecolor="white", edgecolor="0.3", linewidth=0.6,
                                label="lifted off (foundation, no contact)"))
         ax.set_ylim(lam.min(), lam.max() + 0.02 * (lam.max() - lam.min() or 1.0))
-    axes[0][0].set_ylabel(f"buckle amplitude [{length}]" if by_amplitude else "load factor lambda")
+    monitor = next(iter(trace["paths"].values()))["monitor"] if trace["paths"] else np.nan
+    where = f"theta = {fmt(monitor)} deg" if trace["coordinate"] == "theta_deg" else f"x = {fmt(monitor)}"
+    axes[0][0].set_ylabel(f"buckle amplitude [{length}]" if by_amplitude else
+                          f"w at {where} [{length}] (> 0 into the foundation)" if by_deflection else
+                          "path length in (w, lambda), each scaled to its range [-]" if by_path_length else
+                          "load factor lambda")
     fig.suptitle(f"{os.path.basename(trace['scene'])}: lift-off map" +
-                 (" against the buckle amplitude (lambda passes a limit point)" if by_amplitude else ""), fontsize=10)
+                 ("\nagainst the buckle amplitude (lambda passes a limit point)" if by_amplitude else
+                  f"\nagainst the deflection at {where} (lambda passes a limit point)" if by_deflection else
+                  "\nagainst the path length (lambda and w pass limit points)" if by_path_length else ""),
+                 fontsize=10)
     handles, labels = axes[0][0].get_legend_handles_labels()
     if handles:
         fig.legend(handles, labels, loc="lower center", ncol=len(handles), fontsize=8, frameon=False)
@@ -743,11 +779,16 @@ def lift_off_map(trace, out, output):
         if p is None:
             continue
         for (event_lambda, kind, at), step in zip(p["events"], p["event_steps"]):
-            y = p["amplitude"][step] if by_amplitude else event_lambda
+            y = p[y_key][step] if y_key != "lambda" else event_lambda
+            if y_key != "lambda" and kind in ("limit_point", "bifurcation"):
+                # Where the path turns in lambda (or branches): across the member, as the level the
+                # map's branches meet at.
+                ax.axhline(y, color="0.4", linestyle=":" if kind == "limit_point" else "-.", linewidth=0.8)
             ax.plot(at, y, KIND_MARKERS.get(kind, "o"), color="black", markersize=6)
             placer.place(ax, f"{event_name(kind)}, lambda = {event_lambda:.4g}", (at, y), fontsize=7,
                          bbox=dict(boxstyle="round,pad=0.15", facecolor="white", edgecolor="none", alpha=0.8))
     output.save(fig, out)
+    return y_key
 
 
 # ----------------------------------------------------------------------------------------------

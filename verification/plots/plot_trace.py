@@ -8,7 +8,9 @@ PREFIX_load_displacement.png (lambda against the monitored deflection w, every p
 overlaid: fe, ritz, fe_refined; events marked and labelled without overprinting) and
 PREFIX_lift_off_map.png (one panel per path: the position along the member across, lambda up,
 contact regions shaded, lift-off zones blank, stretches with no foundation hatched, every event
-marked and labelled; against the buckle amplitude when the path passes a limit point) and, when the
+marked and labelled; when the path passes a limit point, against the buckle amplitude for a
+beam-column and against the monitored deflection for a von Karman member, or the path length in
+(w, lambda) scaled to their ranges where w turns back too, limit points drawn across) and, when the
 steps carry an axial force (beam-columns, issue 15), PREFIX_load_amplitude.png (the axial force
 against the buckle amplitude and the lifted length, stable solid, unstable dashed, limit points and
 bifurcations labelled, and the perfect member's closed-form branch from `closed_form_reference
