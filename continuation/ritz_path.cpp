@@ -187,6 +187,13 @@ class RitzTracer {
   // The same on a bilateral foundation: the branch in the same topology, along `mode`.
   std::optional<Branch> switch_in_topology(const RitzModel& model, const PathPoint& at, const VectorXd& mode,
                                            std::string& why);
+  // Both switches' first point: Newton on `model` from (x, lambda) with unknown `held` fixed and
+  // lambda free in its place (false if it does not converge), then the follower's first point
+  // there, its tangent oriented along +-held (`sense`); nullopt, with why filled, if no tangent.
+  bool solve_with_held(const RitzModel& model, int held, const VectorXd& residual_scale, VectorXd& x,
+                       double& lambda) const;
+  std::optional<Branch> branch_from(RitzModel model, const VectorXd& x, double lambda, int held, double sense,
+                                    std::string& why) const;
 
   // Helpers.
   std::vector<EventSpec> event_specs(const RitzModel& model) const;
@@ -1428,53 +1435,22 @@ std::optional<RitzTracer::Branch> RitzTracer::switch_branch(const RitzModel& mod
       candidate.limit_offset() + static_cast<int>(std::find(limits.begin(), limits.end(), *fixed) - limits.begin());
   // 4. Newton with that limit held, lambda free.
   double lambda = at.lambda;
-  const double force = force_scale(candidate);
-  VectorXd residual_scale = VectorXd::Constant(candidate.unknowns(), 1.0 / force);
+  VectorXd residual_scale = VectorXd::Constant(candidate.unknowns(), 1.0 / force_scale(candidate));
   residual_scale.tail(topology.limits).setConstant(1.0 / w_size);
-  VectorXd r;
-  MatrixXd j;
-  bool converged = false;
-  for (int iteration = 0; iteration < 50 && !converged; ++iteration) {
-    candidate.residual(x, lambda, r);
-    if (!r.allFinite()) break;
-    if (r.cwiseProduct(residual_scale).lpNorm<Eigen::Infinity>() <= 1e-12) {
-      converged = true;
-      break;
-    }
-    candidate.jacobian(x, lambda, j);
-    j.col(held) = candidate.residual_lambda_derivative(x);
-    const VectorXd delta =
-        (residual_scale.asDiagonal() * j).colPivHouseholderQr().solve(-residual_scale.cwiseProduct(r));
-    if (!delta.allFinite()) break;
-    for (int m = 0; m < candidate.unknowns(); ++m)
-      if (m != held) x[m] += delta[m];
-    lambda += delta[held];
-  }
-  if (!converged || !candidate.admissible(x)) {
+  if (!solve_with_held(candidate, held, residual_scale, x, lambda) || !candidate.admissible(x)) {
     why = fmt::format("Newton on the topology {} with the limit at {:.6g} held did not converge", to_string(topology),
                       user(*fixed));
     return std::nullopt;
   }
   // 5. The first point of the branch, its tangent widening the zone.
-  const PathFollower follower = make_follower(candidate);
-  PathPoint orientation;
-  orientation.x = x;
-  orientation.lambda = lambda;
-  orientation.tangent_x = VectorXd::Zero(candidate.unknowns());
-  orientation.tangent_x[held] = widening;
-  orientation.tangent_lambda = 0.0;
-  nonlinear::NewtonSummary newton;
-  std::optional<PathPoint> point = follower.start(x, lambda, &newton, orientation);
-  if (!point) {
-    why = "no tangent at the branch's first point: " + newton.message;
+  std::optional<Branch> branch = branch_from(std::move(candidate), x, lambda, held, widening, why);
+  if (!branch) return std::nullopt;
+  if (auto failure = state_failure(branch->model, branch->point.x)) {
+    why = fmt::format("the branch's first point at lambda = {:.10g} is no contact solution: {}", branch->point.lambda,
+                      *failure);
     return std::nullopt;
   }
-  if (auto failure = state_failure(candidate, point->x)) {
-    why =
-        fmt::format("the branch's first point at lambda = {:.10g} is no contact solution: {}", point->lambda, *failure);
-    return std::nullopt;
-  }
-  return Branch{std::move(candidate), std::move(*point), newton.iterations};
+  return branch;
 }
 
 std::optional<RitzTracer::Branch> RitzTracer::switch_in_topology(const RitzModel& model, const PathPoint& at,
@@ -1485,39 +1461,44 @@ std::optional<RitzTracer::Branch> RitzTracer::switch_in_topology(const RitzModel
   // curvature, large beside Newton's tolerance (1e-12).
   const double w_size = std::max(w_scale(model, at.x), 1e-300);
   const double offset = 1e-3 * w_size / std::abs(mode[held]);
-  RitzModel candidate = model;
   VectorXd x = at.x + offset * mode;
   double lambda = at.lambda;
-  const VectorXd residual_scale = VectorXd::Constant(candidate.unknowns(), 1.0 / force_scale(candidate));
-  VectorXd r;
-  MatrixXd j;
-  bool converged = false;
-  for (int iteration = 0; iteration < 50 && !converged; ++iteration) {
-    candidate.residual(x, lambda, r);
-    if (!r.allFinite()) break;
-    if (r.cwiseProduct(residual_scale).lpNorm<Eigen::Infinity>() <= 1e-12) {
-      converged = true;
-      break;
-    }
-    candidate.jacobian(x, lambda, j);
-    j.col(held) = candidate.residual_lambda_derivative(x);
-    const VectorXd delta =
-        (residual_scale.asDiagonal() * j).colPivHouseholderQr().solve(-residual_scale.cwiseProduct(r));
-    if (!delta.allFinite()) break;
-    for (int m = 0; m < candidate.unknowns(); ++m)
-      if (m != held) x[m] += delta[m];
-    lambda += delta[held];
-  }
-  if (!converged) {
+  const VectorXd residual_scale = VectorXd::Constant(model.unknowns(), 1.0 / force_scale(model));
+  if (!solve_with_held(model, static_cast<int>(held), residual_scale, x, lambda)) {
     why = "Newton with the critical mode's amplitude held off the bifurcation point did not converge";
     return std::nullopt;
   }
-  const PathFollower follower = make_follower(candidate);
+  return branch_from(model, x, lambda, static_cast<int>(held), mode[held] > 0.0 ? 1.0 : -1.0, why);
+}
+
+bool RitzTracer::solve_with_held(const RitzModel& model, int held, const VectorXd& residual_scale, VectorXd& x,
+                                 double& lambda) const {
+  VectorXd r;
+  MatrixXd j;
+  for (int iteration = 0; iteration < 50; ++iteration) {
+    model.residual(x, lambda, r);
+    if (!r.allFinite()) return false;
+    if (r.cwiseProduct(residual_scale).lpNorm<Eigen::Infinity>() <= 1e-12) return true;
+    model.jacobian(x, lambda, j);
+    j.col(held) = model.residual_lambda_derivative(x);
+    const VectorXd delta =
+        (residual_scale.asDiagonal() * j).colPivHouseholderQr().solve(-residual_scale.cwiseProduct(r));
+    if (!delta.allFinite()) return false;
+    for (int m = 0; m < model.unknowns(); ++m)
+      if (m != held) x[m] += delta[m];
+    lambda += delta[held];
+  }
+  return false;
+}
+
+std::optional<RitzTracer::Branch> RitzTracer::branch_from(RitzModel model, const VectorXd& x, double lambda, int held,
+                                                          double sense, std::string& why) const {
+  const PathFollower follower = make_follower(model);
   PathPoint orientation;
   orientation.x = x;
   orientation.lambda = lambda;
-  orientation.tangent_x = VectorXd::Zero(candidate.unknowns());
-  orientation.tangent_x[held] = mode[held] > 0.0 ? 1.0 : -1.0;
+  orientation.tangent_x = VectorXd::Zero(model.unknowns());
+  orientation.tangent_x[held] = sense;
   orientation.tangent_lambda = 0.0;
   nonlinear::NewtonSummary newton;
   std::optional<PathPoint> point = follower.start(x, lambda, &newton, orientation);
@@ -1525,7 +1506,7 @@ std::optional<RitzTracer::Branch> RitzTracer::switch_in_topology(const RitzModel
     why = "no tangent at the branch's first point: " + newton.message;
     return std::nullopt;
   }
-  return Branch{std::move(candidate), std::move(*point), newton.iterations};
+  return Branch{std::move(model), std::move(*point), newton.iterations};
 }
 
 TraceResult RitzTracer::run() {
