@@ -18,6 +18,11 @@
 // A1 >= 2 |A2|; the first contact event is A2 = A1 / 2 (A2 > 0): w'(L) = pi (A1 - 2 A2) = 0, a
 // lift-off zone opening at the right end. Beyond it the path has no closed form; the bilateral
 // path's maximum comes later (lambda 25.86 at A1 = 0.0134): the lift-off precedes the limit point.
+// On the falling branch the zone closes at the pinned end again: both paths locate it too.
+//
+// Then issue 16's demo scene (uniform load on the left half), traced through its maximum, the
+// zone closing at the pinned end and its minimum by both paths (the Ritz path failed there before
+// the closing, and needed its start topology from the FE path).
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -212,18 +217,16 @@ TEST_CASE(
     CHECK(std::abs(e[2] - (e[1] - e[2]) / 3) <= 0.05 * std::abs(e[2]));
   }
 
-  // The Ritz path from lambda = 20 (full contact: the automatic start's linear FE solve puts the
-  // straight beam in contact too, which holds here) through the lift-off and the limit point down
-  // to lambda = 20 on the falling branch, with 16 and 32 modes.
-  std::vector<double> ritz_limits;
+  // The Ritz path over the same range, started automatically (the FE von Karman solve at the
+  // first load gives full contact), with 16 and 32 modes: lift-off, limit point, closing.
+  std::vector<double> ritz_limits, ritz_closings;
   for (int modes : {16, 32}) {
     TraceOptions o = options(64);
     o.modes = modes;
-    o.arc_length.lambda_min = 20.0;
     const TraceResult r = trace_ritz(s, m, o);
     CAPTURE(modes, r.summary.message, events_of(r));
     REQUIRE(r.summary.termination == TraceTermination::completed);
-    REQUIRE(r.events.size() == 2);
+    REQUIRE(r.events.size() == 3);
     // The lift-off: w = A1 sin(pi x) + A2 sin(2 pi x) is in every topology's basis, so the Ritz
     // path is the closed form's until the lift-off, which it locates to event_tolerance in lambda
     // (1e-10; 10 times that allowed); the crown there follows to the same relative size (the
@@ -234,9 +237,16 @@ TEST_CASE(
     CHECK(std::abs(crown_at(r, r.events[0]) - exact.crown) <= 1e-8 * exact.crown);
     CHECK(r.events[1].kind == EventKind::limit_point);
     CHECK(r.events[1].description.find("maximum") != std::string::npos);
+    // The zone closing at the pinned end on the falling branch (its length and w'(L) vanish
+    // together there: ritz_path.cpp, vanishes_singularly), and full contact after it.
+    CHECK(r.events[2].kind == EventKind::limit_at_support);
+    CHECK(r.events[2].at == 1.0);
+    CHECK(r.steps.back().contact_regions.size() == 1);
     ritz_limits.push_back(r.events[1].load_factor);
+    ritz_closings.push_back(r.events[2].load_factor);
     check_stability(r, limit_crown);
   }
+  CAPTURE(ritz_closings[0], ritz_closings[1]);
   CAPTURE(ritz_limits[0], ritz_limits[1]);
 
   // The limit point, after the lift-off (no closed form): FE against Ritz within the sum of their
@@ -255,4 +265,81 @@ TEST_CASE(
   // The lift-off comes first, then the limit point below the bilateral path's maximum, 25.863.
   CHECK(ritz_limits[1] > exact.load);
   CHECK(ritz_limits[1] < 25.863);
+
+  // The closing: no closed form. FE: the change from 32 to 64 to 128 elements at order 2
+  // (observed 2.01), Richardson's value from 64 and 128; for an observed order p in [1.7, 2.3]
+  // the extrapolation is off by at most |1 / (2^p - 1) - 1 / 3| <= 0.111 of the last change.
+  // Ritz: the change from 16 to 32 modes (seen: below 1e-10), at least 10 event_tolerance.
+  const double d1 = closings[0] - closings[1], d2 = closings[1] - closings[2];
+  CHECK(order(d1, d2) == Approx(2.0).margin(0.3));
+  const double richardson = closings[2] - d2 / 3;
+  const double ritz_closing_estimate =
+      std::max(std::abs(ritz_closings[0] - ritz_closings[1]), 10 * options(64).event_tolerance * ritz_closings[1]);
+  CAPTURE(richardson, ritz_closing_estimate);
+  CHECK(std::abs(richardson - ritz_closings[1]) <= 0.111 * std::abs(d2) + ritz_closing_estimate);
+}
+
+TEST_CASE(
+    "Issue 16's shallow arch (uniform load on the left half): FE and Ritz agree through the snap-through, "
+    "the zone closing at the pinned end and the lower limit point",
+    "[continuation][fe][ritz][von_karman]") {
+  // verification/dolfinx/scenes/issue16/shallow_arch_tensionless.toml (fe_von_karman_path_test.cpp
+  // traces it by FE against dolfinx): the unloaded half lifts off at once, the arch snaps through
+  // (a maximum), the zone closes at the pinned end on the falling branch, and the path turns up
+  // again at a minimum in full contact. The Ritz path starts automatically (the FE von Karman
+  // solve at lambda = 1 gives the lifted zone; the linear solve would put the whole beam in contact).
+  const scene::Scene s = scene::read_scene_file(std::string(LIFTOFF_SOURCE_DIR) +
+                                                "/verification/dolfinx/scenes/issue16/shallow_arch_tensionless.toml");
+  const model::MemberModel m = model::make_member_model(s);
+  std::vector<std::vector<double>> fe;  // per mesh: maximum, closing, minimum
+  for (int elements : {64, 128, 256}) {
+    TraceOptions o = options(elements);
+    o.arc_length.lambda_min = 1.0;
+    const TraceResult r = trace_fe_von_karman(m, o);
+    CAPTURE(elements, r.summary.message, events_of(r));
+    REQUIRE(r.summary.termination == TraceTermination::completed);
+    REQUIRE(r.events.size() == 3);
+    fe.push_back({r.events[0].load_factor, r.events[1].load_factor, r.events[2].load_factor});
+  }
+  std::vector<std::vector<double>> ritz;
+  for (int modes : {32, 48}) {
+    TraceOptions o = options(64);
+    o.arc_length.lambda_min = 1.0;
+    o.modes = modes;
+    const TraceResult r = trace_ritz(s, m, o);
+    CAPTURE(modes, r.summary.message, events_of(r));
+    REQUIRE(r.summary.termination == TraceTermination::completed);
+    REQUIRE(r.events.size() == 3);
+    CHECK(r.events[0].kind == EventKind::limit_point);
+    CHECK(r.events[0].description.find("maximum") != std::string::npos);
+    CHECK(r.events[1].kind == EventKind::limit_at_support);
+    CHECK(r.events[1].at == 1.0);
+    CHECK(r.events[2].kind == EventKind::limit_point);
+    CHECK(r.events[2].description.find("minimum") != std::string::npos);
+    ritz.push_back({r.events[0].load_factor, r.events[1].load_factor, r.events[2].load_factor});
+  }
+  for (int i = 0; i < 3; ++i) {
+    CAPTURE(i, fe[0][i], fe[1][i], fe[2][i], ritz[0][i], ritz[1][i]);
+    // Ritz: the change from 32 to 48 modes (seen: 3e-8 at the closing, below 1e-9 elsewhere), at
+    // least 10 event_tolerance.
+    const double ritz_estimate = std::max(std::abs(ritz[0][i] - ritz[1][i]), 10 * 1e-10 * ritz[1][i]);
+    if (i == 1) {
+      // The closing: order 2 (observed 2.00, 2.01), Richardson from 128 and 256 within 0.111 of
+      // the last change (see the imperfect arch above).
+      const double d1 = fe[0][i] - fe[1][i], d2 = fe[1][i] - fe[2][i];
+      CHECK(order(d1, d2) == Approx(2.0).margin(0.3));
+      CHECK(std::abs(fe[2][i] - d2 / 3 - ritz[1][i]) <= 0.111 * std::abs(d2) + ritz_estimate);
+      continue;
+    }
+    // The limit points: the FE sequence is not monotone (maximum, relative to Ritz: +3.7e-5,
+    // -1.2e-5, +1.6e-6 at 64, 128, 256 elements; minimum: +1e-7, +1.1e-5, +6.6e-6), so no order
+    // is asserted; the FE estimate is the larger of the last two changes.
+    const double fe_estimate = std::max(std::abs(fe[0][i] - fe[1][i]), std::abs(fe[1][i] - fe[2][i]));
+    CHECK(std::abs(fe[2][i] - ritz[1][i]) <= fe_estimate + ritz_estimate);
+  }
+  // The figures the brief quotes (FE at 64 elements; the Ritz maximum).
+  CHECK(fe[0][0] == Approx(21.13167).margin(1e-5));
+  CHECK(fe[0][1] == Approx(20.50152).margin(1e-5));
+  CHECK(fe[0][2] == Approx(13.53619).margin(1e-5));
+  CHECK(ritz[1][0] == Approx(21.13163).margin(1e-5));
 }
