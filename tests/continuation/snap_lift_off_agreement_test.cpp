@@ -101,24 +101,16 @@ scene::Scene the_scene() {
                                 "/verification/scenes/von_karman/imperfect_arch_lift_off.toml");
 }
 
-TraceOptions options(int elements) {
+// The path from lambda_min to 30 and back (the scene's [trace] figures), on `elements` (FE).
+TraceOptions options(int elements, double lambda_min = 0.0) {
   TraceOptions o;
-  o.arc_length.lambda_min = 0.0;
-  o.arc_length.lambda_max = 30.0;
-  o.arc_length.initial_step = 0.25;
-  o.arc_length.max_step = 1.0;
-  o.arc_length.max_steps = 2000;
   o.elements = elements;
   o.monitor = 0.5;
   o.sample_points = {0.25, 0.5};
+  ArcLengthOptions& path = o.arc_length;
+  path.lambda_min = lambda_min, path.lambda_max = 30.0;
+  path.initial_step = 0.25, path.max_step = 1.0, path.max_steps = 2000;
   return o;
-}
-
-std::vector<TraceEvent> of_kind(const TraceResult& r, EventKind kind) {
-  std::vector<TraceEvent> out;
-  for (const TraceEvent& e : r.events)
-    if (e.kind == kind) out.push_back(e);
-  return out;
 }
 
 // The crown at an event: the step recorded at it (the switch's step has the event's lambda).
@@ -138,13 +130,6 @@ std::string events_of(const TraceResult& r) {
     out << to_string(e.kind) << " " << e.load_factor << " at " << e.at << " crown " << crown_at(r, e) << ": "
         << e.description << "\n";
   return out.str();
-}
-
-// The first event of a kind (REQUIREd to exist).
-TraceEvent first_of(const TraceResult& r, EventKind kind) {
-  const std::vector<TraceEvent> events = of_kind(r, kind);
-  REQUIRE(!events.empty());
-  return events.front();
 }
 
 // Both paths' stability along the loading branch: stable up to the limit point, unstable on the
@@ -293,8 +278,7 @@ TEST_CASE(
   const model::MemberModel m = model::make_member_model(s);
   std::vector<std::vector<double>> fe;  // per mesh: maximum, closing, minimum
   for (int elements : {64, 128, 256}) {
-    TraceOptions o = options(elements);
-    o.arc_length.lambda_min = 1.0;
+    const TraceOptions o = options(elements, 1.0);
     const TraceResult r = trace_fe_von_karman(m, o);
     CAPTURE(elements, r.summary.message, events_of(r));
     REQUIRE(r.summary.termination == TraceTermination::completed);
@@ -303,8 +287,7 @@ TEST_CASE(
   }
   std::vector<std::vector<double>> ritz;
   for (int modes : {32, 48}) {
-    TraceOptions o = options(64);
-    o.arc_length.lambda_min = 1.0;
+    TraceOptions o = options(64, 1.0);
     o.modes = modes;
     const TraceResult r = trace_ritz(s, m, o);
     CAPTURE(modes, r.summary.message, events_of(r));
