@@ -938,7 +938,10 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
         const double gap = vanishing_gap(model, from, specs[i]);
         // A step that turned back for another reason (an event of another kind, handled below)
         // is no vanishing: only a piece predicted to vanish within the step's reach is.
-        if (!crossed && !(gap <= std::abs(ds))) continue;
+        // An end piece (pinned end) only when crossed: its gap estimate runs to zero at a fold,
+        // where d lambda / ds does (issue 16's demo scaled to lambda_max = 1 stopped there).
+        const bool end_piece = specs[i].piece == 0 || specs[i].piece == model.limits();
+        if (!crossed && (end_piece || !(gap <= std::abs(ds)))) continue;
         if (gap < earliest) earliest = gap, shrinking = i;
       }
       if (shrinking) {
