@@ -434,7 +434,7 @@ PYBIND11_MODULE(_liftoff, m) {
                                  : view(&(s.front().*member), s.size(), sizeof(continuation::TraceStep), self);
               };
               py::dict d;
-              d["load_factor"] = column(&continuation::TraceStep::load_factor);
+              d["lambda"] = column(&continuation::TraceStep::load_factor);
               d["monitor_deflection"] = column(&continuation::TraceStep::monitor_deflection);
               d["axial_force"] = column(&continuation::TraceStep::axial_force);
               d["amplitude"] = column(&continuation::TraceStep::amplitude);
@@ -443,7 +443,9 @@ PYBIND11_MODULE(_liftoff, m) {
             }
             throw py::key_error(fmt::format("no path '{}' in this trace", path.value_or("")));
           },
-          py::arg("path") = py::none(), "a path's steps (default: the first path) as numpy arrays")
+          py::arg("path") = py::none(),
+          "a path's steps (default: the first path): lambda, monitor_deflection, axial_force, amplitude, lifted_length "
+          "(the JSON step keys) as read-only numpy views")
       .def("__getattr__",
            [](TraceResult& t, const std::string& name) -> py::object {
              py::dict keys = t.json;

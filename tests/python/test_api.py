@@ -116,8 +116,9 @@ class CliAgreement(unittest.TestCase):
         traced = liftoff.trace(name, elements=400, check=False)
         self.assertEqual(differences(without_times(traced.json), without_times(json.loads(out))), [])
         steps = traced.steps()
-        self.assertEqual(len(steps["load_factor"]), len(traced.json["paths"][0]["steps"]))
-        self.assertFalse(steps["load_factor"].flags.owndata)  # a strided view of the steps
+        self.assertEqual(len(steps["lambda"]), len(traced.json["paths"][0]["steps"]))
+        self.assertFalse(steps["lambda"].flags.owndata)  # a strided view of the steps
+        self.assertEqual(steps["lambda"].tolist(), [s["lambda"] for s in traced.json["paths"][0]["steps"]])
         # A sweep: the CLI's CSV but for its time column.
         code, out, _ = cli("sweep", SEED, "--set", "foundation.nondimensional_k=1e4,1e5,1e6", "--set",
                            "loads[0].value=0.05,0.1", "--jobs", "2")

@@ -5,6 +5,7 @@ reaction, the bending moment and the shear force stacked against the position, t
 shaded. A TraceResult: the monitored deflection against the load factor, one line per path, its
 events marked. `liftoff plot` draws the full pictures from the HDF5 files.
 """
+import os
 
 
 def _figure(rows):
@@ -30,7 +31,7 @@ def _solve_figure(r):
             ax.invert_yaxis()  # w > 0 into the foundation: drawn as the member moves
         ax.set_ylabel(label)
     axes[-1, 0].set_xlabel(coordinate)
-    axes[0, 0].set_title(f"{r.json['scene']}  ({r.json['method']}, {r.json['termination']}; "
+    axes[0, 0].set_title(f"{os.path.basename(r.json['scene'])}  ({r.json['method']}, {r.json['termination']}; "
                          f"contact regions shaded)", fontsize=9)
     return fig
 
@@ -40,17 +41,17 @@ def _trace_figure(t):
     ax = axes[0, 0]
     for path in t.paths:
         steps = t.steps(path["path"])
-        ax.plot(steps["monitor_deflection"], steps["load_factor"], lw=1.2, label=path["path"])
+        ax.plot(steps["monitor_deflection"], steps["lambda"], lw=1.2, label=path["path"])
         events = path.get("events", [])
         if events:
             import numpy
-            lam = [e["load_factor"] for e in events]
-            w = numpy.interp(lam, steps["load_factor"], steps["monitor_deflection"])
+            lam = [e["lambda"] for e in events]
+            w = numpy.interp(lam, steps["lambda"], steps["monitor_deflection"])
             ax.plot(w, lam, "o", ms=4, mfc="none", color=ax.lines[-1].get_color())
     ax.set_xlabel(f"w at {t.json['monitor']:.6g} [{t.json['units'].get('length', 'length')}]")
     ax.set_ylabel("load factor lambda")
     ax.legend(fontsize=8)
-    ax.set_title(f"{t.json['scene']} (events circled)", fontsize=9)
+    ax.set_title(f"{os.path.basename(t.json['scene'])} (events circled)", fontsize=9)
     return fig
 
 
