@@ -163,21 +163,18 @@ struct SolveResult {
   }
 };
 
-// The field table's arrays, by the names of the HDF5 file, and the short names of the issue.
+// The field table's arrays, by the names of the HDF5 file's columns (io/hdf5_writer.cpp).
 py::dict field_arrays(const io::FieldTable& t, py::handle owner) {
+  using T = io::FieldTable;
+  static constexpr const char* names[] = {
+      "coordinate",   "w",        "u",         "rotation",     "bending_moment", "shear_force",
+      "normal_force", "reaction", "w_initial", "buckling_mode"};
+  static constexpr std::vector<double> T::*members[] = {
+      &T::coordinate,   &T::w,        &T::u,         &T::rotation,     &T::bending_moment, &T::shear_force,
+      &T::normal_force, &T::reaction, &T::w_initial, &T::buckling_mode};
   py::dict d;
-  const std::pair<const char*, const std::vector<double>*> columns[] = {{"coordinate", &t.coordinate},
-                                                                        {"w", &t.w},
-                                                                        {"u", &t.u},
-                                                                        {"rotation", &t.rotation},
-                                                                        {"bending_moment", &t.bending_moment},
-                                                                        {"shear_force", &t.shear_force},
-                                                                        {"normal_force", &t.normal_force},
-                                                                        {"reaction", &t.reaction},
-                                                                        {"w_initial", &t.w_initial},
-                                                                        {"buckling_mode", &t.buckling_mode}};
-  for (const auto& [name, column] : columns)
-    if (!column->empty()) d[name] = view(*column, owner);
+  for (std::size_t i = 0; i < std::size(names); ++i)
+    if (!(t.*members[i]).empty()) d[names[i]] = view(t.*members[i], owner);
   return d;
 }
 
