@@ -27,6 +27,7 @@
 #include "core/error.hpp"
 #include "io/hdf5_writer.hpp"
 #include "io/report.hpp"
+#include "model/from_scene.hpp"
 #include "scene/scene_reader.hpp"
 
 namespace py = pybind11;
@@ -226,6 +227,11 @@ py::object solve(py::handle scene_source, const std::optional<std::string>& meth
       reports = app::solve_all_methods(scene, request);
     else
       reports.push_back(app::solve_scene(scene, request));
+  }
+  if (all) {  // a refused method's report knows nothing of the scene: its k as `--method all` gives it
+    const model::MemberModel model = model::make_member_model(scene);
+    for (io::SolveReport& r : reports)
+      if (r.outcome == io::SolveOutcome::refused) r.k = model.k, r.tensionless = model.tensionless;
   }
   py::list results;
   std::string failures;

@@ -103,12 +103,15 @@ class CliAgreement(unittest.TestCase):
 
     def test_method_all_gives_every_method(self):
         os.chdir(SOURCE)
-        code, out, _ = cli("solve", SEED, "--json", "--method", "all")
-        results = liftoff.solve(SEED, method="all", check=False)
-        expected = json.loads(out)["methods"]
-        self.assertEqual([r.method for r in results], [m["method"] for m in expected])
-        for r, m in zip(results, expected):
-            self.assertEqual(differences(without_times(r.json), without_times(m)), [])
+        # The seed arch, and a sleeper held by the ballast alone (the dual form refused).
+        for scene in (SEED, "verification/scenes/engineering/sleeper_centre_bound.toml"):
+            code, out, _ = cli("solve", scene, "--json", "--method", "all")
+            results = liftoff.solve(scene, method="all", check=False)
+            expected = json.loads(out)["methods"]
+            self.assertEqual([r.method for r in results], [m["method"] for m in expected])
+            for r, m in zip(results, expected):
+                self.assertEqual(differences(without_times(r.json), without_times(m)), [])
+        self.assertIn("refused", [r.termination for r in results])
 
     def test_trace_and_sweep(self):
         os.chdir(SOURCE)
