@@ -948,7 +948,9 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
         auto near = approach_vanishing(model, follower, from, specs[*shrinking]);
         if (!near)
           return reject(
-              fmt::format("a piece vanishing near lambda = {:.10g} could not be approached", from.lambda + earliest));
+              fmt::format("a piece vanishing near lambda = {:.10g} (estimated from lambda = {:.10g}, along the path's "
+                          "direction) could not be approached",
+                          from.lambda + direction * earliest, from.lambda));
         to = std::move(*near);
       }
     }
