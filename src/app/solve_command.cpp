@@ -770,7 +770,8 @@ std::vector<io::SolveReport> solve_all_methods(const scene::Scene& scene, const 
                           : method == scene::Method::fast ? Solver::fe_fast
                                                           : Solver::fe_lemke;
     if (const std::optional<std::string> reason = theory_refusal(scene, solver)) {
-      reports.push_back(refused(method, InputError(scene.source_name + ": key 'solve.method': " + *reason)));
+      reports.push_back(
+          refused(method, InputError(scene.source_name + ": key '" + refusal_key(scene, solver) + "': " + *reason)));
       continue;
     }
     try {

@@ -48,14 +48,38 @@ const Entry& entry(Solver solver) {
   return table[0];  // unreachable: every solver has an entry
 }
 
-// Arches under von Karman: refused by every solver (theory_gate.hpp says why).
-std::optional<std::string> arch_refusal(const scene::Scene& scene) {
-  if (scene.structure.theory == scene::Theory::linear || scene.structure.kind != scene::StructureKind::arch)
-    return std::nullopt;
+// Arches under von Karman (theory_gate.hpp's table): `liftoff solve` with the FE solve (auto, fast)
+// only; the reason for every other solver and command, keyed structure.theory (the arch's theory
+// is what they do not serve).
+bool von_karman_arch(const scene::Scene& scene) {
+  return scene.structure.theory != scene::Theory::linear && scene.structure.kind == scene::StructureKind::arch;
+}
+
+std::string arch_reason(const scene::Scene& scene, std::string_view what) {
   return fmt::format(
-      "theory = \"{}\" on an arch: its contact solve exists (the seed arch's departure study) but its answers have "
-      "no certificate yet, so no command reports them; expected \"linear\" for arches",
-      scene::to_string(scene.structure.theory));
+      "theory = \"{}\" on an arch: {}; expected method \"auto\" or \"fast\" with `liftoff solve` (the FE von "
+      "Karman arch solve), or theory \"linear\"",
+      scene::to_string(scene.structure.theory), what);
+}
+
+std::optional<std::string> arch_refusal(const scene::Scene& scene, Solver solver) {
+  if (!von_karman_arch(scene)) return std::nullopt;
+  switch (solver) {
+    case Solver::fe_fast:
+      return std::nullopt;
+    case Solver::fe_lemke:
+      return arch_reason(scene, "the dual and primal methods solve a linear complementarity problem (Lemke)");
+    case Solver::fe_tolerance:
+      return arch_reason(scene,
+                         "the limit-fitted meshes of a tolerance are linear theory only (no tolerance: the "
+                         "von Karman FE solve uses [solve] elements)");
+    case Solver::ritz:
+      return arch_reason(scene, "the Ritz model has no von Karman membrane term for arches");
+    case Solver::fe_path:
+    case Solver::ritz_path:
+      return arch_reason(scene, "no path (FE or Ritz) traces a von Karman arch yet");
+  }
+  return std::nullopt;
 }
 
 }  // namespace
@@ -65,9 +89,13 @@ bool honours(Solver solver, scene::Theory theory) {
 }
 
 std::optional<std::string> theory_refusal(const scene::Scene& scene, Solver solver) {
-  if (auto reason = arch_refusal(scene)) return reason;
+  if (auto reason = arch_refusal(scene, solver)) return reason;
   if (honours(solver, scene.structure.theory)) return std::nullopt;
   return fmt::format("theory = \"{}\": {}", scene::to_string(scene.structure.theory), entry(solver).reason);
+}
+
+std::string refusal_key(const scene::Scene& scene, Solver solver) {
+  return von_karman_arch(scene) ? "structure.theory" : entry(solver).key;
 }
 
 void require_honoured_theory(const scene::Scene& scene, Command command, Solver solver,
@@ -75,16 +103,19 @@ void require_honoured_theory(const scene::Scene& scene, Command command, Solver 
   require_honoured_theory(scene, command);
   const std::optional<std::string> reason = theory_refusal(scene, solver);
   if (!reason) return;
-  const std::string where = key ? *key : fmt::format("key '{}'", entry(solver).key);
+  const std::string where = key && !von_karman_arch(scene) ? *key : fmt::format("key '{}'", refusal_key(scene, solver));
   throw InputError(fmt::format("{}: {}: {} (liftoff {})", scene.source_name, where, *reason, name(command)));
 }
 
 void require_honoured_theory(const scene::Scene& scene, Command command) {
   // Beams: every command has a von Karman solver (trace: both paths); the entry points check the
-  // one they run. Arches: none.
-  if (auto reason = arch_refusal(scene))
-    throw InputError(
-        fmt::format("{}: key 'structure.theory': {} (liftoff {})", scene.source_name, *reason, name(command)));
+  // one they run. Arches: `liftoff solve` only.
+  if (von_karman_arch(scene) && command != Command::solve)
+    throw InputError(fmt::format(
+        "{}: key 'structure.theory': {} (liftoff {})", scene.source_name,
+        arch_reason(scene,
+                    fmt::format("`liftoff {}` does not serve it yet (its answers are not certified)", name(command))),
+        name(command)));
 }
 
 }  // namespace liftoff::app

@@ -6,16 +6,23 @@
 // refusal is an InputError before any work and before any output is written (the CLI: exit 2,
 // one line naming the key).
 //
-// The table (theory_gate.cpp), for theory = "von_karman" and beams. Circular arches under von Karman
-// are read (scene_reader) and have a contact solve (contact::solve_arch_von_karman, used by the seed
-// arch's departure study, verification/seed_arch/), but no certificate of their answers yet: every
-// solver refuses them (key structure.theory), since no answer may be reported solved unchecked.
+// The table (theory_gate.cpp), for theory = "von_karman" and beams:
 //   solve: auto and fast  -> the FE von Karman solve along the load path (contact/von_karman_solve.hpp)
 //          ritz           -> the Ritz model with its membrane term (ritz/ritz_model.hpp)
 //          dual, primal   -> refused (key solve.method): Lemke solves an LCP, linear only
-//          a tolerance    -> refused (key solve.tolerance): the limit-fitted sequence is linear only
+//          a tolerance    -> refused (key solve.tolerance): the limit-fitted meshes are linear only
 //   sweep, envelope: what solve honours (they solve through solve_scene)
 //   trace: the FE path (continuation/fe_von_karman_path.hpp) and the Ritz path (continuation::trace_ritz)
+// For circular arches under von Karman (the Marguerre/Donnell element, fe/arch_von_karman_element.hpp):
+//   solve: auto and fast  -> the FE von Karman arch solve along the load path from zero (as beams),
+//                            its answer certified (certify::certify of a VonKarmanAnswer)
+//          every other method, a tolerance -> refused, key structure.theory
+//   sweep, envelope, trace -> refused, key structure.theory (not served yet: no path traces an
+//                            arch under this theory; a sweep's or an envelope's answers would be
+//                            certified like solve's, but no test covers them). The refusal is
+//                            the command's early check (require_honoured_theory(scene, command),
+//                            the CLI's; run_trace's own): run_sweep and run_envelope solve through
+//                            solve_scene, so a library caller of those gets certified arch answers.
 // theory = "linear" is honoured by every solver.
 
 #include <optional>
@@ -49,6 +56,9 @@ void require_honoured_theory(const scene::Scene& scene, Command command, Solver 
 // The reason, in words, why `solver` does not honour the scene's theory (nullopt: it does): for a
 // `--method all` column that is refused rather than thrown.
 std::optional<std::string> theory_refusal(const scene::Scene& scene, Solver solver);
+// The key such a refusal names: structure.theory for a von Karman arch (its theory is what the
+// solver does not serve), else the key that chose the solver (solve.method, solve.tolerance, ...).
+std::string refusal_key(const scene::Scene& scene, Solver solver);
 
 // The CLI's early check: throws when no solver of `command` honours the scene's theory (the
 // entry points then check the solver they run).

@@ -102,7 +102,12 @@ io::SolveReport von_karman_fe_report(const scene::Scene& scene, const SolveReque
 
   const int samples = std::max(1, std::min(request.samples_per_element, max_field_samples / d.mesh.elements()));
   post::Fields fields = request.fields && certified ? post::sample_fields(model, d, solution, samples) : post::Fields{};
-  if (!fields.s.empty()) {
+  if (!fields.s.empty() && d.kind == model::StructureKind::arch) {
+    // Arches: N = EA (u' - sigma w + beta^2 / 2) at each sample (fe/arch_von_karman_element.hpp):
+    // the linear strain's N the samples carry plus the rotation's term (rotation = beta).
+    for (std::size_t i = 0; i < fields.s.size(); ++i)
+      fields.normal_force[i] += 0.5 * model.membrane_stiffness * fields.rotation[i] * fields.rotation[i];
+  } else if (!fields.s.empty()) {
     // The membrane force of the element each sample is in (constant on an element); u is reported
     // at the nodes only (the element's interior u is condensed out: fe/von_karman_element.hpp).
     fields.normal_force.clear();

@@ -203,9 +203,11 @@ Certificate certify(const model::MemberModel& model, const fe::Discretisation& d
 Certificate certify(const model::MemberModel& model, const ritz::RitzSolution& solution,
                     const ritz::RitzOptions& ritz_options, const CertifyOptions& options = {});
 
-// A von Karman beam's answer on an FE mesh (contact/von_karman_solve.hpp), as it is reported:
-// displacement on every dof (w, w'; settled supports included), axial the u of every node (0 where
-// held), reaction per reaction node, normal_force the reported N of each element (tension positive).
+// A von Karman beam's or arch's answer on an FE mesh (contact/von_karman_solve.hpp), as it is
+// reported: displacement on every dof (w, w'; arches also u; settled supports included), axial the
+// u of every node (beams: 0 where held; arches: the tangential dofs again), reaction per reaction
+// node, normal_force the reported N of each element (tension positive; arches: its mean over the
+// element by the element's Gauss rule, as VonKarmanSystem::normal_forces).
 struct VonKarmanAnswer {
   Eigen::VectorXd displacement, axial, reaction;
   std::vector<double> normal_force;
@@ -221,6 +223,18 @@ struct VonKarmanAnswer {
 // (tolerance: sign_floor, the solver's sign tolerance, times 8). The support reactions' tangential
 // is the axial reaction at a held end (along increasing x: the thrust). No round_off check (the
 // primal system's round-off is not measured here; the solver's own error estimate is reported).
+// Arches (the Marguerre/Donnell element of fe/arch_von_karman_element.hpp, on the circle): the
+// element forces recomputed from the strain eps = u' - sigma w + beta^2 / 2, beta = -(u + sigma
+// w'), chi = u' + sigma w'' at the element's Gauss points; backward_error on every row the supports
+// leave free (w, w', u: 512 eps of the row's terms summed point by point); force_balance_x,
+// force_balance_y and moment_balance on the rigid motions of the circle, with the membrane's
+// nonlinear nodal forces counted like a load (on the rotation about the centre, -integral of N
+// beta: the thrust's moment) and the linear element's O(h^4) work on the interpolated rigid
+// translations allowed (as for a linear arch); membrane_compatibility: the reported N of each
+// element against the Gauss mean of EA eps of the fields (64 eps of EA times eps's terms), and the
+// reported u against the tangential dofs; no membrane_uniform or membrane_free_end (N varies along
+// an arch; a roller's N = 0 is a natural condition, met only as the mesh converges); the contact
+// checks as for beams. The support reactions: radial force, moment and tangential (the thrust).
 Certificate certify(const model::MemberModel& model, const fe::Discretisation& discretisation,
                     const VonKarmanAnswer& answer, const CertifyOptions& options = {});
 

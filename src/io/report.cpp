@@ -237,9 +237,10 @@ nlohmann::json support_reactions_json(const SolveReport& r) {
   for (const certify::SupportReaction& s : r.certificate_figures.support_reactions) {
     nlohmann::json one{{"at", s.at}, {"force", s.force}, {"moment", s.moment}};
     if (r.kind == StructureKind::arch) one["tangential"] = s.tangential;
-    if (r.theory == "von_karman") one["horizontal"] = s.tangential;  // the axial reaction, along +x
-    if (s.spring) one["spring"] = true;                              // an elastic support: its springs' force
-    if (s.settlement != 0.0) one["settlement"] = s.settlement;       // the support's prescribed w
+    if (r.theory == "von_karman" && r.kind != StructureKind::arch)
+      one["horizontal"] = s.tangential;  // a beam's axial reaction, along +x (arches: `tangential`)
+    if (s.spring) one["spring"] = true;  // an elastic support: its springs' force
+    if (s.settlement != 0.0) one["settlement"] = s.settlement;  // the support's prescribed w
     all.push_back(one);
   }
   return all;
@@ -503,7 +504,7 @@ std::string certificate_lines(const SolveReport& r) {
                               s.at, unit, s.spring ? "spring " : "", s.force, force);
       if (s.settlement != 0.0)
         supports += fmt::format(", settlement {:.6g}{}", s.settlement, with_unit(r.units.length));
-      if (r.theory == "von_karman" && s.tangential != 0.0)
+      if (r.theory == "von_karman" && !arch && s.tangential != 0.0)
         supports += fmt::format(", horizontal {:.6g}{}", s.tangential, force);
       if (s.moment != 0.0) supports += fmt::format(", moment {:.6g}{}", s.moment, moment);
       if (arch && s.tangential != 0.0) supports += fmt::format(", tangential {:.6g}{}", s.tangential, force);

@@ -248,8 +248,9 @@ TEST_CASE("solve von Karman: the library refuses the methods that do not honour 
       CHECK(r.theory == "von_karman");
     }
   }
-  // A circular arch under von Karman: its answers have no certificate yet, so every entry point
-  // refuses it, keyed to structure.theory (the trace paths too).
+  // A circular arch under von Karman: `solve` (auto, fast) serves it with its certificate
+  // (tests/app/solve_von_karman_arch_test.cpp); every other method and the trace paths refuse
+  // it, keyed to structure.theory.
   const scene::Scene arch = scene::parse_scene(R"([structure]
 kind = "arch"
 theory = "von_karman"
@@ -283,13 +284,18 @@ lambda_max = 1.0
     }
     return {};
   };
-  app::SolveRequest ritz;
+  const io::SolveReport solved = app::solve_scene(arch, {});
+  CHECK(solved.usable);
+  CHECK(solved.certified());
+  CHECK(solved.theory == "von_karman");
+  app::SolveRequest ritz, dual;
   ritz.method = scene::Method::ritz;
+  dual.method = scene::Method::dual;
   for (const std::string& message :
-       {refusal([&] { app::solve_scene(arch, {}); }), refusal([&] { app::solve_scene(arch, ritz); }),
+       {refusal([&] { app::solve_scene(arch, ritz); }), refusal([&] { app::solve_scene(arch, dual); }),
         refusal([&] { app::run_trace(arch, {}); })}) {
     CHECK_THAT(message, Catch::Matchers::Contains("key 'structure.theory'"));
-    CHECK_THAT(message, Catch::Matchers::Contains("no certificate yet"));
+    CHECK_THAT(message, Catch::Matchers::Contains("theory = \"von_karman\" on an arch"));
   }
 }
 

@@ -5,16 +5,23 @@
 // perturbed (backward error), the axial displacement perturbed (N no longer uniform), a reaction
 // made to pull (sign), an end's N made nonzero where it is free. The spoilings are 1e-6 of the
 // spoilt quantity, far above the tolerances (1e-14 to 1e-9) and far below what changes the look.
+// Arches (the Marguerre/Donnell element): the solver's answers of the seed's arch (pinned, clamped,
+// roller ends) pass, and each check bites: the crown deflection perturbed (backward error), a
+// membrane force misreported and u not the field's (compatibility), a reaction made to pull
+// (sign), a lifted-off node made to press (complementarity), every reaction scaled (balance).
 
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "certify/certificate.hpp"
 #include "contact/von_karman_loading.hpp"
 #include "contact/von_karman_solve.hpp"
 #include "fe/discretisation.hpp"
+#include "model/from_scene.hpp"
 #include "model/member_model.hpp"
+#include "support/scenes.hpp"
 
 using namespace liftoff;
 
@@ -48,16 +55,18 @@ struct Solved {
   certify::VonKarmanAnswer answer;
 };
 
+// The answer as `liftoff solve` reports it.
+certify::VonKarmanAnswer answer_of(const fe::Discretisation& d, const contact::VonKarmanResult& r) {
+  return {d.expand_displacement(r.x.head(d.equations)), r.u, r.reaction, r.normal_force};
+}
+
 Solved solve(const model::MemberModel& m, int elements = 64) {
   Solved s{m, fe::discretise(m, elements), {}};
   const contact::VonKarmanSystem system(s.model, s.d);
   const Eigen::VectorXd dead = system.load(0.0), live = system.load(1.0) - dead;
   const contact::VonKarmanLoadingResult r = contact::load_from_zero(system, dead, live);
   REQUIRE(r.is_usable());
-  s.answer.displacement = s.d.expand_displacement(r.result.x.head(s.d.equations));
-  s.answer.axial = r.result.u;
-  s.answer.reaction = r.result.reaction;
-  s.answer.normal_force = r.result.normal_force;
+  s.answer = answer_of(s.d, r.result);
   return s;
 }
 
@@ -71,6 +80,20 @@ const certify::Check& check(const certify::Certificate& c, std::string_view name
   const certify::Check* found = c.find(name);
   REQUIRE(found != nullptr);
   return *found;
+}
+
+// The seed's arch (R/h = 500, 10 degrees, k = 1e6, crown load) under von Karman theory, solved at
+// its load from zero on 100 elements.
+Solved seed_arch(const std::string& ends) {
+  Solved s;
+  s.model = model::make_member_model(test::shipped_scene("seed_arch_" + ends));
+  s.model.theory = model::Theory::von_karman;
+  s.d = fe::discretise(s.model, 100);
+  const contact::VonKarmanResult r = contact::solve_arch_von_karman(s.model, s.d, 1.0);
+  CAPTURE(ends, r.message);
+  REQUIRE(r.is_usable());
+  s.answer = answer_of(s.d, r);
+  return s;
 }
 
 }  // namespace
@@ -158,4 +181,75 @@ TEST_CASE("von Karman certificate: a free end's membrane force must vanish", "[c
   a.axial[a.axial.size() - 1] += 1e-6;
   const certify::Certificate c = certify_answer(s, a);
   CHECK_FALSE(check(c, certify::check_name::membrane_free_end).passed);
+}
+
+TEST_CASE("arch von Karman certificate: the solver's answers pass, the load carried by the foundation and supports",
+          "[certify][von_karman][arch]") {
+  const std::string ends = GENERATE("pinned", "clamped", "roller");
+  const Solved s = seed_arch(ends);
+  const certify::Certificate c = certify_answer(s, s.answer);
+  CAPTURE(ends, c.message);
+  CHECK(c.passed);
+  for (std::string_view name :
+       {certify::check_name::backward_error, certify::check_name::force_balance_x, certify::check_name::force_balance_y,
+        certify::check_name::moment_balance, certify::check_name::membrane_compatibility,
+        certify::check_name::reaction_sign, certify::check_name::penetration, certify::check_name::complementarity})
+    CHECK(check(c, name).passed);
+  // The beam's membrane checks do not apply: N varies along an arch (N' = -Q/R - p_t).
+  CHECK(c.find(certify::check_name::membrane_uniform) == nullptr);
+  // The resultants the balance reports (user_figures converts them): the crown load toward the
+  // foundation, the foundation's reaction carrying most of it.
+  CHECK(c.applied_force > 0.0);
+  CHECK(c.foundation_resultant > 0.0);
+  CHECK(c.support_reactions.size() == 2);
+}
+
+TEST_CASE("arch von Karman certificate: each spoilt field fails its check", "[certify][von_karman][arch]") {
+  const Solved s = seed_arch("pinned");
+  REQUIRE(certify_answer(s, s.answer).passed);
+  const int crown = s.d.mesh.elements() / 2;
+
+  SECTION("the crown deflection perturbed: the equations no longer hold") {
+    certify::VonKarmanAnswer spoilt = s.answer;
+    spoilt.displacement[s.d.deflection_dof(crown)] *= 1.0 + 1e-6;
+    const certify::Certificate c = certify_answer(s, spoilt);
+    CHECK_FALSE(c.passed);
+    CHECK_FALSE(check(c, certify::check_name::backward_error).passed);
+  }
+  SECTION("a membrane force misreported: compatibility with EA (u' - w + beta^2 / 2)") {
+    certify::VonKarmanAnswer spoilt = s.answer;
+    spoilt.normal_force[crown] *= 1.0 + 1e-6;
+    const certify::Certificate c = certify_answer(s, spoilt);
+    CHECK_FALSE(c.passed);
+    CHECK_FALSE(check(c, certify::check_name::membrane_compatibility).passed);
+    CHECK(check(c, certify::check_name::backward_error).passed);  // the fields still solve the equations
+  }
+  SECTION("the reported u not the field's") {
+    certify::VonKarmanAnswer spoilt = s.answer;
+    spoilt.axial[crown / 2] += 1e-6 * spoilt.axial.cwiseAbs().maxCoeff();
+    CHECK_FALSE(check(certify_answer(s, spoilt), certify::check_name::membrane_compatibility).passed);
+  }
+  SECTION("a reaction made to pull: the contact inequalities") {
+    certify::VonKarmanAnswer spoilt = s.answer;
+    Eigen::Index largest = 0;
+    spoilt.reaction.maxCoeff(&largest);
+    spoilt.reaction[largest] = -spoilt.reaction[largest];
+    const certify::Certificate c = certify_answer(s, spoilt);
+    CHECK_FALSE(c.passed);
+    CHECK_FALSE(check(c, certify::check_name::reaction_sign).passed);
+  }
+  SECTION("a lifted-off node made to press: complementarity") {
+    certify::VonKarmanAnswer spoilt = s.answer;
+    const Eigen::Index lifted = 0;  // the end of the foundation: lifted off (the contact is around the crown)
+    REQUIRE(spoilt.reaction[lifted] == 0.0);
+    spoilt.reaction[lifted] = 1e-6 * spoilt.reaction.maxCoeff();
+    CHECK_FALSE(check(certify_answer(s, spoilt), certify::check_name::complementarity).passed);
+  }
+  SECTION("every reaction scaled: the foundation no longer balances the load") {
+    certify::VonKarmanAnswer spoilt = s.answer;
+    spoilt.reaction *= 1.0 + 1e-6;
+    const certify::Certificate c = certify_answer(s, spoilt);
+    CHECK_FALSE(c.passed);
+    CHECK_FALSE(check(c, certify::check_name::force_balance_y).passed);
+  }
 }
