@@ -57,6 +57,7 @@
 #include <utility>
 
 #include "contact/contact_solver.hpp"
+#include "contact/von_karman_solve.hpp"
 #include "continuation/arclength.hpp"
 #include "fe/discretisation.hpp"
 #include "model/from_scene.hpp"
@@ -187,6 +188,13 @@ class RitzTracer {
   // The same on a bilateral foundation: the branch in the same topology, along `mode`.
   std::optional<Branch> switch_in_topology(const RitzModel& model, const PathPoint& at, const VectorXd& mode,
                                            std::string& why);
+  // Both switches' first point: Newton on `model` from (x, lambda) with unknown `held` fixed and
+  // lambda free in its place (false if it does not converge), then the follower's first point
+  // there, its tangent oriented along +-held (`sense`); nullopt, with why filled, if no tangent.
+  bool solve_with_held(const RitzModel& model, int held, const VectorXd& residual_scale, VectorXd& x,
+                       double& lambda) const;
+  std::optional<Branch> branch_from(RitzModel model, const VectorXd& x, double lambda, int held, double sense,
+                                    std::string& why) const;
 
   // Helpers.
   std::vector<EventSpec> event_specs(const RitzModel& model) const;
@@ -197,6 +205,14 @@ class RitzTracer {
   double w_scale(const RitzModel& model, const VectorXd& x) const;
   void record_step(const RitzModel& model, const PathPoint& point, int iterations, double next_step,
                    const std::optional<Opening>& at_event = std::nullopt);
+  // The length (relative to the member's) below which a piece's opening event is its vanishing.
+  double degenerate_length(const EventSpec& spec) const;
+  // A pinned end of a beam on the foundation's end (w = w'' = 0 there; see vanishes_singularly).
+  bool pinned_beam_end(bool left) const;
+  // The length at or below which a vanishing piece counts as gone: 0, but for an end piece at a
+  // pinned end, whose limit equation has the trivial root t = end: a step across the vanishing
+  // lands there (seen: 2e-12 of the member), to round-off.
+  double landed(const RitzModel& model, const EventSpec& spec) const;
   std::vector<EventSpec> without_degenerate_openings(const RitzModel& model, const VectorXd& x,
                                                      std::vector<EventSpec> events) const;
   void record_event(double lambda, EventKind kind, double s, std::string description);
@@ -213,10 +229,11 @@ class RitzTracer {
   // max |w|), in words and user units. nullopt: the state is a contact solution.
   std::optional<std::string> state_failure(const RitzModel& model, const VectorXd& x, double allowance = 0.0) const;
   double event_allowance(const RitzModel& model, const VectorXd& x, const std::vector<EventSpec>& events) const;
-  // A piece between two limits (their length event); how far in lambda it is from vanishing,
-  // estimated at p (infinity if it is not shrinking); and the point within event_tolerance of
-  // that, approached from `from` by fixed-lambda steps (nullopt if that fails).
-  bool interior_length(const RitzModel& model, const EventSpec& spec) const;
+  // A piece that vanishes at a singular point (its length event): one between two limits, or an
+  // end piece at a pinned end; how far in lambda (along the path's direction at p) it is from
+  // vanishing, estimated at p (infinity if it is not shrinking); and the point within
+  // event_tolerance of that, approached from `from` by fixed-lambda steps (nullopt if that fails).
+  bool vanishes_singularly(const RitzModel& model, const EventSpec& spec) const;
   double vanishing_gap(const RitzModel& model, const PathPoint& p, const EventSpec& spec) const;
   std::optional<PathPoint> approach_vanishing(const RitzModel& model, const PathFollower& follower,
                                               const PathPoint& from, const EventSpec& spec) const;
@@ -376,6 +393,18 @@ ResumeState RitzTracer::starting_state() {
   ritz::StartingPoint initial;
   if (!scene_.ritz.topology.empty()) {
     initial = ritz::starting_point_from_scene(scene_.ritz, member_);
+  } else if (member_.theory == model::Theory::von_karman && member_.kind == model::StructureKind::beam) {
+    // Von Karman: the linear solve knows nothing of the membrane (a shallow arch's linear answer
+    // at lambda_min is the straight beam's, in contact where the arch has lifted off): the FE von
+    // Karman contact solve from zero there gives the topology (the branch that the load path from
+    // zero reaches while no fold lies below lambda_min).
+    const fe::Discretisation d = fe::discretise(member_, options_.elements);
+    const contact::VonKarmanResult fe = contact::VonKarmanSystem(member_, d).solve(lambda_start, {});
+    if (!fe.is_usable())
+      throw StartFailure("the FE von Karman contact solution at lambda_min that gives the Ritz topology failed: " +
+                         fe.message);
+    const VectorXd displacement = d.expand_displacement(fe.x.head(d.equations));
+    initial = ritz::starting_point_from_regions(post::contact_regions(member_, d, displacement), member_);
   } else {
     const fe::Discretisation d = fe::discretise(member_, options_.elements);
     contact::ContactOptions contact_options;
@@ -617,6 +646,29 @@ double RitzTracer::w_scale(const RitzModel& model, const VectorXd& x) const {
 // does an interior extreme reaching zero in a piece between two limits that is all but gone
 // (culvert: the minimum of w in a contact region 6e-6 of the arch wide, w of the order of its
 // width squared, reached zero through round-off just before the region vanished).
+// At a pinned end (w = w'' = 0) the end's event is w' there, and an end piece's limit lies
+// sqrt(-6 w' / w''') from the end: the piece vanishes together with w' (a double root of w, where
+// the limit equation w(t) = 0 meets its trivial root t = end, a pitchfork of the Ritz equations),
+// its length going like the square root of the distance to the event. Located on w', the piece is
+// still ~1e-4 of the member long (the imperfect arch's zone closing at x = L: 1.4e-4 at 32 modes,
+// and a contact zone was opened at the end inside the vanishing lift-off zone, whose limits then
+// could not be followed): there the bound is the square root of 1e-5.
+double RitzTracer::degenerate_length(const EventSpec& spec) const {
+  constexpr double regular = 1e-5;
+  if (spec.function != EventFunction::end_value) return regular;
+  return pinned_beam_end(!spec.far_end) ? std::sqrt(regular) : regular;
+}
+
+double RitzTracer::landed(const RitzModel& model, const EventSpec& spec) const {
+  const bool end_piece = spec.piece == 0 || spec.piece == model.limits();
+  return end_piece && vanishes_singularly(model, spec) ? 1e-9 * member_.length() : 0.0;
+}
+
+bool RitzTracer::pinned_beam_end(bool left) const {
+  return member_.kind == model::StructureKind::beam && end_supported(left) &&
+         (left ? member_.left : member_.right) == model::EndSupport::pinned;
+}
+
 std::vector<EventSpec> RitzTracer::without_degenerate_openings(const RitzModel& model, const VectorXd& x,
                                                                std::vector<EventSpec> events) const {
   const std::vector<ContactRegion> pieces = model.pieces(x);
@@ -626,7 +678,7 @@ std::vector<EventSpec> RitzTracer::without_degenerate_openings(const RitzModel& 
         (spec.function == EventFunction::interior_extreme && spec.piece > 0 && spec.piece < model.limits());
     if (!degenerate || pieces.size() < 2) continue;
     const ContactRegion& piece = pieces[spec.piece];
-    if (piece.end - piece.begin > 1e-5 * member_.length()) continue;
+    if (piece.end - piece.begin > degenerate_length(spec) * member_.length()) continue;
     for (const EventSpec& length : event_specs(model))
       if (length.function == EventFunction::length && length.piece == spec.piece) spec = length;
   }
@@ -721,23 +773,48 @@ std::optional<std::string> RitzTracer::state_failure(const RitzModel& model, con
       check.w * scales.displacement(), where, check.violation);
 }
 
-bool RitzTracer::interior_length(const RitzModel& model, const EventSpec& spec) const {
-  return spec.function == EventFunction::length && spec.piece > 0 && spec.piece < model.limits();
+bool RitzTracer::vanishes_singularly(const RitzModel& model, const EventSpec& spec) const {
+  if (spec.function != EventFunction::length) return false;
+  if (spec.piece > 0 && spec.piece < model.limits()) return true;
+  // An end piece at a pinned end: w = w'' = 0 there, so next to it w = w'(e) (s - e) + w'''(e)
+  // (s - e)^3 / 6 and the piece's limit, the root of w, lies sqrt(-6 w'(e) / w'''(e)) from the
+  // end: the piece vanishes with w'(e) at a double root of w, approached like a piece between two
+  // limits (there the branch folds; here the limit equation meets its trivial root t = e, and
+  // steps past it land on the mirror root outside the foundation: the imperfect arch's zone
+  // closing at x = L with 16 modes, "contact limits out of order or outside the foundation").
+  // At a clamped or free end the limit moves linearly: regular. Beams only: an arch's pinned end
+  // is the same singular point, but the culvert's path then fails its fixed 0.1 steps on the
+  // approach instead of on turning back (ritz_path_test, issue 10), not examined further.
+  return pinned_beam_end(spec.piece == 0);
 }
 
-// Piece p lies between limits p - 1 and p; its width w goes like sqrt(c (lambda* - lambda)) as
-// it vanishes, so lambda* - lambda = -w / (2 dw/dlambda), dw/dlambda from p's tangent.
+// The piece's width goes like sqrt(c (lambda* - lambda)) as it vanishes (lambda* beyond p in the
+// path's direction), so |lambda* - lambda| = width / (2 |d width / d lambda|), from p's tangent.
+// Between limits p - 1 and p the width is their difference; an end piece's, its limit's distance
+// to the end.
 double RitzTracer::vanishing_gap(const RitzModel& model, const PathPoint& p, const EventSpec& spec) const {
-  const int first = model.limit_offset() + spec.piece - 1;
-  const double width = p.x[first + 1] - p.x[first];
-  const double rate = (p.tangent_x[first + 1] - p.tangent_x[first]) / p.tangent_lambda;
-  if (!(width > 0 && p.tangent_lambda > 0 && rate < 0)) return infinity;
-  return -width / (2.0 * rate);
+  if (!(p.tangent_lambda != 0.0)) return infinity;
+  const int offset = model.limit_offset(), pieces = model.limits() + 1;
+  double width = 0.0, rate = 0.0;
+  if (spec.piece == 0) {
+    width = p.x[offset] - member_.foundation_begin, rate = p.tangent_x[offset];
+  } else if (spec.piece == pieces - 1) {
+    const int last = offset + model.limits() - 1;
+    width = member_.foundation_end - p.x[last], rate = -p.tangent_x[last];
+  } else {
+    const int first = offset + spec.piece - 1;
+    width = p.x[first + 1] - p.x[first], rate = p.tangent_x[first + 1] - p.tangent_x[first];
+  }
+  rate /= p.tangent_lambda;  // d width / d lambda
+  const double direction = p.tangent_lambda > 0 ? 1.0 : -1.0;
+  if (!(width > 0 && rate * direction < 0)) return infinity;
+  return width / (2.0 * std::abs(rate));
 }
 
 std::optional<PathPoint> RitzTracer::approach_vanishing(const RitzModel& model, const PathFollower& follower,
                                                         const PathPoint& from, const EventSpec& spec) const {
   PathPoint p = from;
+  const double direction = from.tangent_lambda > 0 ? 1.0 : -1.0;
   for (int iteration = 0; iteration < 200; ++iteration) {
     const double gap = vanishing_gap(model, p, spec);
     if (!std::isfinite(gap)) return std::nullopt;
@@ -746,11 +823,11 @@ std::optional<PathPoint> RitzTracer::approach_vanishing(const RitzModel& model, 
     // past lambda* there is no solution of this topology, and a miss shortens the aim.
     bool moved = false;
     for (double fraction = 0.9; fraction > 1e-3 && !moved; fraction *= 0.25) {
-      const double lambda = p.lambda + fraction * gap;
+      const double lambda = p.lambda + direction * fraction * gap;
       const VectorXd guess = p.x + (lambda - p.lambda) / p.tangent_lambda * p.tangent_x;
       StepOutcome next = follower.step_to_lambda(from, lambda, &guess);
-      if (!next.point || !model.admissible(next.point->x) || !(next.point->tangent_lambda > 0) ||
-          !(event_value(model, next.point->x, spec).value > 0))
+      if (!next.point || !model.admissible(next.point->x) || !(next.point->tangent_lambda * direction > 0) ||
+          !(event_value(model, next.point->x, spec).value > landed(model, spec)))
         continue;
       p = std::move(*next.point);
       moved = true;
@@ -849,15 +926,22 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
     {
       std::optional<std::size_t> shrinking;
       double earliest = infinity;
-      const bool turned = !(to.lambda > from.lambda) || !(to.tangent_lambda > 0);
+      // (Along the path's direction at `from`: past a fold the path falls in lambda.)
+      const double direction = from.tangent_lambda < 0 ? -1.0 : 1.0;
+      const bool turned = !((to.lambda - from.lambda) * direction > 0) || !(to.tangent_lambda * direction > 0);
       for (std::size_t i = 0; i < specs.size(); ++i) {
-        if (!interior_length(model, specs[i])) continue;
-        const bool crossed = previous[i] > 0 && event_value(model, to.x, specs[i]).value <= 0;
+        if (!vanishes_singularly(model, specs[i])) continue;
+        // (An end piece at a pinned end: a step across its vanishing lands on the trivial root, the
+        // limit at the end to round-off, as well as past it.)
+        const bool crossed = previous[i] > 0 && event_value(model, to.x, specs[i]).value <= landed(model, specs[i]);
         if (!crossed && !turned) continue;
         const double gap = vanishing_gap(model, from, specs[i]);
         // A step that turned back for another reason (an event of another kind, handled below)
         // is no vanishing: only a piece predicted to vanish within the step's reach is.
-        if (!crossed && !(gap <= std::abs(ds))) continue;
+        // An end piece (pinned end) only when crossed: its gap estimate runs to zero at a fold,
+        // where d lambda / ds does (issue 16's demo scaled to lambda_max = 1 stopped there).
+        const bool end_piece = specs[i].piece == 0 || specs[i].piece == model.limits();
+        if (!crossed && (end_piece || !(gap <= std::abs(ds)))) continue;
         if (gap < earliest) earliest = gap, shrinking = i;
       }
       if (shrinking) {
@@ -950,7 +1034,7 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
     // A piece between two limits within event_tolerance of vanishing (see above) vanishes here.
     std::vector<std::size_t> vanishing;
     for (std::size_t i = 0; i < specs.size(); ++i)
-      if (interior_length(model, specs[i]) && previous[i] > 0 && now[i] > 0 &&
+      if (vanishes_singularly(model, specs[i]) && previous[i] > 0 && now[i] > 0 &&
           vanishing_gap(model, to, specs[i]) <= tolerance)
         vanishing.push_back(i);
     // The linear tensionless problem has one equilibrium per lambda (its energy is convex and,
@@ -962,7 +1046,7 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
     // Under an axial force the energy is not convex: folds are part of the path (see above).
     const bool turned = !axial && (!(to.lambda > from.lambda) || !(to.tangent_lambda > 0));
     if (turned && !(foundation_only_ && std::any_of(changed.begin(), changed.end(), [&](std::size_t i) {
-                      return specs[i].function == EventFunction::length && !interior_length(model, specs[i]);
+                      return specs[i].function == EventFunction::length && !vanishes_singularly(model, specs[i]);
                     })))
       return reject(fmt::format(
           "the path turned back in lambda ({}), which no path of tensionless equilibria does: "
@@ -1428,53 +1512,22 @@ std::optional<RitzTracer::Branch> RitzTracer::switch_branch(const RitzModel& mod
       candidate.limit_offset() + static_cast<int>(std::find(limits.begin(), limits.end(), *fixed) - limits.begin());
   // 4. Newton with that limit held, lambda free.
   double lambda = at.lambda;
-  const double force = force_scale(candidate);
-  VectorXd residual_scale = VectorXd::Constant(candidate.unknowns(), 1.0 / force);
+  VectorXd residual_scale = VectorXd::Constant(candidate.unknowns(), 1.0 / force_scale(candidate));
   residual_scale.tail(topology.limits).setConstant(1.0 / w_size);
-  VectorXd r;
-  MatrixXd j;
-  bool converged = false;
-  for (int iteration = 0; iteration < 50 && !converged; ++iteration) {
-    candidate.residual(x, lambda, r);
-    if (!r.allFinite()) break;
-    if (r.cwiseProduct(residual_scale).lpNorm<Eigen::Infinity>() <= 1e-12) {
-      converged = true;
-      break;
-    }
-    candidate.jacobian(x, lambda, j);
-    j.col(held) = candidate.residual_lambda_derivative(x);
-    const VectorXd delta =
-        (residual_scale.asDiagonal() * j).colPivHouseholderQr().solve(-residual_scale.cwiseProduct(r));
-    if (!delta.allFinite()) break;
-    for (int m = 0; m < candidate.unknowns(); ++m)
-      if (m != held) x[m] += delta[m];
-    lambda += delta[held];
-  }
-  if (!converged || !candidate.admissible(x)) {
+  if (!solve_with_held(candidate, held, residual_scale, x, lambda) || !candidate.admissible(x)) {
     why = fmt::format("Newton on the topology {} with the limit at {:.6g} held did not converge", to_string(topology),
                       user(*fixed));
     return std::nullopt;
   }
   // 5. The first point of the branch, its tangent widening the zone.
-  const PathFollower follower = make_follower(candidate);
-  PathPoint orientation;
-  orientation.x = x;
-  orientation.lambda = lambda;
-  orientation.tangent_x = VectorXd::Zero(candidate.unknowns());
-  orientation.tangent_x[held] = widening;
-  orientation.tangent_lambda = 0.0;
-  nonlinear::NewtonSummary newton;
-  std::optional<PathPoint> point = follower.start(x, lambda, &newton, orientation);
-  if (!point) {
-    why = "no tangent at the branch's first point: " + newton.message;
+  std::optional<Branch> branch = branch_from(std::move(candidate), x, lambda, held, widening, why);
+  if (!branch) return std::nullopt;
+  if (auto failure = state_failure(branch->model, branch->point.x)) {
+    why = fmt::format("the branch's first point at lambda = {:.10g} is no contact solution: {}", branch->point.lambda,
+                      *failure);
     return std::nullopt;
   }
-  if (auto failure = state_failure(candidate, point->x)) {
-    why =
-        fmt::format("the branch's first point at lambda = {:.10g} is no contact solution: {}", point->lambda, *failure);
-    return std::nullopt;
-  }
-  return Branch{std::move(candidate), std::move(*point), newton.iterations};
+  return branch;
 }
 
 std::optional<RitzTracer::Branch> RitzTracer::switch_in_topology(const RitzModel& model, const PathPoint& at,
@@ -1485,39 +1538,44 @@ std::optional<RitzTracer::Branch> RitzTracer::switch_in_topology(const RitzModel
   // curvature, large beside Newton's tolerance (1e-12).
   const double w_size = std::max(w_scale(model, at.x), 1e-300);
   const double offset = 1e-3 * w_size / std::abs(mode[held]);
-  RitzModel candidate = model;
   VectorXd x = at.x + offset * mode;
   double lambda = at.lambda;
-  const VectorXd residual_scale = VectorXd::Constant(candidate.unknowns(), 1.0 / force_scale(candidate));
-  VectorXd r;
-  MatrixXd j;
-  bool converged = false;
-  for (int iteration = 0; iteration < 50 && !converged; ++iteration) {
-    candidate.residual(x, lambda, r);
-    if (!r.allFinite()) break;
-    if (r.cwiseProduct(residual_scale).lpNorm<Eigen::Infinity>() <= 1e-12) {
-      converged = true;
-      break;
-    }
-    candidate.jacobian(x, lambda, j);
-    j.col(held) = candidate.residual_lambda_derivative(x);
-    const VectorXd delta =
-        (residual_scale.asDiagonal() * j).colPivHouseholderQr().solve(-residual_scale.cwiseProduct(r));
-    if (!delta.allFinite()) break;
-    for (int m = 0; m < candidate.unknowns(); ++m)
-      if (m != held) x[m] += delta[m];
-    lambda += delta[held];
-  }
-  if (!converged) {
+  const VectorXd residual_scale = VectorXd::Constant(model.unknowns(), 1.0 / force_scale(model));
+  if (!solve_with_held(model, static_cast<int>(held), residual_scale, x, lambda)) {
     why = "Newton with the critical mode's amplitude held off the bifurcation point did not converge";
     return std::nullopt;
   }
-  const PathFollower follower = make_follower(candidate);
+  return branch_from(model, x, lambda, static_cast<int>(held), mode[held] > 0.0 ? 1.0 : -1.0, why);
+}
+
+bool RitzTracer::solve_with_held(const RitzModel& model, int held, const VectorXd& residual_scale, VectorXd& x,
+                                 double& lambda) const {
+  VectorXd r;
+  MatrixXd j;
+  for (int iteration = 0; iteration < 50; ++iteration) {
+    model.residual(x, lambda, r);
+    if (!r.allFinite()) return false;
+    if (r.cwiseProduct(residual_scale).lpNorm<Eigen::Infinity>() <= 1e-12) return true;
+    model.jacobian(x, lambda, j);
+    j.col(held) = model.residual_lambda_derivative(x);
+    const VectorXd delta =
+        (residual_scale.asDiagonal() * j).colPivHouseholderQr().solve(-residual_scale.cwiseProduct(r));
+    if (!delta.allFinite()) return false;
+    for (int m = 0; m < model.unknowns(); ++m)
+      if (m != held) x[m] += delta[m];
+    lambda += delta[held];
+  }
+  return false;
+}
+
+std::optional<RitzTracer::Branch> RitzTracer::branch_from(RitzModel model, const VectorXd& x, double lambda, int held,
+                                                          double sense, std::string& why) const {
+  const PathFollower follower = make_follower(model);
   PathPoint orientation;
   orientation.x = x;
   orientation.lambda = lambda;
-  orientation.tangent_x = VectorXd::Zero(candidate.unknowns());
-  orientation.tangent_x[held] = mode[held] > 0.0 ? 1.0 : -1.0;
+  orientation.tangent_x = VectorXd::Zero(model.unknowns());
+  orientation.tangent_x[held] = sense;
   orientation.tangent_lambda = 0.0;
   nonlinear::NewtonSummary newton;
   std::optional<PathPoint> point = follower.start(x, lambda, &newton, orientation);
@@ -1525,7 +1583,7 @@ std::optional<RitzTracer::Branch> RitzTracer::switch_in_topology(const RitzModel
     why = "no tangent at the branch's first point: " + newton.message;
     return std::nullopt;
   }
-  return Branch{std::move(candidate), std::move(*point), newton.iterations};
+  return Branch{std::move(model), std::move(*point), newton.iterations};
 }
 
 TraceResult RitzTracer::run() {

@@ -5,7 +5,9 @@
 //
 // - Start: the topology and limits at lambda_min from the scene's [ritz] topology, or from an
 //   FE + LCP solution there (options.elements, method auto: the sparse `fast` solver wherever it
-//   applies), as `liftoff solve --method ritz` takes them; solved by ritz::solve_ritz. Modes:
+//   applies), as `liftoff solve --method ritz` takes them; for von Karman beams from the FE von
+//   Karman contact solve there (contact::VonKarmanSystem from zero: the linear solve knows nothing
+//   of a shallow arch's rise); solved by ritz::solve_ritz. Modes:
 //   options.modes, else [ritz] modes, else what automatic modes settle on at lambda_min but at
 //   least 32 (limits that do not exist yet at lambda_min say nothing about the N they will
 //   need) and, for a point force on a tensionless foundation (no load-point enrichment), what
@@ -19,7 +21,11 @@
 //   them) are checked; the first that changed sign is located to options.event_tolerance in
 //   lambda, recorded (with the step at it) and the topology switched: a vanishing piece is
 //   removed at the event, a new zone is opened slightly past it with the width the old
-//   topology's local expansion gives.
+//   topology's local expansion gives. An end piece at a beam's pinned end (w = w'' = 0) vanishes
+//   with w' there, its length going like the square root of the distance to the event (the limit
+//   equation meets its trivial root t = end): it is approached from the side where it exists, as
+//   a piece between two limits is, and removed (a lift-off zone closing at a pinned end). At an
+//   arch's pinned end the same holds but is not treated so (not examined).
 // - Every state recorded (start, steps, events, each switch's first state) is a contact solution
 //   of the Ritz model: w >= 0 in contact pieces (reaction >= 0), w <= 0 in lift-off pieces on
 //   ritz::check_inequalities' grid, to 1e-9 of max |w| (an event's state: but for the event
