@@ -18,9 +18,19 @@ packages=(
   python3-h5py                     # tests read the HDF5 output as a user would
   python3-matplotlib               # verification/plots (figures of sweeps)
   python3-dolfinx                  # verification only: the independent penalty-contact reference
+  pybind11-dev python3-dev         # the Python module (src/python/): pybind11 and Python's headers
+  python3-numpy                    # the Python module's arrays
 )
 source .ci/install_missing.sh
 install_missing "${packages[@]}"
 
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
 cmake --build build -j"$(nproc)"
+
+# `import liftoff` for Debian's python from any directory: a .pth file in its site directory names the
+# build tree's package (build/python), so python imports what was just built, with no copy that could
+# go stale (`cmake --install build` installs a copy instead, which then comes first).
+if [ -d build/python/liftoff ]; then
+  site=$(/usr/bin/python3 -c 'import site; print(site.getsitepackages()[0])')
+  mkdir -p "$site" && echo "$PWD/build/python" >"$site/liftoff.pth"
+fi
