@@ -20,9 +20,10 @@ namespace {
 
 bool initialised = false;
 
-// Set by mpirun/mpiexec (Open MPI, MPICH/Hydra) or srun (PMI, PMIx) in every rank's environment.
+// Set by mpirun/mpiexec (Open MPI, MPICH/Hydra) or srun --mpi=pmix|pmi2 in every rank's environment;
+// not SLURM_PROCID, which a batch script's own single process has too.
 bool launched_by_mpi() {
-  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK", "PMI_RANK", "SLURM_PROCID"})
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK", "PMI_RANK"})
     if (std::getenv(name) != nullptr) return true;
   return false;
 }
