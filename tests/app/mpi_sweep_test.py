@@ -5,7 +5,7 @@ A shipped scene (the B70 sleeper) swept over its uniform load and ballast modulu
 of -1e6 N/m has no equilibrium (those cases fail on purpose, exit 3), once with `--method all` (a
 refused method and every failure per case) and once with `--method ritz` (the failed case is an
 error). The serial sweep (no mpirun) is the reference; the
-distributed one on 1, 2 and 3 ranks (oversubscribed: more ranks than cores, so the cases really
+distributed one on 1, 2 and 3 ranks (and 2 ranks of 2 threads; oversubscribed: more ranks than cores, so the cases really
 interleave) must give:
 - the same HDF5 content, bitwise: every group, dataset (dtype, shape, values) and attribute, except
   /cases/*/*/solver's time_s (wall-clock time). Bitwise, not to round-off: each case is solved by
@@ -94,9 +94,9 @@ def main():
     }
     with tempfile.TemporaryDirectory() as tmp:
         for name, options in sweeps.items():
-            def sweep(launcher, tag):
+            def sweep(launcher, tag, extra=()):
                 h5, csv = os.path.join(tmp, f"{name}_{tag}.h5"), os.path.join(tmp, f"{name}_{tag}.csv")
-                r = run([*launcher, args.liftoff, "sweep", args.scene, *options, "--output", h5, "--csv", csv])
+                r = run([*launcher, args.liftoff, "sweep", args.scene, *options, *extra, "--output", h5, "--csv", csv])
                 return r, h5, csv
 
             serial, serial_h5, serial_csv = sweep([], "serial")
@@ -109,9 +109,11 @@ def main():
                 check(len(f["cases"]) == len(f["values"]), f"{name}: {len(f['cases'])} cases in the serial file")
                 if name == "ritz":
                     check("error" in f["cases"]["0000"].attrs, "ritz: the uplift case carries its error")
-            for ranks in (1, 2, 3):
-                r, h5, csv = sweep(mpirun(ranks), f"np{ranks}")
-                what = f"{name}, -np {ranks}"
+            # Two threads per rank once: the ranks' threads share the counter (MPI_THREAD_SERIALIZED).
+            runs = [(1, ()), (2, ()), (3, ())] + ([(2, ("--jobs", "2"))] if name == "auto" else [])
+            for ranks, extra in runs:
+                r, h5, csv = sweep(mpirun(ranks), f"np{ranks}{''.join(extra)}", extra)
+                what = f"{name}, -np {ranks} {' '.join(extra)}".rstrip()
                 check(r.returncode == 3, f"{what}: exit 3 as the serial sweep (got {r.returncode}: "
                                          f"{r.stderr.strip()[-300:]})")
                 check(stderr_lines(r.stderr) == stderr_lines(serial.stderr),
