@@ -10,11 +10,14 @@ with its uplift force swept over `--cases` values, on `--elements` elements so t
 (tens of milliseconds each) dominate MPI's start-up and the gathering of the results. Both runs
 write the CSV only (no --output), so the figure is the solves' distribution, not the HDF5 writing
 that rank 0 does alone. Not a test: the figures depend on the machine and on its load (run it on a
-quiet machine; `uptime` is printed beside them).
+quiet machine; the load average is printed beside them). The CPU times are printed too, with the
+speed-up they bound (serial CPU time over the ranks' CPU time per rank), which the load does not
+change.
 """
 
 import argparse
 import os
+import resource
 import statistics
 import subprocess
 import sys
@@ -25,10 +28,16 @@ SCENE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scenes",
                      "pipeline_500m_uplift.toml")
 
 
-def timed(command):
-    start = time.perf_counter()
+def cpu():
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)  # every waited-for descendant: mpirun's ranks too
+    return usage.ru_utime + usage.ru_stime
+
+
+def timed(command, cpu_times):
+    start, start_cpu = time.perf_counter(), cpu()
     r = subprocess.run(command, capture_output=True, text=True)
     elapsed = time.perf_counter() - start
+    cpu_times.append(cpu() - start_cpu)
     if r.returncode != 0:
         sys.exit(f"mpi_sweep_bench: {' '.join(command)} exited {r.returncode}: {r.stderr.strip()[-500:]}")
     return elapsed
@@ -49,10 +58,10 @@ def main():
         serial = [args.liftoff, *sweep, "--csv", os.path.join(tmp, "serial.csv")]
         distributed = ["mpirun", *root, "-np", str(args.ranks), args.liftoff, *sweep, "--csv",
                        os.path.join(tmp, "mpi.csv")]
-        times = {"serial": [], "mpi": []}
+        times, cpu_times = {"serial": [], "mpi": []}, {"serial": [], "mpi": []}
         for _ in range(args.runs):  # interleaved, so that a change of the machine's load hits both
-            times["serial"].append(timed(serial))
-            times["mpi"].append(timed(distributed))
+            times["serial"].append(timed(serial, cpu_times["serial"]))
+            times["mpi"].append(timed(distributed, cpu_times["mpi"]))
         with open(os.path.join(tmp, "serial.csv")) as a, open(os.path.join(tmp, "mpi.csv")) as b:
             column = a.readline().split(",").index("time_s")
             b.readline()
@@ -64,6 +73,12 @@ def main():
     print(f"serial (1 process, 1 thread): {' '.join(f'{t:.2f}' for t in times['serial'])} s, median {s:.2f} s")
     print(f"mpirun -np {args.ranks} (1 thread each): {' '.join(f'{t:.2f}' for t in times['mpi'])} s, median {m:.2f} s")
     print(f"speed-up {s / m:.2f}; the CSVs {'agree' if same else 'DIFFER'} (but time_s)")
+    # On a loaded machine the wall-clock ratio measures the load as much as the sweep; the CPU
+    # times do not: the CPU-bound speed-up is the serial CPU time over the ranks' total divided
+    # by their number (mpirun's own CPU and MPI's start-up counted against the ranks).
+    cs, cm = statistics.median(cpu_times["serial"]), statistics.median(cpu_times["mpi"])
+    print(f"CPU time (user + system): serial median {cs:.2f} s, mpirun -np {args.ranks} median {cm:.2f} s in all; "
+          f"CPU-bound speed-up {cs / (cm / args.ranks):.2f}")
     return 0 if same else 1
 
 
