@@ -198,6 +198,10 @@ class RitzTracer {
   // The same on a bilateral foundation: the branch in the same topology, along `mode`.
   std::optional<Branch> switch_in_topology(const RitzModel& model, const PathPoint& at, const VectorXd& mode,
                                            std::string& why);
+  // The multiple of `mode` the in-topology switch steps off the bifurcation point, and the
+  // amplitude it holds there (the one the mode moves most).
+  double in_topology_offset(const RitzModel& model, const PathPoint& at, const VectorXd& mode,
+                            Eigen::Index& held) const;
   // The crossing point of a switched branch with the path it left, from `near` (the branch's
   // return located on the mode's component, on either path: on the path it rejoins that
   // component vanishes all along, so the locate cannot tell where the crossing is): a secant in
@@ -1482,6 +1486,14 @@ std::optional<RitzTracer::Branch> RitzTracer::switch_branch(const RitzModel& mod
       if (lifts.back().a < best * (1.0 - 1e-12)) best = lifts.back().a, sign = lifts.back().sign;
     }
   }
+  // Von Karman on a tensionless foundation: where the mode lifts nothing within ten times the
+  // in-topology first point's offset, the branch starts in contact as on a bilateral foundation
+  // (the shallow arch's asymmetric branch lifts off at an end only once |A2| = A1 / 2), and its
+  // lift-off is a contact event on the branch.
+  if (member_.theory == model::Theory::von_karman) {
+    Eigen::Index held = 0;
+    if (!(best <= 10.0 * in_topology_offset(model, at, mode, held))) return switch_in_topology(model, at, mode, why);
+  }
   if (!std::isfinite(best) || !(best > 0.0)) {
     why = "the critical mode lifts no contact piece off";
     return std::nullopt;
@@ -1585,11 +1597,7 @@ std::optional<RitzTracer::Branch> RitzTracer::switch_branch(const RitzModel& mod
 std::optional<RitzTracer::Branch> RitzTracer::switch_in_topology(const RitzModel& model, const PathPoint& at,
                                                                  const VectorXd& mode, std::string& why) {
   Eigen::Index held = 0;
-  mode.head(model.amplitudes()).cwiseAbs().maxCoeff(&held);
-  // A step off the point of 1e-3 of w's size along the mode: small beside the branch's own
-  // curvature, large beside Newton's tolerance (1e-12).
-  const double w_size = std::max(w_scale(model, at.x), 1e-300);
-  const double offset = 1e-3 * w_size / std::abs(mode[held]);
+  const double offset = in_topology_offset(model, at, mode, held);
   VectorXd x = at.x + offset * mode;
   double lambda = at.lambda;
   const VectorXd residual_scale = VectorXd::Constant(model.unknowns(), 1.0 / force_scale(model));
@@ -1629,6 +1637,15 @@ PathPoint RitzTracer::refined_crossing(const RitzModel& model, const PathFollowe
     b = solved(lambda);
   }
   return near;
+}
+
+double RitzTracer::in_topology_offset(const RitzModel& model, const PathPoint& at, const VectorXd& mode,
+                                      Eigen::Index& held) const {
+  mode.head(model.amplitudes()).cwiseAbs().maxCoeff(&held);
+  // A step off the point of 1e-3 of w's size along the mode: small beside the branch's own
+  // curvature, large beside Newton's tolerance (1e-12).
+  const double w_size = std::max(w_scale(model, at.x), 1e-300);
+  return 1e-3 * w_size / std::abs(mode[held]);
 }
 
 bool RitzTracer::solve_with_held(const RitzModel& model, int held, const VectorXd& residual_scale, VectorXd& x,

@@ -342,3 +342,58 @@ TEST_CASE("Ritz and FE von Karman paths agree on the bifurcation load and the sw
     CHECK(on_branch >= 2);
   }
 }
+
+TEST_CASE(
+    "Ritz path, von Karman: on a tensionless foundation the asymmetric branch lifts off at an end where "
+    "|A2| = A1 / 2 and lands again",
+    "[continuation][ritz][von_karman]") {
+  // shallow_arch.hpp, item 3: tensionless and bilateral agree until the first contact event; on
+  // the bifurcated branch w = r sin(theta) (xi + 2 eta cos theta) >= 0 while xi >= 2 |eta|, and it
+  // touches zero at an end (x = 0 where A2 < 0, x = L where A2 > 0) with w' = 0 at the roots of
+  // 2 xi^2 - 2 alpha xi + 16 + kappa = 0 (a / r = 8 >= sqrt(2 (16 + kappa)) for kappa = 2 and 8).
+  // The switch stays in contact (the mode lifts nothing off until |A2| = A1 / 2); the path meets
+  // limit_at_support at the first root (a zone opens at the pinned end), follows the branch with
+  // the zone (no longer two-mode), and the zone closes again where the bilateral branch is back
+  // in contact (the second root: a state in full contact is a bilateral solution, and it touches
+  // zero at the end there); then the bilateral branch to the second bifurcation point.
+  // All four loads to the event tolerance.
+  for (const double kappa : {2.0, 8.0}) {
+    const closed_form::ShallowArch arch = bifurcating_arch(kappa);
+    const closed_form::ShallowArchAnalysis analysis = closed_form::analyse(arch);
+    REQUIRE(analysis.has_contact_event);
+    scene::Scene scene = bifurcating_scene(arch);
+    scene.foundation.tensionless = true;
+    const TraceOptions options = switching_options(analysis);
+    const TraceResult result = trace_ritz(scene, bifurcating_member(scene, arch), options);
+    INFO("kappa = " << kappa << ": " << result.summary.message);
+    REQUIRE(result.summary.termination == TraceTermination::completed);
+    REQUIRE(result.events.size() == 4);
+    const double tolerance = 10 * options.event_tolerance * analysis.first_bifurcation.load;
+    const std::vector<TraceEvent>& e = result.events;
+    CHECK(e[0].kind == EventKind::bifurcation);
+    CHECK(std::abs(e[0].load_factor - analysis.first_bifurcation.load) <= tolerance);
+    CHECK(e[1].kind == EventKind::limit_at_support);
+    CHECK(std::abs(e[1].load_factor - analysis.first_lift_off.load) <= tolerance);
+    CHECK(e[2].kind == EventKind::limit_at_support);
+    CHECK(std::abs(e[2].load_factor - analysis.last_lift_off.load) <= tolerance);
+    CHECK(e[2].at == e[1].at);
+    CHECK(e[3].kind == EventKind::bifurcation);
+    CHECK(std::abs(e[3].load_factor - analysis.second_bifurcation.load) <= tolerance);
+    // The end that lifts is the one A2's sign says; in full contact on the branch, the two-mode
+    // branch's lambda; a lift-off zone on the steps between the two contact events.
+    int lifted = 0;
+    for (const TraceStep& step : result.steps) {
+      const double a1 = step.monitor_deflection, a2 = step.deflection[0] - a1 * std::sqrt(0.5);
+      INFO("lambda = " << step.load_factor << ", A1 " << a1 << ", A2 " << a2);
+      if (step.lifted_length > 0.0) {
+        ++lifted;
+        CHECK(e[1].at == (a2 < 0.0 ? 0.0 : 1.0));
+        continue;
+      }
+      if (std::abs(a2) >= 1e-3 * std::abs(a1))
+        CHECK(std::abs(step.load_factor - closed_form::bifurcated_load(arch, a1)) <=
+              1e-8 * analysis.first_bifurcation.load);
+    }
+    CHECK(lifted >= 2);
+  }
+}
