@@ -20,6 +20,7 @@ packages=(
   python3-dolfinx                  # verification only: the independent penalty-contact reference
   pybind11-dev python3-dev         # the Python module (src/python/): pybind11 and Python's headers
   python3-numpy                    # the Python module's arrays
+  libopenmpi-dev openmpi-bin       # distributed sweeps (`mpirun -np N liftoff sweep`); optional, built when found
 )
 source .ci/install_missing.sh
 install_missing "${packages[@]}"

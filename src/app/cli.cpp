@@ -20,6 +20,7 @@
 #include <thread>
 #include <utility>
 
+#include "app/distributed_sweep.hpp"
 #include "app/envelope_command.hpp"
 #include "app/plot_command.hpp"
 #include "app/solve_command.hpp"
@@ -326,26 +327,54 @@ void print_sweep_warnings(const std::vector<io::SweepCase>& cases, std::ostream&
 // stderr; exit 3 if a case failed (its error is in both outputs).
 int run_sweep_command(const SweepArguments& args, std::ostream& out, std::ostream& err) {
   const std::vector<RunFile> outputs = atomic_outputs({{"--output", args.output}, {"--csv", args.csv}});
-  const scene::Scene scene = checked_scene(args.problem, outputs, Command::sweep);
+  // Under MPI (app/distributed_sweep.hpp) every rank reads the scene and builds the grid; a rank
+  // that cannot stops every rank before the shared work.
+  std::optional<scene::Scene> scene;
   std::vector<SweepParameter> parameters;
   std::vector<std::string> keys;
-  for (const std::string& set : args.sets) {
-    parameters.push_back(parse_sweep_parameter(set));
-    keys.push_back(parameters.back().key);
+  std::optional<SweepGrid> grid;
+  try {
+    scene = checked_scene(args.problem, outputs, Command::sweep);
+    for (const std::string& set : args.sets) {
+      parameters.push_back(parse_sweep_parameter(set));
+      keys.push_back(parameters.back().key);
+    }
+    if (mpi::active()) grid = make_sweep_grid(*scene, parameters);
+  } catch (const std::exception&) {
+    mpi::all_ready(false);
+    throw;
   }
-  const int jobs = args.jobs > 0 ? args.jobs : std::max(1u, std::thread::hardware_concurrency());
+  if (!mpi::all_ready(true))
+    throw InputError(
+        fmt::format("{}: sweep: another MPI rank could not read the scene or the --set values (a file "
+                    "system that differs between nodes?); expected every rank to read the same scene",
+                    args.problem.scene_path.empty() ? std::string(default_scene_name) : args.problem.scene_path));
+  // Under MPI one thread per rank unless --jobs says otherwise: the ranks are the parallelism.
+  const int jobs = args.jobs > 0 ? args.jobs : mpi::active() ? 1 : std::max(1u, std::thread::hardware_concurrency());
   std::mutex progress_lock;
   SolveRequest request = make_request(args.problem);
   request.fields = !args.output.empty();  // only the HDF5 file holds sampled fields
-  const auto cases = run_sweep(scene, parameters, request, jobs, [&](int done, int total) {
+  const auto progress = [&](int done, int total) {
     const std::lock_guard<std::mutex> lock(progress_lock);
     const int width = 30, filled = width * done / total;
     err << "\rliftoff sweep [" << std::string(filled, '#') << std::string(width - filled, ' ') << "] " << done << "/"
         << total << (done == total ? "\n" : "") << std::flush;
-  });
-  const std::string csv = io::sweep_csv(keys, cases);
-  // The HDF5 file first, then the CSV: a failure to write either leaves neither.
-  if (!args.output.empty()) io::write_sweep_hdf5(keys, cases, args.output, LIFTOFF_VERSION);
+  };
+  std::vector<io::SweepCase> cases;
+  std::string csv;
+  if (mpi::active()) {
+    mpi::DistributedSweep d = mpi::run_distributed_sweep(
+        std::move(*grid), keys, request, solves_every_method(*scene, request), jobs, !args.output.empty(), progress);
+    if (mpi::rank() != 0) return code(ExitCode::success);  // rank 0 writes, prints and decides the exit code
+    cases = std::move(d.cases);
+    csv = std::move(d.csv);
+    if (!args.output.empty()) io::write_sweep_hdf5(keys, cases, d.images, args.output, LIFTOFF_VERSION);
+  } else {
+    cases = run_sweep(*scene, parameters, request, jobs, progress);
+    csv = io::sweep_csv(keys, cases);
+    // The HDF5 file first, then the CSV: a failure to write either leaves neither.
+    if (!args.output.empty()) io::write_sweep_hdf5(keys, cases, args.output, LIFTOFF_VERSION);
+  }
   if (args.csv.empty()) {
     out << csv;
   } else {
@@ -640,6 +669,9 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     if (json) out << failure_json(context, termination, message, status).dump(2) << "\n";
     return code(status);
   };
+  // Under MPI only sweeps are shared out; any other command runs on rank 0 alone (the other ranks'
+  // exit code is rank 0's: app/distributed_sweep.hpp).
+  if (!*sweep_command && mpi::rank() != 0) return code(ExitCode::success);
   try {
     if (*plot_command) return run_plot(plot);
     if (*solve_command) return run_solve(solve, context, out, err);

@@ -85,9 +85,7 @@ SweepParameter parse_sweep_parameter(const std::string& text) {
   return p;
 }
 
-std::vector<io::SweepCase> run_sweep(const scene::Scene& scene, const std::vector<SweepParameter>& parameters,
-                                     const SolveRequest& request, int jobs,
-                                     const std::function<void(int, int)>& progress) {
+SweepGrid make_sweep_grid(const scene::Scene& scene, const std::vector<SweepParameter>& parameters) {
   for (std::size_t k = 0; k < parameters.size(); ++k)
     for (std::size_t j = 0; j < k; ++j)
       if (parameters[j].key == parameters[k].key)
@@ -110,7 +108,9 @@ std::vector<io::SweepCase> run_sweep(const scene::Scene& scene, const std::vecto
     throw InputError(fmt::format("--set: the grid has {:g} cases ({}), expected at most {}; sweep fewer values",
                                  product, counts, max_sweep_cases));
   }
-  std::vector<io::SweepCase> cases(total);
+  SweepGrid grid;
+  std::vector<io::SweepCase>& cases = grid.cases;
+  cases.resize(total);
   for (std::size_t i = 0; i < total; ++i) {  // mixed-radix digits: the last parameter fastest
     std::size_t rest = i;
     cases[i].values.resize(parameters.size());
@@ -121,7 +121,7 @@ std::vector<io::SweepCase> run_sweep(const scene::Scene& scene, const std::vecto
   }
   // Every case's scene is edited and validated first, so a bad key stops the sweep before any
   // work (InputError), with the key named once.
-  std::vector<scene::Scene> scenes;
+  std::vector<scene::Scene>& scenes = grid.scenes;
   for (const io::SweepCase& c : cases) {
     std::string text = scene.text, label;
     for (std::size_t k = 0; k < parameters.size(); ++k) {
@@ -130,21 +130,36 @@ std::vector<io::SweepCase> run_sweep(const scene::Scene& scene, const std::vecto
     }
     scenes.push_back(scene::parse_scene(text, fmt::format("{} [{}]", scene.source_name, label)));
   }
+  return grid;
+}
 
-  const bool all = request.method.value_or(scene.solve.method) == scene::Method::all;
+bool solves_every_method(const scene::Scene& scene, const SolveRequest& request) {
+  return request.method.value_or(scene.solve.method) == scene::Method::all;
+}
+
+void solve_sweep_case(SweepGrid& grid, std::size_t i, const SolveRequest& request, bool all) {
+  try {
+    if (all)
+      grid.cases[i].reports = solve_all_methods(grid.scenes[i], request);
+    else
+      grid.cases[i].reports = {solve_scene(grid.scenes[i], request)};
+  } catch (const std::exception& e) {  // InputError, SolverFailure: the case's own failure
+    grid.cases[i].error = e.what();
+  }
+}
+
+std::vector<io::SweepCase> run_sweep(const scene::Scene& scene, const std::vector<SweepParameter>& parameters,
+                                     const SolveRequest& request, int jobs,
+                                     const std::function<void(int, int)>& progress) {
+  SweepGrid grid = make_sweep_grid(scene, parameters);
+  const std::size_t total = grid.cases.size();
+  const bool all = solves_every_method(scene, request);
   std::atomic<std::size_t> next{0};
   int done = 0;
   std::mutex progress_lock;
   auto worker = [&] {
     for (std::size_t i = next++; i < total; i = next++) {
-      try {
-        if (all)
-          cases[i].reports = solve_all_methods(scenes[i], request);
-        else
-          cases[i].reports = {solve_scene(scenes[i], request)};
-      } catch (const std::exception& e) {  // InputError, SolverFailure: the case's own failure
-        cases[i].error = e.what();
-      }
+      solve_sweep_case(grid, i, request, all);
       // Counted and reported under one lock: a count taken outside it could be reported after a
       // larger one (a "2/4" after the final "4/4", on the line of the message that follows).
       const std::lock_guard<std::mutex> lock(progress_lock);
@@ -155,7 +170,7 @@ std::vector<io::SweepCase> run_sweep(const scene::Scene& scene, const std::vecto
   std::vector<std::thread> threads;
   for (int t = 0; t < std::max(1, jobs); ++t) threads.emplace_back(worker);
   for (auto& t : threads) t.join();
-  return cases;
+  return std::move(grid.cases);
 }
 
 }  // namespace liftoff::app

@@ -202,8 +202,9 @@ void write_file(const SolveReport& r, const std::filesystem::path& path, const s
   write_report(file, r);
 }
 
-void write_sweep_file(const std::vector<std::string>& keys, const std::vector<SweepCase>& cases,
-                      const std::filesystem::path& path, const std::string& version) {
+// A sweep file's root: attributes liftoff_version, kind, keys and the units; dataset /values.
+Handle write_sweep_root(const std::vector<std::string>& keys, const std::vector<SweepCase>& cases,
+                        const std::filesystem::path& path, const std::string& version) {
   Handle file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose, path.string());
   write_string_attribute(file, "liftoff_version", version);
   write_string_attribute(file, "kind", "sweep");
@@ -219,17 +220,51 @@ void write_sweep_file(const std::vector<std::string>& keys, const std::vector<Sw
       write_units(file, c.reports.front().units);
       break;
     }
+  return file;
+}
+
+// One case under `group` (/cases/NNNN): its error attribute, a group per method.
+void write_sweep_case(hid_t group, const SweepCase& c) {
+  if (!c.error.empty()) write_string_attribute(group, "error", c.error);
+  for (const SolveReport& r : c.reports) {
+    // Keyed by the method asked for: a fallback's answer stays under its own request's name.
+    const std::string& name = r.method_requested.empty() ? r.method : r.method_requested;
+    Handle method(H5Gcreate2(group, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, name);
+    write_report(method, r);
+  }
+}
+
+std::string case_name(std::size_t i) { return fmt::format("{:04d}", i); }
+
+void write_sweep_file(const std::vector<std::string>& keys, const std::vector<SweepCase>& cases,
+                      const std::filesystem::path& path, const std::string& version) {
+  const Handle file = write_sweep_root(keys, cases, path, version);
   Handle all(H5Gcreate2(file, "cases", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "cases");
   for (std::size_t i = 0; i < cases.size(); ++i) {
-    const std::string name = fmt::format("{:04d}", i);
-    Handle group(H5Gcreate2(all, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, name);
-    if (!cases[i].error.empty()) write_string_attribute(group, "error", cases[i].error);
-    for (const SolveReport& r : cases[i].reports) {
-      // Keyed by the method asked for: a fallback's answer stays under its own request's name.
-      const std::string& name = r.method_requested.empty() ? r.method : r.method_requested;
-      Handle method(H5Gcreate2(group, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, name);
-      write_report(method, r);
-    }
+    Handle group(H5Gcreate2(all, case_name(i).c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, case_name(i));
+    write_sweep_case(group, cases[i]);
+  }
+}
+
+// The in-memory files of sweep_case_image: HDF5's core driver, no file on disk.
+Handle memory_file_access(const std::vector<char>* image) {
+  Handle access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "file access list");
+  check(H5Pset_fapl_core(access, 1 << 16, 0), "in-memory file driver");
+  if (image != nullptr) check(H5Pset_file_image(access, const_cast<char*>(image->data()), image->size()), "file image");
+  return access;
+}
+
+void write_sweep_file(const std::vector<std::string>& keys, const std::vector<SweepCase>& cases,
+                      const std::vector<std::vector<char>>& images, const std::filesystem::path& path,
+                      const std::string& version) {
+  if (images.size() != cases.size())
+    throw OutputError(fmt::format("{} case images for {} cases", images.size(), cases.size()));
+  const Handle file = write_sweep_root(keys, cases, path, version);
+  Handle all(H5Gcreate2(file, "cases", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "cases");
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const Handle access = memory_file_access(&images[i]);
+    Handle image(H5Fopen(("case_image_" + case_name(i)).c_str(), H5F_ACC_RDONLY, access), H5Fclose, case_name(i));
+    check(H5Ocopy(image, "case", all, case_name(i).c_str(), H5P_DEFAULT, H5P_DEFAULT), case_name(i).c_str());
   }
 }
 
@@ -271,6 +306,30 @@ void write_sweep_hdf5(const std::vector<std::string>& keys, const std::vector<Sw
                       const std::filesystem::path& path, const std::string& version) {
   write_atomically(path,
                    [&](const std::filesystem::path& temporary) { write_sweep_file(keys, cases, temporary, version); });
+}
+
+std::vector<char> sweep_case_image(const SweepCase& c) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  const Handle access = memory_file_access(nullptr);
+  Handle file(H5Fcreate("case_image", H5F_ACC_EXCL, H5P_DEFAULT, access), H5Fclose, "case image");
+  {
+    Handle group(H5Gcreate2(file, "case", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "case");
+    write_sweep_case(group, c);
+  }
+  check(H5Fflush(file, H5F_SCOPE_GLOBAL), "case image");
+  const ssize_t size = H5Fget_file_image(file, nullptr, 0);
+  if (size < 0) throw OutputError("case image: cannot take the in-memory file's image");
+  std::vector<char> image(static_cast<std::size_t>(size));
+  if (H5Fget_file_image(file, image.data(), image.size()) != size)
+    throw OutputError("case image: cannot copy the in-memory file's image");
+  return image;
+}
+
+void write_sweep_hdf5(const std::vector<std::string>& keys, const std::vector<SweepCase>& cases,
+                      const std::vector<std::vector<char>>& images, const std::filesystem::path& path,
+                      const std::string& version) {
+  write_atomically(
+      path, [&](const std::filesystem::path& temporary) { write_sweep_file(keys, cases, images, temporary, version); });
 }
 
 }  // namespace liftoff::io

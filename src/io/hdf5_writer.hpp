@@ -46,4 +46,13 @@ void write_hdf5(const SolveReport& report, const std::filesystem::path& path, co
 void write_sweep_hdf5(const std::vector<std::string>& keys, const std::vector<SweepCase>& cases,
                       const std::filesystem::path& path, const std::string& version);
 
+// The distributed sweep (src/mpi/): a case solved on another process travels as the image of an
+// in-memory HDF5 file whose group /case holds what /cases/NNNN holds; write_sweep_hdf5 with the
+// images writes the root from `cases` (values, and the units from any case's first report) and
+// copies image i's /case to /cases/NNNN (H5Ocopy): the same file as write_sweep_hdf5 above.
+std::vector<char> sweep_case_image(const SweepCase& c);
+void write_sweep_hdf5(const std::vector<std::string>& keys, const std::vector<SweepCase>& cases,
+                      const std::vector<std::vector<char>>& images, const std::filesystem::path& path,
+                      const std::string& version);
+
 }  // namespace liftoff::io
