@@ -467,7 +467,10 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   const Eigen::VectorXd& all = solution.displacement;
   const bool certified = certificate.passed;
   const int samples = std::max(1, std::min(request.samples_per_element, max_field_samples / d.mesh.elements()));
-  post::Fields fields = request.fields && certified ? post::sample_fields(model, d, solution, samples) : post::Fields{};
+  // Sampled whenever certified: an arch's design values come from these samples with the
+  // continuum's reaction, asked for in the output or not (else pressure_max would change with
+  // --output: the P1 reaction differs by O(h^2)).
+  post::Fields fields = certified ? post::sample_fields(model, d, solution, samples) : post::Fields{};
   for (std::size_t i = 0; i < fields.reaction.size(); ++i) {
     const int e = std::min(static_cast<int>(i) / samples, d.mesh.elements() - 1);
     const double xi = std::clamp((fields.s[i] - d.mesh.nodes[e]) / d.mesh.element_size(e), 0.0, 1.0);
@@ -476,6 +479,7 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   }
   const std::optional<post::DesignValues> design =
       certified ? design_values(model, d, solution, certificate, fields) : std::nullopt;
+  if (!request.fields) fields = post::Fields{};
   io::SolveReport report = io::make_report(scene, model, d, solution, fields, answer.contact);
   if (design) io::attach_design(report, *design, model);
   if (certified) attach_critical_load(report, model, d, solution);
