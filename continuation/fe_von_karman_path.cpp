@@ -37,14 +37,15 @@ constexpr auto make_set = contact::select_contact_set;
 class Tracer {
  public:
   Tracer(const model::MemberModel& model, const fe::Discretisation& d, const contact::VonKarmanSystem& system,
-         VectorXd dead, VectorXd live, double w_ref, VonKarmanStateSeam seam)
+         VectorXd dead, VectorXd live, double w_ref, VonKarmanStateSeam seam, bool certified)
       : model_(model),
         d_(d),
         system_(system),
         dead_(std::move(dead)),
         live_(std::move(live)),
         w_ref_(w_ref),
-        seam_(std::move(seam)) {
+        seam_(std::move(seam)),
+        certified_(certified) {
     n_ = system.unknowns();
     double h = std::numeric_limits<double>::infinity();
     for (int e = 0; e < d.mesh.elements(); ++e) h = std::min(h, d.mesh.element_size(e));
@@ -105,50 +106,65 @@ class Tracer {
     return scale;
   }
 
-  // The point the path decides on and records: the corrector's point with Newton corrections of
+  // The point the path decides on and records: the corrector's point, with Newton corrections of
   // the bordered system (G = 0 and the hyperplane through the point normal to its tangent in the
-  // path's metric; fixed_lambda: at its lambda), while they reduce |G| (each row against its terms
-  // at the state, as the certificate measures it), at most 6. The corrector stops at 1e-11 of each
-  // equation's size at the unloaded state, which near a limit point leaves the state off by ~1e-7
-  // of w_ref (more than the signs the events decide); the corrections take it to round-off, where
-  // the certificate holds it to its own backward tolerance (512 eps of each row's terms). Not at
-  // fixed lambda on an arc-length path: near a limit point G_y is nearly singular and such a
-  // correction would move the state along its null vector; the bordered matrix is regular there.
+  // path's metric; fixed_lambda: at its lambda) while its backward error is above the
+  // certificate's tolerance and they reduce it, at most 6. The backward error is the
+  // certificate's own (certify/certificate.hpp: each row against the terms summed into it, the
+  // membrane force's included), so a polished state that stops short of it has stagnated at its
+  // round-off, and the certificate's message says so; where the states are not certified (a
+  // live_load), |G| against |J| |y| and the loads, at most 6 corrections while they reduce it. The
+  // corrector stops at 1e-11 of each equation's size at the unloaded state, which near a limit
+  // point leaves the state off by ~1e-7 of w_ref (more than the signs the events decide). A
+  // state that passes already is not corrected (most are: the corrector's last Newton step
+  // usually takes it to round-off). Not at fixed lambda on an arc-length path: near a limit
+  // point G_y is nearly singular and such a correction would move the state along its null
+  // vector; the bordered matrix is regular there.
   PathPoint polished(const ContactSet& set, const PathPoint& point, bool fixed_lambda) const {
     PathPoint best = point;
     VectorXd g;
     if (!residual(set, best.x, best.lambda, g)) return point;
+    VectorXd weight;
+    if (!certified_) {
+      VectorXd terms = SparseMatrix(saddle(set, best.x).cwiseAbs()) * best.x.cwiseAbs();
+      terms.head(n_) += (dead_ + best.lambda * live_).cwiseAbs();
+      terms.tail(set.size()) += set.ground_gap.cwiseAbs();
+      weight = terms.cwiseMax(std::numeric_limits<double>::min()).cwiseInverse();
+    }
+    // Certified: the backward error relative to its tolerance (<= 1 passes); else the weighted |G|.
+    const auto measure = [&](const PathPoint& p, const VectorXd& g_p) {
+      if (!certified_) return g_p.cwiseProduct(weight).lpNorm<Eigen::Infinity>();
+      const certify::Check backward = backward_error(set, p.x, p.lambda);
+      return backward.value / backward.tolerance;
+    };
+    double norm = measure(best, g);
     VectorXd normal = VectorXd::Zero(best.x.size());
     if (point.tangent_x.size() == best.x.size() && !fixed_lambda)
       normal = point.tangent_x.cwiseProduct(unknown_scale(set).array().square().matrix());
     VectorXd g_lambda = VectorXd::Zero(best.x.size());
     g_lambda.head(n_) = -live_;
-    // |G| as the certificate measures it: each equation against the terms summed into it at the
-    // state (|J| |y| and the loads, the ground gap).
-    VectorXd terms = SparseMatrix(saddle(set, best.x).cwiseAbs()) * best.x.cwiseAbs();
-    terms.head(n_) += (dead_ + best.lambda * live_).cwiseAbs();
-    terms.tail(set.size()) += set.ground_gap.cwiseAbs();
-    const VectorXd weight = terms.cwiseMax(std::numeric_limits<double>::min()).cwiseInverse();
-    double norm = g.cwiseProduct(weight).lpNorm<Eigen::Infinity>();
     const int size = static_cast<int>(best.x.size());
+    if (!(norm > 0.0)) return best;
+    // [J G_lambda; normal^T t_lambda] (dy, dl) = (-G, 0) as one sparse system: eliminating dy
+    // through J loses, at a limit point, what the bordering gains (measured: the arch's limit
+    // point stalled at 3e-13, against the certificate's 1.1e-13). Factorised once, at the
+    // corrector's point: the corrections are at its accuracy, where J changes by less than they
+    // need (chord steps then converge as fast as Newton's, at the cost of one factorisation).
+    const SparseMatrix j = saddle(set, best.x);
+    Triplets t;
+    t.reserve(j.nonZeros() + 2 * size + 1);
+    for (int k = 0; k < j.outerSize(); ++k)
+      for (SparseMatrix::InnerIterator e(j, k); e; ++e) t.emplace_back(e.row(), e.col(), e.value());
+    for (int i = 0; i < size; ++i) {
+      if (g_lambda[i] != 0.0) t.emplace_back(i, size, g_lambda[i]);
+      if (normal[i] != 0.0) t.emplace_back(size, i, normal[i]);
+    }
+    t.emplace_back(size, size, fixed_lambda ? 1.0 : point.tangent_lambda);
+    SparseMatrix bordered(size + 1, size + 1);
+    bordered.setFromTriplets(t.begin(), t.end());
+    Eigen::SparseLU<SparseMatrix> lu(bordered);
+    if (lu.info() != Eigen::Success) return best;
     for (int it = 0; it < 6 && norm > 0.0; ++it) {
-      // [J G_lambda; normal^T t_lambda] (dy, dl) = (-G, 0) as one sparse system: eliminating dy
-      // through J loses, at a limit point, what the bordering gains (measured: the arch's limit
-      // point stalled at 3e-13, against the certificate's 1.1e-13).
-      const SparseMatrix j = saddle(set, best.x);
-      Triplets t;
-      t.reserve(j.nonZeros() + 2 * size + 1);
-      for (int k = 0; k < j.outerSize(); ++k)
-        for (SparseMatrix::InnerIterator e(j, k); e; ++e) t.emplace_back(e.row(), e.col(), e.value());
-      for (int i = 0; i < size; ++i) {
-        if (g_lambda[i] != 0.0) t.emplace_back(i, size, g_lambda[i]);
-        if (normal[i] != 0.0) t.emplace_back(size, i, normal[i]);
-      }
-      t.emplace_back(size, size, fixed_lambda ? 1.0 : point.tangent_lambda);
-      SparseMatrix bordered(size + 1, size + 1);
-      bordered.setFromTriplets(t.begin(), t.end());
-      Eigen::SparseLU<SparseMatrix> lu(bordered);
-      if (lu.info() != Eigen::Success) break;
       VectorXd rhs = VectorXd::Zero(size + 1);
       rhs.head(size) = -g;
       const VectorXd step = lu.solve(rhs);
@@ -157,10 +173,10 @@ class Tracer {
       next.x = best.x + step.head(size);
       next.lambda = best.lambda + step[size];
       VectorXd g_next;
-      if (!residual(set, next.x, next.lambda, g_next) ||
-          !(g_next.cwiseProduct(weight).lpNorm<Eigen::Infinity>() < norm))
-        break;
-      best = std::move(next), g = std::move(g_next), norm = g.cwiseProduct(weight).lpNorm<Eigen::Infinity>();
+      if (!residual(set, next.x, next.lambda, g_next)) break;
+      const double norm_next = measure(next, g_next);
+      if (!(norm_next < norm)) break;
+      best = std::move(next), g = std::move(g_next), norm = norm_next;
     }
     return best;
   }
@@ -267,6 +283,40 @@ class Tracer {
   certify::Certificate certificate(const ContactSet& set, VectorXd y, double lambda,
                                    const TraceOptions& options) const {
     if (seam_) seam_(lambda, y);
+    const certify::VonKarmanAnswer answer = answer_of(set, y);
+    const int nodes = d_.mesh.elements() + 1;
+    double w_largest = 0.0;
+    for (int node = 0; node < nodes; ++node)
+      w_largest = std::max(w_largest, std::abs(answer.displacement[d_.deflection_dof(node)]));
+    const double r_largest = answer.reaction.size() > 0 ? answer.reaction.cwiseAbs().maxCoeff() : 0.0;
+    const double tiny = std::numeric_limits<double>::min();
+    const double w_ratio = std::max(1.0, w_ref_ / std::max(w_largest, tiny));
+    certify::CertifyOptions o = certificate_options(lambda);
+    o.sign_floor = std::min(1e-4, std::max(tie_tolerance, options.event_tolerance) *
+                                      std::max(w_ratio, r_largest > 0.0 ? reaction_unit_ / r_largest : 0.0));
+    return certify::certify(model_, d_, answer, o);
+  }
+
+  // The certificate's backward error of a state (its other checks not looked at).
+  certify::Check backward_error(const ContactSet& set, const VectorXd& y, double lambda) const {
+    const certify::Certificate c = certify::certify(model_, d_, answer_of(set, y), certificate_options(lambda));
+    const certify::Check* check = c.find(certify::check_name::backward_error);
+    if (check) return *check;
+    certify::Check none;  // no answer to certify (not finite): infinitely far
+    none.value = std::numeric_limits<double>::infinity(), none.tolerance = 1.0;
+    return none;
+  }
+
+  static certify::CertifyOptions certificate_options(double lambda) {
+    certify::CertifyOptions o;
+    o.load_factor = lambda;
+    o.round_off = false;
+    o.pointwise = false;
+    return o;
+  }
+
+  // The von Karman answer of a state, from its fields alone.
+  certify::VonKarmanAnswer answer_of(const ContactSet& set, const VectorXd& y) const {
     certify::VonKarmanAnswer answer;
     answer.displacement = d_.expand_displacement(y.head(d_.equations));
     answer.reaction = reactions(set, y);
@@ -275,19 +325,7 @@ class Tracer {
     for (int node = 0; node < nodes; ++node)
       if (const int k = system_.axial_unknown(node); k >= 0) answer.axial[node] = y[k];
     answer.normal_force = system_.normal_forces(y.head(n_));
-    double w_largest = 0.0;
-    for (int node = 0; node < nodes; ++node)
-      w_largest = std::max(w_largest, std::abs(answer.displacement[d_.deflection_dof(node)]));
-    const double r_largest = answer.reaction.size() > 0 ? answer.reaction.cwiseAbs().maxCoeff() : 0.0;
-    const double tiny = std::numeric_limits<double>::min();
-    const double w_ratio = std::max(1.0, w_ref_ / std::max(w_largest, tiny));
-    certify::CertifyOptions o;
-    o.load_factor = lambda;
-    o.round_off = false;
-    o.pointwise = false;
-    o.sign_floor = std::min(1e-4, std::max(tie_tolerance, options.event_tolerance) *
-                                      std::max(w_ratio, r_largest > 0.0 ? reaction_unit_ / r_largest : 0.0));
-    return certify::certify(model_, d_, answer, o);
+    return answer;
   }
 
   ContactTopology topology(const VectorXd& y, const SpecialPoints& points) const {
@@ -303,6 +341,7 @@ class Tracer {
   VectorXd dead_, live_;
   double w_ref_;
   VonKarmanStateSeam seam_;
+  bool certified_ = true;
   int n_ = 0;
   double reaction_unit_ = 1.0, gap_unit_ = 1.0;
 };
@@ -361,7 +400,7 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
     live = system.load(1.0) - dead;
   }
   const double w_ref = member.initial_sine ? std::max(std::abs(member.initial_sine->amplitude), 1e-6) : 1e-3;
-  const Tracer tracer(member, d, system, dead, live, w_ref, seam);
+  const Tracer tracer(member, d, system, dead, live, w_ref, seam, !live_load);
   const SpecialPoints points = special_points(member);
 
   // The start: the contact solve at lambda_min from zero.
@@ -411,8 +450,10 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
     const certify::Certificate certificate =
         live_load ? certify::Certificate{} : tracer.certificate(on, p.x, p.lambda, options);
     if (!live_load && !certificate.passed) {
-      not_certified =
-          fmt::format("the state at lambda = {:.10g} failed its certificate: {}", p.lambda, certificate.message);
+      const certify::Check* backward = certificate.find(certify::check_name::backward_error);
+      not_certified = fmt::format(
+          "the state at lambda = {:.10g} failed its certificate: {}{}", p.lambda, certificate.message,
+          backward && !backward->passed ? " (the Newton corrections of the state stagnated above its tolerance)" : "");
       return false;
     }
     result.steps.push_back(tracer.step_of(on, p, points, options));

@@ -57,9 +57,11 @@
 // accepts, converted to the certificate's scales: Tracer::certificate says how), as the linear FE
 // paths certify theirs: a recorded step is a certified one. The states the path decides its events
 // on and records are the corrector's points taken to round-off by Newton corrections of the
-// bordered system (Tracer::polished: the certificate's own backward tolerance then holds; the
-// corrector's 1e-11 leaves ~1e-7 of w_ref near a limit point, more than the contact signs need);
-// this costs a factorisation per evaluation of a contact event's function. A state that fails is not recorded and ends
+// bordered system (Tracer::polished), measured by the certificate's own backward error (its rows'
+// terms, the membrane force's included) and continued while it decreases, so that the certificate's
+// backward tolerance holds unless round-off stops them short (the path then stops, saying so); the
+// corrector's 1e-11 leaves ~1e-7 of w_ref near a limit point, more than the contact signs need.
+// This costs a factorisation per evaluation of a contact event's function. A state that fails is not recorded and ends
 // the path there (solver_failure, the certificate's message): it is checked once its step's events are located (a step
 // ending past a contact event fails its signs by design), so it is not retried shorter. Under a live_load seam (a load
 // the member model does not describe, which the certificate's balance cannot see) the states are not certified.

@@ -970,7 +970,9 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
         auto near = approach_vanishing(model, follower, from, specs[*shrinking]);
         if (!near)
           return reject(
-              fmt::format("a piece vanishing near lambda = {:.10g} could not be approached", from.lambda + earliest));
+              fmt::format("a piece vanishing near lambda = {:.10g} (estimated from lambda = {:.10g}, along the path's "
+                          "direction) could not be approached",
+                          from.lambda + direction * earliest, from.lambda));
         to = std::move(*near);
       }
     }
@@ -1020,8 +1022,11 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
       if (!fold) return;
       const Buckle b = buckle(model, fold->x);
       const bool maximum = from.tangent_lambda > 0;
+      // At: von Karman members, the monitor (the deflection the load-deflection curve draws, the
+      // FE path's choice); beam-columns, the buckle's crown.
+      const double at = member_.theory == model::Theory::von_karman ? options_.monitor : user(b.crown);
       TraceEvent event{
-          fold->lambda, EventKind::limit_point, user(b.crown),
+          fold->lambda, EventKind::limit_point, at,
           fmt::format("limit_point: lambda reaches a {} at {:.10g}, axial force {:.6g}, amplitude {:.6g}, lifted "
                       "length {:.6g} ({})",
                       maximum ? "maximum" : "minimum", fold->lambda, compression(model, fold->x, fold->lambda),

@@ -121,13 +121,17 @@ def _known(table, keys, where):
             raise SceneError(f"key '{where}.{key}': not read by the von Karman reference")
 
 
+# The scene's top-level tables this reference reads; any other is refused by read_scene.
+TABLES = ("structure", "supports", "foundation", "geometry", "loads", "solve", "output")
+
+
 def read_scene(path):
     try:
         with open(path, "rb") as fh:
             raw = tomllib.load(fh)
     except (OSError, tomllib.TOMLDecodeError) as e:
         raise SceneError(f"cannot read: {e}")
-    _known(raw, ("structure", "supports", "foundation", "geometry", "loads", "solve", "output"), "scene")
+    _known(raw, TABLES, "scene")
     st = raw.get("structure", {})
     _known(st, ("kind", "length", "EI", "EA", "theory"), "structure")
     if st.get("kind", "beam") != "beam":
