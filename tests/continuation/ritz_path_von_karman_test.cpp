@@ -327,7 +327,7 @@ TEST_CASE("Ritz and FE von Karman paths agree on the bifurcation load and the sw
     // The second: both paths end their branch there. Its FE load is not compared: the FE path
     // locates the return on the amplitude along its null vector only, which vanishes all along
     // the symmetric path, so its point lands on that path off the crossing (seen on 16 / 32
-    // elements: kappa = 2, 13.3957 / 13.3812; kappa = 8, 88.6184 / 89.5267; closed form 13.46827,
+    // elements: kappa = 2, 13.4290 / 13.4329; kappa = 8, 88.6184 / 89.3594; closed form 13.46827,
     // 88.61662): the Ritz path's secant on the stability margin (ritz_path.cpp) is what it lacks.
     CHECK(fe[1][1].description.find("meets the path it left") != std::string::npos);
     CHECK(r[1].description.find("meets the path it left again") != std::string::npos);
