@@ -514,8 +514,15 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
   int immediate_switches = 0;  // switches back at a step's start, in a row
   bool switched = false;
   // The switched branch's critical mode (x part) and its origin: its amplitude along the mode
-  // changing sign is the branch meeting the path it left (or its mirror image) again.
+  // changing sign is the branch meeting the path it left (or its mirror image) again. On that path
+  // the amplitude is zero but for the state's error, whose sign is chance: the corrector can land
+  // a step on the path itself (seen at 32 elements, kappa = 8: 4e-9 from the corrector, 1e-10 of
+  // either sign once polished, against a branch reaching 0.8). So the branch has met the path once
+  // its amplitude is within the corrector's relative accuracy (1e-7, as of w_ref: header) of the
+  // largest it reached: closer, the two are not told apart at that accuracy.
   VectorXd branch_mode, branch_origin;
+  double branch_peak = 0.0;
+  constexpr double branch_accuracy = 1e-7;
   std::optional<double> first_step;
   const auto amplitude_message = [&] {
     return fmt::format("max_amplitude = {:.6g} reached at lambda = {:.10g} (amplitude {:.6g})", *options.max_amplitude,
@@ -555,7 +562,9 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
       }
       // The switched branch back on the path it left: located, recorded, the trace ends there.
       if (branch_mode.size() > 0) {
-        const auto amplitude = [&](const PathPoint& p) { return branch_mode.dot(p.x.head(n) - branch_origin); };
+        branch_peak = std::max(branch_peak, branch_mode.dot(previous.x.head(n) - branch_origin));
+        const double zero = branch_accuracy * branch_peak;
+        const auto amplitude = [&](const PathPoint& p) { return branch_mode.dot(p.x.head(n) - branch_origin) - zero; };
         if (amplitude(accepted) <= 0.0 && amplitude(previous) > 0.0) {
           if (auto located = follower.locate(previous, accepted, amplitude, options.event_tolerance))
             accepted = std::move(*located);
@@ -745,6 +754,7 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
       switched = true;
       branch_mode = switch_direction->head(n);
       branch_origin = last.x.head(n);
+      branch_peak = 0.0;
       PathPoint b = last;
       VectorXd direction = *switch_direction;
       const VectorXd& scale = follower.problem().unknown_scale;

@@ -42,7 +42,9 @@
 //    as a pseudo-arc-length step whose predictor is that vector: the corrector's hyperplane,
 //    orthogonal to it, meets the bifurcated branch and not the path. Once per trace. The switched
 //    branch is followed until its amplitude along that vector changes sign (it meets the path it
-//    left, or its mirror image begins: a shallow arch's asymmetric branch is a closed loop): located,
+//    left, or its mirror image begins: a shallow arch's asymmetric branch is a closed loop; zero
+//    meaning within 1e-7 of the largest amplitude it reached, the states' accuracy: a step can land
+//    on the path itself, where the amplitude's sign is the state's round-off): located,
 //    recorded as a `bifurcation` event, and the trace ends there (completed, the message says so).
 //    A step that holds a limit point and a stability change, or two changes, is retried shorter
 //    (down to 100 min_step) so that each is located on its own.

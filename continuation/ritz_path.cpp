@@ -179,15 +179,35 @@ class RitzTracer {
   bool switch_topology(const PathFollower& follower);
   // Beam-columns: the bifurcated branch at a bifurcation point `at` of `model`'s path (see
   // switch_branch in the definition). nullopt, with why filled, if it is not found.
+  // A switched branch that keeps its topology (von Karman, bilateral foundation) is watched for
+  // its return to the path it left: the amplitudes' component along the critical mode (unit
+  // length) back at its value at the bifurcation point, where the Hessian is singular again.
+  struct ReturnWatch {
+    VectorXd mode;           // the critical mode's amplitudes, unit length
+    double at = 0.0;         // mode . amplitudes at the bifurcation point
+    double departure = 0.0;  // the sign of (mode . amplitudes - at) on the branch
+    double lambda = 0.0;     // the bifurcation load left from
+  };
   struct Branch {
     RitzModel model;
     PathPoint point;
     int iterations = 0;
+    std::optional<ReturnWatch> watch;
   };
   std::optional<Branch> switch_branch(const RitzModel& model, const PathPoint& at, std::string& why);
   // The same on a bilateral foundation: the branch in the same topology, along `mode`.
   std::optional<Branch> switch_in_topology(const RitzModel& model, const PathPoint& at, const VectorXd& mode,
                                            std::string& why);
+  // The multiple of `mode` the in-topology switch steps off the bifurcation point, and the
+  // amplitude it holds there (the one the mode moves most).
+  double in_topology_offset(const RitzModel& model, const PathPoint& at, const VectorXd& mode,
+                            Eigen::Index& held) const;
+  // The crossing point of a switched branch with the path it left, from `near` (the branch's
+  // return located on the mode's component, on either path: on the path it rejoins that
+  // component vanishes all along, so the locate cannot tell where the crossing is): a secant in
+  // lambda on stability_margin, zero at the crossing and linear in lambda beside it, each point
+  // solved at fixed lambda from `near` less its mode component. `near` if that does not converge.
+  PathPoint refined_crossing(const RitzModel& model, const PathFollower& follower, PathPoint near) const;
   // Both switches' first point: Newton on `model` from (x, lambda) with unknown `held` fixed and
   // lambda free in its place (false if it does not converge), then the follower's first point
   // there, its tangent oriented along +-held (`sense`); nullopt, with why filled, if no tangent.
@@ -290,6 +310,8 @@ class RitzTracer {
   int bifurcations_ = 0;                  // for the message
   std::optional<Branch> branch_;          // a bifurcated branch to continue on (options_.switch_branch)
   double branch_step_ = 0.0;
+  std::optional<ReturnWatch> watch_;     // the switched branch being followed, watched for its return
+  std::optional<std::string> rejoined_;  // the branch met the path it left: the trace ends (why)
 };
 
 // --------------------------------------------------------------------------------------------
@@ -954,6 +976,40 @@ ArcLengthResult RitzTracer::follow(const RitzModel& model, const PathFollower& f
         to = std::move(*near);
       }
     }
+    // A switched branch back on the path it left (see ReturnWatch): a second bifurcation point,
+    // where the branch crosses that path again (the shallow arch's asymmetric branch rejoins the
+    // symmetric path at t = +tB, with a fold in lambda there by symmetry). Located on the mode's
+    // component down to round-off in the step (lambda_tolerance 0: at the fold a bracket small in
+    // lambda says little about the point, and the corrector may land on the crossing path: with
+    // event_tolerance the load was 1e-7 off), recorded as a bifurcation and a step, and the trace
+    // ends there: beyond it the
+    // branch is its own mirror image back to the first point (the path would shuttle between
+    // the two), and the path it rejoins is the one a trace without switch_branch follows.
+    if (watch_) {
+      const auto departure = [&](const PathPoint& p) {
+        return watch_->departure * (watch_->mode.dot(p.x.head(model.amplitudes())) - watch_->at);
+      };
+      if (departure(from) > 0.0 && !(departure(to) > 0.0)) {
+        std::optional<PathPoint> back = follower.locate(from, to, departure, 0.0);
+        if (!back) return reject("the bifurcated branch's return to the path it left could not be located");
+        to = refined_crossing(model, follower, std::move(*back));
+        if (auto why = state_failure(model, to.x))
+          return reject(fmt::format("at the branch's return at lambda = {:.10g}: {}", to.lambda, *why));
+        record_step(model, to, to.iterations, ds);
+        const Buckle b = buckle(model, to.x);
+        const std::string where = fmt::format(
+            "the bifurcated branch left at lambda = {:.10g} meets the path it left again at lambda = {:.10g}, "
+            "axial force {:.6g} (the critical mode's amplitude back to its value at the first point; stability "
+            "margin {:.3g})",
+            watch_->lambda, to.lambda, compression(model, to.x, to.lambda), model.stability_margin(to.x, to.lambda));
+        record_event(
+            to.lambda, EventKind::bifurcation, b.amplitude > 0.0 ? b.crown : member_.s_from_user(options_.monitor),
+            fmt::format("bifurcation: {} ({}); the switched branch ends here", where, to_string(model.topology())));
+        ++bifurcations_;
+        rejoined_ = "the switched branch ended where it rejoins the path it left (" + where + ")";
+        return ObserverVerdict::stop;
+      }
+    }
     // Beam-columns: a fold (t_lambda changes sign), located on t_lambda and recorded as a
     // limit_point event before the step (or the event) beyond it.
     std::optional<PathPoint> fold;
@@ -1435,6 +1491,14 @@ std::optional<RitzTracer::Branch> RitzTracer::switch_branch(const RitzModel& mod
       if (lifts.back().a < best * (1.0 - 1e-12)) best = lifts.back().a, sign = lifts.back().sign;
     }
   }
+  // Von Karman on a tensionless foundation: where the mode lifts nothing within ten times the
+  // in-topology first point's offset, the branch starts in contact as on a bilateral foundation
+  // (the shallow arch's asymmetric branch lifts off at an end only once |A2| = A1 / 2), and its
+  // lift-off is a contact event on the branch.
+  if (member_.theory == model::Theory::von_karman) {
+    Eigen::Index held = 0;
+    if (!(best <= 10.0 * in_topology_offset(model, at, mode, held))) return switch_in_topology(model, at, mode, why);
+  }
   if (!std::isfinite(best) || !(best > 0.0)) {
     why = "the critical mode lifts no contact piece off";
     return std::nullopt;
@@ -1538,11 +1602,7 @@ std::optional<RitzTracer::Branch> RitzTracer::switch_branch(const RitzModel& mod
 std::optional<RitzTracer::Branch> RitzTracer::switch_in_topology(const RitzModel& model, const PathPoint& at,
                                                                  const VectorXd& mode, std::string& why) {
   Eigen::Index held = 0;
-  mode.head(model.amplitudes()).cwiseAbs().maxCoeff(&held);
-  // A step off the point of 1e-3 of w's size along the mode: small beside the branch's own
-  // curvature, large beside Newton's tolerance (1e-12).
-  const double w_size = std::max(w_scale(model, at.x), 1e-300);
-  const double offset = 1e-3 * w_size / std::abs(mode[held]);
+  const double offset = in_topology_offset(model, at, mode, held);
   VectorXd x = at.x + offset * mode;
   double lambda = at.lambda;
   const VectorXd residual_scale = VectorXd::Constant(model.unknowns(), 1.0 / force_scale(model));
@@ -1550,7 +1610,47 @@ std::optional<RitzTracer::Branch> RitzTracer::switch_in_topology(const RitzModel
     why = "Newton with the critical mode's amplitude held off the bifurcation point did not converge";
     return std::nullopt;
   }
-  return branch_from(model, x, lambda, static_cast<int>(held), mode[held] > 0.0 ? 1.0 : -1.0, why);
+  std::optional<Branch> branch =
+      branch_from(model, x, lambda, static_cast<int>(held), mode[held] > 0.0 ? 1.0 : -1.0, why);
+  if (branch) {
+    ReturnWatch watch;
+    watch.mode = mode.head(model.amplitudes()).normalized();
+    watch.at = watch.mode.dot(at.x.head(model.amplitudes()));
+    watch.departure = watch.mode.dot(branch->point.x.head(model.amplitudes())) > watch.at ? 1.0 : -1.0;
+    watch.lambda = at.lambda;
+    branch->watch = std::move(watch);
+  }
+  return branch;
+}
+
+PathPoint RitzTracer::refined_crossing(const RitzModel& model, const PathFollower& follower, PathPoint near) const {
+  const int amplitudes = model.amplitudes();
+  PathPoint guess = near;
+  guess.x.head(amplitudes) -= (watch_->mode.dot(near.x.head(amplitudes)) - watch_->at) * watch_->mode;
+  const auto solved = [&](double lambda) { return follower.step_to_lambda(guess, lambda, &guess.x).point; };
+  std::optional<PathPoint> a = solved(near.lambda);
+  if (!a) return near;
+  double margin_a = model.stability_margin(a->x, a->lambda);
+  std::optional<PathPoint> b = solved(near.lambda + 1e-6 * lambda_size());
+  for (int iteration = 0; b && iteration < 30; ++iteration) {
+    const double margin_b = model.stability_margin(b->x, b->lambda);
+    if (std::abs(b->lambda - a->lambda) <= 0.1 * options_.event_tolerance || margin_b == 0.0) return *b;
+    if (margin_b == margin_a) break;
+    const double lambda = b->lambda - margin_b * (b->lambda - a->lambda) / (margin_b - margin_a);
+    a = std::move(b);
+    margin_a = margin_b;
+    b = solved(lambda);
+  }
+  return near;
+}
+
+double RitzTracer::in_topology_offset(const RitzModel& model, const PathPoint& at, const VectorXd& mode,
+                                      Eigen::Index& held) const {
+  mode.head(model.amplitudes()).cwiseAbs().maxCoeff(&held);
+  // A step off the point of 1e-3 of w's size along the mode: small beside the branch's own
+  // curvature, large beside Newton's tolerance (1e-12).
+  const double w_size = std::max(w_scale(model, at.x), 1e-300);
+  return 1e-3 * w_size / std::abs(mode[held]);
 }
 
 bool RitzTracer::solve_with_held(const RitzModel& model, int held, const VectorXd& residual_scale, VectorXd& x,
@@ -1588,7 +1688,7 @@ std::optional<RitzTracer::Branch> RitzTracer::branch_from(RitzModel model, const
     why = "no tangent at the branch's first point: " + newton.message;
     return std::nullopt;
   }
-  return Branch{std::move(model), std::move(*point), newton.iterations};
+  return Branch{std::move(model), std::move(*point), newton.iterations, std::nullopt};
 }
 
 TraceResult RitzTracer::run() {
@@ -1692,12 +1792,16 @@ TraceResult RitzTracer::run() {
                     fmt::format("amplitude {:.6g} reached (max_amplitude = {:.6g}) at lambda = {:.10g}{}: {}{}",
                                 result_.steps.back().amplitude, *options_.max_amplitude,
                                 result_.summary.final_load_factor, limit_note(), figures(), resolution_note()));
+    if (rejoined_)
+      return finish(TraceTermination::completed,
+                    fmt::format("{}{}: {}{}", *rejoined_, limit_note(), figures(), resolution_note()));
     if (pending_ && !switch_topology(follower))
       return finish(result_.summary.termination, fmt::format("{}; {}", result_.summary.message, figures()));
     if (branch_) {
       Branch branch = std::move(*branch_);
       branch_.reset();
       model_.emplace(std::move(branch.model));
+      watch_ = std::move(branch.watch);
       rescale(*model_, branch.point);
       record_step(*model_, branch.point, branch.iterations, branch_step_);
       start = branch.point;

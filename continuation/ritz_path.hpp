@@ -67,10 +67,21 @@
 //   zone would grow in its own topology), one that pushes a lift-off piece into the foundation, a
 //   Newton that fails. The bifurcation point itself is no step (a trace resumed from the step
 //   before finds the switch again). Von Karman members on a bilateral foundation switch within
-//   their topology (nothing lifts off): the first point holds the mode's largest amplitude 1e-3
+//   their topology (nothing lifts off), and so do those on a tensionless one where the mode
+//   lifts nothing off within ten times the first point's offset below (the shallow arch's
+//   asymmetric branch lifts off at an end only at |A2| = A1 / 2: a limit_at_support event on the
+//   branch, and the zone closes again where the branch is back in contact; tested against the
+//   closed form's two roots): the first point holds the mode's largest amplitude 1e-3
 //   of w's size off the bifurcation point, lambda free (the shallow arch's asymmetric branch,
-//   tested against its closed form). Where that branch meets the path again at a second
-//   bifurcation the tracer switches again and shuttles between the two points: not handled.
+//   tested against its closed form). Such a branch is watched (across its topology switches) for its return to the path
+//   it left: its amplitude along the critical mode back at the bifurcation point's value, located on that amplitude and
+//   then on stability_margin along the path it rejoins (the crossing, a second bifurcation point). It is recorded as a
+//   step and a `bifurcation` event ("... meets the path it left again at lambda = ...; the switched branch ends here")
+//   and the trace ends there, completed, its message saying so: beyond the crossing the branch is its own mirror image
+//   back to the first point (followed on, the path shuttled between the two), and the path it rejoins is the one a
+//   trace without switch_branch follows. (The shallow arch: the asymmetric branch rejoins the symmetric path at t = +tB
+//   if the load is positive there; tested against both closed-form loads, unstable branch for kappa < 4, stable for
+//   kappa > 4.) A trace resumed from a step on the branch does not watch (it does not know the mode).
 // - Steps carry a resumable state: state_topology a path::RitzTopology (with the opening at a
 //   switching event, whose switch a resumed trace redoes) and
 //   state = (x, tangent_x, tangent_lambda, next step length, amplitude scale of the metric),
