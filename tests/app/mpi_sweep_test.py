@@ -25,13 +25,9 @@ import tempfile
 import h5py
 import numpy as np
 
-failures = []
-
-
-def check(ok, what):
-    print(("ok      " if ok else "FAILED  ") + what)
-    if not ok:
-        failures.append(what)
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "support"))
+from checks import check, finish  # noqa: E402
 
 
 def mpirun(ranks):
@@ -139,9 +135,8 @@ def main():
         check(r.returncode == 2, f"bad scene, -np 2: exit 2 (got {r.returncode})")
         check(len(lines) == 1 and "bad.toml" in lines[0], f"bad scene, -np 2: one line naming the file ({lines})")
         check(not os.path.exists(h5) and not os.path.exists(h5 + ".tmp"), "bad scene, -np 2: no output file")
-    print(f"{len(failures)} failure(s)")
-    return 1 if failures else 0
+    finish()
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    main()

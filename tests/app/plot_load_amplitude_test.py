@@ -31,19 +31,12 @@ import numpy as np  # noqa: E402
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.join(HERE, "..", "..")
 sys.path.insert(0, HERE)
+sys.path.insert(0, os.path.join(HERE, "..", "support"))
+from checks import check, finish  # noqa: E402
 import upheaval_fixture  # noqa: E402
 
 SCENE = os.path.join(ROOT, "continuation", "scenes", "pipeline_upheaval.toml")
 FE_BLUE, RITZ_RED = (31, 119, 180), (214, 39, 40)
-failures = []
-
-
-def check(condition, what):
-    print(("ok    " if condition else "FAIL  ") + what)
-    if not condition:
-        failures.append(what)
-
-
 def pixels(path):
     return np.round(matplotlib.image.imread(path)[:, :, :3] * 255).astype(int)
 
@@ -148,9 +141,7 @@ def main():
             drew(plot(path), picture_names(os.path.join(tmp, name), beam_column=False), f"plot {name} trace")
             check(not os.path.exists(os.path.join(tmp, name + "_load_amplitude.png")),
                   f"{name}: no load-amplitude figure")
-    if failures:
-        print(f"{len(failures)} check(s) failed", file=sys.stderr)
-        sys.exit(1)
+    finish()
 
 
 if __name__ == "__main__":

@@ -28,13 +28,9 @@ matplotlib.use("Agg")
 import matplotlib.image  # noqa: E402
 import numpy as np  # noqa: E402
 
-failures = []
-
-
-def check(condition, what):
-    print(("ok    " if condition else "FAIL  ") + what)
-    if not condition:
-        failures.append(what)
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "support"))
+from checks import check, finish  # noqa: E402
 
 
 def run(liftoff, *args):
@@ -320,9 +316,7 @@ def main():
         nowhere = os.path.join(tmp, "no_such_directory", "p")
         error(run(liftoff, "plot", os.path.join(tmp, "beam.h5"), "--out", nowhere), 4, nowhere,
               "plot into a directory that does not exist")
-    if failures:
-        print(f"{len(failures)} check(s) failed", file=sys.stderr)
-        sys.exit(1)
+    finish()
 
 
 def text(value):

@@ -37,9 +37,8 @@ ROOT = os.path.join(HERE, "..", "..")
 sys.path.insert(0, os.path.join(ROOT, "verification", "plots"))
 import plot  # noqa: E402
 
-sys.path.insert(0, HERE)
-# The plot tests' one checker (prints ok/FAIL, collects the failures).
-from plot_load_amplitude_test import check, failures  # noqa: E402
+sys.path.insert(0, os.path.join(HERE, "..", "support"))
+from checks import check, finish  # noqa: E402
 
 SCENES = os.path.join(ROOT, "verification", "scenes", "von_karman")
 
@@ -131,12 +130,8 @@ def main():
                   f"steel strip: N {-last['axial_force']:.6g} N tension against 154820")
         drawn(args.liftoff, h5, os.path.join(tmp, "strip"))
         check(ordinate(h5) == "lambda", "steel strip: the lift-off map is drawn against lambda (no limit point)")
-    if failures:
-        print(f"{len(failures)} check(s) failed")
-        return 1
-    print("all checks passed")
-    return 0
+    finish()
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    main()

@@ -22,21 +22,14 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.join(HERE, "..", "..")
 sys.path.insert(0, os.path.join(HERE, "..", "app"))
+sys.path.insert(0, os.path.join(HERE, "..", "support"))
+from checks import check, finish  # noqa: E402
 sys.path.insert(0, os.path.join(ROOT, "verification", "closed_form"))
 import check_upheaval_trace  # noqa: E402
 import upheaval_fixture  # noqa: E402
 
 SCRIPT = os.path.join(ROOT, "verification", "closed_form", "check_upheaval_trace.py")
 SCENE = os.path.join(ROOT, "continuation", "scenes", "pipeline_upheaval.toml")
-failures = []
-
-
-def check(condition, what):
-    print(("ok    " if condition else "FAIL  ") + what)
-    if not condition:
-        failures.append(what)
-
-
 def run(*args):
     return subprocess.run(["/usr/bin/python3", SCRIPT, *args], capture_output=True, text=True, timeout=300)
 
@@ -97,9 +90,7 @@ def main():
         lines = r.stderr.strip().splitlines()
         check(r.returncode == 2 and len(lines) == 1 and "loads[2].kind" in lines[0] and other in lines[0],
               f"a scene with no closed form: exit 2, one line naming the key ({lines})")
-    if failures:
-        print(f"{len(failures)} check(s) failed", file=sys.stderr)
-        sys.exit(1)
+    finish()
 
 
 if __name__ == "__main__":

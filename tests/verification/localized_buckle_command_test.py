@@ -22,14 +22,9 @@ import subprocess
 import sys
 import tempfile
 
-failures = []
-
-
-def check(condition, what):
-    print(("ok    " if condition else "FAIL  ") + what)
-    if not condition:
-        failures.append(what)
-
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "support"))
+from checks import check, finish  # noqa: E402
 
 SCENE = """[structure]
 kind = "beam"
@@ -154,12 +149,6 @@ def main():
         r, _ = run(program, base, "--points", "0", tmp=tmp)
         check(r.returncode == 2 and "--points" in r.stderr, f"--points 0: exit 2 naming --points ({r.stderr.strip()})")
     finish()
-
-
-def finish():
-    if failures:
-        print(f"{len(failures)} check(s) failed", file=sys.stderr)
-        sys.exit(1)
 
 
 if __name__ == "__main__":
