@@ -10,6 +10,7 @@ section of verification/report/report.md (section 5). verification/report.py cal
 """
 import argparse
 import csv
+import math
 import os
 
 import matplotlib
@@ -65,9 +66,15 @@ def figure(rows, out):
     return name
 
 
+def crossing(load_factor, top):
+    """A 1 % load factor as the report prints it (nan in the CSV: the history, up to `top`, never reached 1 %)."""
+    return f"> {top:g}" if math.isnan(load_factor) else f"{load_factor:.4f}"
+
+
 def section(rows, crossings):
     fine = int(max(r["elements"] for r in rows))
     coarse = int(min(r["elements"] for r in rows))
+    top = max(r["load_factor"] for r in rows)
 
     def at(ends, elements, lam):
         return next(r for r in rows if r["ends"] == ends and r["elements"] == elements
@@ -90,12 +97,12 @@ def section(rows, crossings):
                   f"{r['half_angle_vk'] / r['half_angle_linear'] - 1:+.1%} | {r['thrust_linear'] * EI / R**2:.4f} | "
                   f"{r['thrust_vk'] * EI / R**2:+.4f} |")
     md += ["", "The load factor at which each difference first reaches 1 % (bisection on the load factor to "
-           "5e-5, on both meshes; `nan`: not reached by lambda = 2):", "",
+           f"5e-5, on both meshes; > {top:g}: not reached up to lambda = {top:g}):", "",
            f"| ends | crown deflection, {fine} el. | {coarse} el. | contact half-angle, {fine} el. | {coarse} el. |",
            "|---|---|---|---|---|"]
     for ends in ENDS:
         a, b = crossings[(ends, fine)], crossings[(ends, coarse)]
-        md.append(f"| {ends} | {a[0]:.4f} | {b[0]:.4f} | {a[1]:.4f} | {b[1]:.4f} |")
+        md.append("| " + " | ".join([ends] + [crossing(v, top) for v in (a[0], b[0], a[1], b[1])]) + " |")
     md += ["", "Along the history (pinned ends, " + str(fine) + " elements; the CSV has every step and end):", "",
            "| lambda | w(0) diff | half-angle linear | half-angle von Karman | thrust -N(0) linear | von Karman |",
            "|---|---|---|---|---|---|"]
@@ -147,6 +154,10 @@ def main():
     parser.add_argument("csv")
     parser.add_argument("--out", default=".")
     args = parser.parse_args()
+    if not os.path.isfile(args.csv):
+        parser.error(f"{args.csv}: no such file (expected seed_arch_departure's --csv output)")
+    if not os.path.isdir(args.out):
+        parser.error(f"--out {args.out}: no such directory")
     rows, crossings = read(args.csv)
     print(figure(rows, args.out))
     print("\n".join(section(rows, crossings)))

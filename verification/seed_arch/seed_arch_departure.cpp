@@ -7,6 +7,8 @@
 //
 //   seed_arch_departure [--elements N] [--max-factor F] [--step S] [--csv FILE]
 // prints a table per end condition and mesh (N and N / 2), and writes every row to FILE.
+#include <fmt/format.h>
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -98,12 +100,15 @@ int main(int argc, char** argv) {
         if (std::isnan(unstable_at) && !row.von_karman.stable) unstable_at = lambda;
         previous = lambda;
       }
-      std::printf(
-          "1 %% departure (bisection, +-5e-5 in lambda): crown deflection at lambda = %.4f, contact "
-          "half-angle at lambda = %.4f; %s\n",
-          first_deflection, first_angle,
-          std::isnan(unstable_at) ? "stable throughout"
-                                  : ("first unstable answer at lambda = " + std::to_string(unstable_at)).c_str());
+      // nan: the history never departed by 1 %.
+      const auto at = [&](double crossing) {
+        return std::isnan(crossing) ? fmt::format("not reached up to lambda = {:g}", max_factor)
+                                    : fmt::format("at lambda = {:.4f}", crossing);
+      };
+      std::printf("1 %% departure (bisection, +-5e-5 in lambda): crown deflection %s, contact half-angle %s; %s\n",
+                  at(first_deflection).c_str(), at(first_angle).c_str(),
+                  std::isnan(unstable_at) ? "stable throughout"
+                                          : fmt::format("first unstable answer at lambda = {:g}", unstable_at).c_str());
       if (csv)
         std::fprintf(csv, "# %s,%d,crossing_deflection=%.6f,crossing_half_angle=%.6f\n", ends, n, first_deflection,
                      first_angle);
