@@ -643,11 +643,22 @@ def folds(p):
     return bool(np.any(d > 0) and np.any(d < 0))
 
 
+def event_value(p, key, lam, step):
+    """p[key] at an event of a folding path (where the nearest lambda may lie on the other branch),
+    within the event's own step, the last one written before it: the event is that step (a limit
+    point) or lies between it and the next (a bifurcation located inside a step)."""
+    v = p[key]
+    if step + 1 < len(v):
+        l0, l1 = p["lambda"][step], p["lambda"][step + 1]
+        if l0 != l1 and min(l0, l1) <= lam <= max(l0, l1):
+            return v[step] + (lam - l0) / (l1 - l0) * (v[step + 1] - v[step])
+    return v[step]
+
+
 def event_w(p, lam, step):
-    """w at an event: interpolated in lambda on a monotonic path, the event's own step on a folding one
-    (where the nearest lambda may lie on the other branch)."""
+    """w at an event: interpolated in lambda on a monotonic path, event_value on a folding one."""
     if folds(p) and 0 <= step < len(p["w"]):
-        return p["w"][step]
+        return event_value(p, "w", lam, step)
     return interpolate_w(p, lam)
 
 
@@ -765,7 +776,7 @@ def lift_off_map(trace, out, output):
                           "load factor lambda")
     fig.suptitle(f"{os.path.basename(trace['scene'])}: lift-off map" +
                  ("\nagainst the buckle amplitude (lambda passes a limit point)" if by_amplitude else
-                  f"\nagainst the deflection at {where} (lambda passes a limit point)" if by_deflection else
+                  f"\nagainst the deflection at {where} (lambda turns back along the path)" if by_deflection else
                   "\nagainst the path length (lambda and w pass limit points)" if by_path_length else ""),
                  fontsize=10)
     handles, labels = axes[0][0].get_legend_handles_labels()
@@ -779,7 +790,7 @@ def lift_off_map(trace, out, output):
         if p is None:
             continue
         for (event_lambda, kind, at), step in zip(p["events"], p["event_steps"]):
-            y = p[y_key][step] if y_key != "lambda" else event_lambda
+            y = event_value(p, y_key, event_lambda, step) if y_key != "lambda" else event_lambda
             if y_key != "lambda" and kind in ("limit_point", "bifurcation"):
                 # Where the path turns in lambda (or branches): across the member, as the level the
                 # map's branches meet at.
