@@ -119,8 +119,12 @@ class Tracer {
   // state that passes already is not corrected (most are: the corrector's last Newton step
   // usually takes it to round-off). Not at fixed lambda on an arc-length path: near a limit
   // point G_y is nearly singular and such a correction would move the state along its null
-  // vector; the bordered matrix is regular there.
-  PathPoint polished(const ContactSet& set, const PathPoint& point, bool fixed_lambda) const {
+  // vector; the bordered matrix is regular there. With `mode` (at fixed lambda on a bifurcation
+  // point, where G_y is singular along the critical mode phi: the switched branch's return), the
+  // border is phi instead, [G_y phi; phi^T 0] (dy, mu) = (-G, 0): regular there (phi spans G_y's
+  // null space, so it is not in its range), the state's component along phi held, lambda fixed.
+  PathPoint polished(const ContactSet& set, const PathPoint& point, bool fixed_lambda,
+                     const VectorXd* mode = nullptr) const {
     PathPoint best = point;
     VectorXd g;
     if (!residual(set, best.x, best.lambda, g)) return point;
@@ -143,6 +147,11 @@ class Tracer {
       normal = point.tangent_x.cwiseProduct(unknown_scale(set).array().square().matrix());
     VectorXd g_lambda = VectorXd::Zero(best.x.size());
     g_lambda.head(n_) = -live_;
+    if (mode) {
+      if (mode->size() != best.x.size()) return best;
+      fixed_lambda = true;
+      g_lambda = normal = *mode;
+    }
     const int size = static_cast<int>(best.x.size());
     if (!(norm > 0.0)) return best;
     // [J G_lambda; normal^T t_lambda] (dy, dl) = (-G, 0) as one sparse system: eliminating dy
@@ -159,7 +168,7 @@ class Tracer {
       if (g_lambda[i] != 0.0) t.emplace_back(i, size, g_lambda[i]);
       if (normal[i] != 0.0) t.emplace_back(size, i, normal[i]);
     }
-    t.emplace_back(size, size, fixed_lambda ? 1.0 : point.tangent_lambda);
+    t.emplace_back(size, size, mode ? 0.0 : fixed_lambda ? 1.0 : point.tangent_lambda);
     SparseMatrix bordered(size + 1, size + 1);
     bordered.setFromTriplets(t.begin(), t.end());
     Eigen::SparseLU<SparseMatrix> lu(bordered);
@@ -171,7 +180,7 @@ class Tracer {
       if (lu.info() != Eigen::Success || !step.allFinite()) break;
       PathPoint next = best;
       next.x = best.x + step.head(size);
-      next.lambda = best.lambda + step[size];
+      if (!mode) next.lambda = best.lambda + step[size];
       VectorXd g_next;
       if (!residual(set, next.x, next.lambda, g_next)) break;
       const double norm_next = measure(next, g_next);
@@ -226,13 +235,26 @@ class Tracer {
     return negative - set.size();
   }
 
-  // The eigenvector of S of the eigenvalue nearest zero, with its reactions' response (the full
-  // tangent direction (phi, T_AA^-1 C_A phi)), by inverse iteration with the saddle factor.
-  VectorXd null_vector(const ContactSet& set, const VectorXd& y) const {
+  // The eigenvalue of S nearest zero and its eigenvector, with its reactions' response (the full
+  // tangent direction (phi, T_AA^-1 C_A phi)), by inverse iteration with the saddle factor: a solve
+  // with (v, 0) gives (S^-1 v, T_AA^-1 C_A S^-1 v). The eigenvalue is the Rayleigh quotient of the
+  // last iterate u = S^-1 v, u.S u / u.u = u.v / u.u, signed (NaN if the factor fails); its
+  // round-off is about eps |A|_inf, A the saddle matrix (a backward-stable solve is exact for a
+  // matrix that close to A; the secant below saw 0.02 to 0.1 of it, at 16 to 64 elements).
+  struct Eigenpair {
+    VectorXd vector;
+    double value = std::numeric_limits<double>::quiet_NaN();
+    double round_off = std::numeric_limits<double>::quiet_NaN();
+  };
+  Eigenpair nearest_eigenpair(const ContactSet& set, const VectorXd& y) const {
     const SparseMatrix a = saddle(set, y);
     Eigen::SparseLU<SparseMatrix> lu(a);
-    VectorXd full = VectorXd::Zero(a.rows());
-    if (lu.info() != Eigen::Success) return full;
+    Eigenpair pair;
+    VectorXd& full = pair.vector;
+    full = VectorXd::Zero(a.rows());
+    if (lu.info() != Eigen::Success) return pair;
+    pair.round_off =
+        std::numeric_limits<double>::epsilon() * (SparseMatrix(a.cwiseAbs()) * VectorXd::Ones(a.cols())).maxCoeff();
     VectorXd v = VectorXd::LinSpaced(n_, 1.0, 2.0);  // deterministic, not orthogonal to a mode
     for (int i = 0; i < n_; ++i) v[i] = std::sin(1.0 + 0.7 * i);
     v.normalize();
@@ -240,6 +262,7 @@ class Tracer {
       VectorXd rhs = VectorXd::Zero(a.rows());
       rhs.head(n_) = v;
       full = lu.solve(rhs);
+      pair.value = full.head(n_).dot(v) / full.head(n_).squaredNorm();
       const VectorXd next = full.head(n_).normalized();
       const double change = std::min((next - v).norm(), (next + v).norm());
       v = next;
@@ -249,8 +272,10 @@ class Tracer {
     Eigen::Index largest = 0;
     full.head(n_).cwiseAbs().maxCoeff(&largest);
     if (full[largest] < 0) full = -full;
-    return full;
+    return pair;
   }
+  // Its eigenvector alone: the critical mode at a bifurcation point.
+  VectorXd null_vector(const ContactSet& set, const VectorXd& y) const { return nearest_eigenpair(set, y).vector; }
 
   // The step of a point on the set (user units).
   TraceStep step_of(const ContactSet& set, const PathPoint& p, const SpecialPoints& points,
@@ -445,8 +470,9 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
     return tracer.polished(on, p, fixed_lambda);
   };
   bool amplitude_reached = false;
-  const auto record_point = [&](const ContactSet& on, const PathPoint& corrected) {
-    const PathPoint p = polish(on, corrected);
+  // `p` as polish() (or Tracer::polished at fixed lambda) left it: the observer decides on the
+  // polished point, and a second polish would cost a factorisation and two certificates a step.
+  const auto record_point = [&](const ContactSet& on, const PathPoint& p) {
     const certify::Certificate certificate =
         live_load ? certify::Certificate{} : tracer.certificate(on, p.x, p.lambda, options);
     if (!live_load && !certificate.passed) {
@@ -466,7 +492,7 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
     if (sink.on_event) sink.on_event(result.events.back());
   };
   const auto crown = [&](const PathPoint& p) { return tracer.step_of(set, p, points, options).monitor_deflection; };
-  if (!record_point(set, *point)) return finish(TraceTermination::solver_failure, not_certified);
+  if (!record_point(set, polish(set, *point))) return finish(TraceTermination::solver_failure, not_certified);
 
   // The events of switching `flipped` in the node set `before` (at lambda), from the node set's
   // pieces: a node leaving inside a piece opens a lift-off zone, the last node of a piece leaving
@@ -523,6 +549,60 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
   VectorXd branch_mode, branch_origin;
   double branch_peak = 0.0;
   constexpr double branch_accuracy = 1e-7;
+  // The crossing of the switched branch with the path it left, from `near` (the return located on
+  // the amplitude along the mode, which vanishes all along the path it rejoins, so that the locate
+  // lands on that path but not at the crossing: 16 / 32 elements, kappa = 2: 13.4290 / 13.4329,
+  // kappa = 8: 88.6184 / 89.3594, against 13.46827 / 88.61662): a secant in lambda on the
+  // eigenvalue of S nearest zero (Tracer::nearest_eigenpair), each point solved at fixed lambda
+  // from `near` less its mode component and polished there bordered by its critical mode (the
+  // solve's tolerance alone left 2.5e-7 in the crossing's lambda at 32 elements, kappa = 8, and
+  // broke the load's order 4 at 64 elements), to event_tolerance in lambda, as the Ritz path does
+  // (ritz_path.cpp, RitzTracer::refined_crossing). That eigenvalue is zero at the crossing and
+  // linear in lambda beside it: on the symmetric path S commutes with the mirror, so its
+  // antisymmetric block's lowest eigenvalue is simple and smooth in lambda, and it vanishes where
+  // the thrust reaches the antisymmetric mode's critical value, a simple root since the thrust
+  // changes at a rate away from a limit point (the closed form's two bifurcation loads are the
+  // distinct roots of a quadratic). Near the crossing it is the eigenvalue nearest zero (S is
+  // regular on the symmetric modes off a limit point). nullopt if a solve fails, lands off that
+  // path (its amplitude along the mode above 1e-3 of the branch's peak) or the secant does not
+  // converge in 30 iterations: the caller keeps `near` and says so.
+  struct Crossing {
+    PathPoint point;
+    VectorXd mode;  // the saddle matrix's null vector there (Tracer::nearest_eigenpair)
+  };
+  const auto refined_crossing = [&](const PathFollower& follower, const ContactSet& on,
+                                    const PathPoint& near) -> std::optional<Crossing> {
+    // Near the crossing the solves amplify round-off along the mode by 1 / that eigenvalue (seen:
+    // 1e-6 of the branch's peak); a point 1e-3 of it off the path would be on the branch.
+    const double off_path = 1e-3 * branch_peak;
+    PathPoint guess = near;
+    guess.x.head(n) -= branch_mode.dot(near.x.head(n) - branch_origin) * branch_mode;
+    const auto solved = [&](double lambda) -> std::optional<PathPoint> {
+      std::optional<PathPoint> p = follower.step_to_lambda(guess, lambda, &guess.x).point;
+      if (!p) return p;
+      const VectorXd mode = tracer.nearest_eigenpair(on, p->x).vector;
+      p = tracer.polished(on, *p, true, &mode);
+      if (p && !(std::abs(branch_mode.dot(p->x.head(n) - branch_origin)) <= off_path)) return std::nullopt;
+      return p;
+    };
+    std::optional<PathPoint> a = solved(near.lambda);
+    if (!a) return std::nullopt;
+    double margin_a = tracer.nearest_eigenpair(on, a->x).value;
+    std::optional<PathPoint> b = solved(near.lambda + 1e-6 * std::max(1.0, std::abs(near.lambda)));
+    for (int iteration = 0; b && iteration < 30; ++iteration) {
+      // Converged: the last secant step within event_tolerance, or the eigenvalue zero within its
+      // round-off (at 64 elements ~5e-11 against a slope ~0.1: 1e-9 in lambda, above the tolerance).
+      const Tracer::Eigenpair margin = tracer.nearest_eigenpair(on, b->x);
+      if (std::abs(b->lambda - a->lambda) <= options.event_tolerance || std::abs(margin.value) <= margin.round_off)
+        return Crossing{std::move(*b), margin.vector};
+      if (!std::isfinite(margin.value) || margin.value == margin_a) break;
+      const double lambda = b->lambda - margin.value * (b->lambda - a->lambda) / (margin.value - margin_a);
+      a = std::move(b);
+      margin_a = margin.value;
+      b = solved(lambda);
+    }
+    return std::nullopt;
+  };
   std::optional<double> first_step;
   const auto amplitude_message = [&] {
     return fmt::format("max_amplitude = {:.6g} reached at lambda = {:.10g} (amplitude {:.6g})", *options.max_amplitude,
@@ -566,16 +646,24 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
         const double zero = branch_accuracy * branch_peak;
         const auto amplitude = [&](const PathPoint& p) { return branch_mode.dot(p.x.head(n) - branch_origin) - zero; };
         if (amplitude(accepted) <= 0.0 && amplitude(previous) > 0.0) {
-          if (auto located = follower.locate(previous, accepted, amplitude, options.event_tolerance))
-            accepted = std::move(*located);
+          std::optional<PathPoint> located = follower.locate(previous, accepted, amplitude, options.event_tolerance);
+          const std::optional<Crossing> crossing = refined_crossing(follower, set, located ? *located : accepted);
+          if (crossing)  // polished at the crossing's lambda, bordered by its critical mode
+            accepted = tracer.polished(set, crossing->point, true, &crossing->mode);
+          else if (located)
+            accepted = polish(set, *located);
           if (!record_point(set, accepted)) {
             failure = not_certified;
             return ObserverVerdict::stop;
           }
           record_event({accepted.lambda, EventKind::bifurcation, options.monitor,
                         fmt::format("the bifurcated branch meets the path it left at lambda = {:.10g} (crown "
-                                    "deflection {:.6g}): the trace ends here",
-                                    accepted.lambda, crown(accepted))});
+                                    "deflection {:.6g}){}: the trace ends here",
+                                    accepted.lambda, crown(accepted),
+                                    crossing ? ""
+                                             : "; not located on the crossing (the secant on the tangent's eigenvalue "
+                                               "nearest zero did not converge): the point where the branch's amplitude "
+                                               "vanished")});
           ++bifurcations;
           rejoined = true;
           return ObserverVerdict::stop;
@@ -652,7 +740,7 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
         if (auto located = follower.locate(previous, accepted, t_lambda, options.event_tolerance)) {
           // Recorded as a step of its own: the curve passes through its extremum, and the event's
           // step is the limit point itself (the pictures draw it there).
-          if (!record_point(set, *located)) {
+          if (!record_point(set, polish(set, *located))) {
             failure = not_certified;
             return ObserverVerdict::stop;
           }
@@ -773,7 +861,8 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
         return finish(
             TraceTermination::solver_failure,
             fmt::format("no point found on the bifurcated branch at lambda = {:.10g}: {}", b.lambda, counts()));
-      if (!record_point(set, *branch)) return finish(TraceTermination::solver_failure, not_certified + ": " + counts());
+      if (!record_point(set, polish(set, *branch)))
+        return finish(TraceTermination::solver_failure, not_certified + ": " + counts());
       point = std::move(branch);
       if (amplitude_reached) return finish(TraceTermination::completed, amplitude_message());
       continue;

@@ -44,8 +44,18 @@
 //    branch is followed until its amplitude along that vector changes sign (it meets the path it
 //    left, or its mirror image begins: a shallow arch's asymmetric branch is a closed loop; zero
 //    meaning within 1e-7 of the largest amplitude it reached, the states' accuracy: a step can land
-//    on the path itself, where the amplitude's sign is the state's round-off): located,
-//    recorded as a `bifurcation` event, and the trace ends there (completed, the message says so).
+//    on the path itself, where the amplitude's sign is the state's round-off): located on that
+//    amplitude, which lands on the path it rejoins but not at the crossing (the amplitude vanishes
+//    all along that path), then refined there as the Ritz path does: from the located point less
+//    its mode component, re-solved at fixed lambda (PathFollower::step_to_lambda, each point
+//    polished bordered by the critical mode), a secant in lambda on the eigenvalue of S nearest
+//    zero (inverse iteration with the saddle factor; zero at the crossing and linear in lambda
+//    beside it) to event_tolerance in lambda or to that eigenvalue's round-off (eps times the
+//    saddle matrix's norm). The crossing is recorded as a `bifurcation` event and a step (polished
+//    at its lambda bordered by the critical mode, certified), and the trace ends there (completed,
+//    the message says so). If the secant does not converge (or a solve fails or lands off the
+//    path) the located point is recorded instead and the event's description says it is not on
+//    the crossing.
 //    A step that holds a limit point and a stability change, or two changes, is retried shorter
 //    (down to 100 min_step) so that each is located on its own.
 // Per step: crown (TraceOptions::monitor) deflection, w and r at the sample points, contact regions,
