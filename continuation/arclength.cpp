@@ -375,6 +375,7 @@ ArcLengthResult PathFollower::follow(const PathPoint& start_point, const StepObs
   const ArcLengthOptions& o = options_;
   const bool arc = o.control == PathControl::arc_length;
   double ds = std::clamp(first_step.value_or(o.initial_step), o.min_step, o.max_step);
+  result.step_length = ds;
   int accepted = 0;
 
   while (true) {
@@ -462,6 +463,7 @@ ArcLengthResult PathFollower::follow(const PathPoint& start_point, const StepObs
 
     result.points.push_back(std::move(to));
     ++accepted;
+    result.step_length = ds;
     if (stop) {
       result.termination = ArcLengthTermination::stopped_by_observer;
       result.message = fmt::format("stopped by the observer at lambda = {:.10g}", result.points.back().lambda);

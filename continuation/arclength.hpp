@@ -123,6 +123,9 @@ struct ArcLengthResult {
   std::string message;
   int rejected_steps = 0;
   int corrector_iterations = 0;
+  // The step length the run would have taken next (where it stopped: the length of its last step),
+  // so that a run continued from its last point (a new configuration) goes on at it.
+  double step_length = 0.0;
   nonlinear::NewtonSummary last_failure;  // the corrector's summary of the last rejected step
   bool is_usable() const { return termination == ArcLengthTermination::completed; }
   std::string brief_report() const;

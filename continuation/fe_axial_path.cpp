@@ -36,7 +36,7 @@ using fe_states::tie_tolerance;
 constexpr int max_bisections = 200;
 
 // Stable when the cone's critical factor on the present axial force exceeds 1.
-path::Stability cone_verdict(const stability::CriticalLoadResult& cone);
+continuation::Stability cone_verdict(const stability::CriticalLoadResult& cone);
 
 // The fixed-set state at one lambda.
 struct Point {
@@ -83,7 +83,7 @@ class AxialPath {
   // along_branch: only nodes weak along the set's branch count (at zero here and a little
   // further in lambda too, as on a strut that nothing presses down), not one passing zero here.
   std::optional<stability::CriticalLoadResult> cone_at(const Point& p, bool along_branch = false);
-  path::Stability stability_at(const Point& p);
+  continuation::Stability stability_at(const Point& p);
   // The count the path watches for bifurcations: the negative eigenvalues of set_'s tangent, or
   // where nodes are weakly active, 0 if the cone says stable and at least 1 if not.
   int instability(const Point& p);
@@ -219,31 +219,31 @@ int AxialPath::instability(const Point& p) {
   // (An infeasible state, beyond a breakpoint, has no cone: its negative reactions are no
   // weakly active nodes.)
   if (const auto cone = feasible(set_, p) ? cone_at(p, true) : std::nullopt) {
-    const path::Stability verdict = cone_verdict(*cone);
-    if (verdict == path::Stability::stable) return 0;
-    if (verdict == path::Stability::unstable) return std::max(negative_eigenvalues(set_, p.lambda), 1);
+    const continuation::Stability verdict = cone_verdict(*cone);
+    if (verdict == continuation::Stability::stable) return 0;
+    if (verdict == continuation::Stability::unstable) return std::max(negative_eigenvalues(set_, p.lambda), 1);
   }
   return negative_eigenvalues(set_, p.lambda);
 }
 
-path::Stability AxialPath::stability_at(const Point& p) {
+continuation::Stability AxialPath::stability_at(const Point& p) {
   const auto cone = cone_at(p);
-  if (!cone) return negative_eigenvalues(set_, p.lambda) == 0 ? path::Stability::stable : path::Stability::unstable;
+  if (!cone) return negative_eigenvalues(set_, p.lambda) == 0 ? continuation::Stability::stable : continuation::Stability::unstable;
   return cone_verdict(*cone);
 }
 
-path::Stability cone_verdict(const stability::CriticalLoadResult& cone) {
+continuation::Stability cone_verdict(const stability::CriticalLoadResult& cone) {
   switch (cone.termination) {
     case stability::StabilityTermination::critical_load_found:
-      return cone.critical_load_factor > 1.0 ? path::Stability::stable : path::Stability::unstable;
+      return cone.critical_load_factor > 1.0 ? continuation::Stability::stable : continuation::Stability::unstable;
     case stability::StabilityTermination::stable_for_all_factors:
-      return path::Stability::stable;
+      return continuation::Stability::stable;
     case stability::StabilityTermination::unstable_at_zero:
-      return path::Stability::unstable;
+      return continuation::Stability::unstable;
     case stability::StabilityTermination::not_converged:
       break;
   }
-  return path::Stability::unknown;
+  return continuation::Stability::unknown;
 }
 
 std::optional<ContactSet> AxialPath::start_set(double lambda) {
@@ -294,7 +294,7 @@ TraceStep AxialPath::step_at(const Point& p) {
   TraceStep step = fe_states::step_of(model_, d_, points_, options_, p.lambda,
                                       d_.expand_displacement(p.state.displacement), p.state.reaction, set_);
   step.axial_force = model_.axial_force(p.lambda) * model_.scales.force();
-  step.stability = on_neutral_branch_ ? path::Stability::unstable : stability_at(p);
+  step.stability = on_neutral_branch_ ? continuation::Stability::unstable : stability_at(p);
   return step;
 }
 

@@ -32,7 +32,7 @@
 // breakpoints, where the path is affine, by bisection on lambda to options.event_tolerance
 // with no further solve. TraceStep::state of an FE step holds the contact set that carries
 // the path on from it (1 = in contact, one per reaction node; state_topology
-// path::FeContactSet), so that a resumed trace restarts without a contact solve.
+// continuation::FeContactSet), so that a resumed trace restarts without a contact solve.
 //
 // A beam under an axial force (dead or live) is not linear in lambda: trace_fe hands it to
 // trace_fe_axial (fe_axial_path.hpp). Steps of both carry amplitude and lifted_length

@@ -35,7 +35,7 @@ TraceStep step_of(const model::MemberModel& model, const fe::Discretisation& d, 
   const LiftMeasures lift = lift_measures(model, d, displacement, points);
   step.amplitude = lift.amplitude;
   step.lifted_length = lift.lifted_length;
-  step.state_topology = path::FeContactSet{};
+  step.state_topology = continuation::FeContactSet{};
   step.state.assign(set.begin(), set.end());
   return step;
 }

@@ -289,9 +289,9 @@ class Tracer {
     if (!forces.empty()) mean /= static_cast<double>(forces.size());
     step.axial_force = -mean * model_.scales.force();
     const int negative = negative_eigenvalues(set, p.x);
-    step.stability = negative == 0  ? path::Stability::stable
-                     : negative > 0 ? path::Stability::unstable
-                                    : path::Stability::unknown;
+    step.stability = negative == 0  ? continuation::Stability::stable
+                     : negative > 0 ? continuation::Stability::unstable
+                                    : continuation::Stability::unknown;
     step.iterations = p.iterations;
     return step;
   }

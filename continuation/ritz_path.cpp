@@ -103,14 +103,14 @@ struct EventValue {
 
 // How the new zone is opened after an event: the old topology is continued this far in
 // lambda past the event (direction * delta), see switch_topology.
-using Opening = path::RitzOpening;
+using Opening = continuation::RitzOpening;
 
 // A resumed step's topology in words, for the messages that refuse it.
-std::string describe(const path::StateTopology& topology) {
-  if (const auto* r = std::get_if<path::RitzTopology>(&topology))
+std::string describe(const continuation::StateTopology& topology) {
+  if (const auto* r = std::get_if<continuation::RitzTopology>(&topology))
     return fmt::format("{} {} {}{}", r->first_in_contact ? 1 : 0, r->limits, r->modes,
                        r->at_event ? fmt::format(" event {} {}", r->at_event->direction, r->at_event->delta) : "");
-  return std::holds_alternative<path::FeContactSet>(topology) ? "an FE contact set" : "none";
+  return std::holds_alternative<continuation::FeContactSet>(topology) ? "an FE contact set" : "none";
 }
 
 // What a resumed step carries (see TraceStep::state): topology, x, tangent, next step length;
@@ -370,7 +370,7 @@ ResumeState RitzTracer::starting_state() {
   ResumeState state;
   if (options_.resume_from) {
     const TraceStep& step = *options_.resume_from;
-    const auto* topology = std::get_if<path::RitzTopology>(&step.state_topology);
+    const auto* topology = std::get_if<continuation::RitzTopology>(&step.state_topology);
     // 2 n + 3 values (x, tangent, next step, amplitude scale), or 2 n + 2 as liftoff wrote them
     // before the scale was stored.
     const bool scaled = step.state.size() % 2 == 1;
@@ -741,9 +741,9 @@ void RitzTracer::record_step(const RitzModel& model, const PathPoint& point, int
   step.lifted_length = b.lifted_length;
   if (model.can_lose_stability())  // else the energy is convex: stable, unchecked (unknown)
     step.stability =
-        model.stability_margin(point.x, point.lambda) > 0.0 ? path::Stability::stable : path::Stability::unstable;
+        model.stability_margin(point.x, point.lambda) > 0.0 ? continuation::Stability::stable : continuation::Stability::unstable;
   step.state_topology =
-      path::RitzTopology{model.topology().first_in_contact, model.topology().limits, modes_, at_event};
+      continuation::RitzTopology{model.topology().first_in_contact, model.topology().limits, modes_, at_event};
   const int n = static_cast<int>(point.x.size());
   step.state.resize(2 * n + 3);
   Eigen::Map<VectorXd> state(step.state.data(), 2 * n + 3);

@@ -82,7 +82,7 @@
 //   trace without switch_branch follows. (The shallow arch: the asymmetric branch rejoins the symmetric path at t = +tB
 //   if the load is positive there; tested against both closed-form loads, unstable branch for kappa < 4, stable for
 //   kappa > 4.) A trace resumed from a step on the branch does not watch (it does not know the mode).
-// - Steps carry a resumable state: state_topology a path::RitzTopology (with the opening at a
+// - Steps carry a resumable state: state_topology a continuation::RitzTopology (with the opening at a
 //   switching event, whose switch a resumed trace redoes) and
 //   state = (x, tangent_x, tangent_lambda, next step length, amplitude scale of the metric),
 //   so a resumed trace takes exactly the steps the original took. A resumed state that is no

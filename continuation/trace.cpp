@@ -26,6 +26,11 @@ void TraceOptions::validate(double member_begin, double member_end) const {
     fail(fmt::format("monitor: expected a position in [{}, {}], got {}", lo, hi, monitor));
   if (max_amplitude && !(*max_amplitude > 0.0))
     fail(fmt::format("max_amplitude: expected a length > 0, got {}", *max_amplitude));
+  for (double lambda : report_at)
+    if (!(lambda >= std::min(arc_length.lambda_min, arc_length.lambda_max) &&
+          lambda <= std::max(arc_length.lambda_min, arc_length.lambda_max)))
+      fail(fmt::format("report_at: expected load factors in [{}, {}], got {}", arc_length.lambda_min,
+                       arc_length.lambda_max, lambda));
   if (resume_from && !std::isfinite(resume_from->load_factor))
     fail("resume_from: the step's load factor must be finite");
 }

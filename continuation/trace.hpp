@@ -1,6 +1,5 @@
 #pragma once
-// The options of a load history, and the result types' names in this namespace (the types
-// themselves are path/trace.hpp, below io, which stores them).
+// The options of a load history (its result types: continuation/result.hpp).
 
 #include <optional>
 #include <vector>
@@ -8,19 +7,9 @@
 #include "contact/method.hpp"
 #include "continuation/arclength.hpp"
 #include "continuation/path_control.hpp"
-#include "path/trace.hpp"
+#include "continuation/result.hpp"
 
 namespace liftoff::continuation {
-
-using path::EventKind;
-using path::PathKind;
-using path::to_string;
-using path::TraceEvent;
-using path::TraceResult;
-using path::TraceSink;
-using path::TraceStep;
-using path::TraceSummary;
-using path::TraceTermination;
 
 // The options of one trace, nested as BifurcationKit nests them: the path follower's (which
 // hold the corrector's Newton options), then the models' own. One struct, filled once from the
@@ -48,6 +37,10 @@ struct TraceOptions {
   // that meets the contact conditions; false: report the bifurcation and stay on the path
   // (scene::TraceSettings::switch_branch).
   bool switch_branch = true;
+  // Load factors at which the state is wanted: each is located on the path wherever the path
+  // passes it (a folding path passes a value more than once) and recorded as a step of its own
+  // (TraceStep::requested). In the range [lambda_min, lambda_max].
+  std::vector<double> report_at;
   // Resume after this step (read back from an interrupted trace's file): the path restarts
   // from its lambda and state. It reports neither that step nor any event at or below its
   // lambda again: they are in the file already.

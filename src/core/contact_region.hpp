@@ -6,7 +6,7 @@
 //
 // The type does not fix the coordinate; whoever holds regions says which: the numerics (post,
 // ritz, continuation) hold s, the nondimensional arc length; what reaches the outputs
-// (io::SolveReport, path::TraceStep) holds the user's coordinate (x, or theta in degrees on an
+// (io::SolveReport, continuation::TraceStep) holds the user's coordinate (x, or theta in degrees on an
 // arch). The writers turn a region into the pair [begin, end] (JSON, HDF5 rows of two, CSV), so
 // the files' layout does not depend on this type.
 

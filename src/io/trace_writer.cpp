@@ -18,9 +18,9 @@
 
 namespace liftoff::io {
 
-using path::EventKind;
-using path::TraceEvent;
-using path::TraceStep;
+using continuation::EventKind;
+using continuation::TraceEvent;
+using continuation::TraceStep;
 
 namespace {
 
@@ -201,9 +201,9 @@ const StepColumn step_columns[] = {
     {"lifted_length", ColumnKind::number, 0, [](const TraceStep& s) { return std::vector<double>{s.lifted_length}; },
      [](TraceStep& s, std::vector<double> v) { s.lifted_length = v.at(0); }, nullptr, nullptr},
     {"stability", ColumnKind::text, 0, nullptr, nullptr,
-     [](const TraceStep& s) { return std::string(path::to_string(s.stability)); },
+     [](const TraceStep& s) { return std::string(continuation::to_string(s.stability)); },
      [](TraceStep& s, const std::string& t) {
-       const std::optional<path::Stability> v = from_string<path::Stability>(t);
+       const std::optional<continuation::Stability> v = from_string<continuation::Stability>(t);
        if (!v) throw OutputError(fmt::format("trace file: stability '{}' is not stable, unstable or unknown", t));
        s.stability = *v;
      }},
@@ -370,26 +370,26 @@ std::size_t step_count(const TraceFileRecord& record) {
 
 }  // namespace
 
-std::string state_topology_text(const path::StateTopology& topology) {
-  if (std::holds_alternative<path::FeContactSet>(topology)) return fe_contact_set_text;
-  const auto* ritz = std::get_if<path::RitzTopology>(&topology);
+std::string state_topology_text(const continuation::StateTopology& topology) {
+  if (std::holds_alternative<continuation::FeContactSet>(topology)) return fe_contact_set_text;
+  const auto* ritz = std::get_if<continuation::RitzTopology>(&topology);
   if (ritz == nullptr) return "";
   std::string text = fmt::format("{} {} {}", ritz->first_in_contact ? 1 : 0, ritz->limits, ritz->modes);
   if (ritz->at_event) text += fmt::format(" event {} {}", ritz->at_event->direction, ritz->at_event->delta);
   return text;
 }
 
-path::StateTopology parse_state_topology(const std::string& text) {
+continuation::StateTopology parse_state_topology(const std::string& text) {
   if (text.empty()) return std::monostate{};
-  if (text == fe_contact_set_text) return path::FeContactSet{};
+  if (text == fe_contact_set_text) return continuation::FeContactSet{};
   std::istringstream words(text);
   int first = -1;
-  path::RitzTopology ritz;
+  continuation::RitzTopology ritz;
   bool whole = static_cast<bool>(words >> first >> ritz.limits >> ritz.modes) && (first == 0 || first == 1);
   ritz.first_in_contact = first == 1;
   std::string word;
   if (whole && words >> word) {
-    path::RitzOpening opening;
+    continuation::RitzOpening opening;
     whole = word == "event" && words >> opening.direction >> opening.delta && !(words >> word);
     ritz.at_event = opening;
   }
@@ -580,19 +580,19 @@ void TraceWriter::append_event(const std::string& name, const TraceEvent& event)
   file_->each([&](hid_t id) {
     const auto steps = static_cast<double>(row_count(id, name + "/steps/lambda"));
     append_doubles(id, events("lambda"), {event.load_factor}, 1);
-    append_string(id, events("kind"), std::string(path::to_string(event.kind)));
+    append_string(id, events("kind"), std::string(continuation::to_string(event.kind)));
     append_doubles(id, events("at"), {event.at}, 1);
     append_string(id, events("description"), event.description);
     append_doubles(id, events("step"), {std::max(0.0, steps - 1)}, 1);
   });
 }
 
-void TraceWriter::end_path(const std::string& name, const path::TraceSummary& summary) {
+void TraceWriter::end_path(const std::string& name, const continuation::TraceSummary& summary) {
   file_->each([&](hid_t id) {
     Handle group(H5Gopen2(id, name.c_str(), H5P_DEFAULT), H5Gclose, name);
-    write_string_attribute(group, "termination", std::string(path::to_string(summary.termination)));
+    write_string_attribute(group, "termination", std::string(continuation::to_string(summary.termination)));
     write_string_attribute(group, "message", summary.message);
-    write_number_attribute(group, "complete", summary.termination == path::TraceTermination::completed);
+    write_number_attribute(group, "complete", summary.termination == continuation::TraceTermination::completed);
   });
 }
 

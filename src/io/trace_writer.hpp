@@ -38,7 +38,7 @@
 #include <utility>
 #include <vector>
 
-#include "path/trace.hpp"
+#include "continuation/result.hpp"
 
 namespace liftoff::io {
 
@@ -62,8 +62,8 @@ struct TracePathRecord {
   std::string termination;  // empty until the path ends
   std::string message;
   double monitor = 0.0;
-  std::vector<path::TraceStep> steps;
-  std::vector<path::TraceEvent> events;
+  std::vector<continuation::TraceStep> steps;
+  std::vector<continuation::TraceEvent> events;
 };
 
 // The whole file as read back.
@@ -88,9 +88,9 @@ class TraceWriter {
 
   // Creates the path's group if it is not there yet.
   void begin_path(const std::string& name, double monitor);
-  void append_step(const std::string& name, const path::TraceStep& step);
-  void append_event(const std::string& name, const path::TraceEvent& event);
-  void end_path(const std::string& name, const path::TraceSummary& summary);
+  void append_step(const std::string& name, const continuation::TraceStep& step);
+  void append_event(const std::string& name, const continuation::TraceEvent& event);
+  void end_path(const std::string& name, const continuation::TraceSummary& summary);
   // Sets the root's `complete` attribute (every path ended).
   void finish();
 
@@ -104,8 +104,8 @@ class TraceWriter {
 // "first_in_contact limits modes" (plus " event direction delta" at a switching event), FE
 // "fe contact set", "" for none. Files written before the topology was typed read back alike.
 // parse_state_topology throws OutputError for text that is none of these.
-std::string state_topology_text(const path::StateTopology& topology);
-path::StateTopology parse_state_topology(const std::string& text);
+std::string state_topology_text(const continuation::StateTopology& topology);
+continuation::StateTopology parse_state_topology(const std::string& text);
 
 // The whole file, for readers that are not resuming (tests, a finished file): the file, or its
 // backup if the file was damaged by a kill. Throws OutputError.

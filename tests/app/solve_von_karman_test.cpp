@@ -330,7 +330,7 @@ TEST_CASE("solve von Karman: the Ritz trace passes the limit point where the FE 
   const double reached = std::stod(refused.message.substr(refused.message.find(key) + key.size()));
   int limits = 0;
   for (const auto& event : outcome.paths[0].events) {
-    if (event.kind != path::EventKind::limit_point || event.load_factor < 0.7) continue;
+    if (event.kind != continuation::EventKind::limit_point || event.load_factor < 0.7) continue;
     ++limits;
     // The FE path stops within its min_step (1e-4) below the limit; FE (64 elements) and Ritz
     // (32 modes) differ by their discretisations, 3e-5 here.

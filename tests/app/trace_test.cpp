@@ -94,7 +94,7 @@ struct SyntheticPath {
         }
         s.monitor_deflection = 1e-3;
         s.iterations = i;
-        s.state_topology = path::RitzTopology{true, 1, 4, path::RitzOpening{-1.0, 0.125}};
+        s.state_topology = continuation::RitzTopology{true, 1, 4, continuation::RitzOpening{-1.0, 0.125}};
         s.state = {lambda, c};
         sink.on_step(s);
         result.steps.push_back(s);
@@ -351,7 +351,7 @@ TEST_CASE("trace: an interrupted trace keeps its steps and resumes to the uninte
   CHECK(resumed.calls[0].resume_from->load_factor == 1.0);  // the fifth step, lambda = 4 x 0.25
   CHECK(resumed.calls[0].resume_from->state == partial.paths[0].second.steps.back().state);
   CHECK(resumed.calls[0].resume_from->state_topology ==
-        path::StateTopology{path::RitzTopology{true, 1, 4, path::RitzOpening{-1.0, 0.125}}});
+        continuation::StateTopology{continuation::RitzTopology{true, 1, 4, continuation::RitzOpening{-1.0, 0.125}}});
   CHECK(outcome.paths[0].resumed_steps == 5);
   CHECK(outcome.paths[0].steps.size() == expected.steps.size());
 

@@ -139,7 +139,7 @@ TEST_CASE("upheaval buckle: through the limit point, every step an independent e
   // fold's step is on the new contact set, beyond its critical load).
   for (std::size_t i = 0; i < result.steps.size(); ++i) {
     INFO("step " << i << " lambda " << result.steps[i].load_factor);
-    CHECK(result.steps[i].stability == (i < fold_step ? path::Stability::stable : path::Stability::unstable));
+    CHECK(result.steps[i].stability == (i < fold_step ? continuation::Stability::stable : continuation::Stability::unstable));
   }
 
   // (a) Every stable step is the contact solver's answer for its N as a dead load, to round-off:
@@ -149,7 +149,7 @@ TEST_CASE("upheaval buckle: through the limit point, every step an independent e
   // elements; the bound is 1e-9 of the largest |w| (the path's own acceptance, tie_tolerance).
   int compared = 0;
   for (const auto& step : result.steps) {
-    if (step.stability != path::Stability::stable) continue;
+    if (step.stability != continuation::Stability::stable) continue;
     const contact::ContactSolution solution = fixed_n_solve(scene, step.load_factor, elements);
     INFO("lambda " << step.load_factor << ": " << solution.summary.message);
     REQUIRE(solution.summary.is_usable());
@@ -266,7 +266,7 @@ max_amplitude = 0.1
   const double euler = std::numbers::pi * std::numbers::pi * 1e4 / 100.0;
   CHECK(result.steps.back().amplitude == Approx(0.1).epsilon(1e-6));
   CHECK(result.steps.back().axial_force / euler == Approx(1.0 - 1e-3).epsilon(2e-5));
-  for (const auto& step : result.steps) CHECK(step.stability == path::Stability::stable);
+  for (const auto& step : result.steps) CHECK(step.stability == continuation::Stability::stable);
 }
 
 TEST_CASE("a straight weightless strut lying on a tensionless foundation is stable below the Euler load only",
@@ -293,7 +293,7 @@ TEST_CASE("a straight weightless strut lying on a tensionless foundation is stab
     CAPTURE(step.axial_force);
     // The FE Euler load at 64 elements is within 1e-6 of P_E: steps within 1e-3 of it are skipped.
     if (std::abs(step.axial_force / euler - 1.0) < 1e-3) continue;
-    CHECK(step.stability == (step.axial_force < euler ? path::Stability::stable : path::Stability::unstable));
+    CHECK(step.stability == (step.axial_force < euler ? continuation::Stability::stable : continuation::Stability::unstable));
     above += step.axial_force > euler;
   }
   CHECK(above >= 1);
@@ -341,7 +341,7 @@ TEST_CASE("a straight weightless strut on a tensionless foundation: the bifurcat
     CAPTURE(step.load_factor, step.amplitude);
     if (step.load_factor < lambda_c - 1e-9) {
       CHECK(step.amplitude == 0.0);
-      CHECK(step.stability == path::Stability::stable);
+      CHECK(step.stability == continuation::Stability::stable);
       continue;
     }
     if (step.amplitude == 0.0) continue;  // the straight state at the bifurcation
@@ -349,7 +349,7 @@ TEST_CASE("a straight weightless strut on a tensionless foundation: the bifurcat
     CHECK(step.amplitude > previous);
     previous = step.amplitude;
     CHECK(std::abs(step.load_factor - lambda_c) < 1e-9);
-    CHECK(step.stability == path::Stability::unstable);  // neutral: not positive definite
+    CHECK(step.stability == continuation::Stability::unstable);  // neutral: not positive definite
     for (std::size_t i = 0; i < step.deflection.size(); ++i) {
       const double x = options_for(scene, 64).sample_points[i];
       CHECK(std::abs(step.deflection[i] + step.amplitude * std::sin(std::numbers::pi * x / 6.0)) <
@@ -409,7 +409,7 @@ max_amplitude = 0.02
     CAPTURE(step.load_factor, step.amplitude, step.lifted_length);
     if (!reached && step.load_factor < lambda_c - 1e-9) {
       CHECK(step.lifted_length == 0.0);
-      if (step.load_factor > 0.0) CHECK(step.stability == path::Stability::stable);
+      if (step.load_factor > 0.0) CHECK(step.stability == continuation::Stability::stable);
       continue;
     }
     reached = true;
@@ -417,7 +417,7 @@ max_amplitude = 0.02
     descending = true;
     CHECK(step.load_factor <= previous_lambda);
     CHECK(step.lifted_length >= previous_lifted - 1e-12);
-    CHECK(step.stability == path::Stability::unstable);
+    CHECK(step.stability == continuation::Stability::unstable);
     previous_lambda = step.load_factor, previous_lifted = step.lifted_length;
   }
   CHECK(descending);
@@ -433,7 +433,7 @@ max_amplitude = 0.02
   CHECK(flat.steps.back().load_factor == 6.0);
   for (const auto& step : flat.steps) {
     CHECK(step.lifted_length == 0.0);
-    if (step.load_factor > lambda_c + 1e-6) CHECK(step.stability == path::Stability::unstable);
+    if (step.load_factor > lambda_c + 1e-6) CHECK(step.stability == continuation::Stability::unstable);
   }
 }
 
@@ -512,7 +512,7 @@ TEST_CASE("the perfect pipeline's descending branch is the closed-form localized
     const TraceResult result = continuation::trace_fe(scene, options);
     INFO(result.summary.message);
     REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
-    const path::TraceStep& last = result.steps.back();
+    const continuation::TraceStep& last = result.steps.back();
     REQUIRE(last.amplitude == Approx(uplift).epsilon(1e-6));
     const closed_form::LocalizedBuckle exact = buckle_with_uplift(modulus, bending_stiffness, weight, last.amplitude);
     REQUIRE(exact.status == closed_form::BuckleStatus::found);
@@ -560,7 +560,7 @@ lambda_max = 3.0
   int lifted_steps = 0;
   for (const auto& step : result.steps) {
     CHECK(step.axial_force == 0.0);
-    CHECK(step.stability == path::Stability::unknown);
+    CHECK(step.stability == continuation::Stability::unknown);
     double lowest = 0.0;
     for (double w : step.deflection) lowest = std::min(lowest, w);
     double contact = 0.0;

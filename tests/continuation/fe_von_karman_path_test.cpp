@@ -124,9 +124,9 @@ TEST_CASE("FE von Karman path: the shallow arch's limit point at the closed form
       distance =
           std::max(distance, std::abs(step.load_factor - closed_form::symmetric_load(a, step.monitor_deflection)));
       if (step.monitor_deflection < analysis.upper_limit.deflection * (1 - 1e-3))
-        CHECK(step.stability == path::Stability::stable);
+        CHECK(step.stability == continuation::Stability::stable);
       if (step.monitor_deflection > analysis.upper_limit.deflection * (1 + 1e-3))
-        CHECK(step.stability == path::Stability::unstable);
+        CHECK(step.stability == continuation::Stability::unstable);
     }
     distances.push_back(distance);
   }
@@ -171,7 +171,7 @@ TEST_CASE("FE von Karman path: the arch bifurcates at the closed form's load ont
       in_load = std::max(in_load, std::abs(step.load_factor - closed_form::bifurcated_load(a, a1)));
       in_asymmetry = std::max(
           in_asymmetry, std::abs(a2 * a2 - std::pow(closed_form::bifurcated_asymmetry(a, a1), 2)) / (a.rise * a.rise));
-      CHECK(step.stability == path::Stability::unstable);
+      CHECK(step.stability == continuation::Stability::unstable);
     }
     CHECK(on_branch >= 3);
     load_distances.push_back(in_load);
@@ -275,7 +275,7 @@ TEST_CASE("FE von Karman path: issue 16's shallow arch snaps through with a cont
     // Stable up to the snap-through, unstable on the falling branch.
     for (const TraceStep& step : r.steps) {
       if (step.load_factor < r.events[0].load_factor - 1.0 && step.monitor_deflection < 0.02)
-        CHECK(step.stability == path::Stability::stable);
+        CHECK(step.stability == continuation::Stability::stable);
     }
   }
   const double limit_64 = fe[0].events[0].load_factor, limit_128 = fe[1].events[0].load_factor;

@@ -192,7 +192,7 @@ TEST_CASE("ritz path: a resumed trace reproduces the original", "[ritz_path]") {
     std::vector<TraceEvent> later;
     for (const TraceEvent& e : original.events)
       if (e.load_factor > original.steps[from].load_factor) later.push_back(e);
-    CHECK(std::get<path::RitzTopology>(original.steps[from].state_topology).at_event.has_value() ==
+    CHECK(std::get<continuation::RitzTopology>(original.steps[from].state_topology).at_event.has_value() ==
           (from == event_step));
     REQUIRE(resumed.events.size() == later.size());
     for (std::size_t i = 0; i < later.size(); ++i) {
@@ -329,7 +329,7 @@ TraceOptions scene_options(const scene::Scene& s, int samples) {
 }
 
 // The modes a Ritz step was traced with (its state_topology's).
-int modes_of(const TraceStep& step) { return std::get<path::RitzTopology>(step.state_topology).modes; }
+int modes_of(const TraceStep& step) { return std::get<continuation::RitzTopology>(step.state_topology).modes; }
 
 // Every recorded step is a contact solution at its samples: w >= 0 inside its contact regions
 // (the reaction there is k w >= 0), w <= 0 outside, and no reaction outside. The path's own
@@ -523,10 +523,10 @@ TEST_CASE("ritz path: a state of the wrong topology is refused, naming the inequ
   const TraceStep& lifted = original.steps.back();
   REQUIRE(lifted.contact_regions.size() == 2);
   const int modes = modes_of(lifted);
-  REQUIRE(std::get<path::RitzTopology>(lifted.state_topology).limits == 2);
+  REQUIRE(std::get<continuation::RitzTopology>(lifted.state_topology).limits == 2);
   const std::size_t unknowns = (lifted.state.size() - 3) / 2, amplitudes = unknowns - 2;
   TraceStep forged = lifted;
-  forged.state_topology = path::RitzTopology{true, 0, modes, std::nullopt};  // full contact
+  forged.state_topology = continuation::RitzTopology{true, 0, modes, std::nullopt};  // full contact
   forged.state.assign(2 * amplitudes + 3, 0.0);
   std::copy(lifted.state.begin(), lifted.state.begin() + static_cast<std::ptrdiff_t>(amplitudes), forged.state.begin());
   forged.state[2 * amplitudes] = 1.0;                                  // tangent: lambda only
@@ -601,11 +601,11 @@ TEST_CASE("ritz path: the upheaval buckle passes its limit point inside the fixe
     const TraceStep& step = r.steps[i];
     INFO("step " << i << " at lambda " << step.load_factor);
     CHECK(step.axial_force == Approx(1e6 * step.load_factor).margin(1e-6));
-    CHECK(step.stability != path::Stability::unknown);
+    CHECK(step.stability != continuation::Stability::unknown);
     // Past the fold the tangent points to falling lambda (its lambda component, stored in the state).
     const std::size_t n = (step.state.size() - 3) / 2;
     past_fold = step.state[2 * n] < 0.0;
-    CHECK(step.stability == (past_fold ? path::Stability::unstable : path::Stability::stable));
+    CHECK(step.stability == (past_fold ? continuation::Stability::unstable : continuation::Stability::stable));
     CHECK((past_fold || !passed));  // once past, the path stays on the descending branch
     passed = passed || past_fold;
     CHECK(step.amplitude >= previous_amplitude);
@@ -632,7 +632,7 @@ TEST_CASE("ritz path: amplitude and lifted length are filled without an axial fo
   REQUIRE(r.summary.termination == TraceTermination::completed);
   const TraceStep& last = r.steps.back();
   CHECK(last.axial_force == 0.0);
-  CHECK(last.stability == path::Stability::unknown);  // convex: unchecked
+  CHECK(last.stability == continuation::Stability::unknown);  // convex: unchecked
   // The beam lifts off at its centre (sample 5.0): the amplitude is at least the lift there and
   // no more than a grid's worth above it (the largest lift is at the centre by symmetry).
   REQUIRE(last.contact_regions.size() == 2);
@@ -717,7 +717,7 @@ TEST_CASE("ritz path: a perfect heavy free-free member bifurcates at its tilting
       CHECK(step.load_factor > lambda);
       lambda = step.load_factor;
       CHECK(step.monitor_deflection == Approx(0.01).epsilon(1e-9));
-      CHECK(step.stability == (step.load_factor < e.load_factor ? path::Stability::stable : path::Stability::unstable));
+      CHECK(step.stability == (step.load_factor < e.load_factor ? continuation::Stability::stable : continuation::Stability::unstable));
     }
     CHECK(r.steps.front().load_factor < e.load_factor);
     CHECK(r.steps.back().load_factor > e.load_factor);
@@ -754,7 +754,7 @@ TEST_CASE("ritz path: at the perfect member's bifurcation the path switches to t
     // after: one end lifted, unstable, lambda falling and the lift growing.
     std::size_t at = 0;
     while (at < r.steps.size() && r.steps[at].lifted_length == 0.0) {
-      CHECK(r.steps[at].stability == path::Stability::stable);
+      CHECK(r.steps[at].stability == continuation::Stability::stable);
       CHECK(r.steps[at].load_factor < e.load_factor);
       ++at;
     }
@@ -765,7 +765,7 @@ TEST_CASE("ritz path: at the perfect member's bifurcation the path switches to t
     for (std::size_t i = at + 1; i < r.steps.size(); ++i) {
       const TraceStep& step = r.steps[i];
       INFO("step " << i << " lambda " << step.load_factor);
-      CHECK(step.stability == path::Stability::unstable);
+      CHECK(step.stability == continuation::Stability::unstable);
       CHECK(step.load_factor < lambda);
       CHECK(step.amplitude > amplitude);
       CHECK(step.lifted_length > lifted);
@@ -924,7 +924,7 @@ TEST_CASE("ritz path: a symmetric critical mode lifts both ends at once on the s
       if (step.lifted_length == 0.0) continue;
       ++lifted;
       INFO("lambda " << step.load_factor);
-      CHECK(step.stability == path::Stability::unstable);
+      CHECK(step.stability == continuation::Stability::unstable);
       CHECK(step.load_factor < e.load_factor);
       REQUIRE(step.contact_regions.size() == 1);
       CHECK(step.contact_regions[0].begin > 0.0);

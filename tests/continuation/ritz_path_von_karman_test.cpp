@@ -146,19 +146,19 @@ TEST_CASE("Ritz path, von Karman: the shallow arch snaps through at the closed f
   int stable = 0, unstable = 0;
   for (const TraceStep& step : result.steps) {
     INFO("lambda = " << step.load_factor << ", crown " << step.monitor_deflection);
-    REQUIRE(step.stability != path::Stability::unknown);
+    REQUIRE(step.stability != continuation::Stability::unknown);
     const double w = step.monitor_deflection;
     // Within 1e-6 of a limit point the sign of the margin is round-off's: not asserted there.
     if (w < crown_upper * (1 - 1e-6)) {
-      CHECK(step.stability == path::Stability::stable);
+      CHECK(step.stability == continuation::Stability::stable);
       ++stable;
     }
     if (w > crown_upper * (1 + 1e-6) && w < crown_lower * (1 - 1e-6)) {
-      CHECK(step.stability == path::Stability::unstable);
+      CHECK(step.stability == continuation::Stability::unstable);
       ++unstable;
     }
     if (w > crown_lower * (1 + 1e-6)) {
-      CHECK(step.stability == path::Stability::stable);
+      CHECK(step.stability == continuation::Stability::stable);
       ++stable;
     }
     // On the symmetric path of the closed form, every step: lambda(A1) and the thrust.
@@ -266,7 +266,7 @@ TEST_CASE(
       if (std::abs(a2) <= 1e-9 * std::abs(a1)) {  // the symmetric path
         CHECK(step.load_factor == Approx(closed_form::symmetric_load(arch, a1)).epsilon(1e-9));
         if (a1 < crown * (1 - 1e-6)) {
-          CHECK(step.stability == path::Stability::stable);
+          CHECK(step.stability == continuation::Stability::stable);
           ++stable;
         }
         continue;
@@ -279,8 +279,8 @@ TEST_CASE(
       // The margin goes like A2^2 at the branch's ends (det H = 24 eta^2 (kappa - 4)): its sign
       // is asserted where A2 is at least the first point's offset (1e-3 of w).
       if (std::abs(a2) >= 1e-3 * std::abs(a1)) {
-        CHECK(step.stability == (stable_branch ? path::Stability::stable : path::Stability::unstable));
-        if (step.stability == path::Stability::stable) ++branch_stable;
+        CHECK(step.stability == (stable_branch ? continuation::Stability::stable : continuation::Stability::unstable));
+        if (step.stability == continuation::Stability::stable) ++branch_stable;
       }
     }
     CHECK(stable >= 1);
@@ -342,7 +342,7 @@ TEST_CASE("Ritz and FE von Karman paths agree on the bifurcation load and the sw
       const double a1 = step.monitor_deflection, a2 = step.deflection[0] - a1 * std::sqrt(0.5);
       if (std::abs(a2) < 1e-2 * arch.rise) continue;  // the symmetric path, or next to the branch's ends
       ++on_branch;
-      CHECK(step.stability == (kappa > 4.0 ? path::Stability::stable : path::Stability::unstable));
+      CHECK(step.stability == (kappa > 4.0 ? continuation::Stability::stable : continuation::Stability::unstable));
     }
     CHECK(on_branch >= 2);
   }

@@ -140,10 +140,10 @@ void check_stability(const TraceResult& r, double limit_crown) {
   for (const TraceStep& step : r.steps) {
     CAPTURE(step.load_factor, step.monitor_deflection);
     if (step.monitor_deflection < limit_crown * (1 - 1e-3)) {
-      CHECK(step.stability == path::Stability::stable);
+      CHECK(step.stability == continuation::Stability::stable);
       ++stable;
     } else if (step.monitor_deflection > limit_crown * (1 + 1e-3) && step.monitor_deflection < 2 * limit_crown) {
-      CHECK(step.stability == path::Stability::unstable);
+      CHECK(step.stability == continuation::Stability::unstable);
       ++unstable;
     }
   }

@@ -55,9 +55,9 @@ TEST_CASE("enum names: one table each, read both ways, spelled as the outputs ha
                           {EventKind::limit_at_end, "limit_at_end"},
                           {EventKind::limit_point, "limit_point"},
                           {EventKind::bifurcation, "bifurcation"}});
-  check_names<path::Stability>({{path::Stability::unknown, "unknown"},
-                                {path::Stability::stable, "stable"},
-                                {path::Stability::unstable, "unstable"}});
+  check_names<continuation::Stability>({{continuation::Stability::unknown, "unknown"},
+                                {continuation::Stability::stable, "stable"},
+                                {continuation::Stability::unstable, "unstable"}});
   using continuation::TraceTermination;
   check_names<TraceTermination>({{TraceTermination::completed, "completed"},
                                  {TraceTermination::no_equilibrium, "no_equilibrium"},

@@ -13,9 +13,9 @@
 #include "support/scratch.hpp"
 
 using namespace liftoff;
-using path::EventKind;
-using path::TraceEvent;
-using path::TraceStep;
+using continuation::EventKind;
+using continuation::TraceEvent;
+using continuation::TraceStep;
 namespace fs = std::filesystem;
 
 using namespace liftoff::test;  // support/: the scratch directory
@@ -45,9 +45,9 @@ TraceStep step(int i) {
   s.iterations = i + 2;
   for (int r = 0; r <= i % 3; ++r) s.contact_regions.push_back({0.1 * r, 0.1 * r + 0.05});
   // Each kind of topology in turn: Ritz, Ritz at an event, FE, none.
-  if (i % 4 == 0) s.state_topology = path::RitzTopology{i % 8 == 0, i % 3, 8 + i, std::nullopt};
-  if (i % 4 == 1) s.state_topology = path::RitzTopology{true, 2, 16, path::RitzOpening{-1.0, 1e-3 / (i + 3)}};
-  if (i % 4 == 2) s.state_topology = path::FeContactSet{};
+  if (i % 4 == 0) s.state_topology = continuation::RitzTopology{i % 8 == 0, i % 3, 8 + i, std::nullopt};
+  if (i % 4 == 1) s.state_topology = continuation::RitzTopology{true, 2, 16, continuation::RitzOpening{-1.0, 1e-3 / (i + 3)}};
+  if (i % 4 == 2) s.state_topology = continuation::FeContactSet{};
   for (int k = 0; k < i % 4; ++k) s.state.push_back(i + 0.5 * k);
   return s;
 }
@@ -79,8 +79,8 @@ TEST_CASE("trace writer: steps and events read back exactly, the file is readabl
   CHECK_FALSE(live.complete);
   CHECK_FALSE(writer.read_path("ritz").has_value());
 
-  path::TraceSummary summary;
-  summary.termination = path::TraceTermination::completed;
+  continuation::TraceSummary summary;
+  summary.termination = continuation::TraceTermination::completed;
   summary.message = "lambda_max reached";
   writer.end_path("fe", summary);
   writer.begin_path("ritz", 0.5);
@@ -174,12 +174,12 @@ TEST_CASE("trace writer: a file that is not a trace is refused", "[io][trace]") 
 // The text of /PATH/steps/state_topology is what liftoff wrote before the topology was typed, so
 // that older files resume: it is checked here word for word, both ways.
 TEST_CASE("state topologies are stored as the text older files hold") {
-  const std::vector<std::pair<path::StateTopology, std::string>> cases{
-      {path::RitzTopology{true, 2, 32, std::nullopt}, "1 2 32"},
-      {path::RitzTopology{false, 0, 8, path::RitzOpening{-1.0, 0.0625}}, "0 0 8 event -1 0.0625"},
-      {path::RitzTopology{true, 1, 16, path::RitzOpening{1.0, 1.2345678901234568e-05}},
+  const std::vector<std::pair<continuation::StateTopology, std::string>> cases{
+      {continuation::RitzTopology{true, 2, 32, std::nullopt}, "1 2 32"},
+      {continuation::RitzTopology{false, 0, 8, continuation::RitzOpening{-1.0, 0.0625}}, "0 0 8 event -1 0.0625"},
+      {continuation::RitzTopology{true, 1, 16, continuation::RitzOpening{1.0, 1.2345678901234568e-05}},
        "1 1 16 event 1 1.2345678901234568e-05"},
-      {path::FeContactSet{}, "fe contact set"},
+      {continuation::FeContactSet{}, "fe contact set"},
       {std::monostate{}, ""},
   };
   for (const auto& [topology, text] : cases) {

@@ -80,7 +80,7 @@ TEST_CASE("ritz path stress: the pipeline to lambda = 3, every step a contact so
   const double a_fe = fe.steps.back().contact_regions[0].end;
   const double fe_error = 3.0 * std::abs(a_fe - fine.steps.back().contact_regions[0].end);
 
-  const auto& topology = std::get<path::RitzTopology>(end.state_topology);
+  const auto& topology = std::get<continuation::RitzTopology>(end.state_topology);
   const int modes = topology.modes;
   REQUIRE(topology.limits == 2);
   const model::MemberModel member = model::make_member_model(s);

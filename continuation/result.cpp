@@ -1,6 +1,6 @@
-#include "path/trace.hpp"
+#include "continuation/result.hpp"
 
-namespace liftoff::path {
+namespace liftoff::continuation {
 
 namespace {
 
@@ -38,25 +38,25 @@ std::string_view to_string(TraceTermination termination) {
 std::string_view to_string(PathKind path) { return name_in<PathKind>(path_kind_names, path); }
 std::string_view to_string(Stability stability) { return name_in<Stability>(stability_names, stability); }
 
-}  // namespace liftoff::path
+}  // namespace liftoff::continuation
 
 namespace liftoff {
 
 template <>
-std::optional<path::EventKind> from_string(std::string_view name) {
-  return value_in<path::EventKind>(path::event_kind_names, name);
+std::optional<continuation::EventKind> from_string(std::string_view name) {
+  return value_in<continuation::EventKind>(continuation::event_kind_names, name);
 }
 template <>
-std::optional<path::TraceTermination> from_string(std::string_view name) {
-  return value_in<path::TraceTermination>(path::trace_termination_names, name);
+std::optional<continuation::TraceTermination> from_string(std::string_view name) {
+  return value_in<continuation::TraceTermination>(continuation::trace_termination_names, name);
 }
 template <>
-std::optional<path::PathKind> from_string(std::string_view name) {
-  return value_in<path::PathKind>(path::path_kind_names, name);
+std::optional<continuation::PathKind> from_string(std::string_view name) {
+  return value_in<continuation::PathKind>(continuation::path_kind_names, name);
 }
 template <>
-std::optional<path::Stability> from_string(std::string_view name) {
-  return value_in<path::Stability>(path::stability_names, name);
+std::optional<continuation::Stability> from_string(std::string_view name) {
+  return value_in<continuation::Stability>(continuation::stability_names, name);
 }
 
 }  // namespace liftoff

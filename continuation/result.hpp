@@ -11,9 +11,8 @@
 //                                secant/bisection on their event functions.
 // Results are in the user's units and coordinate (x, or theta in degrees), like io::SolveReport.
 //
-// These are the result types alone, below both the paths that make them (continuation/) and
-// the writers that store them (io/trace_writer.hpp); the options and the algorithms stay in
-// continuation/.
+// These are the result types alone, a library of their own (liftoff_trace_result) below the
+// writers that store them (io/trace_writer.hpp), which link nothing else of continuation/.
 
 #include <array>
 #include <functional>
@@ -27,7 +26,7 @@
 #include "core/contact_region.hpp"
 #include "core/enum_names.hpp"
 
-namespace liftoff::path {
+namespace liftoff::continuation {
 
 enum class EventKind {
   lift_off_opens,     // a lift-off zone opens inside a contact region (w touches 0 from above)
@@ -92,6 +91,7 @@ struct TraceStep {
   std::vector<double> deflection;              // w at TraceOptions::sample_points (user length units)
   std::vector<double> reaction;                // foundation reaction there (force per length, compression > 0)
   int iterations = 0;                          // corrector iterations (Ritz) or pivots (FE) since the last step
+  bool requested = false;                      // recorded at a load asked for (TraceOptions::report_at)
   // Beam-columns: the axial force N = N_dead + lambda N_live (user force units, compression > 0; 0
   // without axial loads), the buckle amplitude (the largest lift of the member off the foundation
   // surface, max of -(w - gap) over the foundation, user length, 0 where nothing lifts) and the lifted
@@ -151,16 +151,16 @@ struct TraceSink {
   std::function<void(const TraceEvent&)> on_event;
 };
 
-}  // namespace liftoff::path
+}  // namespace liftoff::continuation
 
 namespace liftoff {
-// The names' one table is in path/trace.cpp (core/enum_names.hpp).
+// The names' one table is in continuation/result.cpp (core/enum_names.hpp).
 template <>
-std::optional<path::EventKind> from_string(std::string_view);
+std::optional<continuation::EventKind> from_string(std::string_view);
 template <>
-std::optional<path::TraceTermination> from_string(std::string_view);
+std::optional<continuation::TraceTermination> from_string(std::string_view);
 template <>
-std::optional<path::PathKind> from_string(std::string_view);
+std::optional<continuation::PathKind> from_string(std::string_view);
 template <>
-std::optional<path::Stability> from_string(std::string_view);
+std::optional<continuation::Stability> from_string(std::string_view);
 }  // namespace liftoff
