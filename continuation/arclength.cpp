@@ -5,7 +5,8 @@
 //    (not with a fixed unit vector): the system stays nonsingular through a regular fold, and
 //    r . t = 1 > 0 gives the new tangent the sense of the old one for free.
 //  - Landing on the end of the lambda range uses a fixed-lambda correction (exactly lambda_max),
-//    falling back to locating lambda - lambda_max = 0 along the step near a fold.
+//    falling back to locating lambda - lambda_max = 0 along the step near a fold, then corrected
+//    at fixed lambda from the located point.
 //  - A step whose tangent turns by more than 60 degrees is rejected and retried shorter: a long
 //    step near a sharp turn can let the corrector land on another part of the branch.
 //  - Folds are located by Illinois on t_lambda(sigma). At a fold lambda is flat in sigma, so a
@@ -96,6 +97,7 @@ void ArcLengthOptions::validate() const {
   positive("min_step", min_step);
   positive("max_step", max_step);
   positive("fold_tolerance", fold_tolerance);
+  positive("lambda_scale", lambda_scale);
   if (!(min_step <= initial_step && initial_step <= max_step))
     throw std::invalid_argument(
         fmt::format("ArcLengthOptions.initial_step: expected min_step <= initial_step <= max_step, got {} <= {} <= {}",
@@ -198,7 +200,7 @@ std::optional<std::pair<VectorXd, double>> PathFollower::tangent(const VectorXd&
   bordered.column() = g_lambda;
   if (reference) {
     bordered.row() = scale_.array().square() * reference->tangent_x.array();
-    bordered.corner() = reference->tangent_lambda;
+    bordered.corner() = reference->tangent_lambda * lambda_weight();
   } else {
     bordered.corner() = options_.direction;
   }
@@ -207,7 +209,7 @@ std::optional<std::pair<VectorXd, double>> PathFollower::tangent(const VectorXd&
   t(n) = 1.0;
   if (!bordered.solve(t) || !t.allFinite()) return std::nullopt;
   const VectorXd t_x = t.head(n);
-  const double norm = std::sqrt(scaled_dot(t_x, t_x) + t(n) * t(n));
+  const double norm = std::sqrt(scaled_dot(t_x, t_x) + t(n) * t(n) * lambda_weight());
   if (!(norm > 0)) return std::nullopt;
   return std::make_pair(VectorXd(t_x / norm), t(n) / norm);
 }
@@ -246,7 +248,7 @@ StepOutcome PathFollower::step(const PathPoint& from, double ds) const {
     // lambda fixed; x predicted along the tangent unless the tangent is (nearly) vertical.
     const double lambda = from.lambda + options_.direction * ds;
     PathPoint guess = from;
-    if (std::abs(from.tangent_lambda) > 1e-3)
+    if (std::abs(from.tangent_lambda) > 1e-3 * options_.lambda_scale)
       guess.x = from.x + (lambda - from.lambda) / from.tangent_lambda * from.tangent_x;
     outcome = step_to_lambda(guess, lambda);
     if (outcome.point) outcome.point->arclength = from.arclength + ds;
@@ -262,7 +264,7 @@ StepOutcome PathFollower::step(const PathPoint& from, double ds) const {
     VectorXd g(n);
     if (!problem_.residual(y.head(n), y(n), g)) return false;
     f.head(n) = g;
-    f(n) = weights.dot(y.head(n) - from.x) + from.tangent_lambda * (y(n) - from.lambda) - ds;
+    f(n) = weights.dot(y.head(n) - from.x) + from.tangent_lambda * lambda_weight() * (y(n) - from.lambda) - ds;
     return true;
   };
   Workspace& w = workspace();
@@ -273,7 +275,7 @@ StepOutcome PathFollower::step(const PathPoint& from, double ds) const {
       return false;
     bordered.column() = g_lambda;
     bordered.row() = weights;
-    bordered.corner() = from.tangent_lambda;
+    bordered.corner() = from.tangent_lambda * lambda_weight();
     return true;
   };
   nonlinear::NewtonOptions newton = options_.corrector;
@@ -318,8 +320,8 @@ StepOutcome PathFollower::step_to_lambda(const PathPoint& from, double lambda, c
   outcome.corrector = summary;
   if (!p) return outcome;
   // The arclength coordinate of the point, measured as the bordered constraint measures it.
-  p->arclength =
-      from.arclength + scaled_dot(from.tangent_x, p->x - from.x) + from.tangent_lambda * (lambda - from.lambda);
+  p->arclength = from.arclength + scaled_dot(from.tangent_x, p->x - from.x) +
+                 from.tangent_lambda * lambda_weight() * (lambda - from.lambda);
   outcome.point = std::move(p);
   return outcome;
 }
@@ -387,10 +389,10 @@ ArcLengthResult PathFollower::follow(const PathPoint& start_point, const StepObs
     }
     const PathPoint from = result.points.back();
     StepOutcome outcome = step(from, ds);
-    const bool turned =
-        outcome.point && arc &&
-        scaled_dot(from.tangent_x, outcome.point->tangent_x) + from.tangent_lambda * outcome.point->tangent_lambda <
-            0.5;
+    const bool turned = outcome.point && arc &&
+                        scaled_dot(from.tangent_x, outcome.point->tangent_x) +
+                                from.tangent_lambda * outcome.point->tangent_lambda * lambda_weight() <
+                            0.5;
     if (!outcome.point || turned) {
       ++result.rejected_steps;
       if (!outcome.point) result.last_failure = outcome.corrector;
@@ -427,7 +429,9 @@ ArcLengthResult PathFollower::follow(const PathPoint& start_point, const StepObs
         to = std::move(*landed.point);
       } else if (auto located = locate(
                      from, to, [end](const PathPoint& p) { return p.lambda - end; }, o.fold_tolerance)) {
-        to = std::move(*located);
+        // Located to fold_tolerance; landed on the end exactly from there (the point is near it).
+        StepOutcome exact = step_to_lambda(*located, end);
+        to = exact.point ? std::move(*exact.point) : std::move(*located);
       }
       at_end = true;
       break;

@@ -96,6 +96,7 @@ class Engine {
   StabilityState stability_;          // at the last accepted point
   StabilityState candidate_;          // at the step's end being looked at
   std::optional<BranchStart> watch_;  // the switched branch, watched for its return
+  double peak_ = 0.0;                 // the largest amplitude it reached at an accepted point
   bool switched_ = false;             // the path has left onto a bifurcated branch (once per trace)
   Pending pending_;
   std::optional<std::pair<TraceTermination, std::string>> finished_;
@@ -105,6 +106,8 @@ class Engine {
 
 ArcLengthOptions Engine::follower_options() const {
   ArcLengthOptions o = options_.arc_length;
+  // Steps measured in fractions of the load range: a step length means the same on every range.
+  o.lambda_scale = std::abs(o.lambda_max - o.lambda_min);
   o.locate_folds = false;  // located here, in order with the other events
   o.fold_tolerance = options_.event_tolerance;
   o.max_steps = std::max(1, options_.arc_length.max_steps - result_.summary.steps + 1);
@@ -153,19 +156,23 @@ Screening Engine::screen_stability(const PathPoint& from, const PathPoint& to) {
 void Engine::detect_return(const PathFollower& follower, const PathPoint& from, const PathPoint& to,
                            std::vector<Found>& found) {
   if (!watch_ || !watch_->amplitude) return;
-  const auto& amplitude = watch_->amplitude;
+  peak_ = std::max(peak_, watch_->amplitude(from));
+  const double zero = watch_->return_accuracy * peak_;
+  const auto amplitude = [&](const PathPoint& p) { return watch_->amplitude(p) - zero; };
   if (!(amplitude(from) > 0.0) || amplitude(to) > 0.0) return;
   std::optional<PathPoint> located = follower.locate(from, to, amplitude, watch_->return_tolerance);
-  Found f(Found::Kind::branch_return, located ? *located : to);
-  std::optional<PathPoint> refined = located ? model_.refine_return(*located, follower) : std::nullopt;
+  std::optional<PathPoint> refined = located ? model_.refine_return(*located, peak_, follower) : std::nullopt;
+  Found f(Found::Kind::branch_return, refined ? *refined : model_.refine(located ? *located : to, false));
   f.refined = refined.has_value();
-  if (refined) f.point = *refined;
   f.lambda = f.point.lambda;
   found.push_back(std::move(f));
 }
 
 void Engine::detect_fold(const PathFollower& follower, const PathPoint& from, const PathPoint& to,
                          std::vector<Found>& found) {
+  // (Under load control lambda is monotone by construction: the tangent turning there is the path
+  // approaching a fold it cannot pass, where the corrector then fails.)
+  if (options_.arc_length.control == PathControl::load) return;
   if (!(from.tangent_lambda != 0.0 && (from.tangent_lambda > 0) != (to.tangent_lambda > 0))) return;
   const auto t_lambda = [](const PathPoint& p) { return p.tangent_lambda; };
   std::optional<PathPoint> located = follower.locate(from, to, t_lambda, options_.event_tolerance);
@@ -252,7 +259,17 @@ void Engine::detect_amplitude(const PathFollower& follower, const PathPoint& fro
 std::optional<std::string> Engine::detect(const PathFollower& follower, const PathPoint& from, const PathPoint& to,
                                           std::vector<Found>& found) {
   detect_return(follower, from, to, found);
-  CrossingSearch search = model_.crossing(from, to, follower);
+  if (found.empty()) {  // (at a branch's return the fold there is the crossing's own, by symmetry)
+    detect_fold(follower, from, to, found);
+    detect_bifurcation(follower, from, to, found);
+  }
+  detect_requested(follower, from, to, found);
+  detect_amplitude(follower, from, to, found);
+  CrossingSearch search = model_.crossing(from, to, follower, found.empty());
+  if (search.fail) {
+    finished_ = {TraceTermination::solver_failure, *search.fail};
+    return std::nullopt;
+  }
   if (search.reject) return search.reject;
   for (Crossing& c : search.crossings) {
     Found f(Found::Kind::crossing, c.point);
@@ -260,10 +277,6 @@ std::optional<std::string> Engine::detect(const PathFollower& follower, const Pa
     f.crossing = std::move(c);
     found.push_back(std::move(f));
   }
-  detect_fold(follower, from, to, found);
-  detect_bifurcation(follower, from, to, found);
-  detect_requested(follower, from, to, found);
-  detect_amplitude(follower, from, to, found);
   // In the order of arclength; at one point, in the order detected (a return or a crossing first).
   std::stable_sort(found.begin(), found.end(),
                    [](const Found& a, const Found& b) { return a.point.arclength < b.point.arclength; });
@@ -287,7 +300,7 @@ bool Engine::take(const PathFollower& follower, Found& f) {
       return true;
     case Found::Kind::crossing: {
       const Crossing& c = *f.crossing;
-      if (!c.at_start && !keep(f.point, &c)) return true;
+      if (!c.at_start && !c.point_after && !keep(f.point, &c)) return true;
       for (const TraceEvent& e : c.events) event(e);
       if (c.switches) pending_.enter = c;
       return c.switches;
@@ -355,6 +368,10 @@ ObserverVerdict Engine::observe(const PathFollower& follower, const PathPoint& f
     rejection_ = std::move(*why);
     return ObserverVerdict::reject;
   }
+  if (finished_) {
+    to = from;
+    return ObserverVerdict::stop;
+  }
   for (Found& f : found) {
     if (!take(follower, f)) continue;
     to = f.point;  // the run ends here
@@ -394,7 +411,7 @@ TraceResult Engine::finish(TraceTermination termination, std::string message) {
 TraceResult Engine::run() {
   result_.summary.path = model_.kind();
   result_.summary.final_load_factor = options_.arc_length.lambda_min;
-  PathModel::Start start = model_.start(options_.arc_length);
+  PathModel::Start start = model_.start(follower_options());
   if (!start.point) return finish(start.failure, start.why);
   if (start.record && !keep(*start.point)) return finish(finished_->first, finished_->second);
   PathPoint point = *start.point;
@@ -412,13 +429,18 @@ TraceResult Engine::run() {
     step_length = run.step_length;
     if (finished_) return finish(finished_->first, finished_->second);
     if (pending_.enter) {
-      PathModel::Entry entry = model_.enter(*pending_.enter);
+      PathModel::Entry entry = model_.enter(*pending_.enter, follower_options());
       for (const TraceEvent& e : entry.events) {
         if (e.kind == EventKind::limit_point) ++limit_points_;
         event(e);
       }
       if (!entry.point) return finish(entry.failure, entry.why);
       point = std::move(*entry.point);
+      if (pending_.enter->point_after) {
+        if (!keep(point)) return finish(finished_->first, finished_->second);
+        // A whole step was taken: the next one grows as after any accepted step.
+        step_length = follower.next_step(step_length, point.iterations);
+      }
       continue;
     }
     if (pending_.branch) {

@@ -79,8 +79,12 @@ struct Crossing {
                                    // leaving the set with no change of the contact topology)
   bool at_start = false;           // `point` is the step's start, recorded already: events only
   bool switches = true;            // the configuration changes at `point` (PathModel::enter next)
-  std::any transition;             // the model's own description of the change, for enter() and
-                                   // for the record of the step at `point` (its resumable state)
+  // `point` is a state of the configuration after the change already (a crossing taken at the
+  // step's end, not located: see PathModel::crossing): the engine records it once the model has
+  // entered that configuration, as its first point.
+  bool point_after = false;
+  std::any transition;  // the model's own description of the change, for enter() and
+                        // for the record of the step at `point` (its resumable state)
 };
 
 // What the model found inside a step: its crossings in the order of the path (events only, then
@@ -88,6 +92,7 @@ struct Crossing {
 struct CrossingSearch {
   std::vector<Crossing> crossings;
   std::optional<std::string> reject;  // the step cannot be trusted (retried shorter)
+  std::optional<std::string> fail;    // the path cannot go on from the step's start (solver_failure)
 };
 
 // The stability of a state on its configuration, as far as the model knows it.
@@ -105,9 +110,12 @@ enum class StabilityMeasure { none, count, margin };
 struct BranchStart {
   PathPoint point;  // on the branch (in the configuration the model switched to), oriented away from
                     // the bifurcation point
-  // The branch's amplitude along the critical mode, > 0 on it; its sign change back to <= 0 is the
+  // The branch's amplitude along the critical mode, > 0 on it; its fall back to zero is the
   // branch's return to the path it left (located on it). Empty: not watched.
   std::function<double(const PathPoint&)> amplitude;
+  // Zero means within this fraction of the largest amplitude the branch reached (the states'
+  // accuracy: a step can land on the path itself, where the amplitude is round-off of either sign).
+  double return_accuracy = 0.0;
   // The lambda tolerance of that location (0: to round-off in the arclength).
   double return_tolerance = 0.0;
   std::string description;  // appended to the bifurcation event's description
@@ -133,7 +141,8 @@ class PathModel {
   // The first point of the path: at options.arc_length.lambda_min, or from options.resume_from
   // (refused with a reason where the model does not resume), on the configuration it chooses, its
   // tangent oriented along options.arc_length.direction. The follower is one on problem() after the
-  // configuration is chosen. nullopt: no start; `why` says why (solver_failure, or no_equilibrium).
+  // configuration is chosen, with `options` (the engine's: its metric). nullopt: no start; `why`
+  // says why (solver_failure, or no_equilibrium).
   struct Start {
     std::optional<PathPoint> point;
     bool record = true;       // false: a resumed step, in the file already
@@ -154,8 +163,14 @@ class PathModel {
   }
 
   // The constraint crossings of the current configuration inside the step, located: every event
-  // along it up to the first change of configuration.
-  virtual CrossingSearch crossing(const PathPoint& from, const PathPoint& to, const PathFollower& follower) = 0;
+  // along it up to the first change of configuration. `alone`: nothing else happens in the step
+  // (no fold, bifurcation, load asked for, return or amplitude bound): a change of configuration
+  // that changes no event (a contact limit moving on by a node) may then be taken at the step's end
+  // without being located (Crossing::point_after), so that the number of steps does not grow with
+  // the mesh; the model must fall back to locating it when the state there is not the path's (a
+  // fold or a change of stability between the step's start and that state).
+  virtual CrossingSearch crossing(const PathPoint& from, const PathPoint& to, const PathFollower& follower,
+                                  bool alone) = 0;
 
   // Enters the configuration after `crossing` (located at crossing.point) and returns its first
   // point there, its tangent oriented along the path (the side where the new configuration holds).
@@ -166,7 +181,9 @@ class PathModel {
     std::string why;
     std::vector<TraceEvent> events;  // found on entering (a fold at a set change), recorded at once
   };
-  virtual Entry enter(const Crossing& crossing) = 0;
+  // `options`: the engine's follower options (its metric), for the follower the model starts on.
+  // A crossing with point_after: the model enters and returns crossing.point itself.
+  virtual Entry enter(const Crossing& crossing, const ArcLengthOptions& options) = 0;
 
   // Stability.
   virtual StabilityMeasure stability_measure() const { return StabilityMeasure::none; }
@@ -178,8 +195,10 @@ class PathModel {
     return {{}, "not offered"};
   }
   // The crossing of a switched branch with the path it left, refined from `located` (where the
-  // branch's amplitude vanished); nullopt: keep `located`, its description saying so.
-  virtual std::optional<PathPoint> refine_return(const PathPoint& /*located*/, const PathFollower& /*follower*/) {
+  // branch's amplitude vanished; `peak`: the largest amplitude the branch reached); nullopt: keep
+  // `located` (refined), its event's description saying so.
+  virtual std::optional<PathPoint> refine_return(const PathPoint& /*located*/, double /*peak*/,
+                                                 const PathFollower& /*follower*/) {
     return std::nullopt;
   }
 

@@ -14,7 +14,7 @@
 #include "continuation/events.hpp"
 #include "continuation/fe_axial_path.hpp"
 #include "continuation/fe_states.hpp"
-#include "continuation/fe_von_karman_path.hpp"
+#include "continuation/models/fe_member.hpp"
 #include "fe/discretisation.hpp"
 #include "lcp/lemke.hpp"
 #include "model/from_scene.hpp"
@@ -702,7 +702,7 @@ TraceResult trace_fe(const scene::Scene& scene, const TraceOptions& options, con
   if (const model::MemberModel model = model::make_member_model(scene);
       model.kind == model::StructureKind::beam && model.has_axial_force())
     return trace_fe_axial(scene, options, sink);
-  // A von Karman beam: the membrane force makes the path curve and fold (fe_von_karman_path.hpp).
+  // A von Karman beam: the membrane force makes the path curve and fold (models/fe_member.hpp).
   if (const model::MemberModel model = model::make_member_model(scene); model.theory == model::Theory::von_karman) {
     options.validate(scene.begin(), scene.end());
     return trace_fe_von_karman(model, options, sink);

@@ -12,7 +12,7 @@
 //          dual, primal   -> refused (key solve.method): Lemke solves an LCP, linear only
 //          a tolerance    -> refused (key solve.tolerance): the limit-fitted meshes are linear only
 //   sweep, envelope: what solve honours (they solve through solve_scene)
-//   trace: the FE path (continuation/fe_von_karman_path.hpp) and the Ritz path (continuation::trace_ritz)
+//   trace: the FE path (continuation/models/fe_member.hpp) and the Ritz path (continuation::trace_ritz)
 // For circular arches under von Karman (the Marguerre/Donnell element, fe/arch_von_karman_element.hpp):
 //   solve: auto and fast  -> the FE von Karman arch solve along the load path from zero (as beams),
 //                            its answer certified (certify::certify of a VonKarmanAnswer)

@@ -157,7 +157,7 @@ struct VonKarmanResult {
 
 // The selection of one contact set A of a discretisation: its reaction indices, C_A (|A| x the
 // discretisation's equations), T_AA and c_A (the ground gap on A; zero where the discretisation
-// has none). The solve below and the path driver (continuation/fe_von_karman_path.hpp) build
+// has none). The solve below and the path driver (continuation/models/fe_member.hpp) build
 // their set equations from it.
 struct ContactSelection {
   std::vector<bool> in_contact;  // per reaction node
@@ -201,7 +201,7 @@ class VonKarmanSystem {
   // is a discretisation dof).
   int axial_unknown(int node) const { return axial_unknown_[node]; }
   // The set-free part of the equations, for a path driver that carries the reactions as unknowns
-  // itself (continuation/fe_von_karman_path.hpp): f_int(x), the elements' internal force plus the
+  // itself (continuation/models/fe_member.hpp): f_int(x), the elements' internal force plus the
   // linear parts of the discretisation (no load, no reactions), and its Jacobian K_t. K_t's
   // sparsity pattern does not depend on x (every element's 6 x 6 coupling and K's pattern are
   // stored, zeros included), so a caller may analyse it once.

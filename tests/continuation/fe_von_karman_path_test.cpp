@@ -8,7 +8,7 @@
 // EA = 1e4 (r = 0.01). The sine load is the consistent load of q0 sin(pi s) (5-point Gauss rule per
 // element: exact to ~h^10), built here and handed to the path's live-load seam (the scene's sine
 // load is another branch's).
-#include "continuation/fe_von_karman_path.hpp"
+#include "continuation/models/fe_member.hpp"
 
 #include <algorithm>
 #include <catch2/catch.hpp>

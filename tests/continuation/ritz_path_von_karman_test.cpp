@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "closed_form/shallow_arch.hpp"
-#include "continuation/fe_von_karman_path.hpp"
+#include "continuation/models/fe_member.hpp"
 #include "continuation/ritz_path.hpp"
 #include "model/from_scene.hpp"
 #include "support/scenes.hpp"
@@ -292,7 +292,7 @@ TEST_CASE(
 TEST_CASE("Ritz and FE von Karman paths agree on the bifurcation load and the switched branch's stability",
           "[continuation][ritz][fe][von_karman]") {
   // The scene above (a / r = 8, kappa = 2 falling and kappa = 8 rising branch) traced by the FE
-  // path too (continuation/fe_von_karman_path.hpp: it also ends its switched branch where the
+  // path too (continuation/models/fe_member.hpp: it also ends its switched branch where the
   // branch meets the path again). The FE bifurcation load converges at order 4 (its test); its
   // error is estimated by Richardson from 16 and 32 elements, |e32| ~ |l16 - l32| / 15 (8 elements
   // are too coarse here: on kappa = 2's branch their inertia changes twice). The Ritz load is the
@@ -325,7 +325,7 @@ TEST_CASE("Ritz and FE von Karman paths agree on the bifurcation load and the sw
                                     << fe[1][0].load_factor << " (estimate " << estimate << ")");
     CHECK(std::abs(fe[1][0].load_factor - r[0].load_factor) <= 2 * estimate);
     // The second: both paths end their branch there, the FE path on the crossing located by a
-    // secant on the tangent's eigenvalue nearest zero (fe_von_karman_path.cpp, refined_crossing).
+    // secant on the tangent's eigenvalue nearest zero (models/fe_member.cpp, refine_return).
     // Its FE load converges at the first's order 4 (16 / 32 / 64 / 128 elements, errors against
     // the closed form: kappa = 2, 7.35e-4, 4.63e-5, 2.90e-6, 1.8e-7; kappa = 8, 6.50e-4, 4.15e-5,
     // 2.61e-6, round-off), so it is compared as the first. Without the secant the located point

@@ -1,5 +1,5 @@
 // Issue 16's "done when": a snap-through with a contact event on the way, traced through its
-// limit point by the FE path (continuation/fe_von_karman_path.hpp) and the Ritz path
+// limit point by the FE path (continuation/models/fe_member.hpp) and the Ritz path
 // (continuation/ritz_path.hpp), which agree.
 //
 // The scene verification/scenes/von_karman/imperfect_arch_lift_off.toml: L = 1, EI = 1, EA = 1e4
@@ -32,7 +32,7 @@
 #include <string>
 #include <vector>
 
-#include "continuation/fe_von_karman_path.hpp"
+#include "continuation/models/fe_member.hpp"
 #include "continuation/ritz_path.hpp"
 #include "model/from_scene.hpp"
 #include "scene/scene_reader.hpp"
