@@ -441,16 +441,19 @@ TraceResult Engine::run() {
         // A whole step was taken: the next one grows as after any accepted step.
         step_length = follower.next_step(step_length, point.iterations);
       }
-      continue;
     }
     if (pending_.branch) {
       watch_ = std::move(pending_.branch);
       if (!keep(watch_->point)) return finish(finished_->first, finished_->second);
       point = watch_->point;
-      continue;
     }
-    if (pending_.restart) {
-      point = run.points.back();
+    if (pending_.restart) point = run.points.back();
+    if (pending_.enter || pending_.branch || pending_.restart) {
+      // A run stopped at the range's end (a switch taken there) ends the trace there.
+      const ArcLengthOptions& o = options_.arc_length;
+      if ((point.lambda >= o.lambda_max && point.tangent_lambda > 0) ||
+          (point.lambda <= o.lambda_min && point.tangent_lambda < 0))
+        return finish(TraceTermination::completed, fmt::format("lambda = {:.10g} reached", point.lambda));
       continue;
     }
     switch (run.termination) {

@@ -374,8 +374,11 @@ certify::VonKarmanAnswer FeMemberPath::answer_of(const ContactSet& set, const Ve
   answer.reaction = reactions(set, y);
   const int nodes = d_.mesh.elements() + 1;
   answer.axial = VectorXd::Zero(nodes);
-  for (int node = 0; node < nodes; ++node)
-    if (const int k = system_.axial_unknown(node); k >= 0) answer.axial[node] = y[k];
+  for (int node = 0; node < nodes; ++node)  // an arch's u is a dof of the discretisation
+    if (d_.kind == model::StructureKind::arch)
+      answer.axial[node] = answer.displacement[d_.tangential_dof(node)];
+    else if (const int k = system_.axial_unknown(node); k >= 0)
+      answer.axial[node] = y[k];
   answer.normal_force = system_.normal_forces(y.head(n_));
   return answer;
 }
@@ -648,9 +651,14 @@ std::optional<Crossing> FeMemberPath::taken_at_end(const PathPoint& from, const 
     if (!same_pieces(set_.in_contact, in_contact, first, last)) return std::nullopt;
     const ContactSet next = contact::select_contact_set(d_, in_contact);
     const PathFollower on_next(problem_on(next), follower.options());
-    StepOutcome step = on_next.step(carry(from, set_, next, n_), ds);
+    // At the range's end (landed on exactly) the new set's state at that lambda, else on the step's
+    // hyperplane.
+    const ArcLengthOptions& o = follower.options();
+    const bool at_end = to.lambda == o.lambda_max || to.lambda == o.lambda_min || o.control == PathControl::load;
+    const PathPoint start = carry(from, set_, next, n_);
+    StepOutcome step = at_end ? on_next.step_to_lambda(start, to.lambda) : on_next.step(start, ds);
     if (!step.point) return std::nullopt;
-    const PathPoint p = polished(next, *step.point, false);
+    const PathPoint p = polished(next, *step.point, at_end);
     const VectorXd values = sign_values(next, p.x);
     failing.clear();
     for (int i = 0; i < d_.reactions(); ++i)

@@ -57,8 +57,8 @@ bool von_karman_arch(const scene::Scene& scene) {
 
 std::string arch_reason(const scene::Scene& scene, std::string_view what) {
   return fmt::format(
-      "theory = \"{}\" on an arch: {}; expected method \"auto\" or \"fast\" with `liftoff solve` (the FE von "
-      "Karman arch solve), or theory \"linear\"",
+      "theory = \"{}\" on an arch: {}; expected method \"auto\" or \"fast\" with `liftoff solve` or `liftoff "
+      "trace` (the FE von Karman arch solve and path), or theory \"linear\"",
       scene::to_string(scene.structure.theory), what);
 }
 
@@ -76,8 +76,9 @@ std::optional<std::string> arch_refusal(const scene::Scene& scene, Solver solver
     case Solver::ritz:
       return arch_reason(scene, "the Ritz model has no von Karman membrane term for arches");
     case Solver::fe_path:
+      return std::nullopt;
     case Solver::ritz_path:
-      return arch_reason(scene, "no path (FE or Ritz) traces a von Karman arch yet");
+      return arch_reason(scene, "the Ritz model has no von Karman membrane term for arches");
   }
   return std::nullopt;
 }
@@ -109,8 +110,8 @@ void require_honoured_theory(const scene::Scene& scene, Command command, Solver 
 
 void require_honoured_theory(const scene::Scene& scene, Command command) {
   // Beams: every command has a von Karman solver (trace: both paths); the entry points check the
-  // one they run. Arches: `liftoff solve` only.
-  if (von_karman_arch(scene) && command != Command::solve)
+  // one they run. Arches: `liftoff solve` and `liftoff trace` (the FE path).
+  if (von_karman_arch(scene) && command != Command::solve && command != Command::trace)
     throw InputError(fmt::format(
         "{}: key 'structure.theory': {} (liftoff {})", scene.source_name,
         arch_reason(scene,

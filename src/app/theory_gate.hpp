@@ -17,11 +17,12 @@
 //   solve: auto and fast  -> the FE von Karman arch solve along the load path from zero (as beams),
 //                            its answer certified (certify::certify of a VonKarmanAnswer)
 //          every other method, a tolerance -> refused, key structure.theory
-//   sweep, envelope, trace -> refused, key structure.theory (not served yet: no path traces an
-//                            arch under this theory; a sweep's or an envelope's answers would be
-//                            certified like solve's, but no test covers them). The refusal is
-//                            the command's early check (require_honoured_theory(scene, command),
-//                            the CLI's; run_trace's own): run_sweep and run_envelope solve through
+//   trace: the FE path (continuation/models/fe_member.hpp: the same equations on its contact sets,
+//          every state certified); the Ritz path -> refused (no membrane term for arches)
+//   sweep, envelope -> refused, key structure.theory (not served yet: a sweep's or an envelope's
+//                            answers would be certified like solve's, but no test covers them). The
+//                            refusal is the command's early check (require_honoured_theory(scene,
+//                            command), the CLI's): run_sweep and run_envelope solve through
 //                            solve_scene, so a library caller of those gets certified arch answers.
 // theory = "linear" is honoured by every solver.
 

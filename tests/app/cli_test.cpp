@@ -885,12 +885,12 @@ TEST_CASE("cli: a von Karman scene is solved by solve, sweep and envelope; the u
 }
 
 TEST_CASE(
-    "cli: a von Karman arch is solved by `solve` (auto, fast), refused by every other method and command: "
-    "exit 2, one line",
+    "cli: a von Karman arch is solved by `solve` (auto, fast) and traced by the FE path, refused by every other "
+    "method and command: exit 2, one line",
     "[app][von_karman]") {
-  // `liftoff solve` serves the arch with the FE von Karman solve and certifies the answer; the
-  // theory table (app/theory_gate.hpp) refuses the rest before any work, keyed to
-  // structure.theory, nothing written.
+  // `liftoff solve` serves the arch with the FE von Karman solve and certifies the answer, `liftoff
+  // trace` with the FE path; the theory table (app/theory_gate.hpp) refuses the rest before any
+  // work, keyed to structure.theory, nothing written.
   std::ifstream in(std::string(LIFTOFF_SOURCE_DIR) + "/verification/scenes/seed_arch_pinned.toml");
   REQUIRE(in);
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -909,18 +909,30 @@ TEST_CASE(
     CHECK(support.contains("tangential"));
     CHECK_FALSE(support.contains("horizontal"));
   }
+  const fs::path traced = scratch.write("arch_trace.toml", text + "\n[trace]\nlambda_max = 1.0\n");
+  const Run trace = run_cli({"trace", traced.string(), "--elements", "40", "--json"});
+  CHECK(trace.status == 0);
+  CHECK(nlohmann::json::parse(trace.out)["termination"] == "completed");
   for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
            {"solve", scene.string(), "--method", "ritz", "--output", output.string()},
            {"solve", scene.string(), "--method", "dual", "--output", output.string()},
            {"solve", scene.string(), "--tolerance", "1e-4", "--output", output.string()},
-           {"sweep", scene.string(), "--set", "loads[0].value=0.1,0.2", "--output", output.string()},
-           {"trace", scene.string(), "--output", output.string()}}) {
+           {"sweep", scene.string(), "--set", "loads[0].value=0.1,0.2", "--output", output.string()}}) {
     CAPTURE(args);
     const Run r = run_cli(args);
     CHECK(r.status == 2);
     CHECK(r.out.empty());
     CHECK_THAT(r.err, Catch::Matchers::StartsWith("liftoff: " + scene.string() + ": key 'structure.theory': ") &&
                           Catch::Matchers::Contains("theory = \"von_karman\" on an arch"));
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    CHECK_FALSE(fs::exists(output));
+  }
+  // The Ritz path has no membrane term for arches: refused as a scene the Ritz model cannot take.
+  for (const char* method : {"ritz", "all"}) {
+    CAPTURE(method);
+    const Run r = run_cli({"trace", traced.string(), "--method", method, "--output", output.string()});
+    CHECK(r.status == 2);
+    CHECK_THAT(r.err, Catch::Matchers::Contains("key 'structure.theory'") && Catch::Matchers::Contains("arches"));
     CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
     CHECK_FALSE(fs::exists(output));
   }

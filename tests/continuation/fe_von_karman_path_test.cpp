@@ -8,8 +8,6 @@
 // EA = 1e4 (r = 0.01). The sine load is the consistent load of q0 sin(pi s) (5-point Gauss rule per
 // element: exact to ~h^10), built here and handed to the path's live-load seam (the scene's sine
 // load is another branch's).
-#include "continuation/models/fe_member.hpp"
-
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -19,6 +17,7 @@
 
 #include "closed_form/shallow_arch.hpp"
 #include "contact/von_karman_solve.hpp"
+#include "continuation/models/fe_member.hpp"
 #include "continuation/ritz_path.hpp"
 #include "fe/shape_functions.hpp"
 #include "model/from_scene.hpp"
@@ -413,4 +412,49 @@ TEST_CASE("FE von Karman path: max_amplitude stops the path; resume_from is refu
   CHECK(resumed.summary.termination == TraceTermination::solver_failure);
   CHECK(resumed.summary.message.find("TraceOptions.resume_from") != std::string::npos);
   CHECK(resumed.steps.empty());
+}
+
+TEST_CASE("FE von Karman path: a circular arch is traced, every state the von Karman solve's at its load",
+          "[continuation][fe][von_karman][arch]") {
+  // The seed's pinned arch under von Karman theory (verification/scenes/von_karman/): traced to
+  // lambda = 2, where the lift-off zones at both ends close again (its contact region reaches the
+  // supports). Each recorded state is the FE von Karman contact solve's at the step's load factor,
+  // solved on its own from zero (contact/von_karman_solve.hpp): the same discrete problem, so they
+  // agree to the solves' accuracy (both certified to their backward error, ~1e-12 of w).
+  scene::Scene s = scene::read_scene_file(std::string(LIFTOFF_SOURCE_DIR) +
+                                          "/verification/scenes/von_karman/seed_arch_pinned_von_karman.toml");
+  const model::MemberModel m = model::make_member_model(s);
+  REQUIRE(m.kind == model::StructureKind::arch);
+  TraceOptions o;
+  o.arc_length.lambda_min = 0.0;
+  o.arc_length.lambda_max = 2.0;
+  o.elements = 50;
+  o.monitor = 0.0;
+  const TraceResult r = trace_fe_von_karman(m, o);
+  CAPTURE(r.summary.message);
+  REQUIRE(r.summary.termination == TraceTermination::completed);
+  CHECK(r.steps.back().load_factor == 2.0);
+  // Both ends' zones close together (the arch is symmetric).
+  const std::vector<TraceEvent> closing = of_kind(r, EventKind::limit_at_support);
+  REQUIRE(closing.size() == 2);
+  CHECK(closing[0].load_factor == Approx(closing[1].load_factor).epsilon(1e-9));
+  const fe::Discretisation d = fe::discretise(m, o.elements);
+  const contact::VonKarmanSystem system(m, d);
+  const double scale = m.scales.displacement();
+  for (std::size_t i = 1; i < r.steps.size(); i += 7) {
+    const TraceStep& step = r.steps[i];
+    CAPTURE(i, step.load_factor);
+    const contact::VonKarmanResult solved = system.solve(step.load_factor, contact::VonKarmanOptions{});
+    REQUIRE(solved.is_usable());
+    const int crown = o.elements / 2;
+    CHECK(step.monitor_deflection == Approx(solved.w[crown] * scale).epsilon(1e-8));
+    // The contact regions: the solve's nodes in contact lie inside the step's region (the region's
+    // limits are on the element cubics, between a node in contact and the next one lifted).
+    REQUIRE(step.contact_regions.size() == 1);
+    for (int node = 0; node <= o.elements; ++node) {
+      const double theta = m.user_from_s(d.mesh.nodes[node]);
+      const bool inside = theta >= step.contact_regions[0].begin - 1e-9 && theta <= step.contact_regions[0].end + 1e-9;
+      if (solved.w[node] > 1e-9 * solved.w.cwiseAbs().maxCoeff()) CHECK(inside);
+    }
+  }
 }
