@@ -52,7 +52,8 @@ struct Found {
 struct Pending {
   std::optional<Crossing> enter;      // a configuration change at the run's last point
   std::optional<BranchStart> branch;  // a switch onto a bifurcated branch
-  bool restart = false;               // a new follower on the model's (changed) problem, same point
+  bool restart = false;               // a new follower on the model's (changed) problem, same point,
+  double restart_step = 0.0;          // at this step length
 };
 
 class Engine {
@@ -82,8 +83,9 @@ class Engine {
                         std::vector<Found>& found);
   void detect_amplitude(const PathFollower& follower, const PathPoint& from, const PathPoint& to,
                         std::vector<Found>& found);
-  // Takes one located thing: records it, and says whether the run ends there.
-  bool take(const PathFollower& follower, Found& f);
+  // Takes one located thing: records it, and says whether the run ends there. step: the step
+  // length in use (what a run continued from the point takes, and what its record says).
+  bool take(const PathFollower& follower, Found& f, double step);
   TraceResult finish(TraceTermination termination, std::string message);
   std::string counts() const;
 
@@ -267,16 +269,30 @@ std::optional<std::string> Engine::detect(const PathFollower& follower, const Pa
   // In the order of arclength; at one point, in the order detected (a return or a crossing first).
   std::stable_sort(found.begin(), found.end(),
                    [](const Found& a, const Found& b) { return a.point.arclength < b.point.arclength; });
+  // A fold located at a configuration change (within event_tolerance in lambda of a crossing that
+  // switches) is the crossing's: the old configuration's tangent turns there because it ends
+  // (a Ritz piece vanishing as the member lifts off entirely), and whether the path folds is the
+  // new configuration's to say (PathModel::Entry::events).
+  std::vector<double> switches;
+  for (const Found& c : found)
+    if (c.kind == Found::Kind::crossing && c.crossing->switches) switches.push_back(c.lambda);
+  std::erase_if(found, [&](const Found& f) {
+    return f.kind == Found::Kind::fold && std::any_of(switches.begin(), switches.end(), [&](double lambda) {
+             return std::abs(f.lambda - lambda) <= options_.event_tolerance;
+           });
+  });
   return std::nullopt;
 }
 
-bool Engine::take(const PathFollower& follower, Found& f) {
+bool Engine::take(const PathFollower& follower, Found& f, double step) {
+  // (Words and position of the state before anything switches: a switch changes the model.)
   const std::string state = model_.describe_state(f.point);
+  const double position = model_.event_position(f.point);
   switch (f.kind) {
     case Found::Kind::branch_return:
-      if (!keep(f.point)) return true;
+      if (!keep(f.point, nullptr, false, std::nullopt, step)) return true;
       ++bifurcations_;
-      event({f.lambda, EventKind::bifurcation, model_.event_position(f.point),
+      event({f.lambda, EventKind::bifurcation, position,
              fmt::format(
                  "bifurcation: the bifurcated branch meets the path it left again at lambda = {:.10g} "
                  "({}){}; the switched branch ends here",
@@ -287,15 +303,15 @@ bool Engine::take(const PathFollower& follower, Found& f) {
       return true;
     case Found::Kind::crossing: {
       const Crossing& c = *f.crossing;
-      if (!c.at_start && !keep(f.point, &c)) return true;
+      if (!c.at_start && !keep(f.point, &c, false, std::nullopt, step)) return true;
       for (const TraceEvent& e : c.events) event(e);
       if (c.switches) pending_.enter = c;
       return c.switches;
     }
     case Found::Kind::fold: {
-      if (!keep(f.point)) return true;
+      if (!keep(f.point, nullptr, false, std::nullopt, step)) return true;
       ++limit_points_;
-      event({f.lambda, EventKind::limit_point, model_.event_position(f.point),
+      event({f.lambda, EventKind::limit_point, position,
              fmt::format("limit point: lambda reaches a {} {:.10g} ({})", f.maximum ? "maximum" : "minimum", f.lambda,
                          state)});
       return false;
@@ -318,18 +334,18 @@ bool Engine::take(const PathFollower& follower, Found& f) {
           then = "; the path stays on this branch: " + s.why_not;
         }
       }
-      event({f.lambda, EventKind::bifurcation, model_.event_position(f.point),
+      event({f.lambda, EventKind::bifurcation, position,
              fmt::format("bifurcation at lambda = {:.10g} ({}): the tangent stiffness on the contact set turns "
                          "singular ({} to {}{}): another branch crosses the path{}",
                          f.lambda, state, to_string(f.before.verdict()), to_string(f.after.verdict()), counts, then)});
       if (pending_.branch) return true;
       // Not switching: the bifurcation point is a step of its own (its event carries its state).
-      return !keep(f.point);
+      return !keep(f.point, nullptr, false, std::nullopt, step);
     }
     case Found::Kind::requested:
-      return !keep(f.point, nullptr, true);
+      return !keep(f.point, nullptr, true, std::nullopt, step);
     case Found::Kind::amplitude:
-      if (!keep(f.point)) return true;
+      if (!keep(f.point, nullptr, false, std::nullopt, step)) return true;
       finished_ = {TraceTermination::completed,
                    fmt::format("amplitude {:.6g} reached (max_amplitude) at lambda = {:.10g}",
                                model_.amplitude(f.point), f.point.lambda)};
@@ -339,6 +355,7 @@ bool Engine::take(const PathFollower& follower, Found& f) {
 }
 
 ObserverVerdict Engine::observe(const PathFollower& follower, const PathPoint& from, PathPoint& to) {
+  const double step = to.arclength - from.arclength;  // the follower's (before the model cuts the step short)
   const bool at_end = to.lambda == options_.arc_length.lambda_max || to.lambda == options_.arc_length.lambda_min;
   to = model_.refine(to, at_end || options_.arc_length.control == PathControl::load);
   Screening screening = model_.screen(from, to, follower);
@@ -356,19 +373,21 @@ ObserverVerdict Engine::observe(const PathFollower& follower, const PathPoint& f
     return ObserverVerdict::reject;
   }
   for (Found& f : found) {
-    if (!take(follower, f)) continue;
+    if (!take(follower, f, step)) continue;
     to = f.point;  // the run ends here
     return ObserverVerdict::stop;
   }
-  if (!keep(to, nullptr, false, candidate_, follower.next_step(to.arclength - from.arclength, to.iterations)))
-    return ObserverVerdict::stop;
+  const double next = follower.next_step(step, to.iterations);
+  const bool restart = model_.wants_new_problem(to);  // (before the record: it may re-express to's tangent)
+  if (!keep(to, nullptr, false, candidate_, next)) return ObserverVerdict::stop;
   stability_ = candidate_;
   if (result_.summary.steps >= options_.arc_length.max_steps) {
     finished_ = {TraceTermination::step_limit, fmt::format("max_steps = {} reached", options_.arc_length.max_steps)};
     return ObserverVerdict::stop;
   }
-  if (model_.wants_new_problem(to)) {
+  if (restart) {
     pending_.restart = true;
+    pending_.restart_step = next;
     return ObserverVerdict::stop;
   }
   return ObserverVerdict::proceed;
@@ -396,9 +415,10 @@ TraceResult Engine::run() {
   result_.summary.final_load_factor = options_.arc_length.lambda_min;
   PathModel::Start start = model_.start(options_.arc_length);
   if (!start.point) return finish(start.failure, start.why);
-  if (start.record && !keep(*start.point)) return finish(finished_->first, finished_->second);
-  PathPoint point = *start.point;
   double step_length = start.first_step > 0.0 ? start.first_step : options_.arc_length.initial_step;
+  if (start.record && !keep(*start.point, nullptr, false, std::nullopt, step_length))
+    return finish(finished_->first, finished_->second);
+  PathPoint point = *start.point;
   while (true) {
     if (result_.summary.steps >= options_.arc_length.max_steps)
       return finish(TraceTermination::step_limit, fmt::format("max_steps = {} reached", options_.arc_length.max_steps));
@@ -418,17 +438,21 @@ TraceResult Engine::run() {
         event(e);
       }
       if (!entry.point) return finish(entry.failure, entry.why);
+      if (entry.record && !keep(*entry.point, nullptr, false, std::nullopt, step_length))
+        return finish(finished_->first, finished_->second);
       point = std::move(*entry.point);
       continue;
     }
     if (pending_.branch) {
       watch_ = std::move(pending_.branch);
-      if (!keep(watch_->point)) return finish(finished_->first, finished_->second);
+      if (!keep(watch_->point, nullptr, false, std::nullopt, step_length))
+        return finish(finished_->first, finished_->second);
       point = watch_->point;
       continue;
     }
     if (pending_.restart) {
       point = run.points.back();
+      step_length = pending_.restart_step;
       continue;
     }
     switch (run.termination) {

@@ -165,6 +165,8 @@ class PathModel {
     TraceTermination failure = TraceTermination::solver_failure;
     std::string why;
     std::vector<TraceEvent> events;  // found on entering (a fold at a set change), recorded at once
+    bool record = false;             // the point is no longer the crossing's (a new zone opened a little
+                                     // past it): recorded as a step of its own
   };
   virtual Entry enter(const Crossing& crossing) = 0;
 
@@ -196,15 +198,16 @@ class PathModel {
   virtual std::optional<std::string> certify(const PathPoint& point) const = 0;
   // The step of a state: the whole state in the user's units (its stability is the engine's, set
   // after). `crossing` when recorded at one (its resumable state is the configuration after it);
-  // next_step: the step length the follower takes from it (a resumed run takes the same).
+  // next_step: the step length the engine goes on with from it (a resumed run takes the same).
   struct RecordContext {
     const Crossing* crossing = nullptr;
     double next_step = 0.0;
   };
   virtual TraceStep record(const PathPoint& point, const RecordContext& context) const = 0;
-  // After a point is recorded: true if the follower must be rebuilt on problem() from it (a
-  // change of the metric).
-  virtual bool wants_new_problem(const PathPoint& /*point*/) { return false; }
+  // Before a step's end is recorded: true if the follower must be rebuilt on problem() from it (a
+  // change of the metric; the model then re-expresses the point's tangent in the new one, and the
+  // point is recorded so). The new follower goes on with the step length the old one would have taken.
+  virtual bool wants_new_problem(PathPoint& /*point*/) { return false; }
 
   // Figures of the model's own for the summary (pivots, factorisations, modes); a note appended
   // to the message of a completed run.
