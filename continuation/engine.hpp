@@ -25,14 +25,17 @@
 //               - the model's constraint crossings (PathModel::crossing: contact events, a node
 //                 leaving the set, a Ritz piece vanishing; located by the model, which knows its
 //                 functions), which may change the configuration;
-//               - a fold: the tangent's d lambda / ds changes sign (`limit_point`);
+//               - a fold: the tangent's d lambda / ds changes sign (`limit_point`); one located
+//                 where the run ends anyway (within event_tolerance of a crossing that switches,
+//                 or of a branch's return) is that point's, not reported;
 //               - a bifurcation: the tangent's count of negative eigenvalues changes without a
 //                 fold (bisection on the count), or its stability margin changes sign (secant);
 //                 where the path loses its stability, with TraceOptions::switch_branch, the model
 //                 leaves along the critical mode (PathModel::switch_branch), once per trace;
 //               - on a switched branch, its return to the path it left (the branch's amplitude
 //                 along the critical mode back to zero): a second `bifurcation`, where the trace
-//                 ends (the branch beyond is its own mirror image);
+//                 ends (the branch beyond is its own mirror image); a step on which it cannot be
+//                 located is retried shorter;
 //               - a load asked for (TraceOptions::report_at): lambda crossing it.
 //               A step that holds a fold and a change of stability, or two changes of stability,
 //               is retried shorter (down to 100 min_step) so that each is located on its own.
