@@ -557,7 +557,7 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
   // from `near` less its mode component and polished there bordered by its critical mode (the
   // solve's tolerance alone left 2.5e-7 in the crossing's lambda at 32 elements, kappa = 8, and
   // broke the load's order 4 at 64 elements), to event_tolerance in lambda, as the Ritz path does
-  // (ritz_path.cpp, RitzTracer::refined_crossing). That eigenvalue is zero at the crossing and
+  // (models/ritz_switch.cpp, RitzPath::refined_crossing). That eigenvalue is zero at the crossing and
   // linear in lambda beside it: on the symmetric path S commutes with the mirror, so its
   // antisymmetric block's lowest eigenvalue is simple and smooth in lambda, and it vanishes where
   // the thrust reaches the antisymmetric mode's critical value, a simple root since the thrust
