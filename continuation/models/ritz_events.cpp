@@ -70,11 +70,12 @@ RitzEventValue RitzEvents::extreme(const ritz::RitzModel& model, const VectorXd&
   if (!(b > a)) return best;
   const double sign = minimum ? 1.0 : -1.0;  // minimise sign * w
   const int samples = std::max(16, static_cast<int>(std::ceil(8.0 * modes_ * (b - a) / member_.length())));
-  const double h = (b - a) / samples;
+  std::vector<double> w;
+  model.w_on_grid(x, a, b, samples,
+                  w);  // (a grid of sines by recurrence: a sine per point and mode is 20 times dearer)
   for (int i = 1; i < samples; ++i) {
-    const double s = a + i * h;
-    const double value = sign * model.w(x, s);
-    if (value < best.value) best = {value, s};
+    const double value = sign * w[i - 1];
+    if (value < best.value) best = {value, a + (b - a) * i / samples};
   }
   for (const RitzEventValue& local : local_minima(model, x, a, b, minimum))
     if (local.value < best.value) best = local;
@@ -87,12 +88,15 @@ std::vector<RitzEventValue> RitzEvents::local_minima(const ritz::RitzModel& mode
   if (!(b > a)) return minima;
   const double sign = minimum ? 1.0 : -1.0;  // minima of sign * w
   const int samples = std::max(16, static_cast<int>(std::ceil(8.0 * modes_ * (b - a) / member_.length())));
-  const double h = (b - a) / samples;
-  // Sign changes of the slope from - to + between grid points, refined by safeguarded Newton.
-  double s0 = a + 0.5 * h, d0 = sign * model.w(x, s0, 1);
+  // Sign changes of the slope from - to + between the grid's midpoints (the odd points of the grid
+  // of twice as many intervals), refined by safeguarded Newton.
+  std::vector<double> slope;
+  model.w_on_grid(x, a, b, 2 * samples, slope, 1);
+  const auto midpoint = [&](int i) { return a + (b - a) * (2 * i + 1) / (2.0 * samples); };
+  double s0 = midpoint(0), d0 = sign * slope[0];
   for (int i = 1; i < samples; ++i) {
-    const double s1 = std::min(a + (i + 0.5) * h, b - 0.5 * h);
-    const double d1 = sign * model.w(x, s1, 1);
+    const double s1 = midpoint(i);
+    const double d1 = sign * slope[2 * i];
     if (d0 < 0 && d1 >= 0) {
       double lo = s0, hi = s1, s = 0.5 * (s0 + s1);
       for (int k = 0; k < 60; ++k) {
@@ -152,10 +156,11 @@ RitzEventValue RitzEvents::value(const ritz::RitzModel& model, const VectorXd& x
 }
 
 double RitzEvents::w_scale(const ritz::RitzModel& model, const VectorXd& x) const {
-  double scale = 0.0;
   const int samples = 8 * modes_;
-  for (int i = 0; i <= samples; ++i)
-    scale = std::max(scale, std::abs(model.w(x, member_.s_begin + member_.length() * i / samples)));
+  std::vector<double> w;
+  model.w_on_grid(x, member_.s_begin, member_.s_end, samples, w);
+  double scale = std::max(std::abs(model.w(x, member_.s_begin)), std::abs(model.w(x, member_.s_end)));
+  for (double value : w) scale = std::max(scale, std::abs(value));
   return scale;
 }
 
