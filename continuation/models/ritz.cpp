@@ -246,9 +246,12 @@ PathModel::Start RitzPath::start(const ArcLengthOptions& /*options*/) {
   }
   nonlinear::NewtonSummary newton;
   std::optional<PathPoint> point = follower_for(model_).start(state.point.x, state.point.lambda, &newton);
-  if (!point)
+  if (!point)  // (Newton converged: the path's tangent there is what failed, its bordered system singular)
     return {std::nullopt, true, 0.0, TraceTermination::solver_failure,
-            "no equilibrium at lambda_min: " + newton.message};
+            newton.is_usable() ? fmt::format("an equilibrium at lambda = {:.10g} but no tangent to the path there "
+                                             "(its bordered system is singular)",
+                                             state.point.lambda)
+                               : "no equilibrium at lambda_min: " + newton.message};
   if (auto why = events_->state_failure(*model_, point->x))
     return {std::nullopt, true, 0.0, TraceTermination::solver_failure,
             fmt::format("the start at lambda = {:.10g} is no contact solution: {}", point->lambda, *why)};
@@ -294,12 +297,18 @@ double RitzPath::force_scale(const RitzModel& model) const {
       1e-300);
 }
 
+// What the loads make against the foundation (or the unit bending stiffness): at least 1e-300,
+// so that its inverse, the metric's scale, stays finite (a member without loads: w = 0 throughout).
+double RitzPath::load_deflection(const RitzModel& model) const {
+  return std::max(force_scale(model) / std::max(member_.k, 1.0), 1e-300);
+}
+
 PathProblem RitzPath::problem() const { return problem_for(model_); }
 
 PathProblem RitzPath::problem_for(std::shared_ptr<const RitzModel> model) const {
   const int n = model->unknowns(), a = model->amplitudes();
   const double force_scale = this->force_scale(*model);
-  const double amplitude_scale = amplitude_scale_ > 0 ? amplitude_scale_ : force_scale / std::max(member_.k, 1.0);
+  const double amplitude_scale = amplitude_scale_ > 0 ? amplitude_scale_ : load_deflection(*model);
   PathProblem problem;
   problem.unknowns = n;
   problem.residual = [model](const VectorXd& y, double lambda, VectorXd& g) {
@@ -337,7 +346,7 @@ PathFollower RitzPath::follower_for(std::shared_ptr<const RitzModel> model) cons
 // the same steps.
 void RitzPath::rescale(std::shared_ptr<const RitzModel> model, PathPoint& p) {
   const int a = model->amplitudes();
-  double scale = force_scale(*model) / std::max(member_.k, 1.0);
+  double scale = load_deflection(*model);
   // (Beam-columns: only where the path starts; near a fold dx/dlambda grows without bound.)
   if (p.tangent_lambda > 0 && (!model->can_lose_stability() || amplitude_scale_ == 0.0))
     scale = std::max(scale, lambda_size() * p.tangent_x.head(a).lpNorm<Eigen::Infinity>() / p.tangent_lambda);

@@ -153,6 +153,7 @@ class RitzPath final : public PathModel {
   // The follower's metric (see the top) and a follower on `model` for the model's own solves.
   double lambda_size() const;
   double force_scale(const ritz::RitzModel& model) const;
+  double load_deflection(const ritz::RitzModel& model) const;
   PathProblem problem_for(std::shared_ptr<const ritz::RitzModel> model) const;
   PathFollower follower_for(std::shared_ptr<const ritz::RitzModel> model) const;
   void rescale(std::shared_ptr<const ritz::RitzModel> model, PathPoint& p);

@@ -244,6 +244,14 @@ std::vector<std::string> trace_path_names(const scene::Scene& scene, const Trace
                       "(\"dual\", \"primal\", \"fast\" or \"auto\")",
                       scene.source_name, where, unsupported->message()));
     }
+    // A bilateral foundation (or one as stiff in tension) is in contact everywhere: the Ritz
+    // model has the one topology (`solve --method ritz` refuses another as well).
+    const std::vector<bool>& pieces = scene.ritz.topology;
+    if (!model.tensionless && (pieces.size() > 1 || (pieces.size() == 1 && !pieces.front())))
+      throw InputError(fmt::format(
+          "{}: key 'ritz.topology': the foundation is bilateral (in contact everywhere); expected [\"contact\"] "
+          "or \"auto\", got {} piece(s) starting in {}",
+          scene.source_name, pieces.size(), pieces.front() ? "contact" : "lift-off"));
     names.push_back("ritz");
   }
   if (t.refine) {
