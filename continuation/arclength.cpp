@@ -77,6 +77,8 @@ void PathProblem::validate() const {
   };
   check("unknown_scale", unknown_scale);
   check("residual_scale", residual_scale);
+  if (!(std::isfinite(lambda_scale) && lambda_scale > 0))
+    throw std::invalid_argument(fmt::format("PathProblem.lambda_scale: expected a finite number > 0, got {}", lambda_scale));
   if (constraints.size() != 0 && constraints.size() != unknowns)
     throw std::invalid_argument(fmt::format(
         "PathProblem.constraints: expected empty or size {} (unknowns), got size {}", unknowns, constraints.size()));
@@ -97,7 +99,6 @@ void ArcLengthOptions::validate() const {
   positive("min_step", min_step);
   positive("max_step", max_step);
   positive("fold_tolerance", fold_tolerance);
-  positive("lambda_scale", lambda_scale);
   if (!(min_step <= initial_step && initial_step <= max_step))
     throw std::invalid_argument(
         fmt::format("ArcLengthOptions.initial_step: expected min_step <= initial_step <= max_step, got {} <= {} <= {}",
@@ -248,7 +249,7 @@ StepOutcome PathFollower::step(const PathPoint& from, double ds) const {
     // lambda fixed; x predicted along the tangent unless the tangent is (nearly) vertical.
     const double lambda = from.lambda + options_.direction * ds;
     PathPoint guess = from;
-    if (std::abs(from.tangent_lambda) > 1e-3 * options_.lambda_scale)
+    if (std::abs(from.tangent_lambda) > 1e-3 * problem_.lambda_scale)
       guess.x = from.x + (lambda - from.lambda) / from.tangent_lambda * from.tangent_x;
     outcome = step_to_lambda(guess, lambda);
     if (outcome.point) outcome.point->arclength = from.arclength + ds;

@@ -4,8 +4,8 @@
 //
 // A point of the path carries its unit tangent (dx/ds, dlambda/ds) in the scaled metric
 //     |(dx, dlambda)|^2 = |D dx|^2 + (dlambda / Lambda)^2,   D = diag(PathProblem::unknown_scale),
-// Lambda = ArcLengthOptions::lambda_scale (the path engine takes the load range), so that a step
-// length ds is comparable to a change of lambda relative to Lambda. One step from a point P:
+// Lambda = PathProblem::lambda_scale (the FE models take the load range), so that a step length ds
+// is comparable to a change of lambda relative to Lambda. One step from a point P:
 //  - predictor: (x, lambda) = P + ds (t_x, t_lambda);
 //  - corrector: Newton (nonlinear::NewtonSolver, KINSOL) on the bordered system
 //        G(x, lambda) = 0,   t_x . D^2 (x - x_P) + t_lambda (lambda - lambda_P) / Lambda^2 - ds = 0
@@ -61,6 +61,7 @@ struct PathProblem {
   std::function<bool(const Eigen::VectorXd& x, double lambda, Eigen::SparseMatrix<double>& g_x)> sparse_jacobian;
   std::function<bool(const Eigen::VectorXd& x, double lambda, Eigen::VectorXd& g_lambda)> lambda_derivative;
   Eigen::VectorXd unknown_scale;   // D: 1 / typical |x_i| (empty: ones)
+  double lambda_scale = 1.0;       // Lambda of the metric: the typical size of a change of lambda
   Eigen::VectorXd residual_scale;  // 1 / typical |G_i| for the corrector's test (empty: ones)
   Eigen::VectorXi constraints;     // KINSOL's sign codes per unknown (empty: none), see NewtonOptions
   void validate() const;           // throws std::invalid_argument naming the field
@@ -71,7 +72,6 @@ struct ArcLengthOptions {
   double lambda_min = 0.0;     // the run ends (completed) on reaching either end of the range;
   double lambda_max = 1.0;     // the end point is landed on exactly (a fixed-lambda correction)
   int direction = +1;          // initial sense of lambda: +1 increasing, -1 decreasing
-  double lambda_scale = 1.0;   // Lambda of the metric: the typical size of a change of lambda
   double initial_step = 0.05;  // ds
   double min_step = 1e-8;
   double max_step = 0.25;
@@ -196,7 +196,7 @@ class PathFollower {
   bool evaluate_jacobian(const Eigen::VectorXd& x, double lambda, Eigen::MatrixXd& g_x) const;
   bool evaluate_lambda_derivative(const Eigen::VectorXd& x, double lambda, Eigen::VectorXd& g_lambda) const;
   double scaled_dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const;
-  double lambda_weight() const { return 1.0 / (options_.lambda_scale * options_.lambda_scale); }
+  double lambda_weight() const { return 1.0 / (problem_.lambda_scale * problem_.lambda_scale); }
 
   PathProblem problem_;
   ArcLengthOptions options_;

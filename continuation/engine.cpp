@@ -52,7 +52,8 @@ struct Found {
 struct Pending {
   std::optional<Crossing> enter;      // a configuration change at the run's last point
   std::optional<BranchStart> branch;  // a switch onto a bifurcated branch
-  bool restart = false;               // a new follower on the model's (changed) problem, same point
+  bool restart = false;               // a new follower on the model's (changed) problem, same point,
+  double restart_step = 0.0;          // at this step length
 };
 
 class Engine {
@@ -73,8 +74,9 @@ class Engine {
   // The stages of detection, each adding what it located to `found`.
   std::optional<std::string> detect(const PathFollower& follower, const PathPoint& from, const PathPoint& to,
                                     std::vector<Found>& found);
-  void detect_return(const PathFollower& follower, const PathPoint& from, const PathPoint& to,
-                     std::vector<Found>& found);
+  // (A return that cannot be located on the step: why the step is retried shorter.)
+  std::optional<std::string> detect_return(const PathFollower& follower, const PathPoint& from, const PathPoint& to,
+                                           std::vector<Found>& found);
   void detect_fold(const PathFollower& follower, const PathPoint& from, const PathPoint& to, std::vector<Found>& found);
   void detect_bifurcation(const PathFollower& follower, const PathPoint& from, const PathPoint& to,
                           std::vector<Found>& found);
@@ -82,8 +84,9 @@ class Engine {
                         std::vector<Found>& found);
   void detect_amplitude(const PathFollower& follower, const PathPoint& from, const PathPoint& to,
                         std::vector<Found>& found);
-  // Takes one located thing: records it, and says whether the run ends there.
-  bool take(const PathFollower& follower, Found& f);
+  // Takes one located thing: records it, and says whether the run ends there. step: the step
+  // length in use (what a run continued from the point takes, and what its record says).
+  bool take(const PathFollower& follower, Found& f, double step);
   TraceResult finish(TraceTermination termination, std::string message);
   std::string counts() const;
 
@@ -106,8 +109,6 @@ class Engine {
 
 ArcLengthOptions Engine::follower_options() const {
   ArcLengthOptions o = options_.arc_length;
-  // Steps measured in fractions of the load range: a step length means the same on every range.
-  o.lambda_scale = std::abs(o.lambda_max - o.lambda_min);
   o.locate_folds = false;  // located here, in order with the other events
   o.fold_tolerance = options_.event_tolerance;
   o.max_steps = std::max(1, options_.arc_length.max_steps - result_.summary.steps + 1);
@@ -153,19 +154,25 @@ Screening Engine::screen_stability(const PathPoint& from, const PathPoint& to) {
   return {};
 }
 
-void Engine::detect_return(const PathFollower& follower, const PathPoint& from, const PathPoint& to,
-                           std::vector<Found>& found) {
-  if (!watch_ || !watch_->amplitude) return;
+std::optional<std::string> Engine::detect_return(const PathFollower& follower, const PathPoint& from,
+                                                 const PathPoint& to, std::vector<Found>& found) {
+  if (!watch_ || !watch_->amplitude) return std::nullopt;
   peak_ = std::max(peak_, watch_->amplitude(from));
   const double zero = watch_->return_accuracy * peak_;
   const auto amplitude = [&](const PathPoint& p) { return watch_->amplitude(p) - zero; };
-  if (!(amplitude(from) > 0.0) || amplitude(to) > 0.0) return;
+  if (!(amplitude(from) > 0.0) || amplitude(to) > 0.0) return std::nullopt;
   std::optional<PathPoint> located = follower.locate(from, to, amplitude, watch_->return_tolerance);
-  std::optional<PathPoint> refined = located ? model_.refine_return(*located, peak_, follower) : std::nullopt;
-  Found f(Found::Kind::branch_return, refined ? *refined : model_.refine(located ? *located : to, false));
+  if (!located)  // (a long step across the crossing's fold, whose corrector solves fail: shorter)
+    return fmt::format(
+        "the bifurcated branch's return to the path it left could not be located between lambda = "
+        "{:.10g} and {:.10g}",
+        from.lambda, to.lambda);
+  std::optional<PathPoint> refined = model_.refine_return(*located, peak_, follower);
+  Found f(Found::Kind::branch_return, refined ? *refined : model_.refine(*located, false));
   f.refined = refined.has_value();
   f.lambda = f.point.lambda;
   found.push_back(std::move(f));
+  return std::nullopt;
 }
 
 void Engine::detect_fold(const PathFollower& follower, const PathPoint& from, const PathPoint& to,
@@ -258,7 +265,7 @@ void Engine::detect_amplitude(const PathFollower& follower, const PathPoint& fro
 
 std::optional<std::string> Engine::detect(const PathFollower& follower, const PathPoint& from, const PathPoint& to,
                                           std::vector<Found>& found) {
-  detect_return(follower, from, to, found);
+  if (std::optional<std::string> why = detect_return(follower, from, to, found)) return why;
   if (found.empty()) {  // (at a branch's return the fold there is the crossing's own, by symmetry)
     detect_fold(follower, from, to, found);
     detect_bifurcation(follower, from, to, found);
@@ -280,16 +287,35 @@ std::optional<std::string> Engine::detect(const PathFollower& follower, const Pa
   // In the order of arclength; at one point, in the order detected (a return or a crossing first).
   std::stable_sort(found.begin(), found.end(),
                    [](const Found& a, const Found& b) { return a.point.arclength < b.point.arclength; });
+  // A fold located where the run ends anyway (within event_tolerance of lambda of a crossing that
+  // switches, or of a switched branch's return) is that point's: the old configuration's tangent
+  // turns there because it ends (a Ritz piece vanishing as the member lifts off entirely), and
+  // whether the path folds is the new configuration's to say (PathModel::Entry::events); a branch
+  // turns back where it meets the path it left (its mirror image beyond: the shallow arch's, by
+  // symmetry), and that point is the bifurcation.
+  std::vector<double> switches;
+  for (const Found& c : found)
+    if ((c.kind == Found::Kind::crossing && c.crossing->switches) || c.kind == Found::Kind::branch_return)
+      switches.push_back(c.lambda);
+  std::erase_if(found, [&](const Found& f) {
+    return f.kind == Found::Kind::fold && std::any_of(switches.begin(), switches.end(), [&](double lambda) {
+             // (Relative: at the return the fold is flat in lambda, and the two are located by
+             // different means: 7e-9 apart at lambda = 88.6 on the shallow arch.)
+             return std::abs(f.lambda - lambda) <= options_.event_tolerance * std::max(1.0, std::abs(lambda));
+           });
+  });
   return std::nullopt;
 }
 
-bool Engine::take(const PathFollower& follower, Found& f) {
+bool Engine::take(const PathFollower& follower, Found& f, double step) {
+  // (Words and position of the state before anything switches: a switch changes the model.)
   const std::string state = model_.describe_state(f.point);
+  const double position = model_.event_position(f.point);
   switch (f.kind) {
     case Found::Kind::branch_return:
-      if (!keep(f.point)) return true;
+      if (!keep(f.point, nullptr, false, std::nullopt, step)) return true;
       ++bifurcations_;
-      event({f.lambda, EventKind::bifurcation, model_.event_position(f.point),
+      event({f.lambda, EventKind::bifurcation, position,
              fmt::format(
                  "bifurcation: the bifurcated branch meets the path it left again at lambda = {:.10g} "
                  "({}){}; the switched branch ends here",
@@ -300,15 +326,15 @@ bool Engine::take(const PathFollower& follower, Found& f) {
       return true;
     case Found::Kind::crossing: {
       const Crossing& c = *f.crossing;
-      if (!c.at_start && !c.point_after && !keep(f.point, &c)) return true;
+      if (!c.at_start && !c.point_after && !keep(f.point, &c, false, std::nullopt, step)) return true;
       for (const TraceEvent& e : c.events) event(e);
       if (c.switches) pending_.enter = c;
       return c.switches;
     }
     case Found::Kind::fold: {
-      if (!keep(f.point)) return true;
+      if (!keep(f.point, nullptr, false, std::nullopt, step)) return true;
       ++limit_points_;
-      event({f.lambda, EventKind::limit_point, model_.event_position(f.point),
+      event({f.lambda, EventKind::limit_point, position,
              fmt::format("limit point: lambda reaches a {} {:.10g} ({})", f.maximum ? "maximum" : "minimum", f.lambda,
                          state)});
       return false;
@@ -331,18 +357,18 @@ bool Engine::take(const PathFollower& follower, Found& f) {
           then = "; the path stays on this branch: " + s.why_not;
         }
       }
-      event({f.lambda, EventKind::bifurcation, model_.event_position(f.point),
+      event({f.lambda, EventKind::bifurcation, position,
              fmt::format("bifurcation at lambda = {:.10g} ({}): the tangent stiffness on the contact set turns "
                          "singular ({} to {}{}): another branch crosses the path{}",
                          f.lambda, state, to_string(f.before.verdict()), to_string(f.after.verdict()), counts, then)});
       if (pending_.branch) return true;
       // Not switching: the bifurcation point is a step of its own (its event carries its state).
-      return !keep(f.point);
+      return !keep(f.point, nullptr, false, std::nullopt, step);
     }
     case Found::Kind::requested:
-      return !keep(f.point, nullptr, true);
+      return !keep(f.point, nullptr, true, std::nullopt, step);
     case Found::Kind::amplitude:
-      if (!keep(f.point)) return true;
+      if (!keep(f.point, nullptr, false, std::nullopt, step)) return true;
       finished_ = {TraceTermination::completed,
                    fmt::format("amplitude {:.6g} reached (max_amplitude) at lambda = {:.10g}",
                                model_.amplitude(f.point), f.point.lambda)};
@@ -352,6 +378,7 @@ bool Engine::take(const PathFollower& follower, Found& f) {
 }
 
 ObserverVerdict Engine::observe(const PathFollower& follower, const PathPoint& from, PathPoint& to) {
+  const double step = to.arclength - from.arclength;  // the follower's (before the model cuts the step short)
   const bool at_end = to.lambda == options_.arc_length.lambda_max || to.lambda == options_.arc_length.lambda_min;
   to = model_.refine(to, at_end || options_.arc_length.control == PathControl::load);
   Screening screening = model_.screen(from, to, follower);
@@ -373,19 +400,21 @@ ObserverVerdict Engine::observe(const PathFollower& follower, const PathPoint& f
     return ObserverVerdict::stop;
   }
   for (Found& f : found) {
-    if (!take(follower, f)) continue;
+    if (!take(follower, f, step)) continue;
     to = f.point;  // the run ends here
     return ObserverVerdict::stop;
   }
-  if (!keep(to, nullptr, false, candidate_, follower.next_step(to.arclength - from.arclength, to.iterations)))
-    return ObserverVerdict::stop;
+  const double next = follower.next_step(step, to.iterations);
+  const bool restart = model_.wants_new_problem(to);  // (before the record: it may re-express to's tangent)
+  if (!keep(to, nullptr, false, candidate_, next)) return ObserverVerdict::stop;
   stability_ = candidate_;
   if (result_.summary.steps >= options_.arc_length.max_steps) {
     finished_ = {TraceTermination::step_limit, fmt::format("max_steps = {} reached", options_.arc_length.max_steps)};
     return ObserverVerdict::stop;
   }
-  if (model_.wants_new_problem(to)) {
+  if (restart) {
     pending_.restart = true;
+    pending_.restart_step = next;
     return ObserverVerdict::stop;
   }
   return ObserverVerdict::proceed;
@@ -413,9 +442,10 @@ TraceResult Engine::run() {
   result_.summary.final_load_factor = options_.arc_length.lambda_min;
   PathModel::Start start = model_.start(follower_options());
   if (!start.point) return finish(start.failure, start.why);
-  if (start.record && !keep(*start.point)) return finish(finished_->first, finished_->second);
-  PathPoint point = *start.point;
   double step_length = start.first_step > 0.0 ? start.first_step : options_.arc_length.initial_step;
+  if (start.record && !keep(*start.point, nullptr, false, std::nullopt, step_length))
+    return finish(finished_->first, finished_->second);
+  PathPoint point = *start.point;
   while (true) {
     if (result_.summary.steps >= options_.arc_length.max_steps)
       return finish(TraceTermination::step_limit, fmt::format("max_steps = {} reached", options_.arc_length.max_steps));
@@ -435,19 +465,25 @@ TraceResult Engine::run() {
         event(e);
       }
       if (!entry.point) return finish(entry.failure, entry.why);
+      if (entry.record && !keep(*entry.point, nullptr, false, std::nullopt, step_length))
+        return finish(finished_->first, finished_->second);
       point = std::move(*entry.point);
       if (pending_.enter->point_after) {
-        if (!keep(point)) return finish(finished_->first, finished_->second);
         // A whole step was taken: the next one grows as after any accepted step.
         step_length = follower.next_step(step_length, point.iterations);
+        if (!keep(point, nullptr, false, std::nullopt, step_length)) return finish(finished_->first, finished_->second);
       }
     }
     if (pending_.branch) {
       watch_ = std::move(pending_.branch);
-      if (!keep(watch_->point)) return finish(finished_->first, finished_->second);
+      if (!keep(watch_->point, nullptr, false, std::nullopt, step_length))
+        return finish(finished_->first, finished_->second);
       point = watch_->point;
     }
-    if (pending_.restart) point = run.points.back();
+    if (pending_.restart) {
+      point = run.points.back();
+      step_length = pending_.restart_step;
+    }
     if (pending_.enter || pending_.branch || pending_.restart) {
       // A run stopped at the range's end (a switch taken there) ends the trace there.
       const ArcLengthOptions& o = options_.arc_length;

@@ -25,14 +25,17 @@
 //               - the model's constraint crossings (PathModel::crossing: contact events, a node
 //                 leaving the set, a Ritz piece vanishing; located by the model, which knows its
 //                 functions), which may change the configuration;
-//               - a fold: the tangent's d lambda / ds changes sign (`limit_point`);
+//               - a fold: the tangent's d lambda / ds changes sign (`limit_point`); one located
+//                 where the run ends anyway (within event_tolerance of a crossing that switches,
+//                 or of a branch's return) is that point's, not reported;
 //               - a bifurcation: the tangent's count of negative eigenvalues changes without a
 //                 fold (bisection on the count), or its stability margin changes sign (secant);
 //                 where the path loses its stability, with TraceOptions::switch_branch, the model
 //                 leaves along the critical mode (PathModel::switch_branch), once per trace;
 //               - on a switched branch, its return to the path it left (the branch's amplitude
 //                 along the critical mode back to zero): a second `bifurcation`, where the trace
-//                 ends (the branch beyond is its own mirror image);
+//                 ends (the branch beyond is its own mirror image); a step on which it cannot be
+//                 located is retried shorter;
 //               - a load asked for (TraceOptions::report_at): lambda crossing it.
 //               A step that holds a fold and a change of stability, or two changes of stability,
 //               is retried shorter (down to 100 min_step) so that each is located on its own.
@@ -180,6 +183,8 @@ class PathModel {
     TraceTermination failure = TraceTermination::solver_failure;
     std::string why;
     std::vector<TraceEvent> events;  // found on entering (a fold at a set change), recorded at once
+    bool record = false;             // the point is no longer the crossing's (a new zone opened a little
+                                     // past it): recorded as a step of its own
   };
   // `options`: the engine's follower options (its metric), for the follower the model starts on.
   // A crossing with point_after: the model enters and returns crossing.point itself.
@@ -215,15 +220,16 @@ class PathModel {
   virtual std::optional<std::string> certify(const PathPoint& point) const = 0;
   // The step of a state: the whole state in the user's units (its stability is the engine's, set
   // after). `crossing` when recorded at one (its resumable state is the configuration after it);
-  // next_step: the step length the follower takes from it (a resumed run takes the same).
+  // next_step: the step length the engine goes on with from it (a resumed run takes the same).
   struct RecordContext {
     const Crossing* crossing = nullptr;
     double next_step = 0.0;
   };
   virtual TraceStep record(const PathPoint& point, const RecordContext& context) const = 0;
-  // After a point is recorded: true if the follower must be rebuilt on problem() from it (a
-  // change of the metric).
-  virtual bool wants_new_problem(const PathPoint& /*point*/) { return false; }
+  // Before a step's end is recorded: true if the follower must be rebuilt on problem() from it (a
+  // change of the metric; the model then re-expresses the point's tangent in the new one, and the
+  // point is recorded so). The new follower goes on with the step length the old one would have taken.
+  virtual bool wants_new_problem(PathPoint& /*point*/) { return false; }
 
   // Figures of the model's own for the summary (pivots, factorisations, modes); a note appended
   // to the message of a completed run.

@@ -6,7 +6,7 @@
 // trace writer and the tests do not care which one ran:
 //  - trace_fe   (fe_path.hpp):   the FE + LCP model, traced exactly by parametric pivoting (the
 //                                discrete solution is piecewise linear in lambda);
-//  - trace_ritz (ritz_path.hpp): the Ritz model with moving limits, followed by the
+//  - trace_ritz (models/ritz.hpp): the Ritz model with moving limits, followed by the
 //                                pseudo-arc-length driver (arclength.hpp), events located by
 //                                secant/bisection on their event functions.
 // Results are in the user's units and coordinate (x, or theta in degrees), like io::SolveReport.

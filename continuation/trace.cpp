@@ -18,7 +18,12 @@ void TraceOptions::validate(double member_begin, double member_end) const {
   }
   if (!(event_tolerance > 0)) fail(fmt::format("event_tolerance: expected > 0, got {}", event_tolerance));
   if (elements < 1) fail(fmt::format("elements: expected >= 1, got {}", elements));
-  if (modes < 0) fail(fmt::format("modes: expected >= 0 (0: automatic), got {}", modes));
+  if (ritz.modes < 0) fail(fmt::format("ritz.modes: expected >= 0 (0: automatic), got {}", ritz.modes));
+  if (ritz.max_modes < 1) fail(fmt::format("ritz.max_modes: expected >= 1, got {}", ritz.max_modes));
+  if (!(ritz.mode_tolerance > 0)) fail(fmt::format("ritz.mode_tolerance: expected > 0, got {}", ritz.mode_tolerance));
+  if (!ritz.topology.empty() && !ritz.limits.empty() && ritz.limits.size() + 1 != ritz.topology.size())
+    fail(fmt::format("ritz.limits: expected none or {} (one per change of piece), got {}", ritz.topology.size() - 1,
+                     ritz.limits.size()));
   const double lo = std::min(member_begin, member_end), hi = std::max(member_begin, member_end);
   for (double p : sample_points)
     if (!(p >= lo && p <= hi)) fail(fmt::format("sample_points: expected positions in [{}, {}], got {}", lo, hi, p));

@@ -11,6 +11,19 @@
 
 namespace liftoff::continuation {
 
+// The Ritz path's own settings (the scene's [ritz] table, filled by app::trace_options as
+// ritz/from_scene.hpp fills `solve`'s): the number of modes and the start's topology.
+struct RitzTraceOptions {
+  int modes = 0;                 // N; 0: automatic (continuation/models/ritz.hpp says how)
+  int max_modes = 256;           // the largest N automatic modes take
+  double mode_tolerance = 1e-5;  // automatic modes at lambda_min: limits settled to this * length
+  // The pieces of the foundation at lambda_min, in order, true = contact; empty: read off an FE
+  // + LCP solution there. limits: their guesses (user coordinate), one per change of piece
+  // (empty: evenly spaced).
+  std::vector<bool> topology;
+  std::vector<double> limits;
+};
+
 // The options of one trace, nested as BifurcationKit nests them: the path follower's (which
 // hold the corrector's Newton options), then the models' own. One struct, filled once from the
 // scene (app/trace_command.hpp), validated once by validate().
@@ -26,7 +39,7 @@ struct TraceOptions {
   // degenerate breakpoint): dual or primal, Lemke on that LCP; fast or automatic, the sparse
   // active-set solver (Lemke its own fallback).
   contact::Method contact_method = contact::Method::automatic;
-  int modes = 0;                      // Ritz path: 0 = automatic as in [ritz]
+  RitzTraceOptions ritz;              // Ritz path
   double monitor = 0.0;               // user coordinate of the load-displacement curve's w
   std::vector<double> sample_points;  // user coordinates at which w and r are recorded
   // Beam-columns: stop (completed) at the first step whose TraceStep::amplitude (user length)

@@ -175,6 +175,8 @@ PathProblem FeMemberPath::problem_on(const ContactSet& on) const {
     return true;
   };
   p.unknown_scale = unknown_scale(*set);
+  // Steps measured in fractions of the load range: a step length means the same on every range.
+  p.lambda_scale = std::abs(options_.arc_length.lambda_max - options_.arc_length.lambda_min);
   // The corrector's test relative to each equation's size: |G_i| against sum_j |dG_i/dy_j| y_ref_j
   // at the unloaded state (the membrane terms of EA and the h^-3 of bending included), so that its
   // tolerance means the same on every mesh.

@@ -10,7 +10,7 @@
 #include "app/theory_gate.hpp"
 #include "contact/from_scene.hpp"
 #include "continuation/fe_path.hpp"
-#include "continuation/ritz_path.hpp"
+#include "continuation/models/ritz.hpp"
 #include "core/error.hpp"
 #include "io/report.hpp"
 #include "io/trace_writer.hpp"
@@ -80,7 +80,7 @@ std::string options_text(const scene::Scene& scene, const TraceRequest& request,
   nlohmann::json j;
   j["method"] = scene::to_string(trace_method(scene, request));
   j["elements"] = options.elements;
-  j["modes"] = options.modes;
+  j["modes"] = options.ritz.modes;
   j["samples"] = options.sample_points.size();
   j["monitor"] = options.monitor;
   return j.dump();
@@ -175,7 +175,7 @@ TracePaths default_trace_paths() {
             return continuation::trace_fe(s, o, k);
           },
           [](const scene::Scene& s, const TraceOptions& o, const continuation::TraceSink& k) {
-            return continuation::trace_ritz(s, o, k);
+            return continuation::trace_ritz(model::make_member_model(s), o, k);
           }};
 }
 
@@ -201,7 +201,12 @@ TraceOptions trace_options(const scene::Scene& scene, const TraceRequest& reques
   const scene::Method method = trace_method(scene, request);
   o.contact_method = method == scene::Method::all || method == scene::Method::ritz ? contact::Method::automatic
                                                                                    : contact::to_contact(method);
-  o.modes = request.modes.value_or(scene.ritz.modes);
+  // The Ritz path's [ritz] table (as ritz/from_scene.hpp gives `solve` its options).
+  o.ritz.modes = request.modes.value_or(scene.ritz.modes);
+  o.ritz.max_modes = scene.ritz.max_modes;
+  o.ritz.mode_tolerance = scene.ritz.mode_tolerance;
+  o.ritz.topology = scene.ritz.topology;
+  o.ritz.limits = scene.ritz.limits;
   o.monitor = monitor_point(scene);
   o.max_amplitude = t.max_amplitude;
   o.switch_branch = t.switch_branch;
@@ -239,6 +244,14 @@ std::vector<std::string> trace_path_names(const scene::Scene& scene, const Trace
                       "(\"dual\", \"primal\", \"fast\" or \"auto\")",
                       scene.source_name, where, unsupported->message()));
     }
+    // A bilateral foundation (or one as stiff in tension) is in contact everywhere: the Ritz
+    // model has the one topology (`solve --method ritz` refuses another as well).
+    const std::vector<bool>& pieces = scene.ritz.topology;
+    if (!model.tensionless && (pieces.size() > 1 || (pieces.size() == 1 && !pieces.front())))
+      throw InputError(fmt::format(
+          "{}: key 'ritz.topology': the foundation is bilateral (in contact everywhere); expected [\"contact\"] "
+          "or \"auto\", got {} piece(s) starting in {}",
+          scene.source_name, pieces.size(), pieces.front() ? "contact" : "lift-off"));
     names.push_back("ritz");
   }
   if (t.refine) {

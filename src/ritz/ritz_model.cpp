@@ -132,6 +132,11 @@ RitzModel::RitzModel(const model::MemberModel& model, int modes, Topology topolo
     w_term_function_.emplace_back();
     for (int i = 0; i < modes_; ++i)
       for (const TrigTerm& t : w[i].terms()) w_terms_[r].push_back(t), w_term_function_[r].push_back(i);
+    w_slope_terms_.emplace_back();
+    w_slope_term_function_.emplace_back();
+    for (int i = 0; i < modes_; ++i)
+      for (const TrigTerm& t : w_derivatives_[r][1][i].terms())
+        w_slope_terms_[r].push_back(t), w_slope_term_function_[r].push_back(i);
   }
   for (int order = 0; arch_ && order < 4; ++order)
     for (const TrigPolynomial& psi : basis_.u) u_derivatives_[order].push_back(psi.derivative(order));
@@ -484,8 +489,13 @@ double RitzModel::u(const VectorXd& x, double s, int derivative) const {
   return sum;
 }
 
-void RitzModel::w_on_grid(const VectorXd& x, double a, double b, int n, std::vector<double>& values) const {
+void RitzModel::w_on_grid(const VectorXd& x, double a, double b, int n, std::vector<double>& values,
+                          int derivative) const {
   check_size(x);
+  if (derivative != 0 && derivative != 1)
+    throw std::invalid_argument(fmt::format("RitzModel::w_on_grid: expected derivative 0 or 1, got {}", derivative));
+  const auto& all_terms = derivative == 0 ? w_terms_ : w_slope_terms_;
+  const auto& term_function = derivative == 0 ? w_term_function_ : w_slope_term_function_;
   values.assign(std::max(n - 1, 0), 0.0);
   const double h = (b - a) / n;
   auto point = [&](int i) { return a + (b - a) * i / n; };
@@ -495,9 +505,9 @@ void RitzModel::w_on_grid(const VectorXd& x, double a, double b, int n, std::vec
     const int region = region_of(point(first));
     int last = first;
     while (last + 1 < n && region_of(point(last + 1)) == region) ++last;
-    const auto& terms = w_terms_[region];
+    const auto& terms = all_terms[region];
     factors.resize(terms.size());
-    for (std::size_t t = 0; t < terms.size(); ++t) factors[t] = x[w_offset() + w_term_function_[region][t]];
+    for (std::size_t t = 0; t < terms.size(); ++t) factors[t] = x[w_offset() + term_function[region][t]];
     add_on_grid(terms.data(), factors.data(), static_cast<int>(terms.size()), point(first), h, last - first + 1,
                 values.data() + first - 1);
     first = last + 1;

@@ -168,10 +168,12 @@ class RitzModel {
   double w(const Eigen::VectorXd& x, double s, int derivative = 0) const;
   double u(const Eigen::VectorXd& x, double s, int derivative = 0) const;
   double reaction(const Eigen::VectorXd& x, double s) const;
-  // w at the n - 1 interior points a + (b - a) i / n, i = 1..n-1 (values is resized), equal to
-  // w(x, s) there up to round-off but much cheaper (add_on_grid in trig_polynomial.hpp). For
-  // checks on dense grids.
-  void w_on_grid(const Eigen::VectorXd& x, double a, double b, int n, std::vector<double>& values) const;
+  // w (derivative 0) or w' (1) at the n - 1 interior points a + (b - a) i / n, i = 1..n-1 (values
+  // is resized), equal to w(x, s, derivative) there up to round-off but much cheaper (add_on_grid
+  // in trig_polynomial.hpp). For checks and scans on dense grids. Throws std::invalid_argument for
+  // another derivative.
+  void w_on_grid(const Eigen::VectorXd& x, double a, double b, int n, std::vector<double>& values,
+                 int derivative = 0) const;
 
   // The M + 1 pieces of the foundation's extent (s), contact and lift-off alternating, and those in contact.
   std::vector<ContactRegion> pieces(const Eigen::VectorXd& x) const;
@@ -207,7 +209,9 @@ class RitzModel {
   std::vector<std::vector<TrigPolynomial>> u_derivatives_;               // arches
   std::vector<std::vector<TrigTerm>> w_terms_;                           // [region]: every term of every w function
   std::vector<std::vector<int>> w_term_function_;                        // [region]: the function each term is of
-  std::vector<ProductTable> w_products_;                                 // [region]: phi_i phi_j, i <= j
+  std::vector<std::vector<TrigTerm>> w_slope_terms_;                     // [region]: the same of w'
+  std::vector<std::vector<int>> w_slope_term_function_;
+  std::vector<ProductTable> w_products_;  // [region]: phi_i phi_j, i <= j
   Eigen::MatrixXd stiffness_;
   double axial_dead_ = 0.0;
   double axial_live_ = 0.0;

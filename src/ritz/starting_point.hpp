@@ -31,4 +31,19 @@ StartingPoint starting_point_from_regions(const Intervals& regions, const model:
   return start;
 }
 
+// A topology given as its pieces in order (true = contact; at least one) with the limits' guesses
+// in the user coordinate (evenly spaced where none are given, or not one per change of piece).
+inline StartingPoint starting_point_from_pieces(const std::vector<bool>& pieces, const std::vector<double>& limits,
+                                                const model::MemberModel& model) {
+  StartingPoint start;
+  start.topology = {pieces.front(), static_cast<int>(pieces.size()) - 1};
+  for (double limit : limits) start.limits.push_back(model.s_from_user(limit));
+  const double begin = model.foundation_begin, end = model.foundation_end;
+  if (start.limits.empty())  // evenly spaced guesses
+    for (int m = 0; m < start.topology.limits; ++m)
+      start.limits.push_back(begin + (end - begin) * (m + 1) / (start.topology.limits + 1));
+  if (static_cast<int>(start.limits.size()) != start.topology.limits) start.limits.clear();
+  return start;
+}
+
 }  // namespace liftoff::ritz

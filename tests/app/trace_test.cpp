@@ -202,7 +202,7 @@ TEST_CASE("trace: options come from [trace], [solve] and [ritz], with the reques
   CHECK(o.arc_length.max_step == 0.1);
   CHECK(o.arc_length.max_steps == 77);
   CHECK(o.elements == 50);
-  CHECK(o.modes == 0);
+  CHECK(o.ritz.modes == 0);
   CHECK(o.monitor == 4.0);  // the first live point force
   CHECK(o.sample_points == std::vector<double>{0, 2.5, 5, 7.5, 10});
   CHECK_FALSE(o.resume_from.has_value());
@@ -212,7 +212,7 @@ TEST_CASE("trace: options come from [trace], [solve] and [ritz], with the reques
   request.modes = 12;
   const TraceOptions overridden = app::trace_options(s, request);
   CHECK(overridden.elements == 80);
-  CHECK(overridden.modes == 12);
+  CHECK(overridden.ritz.modes == 12);
   CHECK(app::trace_options(scene_with_trace("lambda_max = 1\nmonitor = 2.5\n"), {}).monitor == 2.5);
 
   // The method: [trace], else [solve]; the request overrides both.

@@ -18,10 +18,11 @@
 #include "closed_form/shallow_arch.hpp"
 #include "contact/von_karman_solve.hpp"
 #include "continuation/models/fe_member.hpp"
-#include "continuation/ritz_path.hpp"
+#include "continuation/models/ritz.hpp"
 #include "fe/shape_functions.hpp"
 #include "model/from_scene.hpp"
 #include "scene/scene_reader.hpp"
+#include "support/ritz_trace.hpp"
 
 using namespace liftoff;
 using namespace liftoff::continuation;
@@ -301,7 +302,7 @@ TEST_CASE("FE von Karman path: issue 16's shallow arch snaps through with a cont
   s.ritz.limits = {first.end};
   TraceOptions o = options(30.0, 64);
   o.arc_length.lambda_min = 1.0;
-  const TraceResult ritz = trace_ritz(s, m, o);
+  const TraceResult ritz = test::trace_ritz_scene(s, m, o);
   INFO(ritz.summary.message);
   const std::vector<TraceEvent> ritz_folds = of_kind(ritz, EventKind::limit_point);
   REQUIRE(!ritz_folds.empty());

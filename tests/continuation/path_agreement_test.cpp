@@ -32,8 +32,9 @@
 #include "app/trace_command.hpp"
 #include "closed_form/scene_problem.hpp"
 #include "continuation/fe_path.hpp"
-#include "continuation/ritz_path.hpp"
+#include "continuation/models/ritz.hpp"
 #include "scene/scene_reader.hpp"
+#include "support/ritz_trace.hpp"
 #include "support/scenes.hpp"
 
 using namespace liftoff;
@@ -59,8 +60,8 @@ TraceResult fe_run(const scene::Scene& s, int elements) {
 
 TraceResult ritz_run(const scene::Scene& s, int modes) {
   TraceOptions o = options_for(s);
-  o.modes = modes;
-  TraceResult r = continuation::trace_ritz(s, o);
+  o.ritz.modes = modes;
+  TraceResult r = test::trace_ritz_scene(s, o);
   INFO(r.summary.message);
   REQUIRE(r.summary.is_usable());
   return r;

@@ -1,4 +1,4 @@
-// The Ritz load history (continuation/ritz_path.hpp) on the free-free beam that lifts off at
+// The Ritz load history (continuation/models/ritz.hpp) on the free-free beam that lifts off at
 // its centre: the first lift-off load against the closed form, the zone's growth past it, and
 // a resumed trace.
 //
@@ -7,8 +7,6 @@
 // off). Before lift-off the beam is in full contact, so w = q/K + lambda w_live with w_live the
 // bilateral deflection under the live force alone; lift-off begins at the centre when w(5) = 0:
 //     lambda* = (q / K) / (-w_live(5)).
-
-#include "continuation/ritz_path.hpp"
 
 #include <fmt/format.h>
 
@@ -21,7 +19,9 @@
 
 #include "closed_form/beam_on_foundation.hpp"
 #include "continuation/fe_path.hpp"
+#include "continuation/models/ritz.hpp"
 #include "scene/scene_reader.hpp"
+#include "support/ritz_trace.hpp"
 #include "support/scenes.hpp"
 
 using namespace liftoff;
@@ -54,7 +54,7 @@ TraceOptions options_for(int modes) {
   TraceOptions o;
   o.arc_length.lambda_min = 0.0;
   o.arc_length.lambda_max = 8.0;
-  o.modes = modes;
+  o.ritz.modes = modes;
   o.monitor = 5.0;
   o.sample_points = {0.0, 2.5, 5.0};
   return o;
@@ -64,7 +64,7 @@ TraceOptions options_for(int modes) {
 // the steps after `from` (nothing already written), each at the original's load factor.
 TraceResult resumed_trace(const scene::Scene& s, TraceOptions options, const TraceResult& original, std::size_t from) {
   options.resume_from = original.steps[from];
-  TraceResult resumed = trace_ritz(s, options);
+  TraceResult resumed = test::trace_ritz_scene(s, options);
   INFO(resumed.summary.message);
   REQUIRE(resumed.summary.termination == TraceTermination::completed);
   REQUIRE(resumed.steps.size() == original.steps.size() - from - 1);
@@ -86,7 +86,7 @@ TEST_CASE("ritz path: the first lift-off load matches the closed form", "[ritz_p
     std::vector<TraceEvent> seen;
     TraceSink sink;
     sink.on_event = [&](const TraceEvent& e) { seen.push_back(e); };
-    const TraceResult r = trace_ritz(lift_off_beam(), options_for(modes), sink);
+    const TraceResult r = test::trace_ritz_scene(lift_off_beam(), options_for(modes), sink);
     INFO("N = " << modes << ": " << r.summary.message);
     REQUIRE(r.summary.termination == TraceTermination::completed);
     REQUIRE_FALSE(r.events.empty());
@@ -111,7 +111,7 @@ TEST_CASE("ritz path: the lift-off zone grows symmetrically past the first lift-
   TraceSink sink;
   sink.on_step = [&](const TraceStep& s) { streamed.push_back(s); };
   const TraceOptions options = options_for(32);
-  const TraceResult r = trace_ritz(lift_off_beam(), options, sink);
+  const TraceResult r = test::trace_ritz_scene(lift_off_beam(), options, sink);
   INFO(r.summary.message);
   REQUIRE(r.summary.termination == TraceTermination::completed);
   REQUIRE(streamed.size() == r.steps.size());
@@ -167,7 +167,7 @@ TEST_CASE("ritz path: the lift-off zone grows symmetrically past the first lift-
 
 TEST_CASE("ritz path: a resumed trace reproduces the original", "[ritz_path]") {
   const TraceOptions options = options_for(32);
-  const TraceResult original = trace_ritz(lift_off_beam(), options);
+  const TraceResult original = test::trace_ritz_scene(lift_off_beam(), options);
   REQUIRE(original.summary.termination == TraceTermination::completed);
   // Resume from a step in full contact (before the event), from the event's own step (the
   // switch is redone), and from one past it.
@@ -205,9 +205,9 @@ TEST_CASE("ritz path: a resumed trace reproduces the original", "[ritz_path]") {
 TEST_CASE("ritz path: load control and arc-length agree where both apply", "[ritz_path]") {
   TraceOptions options = options_for(16);
   options.arc_length.control = PathControl::load;
-  const TraceResult load = trace_ritz(lift_off_beam(), options);
+  const TraceResult load = test::trace_ritz_scene(lift_off_beam(), options);
   options.arc_length.control = PathControl::arc_length;
-  const TraceResult arc = trace_ritz(lift_off_beam(), options);
+  const TraceResult arc = test::trace_ritz_scene(lift_off_beam(), options);
   REQUIRE(load.summary.termination == TraceTermination::completed);
   REQUIRE(arc.summary.termination == TraceTermination::completed);
   REQUIRE(load.events.size() == arc.events.size());
@@ -218,13 +218,13 @@ TEST_CASE("ritz path: load control and arc-length agree where both apply", "[rit
 TEST_CASE("ritz path: bad options are refused with the field named", "[ritz_path]") {
   TraceOptions options = options_for(16);
   options.arc_length.lambda_max = options.arc_length.lambda_min;
-  CHECK_THROWS_WITH(trace_ritz(lift_off_beam(), options), Catch::Contains("lambda_max"));
+  CHECK_THROWS_WITH(test::trace_ritz_scene(lift_off_beam(), options), Catch::Contains("lambda_max"));
   options = options_for(16);
   options.sample_points = {11.0};
-  CHECK_THROWS_WITH(trace_ritz(lift_off_beam(), options), Catch::Contains("sample_points"));
+  CHECK_THROWS_WITH(test::trace_ritz_scene(lift_off_beam(), options), Catch::Contains("sample_points"));
   options = options_for(16);
   options.resume_from = TraceStep{};
-  CHECK_THROWS_WITH(trace_ritz(lift_off_beam(), options), Catch::Contains("resume_from"));
+  CHECK_THROWS_WITH(test::trace_ritz_scene(lift_off_beam(), options), Catch::Contains("resume_from"));
 }
 
 TEST_CASE("ritz path: the end regions shrink to nothing when the pull equals the weight", "[ritz_path]") {
@@ -232,7 +232,7 @@ TEST_CASE("ritz path: the end regions shrink to nothing when the pull equals the
   // vanish at lambda = q L = 10 and beyond it nothing holds the free-free beam.
   TraceOptions options = options_for(16);
   options.arc_length.lambda_max = 12.0;
-  const TraceResult r = trace_ritz(lift_off_beam(), options);
+  const TraceResult r = test::trace_ritz_scene(lift_off_beam(), options);
   INFO(r.summary.message);
   CHECK(r.summary.termination == TraceTermination::no_equilibrium);
   REQUIRE(r.events.size() == 3);  // lift-off at the centre, then both limits reach the ends
@@ -256,9 +256,9 @@ TEST_CASE("ritz path: live loads alone scale the solution, the topology stays (s
   const scene::Scene arch = test::shipped_scene("seed_arch_roller");
   TraceOptions options;
   options.arc_length.lambda_max = 1.0;
-  options.modes = 32;
+  options.ritz.modes = 32;
   options.monitor = 0.0;  // the crown
-  const TraceResult r = trace_ritz(arch, options);
+  const TraceResult r = test::trace_ritz_scene(arch, options);
   INFO(r.summary.message);
   REQUIRE(r.summary.termination == TraceTermination::completed);
   CHECK(r.events.empty());
@@ -289,9 +289,9 @@ TEST_CASE("ritz path: on a long beam two lift-off zones open together at beta x 
   for (int n : {0, 1}) {
     TraceOptions options;
     options.arc_length.lambda_max = 1.5;
-    options.modes = n == 0 ? 64 : 128;
+    options.ritz.modes = n == 0 ? 64 : 128;
     options.monitor = 0.5;
-    const TraceResult r = trace_ritz(s, options);
+    const TraceResult r = test::trace_ritz_scene(s, options);
     INFO(r.summary.message);
     REQUIRE(r.summary.termination == TraceTermination::completed);
     REQUIRE(r.events.size() == 2);  // both zones, at one lambda
@@ -364,7 +364,7 @@ void check_contact_solutions(const TraceResult& r, const std::vector<double>& sa
 }
 
 // The path's estimate of how well N modes resolve a point force's local response (documented in
-// ritz_path.hpp): e(N) = 8/(3 pi) (beta length / (pi N))^3.
+// models/ritz.hpp): e(N) = 8/(3 pi) (beta length / (pi N))^3.
 double resolution_error(double beta_length, int modes) {
   const double pi = 3.14159265358979323846, ratio = beta_length / (pi * modes);
   return 8.0 / (3.0 * pi) * ratio * ratio * ratio;
@@ -379,7 +379,7 @@ TEST_CASE("ritz path: the pipeline lifts off at Hetenyi's load, as the FE path s
   // and the zone's first growth are what this test needs, at a fraction of the time.
   s.trace->lambda_max = 0.5;
   const TraceOptions options = scene_options(s, 201);
-  const TraceResult r = trace_ritz(s, options);
+  const TraceResult r = test::trace_ritz_scene(s, options);
   INFO(r.summary.message);
   REQUIRE(r.summary.termination == TraceTermination::completed);
   REQUIRE(r.events.size() == 1);
@@ -427,8 +427,8 @@ TEST_CASE("ritz path: too few modes for the pipeline's beta L are refused before
       std::ceil(beta_length / 3.14159265358979323846 * std::cbrt(8.0 / (3.0 * 3.14159265358979323846 * 1e-2))));
   REQUIRE(resolution_error(beta_length, needed) <= 1e-2);
   REQUIRE(resolution_error(beta_length, needed - 1) > 1e-2);
-  options.modes = 64;  // the first lift-off came at 0.219 (Hetenyi: 0.19992)
-  TraceResult r = trace_ritz(s, options);
+  options.ritz.modes = 64;  // the first lift-off came at 0.219 (Hetenyi: 0.19992)
+  TraceResult r = test::trace_ritz_scene(s, options);
   INFO(r.summary.message);
   CHECK(r.summary.termination == TraceTermination::solver_failure);
   CHECK(r.steps.empty());
@@ -436,9 +436,9 @@ TEST_CASE("ritz path: too few modes for the pipeline's beta L are refused before
   CHECK(r.summary.message.find("refused") != std::string::npos);
   CHECK(r.summary.message.find(std::to_string(needed) + " modes are needed for 1 %") != std::string::npos);
   // Automatic modes that may not reach the N needed are refused too, and say why.
-  options.modes = 0;
+  options.ritz.modes = 0;
   s.ritz.max_modes = needed / 2;
-  r = trace_ritz(s, options);
+  r = test::trace_ritz_scene(s, options);
   INFO(r.summary.message);
   CHECK(r.summary.termination == TraceTermination::solver_failure);
   CHECK(r.steps.empty());
@@ -451,10 +451,10 @@ TEST_CASE("ritz path: the arch culvert's events agree with the FE path's, and no
   // Ritz: 72 modes, its error estimated by the change from 36 (with an error falling like
   // N^-q, q >= 1, the change bounds the error of the larger N); FE: 200 elements, its error the
   // change to 400 times 3 (orders above 0.6, as path_agreement_test argues).
-  options.modes = 72;
-  const TraceResult ritz = trace_ritz(s, options);
-  options.modes = 36;
-  const TraceResult fewer = trace_ritz(s, options);
+  options.ritz.modes = 72;
+  const TraceResult ritz = test::trace_ritz_scene(s, options);
+  options.ritz.modes = 36;
+  const TraceResult fewer = test::trace_ritz_scene(s, options);
   const TraceResult fe = trace_fe(s, options);
   options.elements = 400;
   const TraceResult fine = trace_fe(s, options);
@@ -493,8 +493,8 @@ TEST_CASE("ritz path: a path that cannot be refined where its topology turns bac
   scene::Scene s = test::continuation_scene("arch_culvert");
   TraceOptions options = scene_options(s, 321);
   options.arc_length.initial_step = options.arc_length.min_step = options.arc_length.max_step = 0.1;
-  options.modes = 36;
-  const TraceResult r = trace_ritz(s, options);
+  options.ritz.modes = 36;
+  const TraceResult r = test::trace_ritz_scene(s, options);
   INFO(r.summary.message);
   CHECK(r.summary.termination == TraceTermination::solver_failure);
   CHECK(r.summary.message.find("turned back in lambda") != std::string::npos);
@@ -504,7 +504,7 @@ TEST_CASE("ritz path: a path that cannot be refined where its topology turns bac
   check_contact_solutions(r, options.sample_points);
   // Its events are those of the free run up to there (the first pair, at 0.4037).
   options.arc_length.initial_step = 0.05, options.arc_length.min_step = 1e-8, options.arc_length.max_step = 0.25;
-  const TraceResult free = trace_ritz(s, options);
+  const TraceResult free = test::trace_ritz_scene(s, options);
   REQUIRE(free.summary.termination == TraceTermination::completed);
   REQUIRE(r.events.size() <= free.events.size());
   for (std::size_t i = 0; i < r.events.size(); ++i) {
@@ -518,7 +518,7 @@ TEST_CASE("ritz path: a state of the wrong topology is refused, naming the inequ
   // A deliberately bad step: the free-free beam past its lift-off (a lift-off zone around
   // x = 5), its amplitudes declared as full contact. Resuming from it must not go on.
   const TraceOptions options = options_for(16);
-  const TraceResult original = trace_ritz(lift_off_beam(), options);
+  const TraceResult original = test::trace_ritz_scene(lift_off_beam(), options);
   REQUIRE(original.summary.termination == TraceTermination::completed);
   const TraceStep& lifted = original.steps.back();
   REQUIRE(lifted.contact_regions.size() == 2);
@@ -534,7 +534,7 @@ TEST_CASE("ritz path: a state of the wrong topology is refused, naming the inequ
   forged.state[2 * amplitudes + 2] = lifted.state.back();              // amplitude scale
   TraceOptions resumed = options;
   resumed.resume_from = forged;
-  const TraceResult r = trace_ritz(lift_off_beam(), resumed);
+  const TraceResult r = test::trace_ritz_scene(lift_off_beam(), resumed);
   INFO(r.summary.message);
   CHECK(r.summary.termination == TraceTermination::solver_failure);
   CHECK(r.steps.empty());
@@ -551,19 +551,20 @@ TEST_CASE("ritz path: a state of the wrong topology is refused, naming the inequ
 TEST_CASE("ritz path: the summary counts what the result holds", "[ritz_path][issue10]") {
   // The message once said "5156 steps ... after 24 steps" (the last topology's count).
   const TraceOptions options = options_for(16);
-  const TraceResult r = trace_ritz(lift_off_beam(), options);
+  const TraceResult r = test::trace_ritz_scene(lift_off_beam(), options);
   INFO(r.summary.message);
   REQUIRE(r.summary.termination == TraceTermination::completed);
   CHECK(r.summary.steps == static_cast<int>(r.steps.size()));
   const auto figures = [](const TraceResult& t) {
-    return fmt::format("{} steps ({} rejected), {} event{}, 16 modes", t.steps.size(), t.summary.rejected_steps,
-                       t.events.size(), t.events.size() == 1 ? "" : "s");
+    // (The engine's words, continuation/engine.cpp; the Ritz path's note adds its modes.)
+    return fmt::format("{} steps ({} rejected), {} event(s), 0 limit point(s), 0 bifurcation(s), 16 modes",
+                       t.steps.size(), t.summary.rejected_steps, t.events.size());
   };
   CHECK(r.summary.message.find(figures(r)) != std::string::npos);
   // A resumed run counts its own steps and says from where.
   TraceOptions resumed = options;
   resumed.resume_from = r.steps[r.steps.size() / 2];
-  const TraceResult rest = trace_ritz(lift_off_beam(), resumed);
+  const TraceResult rest = test::trace_ritz_scene(lift_off_beam(), resumed);
   INFO(rest.summary.message);
   REQUIRE(rest.summary.termination == TraceTermination::completed);
   CHECK(rest.summary.message.find(figures(rest) + fmt::format(" after the resumed step at lambda = {:.10g}",
@@ -579,7 +580,7 @@ TEST_CASE("ritz path: the upheaval buckle passes its limit point inside the fixe
   scene::Scene s = test::continuation_scene("pipeline_upheaval");
   TraceOptions options = scene_options(s, 201);
   options.max_amplitude = 0.3;  // the scene's 1 m takes 230 steps; the fold and the branch beyond need 80
-  const TraceResult r = trace_ritz(s, options);
+  const TraceResult r = test::trace_ritz_scene(s, options);
   INFO(r.summary.message);
   REQUIRE(r.summary.termination == TraceTermination::completed);
   CHECK(r.summary.message.find("max_amplitude") != std::string::npos);
@@ -628,7 +629,7 @@ TEST_CASE("ritz path: the upheaval buckle passes its limit point inside the fixe
 }
 
 TEST_CASE("ritz path: amplitude and lifted length are filled without an axial force too", "[ritz_path][axial]") {
-  const TraceResult r = trace_ritz(lift_off_beam(), options_for(32));
+  const TraceResult r = test::trace_ritz_scene(lift_off_beam(), options_for(32));
   REQUIRE(r.summary.termination == TraceTermination::completed);
   const TraceStep& last = r.steps.back();
   CHECK(last.axial_force == 0.0);
@@ -690,9 +691,9 @@ TEST_CASE("ritz path: a perfect heavy free-free member bifurcates at its tilting
     INFO("modes " << modes);
     scene::Scene s = test::continuation_scene("free_free_bifurcation");
     TraceOptions options = scene_options(s, 201);
-    options.modes = modes;
+    options.ritz.modes = modes;
     options.switch_branch = false;  // stay on the straight path (the switch: the test below)
-    const TraceResult r = trace_ritz(s, options);
+    const TraceResult r = test::trace_ritz_scene(s, options);
     INFO(r.summary.message);
     REQUIRE(r.summary.termination == TraceTermination::completed);
     REQUIRE(r.events.size() == 1);
@@ -717,7 +718,8 @@ TEST_CASE("ritz path: a perfect heavy free-free member bifurcates at its tilting
       CHECK(step.load_factor > lambda);
       lambda = step.load_factor;
       CHECK(step.monitor_deflection == Approx(0.01).epsilon(1e-9));
-      CHECK(step.stability == (step.load_factor < e.load_factor ? continuation::Stability::stable : continuation::Stability::unstable));
+      CHECK(step.stability ==
+            (step.load_factor < e.load_factor ? continuation::Stability::stable : continuation::Stability::unstable));
     }
     CHECK(r.steps.front().load_factor < e.load_factor);
     CHECK(r.steps.back().load_factor > e.load_factor);
@@ -737,9 +739,9 @@ TEST_CASE("ritz path: at the perfect member's bifurcation the path switches to t
     INFO("modes " << modes);
     scene::Scene s = test::continuation_scene("free_free_bifurcation");
     TraceOptions options = scene_options(s, 201);
-    options.modes = modes;
+    options.ritz.modes = modes;
     options.max_amplitude = 0.05;  // 5 q/K: well past the start of the branch
-    const TraceResult r = trace_ritz(s, options);
+    const TraceResult r = test::trace_ritz_scene(s, options);
     INFO(r.summary.message);
     REQUIRE(r.summary.termination == TraceTermination::completed);
     CHECK(r.summary.message.find("max_amplitude") != std::string::npos);
@@ -804,9 +806,9 @@ TEST_CASE("ritz path: at the perfect member's bifurcation the path switches to t
 TEST_CASE("ritz path: a trace resumed before or after a branch switch reproduces the original", "[ritz_path][axial]") {
   scene::Scene s = test::continuation_scene("free_free_bifurcation");
   TraceOptions options = scene_options(s, 11);
-  options.modes = 16;
+  options.ritz.modes = 16;
   options.max_amplitude = 0.02;
-  const TraceResult original = trace_ritz(s, options);
+  const TraceResult original = test::trace_ritz_scene(s, options);
   INFO(original.summary.message);
   REQUIRE(original.summary.termination == TraceTermination::completed);
   REQUIRE(original.events.size() == 1);
@@ -844,9 +846,9 @@ TEST_CASE("ritz path: the tilted branch after the switch balances the weight and
           "[ritz_path][axial]") {
   scene::Scene s = test::continuation_scene("free_free_bifurcation");
   TraceOptions options = scene_options(s, 2001);
-  options.modes = 32;
+  options.ritz.modes = 32;
   options.max_amplitude = 0.05;
-  const TraceResult r = trace_ritz(s, options);
+  const TraceResult r = test::trace_ritz_scene(s, options);
   INFO(r.summary.message);
   REQUIRE(r.summary.termination == TraceTermination::completed);
   const std::vector<double>& x = options.sample_points;
@@ -906,9 +908,9 @@ TEST_CASE("ritz path: a symmetric critical mode lifts both ends at once on the s
     s.foundation.k = 300.0;
     s.trace->lambda_max = 18.0;
     TraceOptions options = scene_options(s, 201);
-    options.modes = modes;
+    options.ritz.modes = modes;
     options.max_amplitude = 0.01;
-    const TraceResult r = trace_ritz(s, options);
+    const TraceResult r = test::trace_ritz_scene(s, options);
     INFO(r.summary.message);
     REQUIRE(r.summary.termination == TraceTermination::completed);
     REQUIRE(r.events.size() == 1);

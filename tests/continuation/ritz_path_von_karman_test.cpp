@@ -11,6 +11,8 @@
 // loads agree to the event tolerance, not to a discretisation error. (It used to be a scaled
 // piecewise linear interpolant on 64 pieces, whose load vector was also exact to round-off for
 // fewer than 127 modes by aliasing: the tolerances, set by the event location, do not change.)
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -20,8 +22,9 @@
 
 #include "closed_form/shallow_arch.hpp"
 #include "continuation/models/fe_member.hpp"
-#include "continuation/ritz_path.hpp"
+#include "continuation/models/ritz.hpp"
 #include "model/from_scene.hpp"
+#include "support/ritz_trace.hpp"
 #include "support/scenes.hpp"
 
 using namespace liftoff;
@@ -124,7 +127,7 @@ TEST_CASE("Ritz path, von Karman: the shallow arch snaps through at the closed f
   options.arc_length.max_step = 0.5;
   options.monitor = 0.5;
   options.sample_points = {0.25, 0.5};
-  const TraceResult result = trace_ritz(scene, arch_member(scene), options);
+  const TraceResult result = test::trace_ritz_scene(scene, arch_member(scene), options);
   INFO(result.summary.message);
   REQUIRE(result.summary.termination == TraceTermination::completed);
 
@@ -180,8 +183,8 @@ TEST_CASE("Ritz path, von Karman: on a tensionless foundation the symmetric snap
   options.arc_length.max_step = 0.5;
   options.monitor = 0.5;
   const scene::Scene bilateral_scene = arch_scene(false), tensionless_scene = arch_scene(true);
-  const TraceResult bilateral = trace_ritz(bilateral_scene, arch_member(bilateral_scene), options);
-  const TraceResult tensionless = trace_ritz(tensionless_scene, arch_member(tensionless_scene), options);
+  const TraceResult bilateral = test::trace_ritz_scene(bilateral_scene, arch_member(bilateral_scene), options);
+  const TraceResult tensionless = test::trace_ritz_scene(tensionless_scene, arch_member(tensionless_scene), options);
   INFO(tensionless.summary.message);
   REQUIRE(tensionless.summary.termination == TraceTermination::completed);
   REQUIRE(tensionless.events.size() == bilateral.events.size());
@@ -228,7 +231,7 @@ TEST_CASE(
     const bool rejoins = second > 0.0;
     const scene::Scene scene = bifurcating_scene(arch);
     const TraceOptions options = switching_options(analysis);
-    const TraceResult result = trace_ritz(scene, bifurcating_member(scene, arch), options);
+    const TraceResult result = test::trace_ritz_scene(scene, bifurcating_member(scene, arch), options);
     INFO("kappa = " << kappa << ": " << result.summary.message << "; closed form bifurcations " << bifurcation << ", "
                     << second);
     REQUIRE(result.summary.termination == TraceTermination::completed);
@@ -244,7 +247,7 @@ TEST_CASE(
       INFO(bifurcations[1].description);
       CHECK(std::abs(bifurcations[1].load_factor - second) <= 10 * options.event_tolerance * bifurcation);
       CHECK(bifurcations[1].description.find("the switched branch ends here") != std::string::npos);
-      CHECK(result.summary.message.find("rejoins the path it left") != std::string::npos);
+      CHECK(result.summary.message.find("met the path it left again") != std::string::npos);  // the engine's words
       CHECK(result.steps.back().load_factor == bifurcations[1].load_factor);
     }
     int stable = 0, on_branch = 0, branch_stable = 0;
@@ -304,7 +307,7 @@ TEST_CASE("Ritz and FE von Karman paths agree on the bifurcation load and the sw
     const scene::Scene scene = bifurcating_scene(arch);
     const model::MemberModel member = bifurcating_member(scene, arch);
     TraceOptions options = switching_options(analysis);
-    const TraceResult ritz = trace_ritz(scene, member, options);
+    const TraceResult ritz = test::trace_ritz_scene(scene, member, options);
     std::vector<std::vector<TraceEvent>> fe;
     std::vector<TraceResult> fe_results;
     for (const int elements : {16, 32}) {
@@ -369,8 +372,12 @@ TEST_CASE(
     scene::Scene scene = bifurcating_scene(arch);
     scene.foundation.tensionless = true;
     const TraceOptions options = switching_options(analysis);
-    const TraceResult result = trace_ritz(scene, bifurcating_member(scene, arch), options);
+    const TraceResult result = test::trace_ritz_scene(scene, bifurcating_member(scene, arch), options);
     INFO("kappa = " << kappa << ": " << result.summary.message);
+    std::string events;
+    for (const TraceEvent& e : result.events)
+      events += fmt::format("{:.17g}", e.load_factor) + " " + e.description + "\n";
+    INFO(events);
     REQUIRE(result.summary.termination == TraceTermination::completed);
     REQUIRE(result.events.size() == 4);
     const double tolerance = 10 * options.event_tolerance * analysis.first_bifurcation.load;

@@ -1,6 +1,6 @@
 // Issue 16's "done when": a snap-through with a contact event on the way, traced through its
 // limit point by the FE path (continuation/models/fe_member.hpp) and the Ritz path
-// (continuation/ritz_path.hpp), which agree.
+// (continuation/models/ritz.hpp), which agree.
 //
 // The scene verification/scenes/von_karman/imperfect_arch_lift_off.toml: L = 1, EI = 1, EA = 1e4
 // (r = 0.01), w0 = -a sin(pi x), a = 8 r, pinned ends axially restrained, tensionless k = 20, load
@@ -33,9 +33,10 @@
 #include <vector>
 
 #include "continuation/models/fe_member.hpp"
-#include "continuation/ritz_path.hpp"
+#include "continuation/models/ritz.hpp"
 #include "model/from_scene.hpp"
 #include "scene/scene_reader.hpp"
+#include "support/ritz_trace.hpp"
 
 using namespace liftoff;
 using namespace liftoff::continuation;
@@ -207,8 +208,8 @@ TEST_CASE(
   std::vector<double> ritz_limits, ritz_closings;
   for (int modes : {16, 32}) {
     TraceOptions o = options(64);
-    o.modes = modes;
-    const TraceResult r = trace_ritz(s, m, o);
+    o.ritz.modes = modes;
+    const TraceResult r = test::trace_ritz_scene(s, m, o);
     CAPTURE(modes, r.summary.message, events_of(r));
     REQUIRE(r.summary.termination == TraceTermination::completed);
     REQUIRE(r.events.size() == 3);
@@ -223,7 +224,7 @@ TEST_CASE(
     CHECK(r.events[1].kind == EventKind::limit_point);
     CHECK(r.events[1].description.find("maximum") != std::string::npos);
     // The zone closing at the pinned end on the falling branch (its length and w'(L) vanish
-    // together there: ritz_path.cpp, vanishes_singularly), and full contact after it.
+    // together there: models/ritz_events.cpp, vanishes_singularly), and full contact after it.
     CHECK(r.events[2].kind == EventKind::limit_at_support);
     CHECK(r.events[2].at == 1.0);
     CHECK(r.steps.back().contact_regions.size() == 1);
@@ -288,8 +289,8 @@ TEST_CASE(
   std::vector<std::vector<double>> ritz;
   for (int modes : {32, 48}) {
     TraceOptions o = options(64, 1.0);
-    o.modes = modes;
-    const TraceResult r = trace_ritz(s, m, o);
+    o.ritz.modes = modes;
+    const TraceResult r = test::trace_ritz_scene(s, m, o);
     CAPTURE(modes, r.summary.message, events_of(r));
     REQUIRE(r.summary.termination == TraceTermination::completed);
     REQUIRE(r.events.size() == 3);

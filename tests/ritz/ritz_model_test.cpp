@@ -578,7 +578,18 @@ TEST_CASE("ritz model: pieces, admissibility and layout", "[ritz][model]") {
     REQUIRE(values.size() == 399);
     const double bound = 500 * 2.2e-16 * y.head(m->modes()).lpNorm<1>();
     for (int i = 1; i < 400; ++i) CHECK(std::abs(values[i - 1] - m->w(y, 0.1 + 0.8 * i / 400)) <= bound);
+    // And w' (the event scans' grid): each function's slope is its terms' times their frequency,
+    // at most (j + 2) pi for the j-th (the enrichment's cubic halves: a few units), so the bound
+    // is the same times that.
+    m->w_on_grid(y, 0.1, 0.9, 400, values, 1);
+    REQUIRE(values.size() == 399);
+    double slope_sum = 0.0;
+    for (int j = 0; j < m->modes(); ++j) slope_sum += std::abs(y[j]) * (j + 2) * 3.14159265358979;
+    for (int i = 1; i < 400; ++i)
+      CHECK(std::abs(values[i - 1] - m->w(y, 0.1 + 0.8 * i / 400, 1)) <= 500 * 2.2e-16 * slope_sum);
   }
+  std::vector<double> unused;
+  CHECK_THROWS_AS(model.w_on_grid(VectorXd::Zero(6), 0.1, 0.9, 10, unused, 2), std::invalid_argument);
 }
 
 TEST_CASE("ritz model: the minimiser for fixed limits detects unresisted rigid motions", "[ritz][model]") {

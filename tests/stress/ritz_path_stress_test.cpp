@@ -10,11 +10,12 @@
 #include <string>
 
 #include "continuation/fe_path.hpp"
-#include "continuation/ritz_path.hpp"
+#include "continuation/models/ritz.hpp"
 #include "model/from_scene.hpp"
 #include "model/member_model.hpp"
 #include "ritz/ritz_solver.hpp"
 #include "scene/scene_reader.hpp"
+#include "support/ritz_trace.hpp"
 #include "support/scenes.hpp"
 
 using namespace liftoff;
@@ -27,7 +28,7 @@ TEST_CASE("ritz path stress: the pipeline to lambda = 3, every step a contact so
   options.arc_length.lambda_max = *s.trace->lambda_max;
   options.monitor = 250.0;
   for (int i = 0; i <= 500; ++i) options.sample_points.push_back(i);  // every metre
-  const TraceResult ritz = trace_ritz(s, options);
+  const TraceResult ritz = test::trace_ritz_scene(s, options);
   INFO(ritz.summary.message);
   REQUIRE(ritz.summary.termination == TraceTermination::completed);
   CHECK(ritz.summary.steps == static_cast<int>(ritz.steps.size()));
