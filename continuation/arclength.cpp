@@ -77,8 +77,6 @@ void PathProblem::validate() const {
   };
   check("unknown_scale", unknown_scale);
   check("residual_scale", residual_scale);
-  if (!(std::isfinite(lambda_scale) && lambda_scale > 0))
-    throw std::invalid_argument(fmt::format("PathProblem.lambda_scale: expected a finite number > 0, got {}", lambda_scale));
   if (constraints.size() != 0 && constraints.size() != unknowns)
     throw std::invalid_argument(fmt::format(
         "PathProblem.constraints: expected empty or size {} (unknowns), got size {}", unknowns, constraints.size()));
@@ -201,7 +199,7 @@ std::optional<std::pair<VectorXd, double>> PathFollower::tangent(const VectorXd&
   bordered.column() = g_lambda;
   if (reference) {
     bordered.row() = scale_.array().square() * reference->tangent_x.array();
-    bordered.corner() = reference->tangent_lambda * lambda_weight();
+    bordered.corner() = reference->tangent_lambda;
   } else {
     bordered.corner() = options_.direction;
   }
@@ -210,7 +208,7 @@ std::optional<std::pair<VectorXd, double>> PathFollower::tangent(const VectorXd&
   t(n) = 1.0;
   if (!bordered.solve(t) || !t.allFinite()) return std::nullopt;
   const VectorXd t_x = t.head(n);
-  const double norm = std::sqrt(scaled_dot(t_x, t_x) + t(n) * t(n) * lambda_weight());
+  const double norm = std::sqrt(scaled_dot(t_x, t_x) + t(n) * t(n));
   if (!(norm > 0)) return std::nullopt;
   return std::make_pair(VectorXd(t_x / norm), t(n) / norm);
 }
@@ -242,14 +240,14 @@ std::optional<PathPoint> PathFollower::start(VectorXd x, double lambda, nonlinea
   return p;
 }
 
-StepOutcome PathFollower::step(const PathPoint& from, double ds) const {
+StepOutcome PathFollower::step(const PathPoint& from, double ds, bool with_tangent) const {
   const int n = problem_.unknowns;
   StepOutcome outcome;
   if (options_.control == PathControl::load) {
     // lambda fixed; x predicted along the tangent unless the tangent is (nearly) vertical.
     const double lambda = from.lambda + options_.direction * ds;
     PathPoint guess = from;
-    if (std::abs(from.tangent_lambda) > 1e-3 * problem_.lambda_scale)
+    if (std::abs(from.tangent_lambda) > 1e-3)
       guess.x = from.x + (lambda - from.lambda) / from.tangent_lambda * from.tangent_x;
     outcome = step_to_lambda(guess, lambda);
     if (outcome.point) outcome.point->arclength = from.arclength + ds;
@@ -265,7 +263,7 @@ StepOutcome PathFollower::step(const PathPoint& from, double ds) const {
     VectorXd g(n);
     if (!problem_.residual(y.head(n), y(n), g)) return false;
     f.head(n) = g;
-    f(n) = weights.dot(y.head(n) - from.x) + from.tangent_lambda * lambda_weight() * (y(n) - from.lambda) - ds;
+    f(n) = weights.dot(y.head(n) - from.x) + from.tangent_lambda * (y(n) - from.lambda) - ds;
     return true;
   };
   Workspace& w = workspace();
@@ -276,7 +274,7 @@ StepOutcome PathFollower::step(const PathPoint& from, double ds) const {
       return false;
     bordered.column() = g_lambda;
     bordered.row() = weights;
-    bordered.corner() = from.tangent_lambda * lambda_weight();
+    bordered.corner() = from.tangent_lambda;
     return true;
   };
   nonlinear::NewtonOptions newton = options_.corrector;
@@ -300,13 +298,17 @@ StepOutcome PathFollower::step(const PathPoint& from, double ds) const {
   if (!w.corrector) w.corrector = std::make_unique<nonlinear::NewtonSolver>(bordered);
   outcome.corrector = w.corrector->solve(residual, jacobian, z, newton);
   if (!outcome.corrector.is_usable()) return outcome;
-  const auto t = tangent(z.head(n), z(n), &from);
-  if (!t) return outcome;
   PathPoint p;
+  p.tangent_x = from.tangent_x;
+  p.tangent_lambda = from.tangent_lambda;
+  if (with_tangent) {
+    const auto t = tangent(z.head(n), z(n), &from);
+    if (!t) return outcome;
+    p.tangent_x = t->first;
+    p.tangent_lambda = t->second;
+  }
   p.x = z.head(n);
   p.lambda = z(n);
-  p.tangent_x = t->first;
-  p.tangent_lambda = t->second;
   p.arclength = from.arclength + ds;
   p.iterations = outcome.corrector.iterations;
   outcome.point = std::move(p);
@@ -321,15 +323,15 @@ StepOutcome PathFollower::step_to_lambda(const PathPoint& from, double lambda, c
   outcome.corrector = summary;
   if (!p) return outcome;
   // The arclength coordinate of the point, measured as the bordered constraint measures it.
-  p->arclength = from.arclength + scaled_dot(from.tangent_x, p->x - from.x) +
-                 from.tangent_lambda * lambda_weight() * (lambda - from.lambda);
+  p->arclength =
+      from.arclength + scaled_dot(from.tangent_x, p->x - from.x) + from.tangent_lambda * (lambda - from.lambda);
   outcome.point = std::move(p);
   return outcome;
 }
 
 std::optional<PathPoint> PathFollower::locate(const PathPoint& from, const PathPoint& to,
                                               const std::function<double(const PathPoint&)>& event,
-                                              double lambda_tolerance) const {
+                                              double lambda_tolerance, bool event_reads_tangent) const {
   double sa = 0.0, sb = to.arclength - from.arclength;
   double fa = event(from), fb = event(to);
   if (!(fa * fb <= 0.0)) return std::nullopt;
@@ -342,7 +344,7 @@ std::optional<PathPoint> PathFollower::locate(const PathPoint& from, const PathP
   for (int iteration = 0; iteration < 200; ++iteration) {
     double sc = sb - fb * (sb - sa) / (fb - fa);
     if (!(sc > std::min(sa, sb) && sc < std::max(sa, sb))) sc = 0.5 * (sa + sb);
-    StepOutcome c = step(from, sc);
+    StepOutcome c = step(from, sc, event_reads_tangent);
     if (!c.point) return std::nullopt;
     const double fc = event(*c.point);
     const double lambda_c = c.point->lambda;
@@ -362,6 +364,12 @@ std::optional<PathPoint> PathFollower::locate(const PathPoint& from, const PathP
       stale_side = 1;
     }
     if (converged) break;
+  }
+  if (best && !event_reads_tangent && options_.control == PathControl::arc_length) {
+    const auto t = tangent(best->x, best->lambda, &from);
+    if (!t) return std::nullopt;
+    best->tangent_x = t->first;
+    best->tangent_lambda = t->second;
   }
   return best;
 }
@@ -390,10 +398,10 @@ ArcLengthResult PathFollower::follow(const PathPoint& start_point, const StepObs
     }
     const PathPoint from = result.points.back();
     StepOutcome outcome = step(from, ds);
-    const bool turned = outcome.point && arc &&
-                        scaled_dot(from.tangent_x, outcome.point->tangent_x) +
-                                from.tangent_lambda * outcome.point->tangent_lambda * lambda_weight() <
-                            0.5;
+    const bool turned =
+        outcome.point && arc &&
+        scaled_dot(from.tangent_x, outcome.point->tangent_x) + from.tangent_lambda * outcome.point->tangent_lambda <
+            0.5;
     if (!outcome.point || turned) {
       ++result.rejected_steps;
       if (!outcome.point) result.last_failure = outcome.corrector;

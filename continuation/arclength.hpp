@@ -3,12 +3,11 @@
 // pseudo-arc-length continuation, or plain load control for comparison).
 //
 // A point of the path carries its unit tangent (dx/ds, dlambda/ds) in the scaled metric
-//     |(dx, dlambda)|^2 = |D dx|^2 + (dlambda / Lambda)^2,   D = diag(PathProblem::unknown_scale),
-// Lambda = PathProblem::lambda_scale (the FE models take the load range), so that a step length ds
-// is comparable to a change of lambda relative to Lambda. One step from a point P:
+//     |(dx, dlambda)|^2 = |D dx|^2 + dlambda^2,   D = diag(PathProblem::unknown_scale),
+// so that a step length ds is comparable to a change of lambda. One step from a point P:
 //  - predictor: (x, lambda) = P + ds (t_x, t_lambda);
 //  - corrector: Newton (nonlinear::NewtonSolver, KINSOL) on the bordered system
-//        G(x, lambda) = 0,   t_x . D^2 (x - x_P) + t_lambda (lambda - lambda_P) / Lambda^2 - ds = 0
+//        G(x, lambda) = 0,   t_x . D^2 (x - x_P) + t_lambda (lambda - lambda_P) - ds = 0
 //    (arc length), or on G(x, lambda_P + ds) = 0 (load control: lambda fixed, x unknown);
 //  - the new tangent solves [G_x G_lambda; t_P^T] t = [0; 1], normalised, so it keeps the
 //    sense of t_P: the branch is followed consistently through folds.
@@ -61,7 +60,6 @@ struct PathProblem {
   std::function<bool(const Eigen::VectorXd& x, double lambda, Eigen::SparseMatrix<double>& g_x)> sparse_jacobian;
   std::function<bool(const Eigen::VectorXd& x, double lambda, Eigen::VectorXd& g_lambda)> lambda_derivative;
   Eigen::VectorXd unknown_scale;   // D: 1 / typical |x_i| (empty: ones)
-  double lambda_scale = 1.0;       // Lambda of the metric: the typical size of a change of lambda
   Eigen::VectorXd residual_scale;  // 1 / typical |G_i| for the corrector's test (empty: ones)
   Eigen::VectorXi constraints;     // KINSOL's sign codes per unknown (empty: none), see NewtonOptions
   void validate() const;           // throws std::invalid_argument naming the field
@@ -158,8 +156,9 @@ class PathFollower {
   std::optional<PathPoint> start(Eigen::VectorXd x, double lambda, nonlinear::NewtonSummary* summary = nullptr,
                                  const std::optional<PathPoint>& orientation = std::nullopt) const;
   // One predictor-corrector step of length ds from `from` (arc length or load control as the
-  // options say; ds may be negative only for load control).
-  StepOutcome step(const PathPoint& from, double ds) const;
+  // options say; ds may be negative only for load control). with_tangent false (arc length): the
+  // point's tangent is not solved for (a factorisation less) and holds from's, a stand-in.
+  StepOutcome step(const PathPoint& from, double ds, bool with_tangent = true) const;
   // The point on the path at lambda (x guessed from `from`, or `guess` if given; a fixed-lambda
   // correction), its arclength measured from `from`.
   StepOutcome step_to_lambda(const PathPoint& from, double lambda, const Eigen::VectorXd* guess = nullptr) const;
@@ -167,8 +166,11 @@ class PathFollower {
   // by secant (Illinois) on sigma in (0, ds), until the bracket is below lambda_tolerance in
   // lambda (or 1e-14 relative in sigma). nullopt if event does not change sign or a corrector
   // solve fails.
+  // event_reads_tangent false: `event` does not read the points' tangents, which are then solved
+  // for at the located point only.
   std::optional<PathPoint> locate(const PathPoint& from, const PathPoint& to,
-                                  const std::function<double(const PathPoint&)>& event, double lambda_tolerance) const;
+                                  const std::function<double(const PathPoint&)>& event, double lambda_tolerance,
+                                  bool event_reads_tangent = true) const;
   // Adaptive steps from `start` until lambda leaves [lambda_min, lambda_max] (landed on its
   // end), the observer stops, or a limit ends the run. `first_step` overrides initial_step.
   ArcLengthResult follow(const PathPoint& start, const StepObserver& observer = {},
@@ -196,7 +198,6 @@ class PathFollower {
   bool evaluate_jacobian(const Eigen::VectorXd& x, double lambda, Eigen::MatrixXd& g_x) const;
   bool evaluate_lambda_derivative(const Eigen::VectorXd& x, double lambda, Eigen::VectorXd& g_lambda) const;
   double scaled_dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const;
-  double lambda_weight() const { return 1.0 / (problem_.lambda_scale * problem_.lambda_scale); }
 
   PathProblem problem_;
   ArcLengthOptions options_;

@@ -238,7 +238,7 @@ void Engine::detect_requested(const PathFollower& follower, const PathPoint& fro
     // Located on the step (a folding path may pass the value more than once, each on its own
     // step), then landed on it exactly by a fixed-lambda correction from there.
     std::optional<PathPoint> at = follower.locate(
-        from, to, [target](const PathPoint& p) { return p.lambda - target; }, options_.event_tolerance);
+        from, to, [target](const PathPoint& p) { return p.lambda - target; }, options_.event_tolerance, false);
     if (!at) continue;
     if (at->lambda != target) {
       StepOutcome landed = follower.step_to_lambda(*at, target);

@@ -228,7 +228,9 @@ int AxialPath::instability(const Point& p) {
 
 continuation::Stability AxialPath::stability_at(const Point& p) {
   const auto cone = cone_at(p);
-  if (!cone) return negative_eigenvalues(set_, p.lambda) == 0 ? continuation::Stability::stable : continuation::Stability::unstable;
+  if (!cone)
+    return negative_eigenvalues(set_, p.lambda) == 0 ? continuation::Stability::stable
+                                                     : continuation::Stability::unstable;
   return cone_verdict(*cone);
 }
 

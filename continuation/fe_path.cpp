@@ -391,7 +391,8 @@ std::string FePath::lift_off_message(double lambda) const {
 
 bool FePath::establish_start(double lambda) {
   const int m = d_.reactions();
-  if (options_.resume_from && std::holds_alternative<continuation::FeContactSet>(options_.resume_from->state_topology) &&
+  if (options_.resume_from &&
+      std::holds_alternative<continuation::FeContactSet>(options_.resume_from->state_topology) &&
       static_cast<int>(options_.resume_from->state.size()) == m) {
     ContactSet set(m);
     for (int i = 0; i < m; ++i) set[i] = options_.resume_from->state[i] > 0.5;

@@ -175,8 +175,6 @@ PathProblem FeMemberPath::problem_on(const ContactSet& on) const {
     return true;
   };
   p.unknown_scale = unknown_scale(*set);
-  // Steps measured in fractions of the load range: a step length means the same on every range.
-  p.lambda_scale = std::abs(options_.arc_length.lambda_max - options_.arc_length.lambda_min);
   // The corrector's test relative to each equation's size: |G_i| against sum_j |dG_i/dy_j| y_ref_j
   // at the unloaded state (the membrane terms of EA and the h^-3 of bending included), so that its
   // tolerance means the same on every mesh.
@@ -225,12 +223,15 @@ VectorXd FeMemberPath::residual_scale(const ContactSet& set) const {
   return size.cwiseMax(std::numeric_limits<double>::min()).cwiseInverse();
 }
 
-// The metric's weights: the root mean square of the change of the member's unknowns over w_ref
-// (divided by sqrt(n): a plain sum over the nodes would make a step's length grow like the square
-// root of the number of elements for the same change of shape, and the steps shrink with the mesh),
-// the reactions 1e-3 less.
+// The metric's weights: the root mean square of the change of the member's unknowns over w_ref,
+// times the load range (a change of the shape by w_ref weighs as a change of lambda over the whole
+// range: neither dominates the step's length, which stays in units of lambda), the reactions 1e-3
+// less. (Divided by sqrt(n): a plain sum over the nodes would make a step's length grow like the
+// square root of the number of elements for the same change of shape, and the steps shrink with
+// the mesh.)
 VectorXd FeMemberPath::unknown_scale(const ContactSet& set) const {
-  const double rms = 1.0 / std::sqrt(static_cast<double>(n_));
+  const double range = std::abs(options_.arc_length.lambda_max - options_.arc_length.lambda_min);
+  const double rms = range / std::sqrt(static_cast<double>(n_));
   VectorXd scale = VectorXd::Constant(n_ + set.size(), rms / w_ref_);
   scale.tail(set.size()).setConstant(rms * 1e-3 / reaction_unit_);
   return scale;
@@ -590,46 +591,59 @@ bool same_pieces(const std::vector<bool>& before, const std::vector<bool>& after
 std::optional<Crossing> FeMemberPath::contact_event(const PathPoint& from, const PathPoint& to,
                                                     const VectorXd& start_values, const PathFollower& follower,
                                                     std::string& failure) const {
-  const auto least = [&](const PathPoint& p) {
-    const VectorXd v = sign_values(set_, polished(set_, p, false).x);
-    double smallest = 1.0;
-    for (int i = 0; i < d_.reactions(); ++i)
-      if (start_values[i] > tie_tolerance) smallest = std::min(smallest, v[i]);
-    return smallest;
+  // The least sign value of the nodes not at zero at the step's start; polished: of the point
+  // taken to round-off first (a factorisation per evaluation).
+  const auto least_of = [&](bool polish) {
+    return [&, polish](const PathPoint& p) {
+      const VectorXd v = sign_values(set_, polish ? polished(set_, p, false).x : p.x);
+      double smallest = 1.0;
+      for (int i = 0; i < d_.reactions(); ++i)
+        if (start_values[i] > tie_tolerance) smallest = std::min(smallest, v[i]);
+      return smallest;
+    };
   };
   // (`to` is refined already: its values as they are.)
-  double at_end = 1.0;
-  {
-    const VectorXd v = sign_values(set_, to.x);
+  if (!(least_of(false)(to) < -options_.event_tolerance)) return std::nullopt;
+  // Which node crosses first needs the corrector's points only; where it names an event, the
+  // crossing is located again on polished points (near a limit point the corrector's 1e-11 leaves
+  // the state off by ~1e-7 of w_ref, which moved an event by 5e-7 in lambda), else (a limit moving
+  // on by a node: no event) where it lies needs no more than a state that holds.
+  const auto crossing_at = [&](const PathPoint& located, std::vector<int>& flipped) {
+    const VectorXd at = sign_values(set_, located.x), past = sign_values(set_, to.x);
+    double smallest = std::numeric_limits<double>::infinity();
     for (int i = 0; i < d_.reactions(); ++i)
-      if (start_values[i] > tie_tolerance) at_end = std::min(at_end, v[i]);
+      if (start_values[i] > tie_tolerance && past[i] < 0.0) smallest = std::min(smallest, at[i]);
+    flipped.clear();
+    for (int i = 0; i < d_.reactions(); ++i)
+      if (start_values[i] > tie_tolerance && past[i] < 0.0 && at[i] <= smallest + tie_tolerance) flipped.push_back(i);
+  };
+  std::optional<PathPoint> located = follower.locate(from, to, least_of(false), options_.event_tolerance, false);
+  std::vector<int> flipped;
+  if (located) {
+    *located = polished(set_, *located, false);
+    crossing_at(*located, flipped);
+    if (!flipped.empty() && !set_events(set_.in_contact, flipped, located->lambda).empty()) {
+      located = follower.locate(from, to, least_of(true), options_.event_tolerance, false);
+      if (located) {
+        *located = polished(set_, *located, false);
+        crossing_at(*located, flipped);
+      }
+    }
   }
-  if (!(at_end < -options_.event_tolerance)) return std::nullopt;
-  std::optional<PathPoint> located = follower.locate(from, to, least, options_.event_tolerance);
   if (!located) {
     failure = fmt::format("a contact event between lambda = {:.10g} and {:.10g} could not be located", from.lambda,
                           to.lambda);
     return std::nullopt;
   }
-  *located = polished(set_, *located, false);
-  const VectorXd at = sign_values(set_, located->x), past = sign_values(set_, to.x);
-  std::vector<bool> in_contact = set_.in_contact;
-  std::vector<int> flipped;
-  // The node(s) crossing with the least value at the located point (within the tie).
-  double smallest = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < d_.reactions(); ++i)
-    if (start_values[i] > tie_tolerance && past[i] < 0.0) smallest = std::min(smallest, at[i]);
-  for (int i = 0; i < d_.reactions(); ++i)
-    if (start_values[i] > tie_tolerance && past[i] < 0.0 && at[i] <= smallest + tie_tolerance)
-      in_contact[i] = !in_contact[i], flipped.push_back(i);
   if (flipped.empty()) {
     failure = fmt::format("a contact event located at lambda = {:.10g} names no node", located->lambda);
     return std::nullopt;
   }
+  std::vector<bool> in_contact = set_.in_contact;
+  for (int i : flipped) in_contact[i] = !in_contact[i];
   Crossing c;
   c.point = *located;
   c.events = set_events(set_.in_contact, flipped, located->lambda);
-
   c.transition = std::move(in_contact);
   return c;
 }

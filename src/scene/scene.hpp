@@ -232,7 +232,9 @@ struct TraceSettings {
                                  // that contact solver; all: both, events side by side (FE: auto).
                                  // Absent: [solve] method
   TraceControl control = TraceControl::arc_length;
-  double initial_step = 0.05;  // in lambda (Ritz path); min_step <= initial_step <= max_step
+  // In lambda; min_step <= initial_step <= max_step. Not given: these fractions of the load range
+  // lambda_max - lambda_min (the reader scales them), so that a trace takes as many steps on any range.
+  double initial_step = 0.05;
   double min_step = 1e-8;
   double max_step = 0.25;
   int max_steps = 10000;

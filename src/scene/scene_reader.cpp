@@ -1164,6 +1164,10 @@ TraceSettings read_trace(const Section& s, const Member& member) {
   trace.method =
       s.choice("method", {Method::dual, Method::primal, Method::fast, Method::automatic, Method::ritz, Method::all});
   trace.control = s.choice("control", {TraceControl::arc_length, TraceControl::load}).value_or(trace.control);
+  if (trace.lambda_max) {  // the steps' defaults: fractions of the load range (TraceSettings)
+    const double range = *trace.lambda_max - trace.lambda_min;
+    trace.max_step *= range, trace.initial_step *= range, trace.min_step *= range;
+  }
   trace.max_step = s.number("max_step", positive()).value_or(trace.max_step);
   const Range up_to_max{fmt::format("a number in (0, max_step = {}]", trace.max_step), 0.0, trace.max_step, true};
   trace.initial_step = std::min(trace.initial_step, trace.max_step);

@@ -249,8 +249,8 @@ TEST_CASE("solve von Karman: the library refuses the methods that do not honour 
     }
   }
   // A circular arch under von Karman: `solve` (auto, fast) serves it with its certificate
-  // (tests/app/solve_von_karman_arch_test.cpp); every other method and the trace paths refuse
-  // it, keyed to structure.theory.
+  // (tests/app/solve_von_karman_arch_test.cpp), `trace` with the FE path; every other method and
+  // the Ritz path refuse it, keyed to structure.theory.
   const scene::Scene arch = scene::parse_scene(R"([structure]
 kind = "arch"
 theory = "von_karman"
@@ -292,11 +292,17 @@ lambda_max = 1.0
   ritz.method = scene::Method::ritz;
   dual.method = scene::Method::dual;
   for (const std::string& message :
-       {refusal([&] { app::solve_scene(arch, ritz); }), refusal([&] { app::solve_scene(arch, dual); }),
-        refusal([&] { app::run_trace(arch, {}); })}) {
+       {refusal([&] { app::solve_scene(arch, ritz); }), refusal([&] { app::solve_scene(arch, dual); })}) {
     CHECK_THAT(message, Catch::Matchers::Contains("key 'structure.theory'"));
     CHECK_THAT(message, Catch::Matchers::Contains("theory = \"von_karman\" on an arch"));
   }
+  app::TraceRequest fe_path, ritz_path;
+  fe_path.elements = 40;
+  ritz_path.method = scene::Method::ritz;
+  CHECK(app::run_trace(arch, fe_path).usable());
+  const std::string ritz_refusal = refusal([&] { app::run_trace(arch, ritz_path); });
+  CHECK_THAT(ritz_refusal, Catch::Matchers::Contains("key 'structure.theory'"));
+  CHECK_THAT(ritz_refusal, Catch::Matchers::Contains("arches"));
 }
 
 TEST_CASE("solve von Karman: a sweep solves each case by the von Karman path", "[app][von_karman]") {

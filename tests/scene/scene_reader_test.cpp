@@ -610,7 +610,10 @@ TEST_CASE("a [trace] table reads into the expected values, with defaults", "[sce
   CHECK(minimal.trace->lambda_min == 0.0);
   CHECK_FALSE(minimal.trace->method.has_value());
   CHECK(minimal.trace->control == TraceControl::arc_length);
-  CHECK(minimal.trace->initial_step == defaults.initial_step);
+  // The steps' defaults are fractions of the load range (here 8).
+  CHECK(minimal.trace->initial_step == 8.0 * defaults.initial_step);
+  CHECK(minimal.trace->min_step == 8.0 * defaults.min_step);
+  CHECK(minimal.trace->max_step == 8.0 * defaults.max_step);
   CHECK(minimal.trace->max_steps == defaults.max_steps);
   CHECK_FALSE(minimal.trace->monitor.has_value());
   CHECK(minimal.trace->samples == 101);
