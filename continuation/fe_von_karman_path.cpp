@@ -18,6 +18,7 @@
 #include "continuation/arclength.hpp"
 #include "continuation/events.hpp"
 #include "continuation/fe_states.hpp"
+#include "continuation/step_state.hpp"
 
 namespace liftoff::continuation {
 
@@ -296,6 +297,12 @@ class Tracer {
     return step;
   }
 
+  // The step's whole state (step_state.hpp), certified by `certificate` (null: not certified).
+  void record_state(TraceStep& step, const ContactSet& set, const PathPoint& p,
+                    const certify::Certificate* certificate) const {
+    record_von_karman_state(step, model_, d_, p.lambda, answer_of(set, p.x), certificate);
+  }
+
   // The certificate of a path point (certify/certificate.hpp, the von Karman answer from its fields
   // alone) at the path's own accuracy:
   //  - backward error: the certificate's own tolerance, for y polished() to round-off.
@@ -483,6 +490,7 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
       return false;
     }
     result.steps.push_back(tracer.step_of(on, p, points, options));
+    tracer.record_state(result.steps.back(), on, p, live_load ? nullptr : &certificate);
     if (sink.on_step) sink.on_step(result.steps.back());
     if (options.max_amplitude && result.steps.back().amplitude >= *options.max_amplitude) amplitude_reached = true;
     return true;

@@ -59,6 +59,7 @@
 #include "contact/contact_solver.hpp"
 #include "contact/von_karman_solve.hpp"
 #include "continuation/arclength.hpp"
+#include "continuation/step_state.hpp"
 #include "fe/discretisation.hpp"
 #include "model/from_scene.hpp"
 #include "model/member_model.hpp"
@@ -742,6 +743,7 @@ void RitzTracer::record_step(const RitzModel& model, const PathPoint& point, int
   if (model.can_lose_stability())  // else the energy is convex: stable, unchecked (unknown)
     step.stability =
         model.stability_margin(point.x, point.lambda) > 0.0 ? continuation::Stability::stable : continuation::Stability::unstable;
+  record_ritz_state(step, member_, model, point.x, point.lambda, options_.elements);
   step.state_topology =
       continuation::RitzTopology{model.topology().first_in_contact, model.topology().limits, modes_, at_event};
   const int n = static_cast<int>(point.x.size());
