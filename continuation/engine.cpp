@@ -124,6 +124,7 @@ bool Engine::keep(const PathPoint& point, const Crossing* crossing, bool request
   }
   TraceStep step = model_.record(point, {crossing, next_step});
   step.requested = requested;
+  if (options_.physical_load) step.load = options_.physical_load->at(step.load_factor);
   if (model_.stability_measure() != StabilityMeasure::none)
     step.stability = (stability ? *stability : model_.stability(point)).verdict();
   if (sink_.on_step) sink_.on_step(step);

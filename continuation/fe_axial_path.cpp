@@ -14,6 +14,7 @@
 #include "contact/stability.hpp"
 #include "continuation/events.hpp"
 #include "continuation/fe_states.hpp"
+#include "continuation/step_state.hpp"
 #include "fe/discretisation.hpp"
 #include "model/from_scene.hpp"
 #include "model/member_model.hpp"
@@ -305,7 +306,9 @@ void AxialPath::emit_step(const Point& p) {
   // Certified from its own fields (balance with K(N) at this lambda, the contact inequalities,
   // backward error) as the exact path's states are.
   set_axial(p.lambda);
-  fe_states::certify_state(model_, d_, p.lambda, d_.expand_displacement(p.state.displacement), p.state.reaction);
+  const Eigen::VectorXd displacement = d_.expand_displacement(p.state.displacement);
+  record_fe_state(step, model_, d_, p.lambda, displacement, p.state.reaction,
+                  fe_states::certify_state(model_, d_, p.lambda, displacement, p.state.reaction));
   step.iterations = solves_since_step_;
   solves_since_step_ = 0;
   if (sink_.on_step) sink_.on_step(step);

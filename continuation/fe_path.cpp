@@ -15,6 +15,7 @@
 #include "continuation/fe_axial_path.hpp"
 #include "continuation/fe_states.hpp"
 #include "continuation/models/fe_member.hpp"
+#include "continuation/step_state.hpp"
 #include "fe/discretisation.hpp"
 #include "lcp/lemke.hpp"
 #include "model/from_scene.hpp"
@@ -453,8 +454,10 @@ TraceStep FePath::step_at(double lambda) {
 void FePath::emit_step(TraceStep step) {
   // Every state is certified from its own fields before it is reported: one that fails ends
   // the path there, the steps before it valid.
-  fe_states::certify_state(model_, d_, step.load_factor, d_.expand_displacement(state_.displacement(step.load_factor)),
-                           state_.reaction(step.load_factor));
+  const double lambda = step.load_factor;
+  const VectorXd displacement = d_.expand_displacement(state_.displacement(lambda)), reaction = state_.reaction(lambda);
+  record_fe_state(step, model_, d_, lambda, displacement, reaction,
+                  fe_states::certify_state(model_, d_, lambda, displacement, reaction));
   step.iterations = pivots_since_step_;
   pivots_since_step_ = 0;
   if (sink_.on_step) sink_.on_step(step);

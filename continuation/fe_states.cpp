@@ -40,8 +40,8 @@ TraceStep step_of(const model::MemberModel& model, const fe::Discretisation& d, 
   return step;
 }
 
-void certify_state(const model::MemberModel& model, const fe::Discretisation& d, double lambda,
-                   const Eigen::VectorXd& displacement, const Eigen::VectorXd& reaction) {
+certify::Certificate certify_state(const model::MemberModel& model, const fe::Discretisation& d, double lambda,
+                                   const Eigen::VectorXd& displacement, const Eigen::VectorXd& reaction) {
   contact::ContactSolution answer;
   answer.displacement = displacement;
   answer.reaction = reaction;
@@ -56,6 +56,7 @@ void certify_state(const model::MemberModel& model, const fe::Discretisation& d,
   if (!certificate.passed)
     throw StepNotCertified{
         lambda, fmt::format("the state at lambda = {:.10g} failed its certificate: {}", lambda, certificate.message)};
+  return certificate;
 }
 
 }  // namespace liftoff::continuation::fe_states

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "certify/certificate.hpp"
 #include "continuation/events.hpp"
 #include "continuation/trace.hpp"
 #include "fe/discretisation.hpp"
@@ -43,8 +44,9 @@ struct StepNotCertified {
 // Certifies the state from its own fields (src/certify: balance with the support reactions and
 // K(N) at lambda, the contact inequalities at the nodes, backward error to acceptable_residual);
 // round-off against the discretisation is left to the solve of the same mesh (it costs a second
-// solve). Throws StepNotCertified when it fails.
-void certify_state(const model::MemberModel& model, const fe::Discretisation& d, double lambda,
-                   const Eigen::VectorXd& displacement, const Eigen::VectorXd& reaction);
+// solve). Returns the certificate (its support reactions go into the step's record,
+// step_state.hpp); throws StepNotCertified when it fails.
+certify::Certificate certify_state(const model::MemberModel& model, const fe::Discretisation& d, double lambda,
+                                   const Eigen::VectorXd& displacement, const Eigen::VectorXd& reaction);
 
 }  // namespace liftoff::continuation::fe_states

@@ -9,7 +9,10 @@
 //  - trace_ritz (models/ritz.hpp): the Ritz model with moving limits, followed by the
 //                                pseudo-arc-length driver (arclength.hpp), events located by
 //                                secant/bisection on their event functions.
-// Results are in the user's units and coordinate (x, or theta in degrees), like io::SolveReport.
+// Results are in the user's units and coordinate (x, or theta in degrees), like io::SolveReport,
+// with its signs: w > 0 into the foundation, u toward increasing x (theta), rotation
+// counterclockwise, bending moment sagging positive, normal force tension positive, reaction
+// compression positive (post/user_tables.hpp).
 //
 // These are the result types alone, a library of their own (liftoff_trace_result) below the
 // writers that store them (io/trace_writer.hpp), which link nothing else of continuation/.
@@ -22,9 +25,11 @@
 #include <variant>
 #include <vector>
 
+#include "certify/support_reaction.hpp"
 #include "contact/method.hpp"
 #include "core/contact_region.hpp"
 #include "core/enum_names.hpp"
+#include "post/user_tables.hpp"
 
 namespace liftoff::continuation {
 
@@ -48,6 +53,20 @@ struct TraceEvent {
   EventKind kind = EventKind::lift_off_opens;
   double at = 0.0;          // position along the member, user coordinate
   std::string description;  // one line, in words
+};
+
+// The live load as a physical quantity, where the live case is of one kind (app/trace_load.hpp
+// derives it from the scene): load = lambda x reference, in `unit`. `definition` says which value
+// `reference` is when the live case has several loads of that kind (e.g. the largest of two wheel
+// forces). Absent from a trace whose live case mixes kinds (lambda only).
+struct PhysicalLoad {
+  std::string quantity;    // "point force", "moment", "distributed force", "axial force", "temperature rise",
+                           // "imposed curvature"
+  std::string symbol;      // "P", "M", "q", "N", "dT", "kappa"
+  double reference = 0.0;  // the live load's value at lambda = 1, user units (nonzero)
+  std::string unit;        // its unit label (scene::unit_labels; "" when the scene states none)
+  std::string definition;  // in words: "lambda x the live axial force (loads[1])"
+  double at(double lambda) const { return lambda * reference; }
 };
 
 // How a Ritz step's switching event opens the new zone: the old topology is continued this far
@@ -92,6 +111,20 @@ struct TraceStep {
   std::vector<double> reaction;                // foundation reaction there (force per length, compression > 0)
   int iterations = 0;                          // corrector iterations (Ritz) or pivots (FE) since the last step
   bool requested = false;                      // recorded at a load asked for (TraceOptions::report_at)
+  // The physical load (PhysicalLoad::at of the step's lambda), set where the trace is recorded
+  // (app/trace_command.hpp); absent without one.
+  std::optional<double> load;
+  // The whole state, as `liftoff solve` reports the same scene at this lambda
+  // (continuation/step_state.hpp builds it): the fields at every mesh node (FE) or on a uniform grid
+  // (Ritz): coordinate, w, rotation, bending moment, shear force, normal force (0 on a beam without
+  // an axial force; tension positive), reaction, gap, and u where the member has an axial unknown
+  // (arches, von Karman beams on the FE mesh); empty where a path records none. The design values
+  // (moment max/min, |V| max, pressure max, uplift max with their positions; absent where solve
+  // gives none: a Ritz member that is no linear beam free of axial force). The support reactions
+  // (the certificate's, user units; empty where the path does not certify its steps).
+  post::FieldTable fields;
+  std::optional<post::DesignTable> design;
+  std::vector<certify::SupportReaction> supports;
   // Beam-columns: the axial force N = N_dead + lambda N_live (user force units, compression > 0; 0
   // without axial loads), the buckle amplitude (the largest lift of the member off the foundation
   // surface, max of -(w - gap) over the foundation, user length, 0 where nothing lifts) and the lifted

@@ -36,6 +36,8 @@ void TraceOptions::validate(double member_begin, double member_end) const {
           lambda <= std::max(arc_length.lambda_min, arc_length.lambda_max)))
       fail(fmt::format("report_at: expected load factors in [{}, {}], got {}", arc_length.lambda_min,
                        arc_length.lambda_max, lambda));
+  if (physical_load && !(std::isfinite(physical_load->reference) && physical_load->reference != 0.0))
+    fail(fmt::format("physical_load.reference: expected a finite nonzero value, got {}", physical_load->reference));
   if (resume_from && !std::isfinite(resume_from->load_factor))
     fail("resume_from: the step's load factor must be finite");
 }

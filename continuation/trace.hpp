@@ -54,6 +54,11 @@ struct TraceOptions {
   // passes it (a folding path passes a value more than once) and recorded as a step of its own
   // (TraceStep::requested). In the range [lambda_min, lambda_max].
   std::vector<double> report_at;
+  // The live load as a physical quantity, where the live case is of one kind (app/trace_load.hpp:
+  // a property of the scene, derived once above the paths); absent: lambda only. Each recorded
+  // step's and event's `load` is physical_load->at(lambda) (today set where the trace is recorded,
+  // app/trace_command.cpp; the paths do not use it).
+  std::optional<PhysicalLoad> physical_load;
   // Resume after this step (read back from an interrupted trace's file): the path restarts
   // from its lambda and state. It reports neither that step nor any event at or below its
   // lambda again: they are in the file already.

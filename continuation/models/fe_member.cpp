@@ -29,6 +29,7 @@
 #include "continuation/engine.hpp"
 #include "continuation/events.hpp"
 #include "continuation/fe_states.hpp"
+#include "continuation/step_state.hpp"
 #include "post/fields.hpp"
 
 namespace liftoff::continuation {
@@ -126,6 +127,9 @@ class FeMemberPath final : public PathModel {
   double w_ref_ = 1e-3, reaction_unit_ = 1.0, gap_unit_ = 1.0;
   ContactSet set_;
   int immediate_switches_ = 0;  // switches back at a step's start, in a row
+  // The certificate of the point certify() saw last: record() follows it on the same point (the
+  // engine's keep), and the step's supports are that certificate's.
+  mutable std::optional<certify::Certificate> last_certificate_;
   // The switched branch: its critical mode (x part) and origin.
   VectorXd branch_mode_, branch_origin_;
 };
@@ -429,7 +433,8 @@ certify::Check FeMemberPath::backward_error(const ContactSet& set, const VectorX
 
 std::optional<std::string> FeMemberPath::certify(const PathPoint& point) const {
   if (!certified_) return std::nullopt;
-  const certify::Certificate c = certificate(point.x, point.lambda);
+  last_certificate_ = certificate(point.x, point.lambda);
+  const certify::Certificate& c = *last_certificate_;
   if (c.passed) return std::nullopt;
   const certify::Check* backward = c.find(certify::check_name::backward_error);
   return c.message +
@@ -452,6 +457,9 @@ TraceStep FeMemberPath::record(const PathPoint& point, const RecordContext&) con
                                       reactions(set_, point.x), set_.in_contact);
   step.axial_force = axial_force(point.x);
   step.iterations = point.iterations;
+  // The whole state, with the certificate the engine certified it with just before (certify()).
+  record_von_karman_state(step, member_, d_, point.lambda, answer_of(set_, point.x),
+                          certified_ && last_certificate_ ? &*last_certificate_ : nullptr);
   return step;
 }
 

@@ -1,5 +1,7 @@
 #include "continuation/models/ritz.hpp"
 
+#include "continuation/step_state.hpp"
+
 // The Ritz path's start, metric, stability and record. Along a step: ritz_steps.cpp; switches of
 // topology and branch: ritz_switch.cpp.
 //
@@ -433,6 +435,7 @@ TraceStep RitzPath::record(const PathPoint& point, const RecordContext& context)
   const RitzBuckle b = events_->buckle(model, point.x);
   step.amplitude = b.amplitude;
   step.lifted_length = b.lifted_length;
+  record_ritz_state(step, member_, model, point.x, point.lambda, options_.elements);
   // At a switching event the state carries the opening a resumed trace redoes.
   std::optional<RitzOpening> at_event;
   if (context.crossing) {

@@ -444,12 +444,31 @@ struct TraceArguments {
   bool resume = false;
   bool progress = false;
   std::string output;
+  std::string csv;              // --csv
+  std::vector<std::string> at;  // --at, split at commas
 };
+
+// --at V[,V...]: the numbers, or InputError naming the option and the text that is none.
+std::optional<std::vector<double>> report_at_option(const std::vector<std::string>& texts) {
+  if (texts.empty()) return std::nullopt;
+  std::vector<double> values;
+  for (const std::string& text : texts) {
+    double value = NAN;
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (error != std::errc() || end != text.data() + text.size() || !std::isfinite(value))
+      throw InputError(fmt::format(
+          "option '--at': expected finite numbers separated by commas (loads in the live load's unit, or load factors "
+          "where the live case mixes kinds), got '{}'",
+          text));
+    values.push_back(value);
+  }
+  return values;
+}
 
 // `liftoff trace`: the summary (or --json) on stdout; on stderr a progress line when stderr is a
 // terminal, and the reason when a path stops short of lambda_max (exit 3, its steps kept).
 int run_trace_command(const TraceArguments& args, RunContext& context, std::ostream& out, std::ostream& err) {
-  std::vector<RunFile> outputs;
+  std::vector<RunFile> outputs = atomic_outputs({{"--csv", args.csv}});
   if (!args.output.empty()) {
     outputs.push_back({"--output", args.output, args.output, ""});
     outputs.push_back({"--output", args.output, io::trace_backup_path(args.output), "backup file"});
@@ -466,6 +485,7 @@ int run_trace_command(const TraceArguments& args, RunContext& context, std::ostr
   request.method = solve.method;
   request.elements = solve.elements;
   request.modes = solve.modes;
+  request.report_at = report_at_option(args.at);
   request.output = args.output;
   request.resume = args.resume;
   request.version = LIFTOFF_VERSION;
@@ -488,6 +508,9 @@ int run_trace_command(const TraceArguments& args, RunContext& context, std::ostr
   }
   const TraceOutcome outcome = run_trace(scene, request);
   if (progress_shown) err << "\n";
+  // The CSV of the steps, whole or not at all (the HDF5 file, written as the trace ran, stays: it
+  // resumes); also of a trace that stopped short, whose steps hold.
+  if (!args.csv.empty()) write_text_last(args.csv, trace_csv(outcome), "", "the trace CSV");
   const ExitCode status = outcome.usable() ? ExitCode::success : ExitCode::solver_failure;
   if (args.json) {
     nlohmann::json j = to_json(outcome);
@@ -502,7 +525,7 @@ int run_trace_command(const TraceArguments& args, RunContext& context, std::ostr
     add_run_keys(j, context, status);
     out << j.dump(2) << "\n";
   } else {
-    out << text_summary(outcome);
+    out << text_summary(outcome) << (args.csv.empty() ? "" : "written       " + args.csv + "\n");
   }
   if (outcome.usable()) return code(ExitCode::success);
   for (const PathTrace& p : outcome.paths)
@@ -594,6 +617,12 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   trace_command->add_flag("--json", trace.json, "Print one JSON object on stdout instead of the summary");
   trace_command->add_option("--output,-o", trace.output, "Write the trace to this HDF5 file as it runs");
   trace_command->add_flag("--resume", trace.resume, "Continue the --output file from its last finished step");
+  trace_command->add_option("--csv", trace.csv, "Write one CSV row per step here (lambda, load, design values, ...)");
+  trace_command
+      ->add_option("--at", trace.at,
+                   "Record the state at these loads, V[,V...] (in the live load's unit where it is of one kind, "
+                   "else load factors); overrides [trace] report_at")
+      ->delimiter(',');
   trace_command->add_flag("--progress", trace.progress,
                           "Progress on stderr, a line per step, even when stderr is not a terminal");
 

@@ -147,8 +147,7 @@ std::optional<post::DesignValues> design_values(const model::MemberModel& model,
   // Sampled for the extremes alone when the fields were not asked for (16 per element, capped).
   if (fields.s.empty())
     return post::design_from_samples(
-        model,
-        post::sample_fields(model, d, solution, std::max(1, std::min(16, max_field_samples / d.mesh.elements()))));
+        model, post::sample_fields(model, d, solution, post::capped_samples_per_element(d.mesh.elements())));
   return post::design_from_samples(model, fields);
 }
 
@@ -312,7 +311,7 @@ io::SolveReport fe_report(const scene::Scene& scene, Method method, const SolveR
   const bool certified = certificate && certificate->passed;
 
   const int elements = d.mesh.elements();
-  const int samples = std::max(1, std::min(request.samples_per_element, max_field_samples / elements));
+  const int samples = post::capped_samples_per_element(elements, request.samples_per_element);
   post::Fields fields =
       request.fields && certified ? post::sample_fields(model, d, fe.solution, samples) : post::Fields{};
   // Under an axial force the statics are second-order (post/design.hpp: N's moment at the
@@ -466,7 +465,7 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   // is an L2 projection, h^2).
   const Eigen::VectorXd& all = solution.displacement;
   const bool certified = certificate.passed;
-  const int samples = std::max(1, std::min(request.samples_per_element, max_field_samples / d.mesh.elements()));
+  const int samples = post::capped_samples_per_element(d.mesh.elements(), request.samples_per_element);
   // Sampled whenever certified: an arch's design values come from these samples with the
   // continuum's reaction, asked for in the output or not (else pressure_max would change with
   // --output: the P1 reaction differs by O(h^2)).

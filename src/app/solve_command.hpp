@@ -8,17 +8,18 @@
 
 #include "core/contact_region.hpp"
 #include "io/report.hpp"
+#include "post/fields.hpp"
 #include "scene/scene.hpp"
 
 namespace liftoff::app {
 
 struct SolveRequest {
-  std::optional<scene::Method> method;  // overrides [solve] method
-  std::optional<int> elements;          // overrides [solve] elements
-  std::optional<int> modes;             // overrides [ritz] modes (0: auto)
-  std::optional<double> tolerance;      // overrides [solve] tolerance
-  int samples_per_element = 16;         // field samples inside each element (Ritz: as many in all)
-  bool fields = true;                   // sample the fields (false: only the extremes they give)
+  std::optional<scene::Method> method;                  // overrides [solve] method
+  std::optional<int> elements;                          // overrides [solve] elements
+  std::optional<int> modes;                             // overrides [ritz] modes (0: auto)
+  std::optional<double> tolerance;                      // overrides [solve] tolerance
+  int samples_per_element = post::samples_per_element;  // field samples inside each element (Ritz: as many in all)
+  bool fields = true;                                   // sample the fields (false: only the extremes they give)
   // A warm start: the contact regions (user coordinate) of a nearby solve, e.g. the previous
   // position of a moving load (app/envelope_command.hpp). Taken by an FE solve on the scene's mesh
   // (no tolerance) that runs fast on a tensionless foundation: its first contact set is the
@@ -29,7 +30,7 @@ struct SolveRequest {
 
 // Sampled fields are capped at this many points (HDF5 and memory stay O(1e7) bytes per field):
 // a finer mesh gets fewer samples per element, and the report's message says so.
-inline constexpr int max_field_samples = 2'000'000;
+inline constexpr int max_field_samples = post::max_field_samples;
 
 // method = auto: Ritz when the scene's [ritz] table gives the contact topology (the user has
 // described the contact pattern, and the moving-limit model resolves the limits exactly);

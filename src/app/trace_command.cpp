@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "app/theory_gate.hpp"
+#include "app/trace_load.hpp"
 #include "contact/from_scene.hpp"
 #include "continuation/fe_path.hpp"
 #include "continuation/models/ritz.hpp"
@@ -83,15 +84,23 @@ std::string options_text(const scene::Scene& scene, const TraceRequest& request,
   j["modes"] = options.ritz.modes;
   j["samples"] = options.sample_points.size();
   j["monitor"] = options.monitor;
+  if (!options.report_at.empty()) j["report_at"] = options.report_at;  // the load factors asked for
   return j.dump();
 }
 
-PathTrace from_record(const std::string& name, const io::TracePathRecord& record) {
+// A path read back from the file (without the sampled and nodal fields); its steps' physical load
+// where the file has none (an older liftoff's).
+PathTrace from_record(const std::string& name, const io::TracePathRecord& record,
+                      const std::optional<continuation::PhysicalLoad>& load) {
   PathTrace p;
   p.path = name;
   p.steps = record.steps;
-  for (TraceStep& s : p.steps) s.deflection.clear(), s.reaction.clear();
+  for (TraceStep& s : p.steps) {
+    s.deflection.clear(), s.reaction.clear(), s.fields = {};
+    if (load && !s.load) s.load = load->at(s.load_factor);
+  }
   p.events = record.events;
+  p.event_steps = record.event_steps;
   p.resumed_steps = static_cast<int>(p.steps.size());
   p.summary.path = name == "ritz" ? continuation::PathKind::ritz : continuation::PathKind::fe;
   // Read back through the one table; a path that never ended (no termination yet) failed.
@@ -102,11 +111,12 @@ PathTrace from_record(const std::string& name, const io::TracePathRecord& record
   return p;
 }
 
-nlohmann::json to_json(const TraceEvent& e) {
-  return {{"lambda", e.load_factor},
-          {"kind", continuation::to_string(e.kind)},
-          {"at", e.at},
-          {"description", e.description}};
+// An event; with its physical load where the trace has one.
+nlohmann::json to_json(const TraceEvent& e, const std::optional<continuation::PhysicalLoad>& load = std::nullopt) {
+  nlohmann::json j{{"lambda", e.load_factor}};
+  if (load) j["load"] = load->at(e.load_factor);
+  j.update({{"kind", continuation::to_string(e.kind)}, {"at", e.at}, {"description", e.description}});
+  return j;
 }
 
 nlohmann::json to_json(const EventComparison& c) {
@@ -128,7 +138,30 @@ nlohmann::json to_json(const EventComparison& c) {
   return j;
 }
 
-nlohmann::json to_json(const PathTrace& p) {
+// What a trace's JSON needs beside its steps: how the support reactions read
+// (io::support_reactions_json) and the physical load of its events.
+struct JsonStyle {
+  bool arch = false, von_karman = false;
+  std::optional<continuation::PhysicalLoad> load;
+};
+
+nlohmann::json to_json(const TraceStep& s, const JsonStyle& style) {
+  nlohmann::json j{{"lambda", s.load_factor}};
+  if (s.load) j["load"] = *s.load;
+  j.update({{"monitor_deflection", s.monitor_deflection},
+            {"contact_regions", io::contact_regions_json(s.contact_regions)},
+            {"iterations", s.iterations},
+            {"axial_force", s.axial_force},
+            {"amplitude", s.amplitude},
+            {"lifted_length", s.lifted_length},
+            {"stability", continuation::to_string(s.stability)},
+            {"requested", s.requested}});
+  if (s.design) j["design"] = io::design_json(*s.design);
+  j["supports"] = io::support_reactions_json(s.supports, style.arch, style.von_karman);
+  return j;
+}
+
+nlohmann::json to_json(const PathTrace& p, const JsonStyle& style) {
   nlohmann::json j;
   j["path"] = p.path;
   j["termination"] = continuation::to_string(p.summary.termination);
@@ -140,18 +173,9 @@ nlohmann::json to_json(const PathTrace& p) {
   j["pivots"] = p.summary.pivots;
   j["time_s"] = p.summary.time_s;
   j["events"] = nlohmann::json::array();
-  for (const TraceEvent& e : p.events) j["events"].push_back(to_json(e));
+  for (const TraceEvent& e : p.events) j["events"].push_back(to_json(e, style.load));
   j["steps"] = nlohmann::json::array();
-  for (const TraceStep& s : p.steps) {
-    j["steps"].push_back({{"lambda", s.load_factor},
-                          {"monitor_deflection", s.monitor_deflection},
-                          {"contact_regions", io::contact_regions_json(s.contact_regions)},
-                          {"iterations", s.iterations},
-                          {"axial_force", s.axial_force},
-                          {"amplitude", s.amplitude},
-                          {"lifted_length", s.lifted_length},
-                          {"stability", continuation::to_string(s.stability)}});
-  }
+  for (const TraceStep& s : p.steps) j["steps"].push_back(to_json(s, style));
   return j;
 }
 
@@ -166,6 +190,45 @@ std::string comparison_text(const EventComparison& c, const char* title) {
   for (const TraceEvent& e : c.only_b)
     out += fmt::format("    {:<18} lambda {:<14.8g} only in {}\n", continuation::to_string(e.kind), e.load_factor, c.b);
   return out;
+}
+
+// How the summary writes positions and figures: x or theta, and the scene's unit labels.
+struct SummaryUnits {
+  bool arch = false;
+  scene::Units units;
+  std::string unit(const std::string& label) const { return label.empty() ? "" : " " + label; }
+  std::string where(double at) const {
+    return fmt::format("{} = {:.6g}{}", arch ? "theta" : "x", at, arch ? " deg" : unit(units.length));
+  }
+};
+
+// A step's state in one indented line: the moment's extremes with their positions, w at the
+// monitor, the axial force and lifted length where the member has them.
+std::string state_line(const TraceStep& step, const SummaryUnits& u) {
+  std::string out =
+      fmt::format("                  w at the monitor {:.6g}{}", step.monitor_deflection, u.unit(u.units.length));
+  if (const auto& d = step.design) {
+    const auto where = [&](const post::DesignValue& v) { return v.at ? " at " + u.where(*v.at) : std::string(); };
+    out += fmt::format("; moment max {:.6g}{}{}, min {:.6g}{}{}", d->moment_max.value, u.unit(u.units.moment()),
+                       where(d->moment_max), d->moment_min.value, u.unit(u.units.moment()), where(d->moment_min));
+  }
+  if (step.axial_force != 0.0) out += fmt::format("; axial force {:.6g}{}", step.axial_force, u.unit(u.units.force));
+  if (step.lifted_length > 0.0)
+    out += fmt::format("; lifted length {:.6g}{}", step.lifted_length, u.arch ? " deg" : u.unit(u.units.length));
+  return out + "\n";
+}
+
+// The state at an event: that of the step it follows (the step at the event, or the last step
+// before it when the event lies inside a step: said so).
+std::string event_state_line(const PathTrace& p, std::size_t event, const SummaryUnits& u) {
+  const TraceEvent& e = p.events[event];
+  const int index = event < p.event_steps.size() ? p.event_steps[event] : -1;
+  if (index < 0 || index >= static_cast<int>(p.steps.size())) return "";
+  const TraceStep& step = p.steps[index];
+  const bool at_event = std::abs(step.load_factor - e.load_factor) <= 1e-9 * std::max(1.0, std::abs(e.load_factor));
+  std::string line = state_line(step, u);
+  if (!at_event) line.insert(line.size() - 1, fmt::format(" (the step before, at lambda {:.8g})", step.load_factor));
+  return line;
 }
 
 }  // namespace
@@ -216,6 +279,17 @@ TraceOptions trace_options(const scene::Scene& scene, const TraceRequest& reques
   for (int i = 0; i < t.samples; ++i)
     o.sample_points[i] = std::min(scene.end(), scene.begin() + (scene.end() - scene.begin()) * i / (t.samples - 1));
   o.sample_points.back() = scene.end();
+  // The live load as a physical quantity, and the loads asked for in its unit (load factors
+  // without one), checked against the range before any work.
+  o.physical_load = live_load(scene).load;
+  if (request.report_at)
+    o.report_at = report_at_load_factors(*request.report_at, o.physical_load, a.lambda_min, a.lambda_max,
+                                         [](std::size_t) { return std::string("option '--at'"); });
+  else
+    o.report_at = report_at_load_factors(t.report_at, o.physical_load, a.lambda_min, a.lambda_max, [&](std::size_t i) {
+      return fmt::format("{}{}: key 'trace.report_at[{}]'", scene.source_name,
+                         t.report_at_line > 0 ? fmt::format(":{}", t.report_at_line) : "", i);
+    });
   return o;
 }
 
@@ -306,6 +380,11 @@ TraceOutcome run_trace(const scene::Scene& scene, const TraceRequest& request, c
   outcome.sample_points = options.sample_points;
   outcome.units = scene.units;
   outcome.warnings = scene.warnings;
+  outcome.physical_load = options.physical_load;
+  outcome.no_physical_load = live_load(scene).why_none;
+  outcome.report_at = options.report_at;
+  outcome.arch = scene.structure.kind == scene::StructureKind::arch;
+  outcome.von_karman = scene.structure.theory == scene::Theory::von_karman;
   {  // the foundation's scale (no mesh resolution here: the paths choose their own meshes)
     const model::MemberModel model = model::make_member_model(scene);
     for (std::string& w : post::scale_warnings(scene, model, post::scale_figures(model)))
@@ -332,6 +411,7 @@ TraceOutcome run_trace(const scene::Scene& scene, const TraceRequest& request, c
     info.sample_points = options.sample_points;
     info.units = scene::unit_labels(scene.units);
     info.units.insert(info.units.begin(), {"system", scene.units.system});
+    info.physical_load = options.physical_load;
     writer = std::make_unique<io::TraceWriter>(request.output, info);
   }
 
@@ -342,10 +422,10 @@ TraceOutcome run_trace(const scene::Scene& scene, const TraceRequest& request, c
     if (writer) {
       if (const auto record = writer->read_path(name)) {
         if (record->complete) {  // nothing left to do on this path
-          outcome.paths.push_back(from_record(name, *record));
+          outcome.paths.push_back(from_record(name, *record, options.physical_load));
           continue;
         }
-        trace = from_record(name, *record);
+        trace = from_record(name, *record, options.physical_load);
         if (!record->steps.empty()) path_options.resume_from = record->steps.back();
       }
       writer->begin_path(name, options.monitor);
@@ -355,10 +435,13 @@ TraceOutcome run_trace(const scene::Scene& scene, const TraceRequest& request, c
     const std::size_t resumed_events = trace.events.size();
     continuation::TraceSink sink;
     sink.on_step = [&](const TraceStep& step) {
-      if (writer) writer->append_step(name, step);
       TraceStep kept = step;
+      // The physical load, where the paths did not set it (today none does): one place for all.
+      if (options.physical_load && !kept.load) kept.load = options.physical_load->at(kept.load_factor);
+      if (writer) writer->append_step(name, kept);
       kept.deflection.clear();
       kept.reaction.clear();
+      kept.fields = {};  // in the file; the summary, JSON and CSV take the design values
       trace.steps.push_back(std::move(kept));
       if (request.progress)
         request.progress({name, step.load_factor, options.arc_length.lambda_min, options.arc_length.lambda_max,
@@ -367,6 +450,7 @@ TraceOutcome run_trace(const scene::Scene& scene, const TraceRequest& request, c
     sink.on_event = [&](const TraceEvent& event) {
       if (writer) writer->append_event(name, event);
       trace.events.push_back(event);
+      trace.event_steps.push_back(static_cast<int>(trace.steps.size()) - 1);  // the step it follows, as the file
     };
     const TracePath& path = name == "ritz" ? paths.ritz : paths.fe;
     continuation::TraceResult result;
@@ -417,13 +501,26 @@ nlohmann::json to_json(const TraceOutcome& outcome) {
   if (!outcome.output.empty()) j["output"] = outcome.output;
   j["monitor"] = outcome.monitor;
   j["usable"] = outcome.usable();
+  // The live load as a physical quantity (each step's and event's `load` = lambda x reference),
+  // or null and why not.
+  if (const auto& load = outcome.physical_load)
+    j["physical_load"] = {{"quantity", load->quantity},
+                          {"symbol", load->symbol},
+                          {"reference", load->reference},
+                          {"unit", load->unit},
+                          {"definition", load->definition}};
+  else
+    j["physical_load"] = nullptr, j["physical_load_note"] = outcome.no_physical_load + ": lambda only";
+  j["report_at"] = outcome.report_at;
   // The first path's events and steps at the top level: what a single-path trace is about.
   if (!outcome.paths.empty()) {
-    const nlohmann::json first = to_json(outcome.paths.front());
+    const nlohmann::json first =
+        to_json(outcome.paths.front(), JsonStyle{outcome.arch, outcome.von_karman, outcome.physical_load});
     for (const char* key : {"path", "termination", "message", "final_lambda", "events", "steps"}) j[key] = first[key];
   }
   j["paths"] = nlohmann::json::array();
-  for (const PathTrace& p : outcome.paths) j["paths"].push_back(to_json(p));
+  const JsonStyle style{outcome.arch, outcome.von_karman, outcome.physical_load};
+  for (const PathTrace& p : outcome.paths) j["paths"].push_back(to_json(p, style));
   if (outcome.comparison) j["comparison"] = to_json(*outcome.comparison);
   if (outcome.discretisation_error) j["discretisation_error"] = to_json(*outcome.discretisation_error);
   j["units"] = {{"system", outcome.units.system}};
@@ -435,19 +532,52 @@ nlohmann::json to_json(const TraceOutcome& outcome) {
 std::string text_summary(const TraceOutcome& outcome) {
   std::string out = fmt::format("scene         {}\nmonitor       w at {:.6g}\n", outcome.scene_name, outcome.monitor);
   for (const std::string& warning : outcome.warnings) out += "WARNING       " + warning + "\n";
+  if (const auto& load = outcome.physical_load)
+    out += fmt::format("load          {} = lambda x {:.6g}{}: {}\n", load->symbol, load->reference,
+                       load->unit.empty() ? "" : " " + load->unit, load->definition);
+  else
+    out += fmt::format("load          lambda only ({})\n", outcome.no_physical_load);
+  const SummaryUnits units{outcome.arch, outcome.units};
   for (const PathTrace& p : outcome.paths) {
     out += fmt::format("path {:<8} {}: {} steps{}, lambda {:.8g}{}\n", p.path,
                        continuation::to_string(p.summary.termination), p.steps.size(),
                        p.resumed_steps > 0 ? fmt::format(" ({} resumed)", p.resumed_steps) : "",
                        p.steps.empty() ? p.summary.final_load_factor : p.steps.back().load_factor,
                        p.summary.message.empty() ? "" : " (" + p.summary.message + ")");
-    for (const TraceEvent& e : p.events)
-      out += fmt::format("  lambda {:<14.8g} {:<18} at {:<10.6g} {}\n", e.load_factor, continuation::to_string(e.kind),
-                         e.at, e.description);
+    for (std::size_t i = 0; i < p.events.size(); ++i) {
+      const TraceEvent& e = p.events[i];
+      // "lambda 5.8449045 (N = 5.8449e+06 N)": the load factor and, where there is one, the load.
+      const std::string load =
+          fmt::format("{:.8g}{}", e.load_factor,
+                      outcome.physical_load ? " (" + load_text(outcome.physical_load, e.load_factor) + ")" : "");
+      out += fmt::format("  lambda {:<{}} {:<18} at {:<10.6g} {}\n", load, outcome.physical_load ? 36 : 14,
+                         continuation::to_string(e.kind), e.at, e.description);
+      out += event_state_line(p, i, units);
+    }
+    for (const TraceStep& step : p.steps)
+      if (step.requested)
+        out += fmt::format("  requested     {}{}\n", load_text(outcome.physical_load, step.load_factor),
+                           outcome.physical_load ? fmt::format(" (lambda {:.8g})", step.load_factor) : "") +
+               state_line(step, units);
   }
   if (outcome.comparison) out += comparison_text(*outcome.comparison, "events side by side");
   if (outcome.discretisation_error) out += comparison_text(*outcome.discretisation_error, "discretisation error");
   if (!outcome.output.empty()) out += fmt::format("written       {}\n", outcome.output);
+  return out;
+}
+
+std::string trace_csv(const TraceOutcome& outcome) {
+  std::string out = "path,step,lambda,load,monitor_deflection,axial_force,amplitude,lifted_length," +
+                    io::design_csv_header() + ",support_reactions,stability,requested\n";
+  for (const PathTrace& p : outcome.paths)
+    for (std::size_t i = 0; i < p.steps.size(); ++i) {
+      const TraceStep& s = p.steps[i];
+      out += fmt::format("{},{},{:.17g},{},{:.17g},{:.17g},{:.17g},{:.17g},{},{},{},{}\n", p.path, i, s.load_factor,
+                         s.load ? fmt::format("{:.17g}", *s.load) : std::string(), s.monitor_deflection, s.axial_force,
+                         s.amplitude, s.lifted_length, io::design_csv_cells(s.design ? &*s.design : nullptr),
+                         io::support_reactions_csv(s.supports), continuation::to_string(s.stability),
+                         s.requested ? "true" : "false");
+    }
   return out;
 }
 

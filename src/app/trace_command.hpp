@@ -38,9 +38,12 @@ struct TraceProgress {
 };
 
 struct TraceRequest {
-  std::optional<scene::Method> method;                 // overrides [trace] method (itself [solve] method by default)
-  std::optional<int> elements;                         // overrides [solve] elements
-  std::optional<int> modes;                            // overrides [ritz] modes (0: auto)
+  std::optional<scene::Method> method;  // overrides [trace] method (itself [solve] method by default)
+  std::optional<int> elements;          // overrides [solve] elements
+  std::optional<int> modes;             // overrides [ritz] modes (0: auto)
+  // Overrides [trace] report_at (--at): the loads at which the state is wanted, physical loads in
+  // the live load's unit where it is of one kind, else load factors (app/trace_load.hpp).
+  std::optional<std::vector<double>> report_at;
   std::filesystem::path output;                        // the HDF5 trace; empty: none
   bool resume = false;                                 // continue `output` from its last finished step
   std::string version;                                 // written into the file
@@ -52,8 +55,10 @@ struct PathTrace {
   std::string path;  // "fe", "ritz", "fe_refined"
   continuation::TraceSummary summary;
   std::vector<continuation::TraceStep> steps;    // every step, resumed ones included; without
-                                                 // the sampled deflection and reaction
+                                                 // the sampled deflection and reaction and the
+                                                 // nodal fields (they are in the HDF5 file)
   std::vector<continuation::TraceEvent> events;  // likewise
+  std::vector<int> event_steps;                  // per event, the index of the step it follows
   int resumed_steps = 0;                         // of them, read back from the file
 };
 
@@ -81,8 +86,13 @@ struct TraceOutcome {
   std::optional<EventComparison> comparison;            // fe against ritz (method "all")
   std::optional<EventComparison> discretisation_error;  // fe against fe_refined (refine)
   scene::Units units;                                   // the scene's [units] (labels)
-  std::vector<std::string> warnings;  // the scene reader's and the foundation scale's (post/scale.hpp)
-  bool usable() const;                // every path reached lambda_max
+  // The live load as a physical quantity (app/trace_load.hpp), or why there is none.
+  std::optional<continuation::PhysicalLoad> physical_load;
+  std::string no_physical_load;
+  std::vector<double> report_at;          // the load factors asked for (TraceOptions::report_at)
+  bool arch = false, von_karman = false;  // how the support reactions read (io::support_reactions_json)
+  std::vector<std::string> warnings;      // the scene reader's and the foundation scale's (post/scale.hpp)
+  bool usable() const;                    // every path reached lambda_max
 };
 
 // TraceOptions from the scene's [trace] (and [solve], [ritz]) with the request's overrides.
@@ -97,7 +107,18 @@ std::vector<std::string> trace_path_names(const scene::Scene& scene, const Trace
 TraceOutcome run_trace(const scene::Scene& scene, const TraceRequest& request,
                        const TracePaths& paths = default_trace_paths());
 
+// Per step: lambda, load (absent without a physical load), monitor_deflection, contact_regions,
+// iterations, axial_force, amplitude, lifted_length, stability, requested, design (solve's
+// object), supports; per event lambda, load, kind, at, description. No nodal fields (HDF5 only).
 nlohmann::json to_json(const TraceOutcome& outcome);
+// The events with their physical load and the moment's extremes at each (the state of the step at
+// the event), and the steps at the loads asked for.
 std::string text_summary(const TraceOutcome& outcome);
+// `liftoff trace --csv`: one row per step of every path: path, step, lambda, load (empty without a
+// physical load), monitor_deflection, axial_force, amplitude, lifted_length, the design values with
+// their positions (io::design_csv_header; empty where a step has none), support_reactions
+// ("at:force:moment" joined by ';'), stability, requested (true/false); 17 significant digits
+// (the design values and supports 12, as `sweep --csv`).
+std::string trace_csv(const TraceOutcome& outcome);
 
 }  // namespace liftoff::app

@@ -14,6 +14,7 @@
 #include "model/from_scene.hpp"
 #include "model/member_model.hpp"
 #include "post/contact_regions.hpp"
+#include "post/design.hpp"
 #include "post/fields.hpp"
 
 namespace liftoff::app {
@@ -100,20 +101,20 @@ io::SolveReport von_karman_fe_report(const scene::Scene& scene, const SolveReque
   }
   const bool certified = certificate && certificate->passed;
 
-  const int samples = std::max(1, std::min(request.samples_per_element, max_field_samples / d.mesh.elements()));
+  const int samples = post::capped_samples_per_element(d.mesh.elements(), request.samples_per_element);
   post::Fields fields = request.fields && certified ? post::sample_fields(model, d, solution, samples) : post::Fields{};
-  if (!fields.s.empty() && d.kind == model::StructureKind::arch) {
-    // Arches: N = EA (u' - sigma w + beta^2 / 2) at each sample (fe/arch_von_karman_element.hpp):
-    // the linear strain's N the samples carry plus the rotation's term (rotation = beta).
-    for (std::size_t i = 0; i < fields.s.size(); ++i)
-      fields.normal_force[i] += 0.5 * model.membrane_stiffness * fields.rotation[i] * fields.rotation[i];
-  } else if (!fields.s.empty()) {
-    // The membrane force of the element each sample is in (constant on an element); u is reported
-    // at the nodes only (the element's interior u is condensed out: fe/von_karman_element.hpp).
-    fields.normal_force.clear();
-    for (double s : fields.s) fields.normal_force.push_back(r.normal_force[d.mesh.element_containing(s)]);
-    fields.u.clear();
-  }
+  // The membrane force the linear sampling does not know (arches: the rotation's term; beams: each
+  // element's N, u at the nodes only).
+  if (!fields.s.empty()) post::add_von_karman_membrane(model, d, r.normal_force, fields);
+  // The design values from the fields (M, V their derivatives), extremes at the samples, as for a
+  // linear arch (sampled for them alone when the fields were not asked for); a trace's steps
+  // report the same (continuation/step_state.hpp).
+  const std::optional<post::DesignValues> design =
+      certified ? std::optional(post::design_from_samples(
+                      model, fields.s.empty() ? post::sample_fields(model, d, solution,
+                                                                    post::capped_samples_per_element(d.mesh.elements()))
+                                              : fields))
+                : std::nullopt;
   const std::vector<ContactRegion> regions =
       loading.is_usable() ? post::contact_regions(model, d, solution.displacement) : std::vector<ContactRegion>{};
   io::SolveReport report = io::make_report(scene, model, d, solution, fields, regions);
@@ -140,6 +141,7 @@ io::SolveReport von_karman_fe_report(const scene::Scene& scene, const SolveReque
     report.max_reaction = 0.0;
     report.usable = false;
   }
+  if (design) io::attach_design(report, *design, model);
   if (certificate) io::attach_certificate(report, *certificate, model);
   if (certificate && !certified) {
     report.termination = "certificate_failed";

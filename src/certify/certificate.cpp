@@ -29,12 +29,20 @@ void CertifyOptions::validate() const {
           "must be a number (negative: none)");
 }
 
+std::vector<SupportReaction> user_support_reactions(const std::vector<SupportReaction>& reactions,
+                                                    const model::MemberModel& model) {
+  const model::Scales& scales = model.scales;
+  std::vector<SupportReaction> out;
+  for (const SupportReaction& r : reactions)
+    out.push_back({model.user_from_s(r.at), r.force * scales.force(), r.moment * scales.moment(),
+                   r.tangential * scales.force(), r.spring, r.settlement * scales.displacement()});
+  return out;
+}
+
 UserFigures user_figures(const Certificate& c, const model::MemberModel& model) {
   const model::Scales& scales = model.scales;
   UserFigures u;
-  for (const SupportReaction& r : c.support_reactions)
-    u.support_reactions.push_back({model.user_from_s(r.at), r.force * scales.force(), r.moment * scales.moment(),
-                                   r.tangential * scales.force(), r.spring, r.settlement * scales.displacement()});
+  u.support_reactions = user_support_reactions(c.support_reactions, model);
   u.foundation_resultant = c.foundation_resultant * scales.force();
   u.foundation_centroid = model.user_from_s(c.foundation_centroid);
   u.applied_force = c.applied_force * scales.force();

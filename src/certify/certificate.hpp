@@ -86,6 +86,7 @@
 #include <string_view>
 #include <vector>
 
+#include "certify/support_reaction.hpp"
 #include "contact/contact_solver.hpp"
 #include "fe/discretisation.hpp"
 #include "model/member_model.hpp"
@@ -117,16 +118,6 @@ struct Check {
   double tolerance = 0.0;    // dimensionless
   bool passed = false;       // value <= tolerance (and both finite)
   std::optional<double> at;  // s where the worst value is, if it has a place
-};
-
-// One supported point. Nondimensional: force in EI/l^2, moment in EI/l.
-struct SupportReaction {
-  double at = 0.0;          // s
-  double force = 0.0;       // pushes the member away from the foundation (beams: upward)
-  double moment = 0.0;      // counterclockwise; 0 where the rotation is free
-  double tangential = 0.0;  // arches: along increasing theta; 0 for beams
-  bool spring = false;      // an elastic support: force and moment are its springs'
-  double settlement = 0.0;  // the support's (or its spring's far end's) prescribed w, in l
 };
 
 struct Certificate {
@@ -245,5 +236,15 @@ struct UserFigures {
   double foundation_resultant_x = 0.0, applied_force_x = 0.0;
 };
 UserFigures user_figures(const Certificate& certificate, const model::MemberModel& model);
+// The support reactions alone so (UserFigures::support_reactions).
+std::vector<SupportReaction> user_support_reactions(const std::vector<SupportReaction>& reactions,
+                                                    const model::MemberModel& model);
+
+// The support reactions of a Ritz state (x of `ritz` at load factor lambda), as its certificate
+// computes them (the Ritz equations' residual on a test function that moves one support's dof
+// alone), without the certificate's checks (whose balance tolerance costs a second solve with half
+// the modes): a load path's step reports them so. Nondimensional.
+std::vector<SupportReaction> ritz_support_reactions(const model::MemberModel& member, const ritz::RitzModel& ritz,
+                                                    const Eigen::VectorXd& x, double lambda);
 
 }  // namespace liftoff::certify

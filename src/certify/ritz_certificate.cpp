@@ -84,6 +84,125 @@ struct Balance {
   double centroid = 0.0;
 };
 
+// The supports' part of the balance terms: b.reactions and their generalised forces b.supports
+// (and work magnitudes) per balance mode.
+void add_support_terms(const MemberModel& member, const RitzModel& ritz, const VectorXd& x, double lambda, Balance& b) {
+  const int modes = detail::balance_mode_count(member.kind);
+  b.supports.resize(modes, 0.0);
+  b.supports_abs.resize(modes, 0.0);
+  const bool arch = member.kind == StructureKind::arch;
+  const double k = member.k;
+  const double membrane = !arch && ritz.has_membrane() ? ritz.membrane_force(x) : 0.0;
+  const int per_length = 8 * std::max(4, ritz.modes());
+  // Supports: the variationally consistent reaction of each dof a support fixes (w; w' at a
+  // clamped end; u at an arch's pinned or clamped end), as the FE's: the residual of the Ritz
+  // equations on a test function v_c that moves that dof alone,
+  //   g_c = a(w, v_c) + integral over contact of k w w_c - F(v_c),
+  // v_c the Hermite cubic of the whole member with that end value or slope (w_c), or the linear
+  // u_c, zero at the other constrained dofs. Not the end shear -chi' itself: in the clamped
+  // families every function is even about the end (sin(pi xi) sin(j pi xi)), so w''' there is
+  // zero at every N and the end shear never converges (seed arch, clamped: the radial support
+  // force is 1e-16 at 16 to 128 modes where the FE gives -0.0183); at pinned ends it converges
+  // slowly (seed beam: 3e-5 at 32 modes; seed arch: 4% at 64). g_c converges with the energy
+  // norm. force = -g_w, moment = -g_w', tangential = g_u - g_w' (as the FE's).
+  const double length = member.s_end - member.s_begin;
+  const int quadrature = std::max(8, per_length);
+  // The fields at the quadrature points, evaluated once for every constrained dof (integrate()'s
+  // points and order, so each dof's integral is the same sum as integrating the field there).
+  struct Point {
+    double s, weight, w, dw, d2w, du;
+  };
+  const auto points_of = [&](double a, double b, bool energy) {
+    std::vector<Point> points;
+    const double h = (b - a) / quadrature;
+    for (int p = 0; p < quadrature; ++p)
+      for (const fe::GaussPoint& g : fe::gauss5) {
+        const double at = a + (p + g.xi) * h;
+        Point q{at, g.weight * h, !energy || arch ? ritz.w(x, at) : 0.0, 0.0, 0.0, 0.0};  // beams' energy: no w
+        if (energy) {
+          q.d2w = ritz.w(x, at, 2);
+          if (arch) q.du = ritz.u(x, at, 1);
+          if (!arch && membrane != 0.0) q.dw = ritz.w(x, at, 1);
+        }
+        points.push_back(q);
+      }
+    return points;
+  };
+  const auto sum = [](const std::vector<Point>& points, const auto& f) {
+    double total = 0.0;
+    for (const Point& q : points) total += q.weight * f(q);
+    return total;
+  };
+  std::vector<Point> member_points;
+  std::vector<std::vector<Point>> piece_points;
+  for (int side = 0; side < 2; ++side) {
+    const EndSupport support = side == 0 ? member.left : member.right;
+    if (support == EndSupport::free) continue;
+    const double end = side == 0 ? member.s_begin : member.s_end;
+    // Constrained dofs here: 0 w, 1 w', 2 u.
+    const bool fixed[3] = {true, support == EndSupport::clamped,
+                           arch && (support == EndSupport::pinned || support == EndSupport::clamped)};
+    double g[3] = {0.0, 0.0, 0.0};
+    for (int c = 0; c < 3; ++c) {
+      if (!fixed[c]) continue;
+      // v_c at s: (u, u', w, w', w'').
+      auto test = [&](double s) {
+        const double xi = (s - member.s_begin) / length;
+        std::array<double, 5> v{0, 0, 0, 0, 0};
+        if (c < 2) {
+          const fe::HermiteCubic h = fe::hermite_cubic(xi, length);
+          const int k = 2 * side + c;  // (w0, w0', w1, w1')
+          v[2] = h.value[k];
+          v[3] = h.d1[k];
+          v[4] = h.d2[k];
+        } else {
+          v[0] = side == 0 ? 1.0 - xi : xi;
+          v[1] = (side == 0 ? -1.0 : 1.0) / length;
+        }
+        return v;
+      };
+      if (member_points.empty()) {
+        member_points = points_of(member.s_begin, member.s_end, true);
+        for (const ContactRegion& piece : ritz.contact_pieces(x))
+          if (piece.end > piece.begin) piece_points.push_back(points_of(piece.begin, piece.end, false));
+      }
+      const double energy = sum(member_points, [&](const Point& q) {
+        const std::array<double, 5> v = test(q.s);
+        if (!arch)  // the membrane's virtual work N (w0' + w') v' (zero without the term)
+          return q.d2w * v[4] + (membrane != 0.0 ? membrane * (member.initial_slope(q.s) + q.dw) * v[3] : 0.0);
+        return member.membrane_stiffness * (q.du - q.w) * (v[1] - v[2]) + (q.du + q.d2w) * (v[1] + v[4]);
+      });
+      double foundation_work = 0.0;
+      for (const std::vector<Point>& points : piece_points)
+        foundation_work += sum(points, [&](const Point& q) { return k * q.w * test(q.s)[2]; });
+      double load_work = 0.0;
+      for (const model::MemberLoad& load : member.loads) {
+        const double value = load.value * (load.load_case == model::LoadCase::dead ? 1.0 : lambda);
+        if (load.kind == model::LoadKind::force) {
+          load_work += value * test(load.at)[2];
+        } else if (load.kind == model::LoadKind::moment) {
+          const std::array<double, 5> v = test(load.at);
+          load_work -= value * (v[3] + v[0]);
+        } else if (load.is_distributed_force()) {  // q x cubic: exact (linear q) or to round-off (sine)
+          const double scale = load.load_case == model::LoadCase::dead ? 1.0 : lambda;
+          for (const model::LoadQuadraturePoint& g : model::load_quadrature(load, load.from, load.to))
+            load_work += scale * g.weight * load.intensity(g.s) * test(g.s)[2];
+        }
+      }
+      g[c] = energy + foundation_work - load_work;
+    }
+    // Beams: tangential carries the membrane's axial reaction at a held end (along +s): -N at the
+    // begin, N at the end.
+    b.reactions.push_back(
+        {end, 0.0 - g[0], 0.0 - g[1], arch ? g[2] - g[1] : (side == 0 ? -membrane : membrane)});  // no -0
+    for (int j = 0; j < modes; ++j) {
+      const Eigen::Vector3d m = detail::balance_mode_at(member, j, end);  // (u, w, w')
+      b.supports[j] += m[1] * g[0] + m[2] * g[1] + m[0] * g[2];
+      b.supports_abs[j] += std::abs(m[1] * g[0]) + std::abs(m[2] * g[1]) + std::abs(m[0] * g[2]);
+    }
+  }
+}
+
 Balance balance_terms(const MemberModel& member, const RitzModel& ritz, const VectorXd& x, double lambda) {
   const int modes = detail::balance_mode_count(member.kind);
   Balance b;
@@ -132,83 +251,7 @@ Balance balance_terms(const MemberModel& member, const RitzModel& ritz, const Ve
     b.applied_abs[j] = std::abs(b.applied[j]);
   }
 
-  // Supports: the variationally consistent reaction of each dof a support fixes (w; w' at a
-  // clamped end; u at an arch's pinned or clamped end), as the FE's: the residual of the Ritz
-  // equations on a test function v_c that moves that dof alone,
-  //   g_c = a(w, v_c) + integral over contact of k w w_c - F(v_c),
-  // v_c the Hermite cubic of the whole member with that end value or slope (w_c), or the linear
-  // u_c, zero at the other constrained dofs. Not the end shear -chi' itself: in the clamped
-  // families every function is even about the end (sin(pi xi) sin(j pi xi)), so w''' there is
-  // zero at every N and the end shear never converges (seed arch, clamped: the radial support
-  // force is 1e-16 at 16 to 128 modes where the FE gives -0.0183); at pinned ends it converges
-  // slowly (seed beam: 3e-5 at 32 modes; seed arch: 4% at 64). g_c converges with the energy
-  // norm. force = -g_w, moment = -g_w', tangential = g_u - g_w' (as the FE's).
-  const double length = member.s_end - member.s_begin;
-  const int quadrature = std::max(8, per_length);
-  for (int side = 0; side < 2; ++side) {
-    const EndSupport support = side == 0 ? member.left : member.right;
-    if (support == EndSupport::free) continue;
-    const double end = side == 0 ? member.s_begin : member.s_end;
-    // Constrained dofs here: 0 w, 1 w', 2 u.
-    const bool fixed[3] = {true, support == EndSupport::clamped,
-                           arch && (support == EndSupport::pinned || support == EndSupport::clamped)};
-    double g[3] = {0.0, 0.0, 0.0};
-    for (int c = 0; c < 3; ++c) {
-      if (!fixed[c]) continue;
-      // v_c at s: (u, u', w, w', w'').
-      auto test = [&](double s) {
-        const double xi = (s - member.s_begin) / length;
-        std::array<double, 5> v{0, 0, 0, 0, 0};
-        if (c < 2) {
-          const fe::HermiteCubic h = fe::hermite_cubic(xi, length);
-          const int k = 2 * side + c;  // (w0, w0', w1, w1')
-          v[2] = h.value[k];
-          v[3] = h.d1[k];
-          v[4] = h.d2[k];
-        } else {
-          v[0] = side == 0 ? 1.0 - xi : xi;
-          v[1] = (side == 0 ? -1.0 : 1.0) / length;
-        }
-        return v;
-      };
-      const double energy = integrate(member.s_begin, member.s_end, quadrature, [&](double s) {
-        const std::array<double, 5> v = test(s);
-        const double du = arch ? ritz.u(x, s, 1) : 0.0, w = ritz.w(x, s), d2w = ritz.w(x, s, 2);
-        if (!arch)  // the membrane's virtual work N (w0' + w') v' (zero without the term)
-          return d2w * v[4] + (membrane != 0.0 ? membrane * (member.initial_slope(s) + ritz.w(x, s, 1)) * v[3] : 0.0);
-        return member.membrane_stiffness * (du - w) * (v[1] - v[2]) + (du + d2w) * (v[1] + v[4]);
-      });
-      double foundation_work = 0.0;
-      for (const ContactRegion& piece : ritz.contact_pieces(x))
-        if (piece.end > piece.begin)
-          foundation_work +=
-              integrate(piece.begin, piece.end, quadrature, [&](double s) { return k * ritz.w(x, s) * test(s)[2]; });
-      double load_work = 0.0;
-      for (const model::MemberLoad& load : member.loads) {
-        const double value = load.value * (load.load_case == model::LoadCase::dead ? 1.0 : lambda);
-        if (load.kind == model::LoadKind::force) {
-          load_work += value * test(load.at)[2];
-        } else if (load.kind == model::LoadKind::moment) {
-          const std::array<double, 5> v = test(load.at);
-          load_work -= value * (v[3] + v[0]);
-        } else if (load.is_distributed_force()) {  // q x cubic: exact (linear q) or to round-off (sine)
-          const double scale = load.load_case == model::LoadCase::dead ? 1.0 : lambda;
-          for (const model::LoadQuadraturePoint& g : model::load_quadrature(load, load.from, load.to))
-            load_work += scale * g.weight * load.intensity(g.s) * test(g.s)[2];
-        }
-      }
-      g[c] = energy + foundation_work - load_work;
-    }
-    // Beams: tangential carries the membrane's axial reaction at a held end (along +s): -N at the
-    // begin, N at the end.
-    b.reactions.push_back(
-        {end, 0.0 - g[0], 0.0 - g[1], arch ? g[2] - g[1] : (side == 0 ? -membrane : membrane)});  // no -0
-    for (int j = 0; j < modes; ++j) {
-      const Eigen::Vector3d m = detail::balance_mode_at(member, j, end);  // (u, w, w')
-      b.supports[j] += m[1] * g[0] + m[2] * g[1] + m[0] * g[2];
-      b.supports_abs[j] += std::abs(m[1] * g[0]) + std::abs(m[2] * g[1]) + std::abs(m[0] * g[2]);
-    }
-  }
+  add_support_terms(member, ritz, x, lambda, b);
   return b;
 }
 
@@ -384,6 +427,13 @@ Certificate certify(const MemberModel& member, const ritz::RitzSolution& solutio
   }
   detail::conclude(c, member);
   return c;
+}
+
+std::vector<SupportReaction> ritz_support_reactions(const MemberModel& member, const RitzModel& ritz, const VectorXd& x,
+                                                    double lambda) {
+  Balance b;
+  add_support_terms(member, ritz, x, lambda, b);
+  return b.reactions;
 }
 
 }  // namespace liftoff::certify

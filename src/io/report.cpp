@@ -22,12 +22,6 @@ using scene::StructureKind;
 
 namespace {
 
-std::vector<double> scaled(const std::vector<double>& values, double factor) {
-  std::vector<double> out(values.size());
-  std::transform(values.begin(), values.end(), out.begin(), [&](double v) { return v * factor; });
-  return out;
-}
-
 std::vector<double> to_user(const model::MemberModel& model, const std::vector<double>& s) {
   std::vector<double> out(s.size());
   std::transform(s.begin(), s.end(), out.begin(), [&](double v) { return model.user_from_s(v); });
@@ -37,7 +31,6 @@ std::vector<double> to_user(const model::MemberModel& model, const std::vector<d
 // What every method shares: the scene, fields in user units, extremes, contact regions.
 SolveReport common_report(const scene::Scene& scene, const model::MemberModel& model, const post::Fields& fields,
                           const std::vector<ContactRegion>& regions) {
-  const model::Scales& scales = model.scales;
   SolveReport r;
   r.scene_name = scene.source_name;
   r.scene_text = scene.text;
@@ -49,15 +42,8 @@ SolveReport common_report(const scene::Scene& scene, const model::MemberModel& m
   for (const auto& region : regions)
     r.contact_regions.push_back({model.user_from_s(region.begin), model.user_from_s(region.end)});
 
-  FieldTable& f = r.fields;
-  f.coordinate = to_user(model, fields.s);
-  f.w = scaled(fields.w, scales.displacement());
-  f.u = scaled(fields.u, scales.displacement());
-  f.rotation = fields.rotation;
-  f.bending_moment = scaled(fields.bending_moment, scales.moment());
-  f.shear_force = scaled(fields.shear_force, scales.force());
-  f.normal_force = scaled(fields.normal_force, scales.force());
-  f.reaction = scaled(fields.reaction, scales.force_per_length());
+  r.fields = post::user_fields(model, fields);
+  const FieldTable& f = r.fields;
 
   if (f.w.empty()) return r;  // fields not sampled: the caller fills the extremes
   const auto [lowest, highest] = std::minmax_element(f.w.begin(), f.w.end());
@@ -184,25 +170,8 @@ void attach_certificate(SolveReport& report, const certify::Certificate& certifi
 }
 
 void attach_design(SolveReport& report, const post::DesignValues& design, const model::MemberModel& model) {
-  const model::Scales& scales = model.scales;
-  auto convert = [&](const post::Extreme& x, double factor) {
-    DesignValue v{x.value * factor, std::nullopt};
-    if (x.s) v.at = model.user_from_s(*x.s);
-    return v;
-  };
-  DesignTable t;
-  t.moment_max = convert(design.moment_max, scales.moment());
-  t.moment_min = convert(design.moment_min, scales.moment());
-  t.shear_max_abs = convert(design.shear_max_abs, scales.force());
-  t.pressure_max = convert(design.pressure_max, scales.force_per_length());
-  t.uplift_max = convert(design.uplift_max, scales.displacement());
-  t.shear_closure = design.shear_closure;
-  t.moment_closure = design.moment_closure;
-  t.from_statics = design.from_statics;
-  report.design = t;
+  report.design = post::user_design(design, model);
 }
-
-namespace {
 
 nlohmann::json design_json(const DesignTable& t) {
   auto one = [](const DesignValue& v) {
@@ -214,6 +183,23 @@ nlohmann::json design_json(const DesignTable& t) {
   if (t.from_statics) j["closure"] = {{"shear", t.shear_closure}, {"moment", t.moment_closure}};
   return j;
 }
+
+nlohmann::json support_reactions_json(const std::vector<certify::SupportReaction>& reactions, bool arch,
+                                      bool von_karman) {
+  nlohmann::json all = nlohmann::json::array();
+  for (const certify::SupportReaction& s : reactions) {
+    nlohmann::json one{{"at", s.at}, {"force", s.force}, {"moment", s.moment}};
+    if (arch) one["tangential"] = s.tangential;
+    if (von_karman && !arch)
+      one["horizontal"] = s.tangential;  // a beam's axial reaction, along +x (arches: `tangential`)
+    if (s.spring) one["spring"] = true;  // an elastic support: its springs' force
+    if (s.settlement != 0.0) one["settlement"] = s.settlement;  // the support's prescribed w
+    all.push_back(one);
+  }
+  return all;
+}
+
+namespace {
 
 nlohmann::json number_or_null(double value) { return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(); }
 
@@ -232,18 +218,9 @@ nlohmann::json critical_load_json(const StabilityTable& t) {
   return j;
 }
 
-nlohmann::json support_reactions_json(const SolveReport& r) {
-  nlohmann::json all = nlohmann::json::array();
-  for (const certify::SupportReaction& s : r.certificate_figures.support_reactions) {
-    nlohmann::json one{{"at", s.at}, {"force", s.force}, {"moment", s.moment}};
-    if (r.kind == StructureKind::arch) one["tangential"] = s.tangential;
-    if (r.theory == "von_karman" && r.kind != StructureKind::arch)
-      one["horizontal"] = s.tangential;  // a beam's axial reaction, along +x (arches: `tangential`)
-    if (s.spring) one["spring"] = true;  // an elastic support: its springs' force
-    if (s.settlement != 0.0) one["settlement"] = s.settlement;  // the support's prescribed w
-    all.push_back(one);
-  }
-  return all;
+nlohmann::json report_support_reactions(const SolveReport& r) {
+  return support_reactions_json(r.certificate_figures.support_reactions, r.kind == StructureKind::arch,
+                                r.theory == "von_karman");
 }
 
 // {"system", "length", "force", "moment", ...}: the labels (empty strings when none are stated).
@@ -385,7 +362,7 @@ nlohmann::json to_json(const SolveReport& r) {
     }
   }
   if (r.certificate) {
-    j["support_reactions"] = support_reactions_json(r);
+    j["support_reactions"] = report_support_reactions(r);
     j["certificate"] = certificate_json(r);
     j["foundation_resultant"] = {{"force", r.certificate_figures.foundation_resultant},
                                  {"centroid", r.certificate_figures.foundation_centroid}};
@@ -673,18 +650,33 @@ std::string side_by_side(const std::vector<SolveReport>& reports) {
   return out;
 }
 
+std::string design_csv_header() {
+  return "moment_max,at_moment_max,moment_min,at_moment_min,shear_max_abs,at_shear_max_abs,pressure_max,"
+         "at_pressure_max,uplift_max,at_uplift_max";
+}
+
+std::string design_csv_cells(const DesignTable* design) {
+  if (design == nullptr) return std::string(9, ',');
+  std::string out;
+  for (const DesignValue* v :
+       {&design->moment_max, &design->moment_min, &design->shear_max_abs, &design->pressure_max, &design->uplift_max})
+    out += fmt::format("{}{:.12g},{}", out.empty() ? "" : ",", v->value,
+                       v->at ? fmt::format("{:.12g}", *v->at) : std::string());
+  return out;
+}
+
+std::string support_reactions_csv(const std::vector<certify::SupportReaction>& reactions) {
+  std::string supports;
+  for (const certify::SupportReaction& s : reactions)
+    supports += fmt::format("{}{:.12g}:{:.12g}:{:.12g}", supports.empty() ? "" : ";", s.at, s.force, s.moment);
+  return supports;
+}
+
 namespace {
 // The sweep's design columns (sweep_csv): empty without a certified answer.
 std::string design_columns(const SolveReport& r) {
   if (!r.usable || !r.design) return std::string(10, ',');
-  std::string out;
-  for (const DesignValue* v : {&r.design->moment_max, &r.design->moment_min, &r.design->shear_max_abs,
-                               &r.design->pressure_max, &r.design->uplift_max})
-    out += fmt::format("{:.12g},{},", v->value, v->at ? fmt::format("{:.12g}", *v->at) : std::string());
-  std::string supports;
-  for (const certify::SupportReaction& s : r.certificate_figures.support_reactions)
-    supports += fmt::format("{}{:.12g}:{:.12g}:{:.12g}", supports.empty() ? "" : ";", s.at, s.force, s.moment);
-  return out + supports;
+  return design_csv_cells(&*r.design) + "," + support_reactions_csv(r.certificate_figures.support_reactions);
 }
 }  // namespace
 
@@ -692,8 +684,7 @@ std::string sweep_csv(const std::vector<std::string>& keys, const std::vector<Sw
   std::string out;
   for (const auto& key : keys) out += key + ",";
   out += "method,termination,certified,contact_regions,w_max,w_min,max_reaction,iterations,time_s,";
-  out += "moment_max,at_moment_max,moment_min,at_moment_min,shear_max_abs,at_shear_max_abs,pressure_max,";
-  out += "at_pressure_max,uplift_max,at_uplift_max,support_reactions\n";
+  out += design_csv_header() + ",support_reactions\n";
   for (const SweepCase& c : cases) {
     std::string prefix;
     for (double v : c.values) prefix += fmt::format("{:.17g},", v);

@@ -34,15 +34,11 @@ inline constexpr const char* sign_convention =
     "(x or theta to the right, foundation below); bending moment sagging positive; normal force tension "
     "positive; reaction compression positive";
 
-struct FieldTable {
-  std::vector<double> coordinate, w, u, rotation, bending_moment, shear_force, normal_force, reaction;
-  // Nodes of a beam with an initial shape: w0 there (length units), so that w + w_initial is the
-  // total displacement from the straight line (w is measured from the stress-free shape).
-  std::vector<double> w_initial;
-  // Nodes of a beam under an axial force whose critical load was computed: the buckling mode's w
-  // (StabilityTable), max |w| = 1, w > 0 into the foundation; nondimensional.
-  std::vector<double> buckling_mode;
-};
+// The fields and design values in the user's units: one type for solve's reports and trace steps
+// (post/user_tables.hpp).
+using post::DesignTable;
+using post::DesignValue;
+using post::FieldTable;
 
 // Beams under an axial force: the critical load of the state solved (stability/critical_load.hpp),
 // on the cone of admissible perturbations of its contact state. critical_load_factor is the
@@ -64,18 +60,6 @@ struct StabilityTable {
   // Where the cone's answer and the contact solver's inertia check on the contact set
   // (contact/stability.hpp, the refusal test) disagree, in words; empty when they agree.
   std::string warning;
-};
-
-// The design values (post/design.hpp) in the user's units: moments, shears, pressure (force per
-// length), uplift (length); `at` in the user's coordinate, none where there is no such point.
-struct DesignValue {
-  double value = 0.0;
-  std::optional<double> at;
-};
-struct DesignTable {
-  DesignValue moment_max, moment_min, shear_max_abs, pressure_max, uplift_max;
-  double shear_closure = -1.0, moment_closure = -1.0;  // relative; -1: not from statics
-  bool from_statics = false;
 };
 
 // Whether the method ran on the scene, beyond the solver's own termination: refused is a scene
@@ -190,6 +174,20 @@ SolveReport make_report(const scene::Scene& scene, const model::MemberModel& mod
                         int samples);
 
 nlohmann::json to_json(const SolveReport& report);
+// The JSON `design` object of a report (and of a trace step): each value with its `at` (null where
+// there is no such point), from_statics, and the closure when from statics.
+nlohmann::json design_json(const DesignTable& design);
+// The JSON `support_reactions` array: at, force, moment; arches also tangential, von Karman beams
+// horizontal (the axial reaction along +x); spring and settlement where they apply.
+nlohmann::json support_reactions_json(const std::vector<certify::SupportReaction>& reactions, bool arch,
+                                      bool von_karman);
+// The CSV columns of the design values: moment_max,at_moment_max,moment_min,at_moment_min,
+// shear_max_abs,at_shear_max_abs,pressure_max,at_pressure_max,uplift_max,at_uplift_max (the header
+// without a trailing comma), and a row's (empty cells without a table; `at` empty where none).
+std::string design_csv_header();
+std::string design_csv_cells(const DesignTable* design);
+// The support reactions in one CSV cell: "at:force:moment" joined by ';'.
+std::string support_reactions_csv(const std::vector<certify::SupportReaction>& reactions);
 // The JSON `units` object: {"system": ..., "<name>": label} for every label of scene::unit_labels.
 nlohmann::json units_json(const scene::Units& units);
 // The regions as the files write them: [[begin, end], ...].

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <map>
 #include <sstream>
 #include <variant>
 
@@ -34,6 +35,14 @@ using hdf5::write_string_attribute;
 using hdf5::write_text;
 
 bool exists(hid_t location, const std::string& name) { return H5Lexists(location, name.c_str(), H5P_DEFAULT) > 0; }
+
+// Whether `path` ("a/b/c") exists under `location`, each link in turn (H5Lexists needs the parents).
+bool path_exists(hid_t location, const std::string& path) {
+  for (std::size_t slash = path.find('/');; slash = path.find('/', slash + 1)) {
+    if (!exists(location, path.substr(0, slash))) return false;
+    if (slash == std::string::npos) return true;
+  }
+}
 
 // ---------------------------------------------------------------------------------------------
 // Extendible datasets: `columns` == 0 for one value per row.
@@ -143,28 +152,106 @@ EventKind event_kind(const std::string& name) {
 constexpr const char* fe_contact_set_text = "fe contact set";
 
 // The per-step columns of /PATH/steps, in the order a step is written: the tables keyed by
-// step first, the one-row-per-step datasets after, lambda last, so that a step counts as written
-// only when every one-row-per-step dataset holds it. The writer, the reader, the trimming of an
-// interrupted step and the damage check all go through this table: a new per-step quantity is a
-// TraceStep field and one row here.
+// step first, the one-row-per-step datasets after (lambda among them). A step counts as written
+// only when every one-row-per-step dataset holds it: the reader and the trimming take their
+// common length. The writer, the reader, the trimming of an interrupted step, the damage check and
+// the upgrade of an older file all go through this table: a new per-step quantity is a TraceStep
+// field and one row here.
 enum class ColumnKind {
   keyed,    // any number of rows of `width` values per step, each row (step, values...)
   samples,  // one row of a value per sample point per step
+  nodes,    // one row of a value per node (FE) or grid point (Ritz) per step, under fields/ (see below)
   text,     // one string per step
   number,   // one value per step
+  // One value per step where NaN is a value ("none": no physical load, no design value, no such
+  // point), so the damage check (a NaN fill value in a written row) does not look at it.
+  optional_number,
 };
 
+bool one_number(ColumnKind kind) { return kind == ColumnKind::number || kind == ColumnKind::optional_number; }
+
 struct StepColumn {
-  const char* name;
+  const char* name;  // under /PATH/steps/ ("design/moment_max": in the group design)
   ColumnKind kind;
   hsize_t width;  // keyed: values per row after the step index
-  // keyed, samples, number: the step's values (keyed: its rows, flattened) and back.
+  // keyed, samples, nodes, number: the step's values (keyed: its rows, flattened) and back.
   std::vector<double> (*values)(const TraceStep&);
   void (*assign)(TraceStep&, std::vector<double>);
   // text: the step's string and back (parse errors throw OutputError).
   std::string (*text)(const TraceStep&);
   void (*parse)(TraceStep&, const std::string&);
 };
+
+constexpr double none = std::numeric_limits<double>::quiet_NaN();
+
+std::vector<double> number(double value) { return {value}; }
+std::optional<double> optional_number(const std::vector<double>& v) {
+  return std::isnan(v.at(0)) ? std::nullopt : std::optional(v.at(0));
+}
+
+// The design values, one number column each for the value and its position (NaN: no design
+// values at this step, or no such point). A finite value makes the step's design table.
+using DesignMember = post::DesignValue post::DesignTable::*;
+template <DesignMember member>
+std::vector<double> design_value(const TraceStep& s) {
+  return number(s.design ? ((*s.design).*member).value : none);
+}
+template <DesignMember member>
+std::vector<double> design_at(const TraceStep& s) {
+  return number(s.design && ((*s.design).*member).at ? *((*s.design).*member).at : none);
+}
+template <DesignMember member>
+void assign_design_value(TraceStep& s, std::vector<double> v) {
+  if (std::isnan(v.at(0))) return;
+  if (!s.design) s.design.emplace();
+  ((*s.design).*member).value = v[0];
+}
+template <DesignMember member>
+void assign_design_at(TraceStep& s, std::vector<double> v) {
+  if (std::isnan(v.at(0))) return;
+  if (!s.design) s.design.emplace();
+  ((*s.design).*member).at = v[0];
+}
+template <double post::DesignTable::*member>
+std::vector<double> design_figure(const TraceStep& s) {
+  return number(s.design ? (*s.design).*member : none);
+}
+template <double post::DesignTable::*member>
+void assign_design_figure(TraceStep& s, std::vector<double> v) {
+  if (std::isnan(v.at(0))) return;
+  if (!s.design) s.design.emplace();
+  (*s.design).*member = v[0];
+}
+
+#define LIFTOFF_DESIGN_COLUMNS(name)                                                            \
+  {"design/" #name,                                                                             \
+   ColumnKind::optional_number,                                                                 \
+   0,                                                                                           \
+   design_value<&post::DesignTable::name>,                                                      \
+   assign_design_value<&post::DesignTable::name>,                                               \
+   nullptr,                                                                                     \
+   nullptr},                                                                                    \
+  {                                                                                             \
+    "design/" #name "_at", ColumnKind::optional_number, 0, design_at<&post::DesignTable::name>, \
+        assign_design_at<&post::DesignTable::name>, nullptr, nullptr                            \
+  }
+
+// The nodal fields: one column per field of post::FieldTable (the coordinate is written once per
+// path, fields/coordinate).
+using FieldMember = std::vector<double> post::FieldTable::*;
+template <FieldMember member>
+std::vector<double> field_values(const TraceStep& s) {
+  return s.fields.*member;
+}
+template <FieldMember member>
+void assign_field(TraceStep& s, std::vector<double> v) {
+  s.fields.*member = std::move(v);
+}
+#define LIFTOFF_FIELD_COLUMN(name)                                                \
+  {                                                                               \
+    "fields/" #name, ColumnKind::nodes, 0, field_values<&post::FieldTable::name>, \
+        assign_field<&post::FieldTable::name>, nullptr, nullptr                   \
+  }
 
 const StepColumn step_columns[] = {
     {"contact_regions", ColumnKind::keyed, 2,
@@ -179,10 +266,31 @@ const StepColumn step_columns[] = {
      nullptr, nullptr},
     {"state", ColumnKind::keyed, 1, [](const TraceStep& s) { return s.state; },
      [](TraceStep& s, std::vector<double> v) { s.state = std::move(v); }, nullptr, nullptr},
+    // The support reactions: rows (step, at, force, moment, tangential, spring, settlement).
+    {"supports", ColumnKind::keyed, 6,
+     [](const TraceStep& s) {
+       std::vector<double> v;
+       for (const certify::SupportReaction& r : s.supports)
+         v.insert(v.end(), {r.at, r.force, r.moment, r.tangential, r.spring ? 1.0 : 0.0, r.settlement});
+       return v;
+     },
+     [](TraceStep& s, std::vector<double> v) {
+       for (std::size_t k = 0; k + 5 < v.size(); k += 6)
+         s.supports.push_back({v[k], v[k + 1], v[k + 2], v[k + 3], v[k + 4] != 0.0, v[k + 5]});
+     },
+     nullptr, nullptr},
     {"deflection", ColumnKind::samples, 0, [](const TraceStep& s) { return s.deflection; },
      [](TraceStep& s, std::vector<double> v) { s.deflection = std::move(v); }, nullptr, nullptr},
     {"reaction", ColumnKind::samples, 0, [](const TraceStep& s) { return s.reaction; },
      [](TraceStep& s, std::vector<double> v) { s.reaction = std::move(v); }, nullptr, nullptr},
+    LIFTOFF_FIELD_COLUMN(w),
+    LIFTOFF_FIELD_COLUMN(u),
+    LIFTOFF_FIELD_COLUMN(rotation),
+    LIFTOFF_FIELD_COLUMN(bending_moment),
+    LIFTOFF_FIELD_COLUMN(shear_force),
+    LIFTOFF_FIELD_COLUMN(normal_force),
+    LIFTOFF_FIELD_COLUMN(reaction),
+    LIFTOFF_FIELD_COLUMN(gap),
     {"state_topology", ColumnKind::text, 0, nullptr, nullptr,
      [](const TraceStep& s) { return state_topology_text(s.state_topology); },
      [](TraceStep& s, const std::string& t) { s.state_topology = parse_state_topology(t); }},
@@ -192,6 +300,27 @@ const StepColumn step_columns[] = {
     {"monitor_deflection", ColumnKind::number, 0,
      [](const TraceStep& s) { return std::vector<double>{s.monitor_deflection}; },
      [](TraceStep& s, std::vector<double> v) { s.monitor_deflection = v.at(0); }, nullptr, nullptr},
+    {"load", ColumnKind::optional_number, 0, [](const TraceStep& s) { return number(s.load.value_or(none)); },
+     [](TraceStep& s, std::vector<double> v) { s.load = optional_number(v); }, nullptr, nullptr},
+    {"requested", ColumnKind::number, 0, [](const TraceStep& s) { return number(s.requested ? 1.0 : 0.0); },
+     [](TraceStep& s, std::vector<double> v) { s.requested = v.at(0) != 0.0; }, nullptr, nullptr},
+    LIFTOFF_DESIGN_COLUMNS(moment_max),
+    LIFTOFF_DESIGN_COLUMNS(moment_min),
+    LIFTOFF_DESIGN_COLUMNS(shear_max_abs),
+    LIFTOFF_DESIGN_COLUMNS(pressure_max),
+    LIFTOFF_DESIGN_COLUMNS(uplift_max),
+    {"design/from_statics", ColumnKind::optional_number, 0,
+     [](const TraceStep& s) { return number(s.design ? (s.design->from_statics ? 1.0 : 0.0) : none); },
+     [](TraceStep& s, std::vector<double> v) {
+       if (std::isnan(v.at(0))) return;
+       if (!s.design) s.design.emplace();
+       s.design->from_statics = v[0] != 0.0;
+     },
+     nullptr, nullptr},
+    {"design/shear_closure", ColumnKind::optional_number, 0, design_figure<&post::DesignTable::shear_closure>,
+     assign_design_figure<&post::DesignTable::shear_closure>, nullptr, nullptr},
+    {"design/moment_closure", ColumnKind::optional_number, 0, design_figure<&post::DesignTable::moment_closure>,
+     assign_design_figure<&post::DesignTable::moment_closure>, nullptr, nullptr},
     {"lambda", ColumnKind::number, 0, [](const TraceStep& s) { return std::vector<double>{s.load_factor}; },
      [](TraceStep& s, std::vector<double> v) { s.load_factor = v.at(0); }, nullptr, nullptr},
     {"axial_force", ColumnKind::number, 0, [](const TraceStep& s) { return std::vector<double>{s.axial_force}; },
@@ -208,6 +337,49 @@ const StepColumn step_columns[] = {
        s.stability = *v;
      }},
 };
+
+#undef LIFTOFF_DESIGN_COLUMNS
+#undef LIFTOFF_FIELD_COLUMN
+
+// The nodal fields of a path: /PATH/steps/fields/ holds `coordinate` (the nodes, written once,
+// with the path's first step that carries fields) and a dataset steps x nodes per field of that
+// step (u only where the member has it); attribute first_step: the index of that step, the row
+// of step i being i - first_step (a file begun before the fields were recorded resumes with them).
+constexpr const char* fields_group = "fields";
+
+struct FieldsLayout {
+  bool present = false;
+  hsize_t first_step = 0;
+  std::vector<double> coordinate;
+};
+
+FieldsLayout fields_layout(hid_t id, const std::string& steps_group) {
+  FieldsLayout layout;
+  const std::string group = steps_group + "/" + fields_group;
+  if (!path_exists(id, group)) return layout;
+  layout.present = true;
+  Handle g(H5Gopen2(id, group.c_str(), H5P_DEFAULT), H5Gclose, group);
+  layout.first_step = static_cast<hsize_t>(read_number_attribute(g, "first_step"));
+  layout.coordinate = read_doubles(id, group + "/coordinate");
+  return layout;
+}
+
+// The groups a column's name runs through ("design/x": design), created under `steps` if absent.
+void make_column_group(hid_t steps, const std::string& name) {
+  const std::size_t slash = name.rfind('/');
+  if (slash == std::string::npos) return;
+  const std::string group = name.substr(0, slash);
+  if (!exists(steps, group))
+    Handle made(H5Gcreate2(steps, group.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, group);
+}
+
+void create_column(hid_t steps, const StepColumn& column, std::size_t samples) {
+  make_column_group(steps, column.name);
+  if (column.kind == ColumnKind::text) create_rows(steps, column.name, string_type(true), 0);
+  if (one_number(column.kind)) create_rows(steps, column.name, H5T_IEEE_F64LE, 0);
+  if (column.kind == ColumnKind::samples) create_rows(steps, column.name, H5T_IEEE_F64LE, samples);
+  if (column.kind == ColumnKind::keyed) create_rows(steps, column.name, H5T_IEEE_F64LE, column.width + 1);
+}
 
 std::vector<std::string> split_paths(const std::string& joined) {
   std::vector<std::string> parts;
@@ -232,25 +404,35 @@ TracePathRecord read_path_record(hid_t id, const std::string& name, std::size_t 
   record.termination = read_string_attribute(group, "termination");
   record.message = read_string_attribute(group, "message");
   record.monitor = read_number_attribute(group, "monitor");
-  // Every column read whole; the steps are those that every one-row-per-step column holds.
+  const FieldsLayout fields = fields_layout(id, name + "/steps");
+  const std::size_t nodes = fields.coordinate.size();
+  // Every column read whole; the steps are those that every one-row-per-step column holds. A
+  // column a file written by an older liftoff does not have is left at its default.
   std::vector<std::vector<double>> numbers(std::size(step_columns));
   std::vector<std::vector<std::string>> texts(std::size(step_columns));
+  std::vector<bool> present(std::size(step_columns), false);
   std::size_t n = std::numeric_limits<std::size_t>::max();
   for (std::size_t c = 0; c < std::size(step_columns); ++c) {
     const StepColumn& column = step_columns[c];
+    if (!path_exists(id, steps(column.name))) continue;
+    present[c] = true;
     if (column.kind == ColumnKind::text) {
       texts[c] = read_strings(id, steps(column.name));
       n = std::min(n, texts[c].size());
     } else {
       numbers[c] = read_doubles(id, steps(column.name));
-      if (column.kind == ColumnKind::number) n = std::min(n, numbers[c].size());
+      if (one_number(column.kind)) n = std::min(n, numbers[c].size());
       if (column.kind == ColumnKind::samples && samples > 0) n = std::min(n, numbers[c].size() / samples);
+      if (column.kind == ColumnKind::nodes && nodes > 0)
+        n = std::min(n, static_cast<std::size_t>(fields.first_step) + numbers[c].size() / nodes);
     }
   }
+  if (n == std::numeric_limits<std::size_t>::max()) n = 0;
   record.steps.resize(n);
   const auto written_step = [n](double step) { return step >= 0 && step < static_cast<double>(n); };  // NaN: no
   for (std::size_t c = 0; c < std::size(step_columns); ++c) {
     const StepColumn& column = step_columns[c];
+    if (!present[c]) continue;
     const std::vector<double>& v = numbers[c];
     if (column.kind == ColumnKind::keyed) {
       const std::size_t row = column.width + 1;
@@ -265,12 +447,19 @@ TracePathRecord read_path_record(hid_t id, const std::string& name, std::size_t 
     for (std::size_t i = 0; i < n; ++i) {
       TraceStep& step = record.steps[i];
       if (column.kind == ColumnKind::text) column.parse(step, texts[c][i]);
-      if (column.kind == ColumnKind::number) column.assign(step, {v[i]});
+      if (one_number(column.kind)) column.assign(step, {v[i]});
       if (column.kind == ColumnKind::samples)
         column.assign(step, std::vector<double>(v.begin() + static_cast<std::ptrdiff_t>(i * samples),
                                                 v.begin() + static_cast<std::ptrdiff_t>((i + 1) * samples)));
+      if (column.kind == ColumnKind::nodes && i >= fields.first_step) {
+        const std::size_t row = i - fields.first_step;
+        column.assign(step, std::vector<double>(v.begin() + static_cast<std::ptrdiff_t>(row * nodes),
+                                                v.begin() + static_cast<std::ptrdiff_t>((row + 1) * nodes)));
+      }
     }
   }
+  if (fields.present)
+    for (std::size_t i = fields.first_step; i < n; ++i) record.steps[i].fields.coordinate = fields.coordinate;
   const std::vector<double> event_lambda = read_doubles(id, events("lambda"));
   const std::vector<std::string> kinds = read_strings(id, events("kind"));
   const std::vector<double> at = read_doubles(id, events("at"));
@@ -281,19 +470,21 @@ TracePathRecord read_path_record(hid_t id, const std::string& name, std::size_t 
   for (std::size_t i = 0; i < m; ++i) {
     if (!written_step(event_step[i]) || std::isnan(event_lambda[i]) || std::isnan(at[i])) continue;
     record.events.push_back({event_lambda[i], event_kind(kinds[i]), at[i], descriptions[i]});
+    record.event_steps.push_back(static_cast<int>(event_step[i]));
   }
   return record;
 }
 
 // A finished step is written in full: a NaN left in one (the fill value of rows that were made
-// but never written) means the file was damaged by a kill in the middle of a flush.
+// but never written) means the file was damaged by a kill in the middle of a flush. Columns
+// where NaN is a value (ColumnKind::optional_number) say nothing.
 bool whole(const TracePathRecord& record) {
   const auto finite = [](const std::vector<double>& v) {
     return std::all_of(v.begin(), v.end(), [](double x) { return !std::isnan(x); });
   };
   return std::all_of(record.steps.begin(), record.steps.end(), [&](const TraceStep& s) {
     return std::all_of(std::begin(step_columns), std::end(step_columns), [&](const StepColumn& column) {
-      return column.kind == ColumnKind::text || finite(column.values(s));
+      return column.kind == ColumnKind::text || column.kind == ColumnKind::optional_number || finite(column.values(s));
     });
   });
 }
@@ -307,6 +498,15 @@ TraceFileInfo read_info(hid_t id) {
   info.paths = split_paths(read_string_attribute(id, "paths"));
   info.scene_text = read_text(id, "scene");
   info.sample_points = read_doubles(id, "sample_points");
+  if (H5Aexists(id, "load_reference") > 0) {
+    continuation::PhysicalLoad load;
+    load.quantity = read_string_attribute(id, "load_quantity");
+    load.symbol = read_string_attribute(id, "load_symbol");
+    load.reference = read_number_attribute(id, "load_reference");
+    load.unit = read_string_attribute(id, "load_unit");
+    load.definition = read_string_attribute(id, "load_definition");
+    info.physical_load = std::move(load);
+  }
   return info;
 }
 
@@ -322,14 +522,22 @@ void keep_rows_before_step(hid_t id, const std::string& name, hsize_t columns, h
 void trim(hid_t id, const std::string& name) {
   const auto steps = [&](const char* d) { return name + "/steps/" + d; };
   const auto events = [&](const char* d) { return name + "/events/" + d; };
+  const FieldsLayout fields = fields_layout(id, name + "/steps");
   hsize_t n = row_count(id, steps("lambda"));
-  for (const StepColumn& column : step_columns)
-    if (column.kind != ColumnKind::keyed) n = std::min(n, row_count(id, steps(column.name)));
   for (const StepColumn& column : step_columns) {
+    if (column.kind == ColumnKind::keyed || !path_exists(id, steps(column.name))) continue;
+    const hsize_t rows = row_count(id, steps(column.name));
+    n = std::min(n, column.kind == ColumnKind::nodes ? fields.first_step + rows : rows);
+  }
+  for (const StepColumn& column : step_columns) {
+    if (!path_exists(id, steps(column.name))) continue;
     if (column.kind == ColumnKind::keyed)
       keep_rows_before_step(id, steps(column.name), column.width + 1, n);
     else
-      set_rows(id, steps(column.name), n);
+      set_rows(id, steps(column.name),
+               column.kind != ColumnKind::nodes ? n
+               : n > fields.first_step          ? n - fields.first_step
+                                                : 0);
   }
   const std::array<const char*, 5> columns{"lambda", "kind", "at", "step", "description"};
   hsize_t m = row_count(id, events("step"));
@@ -338,6 +546,25 @@ void trim(hid_t id, const std::string& name) {
   keep_rows_before_step(id, events("step"), 1, n);
   const hsize_t kept = row_count(id, events("step"));
   for (const char* d : columns) set_rows(id, events(d), kept);
+}
+
+// A path of a file written by an older liftoff, continued: each per-step column it lacks is
+// made, its rows for the steps already there those of a step that records nothing of it (no
+// physical load, no design values, no supports). The nodal fields begin with the next step.
+void upgrade(hid_t id, const std::string& name, std::size_t samples) {
+  const std::string steps = name + "/steps";
+  Handle group(H5Gopen2(id, steps.c_str(), H5P_DEFAULT), H5Gclose, steps);
+  const hsize_t n = row_count(id, steps + "/lambda");
+  const TraceStep nothing;
+  for (const StepColumn& column : step_columns) {
+    if (column.kind == ColumnKind::nodes || path_exists(group, column.name)) continue;
+    if (!one_number(column.kind) && column.kind != ColumnKind::keyed)
+      throw OutputError(
+          fmt::format("{}: no dataset {}/{} (expected a trace file of this version)", name, steps, column.name));
+    create_column(group, column, samples);
+    if (one_number(column.kind))
+      append_doubles(group, column.name, std::vector<double>(n, column.values(nothing).at(0)), n);
+  }
 }
 
 // A trace file read whole and checked; nullopt if it cannot be read or is damaged.
@@ -418,6 +645,14 @@ struct TraceWriter::File {
   TraceFileInfo info;
   std::size_t samples = 0;
   bool clean = true;  // no write failed: the backup goes when the file is closed
+  // Each path's nodal fields layout, read once (append_step checks every step against it).
+  std::map<std::string, FieldsLayout> fields;
+
+  FieldsLayout& fields_of(const std::string& name) {
+    const auto it = fields.find(name);
+    if (it != fields.end()) return it->second;
+    return fields[name] = fields_layout(copies[0].id, name + "/steps");
+  }
 
   ~File() {
     for (const Copy& c : copies)
@@ -473,6 +708,13 @@ TraceWriter::TraceWriter(const std::filesystem::path& path, const TraceFileInfo&
     for (const auto& p : info.paths) paths += (paths.empty() ? "" : ",") + p;
     write_string_attribute(id, "paths", paths);
     for (const auto& [name, label] : info.units) write_string_attribute(id, "units_" + name, label);
+    if (const auto& load = info.physical_load) {
+      write_string_attribute(id, "load_quantity", load->quantity);
+      write_string_attribute(id, "load_symbol", load->symbol);
+      write_number_attribute(id, "load_reference", load->reference);
+      write_string_attribute(id, "load_unit", load->unit);
+      write_string_attribute(id, "load_definition", load->definition);
+    }
     write_number_attribute(id, "complete", false);
     write_text(id, "scene", info.scene_text);
     const hsize_t n = info.sample_points.size();
@@ -508,7 +750,10 @@ TraceWriter TraceWriter::resume(const std::filesystem::path& path) {
   }
   file->each([&](hid_t id) {
     for (const std::string& name : file->info.paths)
-      if (exists(id, name)) trim(id, name);
+      if (exists(id, name)) {
+        trim(id, name);
+        upgrade(id, name, file->samples);
+      }
   });
   return TraceWriter(std::move(file));
 }
@@ -533,12 +778,8 @@ void TraceWriter::begin_path(const std::string& name, double monitor) {
     write_number_attribute(group, "complete", false);
     write_number_attribute(group, "monitor", monitor);
     Handle steps(H5Gcreate2(group, "steps", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "steps");
-    for (const StepColumn& column : step_columns) {
-      if (column.kind == ColumnKind::text) create_rows(steps, column.name, string_type(true), 0);
-      if (column.kind == ColumnKind::number) create_rows(steps, column.name, H5T_IEEE_F64LE, 0);
-      if (column.kind == ColumnKind::samples) create_rows(steps, column.name, H5T_IEEE_F64LE, samples);
-      if (column.kind == ColumnKind::keyed) create_rows(steps, column.name, H5T_IEEE_F64LE, column.width + 1);
-    }
+    for (const StepColumn& column : step_columns)
+      if (column.kind != ColumnKind::nodes) create_column(steps, column, samples);
     Handle events(H5Gcreate2(group, "events", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "events");
     for (const char* d : {"lambda", "at", "step"}) create_rows(events, d, H5T_IEEE_F64LE, 0);
     for (const char* d : {"kind", "description"}) create_rows(events, d, string_type(true), 0);
@@ -551,15 +792,46 @@ void TraceWriter::append_step(const std::string& name, const TraceStep& step) {
       throw OutputError(fmt::format("{}: a step has {} values of {} for {} sample points", file_->path.string(),
                                     column.values(step).size(), column.name, file_->samples));
   const auto steps = [&](const char* d) { return name + "/steps/" + d; };
+  // The nodal fields: the path's first step that carries them makes their group (FieldsLayout);
+  // every later step must carry as many values of the same fields.
+  FieldsLayout& fields = file_->fields_of(name);
+  const std::size_t nodes = step.fields.coordinate.size();
+  for (const StepColumn& column : step_columns) {
+    if (column.kind != ColumnKind::nodes) continue;
+    const std::size_t given = column.values(step).size();
+    const bool stored = fields.present && path_exists(file_->copies[0].id, steps(column.name));
+    const bool expected = fields.present ? stored : nodes > 0 && given > 0;
+    const std::size_t width = fields.present ? fields.coordinate.size() : nodes;
+    if (given != (expected ? width : 0))
+      throw OutputError(fmt::format("{}: a step of path {} has {} values of {}, expected {} (one per node{})",
+                                    file_->path.string(), name, given, column.name, expected ? width : 0,
+                                    fields.present ? " of the path's earlier steps" : ""));
+  }
+  if (fields.present && nodes > 0 && step.fields.coordinate != fields.coordinate)
+    throw OutputError(fmt::format("{}: a step of path {} has its fields at other nodes than the path's earlier steps",
+                                  file_->path.string(), name));
   file_->each([&](hid_t id) {
     const auto index = static_cast<double>(row_count(id, steps("lambda")));
-    // In step_columns' order: lambda last, so a step counts as written only when it is whole.
+    if (!fields.present && nodes > 0) {  // this path's first step with fields
+      Handle group(H5Gcreate2(id, steps(fields_group).c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
+                   fields_group);
+      write_number_attribute(group, "first_step", index);
+      hdf5::write_array(group, "coordinate", step.fields.coordinate);
+      Handle steps_group(H5Gopen2(id, (name + "/steps").c_str(), H5P_DEFAULT), H5Gclose, name);
+      for (const StepColumn& column : step_columns)
+        if (column.kind == ColumnKind::nodes && !column.values(step).empty())
+          create_rows(steps_group, column.name, H5T_IEEE_F64LE, nodes);
+    }
     for (const StepColumn& column : step_columns) {
       if (column.kind == ColumnKind::text) {
         append_string(id, steps(column.name), column.text(step));
         continue;
       }
       const std::vector<double> values = column.values(step);
+      if (column.kind == ColumnKind::nodes) {
+        if (!values.empty()) append_doubles(id, steps(column.name), values, 1);
+        continue;
+      }
       if (column.kind != ColumnKind::keyed) {
         append_doubles(id, steps(column.name), values, 1);
         continue;
@@ -573,6 +845,7 @@ void TraceWriter::append_step(const std::string& name, const TraceStep& step) {
       append_doubles(id, steps(column.name), rows, values.size() / column.width);
     }
   });
+  if (!fields.present && nodes > 0) fields = fields_layout(file_->copies[0].id, name + "/steps");
 }
 
 void TraceWriter::append_event(const std::string& name, const TraceEvent& event) {

@@ -16,20 +16,34 @@
 // Layout (README, "liftoff trace"):
 //   /                attributes: liftoff_version, scene_name, coordinate, sign_convention,
 //                    options (JSON), paths ("fe", "ritz" or "fe,ritz"), complete (0 until the
-//                    last path ends), units_<name> (TraceFileInfo::units)
+//                    last path ends), units_<name> (TraceFileInfo::units), and where the live load
+//                    is of one kind load_quantity, load_symbol, load_reference (the live load's
+//                    value at lambda = 1), load_unit, load_definition (continuation::PhysicalLoad)
 //   /scene           the scene's TOML text
 //   /sample_points   the points where w and r are recorded (user coordinate)
 //   /PATH/           one group per path run ("fe", "ritz", "fe_refined"); attributes complete,
 //                    termination, message, monitor (user coordinate)
-//   /PATH/steps/     lambda, monitor_deflection, iterations, axial_force, amplitude, lifted_length
+//   /PATH/steps/     lambda, load (lambda x load_reference; NaN without a physical load),
+//                    requested (1: a step at a load asked for, [trace] report_at / --at),
+//                    monitor_deflection, iterations, axial_force, amplitude, lifted_length
 //                    (steps); stability (steps, strings); deflection, reaction
 //                    (steps x samples); state_topology (steps, strings: state_topology_text);
-//                    contact_regions (rows of
-//                    step, begin, end); state (rows of step, value)
+//                    contact_regions (rows of step, begin, end); state (rows of step, value);
+//                    supports (rows of step, at, force, moment, tangential, spring (0/1),
+//                    settlement: the support reactions, certify::SupportReaction in user units)
+//   /PATH/steps/design/  moment_max, moment_min, shear_max_abs, pressure_max, uplift_max and each's
+//                    <name>_at, from_statics (0/1), shear_closure, moment_closure (steps; NaN: no
+//                    design values at the step, or no such point: post::DesignTable)
+//   /PATH/steps/fields/  the whole state at every node (FE) or grid point (Ritz): coordinate
+//                    (nodes, once), and w, rotation, bending_moment, shear_force, normal_force,
+//                    reaction, gap (and u where the member has it) as steps x nodes, chunked
+//                    (TraceStep::fields, continuation/step_state.hpp); attribute first_step: the
+//                    step of the first row (0 but in a file an older liftoff began)
 //   /PATH/events/    lambda, kind (strings), at, step (the step it follows), description
 // The per-step datasets are one table in trace_writer.cpp (step_columns): writing, reading back,
-// trimming an interrupted step and the damage check all iterate it, so a new per-step quantity
-// is the TraceStep field its path fills and one row of that table.
+// trimming an interrupted step, the damage check and the upgrade of an older file's path on
+// resume (the columns it lacks made, its steps recording none of them) all iterate it, so a new
+// per-step quantity is the TraceStep field its path fills and one row of that table.
 
 #include <filesystem>
 #include <memory>
@@ -54,6 +68,9 @@ struct TraceFileInfo {
   // The scene's units (scene::unit_labels: name, label), written as root attributes units_<name>
   // (the solve file's); not read back.
   std::vector<std::pair<std::string, std::string>> units;
+  // The live load as a physical quantity (continuation::PhysicalLoad), root attributes
+  // load_quantity, load_symbol, load_reference, load_unit, load_definition; none without one.
+  std::optional<continuation::PhysicalLoad> physical_load;
 };
 
 // One path's part of a file, as read back.
@@ -64,6 +81,7 @@ struct TracePathRecord {
   double monitor = 0.0;
   std::vector<continuation::TraceStep> steps;
   std::vector<continuation::TraceEvent> events;
+  std::vector<int> event_steps;  // per event, the index of the step it follows (/PATH/events/step)
 };
 
 // The whole file as read back.

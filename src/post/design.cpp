@@ -449,4 +449,23 @@ DesignValues design_from_samples(const model::MemberModel& model, const Fields& 
   return out;
 }
 
+DesignTable user_design(const DesignValues& design, const model::MemberModel& model) {
+  const model::Scales& scales = model.scales;
+  auto convert = [&](const Extreme& x, double factor) {
+    DesignValue v{x.value * factor, std::nullopt};
+    if (x.s) v.at = model.user_from_s(*x.s);
+    return v;
+  };
+  DesignTable t;
+  t.moment_max = convert(design.moment_max, scales.moment());
+  t.moment_min = convert(design.moment_min, scales.moment());
+  t.shear_max_abs = convert(design.shear_max_abs, scales.force());
+  t.pressure_max = convert(design.pressure_max, scales.force_per_length());
+  t.uplift_max = convert(design.uplift_max, scales.displacement());
+  t.shear_closure = design.shear_closure;
+  t.moment_closure = design.moment_closure;
+  t.from_statics = design.from_statics;
+  return t;
+}
+
 }  // namespace liftoff::post

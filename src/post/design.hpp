@@ -41,6 +41,7 @@
 #include "fe/discretisation.hpp"
 #include "model/member_model.hpp"
 #include "post/fields.hpp"
+#include "post/user_tables.hpp"
 
 namespace liftoff::post {
 
@@ -85,5 +86,8 @@ DesignValues recover_beam_statics(const model::MemberModel& model, const std::fu
 
 // Design values from sampled fields (arches): extremes at the samples.
 DesignValues design_from_samples(const model::MemberModel& model, const Fields& fields);
+
+// The design values in the user's units (user_tables.hpp).
+DesignTable user_design(const DesignValues& design, const model::MemberModel& model);
 
 }  // namespace liftoff::post

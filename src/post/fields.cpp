@@ -108,6 +108,39 @@ Fields sample_fields(const model::MemberModel& model, const fe::Discretisation& 
   return f;
 }
 
+void add_von_karman_membrane(const model::MemberModel& model, const fe::Discretisation& d,
+                             const std::vector<double>& element_normal_force, Fields& fields) {
+  if (d.kind == StructureKind::arch) {
+    for (std::size_t i = 0; i < fields.s.size(); ++i)
+      fields.normal_force[i] += 0.5 * model.membrane_stiffness * fields.rotation[i] * fields.rotation[i];
+    return;
+  }
+  fields.normal_force.clear();
+  for (double s : fields.s) fields.normal_force.push_back(element_normal_force[d.mesh.element_containing(s)]);
+  fields.u.clear();
+}
+
+FieldTable user_fields(const model::MemberModel& model, const Fields& fields) {
+  const model::Scales& scales = model.scales;
+  const auto scaled = [](const std::vector<double>& values, double factor) {
+    std::vector<double> out(values.size());
+    std::transform(values.begin(), values.end(), out.begin(), [&](double v) { return v * factor; });
+    return out;
+  };
+  FieldTable t;
+  t.coordinate.resize(fields.s.size());
+  std::transform(fields.s.begin(), fields.s.end(), t.coordinate.begin(),
+                 [&](double s) { return model.user_from_s(s); });
+  t.w = scaled(fields.w, scales.displacement());
+  t.u = scaled(fields.u, scales.displacement());
+  t.rotation = fields.rotation;
+  t.bending_moment = scaled(fields.bending_moment, scales.moment());
+  t.shear_force = scaled(fields.shear_force, scales.force());
+  t.normal_force = scaled(fields.normal_force, scales.force());
+  t.reaction = scaled(fields.reaction, scales.force_per_length());
+  return t;
+}
+
 DeflectionExtremes deflection_extremes(const fe::Discretisation& d, const Eigen::VectorXd& displacement,
                                        const model::MemberModel* ground) {
   DeflectionExtremes x;

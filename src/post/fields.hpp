@@ -10,14 +10,25 @@
 // linear interpolation of the nodal reactions (compression positive), zero off the foundation.
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
 #include "contact/contact_solver.hpp"
 #include "fe/discretisation.hpp"
 #include "model/member_model.hpp"
+#include "post/user_tables.hpp"
 
 namespace liftoff::post {
+
+// The samples per element `liftoff solve` takes of an FE answer's fields (and of an arch's design
+// values), at most max_field_samples points in all (HDF5 and memory stay O(1e7) bytes per field).
+inline constexpr int samples_per_element = 16;
+inline constexpr int max_field_samples = 2'000'000;
+// `wanted` per element on `elements` elements, capped so: what solve samples.
+inline int capped_samples_per_element(int elements, int wanted = samples_per_element) {
+  return std::max(1, std::min(wanted, max_field_samples / std::max(1, elements)));
+}
 
 // w and u with their s-derivatives at a point of an element.
 struct LocalState {
@@ -52,5 +63,16 @@ DeflectionExtremes deflection_extremes(const fe::Discretisation& d, const Eigen:
 
 // Nodal reaction interpolated at s (zero off the foundation).
 double reaction_at(const fe::Discretisation& d, const Eigen::VectorXd& reaction, int element, double xi);
+
+// A von Karman answer's membrane force in fields that sample_fields made of it (which knows the
+// linear strain only). Arches: N = EA (u' - w + beta^2 / 2) at each sample (the rotation's term
+// added to the linear N; fe/arch_von_karman_element.hpp). Beams: the normal force of the element
+// each sample is in (`element_normal_force`, constant on an element: tension positive), and no u
+// (the element's interior u is condensed out, fe/von_karman_element.hpp: u is known at the nodes).
+void add_von_karman_membrane(const model::MemberModel& model, const fe::Discretisation& d,
+                             const std::vector<double>& element_normal_force, Fields& fields);
+
+// The fields in the user's units (user_tables.hpp): coordinate, w, u, rotation, M, V, N, reaction.
+FieldTable user_fields(const model::MemberModel& model, const Fields& fields);
 
 }  // namespace liftoff::post

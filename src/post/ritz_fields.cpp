@@ -3,9 +3,12 @@
 namespace liftoff::post {
 
 Fields sample_fields(const model::MemberModel& model, const ritz::RitzSolution& solution, int samples) {
+  return sample_fields(model, *solution.model, solution.unknowns, samples);
+}
+
+Fields sample_fields(const model::MemberModel& model, const ritz::RitzModel& ritz, const Eigen::VectorXd& x,
+                     int samples) {
   Fields f;
-  const ritz::RitzModel& ritz = *solution.model;
-  const Eigen::VectorXd& x = solution.unknowns;
   const bool arch = ritz.is_arch();
   for (int i = 0; i < samples; ++i) {
     const double s = model.s_begin + (model.s_end - model.s_begin) * i / (samples - 1);
@@ -33,12 +36,17 @@ std::vector<ContactRegion> contact_regions(const ritz::RitzSolution& solution) {
 DesignValues ritz_beam_statics(const model::MemberModel& model, const ritz::RitzSolution& solution,
                                const std::vector<PointReaction>& supports, double load_factor, int samples,
                                Fields& fields) {
-  fields = sample_fields(model, solution, samples);
+  return ritz_beam_statics(model, *solution.model, solution.unknowns, supports, load_factor, samples, fields);
+}
+
+DesignValues ritz_beam_statics(const model::MemberModel& model, const ritz::RitzModel& ritz, const Eigen::VectorXd& x,
+                               const std::vector<PointReaction>& supports, double load_factor, int samples,
+                               Fields& fields) {
+  fields = sample_fields(model, ritz, x, samples);
   std::vector<double> limits;
-  for (const ContactRegion& region : contact_regions(solution)) limits.insert(limits.end(), {region.begin, region.end});
+  for (const ContactRegion& region : ritz.contact_pieces(x)) limits.insert(limits.end(), {region.begin, region.end});
   return recover_beam_statics(
-      model, [&](double s) { return solution.model->reaction(solution.unknowns, s); }, limits, supports, load_factor,
-      fields);
+      model, [&](double s) { return ritz.reaction(x, s); }, limits, supports, load_factor, fields);
 }
 
 }  // namespace liftoff::post

@@ -17,6 +17,9 @@ namespace liftoff::post {
 // rotation, M and V from the modal series' derivatives; arches also u and N. Needs
 // solution.model.
 Fields sample_fields(const model::MemberModel& model, const ritz::RitzSolution& solution, int samples);
+// The same of the state `x` of `ritz` (a load path's step, with no RitzSolution around it).
+Fields sample_fields(const model::MemberModel& model, const ritz::RitzModel& ritz, const Eigen::VectorXd& x,
+                     int samples);
 
 // The contact pieces of the solution (its model's limits at its unknowns), in order along s;
 // empty without a model.
@@ -28,6 +31,9 @@ std::vector<ContactRegion> contact_regions(const ritz::RitzSolution& solution);
 // derivatives do not converge at point loads (on the B70 sleeper |V| 46.9 kN against the
 // statics' 70.0 kN).
 DesignValues ritz_beam_statics(const model::MemberModel& model, const ritz::RitzSolution& solution,
+                               const std::vector<PointReaction>& supports, double load_factor, int samples,
+                               Fields& fields);
+DesignValues ritz_beam_statics(const model::MemberModel& model, const ritz::RitzModel& ritz, const Eigen::VectorXd& x,
                                const std::vector<PointReaction>& supports, double load_factor, int samples,
                                Fields& fields);
 

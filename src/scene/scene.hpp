@@ -250,7 +250,12 @@ struct TraceSettings {
   // Beam-columns: at a bifurcation point where the path loses its stability, follow the
   // bifurcated branch (the member's buckled shape) instead of the now unstable one it was on.
   bool switch_branch = true;
-  int line = 0;  // line of the [trace] header, for messages (0: unknown)
+  // The loads at which the whole state is wanted (key report_at): physical loads in the live
+  // load's unit where the live case is of one kind, load factors otherwise (app/trace_load.hpp
+  // converts them and checks them against [lambda_min, lambda_max]); as written.
+  std::vector<double> report_at;
+  int report_at_line = 0;  // line of the key report_at, for messages (0: unknown)
+  int line = 0;            // line of the [trace] header, for messages (0: unknown)
 };
 
 // [compare]: a published result the summary sets the answer beside (the default scene: the seed

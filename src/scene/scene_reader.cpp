@@ -55,7 +55,7 @@ const std::vector<TableSpec>& schema() {
       {"trace",
        false,
        {"lambda_max", "lambda_min", "method", "control", "initial_step", "min_step", "max_step", "max_steps", "monitor",
-        "samples", "refine", "max_amplitude", "switch_branch"}},
+        "samples", "refine", "max_amplitude", "switch_branch", "report_at"}},
       {"compare", false, {"source", "contact_half_angle_deg"}},
       {"units", false, {"system", "length", "force"}},
       {"combinations", true, {"name", "factors"}},
@@ -1182,6 +1182,12 @@ TraceSettings read_trace(const Section& s, const Member& member) {
   trace.refine = s.flag("refine").value_or(trace.refine);
   trace.max_amplitude = s.number("max_amplitude", positive());
   trace.switch_branch = s.flag("switch_branch").value_or(trace.switch_branch);
+  if (const toml::node* node = s.find("report_at")) {
+    trace.report_at = s.number_array("report_at", any_number(),
+                                     "a non-empty array of numbers (loads in the live load's unit, or load factors "
+                                     "where the live case mixes kinds)");
+    trace.report_at_line = static_cast<int>(node->source().begin.line);
+  }
   return trace;
 }
 

@@ -6,7 +6,8 @@
 Writes a solve, a trace and a sweep file with liftoff itself, draws each with `liftoff plot`, and
 checks what a user would notice first: the exit code, the PNG files named on stdout (and nothing
 else, no .tmp left), that each picture has ink on it, that "no foundation" is drawn (its grey)
-only where the scene has a void, and that a sweep with a failed case carries the red note. Envelope
+only where the scene has a void, that a trace's states along the member are drawn at its events'
+steps and its last, and that a sweep with a failed case carries the red note. Envelope
 files (`liftoff envelope --hdf5`): a moving load draws its envelopes and its lift-off map against
 the lead position (the void grey, contact green, the file's units stored for the axes), load
 combinations with a failed case draw their envelopes with every case's own curve and the red note
@@ -31,6 +32,8 @@ import numpy as np  # noqa: E402
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "support"))
 from checks import check, finish  # noqa: E402
+sys.path.insert(0, os.path.join(HERE, "..", "..", "verification", "plots"))
+import plot as plot_module  # noqa: E402
 
 
 def run(liftoff, *args):
@@ -229,8 +232,16 @@ def main():
         for name, scene, void in (("trace_void", beam, True), ("trace_whole", whole, False)):
             h5 = os.path.join(tmp, name + ".h5")
             wrote(liftoff, 0, "trace", f"{name}: trace", h5, "trace", scene, "--output", h5)
-            pictures = [os.path.join(tmp, name + "_load_displacement.png"), os.path.join(tmp, name + "_lift_off_map.png")]
+            pictures = [os.path.join(tmp, name + suffix)
+                        for suffix in ("_load_displacement.png", "_lift_off_map.png", "_states.png")]
             drew(run(liftoff, "plot", h5), pictures, f"plot {name}")
+            # The states along the member: one curve per step of an event (both ends of one event are one
+            # step) and the last step, from the file's nodal fields.
+            path = plot_module.read_trace(h5)["paths"]["fe"]
+            drawn = [step for step, _ in plot_module.states_to_draw(path)]
+            expected = sorted(set(path["event_steps"]) | {len(path["lambda"]) - 1})
+            check(drawn == expected and path["fields"]["w"].shape == (len(path["lambda"]), 121),
+                  f"{name}: states drawn at steps {expected} (got {drawn}), w of 121 nodes per step")
             grey = count_colour(pictures[1], VOID_GREY)
             # The void, 2 of 12 length units over the whole lambda range, fills about 30 000 pixels of
             # the map; lines and text blend through this grey at their edges (about 100 pixels).

@@ -9,6 +9,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <cmath>
@@ -22,6 +23,7 @@
 
 #include "app/cli.hpp"
 #include "app/trace_command.hpp"
+#include "app/trace_load.hpp"
 #include "core/error.hpp"
 #include "io/trace_writer.hpp"
 #include "scene/scene_reader.hpp"
@@ -758,4 +760,218 @@ TEST_CASE("trace CLI: a von Karman beam is traced by the FE path through its sna
   CHECK(maximum);
   const io::TraceFileRecord file = io::read_trace_file(h5);
   CHECK(file.complete);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Issue 37: the live load as a physical quantity, the loads asked for, the whole state per step
+// in the JSON, CSV and summary.
+
+namespace {
+scene::Scene scene_file(const std::string& relative) {
+  return scene::read_scene_file(std::string(LIFTOFF_SOURCE_DIR) + "/" + relative);
+}
+
+// A beam heated by two temperature rises (`alpha` of the second), nothing else live.
+scene::Scene heated(double alpha) {
+  return scene::parse_scene(
+      "[structure]\nkind = \"beam\"\nlength = 10.0\nEI = 1.0e4\nEA = 1.0e8\n[supports]\nleft = \"clamped\"\n"
+      "right = \"clamped\"\n[foundation]\nmodulus = 1.0e5\n[[loads]]\nkind = \"uniform\"\nvalue = 10.0\n"
+      "case = \"dead\"\n[[loads]]\nkind = \"temperature\"\nvalue = 30.0\nalpha = 1.2e-5\n[[loads]]\n"
+      "kind = \"temperature\"\nvalue = 10.0\nalpha = " +
+          fmt::format("{}", alpha) + "\n[units]\nsystem = \"N-m\"\n[trace]\nlambda_max = 2.0\n",
+      "heated.toml");
+}
+}  // namespace
+
+TEST_CASE("trace: the live load of the shipped scenes as a physical quantity", "[app][trace][load]") {
+  struct Expected {
+    const char* scene;
+    const char* quantity;
+    const char* symbol;
+    double reference;
+    const char* unit;
+  };
+  for (const Expected& e : {
+           Expected{"continuation/scenes/pipeline_upheaval.toml", "axial force", "N", 1e6, "N"},
+           Expected{"continuation/scenes/footing_trace.toml", "moment", "M", -100e3, ""},  // no [units]
+           Expected{"continuation/scenes/arch_culvert.toml", "point force", "P", 100e3, ""},
+           Expected{"continuation/scenes/simply_supported_end_moments.toml", "moment", "M", 60.0, ""},  // the largest
+           Expected{"verification/scenes/engineering/pipeline_500m_uplift.toml", "point force", "P", -50e3, "N"},
+           Expected{"verification/scenes/von_karman/shallow_arch_bifurcation.toml", "distributed force", "q", 1000.0,
+                    "N/m"},
+       }) {
+    CAPTURE(e.scene);
+    const app::LiveLoad live = app::live_load(scene_file(e.scene));
+    REQUIRE(live.load.has_value());
+    CHECK(live.load->quantity == e.quantity);
+    CHECK(live.load->symbol == e.symbol);
+    CHECK(live.load->reference == e.reference);
+    CHECK(live.load->unit == e.unit);
+    CHECK(live.why_none.empty());
+  }
+  // Temperature rises of one alpha add up (their forces EA alpha dT do); with two alphas, none.
+  const app::LiveLoad heat = app::live_load(heated(1.2e-5));
+  REQUIRE(heat.load.has_value());
+  CHECK(heat.load->quantity == "temperature rise");
+  CHECK(heat.load->reference == 40.0);
+  CHECK(heat.load->unit == "deg");
+  CHECK(heat.load->definition == "the sum of the 2 live temperature rises (loads[1], loads[2])");
+  CHECK_FALSE(app::live_load(heated(2.4e-5)).load.has_value());
+  // Mixed kinds: lambda only, and why.
+  const app::LiveLoad mixed = app::live_load(scene::parse_scene(
+      beam_with_trace("lambda_max = 1\n") + "[[loads]]\nkind = \"moment\"\nat = 2.0\nvalue = 1.0\n", "mixed.toml"));
+  CHECK_FALSE(mixed.load.has_value());
+  CHECK(mixed.why_none == "the live case mixes point forces and moments");
+}
+
+TEST_CASE("trace: report_at and --at are loads in the live load's unit, refused outside the range",
+          "[app][trace][load][errors]") {
+  std::ifstream in(std::string(LIFTOFF_SOURCE_DIR) + "/continuation/scenes/pipeline_upheaval.toml");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string anchor = "max_amplitude = 1.0\n";
+  REQUIRE(text.find(anchor) != std::string::npos);
+  const auto with = [&](const std::string& line) {
+    std::string t = text;
+    t.insert(t.find(anchor) + anchor.size(), line);
+    return scene::parse_scene(t, "upheaval.toml");
+  };
+  const int line = static_cast<int>(std::count(text.begin(), text.begin() + text.find(anchor), '\n')) + 2;
+  // 5 MN and 3.2 MN: lambda 5 and 3.2 (the live axial force is 1 MN).
+  CHECK(app::trace_options(with("report_at = [5.0e6, 3.2e6]\n"), {}).report_at == std::vector<double>{5.0, 3.2});
+  CHECK(app::trace_options(with("report_at = [1.2e7]\n"), {}).report_at == std::vector<double>{12.0});  // the end
+  CHECK_THROWS_WITH(app::trace_options(with("report_at = [5.0e6, 2.0e7]\n"), {}),
+                    fmt::format("upheaval.toml:{}: key 'trace.report_at[1]': expected an axial force N in [0, "
+                                "1.2e+07] N (lambda in [0, 12] x the live axial force (loads[1]), 1e+06 N), got 2e+07",
+                                line));
+  // --at overrides the key, in the same unit.
+  app::TraceRequest request;
+  request.report_at = std::vector<double>{4.0e6};
+  CHECK(app::trace_options(with("report_at = [5.0e6]\n"), request).report_at == std::vector<double>{4.0});
+  request.report_at = std::vector<double>{-1.0e6};
+  CHECK_THROWS_WITH(app::trace_options(with(""), request),
+                    Catch::Matchers::StartsWith("option '--at': expected an axial force N in [0, 1.2e+07] N"));
+  // No physical load (the live case mixes a force and a moment): load factors.
+  const std::string mixed = beam_with_trace("lambda_max = 1\nreport_at = [0.25, 1]\n") +
+                            "[[loads]]\nkind = \"moment\"\nat = 2.0\nvalue = 1.0\n";
+  CHECK(app::trace_options(scene::parse_scene(mixed, "mixed.toml"), {}).report_at == std::vector<double>{0.25, 1.0});
+  request.report_at = std::vector<double>{2.0};
+  CHECK_THROWS_WITH(app::trace_options(scene::parse_scene(mixed, "mixed.toml"), request),
+                    "option '--at': expected a load factor in [0, 1] ([trace] lambda_min, lambda_max), got 2");
+  // The command line: --at splits at commas; a word that is no number is refused naming the option.
+  Scratch scratch;
+  const std::string scene = scratch.write("upheaval.toml", text).string();
+  const Run bad = run_cli({"trace", scene, "--at", "5e6,big"});
+  CHECK(bad.status == 2);
+  CHECK_THAT(bad.err, Catch::Matchers::Contains("option '--at': expected finite numbers separated by commas"));
+  const Run outside = run_cli({"trace", scene, "--at", "5e6,2e7"});
+  CHECK(outside.status == 2);
+  CHECK_THAT(outside.err, Catch::Matchers::Contains("option '--at': expected an axial force N in [0, 1.2e+07] N"));
+}
+
+namespace {
+// The synthetic path's steps with a record (design values, supports) and one requested step (at
+// lambda 1, as the engine records a load asked for): what the outputs of a requested step look like.
+app::TracePath recording(SyntheticPath& synthetic) {
+  return [&synthetic](const scene::Scene& scene, const TraceOptions& o, const continuation::TraceSink& sink) {
+    continuation::TraceSink decorated;
+    decorated.on_event = sink.on_event;
+    decorated.on_step = [&](const TraceStep& step) {
+      TraceStep s = step;
+      s.requested = s.load_factor == 1.0;
+      post::DesignTable d;
+      d.moment_max = {2.0 * s.load_factor, 4.0};
+      d.moment_min = {-s.load_factor, 1.0};
+      d.uplift_max = {0.0, std::nullopt};
+      d.from_statics = true;
+      s.design = d;
+      s.supports = {{10.0, 0.5 * s.load_factor, 0.0, 0.0, false, 0.0}};
+      sink.on_step(s);
+    };
+    return synthetic.path()(scene, o, decorated);
+  };
+}
+}  // namespace
+
+TEST_CASE("trace: JSON, CSV and summary carry each step's load, design values, supports and requested",
+          "[app][trace][load]") {
+  Scratch scratch;
+  const scene::Scene s = scene_with_trace("lambda_max = 2\nmax_step = 0.25\nsamples = 5\n");  // P = lambda x -1
+  SyntheticPath synthetic;
+  const app::TracePath path = recording(synthetic);
+  const app::TraceOutcome outcome = app::run_trace(s, to_file(scratch.dir / "t.h5"), {path, path});
+  REQUIRE(outcome.usable());
+  REQUIRE(outcome.physical_load.has_value());
+
+  const nlohmann::json j = app::to_json(outcome);
+  CHECK(j["physical_load"]["quantity"] == "point force");
+  CHECK(j["physical_load"]["reference"] == -1.0);
+  REQUIRE(j["steps"].size() == 9);
+  const nlohmann::json& fifth = j["steps"][4];  // lambda 1: the requested one
+  CHECK(fifth["lambda"] == 1.0);
+  CHECK(fifth["load"] == -1.0);
+  CHECK(fifth["requested"] == true);
+  CHECK(j["steps"][3]["requested"] == false);
+  CHECK(fifth["design"]["moment_max"]["value"] == 2.0);  // solve's object, key for key
+  CHECK(fifth["design"]["moment_max"]["at"] == 4.0);
+  CHECK(fifth["design"]["uplift_max"]["at"].is_null());
+  CHECK(fifth["design"]["from_statics"] == true);
+  REQUIRE(fifth["supports"].size() == 1);
+  CHECK(fifth["supports"][0]["force"] == 0.5);
+  for (const char* key : {"axial_force", "lifted_length", "amplitude", "stability"}) CHECK(fifth.contains(key));
+  REQUIRE(j["events"].size() == 2);
+  CHECK(j["events"][0]["load"] == Approx(-0.6).epsilon(1e-14));  // lambda 0.6
+
+  const std::string csv = app::trace_csv(outcome);
+  std::istringstream lines(csv);
+  std::string header, row;
+  std::getline(lines, header);
+  CHECK(header ==
+        "path,step,lambda,load,monitor_deflection,axial_force,amplitude,lifted_length,moment_max,at_moment_max,"
+        "moment_min,at_moment_min,shear_max_abs,at_shear_max_abs,pressure_max,at_pressure_max,uplift_max,"
+        "at_uplift_max,support_reactions,stability,requested");
+  std::vector<std::string> rows;
+  while (std::getline(lines, row)) rows.push_back(row);
+  REQUIRE(rows.size() == 9);
+  CHECK(rows[4] == "fe,4,1,-1,0.001,0,0,0,2,4,-1,1,0,,0,,0,,10:0.5:0,unknown,true");
+  CHECK(rows[3].substr(rows[3].size() - 6) == ",false");
+
+  const std::string summary = app::text_summary(outcome);
+  CHECK_THAT(summary, Catch::Matchers::Contains("load          P = lambda x -1: the live point force (loads[1])"));
+  CHECK_THAT(summary, Catch::Matchers::Contains("lambda 0.6 (P = -0.6)"));
+  CHECK_THAT(summary, Catch::Matchers::Contains("requested     P = -1 (lambda 1)"));
+  CHECK_THAT(summary, Catch::Matchers::Contains("moment max 2 at x = 4, min -1 at x = 1"));
+
+  // The file: the load and the requested flag per step.
+  const io::TracePathRecord written = io::read_trace_file(scratch.dir / "t.h5").paths.at(0).second;
+  REQUIRE(written.steps.size() == 9);
+  CHECK(written.steps[4].requested);
+  CHECK(written.steps[4].load == -1.0);
+  CHECK(written.steps[4].design->moment_max.value == 2.0);
+}
+
+TEST_CASE("trace CLI: --csv writes one row per step; --json has each step's design values and supports",
+          "[app][trace][load][real_paths]") {
+  Scratch scratch;
+  const std::string csv = (scratch.dir / "steps.csv").string();
+  const Run r =
+      run_cli({"trace", shipped("simply_supported_end_moments"), "--elements", "100", "--json", "--csv", csv});
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  CHECK(j["physical_load"]["symbol"] == "M");
+  std::ifstream in(csv);
+  std::string line;
+  std::size_t rows = 0;
+  while (std::getline(in, line)) ++rows;
+  CHECK(rows == j["steps"].size() + 1);
+  for (const auto& step : j["steps"]) {
+    CHECK(step["load"] == Approx(60.0 * step["lambda"].get<double>()).epsilon(1e-15));
+    CHECK(step["design"]["from_statics"] == true);  // a beam: solve's statics
+    CHECK(step["supports"].size() == 2);            // the two pins
+  }
+  // The summary: each event with its load and the moment's extremes at it.
+  const Run text = run_cli({"trace", shipped("simply_supported_end_moments"), "--elements", "100"});
+  REQUIRE(text.status == 0);
+  CHECK_THAT(text.out, Catch::Matchers::Contains("(M = "));
+  CHECK_THAT(text.out, Catch::Matchers::Contains("; moment max "));
 }

@@ -651,6 +651,12 @@ refine = true
 
   // lambda_max may be absent: `solve` ignores the table and `trace` asks for it.
   CHECK_FALSE(parse_scene(beam_scene + "[trace]\nsamples = 11\n", "scene.toml").trace->lambda_max.has_value());
+
+  // report_at: as written (app/trace_load.hpp converts and checks it), with its line for messages.
+  CHECK(minimal.trace->report_at.empty());
+  const Scene asked = parse_scene(beam_scene + "[trace]\nlambda_max = 8\nreport_at = [2.5e6, 1, -3]\n", "scene.toml");
+  CHECK(asked.trace->report_at == std::vector<double>{2.5e6, 1.0, -3.0});
+  CHECK(asked.trace->report_at_line == 19);
 }
 
 TEST_CASE("a bad [trace] value is refused with file, line and key", "[scene][trace][errors]") {
@@ -680,6 +686,14 @@ TEST_CASE("a bad [trace] value is refused with file, line and key", "[scene][tra
         "scene.toml:19: key 'trace.monitor': expected a position in [0, 2], got 3.0");
   CHECK(error_of(trace("lambda_max = 1\nrefine = 1\n")) ==
         "scene.toml:19: key 'trace.refine': expected true or false, got 1");
+  CHECK(error_of(trace("lambda_max = 1\nreport_at = 2.5\n")) ==
+        "scene.toml:19: key 'trace.report_at': expected a non-empty array of numbers (loads in the live load's unit, "
+        "or load factors where the live case mixes kinds), got 2.5");
+  CHECK(error_of(trace("lambda_max = 1\nreport_at = []\n")) ==
+        "scene.toml:19: key 'trace.report_at': expected a non-empty array of numbers (loads in the live load's unit, "
+        "or load factors where the live case mixes kinds), got an array");
+  CHECK(error_of(trace("lambda_max = 1\nreport_at = [1, \"x\"]\n")) ==
+        R"(scene.toml:19: key 'trace.report_at[1]': expected a finite number, got "x")");
   CHECK_THAT(error_of(trace("lambda_max = 1\nlamda_min = 0\n")),
              StartsWith("scene.toml:19: key 'trace.lamda_min': unknown key (did you mean 'lambda_min'?)"));
 }

@@ -11,7 +11,10 @@ existed are recognised by their layout). Writes, and prints the name of, each PN
   for arches the normal force) stacked against the position (arches: theta in degrees), contact
   regions shaded, stretches with no foundation hatched, the largest and smallest value of each
   diagram labelled with its position; arches also PREFIX_shape.png, the deformed arch in its plane.
-- trace: PREFIX_load_displacement.png and PREFIX_lift_off_map.png (plot_trace.py's figures); when the
+- trace: PREFIX_load_displacement.png (the physical load where the file has one, root attributes
+  load_*, else lambda, against w at the monitor), PREFIX_lift_off_map.png and, from the steps' nodal
+  fields (files written since issue 37), PREFIX_states.png: the bending moment and the deflection along
+  the member at every event, every requested step and the last step (plot_trace.py's figures); when the
   steps carry an axial force (beam-columns), also PREFIX_load_amplitude.png: the axial force against
   the buckle amplitude and the lifted length, the perfect member's closed-form branch beside it. A
   folding path's map is drawn against the buckle amplitude (beam-columns) or the monitored deflection
@@ -580,11 +583,21 @@ def read_trace_path(group):
         values = values[:n] if len(values) >= n else np.concatenate((values, np.full(n - len(values), default)))
         return np.array([text(v) for v in values]) if default == "unknown" else np.asarray(values, dtype=float)
 
+    # The whole state (issue 37): w and M at every node (FE) or grid point (Ritz) per step, rows from the
+    # group's first_step on; files written before it have none.
+    fields = None
+    if "fields" in steps and "coordinate" in steps["fields"]:
+        g = steps["fields"]
+        fields = {"coordinate": g["coordinate"][()], "first_step": int(g.attrs.get("first_step", 0))}
+        for key in ("w", "bending_moment"):
+            fields[key] = g[key][()] if key in g else None
+
     return {"lambda": lam, "w": steps["monitor_deflection"][:n], "regions": regions, "events": event_list,
             "event_steps": event_steps, "axial_force": column("axial_force", 0.0),
             "amplitude": column("amplitude", 0.0), "lifted_length": column("lifted_length", 0.0),
             "stability": column("stability", "unknown"), "monitor": float(group.attrs.get("monitor", np.nan)),
-            "termination": text(group.attrs.get("termination", "running"))}
+            "termination": text(group.attrs.get("termination", "running")),
+            "requested": column("requested", 0.0) != 0.0, "fields": fields}
 
 
 def read_trace(path):
@@ -598,9 +611,16 @@ def read_trace(path):
                 paths = {name: read_trace_path(f[name]) for name in names}
                 x = f["sample_points"][()]
                 scene_text = text(f["scene"][()]) if "scene" in f else ""
+                # The live load as a physical quantity (load = lambda x load_reference), where there is one.
+                load = None
+                if "load_reference" in f.attrs:
+                    load = {"symbol": text(f.attrs.get("load_symbol", "")), "unit": text(f.attrs.get("load_unit", "")),
+                            "quantity": text(f.attrs.get("load_quantity", "")),
+                            "reference": float(f.attrs["load_reference"])}
                 return {"paths": paths, "coordinate": text(f.attrs["coordinate"]), "begin": float(x.min()),
                         "end": float(x.max()), "scene": text(f.attrs["scene_name"]), "units": units_of(f.attrs),
-                        "scene_toml": parse_scene(scene_text), "scene_text": scene_text}
+                        "scene_toml": parse_scene(scene_text), "scene_text": scene_text, "load": load,
+                        "moment_unit": text(f.attrs.get("units_moment", "")) or None}
         except (OSError, KeyError) as e:
             print(f"{PROG}: {candidate}: {e}", file=sys.stderr)
     fail(BAD_INPUT, f"{path}: not a readable liftoff trace (expected the file of `liftoff trace --output`)")
@@ -662,21 +682,48 @@ def event_w(p, lam, step):
     return interpolate_w(p, lam)
 
 
+def unit_scale(unit, largest):
+    """(divisor, label) for values in `unit` up to `largest`: a force, or the force in a moment ("N m") or a
+    force per length ("N/m"), in a unit that keeps the numbers below 1000 (N -> kN, MN)."""
+    match = re.match(r"^([A-Za-z]+)([ /].*)?$", unit or "")
+    if not match or match.group(1) not in FORCE_PREFIXES:
+        return 1.0, unit
+    divisor, label = force_scale(match.group(1), largest)
+    return divisor, label + (match.group(2) or "")
+
+
+def load_axis(trace, paths):
+    """The load axis of a trace: (values of a path p, label, scale): the physical load (lambda x reference, in
+    its unit) where the trace has one, lambda otherwise."""
+    load = trace.get("load")
+    if not load:
+        return (lambda p: np.asarray(p["lambda"], dtype=float)), "load factor lambda", 1.0
+    largest = max([float(np.max(np.abs(p["lambda"]))) for p in paths if len(p["lambda"])] + [0.0])
+    divisor, unit = unit_scale(load["unit"], largest * abs(load["reference"]))
+    factor = load["reference"] / divisor
+    ref_divisor, ref_unit = unit_scale(load["unit"], abs(load["reference"]))
+    label = f"{load['quantity']} {load['symbol']}" + (f" [{unit}]" if unit else "") + \
+        f" (= lambda x {fmt(load['reference'] / ref_divisor)}{' ' + ref_unit if ref_unit else ''})"
+    return (lambda p: factor * np.asarray(p["lambda"], dtype=float)), label, factor
+
+
 def load_displacement(trace, out, output):
     length = trace["units"][0]
+    load_of, load_label, load_factor = load_axis(trace, trace["paths"].values())
     fig, ax = plt.subplots(figsize=(7, 5))
     # Paths that know their stability (von Karman members, beam-columns) draw it: solid stable,
     # dashed unstable, dotted unknown; the others keep their path's style.
     staged = False
     for name, p in trace["paths"].items():
         color, style = TRACE_STYLES.get(name, ("black", "-"))
+        y = load_of(p)
         if not is_von_karman(trace) or all(str(k) == "unknown" for k in p["stability"]):
-            ax.plot(p["w"], p["lambda"], color=color, linestyle=style, label=f"{name} ({p['termination']})")
+            ax.plot(p["w"], y, color=color, linestyle=style, label=f"{name} ({p['termination']})")
             continue
         staged = True
         ax.plot([], [], color=color, label=f"{name} ({p['termination']})")
         for a, b, kind in stability_runs(p["stability"]):
-            ax.plot(p["w"][a:b + 1], p["lambda"][a:b + 1], color=color, linestyle=STABILITY_STYLES.get(kind, ":"))
+            ax.plot(p["w"][a:b + 1], y[a:b + 1], color=color, linestyle=STABILITY_STYLES.get(kind, ":"))
     if staged:
         for kind in ("stable", "unstable"):
             ax.plot([], [], color="black", linestyle=STABILITY_STYLES[kind], label=kind)
@@ -685,7 +732,7 @@ def load_displacement(trace, out, output):
     monitor = next(iter(trace["paths"].values()))["monitor"] if trace["paths"] else np.nan
     where = f"theta = {fmt(monitor)} deg" if trace["coordinate"] == "theta_deg" else f"x = {fmt(monitor)}"
     ax.set_xlabel(f"w at {where} [{length}] (> 0 into the foundation)")
-    ax.set_ylabel("load factor lambda")
+    ax.set_ylabel(load_label, fontsize=9)
     ax.set_title(f"{os.path.basename(trace['scene'])}: load-displacement", fontsize=10)
     ax.legend(fontsize=8, loc="best")
     fig.tight_layout()
@@ -705,9 +752,10 @@ def load_displacement(trace, out, output):
             w = event_w(p, lam, steps[(lam, kind)])
             if w is None:
                 continue
-            ax.plot(w, lam, KIND_MARKERS.get(kind, "o"), color=color, markersize=7, markerfacecolor="none")
-            placer.place(ax, event_name(kind) + (f" (x{count})" if count > 1 else ""), (w, lam), fontsize=7,
-                         color=color)
+            ax.plot(w, lam * load_factor, KIND_MARKERS.get(kind, "o"), color=color, markersize=7,
+                    markerfacecolor="none")
+            placer.place(ax, event_name(kind) + (f" (x{count})" if count > 1 else ""), (w, lam * load_factor),
+                         fontsize=7, color=color)
     output.save(fig, out)
 
 
@@ -1009,12 +1057,79 @@ def load_amplitude(trace, out, output, closed_form=None):
     output.save(fig, out)
 
 
+def load_label(trace, lam):
+    """"lambda 5.845 (N = 5.845 MN)": a load factor and, where the trace has one, its physical load."""
+    load = trace.get("load")
+    if not load:
+        return f"lambda {lam:.4g}"
+    value = lam * load["reference"]
+    divisor, unit = unit_scale(load["unit"], abs(value))
+    return f"lambda {lam:.4g} ({load['symbol']} = {fmt(value / divisor)}{' ' + unit if unit else ''})"
+
+
+def states_to_draw(p):
+    """The steps whose state is drawn along the member: each event's (once per step), each requested one and the
+    last (where the path ended), in path order, as (step, names); only steps that have fields."""
+    fields = p.get("fields")
+    if fields is None or fields["w"] is None:
+        return []
+    first, rows = fields["first_step"], len(fields["w"])
+    chosen = {}
+    for (lam, kind, _), step in zip(p["events"], p["event_steps"]):
+        chosen.setdefault(step, []).append(event_name(kind))
+    for step in np.flatnonzero(p["requested"]):
+        chosen.setdefault(int(step), []).append("requested")
+    if len(p["lambda"]):
+        chosen.setdefault(len(p["lambda"]) - 1, []).append("last step")
+    return [(step, names) for step, names in sorted(chosen.items()) if first <= step < first + rows]
+
+
+def state_along_member(trace, out, output):
+    """The bending moment and the deflection along the member at every event, every requested step and the last step
+    of the first path that records the whole state: one curve each, labelled with lambda and the physical load."""
+    name, p = next((n, q) for n, q in trace["paths"].items() if states_to_draw(q))
+    length, force = trace["units"]
+    arch = trace["coordinate"] == "theta_deg"
+    fig, (ax_m, ax_w) = plt.subplots(2, 1, sharex=True, figsize=(10, 7.2))
+    fields = p["fields"]
+    x = fields["coordinate"]
+    chosen = states_to_draw(p)
+    moments = [fields["bending_moment"][step - fields["first_step"]] for step, _ in chosen]
+    largest = max(float(np.max(np.abs(m))) for m in moments) if moments else 0.0
+    moment_unit = trace.get("moment_unit") or f"{force} {length}"
+    divisor, moment_label = unit_scale(moment_unit, largest)
+    colors = plt.cm.viridis(np.linspace(0.0, 0.9, len(chosen)))
+    for (step, names), color, m in zip(chosen, colors, moments):
+        w = fields["w"][step - fields["first_step"]]
+        lam = float(p["lambda"][step])
+        label = f"{', '.join(dict.fromkeys(names))}: {load_label(trace, lam)}"
+        ax_m.plot(x, m / divisor, color=color, linewidth=1.3, label=label)
+        ax_w.plot(x, w, color=color, linewidth=1.3)
+        i = int(np.argmax(np.abs(m)))
+        ax_m.plot(x[i], m[i] / divisor, "o", color=color, markersize=4)
+    for ax in (ax_m, ax_w):
+        ax.axhline(0.0, color="black", linewidth=0.6)
+        ax.grid(True, alpha=0.3)
+        ax.tick_params(labelsize=8)
+    ax_w.invert_yaxis()  # w > 0 into the foundation: drawn downward
+    ax_m.set_ylabel(f"bending moment M [{moment_label}]\n(sagging > 0)", fontsize=9)
+    ax_w.set_ylabel(f"deflection w [{length}]\n(> 0 into the foundation)", fontsize=9)
+    ax_w.set_xlabel("theta [deg]" if arch else f"x [{length}]", fontsize=9)
+    ax_m.legend(fontsize=7, loc="best", framealpha=0.9)
+    ax_m.set_title(f"{os.path.basename(trace['scene'])}: along the member at the events, requested loads and last "
+                   f"step ({name} path; dots: largest |M|)", fontsize=10)
+    fig.tight_layout()
+    output.save(fig, out)
+
+
 def plot_trace(path, prefix, output, closed_form=None):
     trace = read_trace(path)
     load_displacement(trace, prefix + "_load_displacement.png", output)
     lift_off_map(trace, prefix + "_lift_off_map.png", output)
     if is_beam_column(trace):
         load_amplitude(trace, prefix + "_load_amplitude.png", output, closed_form)
+    if any(states_to_draw(p) for p in trace["paths"].values()):
+        state_along_member(trace, prefix + "_states.png", output)
 
 
 # ----------------------------------------------------------------------------------------------

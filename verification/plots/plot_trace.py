@@ -4,8 +4,11 @@
     /usr/bin/python3 verification/plots/plot_trace.py TRACE.h5 [--out PREFIX] [--closed-form PROGRAM]
 
 The same as `liftoff plot TRACE.h5` (verification/plots/plot.py, which draws them): writes
-PREFIX_load_displacement.png (lambda against the monitored deflection w, every path of the file
-overlaid: fe, ritz, fe_refined; events marked and labelled without overprinting) and
+PREFIX_load_displacement.png (the physical load, lambda x the live load's value where the live case is
+of one kind, else lambda, against the monitored deflection w, every path of the file overlaid: fe,
+ritz, fe_refined; events marked and labelled without overprinting), PREFIX_states.png (the bending
+moment and the deflection along the member at every event, requested step and the last step, from the
+steps' nodal fields, one curve each labelled with lambda and the load) and
 PREFIX_lift_off_map.png (one panel per path: the position along the member across, lambda up,
 contact regions shaded, lift-off zones blank, stretches with no foundation hatched, every event
 marked and labelled; when the path passes a limit point, against the buckle amplitude for a
