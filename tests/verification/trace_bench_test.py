@@ -70,16 +70,18 @@ def matching():
     Ritz event took comes back alone; a coarse mesh's events are matched to the finest one's."""
     ritz = [{"kind": "lift_off_opens", "lambda": 0.40372, "at": 42.47},
             {"kind": "lift_off_opens", "lambda": 0.40372, "at": -42.47}]
-    fine = [{"kind": "lift_off_opens", "lambda": 0.40401, "at": -42.49}, {"kind": "lift_off_opens", "lambda": 0.40401, "at": 42.49},
-            {"kind": "limit_point", "lambda": 0.9, "at": 0.0}]
-    coarse = [{"kind": "lift_off_opens", "lambda": 0.4042, "at": 42.3}, {"kind": "lift_off_opens", "lambda": 0.4042, "at": -42.3},
-              {"kind": "limit_point", "lambda": 0.91, "at": 0.0}]
+    fine = [{"kind": "lift_off_opens", "lambda": 0.40401, "at": -42.49},
+            {"kind": "lift_off_opens", "lambda": 0.40401, "at": 42.49}, {"kind": "limit_point", "lambda": 0.9, "at": 0.0}]
+    coarse = [{"kind": "lift_off_opens", "lambda": 0.4042, "at": 42.3},
+              {"kind": "lift_off_opens", "lambda": 0.4042, "at": -42.3}, {"kind": "limit_point", "lambda": 0.91, "at": 0.0}]
     runs = [trace_bench.Run(doc={"paths": [{"events": coarse}]}), trace_bench.Run(doc={"paths": [{"events": fine}]})]
     pairs = trace_bench.match_events(ritz, runs)
     check(len(pairs) == 3, f"match_events: {len(pairs)} pairs, expected 3")
     for e, chain in pairs[:2]:
-        check(chain is not None and all(c["at"] * e["at"] > 0 for c in chain), f"match_events: {e} matched across: {chain}")
-    check(pairs[2][0] is None and [c["lambda"] for c in pairs[2][1]] == [0.91, 0.9], "match_events: the unmatched FE event")
+        check(chain is not None and all(c["at"] * e["at"] > 0 for c in chain),
+              f"match_events: {e} matched across: {chain}")
+    check(pairs[2][0] is None and [c["lambda"] for c in pairs[2][1]] == [0.91, 0.9],
+          "match_events: the unmatched FE event")
 
 
 def dry_run(liftoff):
@@ -88,7 +90,8 @@ def dry_run(liftoff):
     check(r.returncode == 0, f"--dry-run exit {r.returncode}: {r.stderr[-500:]}")
     commands = [line for line in r.stdout.splitlines() if line.startswith("  liftoff ")]
     check(any("--method ritz" in c for c in commands) and any(" solve " in c for c in commands)
-          and any("--elements 1024" in c for c in commands), "--dry-run plans traces, Ritz paths, solves, 1024 elements")
+          and any("--elements 1024" in c for c in commands),
+          "--dry-run plans traces, Ritz paths, solves, 1024 elements")
 
 
 def quick(liftoff, out):

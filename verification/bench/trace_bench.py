@@ -336,6 +336,8 @@ def fmt_time(m, timeout):
 def fmt(x, spec=".3g"):
     if x is None or (isinstance(x, float) and math.isnan(x)):
         return "-"
+    if spec == ".3g" and isinstance(x, float) and 1e3 <= abs(x) < 1e7:
+        return f"{x:.0f}"  # 1080, not 1.08e+03
     return format(x, spec) if isinstance(x, (int, float)) else str(x)
 
 
@@ -482,7 +484,8 @@ def fuzz_section(bench, opts, tmp, results):
                   cols)
     scenes = [(rel(s), s, [], scene_elements(s)) for s in fuzz_corpus_scenes()[:1 if opts.quick else None]]
     if not opts.quick:
-        scenes += generated_fuzz_scenes(opts, tmp) + [(rel(s), s, [], scene_elements(s)) for s in shipped_trace_scenes()]
+        scenes += generated_fuzz_scenes(opts, tmp)
+        scenes += [(rel(s), s, [], scene_elements(s)) for s in shipped_trace_scenes()]
     for name, scene, extra, elements in [s for s in scenes if not opts.scenes or opts.scenes in s[0]]:
         n = min(elements, FUZZ_MAX_ELEMENTS)
         for method, path in (("auto", "fe"), ("ritz", "ritz")):
@@ -491,8 +494,8 @@ def fuzz_section(bench, opts, tmp, results):
             text = [name, path, n] + [fmt_time(m, opts.timeout) for m in runs]
             if vs:
                 text.append(fmt(ratio(t[1], t[0])))
-            text += [merged([fmt(m.first.steps, "d") for m in runs]), merged([fmt(m.first.rejected, "d") for m in runs]),
-                     merged([m.first.termination for m in runs]),
+            text += [merged([fmt(m.first.steps, "d") for m in runs]),
+                     merged([fmt(m.first.rejected, "d") for m in runs]), merged([m.first.termination for m in runs]),
                      merged([fmt(m.first.final_lambda, ".10g") for m in runs])]
             raw = {"scene": name, "path": path, "elements": n, "options": " ".join(extra)}
             for i, m in enumerate(runs):
@@ -791,8 +794,10 @@ def filter_scenes(scenes, text):
 
 def parse_args(argv):
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
-                                formatter_class=argparse.RawDescriptionHelpFormatter, epilog=__doc__.split("\n\n", 1)[1])
-    p.add_argument("--liftoff", default=os.path.join(ROOT, "build", "src", "liftoff"), help="binary A (default build/src/liftoff)")
+                                formatter_class=argparse.RawDescriptionHelpFormatter,
+                                epilog=__doc__.split("\n\n", 1)[1])
+    p.add_argument("--liftoff", default=os.path.join(ROOT, "build", "src", "liftoff"),
+                   help="binary A (default build/src/liftoff)")
     p.add_argument("--vs", help="binary B, run interleaved with A (e.g. today's main); B/A per row")
     p.add_argument("--sections", default="scaling,fuzz,ritz", help="any of scaling,fuzz,ritz")
     p.add_argument("--elements", default="64,128,256,512,1024", help="section scaling's meshes")
@@ -803,7 +808,8 @@ def parse_args(argv):
     p.add_argument("--fuzz-cases", type=int, default=40,
                    help="scenes of the fuzzer's trace campaign in section fuzz (default 40, its own count; 0: none)")
     p.add_argument("--fuzz-seed", type=int, default=20240610, help="the fuzzer's seed (default its own, 20240610)")
-    p.add_argument("--fuzz-test", help="the scene_fuzz_test binary that writes them (default build/tests/scene_fuzz_test)")
+    p.add_argument("--fuzz-test",
+                   help="the scene_fuzz_test binary that writes them (default build/tests/scene_fuzz_test)")
     p.add_argument("--scenes", help="only scenes whose path (or label) contains this text")
     p.add_argument("--quick", action="store_true", help="64 and 128 elements, one scene per section (about a minute)")
     p.add_argument("--dry-run", action="store_true", help="read the scenes and print the commands, run nothing")
