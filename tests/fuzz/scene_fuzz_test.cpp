@@ -15,7 +15,9 @@
 //
 // Environment: LIFTOFF_FUZZ_SEED (default 20240610), LIFTOFF_FUZZ_SCALE (cases = scale x the
 // counts below), LIFTOFF_FUZZ_TIMEOUT (seconds per run, default 60), LIFTOFF_FUZZ_CASE (run
-// that case number only), LIFTOFF_FUZZ_EXECUTABLE (fuzz another liftoff binary). Every case that breaks a rule is kept
+// that case number only), LIFTOFF_FUZZ_EXECUTABLE (fuzz another liftoff binary), LIFTOFF_FUZZ_WRITE=DIR (write
+// every case to DIR/<family>-<case>/ (files and command.txt) and run none: the scenes for
+// verification/bench/trace_bench.py). Every case that breaks a rule is kept
 // under build/fuzz-failures/<family>-<case>/ (scene, command, stdout, stderr) to be rerun by hand.
 
 #include <fmt/format.h>
@@ -62,6 +64,11 @@ double timeout() { return env_number("LIFTOFF_FUZZ_TIMEOUT", 60.0); }
 std::string executable() {
   const char* other = std::getenv("LIFTOFF_FUZZ_EXECUTABLE");
   return other != nullptr && *other != '\0' ? other : LIFTOFF_EXECUTABLE;
+}
+// LIFTOFF_FUZZ_WRITE: where to write the cases instead of running them.
+std::optional<fs::path> write_only_dir() {
+  const char* dir = std::getenv("LIFTOFF_FUZZ_WRITE");
+  return dir != nullptr && *dir != '\0' ? std::optional<fs::path>(dir) : std::nullopt;
 }
 std::optional<int> only_case() {
   const double c = env_number("LIFTOFF_FUZZ_CASE", -1);
@@ -388,7 +395,22 @@ struct Campaign {
   double seconds = 0.0;
   std::string details;
 
+  // The case's files and its command line (command.txt: the command, then the description).
+  static std::string write_case(const fs::path& where, const Case& c) {
+    fs::remove_all(where);
+    fs::create_directories(where);
+    for (const auto& [name, text] : c.files) std::ofstream(where / name, std::ios::binary) << text;
+    std::string command = "liftoff";
+    for (const auto& a : c.args) command += " '" + a + "'";
+    std::ofstream(where / "command.txt") << command << "\n" << c.description << "\n";
+    return command;
+  }
+
   void execute(int index, const Case& c) {
+    if (const auto out = write_only_dir()) {
+      write_case(*out / fmt::format("{}-{}", family, index), c);
+      return;
+    }
     const fs::path dir = scratch.dir / "run", capture = scratch.dir / "capture";
     fs::remove_all(dir);
     fs::create_directories(dir);
@@ -413,12 +435,7 @@ struct Campaign {
     if (found.empty()) return;
     ++failed_cases;
     const fs::path keep = fs::path(LIFTOFF_BINARY_DIR) / "fuzz-failures" / fmt::format("{}-{}", family, index);
-    fs::remove_all(keep);
-    fs::create_directories(keep);
-    for (const auto& [name, text] : c.files) std::ofstream(keep / name, std::ios::binary) << text;
-    std::string command = "liftoff";
-    for (const auto& a : c.args) command += " '" + a + "'";
-    std::ofstream(keep / "command.txt") << command << "\n" << c.description << "\n";
+    const std::string command = write_case(keep, c);
     std::ofstream(keep / "stdout.txt") << e.out;
     std::ofstream(keep / "stderr.txt") << e.err;
     for (const auto& f : found) {
