@@ -517,8 +517,13 @@ void apply_settlements(const model::MemberModel& model, Discretisation& d, Assem
   d.prescribed = prescribed_displacement(model, d);
   if (d.prescribed.isZero(0.0)) return;
   for (const auto& t : a.stiffness) a.dead_load[t.row()] -= t.value() * d.prescribed[t.col()];
-  const double axial_force = model.axial_force(1.0);  // K(N) u_f = K u_f - N K_g u_f
-  for (const auto& t : a.geometric) a.dead_load[t.row()] += axial_force * t.value() * d.prescribed[t.col()];
+  // K(N) u_f = K u_f - N K_g u_f with N = N_dead + lambda N_live: N K_g u_f is split by the axial
+  // force's cases, as the initial shape's load is, so that F_dead + lambda F_live holds it at every
+  // lambda (a path in lambda re-forms K(N(lambda)); at lambda = 1 it is N(1) K_g u_f as before).
+  for (const auto& t : a.geometric) {
+    a.dead_load[t.row()] += model.axial_dead * t.value() * d.prescribed[t.col()];
+    a.live_load[t.row()] += model.axial_live * t.value() * d.prescribed[t.col()];
+  }
   // Where the foundation reaches a settled support.
   a.ground_gap -= to_sparse(d.reactions(), d.dofs(), a.coupling, nullptr, nullptr) * d.prescribed;
 }

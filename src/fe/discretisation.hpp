@@ -94,7 +94,8 @@ class Discretisation {
   int spring_stress(int i) const { return winkler_stress(static_cast<int>(winkler_elements.size())) + i; }
   // Settlements: the displacement the supports prescribe on every dof (0 but at settled
   // supports' w). The equations' unknowns are u - prescribed; the dead load carries -K u_f and a
-  // settled spring's k delta.
+  // settled spring's k delta; under an axial force N = N_dead + lambda N_live, +N K_g u_f split
+  // by case (N_dead K_g u_f dead, N_live K_g u_f live), so that F(lambda) holds it at every lambda.
   Eigen::VectorXd prescribed;
   // Which elements the foundation acts on (the member's extent, or the contact elements of a
   // limit-fitted solve), and the rigid motions the supports leave free, on the equations
