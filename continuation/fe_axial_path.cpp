@@ -628,13 +628,6 @@ TraceResult AxialPath::run() {
              "a trace in the axial force is not resumed in this version: run it again without the file", lambda_start);
       return done();
     }
-    if (model_.has_settlements() && model_.axial_live != 0.0) {
-      finish(TraceTermination::solver_failure,
-             "settled supports under a live axial force are not traced in this version (their load N K_g u_f varies "
-             "with lambda)",
-             lambda_start);
-      return done();
-    }
     const auto start_set_found = start_set(lambda_start);
     if (!start_set_found) return done();
     set_ = *start_set_found;

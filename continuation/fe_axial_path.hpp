@@ -49,8 +49,9 @@
 // (solver_failure, saying where). Contact-topology events are located as in the exact path
 // (continuation/events.hpp), between steps on one set. The start is the contact solve at lambda_min
 // (solve_contact on the member with N(lambda_min) as a dead load), checked feasible by the fixed-set
-// state. Not handled (refused with a reason in the summary): a resumed trace, settled supports under
-// a live axial force.
+// state. Settled supports: their load N K_g u_f is split by the axial force's cases
+// (fe/discretisation.hpp), so F_dead + lambda F_live holds it at every lambda. Not handled (refused
+// with a reason in the summary): a resumed trace.
 
 #include "continuation/trace.hpp"
 #include "scene/scene.hpp"

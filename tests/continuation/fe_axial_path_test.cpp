@@ -576,3 +576,77 @@ lambda_max = 3.0
   }
   CHECK(lifted_steps >= 2);
 }
+
+// Settled supports under a live axial force (issue 37, item 5): the settlement's load N K_g u_f is
+// N(lambda) K_g u_f, its live part proportional to lambda (fe/discretisation.hpp splits it by
+// case). The natural model of an infinite pipeline: a long heavy member whose clamped ends sit at
+// the settled level q / K.
+namespace {
+
+scene::Scene settled_upheaval(bool imperfect) {
+  scene::Scene s = upheaval();
+  const double settled = 3000.0 / 2.0e5;  // q / K
+  s.supports.left_detail.settlement = settled;
+  s.supports.right_detail.settlement = settled;
+  if (!imperfect) s.initial_shape = {};
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("settled supports under a live axial force: a straight member stays at q / K for every N",
+          "[fe_axial_path]") {
+  // Closed form: w = q / K, r = q everywhere is an equilibrium under any N (a uniform w has no
+  // slope, so N K_g w = 0) and meets the clamped, settled ends; the FE space holds it exactly, so
+  // every step must show it to round-off. A settlement load frozen at N(1) (as before) leaves
+  // (N(lambda) - N(1)) K_g u_f unbalanced at the ends: at lambda = 0.5 that moved w there by
+  // 1e-3 of q / K.
+  const scene::Scene scene = settled_upheaval(false);
+  TraceOptions options = options_for(scene, 100);
+  options.arc_length.lambda_max = 3.0;
+  options.max_amplitude.reset();
+  const TraceResult result = continuation::trace_fe(scene, options);
+  INFO(result.summary.message);
+  REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
+  CHECK(result.events.empty());
+  for (const auto& step : result.steps) {
+    INFO("lambda " << step.load_factor);
+    for (std::size_t i = 0; i < step.deflection.size(); ++i) {
+      CHECK(step.deflection[i] == Approx(0.015).epsilon(1e-9));
+      CHECK(step.reaction[i] == Approx(3000.0).epsilon(1e-9));
+    }
+    CHECK(step.axial_force == Approx(1e6 * step.load_factor).epsilon(1e-14));
+  }
+}
+
+TEST_CASE("settled supports under a live axial force: the trace agrees with solves at fixed N", "[fe_axial_path]") {
+  // The imperfect upheaval buckle with its ends settled at q / K, traced through its lift-off, and
+  // every step against the contact solve of the same scene with N(lambda) as a dead load (its
+  // settlement load then N(lambda) K_g u_f by construction). The fixed-N solves are certified to
+  // 1e-8 of their terms; the path's states are exact for their sets: they agree to 1e-7 of the
+  // largest deflection.
+  const scene::Scene scene = settled_upheaval(true);
+  const int elements = 200;
+  TraceOptions options = options_for(scene, elements);
+  options.arc_length.lambda_max = 5.5;  // below the limit point (5.84 unsettled)
+  options.max_amplitude.reset();
+  const TraceResult result = continuation::trace_fe(scene, options);
+  INFO(result.summary.message);
+  REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
+  int compared = 0;
+  for (const auto& step : result.steps) {
+    if (step.load_factor == 0.0) continue;
+    INFO("lambda " << step.load_factor);
+    const model::MemberModel model = model::make_member_model(with_dead_axial(scene, step.load_factor));
+    const fe::Discretisation d = fe::discretise(model, elements);
+    const contact::ContactSolution solved = fixed_n_solve(scene, step.load_factor, elements);
+    REQUIRE(solved.summary.is_usable());
+    const std::vector<double> w = sampled(model, d, solved.displacement, options.sample_points);
+    CHECK(largest_difference(w, step.deflection) < 1e-7 * largest(w));
+    ++compared;
+  }
+  CHECK(compared >= 4);
+  // The settled ends carry the member at q / K: at the ends w = 0.015 exactly.
+  CHECK(result.steps.back().deflection.front() == Approx(0.015).epsilon(1e-12));
+  CHECK(result.steps.back().deflection.back() == Approx(0.015).epsilon(1e-12));
+}
