@@ -630,7 +630,11 @@ std::optional<Crossing> FeMemberPath::contact_event(const PathPoint& from, const
   if (located) {
     *located = polished(set_, *located, false);
     crossing_at(*located, flipped);
-    if (!flipped.empty() && !set_events(set_.in_contact, flipped, located->lambda).empty()) {
+    // Polishing moves the point along the step's hyperplane (on a bifurcated branch by 7e-7 in
+    // lambda): where the node is then past zero (penetrating by 1e-7 of a gap), the certificate
+    // on the set would fail: located again on polished points too.
+    const bool past = sign_values(set_, located->x).minCoeff() < -tie_tolerance;
+    if (!flipped.empty() && (past || !set_events(set_.in_contact, flipped, located->lambda).empty())) {
       located = follower.locate(from, to, least_of(true), options_.event_tolerance, false);
       if (located) {
         *located = polished(set_, *located, false);
