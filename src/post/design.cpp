@@ -366,11 +366,11 @@ DesignValues recover_beam_statics(const model::MemberModel& model, const std::fu
   auto advance = [&](double a, double x, double v, double m, bool count = false) {
     double dv = 0.0, dm = 0.0;
     for (const fe::GaussPoint& g : fe::gauss5) {
-      const double t = a + g.xi * (x - a), p = reaction(t) - applied(t, false), weight = g.weight * (x - a);
+      const double t = a + g.xi * (x - a), r = reaction(t), q = applied(t, false), weight = g.weight * (x - a);
+      const double p = r - q;
       dv += weight * p;
       dm += weight * (x - t) * p;
-      if (count)
-        force_terms += weight * (std::abs(reaction(t)) + std::abs(applied(t, false)) + std::abs(applied(t, true)));
+      if (count) force_terms += weight * (std::abs(r) + std::abs(q) + std::abs(applied(t, true)));
     }
     for (const model::MemberLoad& load : model.loads)
       if (load.kind == model::LoadKind::sine) {

@@ -10,6 +10,7 @@ Fields sample_fields(const model::MemberModel& model, const ritz::RitzModel& rit
                      int samples) {
   Fields f;
   const bool arch = ritz.is_arch();
+  const std::vector<ContactRegion> pieces = ritz.contact_pieces(x);
   for (int i = 0; i < samples; ++i) {
     const double s = model.s_begin + (model.s_end - model.s_begin) * i / (samples - 1);
     const double dw = ritz.w(x, s, 1), d2w = ritz.w(x, s, 2), d3w = ritz.w(x, s, 3);
@@ -19,7 +20,7 @@ Fields sample_fields(const model::MemberModel& model, const ritz::RitzModel& rit
     f.rotation.push_back(-(u + dw));
     f.bending_moment.push_back(-(du + d2w));
     f.shear_force.push_back(-(d2u + d3w));
-    f.reaction.push_back(ritz.reaction(x, s));
+    f.reaction.push_back(ritz.reaction(x, s, pieces));
     if (arch) {
       f.u.push_back(u);
       f.normal_force.push_back(model.membrane_stiffness * (du - f.w.back()));
@@ -43,10 +44,11 @@ DesignValues ritz_beam_statics(const model::MemberModel& model, const ritz::Ritz
                                const std::vector<PointReaction>& supports, double load_factor, int samples,
                                Fields& fields) {
   fields = sample_fields(model, ritz, x, samples);
+  const std::vector<ContactRegion> pieces = ritz.contact_pieces(x);
   std::vector<double> limits;
-  for (const ContactRegion& region : ritz.contact_pieces(x)) limits.insert(limits.end(), {region.begin, region.end});
+  for (const ContactRegion& region : pieces) limits.insert(limits.end(), {region.begin, region.end});
   return recover_beam_statics(
-      model, [&](double s) { return ritz.reaction(x, s); }, limits, supports, load_factor, fields);
+      model, [&](double s) { return ritz.reaction(x, s, pieces); }, limits, supports, load_factor, fields);
 }
 
 }  // namespace liftoff::post

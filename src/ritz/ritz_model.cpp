@@ -514,8 +514,10 @@ void RitzModel::w_on_grid(const VectorXd& x, double a, double b, int n, std::vec
   }
 }
 
-double RitzModel::reaction(const VectorXd& x, double s) const {
-  for (const ContactRegion& piece : contact_pieces(x))
+double RitzModel::reaction(const VectorXd& x, double s) const { return reaction(x, s, contact_pieces(x)); }
+
+double RitzModel::reaction(const VectorXd& x, double s, const std::vector<ContactRegion>& pieces) const {
+  for (const ContactRegion& piece : pieces)
     if (s >= piece.begin && s <= piece.end) return k_ * w(x, s);
   return 0.0;
 }

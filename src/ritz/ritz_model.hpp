@@ -168,6 +168,8 @@ class RitzModel {
   double w(const Eigen::VectorXd& x, double s, int derivative = 0) const;
   double u(const Eigen::VectorXd& x, double s, int derivative = 0) const;
   double reaction(const Eigen::VectorXd& x, double s) const;
+  // The same with x's contact pieces found once (contact_pieces(x)): for many points.
+  double reaction(const Eigen::VectorXd& x, double s, const std::vector<ContactRegion>& pieces) const;
   // w (derivative 0) or w' (1) at the n - 1 interior points a + (b - a) i / n, i = 1..n-1 (values
   // is resized), equal to w(x, s, derivative) there up to round-off but much cheaper (add_on_grid
   // in trig_polynomial.hpp). For checks and scans on dense grids. Throws std::invalid_argument for

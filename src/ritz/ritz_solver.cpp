@@ -258,12 +258,14 @@ RitzSolution solve_ritz(const model::MemberModel& member, const Topology& topolo
     summary.mode_history.push_back({modes, {limits.data(), limits.data() + limits.size()}, attempt.newton.iterations});
     if (options.modes > 0) break;
     const bool fields = options.field_tolerance > 0;
-    if (fields)
+    if (fields) {
+      const std::vector<ContactRegion> pieces = solution.model->contact_pieces(attempt.x);
       for (int i = 0; i <= field_intervals; ++i) {
         const double s = member.s_begin + member.length() * i / field_intervals;
         w_now[i] = solution.model->w(attempt.x, s);
-        r_now[i] = solution.model->reaction(attempt.x, s);
+        r_now[i] = solution.model->reaction(attempt.x, s, pieces);
       }
+    }
     bool settled = false;
     if (previous_limits) {
       summary.estimated_limit_error =
