@@ -139,7 +139,8 @@ TEST_CASE("upheaval buckle: through the limit point, every step an independent e
   // fold's step is on the new contact set, beyond its critical load).
   for (std::size_t i = 0; i < result.steps.size(); ++i) {
     INFO("step " << i << " lambda " << result.steps[i].load_factor);
-    CHECK(result.steps[i].stability == (i < fold_step ? continuation::Stability::stable : continuation::Stability::unstable));
+    CHECK(result.steps[i].stability ==
+          (i < fold_step ? continuation::Stability::stable : continuation::Stability::unstable));
   }
 
   // (a) Every stable step is the contact solver's answer for its N as a dead load, to round-off:
@@ -293,7 +294,8 @@ TEST_CASE("a straight weightless strut lying on a tensionless foundation is stab
     CAPTURE(step.axial_force);
     // The FE Euler load at 64 elements is within 1e-6 of P_E: steps within 1e-3 of it are skipped.
     if (std::abs(step.axial_force / euler - 1.0) < 1e-3) continue;
-    CHECK(step.stability == (step.axial_force < euler ? continuation::Stability::stable : continuation::Stability::unstable));
+    CHECK(step.stability ==
+          (step.axial_force < euler ? continuation::Stability::stable : continuation::Stability::unstable));
     above += step.axial_force > euler;
   }
   CHECK(above >= 1);

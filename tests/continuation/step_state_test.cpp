@@ -136,9 +136,8 @@ Measured compare(const TraceStep& step, const io::SolveReport& r, double length,
       // pressure) is reported at any of them as round-off picks: solve's position is the step's
       // extreme too if the step's field there reaches the value to the fields' round-off (they agree
       // to ~1e-11 here; 1e-10 of the field's largest magnitude).
-      const auto node = std::min_element(f.coordinate.begin(), f.coordinate.end(), [&](double p, double q) {
-        return std::abs(p - *b.at) < std::abs(q - *b.at);
-      });
+      const auto node = std::min_element(f.coordinate.begin(), f.coordinate.end(),
+                                         [&](double p, double q) { return std::abs(p - *b.at) < std::abs(q - *b.at); });
       const double there = std::abs((*field)[static_cast<std::size_t>(node - f.coordinate.begin())]);
       if (*node == *b.at && std::abs(there - std::abs(a.value)) <= 1e-10 * largest(*field)) apart = 0.0;
       m.positions = std::max(m.positions, apart / length);
@@ -249,7 +248,8 @@ TEST_CASE("step state: the Ritz path's step is solve's Ritz answer at its lambda
   request.elements = elements;
   request.modes = modes;
   request.method = scene::Method::ritz;
-  const continuation::TraceResult result = continuation::trace_ritz(model::make_member_model(scene), app::trace_options(scene, request));
+  const continuation::TraceResult result =
+      continuation::trace_ritz(model::make_member_model(scene), app::trace_options(scene, request));
   REQUIRE(result.summary.is_usable());
   const TraceStep& step = middle(result.steps);
   REQUIRE(step.fields.coordinate.size() == static_cast<std::size_t>(elements) + 1);  // solve's every 16th sample

@@ -56,8 +56,8 @@ TEST_CASE("enum names: one table each, read both ways, spelled as the outputs ha
                           {EventKind::limit_point, "limit_point"},
                           {EventKind::bifurcation, "bifurcation"}});
   check_names<continuation::Stability>({{continuation::Stability::unknown, "unknown"},
-                                {continuation::Stability::stable, "stable"},
-                                {continuation::Stability::unstable, "unstable"}});
+                                        {continuation::Stability::stable, "stable"},
+                                        {continuation::Stability::unstable, "unstable"}});
   using continuation::TraceTermination;
   check_names<TraceTermination>({{TraceTermination::completed, "completed"},
                                  {TraceTermination::no_equilibrium, "no_equilibrium"},
