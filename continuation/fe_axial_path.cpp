@@ -90,7 +90,8 @@ class AxialPath {
   int instability(const Point& p);
   std::optional<ContactSet> start_set(double lambda);
   TraceStep step_at(const Point& p);
-  void emit_step(const Point& p);
+  // requested: p is a load of report_at (emit_step reports those passed since the last step).
+  void emit_step(const Point& p, bool requested = false);
   void emit_event(const TraceEvent& event);
   ContactTopology topology_of(const Point& p) const;
   // Contact-topology events between a and b on set_ (a graph over lambda there).
@@ -130,6 +131,7 @@ class AxialPath {
   SpecialPoints points_;
   TraceResult result_;
   ContactSet set_;
+  ContactSet last_step_set_;  // the set of the last step recorded
   double axial_of_system_ = std::numeric_limits<double>::quiet_NaN();
   int solves_since_step_ = 0;
   int folds_ = 0, bifurcations_ = 0, breakpoints_ = 0;
@@ -301,8 +303,31 @@ TraceStep AxialPath::step_at(const Point& p) {
   return step;
 }
 
-void AxialPath::emit_step(const Point& p) {
+void AxialPath::emit_step(const Point& p, bool requested) {
+  // The requested loads the path passed since its last step first (report_at; a folding path
+  // passes one on each branch): exact on the last step's set or on this one (a breakpoint may lie
+  // between), whose branches are graphs over lambda there, and certified as every step. Where
+  // neither holds the load is left unreported, as the engine's paths do.
+  if (!requested && !result_.steps.empty()) {
+    const double from = result_.steps.back().load_factor;
+    for (double target : options_.report_at) {
+      if (!(target != from && (target - from) * (target - p.lambda) <= 0.0)) continue;
+      if (target == p.lambda) {
+        requested = true;
+        continue;
+      }
+      for (ContactSet on : {last_step_set_, set_}) {
+        const std::optional<Point> at = solve(on, target);
+        if (!at || !feasible(on, *at)) continue;
+        std::swap(set_, on);  // the step's set while it is recorded
+        emit_step(*at, true);
+        std::swap(set_, on);
+        break;
+      }
+    }
+  }
   TraceStep step = step_at(p);
+  step.requested = requested;
   // Certified from its own fields (balance with K(N) at this lambda, the contact inequalities,
   // backward error) as the exact path's states are.
   set_axial(p.lambda);
@@ -314,6 +339,7 @@ void AxialPath::emit_step(const Point& p) {
   if (sink_.on_step) sink_.on_step(step);
   result_.steps.push_back(std::move(step));
   ++result_.summary.steps;
+  last_step_set_ = set_;
 }
 
 void AxialPath::emit_event(const TraceEvent& event) {

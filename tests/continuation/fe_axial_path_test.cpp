@@ -652,3 +652,45 @@ TEST_CASE("settled supports under a live axial force: the trace agrees with solv
   CHECK(result.steps.back().deflection.front() == Approx(0.015).epsilon(1e-12));
   CHECK(result.steps.back().deflection.back() == Approx(0.015).epsilon(1e-12));
 }
+
+TEST_CASE("upheaval buckle: the states at requested loads on both branches", "[fe_axial_path]") {
+  // report_at = 5 (lift-off at 4.93, the limit point at 5.84, the path down to 2.7): the path passes
+  // N = 5 MN twice, stable on the way up and unstable on the descending branch, a state on each.
+  // The stable one is the contact solve of the scene at that N (exact fixed-set states against a
+  // solve certified to 1e-8: 1e-7 of the largest deflection); the unstable one is the buckle
+  // grown further (more lifted, a larger crest moment), which a solve from zero cannot find.
+  const scene::Scene scene = upheaval();
+  const int elements = 200;
+  TraceOptions options = options_for(scene, elements);
+  options.report_at = {5.0};
+  const TraceResult result = continuation::trace_fe(scene, options);
+  INFO(result.summary.message);
+  REQUIRE(result.summary.is_usable());
+  std::vector<const continuation::TraceStep*> requested;
+  for (const auto& step : result.steps)
+    if (step.requested) requested.push_back(&step);
+  REQUIRE(requested.size() == 2);
+  for (const continuation::TraceStep* step : requested) CHECK(step->load_factor == 5.0);
+  const continuation::TraceStep &up = *requested[0], &down = *requested[1];
+  CHECK(up.stability == continuation::Stability::stable);
+  CHECK(down.stability == continuation::Stability::unstable);
+  CHECK(down.lifted_length > up.lifted_length);
+  REQUIRE(up.design.has_value());
+  REQUIRE(down.design.has_value());
+  CHECK(std::abs(down.design->moment_min.value) > std::abs(up.design->moment_min.value));
+  // Recorded in order along the path: between its neighbours in lambda.
+  for (const continuation::TraceStep* step : requested) {
+    const auto i = static_cast<std::size_t>(step - result.steps.data());
+    REQUIRE(i > 0);
+    REQUIRE(i + 1 < result.steps.size());
+    const double before = result.steps[i - 1].load_factor, after = result.steps[i + 1].load_factor;
+    CHECK((before - 5.0) * (after - 5.0) < 0.0);
+  }
+  const model::MemberModel model = model::make_member_model(with_dead_axial(scene, 5.0));
+  const fe::Discretisation d = fe::discretise(model, elements);
+  const contact::ContactSolution solved = fixed_n_solve(scene, 5.0, elements);
+  REQUIRE(solved.summary.is_usable());
+  const std::vector<double> w = sampled(model, d, solved.displacement, options.sample_points);
+  CHECK(largest_difference(w, up.deflection) < 1e-7 * largest(w));
+  CHECK(largest_difference(w, down.deflection) > 0.1 * largest(w));
+}
