@@ -105,6 +105,11 @@ class FePath {
   ContactTopology topology_at(double lambda) const;
   // Events between a and b (same contact set, so the path is affine there).
   void locate_events(double a, double b, ContactTopology& topology_a);
+  // locate_events from a to b on this segment, with the requested loads strictly between
+  // (report_at) recorded in order on the way: the segment's affine state there, exact.
+  void advance(double a, double b, ContactTopology& topology_a);
+  // A step at lambda, flagged requested if report_at asks for that load.
+  TraceStep reported_step_at(double lambda);
   void finish(TraceTermination termination, std::string message, double lambda);
   // The state is continuous at a breakpoint: the sets on either side give it alike, up to
   // round-off. A jump (the new set's state at the breakpoint against the old one's) larger than
@@ -465,6 +470,25 @@ void FePath::emit_step(TraceStep step) {
   ++result_.summary.steps;
 }
 
+void FePath::advance(double a, double b, ContactTopology& topology_a) {
+  std::vector<double> inside;
+  for (double r : options_.report_at)
+    if (direction_ * (r - a) > 0.0 && direction_ * (b - r) > 0.0) inside.push_back(r);
+  std::sort(inside.begin(), inside.end(), [&](double x, double y) { return direction_ * x < direction_ * y; });
+  for (double r : inside) {
+    locate_events(a, r, topology_a);
+    emit_step(reported_step_at(r));
+    a = r;
+  }
+  locate_events(a, b, topology_a);
+}
+
+TraceStep FePath::reported_step_at(double lambda) {
+  TraceStep step = step_at(lambda);
+  step.requested = std::find(options_.report_at.begin(), options_.report_at.end(), lambda) != options_.report_at.end();
+  return step;
+}
+
 void FePath::emit_event(const TraceEvent& event) {
   if (sink_.on_event) sink_.on_event(event);
   result_.events.push_back(event);
@@ -574,7 +598,7 @@ TraceResult FePath::run() {
       finish(termination_, message_, lambda);
       return done();
     }
-    if (!options_.resume_from) emit_step(step_at(lambda));
+    if (!options_.resume_from) emit_step(reported_step_at(lambda));
     // A member only the foundation holds can be held only while compressive reactions can
     // balance the loads on its free rigid motions: up to the lift-off load, found once here (the
     // loads' work on those motions is affine in lambda and the reactions' span a convex cone, so
@@ -600,24 +624,25 @@ TraceResult FePath::run() {
       const double breakpoint = lambda + direction_ * next;
       if (floating_load_ && !(direction_ * (breakpoint - *floating_load_) < 0.0)) {
         // The held nodes' reactions vanish together here and nothing balances the loads beyond.
-        locate_events(lambda, *floating_load_, topology);
-        emit_step(step_at(*floating_load_));
+        advance(lambda, *floating_load_, topology);
+        emit_step(reported_step_at(*floating_load_));
         finish(TraceTermination::no_equilibrium, lift_off_message(*floating_load_), *floating_load_);
         return done();
       }
       if (!(direction_ * (breakpoint - lambda_end_) < 0.0)) {
-        locate_events(lambda, lambda_end_, topology);
-        if (result_.steps.empty() || result_.steps.back().load_factor != lambda_end_) emit_step(step_at(lambda_end_));
+        advance(lambda, lambda_end_, topology);
+        if (result_.steps.empty() || result_.steps.back().load_factor != lambda_end_)
+          emit_step(reported_step_at(lambda_end_));
         finish(TraceTermination::completed,
                fmt::format("lambda = {:.10g} reached: {} breakpoint(s), {} event(s)", lambda_end_, breakpoints,
                            result_.events.size()),
                lambda_end_);
         return done();
       }
-      locate_events(lambda, breakpoint, topology);
+      advance(lambda, breakpoint, topology);
 
       // Every node at zero there and falling switches, ties together.
-      TraceStep step = step_at(breakpoint);  // the state is continuous: either set gives it
+      TraceStep step = reported_step_at(breakpoint);  // the state is continuous: either set gives it
       const VectorXd u_before = state_.displacement(breakpoint), r_before = state_.reaction(breakpoint);
       const double moved_u = (u_before - state_.displacement(lambda)).lpNorm<Eigen::Infinity>(),
                    moved_r = (r_before - state_.reaction(lambda)).lpNorm<Eigen::Infinity>();

@@ -107,10 +107,13 @@ struct TraceStep {
   double load_factor = 0.0;
   std::vector<ContactRegion> contact_regions;  // user coordinate
   double monitor_deflection = 0.0;             // w at TraceOptions::monitor (user length units)
-  std::vector<double> deflection;              // w at TraceOptions::sample_points (user length units)
-  std::vector<double> reaction;                // foundation reaction there (force per length, compression > 0)
-  int iterations = 0;                          // corrector iterations (Ritz) or pivots (FE) since the last step
-  bool requested = false;                      // recorded at a load asked for (TraceOptions::report_at)
+  // M at the monitor (user moment units; the crest moment of a buckle), read off `fields` by the
+  // output layer before it lets them go (they stay in the HDF5 file); none without fields.
+  std::optional<double> monitor_moment;
+  std::vector<double> deflection;  // w at TraceOptions::sample_points (user length units)
+  std::vector<double> reaction;    // foundation reaction there (force per length, compression > 0)
+  int iterations = 0;              // corrector iterations (Ritz) or pivots (FE) since the last step
+  bool requested = false;          // recorded at a load asked for (TraceOptions::report_at)
   // The physical load (PhysicalLoad::at of the step's lambda), set where the trace is recorded
   // (app/trace_command.hpp); absent without one.
   std::optional<double> load;

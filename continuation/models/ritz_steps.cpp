@@ -141,7 +141,7 @@ CrossingSearch RitzPath::crossing(const PathPoint& from, const PathPoint& to, co
   if (search.reject || !search.crossings.empty()) return search;
   // No event located: the step's end must be a contact solution reached without stepping over
   // one (else it is retried shorter; at min_step the path stops and says why).
-  if (auto why = no_contact_solution(from, to)) return {{}, why};
+  if (auto why = no_contact_solution(from, to)) return {{}, why, std::nullopt};
   vouch(to);
   return {};
 }
@@ -191,7 +191,8 @@ CrossingSearch RitzPath::located_events(const PathPoint& from, const PathPoint& 
   if (!model.can_lose_stability() && !(first->lambda >= from.lambda))
     return {{},
             fmt::format("the event located at lambda = {:.10g} lies behind the step's start {:.10g}", first->lambda,
-                        from.lambda)};
+                        from.lambda),
+            std::nullopt};
   // The state at the event must be a contact solution but for the event itself. A piece vanishing
   // leaves its limits out of order or its w of the wrong sign by what locating it leaves: the
   // state after the switch is checked instead (switch_topology).
@@ -200,8 +201,8 @@ CrossingSearch RitzPath::located_events(const PathPoint& from, const PathPoint& 
   if (!removes)
     if (auto why =
             events_->state_failure(model, first->x, events_->event_allowance(model, first->x, transition.events)))
-      return {{}, fmt::format("at the event located at lambda = {:.10g}: {}", first->lambda, *why)};
-  if (auto why = events_->stepped_over(model, from.x, first->x)) return {{}, why};
+      return {{}, fmt::format("at the event located at lambda = {:.10g}: {}", first->lambda, *why), std::nullopt};
+  if (auto why = events_->stepped_over(model, from.x, first->x)) return {{}, why, std::nullopt};
   transition.changes_topology =
       std::any_of(transition.events.begin(), transition.events.end(),
                   [](const RitzEventSpec& e) { return e.function != RitzEventFunction::limit_at_load; });

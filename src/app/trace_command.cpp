@@ -88,14 +88,28 @@ std::string options_text(const scene::Scene& scene, const TraceRequest& request,
   return j.dump();
 }
 
+// The bending moment at the monitor (the crest of a buckle, the load point): the step's nodal
+// moments interpolated linearly between the nodes about it (exact at a node); none where the step
+// has no fields or the monitor lies outside them.
+std::optional<double> monitor_moment(const TraceStep& s, double monitor) {
+  const std::vector<double>&x = s.fields.coordinate, &m = s.fields.bending_moment;
+  if (x.size() < 2 || m.size() != x.size() || !(monitor >= x.front() && monitor <= x.back())) return std::nullopt;
+  const auto right = std::upper_bound(x.begin(), x.end(), monitor);
+  if (right == x.end()) return m.back();
+  const std::size_t i = static_cast<std::size_t>(right - x.begin());
+  const double t = (monitor - x[i - 1]) / (x[i] - x[i - 1]);
+  return t == 0.0 ? m[i - 1] : (1.0 - t) * m[i - 1] + t * m[i];
+}
+
 // A path read back from the file (without the sampled and nodal fields); its steps' physical load
 // where the file has none (an older liftoff's).
 PathTrace from_record(const std::string& name, const io::TracePathRecord& record,
-                      const std::optional<continuation::PhysicalLoad>& load) {
+                      const std::optional<continuation::PhysicalLoad>& load, double monitor) {
   PathTrace p;
   p.path = name;
   p.steps = record.steps;
   for (TraceStep& s : p.steps) {
+    if (!s.monitor_moment) s.monitor_moment = monitor_moment(s, monitor);
     s.deflection.clear(), s.reaction.clear(), s.fields = {};
     if (load && !s.load) s.load = load->at(s.load_factor);
   }
@@ -148,6 +162,7 @@ struct JsonStyle {
 nlohmann::json to_json(const TraceStep& s, const JsonStyle& style) {
   nlohmann::json j{{"lambda", s.load_factor}};
   if (s.load) j["load"] = *s.load;
+  if (s.monitor_moment) j["monitor_moment"] = *s.monitor_moment;
   j.update({{"monitor_deflection", s.monitor_deflection},
             {"contact_regions", io::contact_regions_json(s.contact_regions)},
             {"iterations", s.iterations},
@@ -207,6 +222,7 @@ struct SummaryUnits {
 std::string state_line(const TraceStep& step, const SummaryUnits& u) {
   std::string out =
       fmt::format("                  w at the monitor {:.6g}{}", step.monitor_deflection, u.unit(u.units.length));
+  if (step.monitor_moment) out += fmt::format(", M there {:.6g}{}", *step.monitor_moment, u.unit(u.units.moment()));
   if (const auto& d = step.design) {
     const auto where = [&](const post::DesignValue& v) { return v.at ? " at " + u.where(*v.at) : std::string(); };
     out += fmt::format("; moment max {:.6g}{}{}, min {:.6g}{}{}", d->moment_max.value, u.unit(u.units.moment()),
@@ -422,10 +438,10 @@ TraceOutcome run_trace(const scene::Scene& scene, const TraceRequest& request, c
     if (writer) {
       if (const auto record = writer->read_path(name)) {
         if (record->complete) {  // nothing left to do on this path
-          outcome.paths.push_back(from_record(name, *record, options.physical_load));
+          outcome.paths.push_back(from_record(name, *record, options.physical_load, options.monitor));
           continue;
         }
-        trace = from_record(name, *record, options.physical_load);
+        trace = from_record(name, *record, options.physical_load, options.monitor);
         if (!record->steps.empty()) path_options.resume_from = record->steps.back();
       }
       writer->begin_path(name, options.monitor);
@@ -439,6 +455,7 @@ TraceOutcome run_trace(const scene::Scene& scene, const TraceRequest& request, c
       // The physical load, where the paths did not set it (today none does): one place for all.
       if (options.physical_load && !kept.load) kept.load = options.physical_load->at(kept.load_factor);
       if (writer) writer->append_step(name, kept);
+      kept.monitor_moment = monitor_moment(kept, options.monitor);
       kept.deflection.clear();
       kept.reaction.clear();
       kept.fields = {};  // in the file; the summary, JSON and CSV take the design values
@@ -568,15 +585,16 @@ std::string text_summary(const TraceOutcome& outcome) {
 
 std::string trace_csv(const TraceOutcome& outcome) {
   std::string out = "path,step,lambda,load,monitor_deflection,axial_force,amplitude,lifted_length," +
-                    io::design_csv_header() + ",support_reactions,stability,requested\n";
+                    io::design_csv_header() + ",support_reactions,stability,requested,monitor_moment\n";
   for (const PathTrace& p : outcome.paths)
     for (std::size_t i = 0; i < p.steps.size(); ++i) {
       const TraceStep& s = p.steps[i];
-      out += fmt::format("{},{},{:.17g},{},{:.17g},{:.17g},{:.17g},{:.17g},{},{},{},{}\n", p.path, i, s.load_factor,
+      const std::optional<double>& m = s.monitor_moment;
+      out += fmt::format("{},{},{:.17g},{},{:.17g},{:.17g},{:.17g},{:.17g},{},{},{},{},{}\n", p.path, i, s.load_factor,
                          s.load ? fmt::format("{:.17g}", *s.load) : std::string(), s.monitor_deflection, s.axial_force,
                          s.amplitude, s.lifted_length, io::design_csv_cells(s.design ? &*s.design : nullptr),
                          io::support_reactions_csv(s.supports), continuation::to_string(s.stability),
-                         s.requested ? "true" : "false");
+                         s.requested ? "true" : "false", m ? fmt::format("{:.17g}", *m) : std::string());
     }
   return out;
 }

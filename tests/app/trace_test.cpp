@@ -885,6 +885,9 @@ app::TracePath recording(SyntheticPath& synthetic) {
       d.from_statics = true;
       s.design = d;
       s.supports = {{10.0, 0.5 * s.load_factor, 0.0, 0.0, false, 0.0}};
+      // Nodal moments 3 lambda all along, so that M at the monitor is 3 lambda wherever it is.
+      s.fields.coordinate = {scene.begin(), 0.5 * (scene.begin() + scene.end()), scene.end()};
+      s.fields.bending_moment.assign(3, 3.0 * s.load_factor);
       sink.on_step(s);
     };
     return synthetic.path()(scene, o, decorated);
@@ -918,6 +921,7 @@ TEST_CASE("trace: JSON, CSV and summary carry each step's load, design values, s
   REQUIRE(fifth["supports"].size() == 1);
   CHECK(fifth["supports"][0]["force"] == 0.5);
   for (const char* key : {"axial_force", "lifted_length", "amplitude", "stability"}) CHECK(fifth.contains(key));
+  CHECK(fifth["monitor_moment"] == 3.0);  // read off the fields before they are let go
   REQUIRE(j["events"].size() == 2);
   CHECK(j["events"][0]["load"] == Approx(-0.6).epsilon(1e-14));  // lambda 0.6
 
@@ -928,18 +932,19 @@ TEST_CASE("trace: JSON, CSV and summary carry each step's load, design values, s
   CHECK(header ==
         "path,step,lambda,load,monitor_deflection,axial_force,amplitude,lifted_length,moment_max,at_moment_max,"
         "moment_min,at_moment_min,shear_max_abs,at_shear_max_abs,pressure_max,at_pressure_max,uplift_max,"
-        "at_uplift_max,support_reactions,stability,requested");
+        "at_uplift_max,support_reactions,stability,requested,monitor_moment");
   std::vector<std::string> rows;
   while (std::getline(lines, row)) rows.push_back(row);
   REQUIRE(rows.size() == 9);
-  CHECK(rows[4] == "fe,4,1,-1,0.001,0,0,0,2,4,-1,1,0,,0,,0,,10:0.5:0,unknown,true");
-  CHECK(rows[3].substr(rows[3].size() - 6) == ",false");
+  CHECK(rows[4] == "fe,4,1,-1,0.001,0,0,0,2,4,-1,1,0,,0,,0,,10:0.5:0,unknown,true,3");
+  CHECK(rows[3].substr(rows[3].size() - 11) == ",false,2.25");
 
   const std::string summary = app::text_summary(outcome);
   CHECK_THAT(summary, Catch::Matchers::Contains("load          P = lambda x -1: the live point force (loads[1])"));
   CHECK_THAT(summary, Catch::Matchers::Contains("lambda 0.6 (P = -0.6)"));
   CHECK_THAT(summary, Catch::Matchers::Contains("requested     P = -1 (lambda 1)"));
   CHECK_THAT(summary, Catch::Matchers::Contains("moment max 2 at x = 4, min -1 at x = 1"));
+  CHECK_THAT(summary, Catch::Matchers::Contains("M there 3;"));
 
   // The file: the load and the requested flag per step.
   const io::TracePathRecord written = io::read_trace_file(scratch.dir / "t.h5").paths.at(0).second;

@@ -653,3 +653,41 @@ TEST_CASE("a bilinear foundation: the path ends where solve does", "[issue12][te
     if (without.solution.summary.is_usable()) CHECK(max_relative_difference(nodal_state(without).w, exact.w) > 1e-6);
   }
 }
+
+TEST_CASE("FE path: the states at requested loads, in order, as the path's end there", "[fe_path]") {
+  // The free-free beam to lambda = 8 asked for its states at 2.5 and 6 (between breakpoints):
+  // each a step flagged requested, between its neighbours in lambda, and the same state as a trace
+  // that ends there (its last step computed on another run, from its own breakpoints).
+  const scene::Scene scene = free_free_uplift();
+  TraceOptions options = options_for(0.0, 8.0, 80);
+  options.sample_points = node_positions(scene, 80);
+  options.report_at = {6.0, 2.5};
+  const TraceResult result = continuation::trace_fe(scene, options);
+  REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
+  std::vector<std::size_t> requested;
+  for (std::size_t i = 0; i < result.steps.size(); ++i)
+    if (result.steps[i].requested) requested.push_back(i);
+  REQUIRE(requested.size() == 2);
+  for (std::size_t k = 0; k < 2; ++k) {
+    const std::size_t i = requested[k];
+    const double load = k == 0 ? 2.5 : 6.0;
+    INFO("lambda " << load);
+    REQUIRE(result.steps[i].load_factor == load);
+    REQUIRE((i > 0 && i + 1 < result.steps.size()));
+    CHECK(result.steps[i - 1].load_factor < load);
+    CHECK(result.steps[i + 1].load_factor > load);
+    TraceOptions to_load = options_for(0.0, load, 80);
+    to_load.sample_points = options.sample_points;
+    const TraceResult ending = continuation::trace_fe(scene, to_load);
+    REQUIRE(ending.summary.termination == continuation::TraceTermination::completed);
+    const TraceStep& there = ending.steps.back();
+    REQUIRE(there.load_factor == load);
+    // Two affine evaluations of one state: round-off of the largest deflection.
+    REQUIRE(there.deflection.size() == options.sample_points.size());
+    CHECK(max_relative_difference(result.steps[i].deflection, there.deflection) < 1e-12);
+    REQUIRE(result.steps[i].design.has_value());
+    CHECK(result.steps[i].design->moment_max.value == Approx(there.design->moment_max.value).epsilon(1e-12));
+  }
+  // Without report_at no step is requested.
+  for (const TraceStep& step : continuation::trace_fe(scene, options_for(0.0, 8.0, 80)).steps) CHECK(!step.requested);
+}
