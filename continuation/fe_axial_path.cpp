@@ -121,6 +121,42 @@ class AxialPath {
                        double& direction);
   void finish(TraceTermination termination, std::string message, double lambda);
 
+  // Where the walk along the path stands between steps.
+  struct Walk {
+    std::optional<Point> current;  // the last point on set_'s branch, recorded
+    int negative = 0;              // instability() there; -1: taken at the next step
+    ContactTopology topology;      // current's, where its events ended
+    double step = 0.0;             // in lambda
+    double direction = 1.0;        // +1: lambda grows
+    double last_breakpoint = 0.0;  // lambda
+  };
+  enum class Go { on, stop };  // stop: result_ says how the trace ended
+  // The start's contact solve and step (empty: the trace ended there).
+  std::optional<Walk> start_walk();
+  // One step on set_, or the first thing that happens within it located and handled.
+  Go advance(Walk& walk);
+  // The first lambda in (walk.current, target] where a contact condition fails, the amplitude
+  // bound is reached or (watch_inertia) the tangent's inertia changes, to event_tolerance: the last
+  // point before it and the first after (empty: the system is singular there), at lambda hi.
+  struct Bracket {
+    Point good;
+    std::optional<Point> bad;
+    double hi = 0.0;
+  };
+  Bracket first_happening(const Walk& walk, double target, const std::optional<Point>& next, bool watch_inertia);
+  // The tangent on set_ turns singular between good and bad: report it, switch where asked.
+  Go at_bifurcation(Walk& walk, const Point& good, const Point& bad);
+  // A contact condition fails at bad: the nodes switch and the path goes on on the side where the
+  // new set is feasible (behind: a limit point).
+  Go at_breakpoint(Walk& walk, const Point& bad, double hi);
+  std::string ending(double lambda) const;
+
+  // The load range and step lengths, in lambda.
+  struct Range {
+    double lambda_min = 0.0, lambda_max = 0.0, span = 1.0;
+    double max_step = 0.0, initial_step = 0.0, min_step = 0.0;
+  };
+
   TraceOptions options_;
   TraceSink sink_;
   model::MemberModel model_;
@@ -129,6 +165,7 @@ class AxialPath {
   double axial_at_one_ = 0.0;          // N(1)
   contact::ActiveSetSystem system_;
   SpecialPoints points_;
+  Range range_;
   TraceResult result_;
   ContactSet set_;
   ContactSet last_step_set_;  // the set of the last step recorded
@@ -631,251 +668,272 @@ TraceResult AxialPath::run() {
   TraceSummary& summary = result_.summary;
   summary.path = PathKind::fe;
   summary.pivots = 0;
-  const int m = d_.reactions();
-  const double lambda_min = std::min(options_.arc_length.lambda_min, options_.arc_length.lambda_max);
-  const double lambda_max = std::max(options_.arc_length.lambda_min, options_.arc_length.lambda_max);
-  const double span = std::max(lambda_max - lambda_min, 1e-300);
-  double direction = options_.arc_length.lambda_max >= options_.arc_length.lambda_min ? 1.0 : -1.0;
-  const double lambda_start = options_.arc_length.lambda_min;
-  const double max_step = options_.arc_length.max_step * span, initial_step = options_.arc_length.initial_step * span;
-  const double min_step = std::max(options_.arc_length.min_step * span, 4.0 * options_.event_tolerance);
-  auto done = [&]() {
-    summary.factorisations = system_.factorisations();
-    summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return std::move(result_);
-  };
-  auto ending = [&](double lambda) {
-    return fmt::format("lambda = {:.10g} reached: {} breakpoint(s), {} limit point(s), {} bifurcation(s), {} event(s)",
-                       lambda, breakpoints_, folds_, bifurcations_, result_.events.size());
-  };
+  const auto& arc = options_.arc_length;
+  range_.lambda_min = std::min(arc.lambda_min, arc.lambda_max);
+  range_.lambda_max = std::max(arc.lambda_min, arc.lambda_max);
+  range_.span = std::max(range_.lambda_max - range_.lambda_min, 1e-300);
+  range_.max_step = arc.max_step * range_.span;
+  range_.initial_step = arc.initial_step * range_.span;
+  range_.min_step = std::max(arc.min_step * range_.span, 4.0 * options_.event_tolerance);
   try {
-    if (options_.resume_from) {
-      finish(TraceTermination::solver_failure,
-             "a trace in the axial force is not resumed in this version: run it again without the file", lambda_start);
-      return done();
-    }
-    const auto start_set_found = start_set(lambda_start);
-    if (!start_set_found) return done();
-    set_ = *start_set_found;
-    std::optional<Point> current = solve(set_, lambda_start);
-    if (!current) {
-      finish(TraceTermination::solver_failure, "the fixed-set system is singular at the start", lambda_start);
-      return done();
-    }
-    emit_step(*current);
-    int negative = instability(*current);
-    ContactTopology topology = topology_of(*current);
-    double step = initial_step;
-    double last_breakpoint = current->lambda;
-
-    while (true) {
-      if (result_.summary.steps >= options_.arc_length.max_steps) {
-        finish(
-            TraceTermination::step_limit,
-            fmt::format("max_steps = {} reached at lambda = {:.10g}", options_.arc_length.max_steps, current->lambda),
-            current->lambda);
-        return done();
+    if (std::optional<Walk> walk = start_walk())
+      while (advance(*walk) == Go::on) {
       }
-      // The next point on this set, clamped to the range.
-      double target = current->lambda + direction * step;
-      const bool at_end = direction > 0 ? target >= lambda_max : target <= lambda_min;
-      if (at_end) target = direction > 0 ? lambda_max : lambda_min;
-      std::optional<Point> next = solve(set_, target);
-      const bool ok = next && feasible(set_, *next);
-      const int next_negative = next ? instability(*next) : negative;
-      if (negative < 0) negative = next_negative;  // the count of a branch just entered (see below)
-      const bool past_amplitude = ok && options_.max_amplitude && amplitude(*next) >= *options_.max_amplitude;
-      if (ok && next_negative == negative && !past_amplitude) {
-        locate_events(*current, *next, topology);
-        current = next;
-        emit_step(*current);
-        if (at_end) {
-          finish(TraceTermination::completed, ending(current->lambda), current->lambda);
-          return done();
-        }
-        step = std::min(2.0 * step, max_step);
-        continue;
-      }
-      if (ok && next_negative != negative && step > min_step) {  // shorter first: a singular tangent
-        step *= 0.5;                                             // inside the step is located below
-        continue;
-      }
-      // Something happens in (current, target]: the first lambda where it does, to event_tolerance.
-      double lo = current->lambda, hi = target;
-      Point good = *current;
-      // The inertia is watched inside the step only when it differs at its end (an LDL^T per
-      // point); a pair of sign changes within one step is not seen.
-      const bool watch_inertia = next && next_negative != negative;
-      auto happens = [&](const std::optional<Point>& p) {
-        if (!p || !feasible(set_, *p)) return true;
-        if (options_.max_amplitude && amplitude(*p) >= *options_.max_amplitude) return true;
-        return watch_inertia && instability(*p) != negative;
-      };
-      std::optional<Point> bad = next;
-      // Regula falsi (Illinois) on the smallest margin of the contact conditions and of the
-      // amplitude bound, continuous along the set's branch; a bisection whenever a step did not
-      // halve the bracket, and throughout when the inertia is watched.
-      auto margin = [&](const Point& p) {
-        double smallest = std::numeric_limits<double>::infinity();
-        if (d_.tensionless)
-          for (double v : relative_values(set_, p)) smallest = std::min(smallest, v + tie_tolerance);
-        if (options_.max_amplitude)
-          smallest = std::min(smallest, (*options_.max_amplitude - amplitude(p)) / *options_.max_amplitude);
-        return smallest;
-      };
-      const double nan = std::numeric_limits<double>::quiet_NaN();
-      double f_lo = margin(good), f_hi = bad ? margin(*bad) : nan;
-      int moved = 0;  // +1: lo moved last, -1: hi
-      bool bisect = watch_inertia;
-      for (int i = 0; i < max_bisections && std::abs(hi - lo) > options_.event_tolerance; ++i) {
-        const double width = std::abs(hi - lo);
-        double mid = 0.5 * (lo + hi);
-        if (!bisect && std::isfinite(f_lo) && std::isfinite(f_hi) && f_lo >= 0.0 && f_hi < 0.0) {
-          const double secant = hi - f_hi * (hi - lo) / (f_hi - f_lo);
-          if (secant > std::min(lo, hi) && secant < std::max(lo, hi)) mid = secant;
-        }
-        auto p = solve(set_, mid);
-        if (happens(p)) {
-          hi = mid;
-          bad = p;
-          f_hi = p ? margin(*p) : nan;
-          if (moved == -1) f_lo *= 0.5;
-          moved = -1;
-        } else {
-          lo = mid;
-          good = *p;
-          f_lo = margin(*p);
-          if (moved == +1) f_hi *= 0.5;
-          moved = +1;
-        }
-        bisect = watch_inertia || std::abs(hi - lo) > 0.5 * width;
-      }
-      locate_events(*current, good, topology);
-      current = good;
-      if (!bad) {
-        emit_step(*current);
-        finish(TraceTermination::solver_failure,
-               fmt::format("the fixed-set system turned singular at lambda = {:.10g}", hi), current->lambda);
-        return done();
-      }
-      // Which happened at hi: the amplitude bound, a contact condition, a singular tangent.
-      if (options_.max_amplitude && feasible(set_, *bad) && amplitude(*bad) >= *options_.max_amplitude) {
-        emit_step(*bad);
-        finish(TraceTermination::completed,
-               fmt::format("amplitude {:.6g} reached (max_amplitude) at lambda = {:.10g}: {} limit point(s), {} "
-                           "bifurcation(s), {} event(s)",
-                           *options_.max_amplitude, bad->lambda, folds_, bifurcations_, result_.events.size()),
-               bad->lambda);
-        return done();
-      }
-      if (feasible(set_, *bad)) {
-        // The tangent on this set turns singular between good and bad with no breakpoint: a
-        // bifurcation point of the fixed-set problem (the path itself passes: the load has no
-        // part along the critical mode, else its amplitude would have stopped it).
-        const int after = instability(*bad);
-        TraceEvent event{0.5 * (good.lambda + bad->lambda), EventKind::bifurcation, options_.monitor,
-                         fmt::format("the tangent stiffness turns singular (from {} to {} unstable direction(s)) at "
-                                     "N = {:.6g}: another branch crosses the path",
-                                     negative, after, model_.axial_force(bad->lambda) * model_.scales.force())};
-        // Where the path loses its stability the member leaves it for the bifurcated branch;
-        // elsewhere (an unstable path, already left by the member) the crossing is reported.
-        if (options_.switch_branch && negative == 0 && after > 0) {
-          emit_step(good);
-          ++bifurcations_;
-          const Switch outcome = switch_branch(good, std::move(event), topology, current, direction);
-          if (outcome == Switch::finished) return done();
-          if (outcome == Switch::switched) {  // (topology: the branch's end, where its events ended)
-            negative = -1;                    // taken at the next step: here a node is at zero
-            step = initial_step;
-            last_breakpoint = current->lambda;
-            continue;
-          }
-          current = bad;
-          emit_step(*current);
-        } else {
-          const ContactSet path_set = set_;
-          if (const auto critical = bifurcation_mode(good)) event.load_factor = critical->lambda;
-          set_ = path_set;
-          emit_step(*bad);
-          emit_event(event);
-          ++bifurcations_;
-          current = bad;
-        }
-        negative = after;
-        topology = topology_of(*current);
-        step = initial_step;
-        continue;
-      }
-      // A breakpoint: the nodes infeasible just beyond switch; the new set's branch through it
-      // goes on ahead (no fold) or behind (a limit point).
-      ++breakpoints_;
-      // Every node at zero there and falling switches, ties together (mirror nodes of a symmetric
-      // member cross at one lambda to round-off, and the located point may lie on either side of
-      // one of them): falling as seen a little beyond, far above round-off, far below the spacing
-      // of breakpoints.
-      const std::vector<double> values = relative_values(set_, *bad);
-      const auto probe = solve(set_, bad->lambda + direction * 1e-7 * span);
-      const std::vector<double> beyond = probe ? relative_values(set_, *probe) : values;
-      ContactSet switched = set_;
-      int first_switched = -1;
-      for (int i = 0; i < m; ++i)
-        if (values[i] < -tie_tolerance || (values[i] <= tie_tolerance && beyond[i] < -tie_tolerance)) {
-          switched[i] = !switched[i];
-          if (first_switched < 0) first_switched = i;
-        }
-      const ContactSet before = set_;
-      set_ = switched;
-      std::optional<Point> on = solve(set_, current->lambda);
-      if (!on) {
-        set_ = before;
-        emit_step(*current);
-        finish(TraceTermination::solver_failure,
-               fmt::format("at the breakpoint lambda = {:.10g} the new contact set's system is singular", hi),
-               current->lambda);
-        return done();
-      }
-      const double chosen = feasible_side(current->lambda, direction);
-      if (chosen == 0.0) {
-        set_ = before;
-        emit_step(*current);
-        finish(TraceTermination::solver_failure,
-               fmt::format("the degenerate breakpoint at lambda = {:.10g} could not be resolved: the new contact set "
-                           "is feasible on neither side",
-                           current->lambda),
-               current->lambda);
-        return done();
-      }
-      current = on;
-      emit_step(*current);
-      if (chosen != direction) {
-        ++folds_;
-        const double s = d_.mesh.nodes[d_.reaction_nodes[first_switched]];
-        emit_event(
-            {current->lambda, EventKind::limit_point, model_.user_from_s(s),
-             fmt::format("limit point: lambda reaches a {} (N = {:.6g}, amplitude {:.6g}) as the node at {:.6g} "
-                         "{}; the path turns back",
-                         direction > 0 ? "maximum" : "minimum",
-                         model_.axial_force(current->lambda) * model_.scales.force(), result_.steps.back().amplitude,
-                         model_.user_from_s(s), before[first_switched] ? "lifts off" : "touches down")});
-        direction = chosen;
-      }
-      // The switched nodes are at zero here (weakly active for the cone) but not on the branch
-      // beyond: the set's own count holds there, unless other nodes are weak too.
-      const std::vector<stability::NodeContact> contact =
-          stability::classify_contact(current->state.reaction, current->state.gap);
-      bool others_weak = false;
-      for (int i = 0; i < m; ++i)
-        others_weak |= contact[i] == stability::NodeContact::weakly_active && set_[i] == before[i];
-      negative = others_weak ? -1 : negative_eigenvalues(set_, current->lambda);
-      topology = topology_of(*current);
-      // The next breakpoint is likely as far as this one was from the last.
-      step = std::clamp(2.0 * std::abs(current->lambda - last_breakpoint), min_step, initial_step);
-      last_breakpoint = current->lambda;
-    }
   } catch (const StepNotCertified& failure) {
     finish(TraceTermination::solver_failure, failure.message, failure.lambda);
-    return done();
   }
+  summary.factorisations = system_.factorisations();
+  summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return std::move(result_);
+}
+
+std::optional<AxialPath::Walk> AxialPath::start_walk() {
+  const double lambda_start = options_.arc_length.lambda_min;
+  if (options_.resume_from) {
+    finish(TraceTermination::solver_failure,
+           "a trace in the axial force is not resumed in this version: run it again without the file", lambda_start);
+    return std::nullopt;
+  }
+  const auto start_set_found = start_set(lambda_start);
+  if (!start_set_found) return std::nullopt;
+  set_ = *start_set_found;
+  Walk walk;
+  walk.current = solve(set_, lambda_start);
+  if (!walk.current) {
+    finish(TraceTermination::solver_failure, "the fixed-set system is singular at the start", lambda_start);
+    return std::nullopt;
+  }
+  emit_step(*walk.current);
+  walk.negative = instability(*walk.current);
+  walk.topology = topology_of(*walk.current);
+  walk.step = range_.initial_step;
+  walk.direction = options_.arc_length.lambda_max >= options_.arc_length.lambda_min ? 1.0 : -1.0;
+  walk.last_breakpoint = walk.current->lambda;
+  return walk;
+}
+
+std::string AxialPath::ending(double lambda) const {
+  return fmt::format("lambda = {:.10g} reached: {} breakpoint(s), {} limit point(s), {} bifurcation(s), {} event(s)",
+                     lambda, breakpoints_, folds_, bifurcations_, result_.events.size());
+}
+
+AxialPath::Go AxialPath::advance(Walk& walk) {
+  Point& current = *walk.current;
+  if (result_.summary.steps >= options_.arc_length.max_steps) {
+    finish(TraceTermination::step_limit,
+           fmt::format("max_steps = {} reached at lambda = {:.10g}", options_.arc_length.max_steps, current.lambda),
+           current.lambda);
+    return Go::stop;
+  }
+  // The next point on this set, clamped to the range.
+  double target = current.lambda + walk.direction * walk.step;
+  const bool at_end = walk.direction > 0 ? target >= range_.lambda_max : target <= range_.lambda_min;
+  if (at_end) target = walk.direction > 0 ? range_.lambda_max : range_.lambda_min;
+  std::optional<Point> next = solve(set_, target);
+  const bool ok = next && feasible(set_, *next);
+  const int next_negative = next ? instability(*next) : walk.negative;
+  if (walk.negative < 0) walk.negative = next_negative;  // the count of a branch just entered (see below)
+  const bool past_amplitude = ok && options_.max_amplitude && amplitude(*next) >= *options_.max_amplitude;
+  if (ok && next_negative == walk.negative && !past_amplitude) {
+    locate_events(current, *next, walk.topology);
+    current = *next;
+    emit_step(current);
+    if (at_end) {
+      finish(TraceTermination::completed, ending(current.lambda), current.lambda);
+      return Go::stop;
+    }
+    walk.step = std::min(2.0 * walk.step, range_.max_step);
+    return Go::on;
+  }
+  if (ok && next_negative != walk.negative && walk.step > range_.min_step) {  // shorter first: a singular
+    walk.step *= 0.5;                                                         // tangent inside is located below
+    return Go::on;
+  }
+  // Something happens in (current, target]: the first lambda where it does, to event_tolerance.
+  // The inertia is watched inside the step only when it differs at its end (an LDL^T per point); a
+  // pair of sign changes within one step is not seen.
+  const Bracket bracket = first_happening(walk, target, next, next && next_negative != walk.negative);
+  locate_events(current, bracket.good, walk.topology);
+  current = bracket.good;
+  if (!bracket.bad) {
+    emit_step(current);
+    finish(TraceTermination::solver_failure,
+           fmt::format("the fixed-set system turned singular at lambda = {:.10g}", bracket.hi), current.lambda);
+    return Go::stop;
+  }
+  const Point& bad = *bracket.bad;
+  // Which happened at hi: the amplitude bound, a contact condition, a singular tangent.
+  if (options_.max_amplitude && feasible(set_, bad) && amplitude(bad) >= *options_.max_amplitude) {
+    emit_step(bad);
+    finish(TraceTermination::completed,
+           fmt::format("amplitude {:.6g} reached (max_amplitude) at lambda = {:.10g}: {} limit point(s), {} "
+                       "bifurcation(s), {} event(s)",
+                       *options_.max_amplitude, bad.lambda, folds_, bifurcations_, result_.events.size()),
+           bad.lambda);
+    return Go::stop;
+  }
+  if (feasible(set_, bad)) return at_bifurcation(walk, bracket.good, bad);
+  return at_breakpoint(walk, bad, bracket.hi);
+}
+
+AxialPath::Bracket AxialPath::first_happening(const Walk& walk, double target, const std::optional<Point>& next,
+                                              bool watch_inertia) {
+  double lo = walk.current->lambda, hi = target;
+  Point good = *walk.current;
+  auto happens = [&](const std::optional<Point>& p) {
+    if (!p || !feasible(set_, *p)) return true;
+    if (options_.max_amplitude && amplitude(*p) >= *options_.max_amplitude) return true;
+    return watch_inertia && instability(*p) != walk.negative;
+  };
+  std::optional<Point> bad = next;
+  // Regula falsi (Illinois) on the smallest margin of the contact conditions and of the amplitude
+  // bound, continuous along the set's branch; a bisection whenever a step did not halve the
+  // bracket, and throughout when the inertia is watched.
+  auto margin = [&](const Point& p) {
+    double smallest = std::numeric_limits<double>::infinity();
+    if (d_.tensionless)
+      for (double v : relative_values(set_, p)) smallest = std::min(smallest, v + tie_tolerance);
+    if (options_.max_amplitude)
+      smallest = std::min(smallest, (*options_.max_amplitude - amplitude(p)) / *options_.max_amplitude);
+    return smallest;
+  };
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  double f_lo = margin(good), f_hi = bad ? margin(*bad) : nan;
+  int moved = 0;  // +1: lo moved last, -1: hi
+  bool bisect = watch_inertia;
+  for (int i = 0; i < max_bisections && std::abs(hi - lo) > options_.event_tolerance; ++i) {
+    const double width = std::abs(hi - lo);
+    double mid = 0.5 * (lo + hi);
+    if (!bisect && std::isfinite(f_lo) && std::isfinite(f_hi) && f_lo >= 0.0 && f_hi < 0.0) {
+      const double secant = hi - f_hi * (hi - lo) / (f_hi - f_lo);
+      if (secant > std::min(lo, hi) && secant < std::max(lo, hi)) mid = secant;
+    }
+    auto p = solve(set_, mid);
+    if (happens(p)) {
+      hi = mid;
+      bad = p;
+      f_hi = p ? margin(*p) : nan;
+      if (moved == -1) f_lo *= 0.5;
+      moved = -1;
+    } else {
+      lo = mid;
+      good = *p;
+      f_lo = margin(*p);
+      if (moved == +1) f_hi *= 0.5;
+      moved = +1;
+    }
+    bisect = watch_inertia || std::abs(hi - lo) > 0.5 * width;
+  }
+  return {good, bad, hi};
+}
+
+AxialPath::Go AxialPath::at_bifurcation(Walk& walk, const Point& good, const Point& bad) {
+  // The tangent on this set turns singular between good and bad with no breakpoint: a bifurcation
+  // point of the fixed-set problem (the path itself passes: the load has no part along the
+  // critical mode, else its amplitude would have stopped it).
+  const int after = instability(bad);
+  TraceEvent event{0.5 * (good.lambda + bad.lambda), EventKind::bifurcation, options_.monitor,
+                   fmt::format("the tangent stiffness turns singular (from {} to {} unstable direction(s)) at "
+                               "N = {:.6g}: another branch crosses the path",
+                               walk.negative, after, model_.axial_force(bad.lambda) * model_.scales.force())};
+  // Where the path loses its stability the member leaves it for the bifurcated branch; elsewhere
+  // (an unstable path, already left by the member) the crossing is reported.
+  if (options_.switch_branch && walk.negative == 0 && after > 0) {
+    emit_step(good);
+    ++bifurcations_;
+    const Switch outcome = switch_branch(good, std::move(event), walk.topology, walk.current, walk.direction);
+    if (outcome == Switch::finished) return Go::stop;
+    if (outcome == Switch::switched) {  // (topology: the branch's end, where its events ended)
+      walk.negative = -1;               // taken at the next step: here a node is at zero
+      walk.step = range_.initial_step;
+      walk.last_breakpoint = walk.current->lambda;
+      return Go::on;
+    }
+    walk.current = bad;
+    emit_step(bad);
+  } else {
+    const ContactSet path_set = set_;
+    if (const auto critical = bifurcation_mode(good)) event.load_factor = critical->lambda;
+    set_ = path_set;
+    emit_step(bad);
+    emit_event(event);
+    ++bifurcations_;
+    walk.current = bad;
+  }
+  walk.negative = after;
+  walk.topology = topology_of(bad);
+  walk.step = range_.initial_step;
+  return Go::on;
+}
+
+AxialPath::Go AxialPath::at_breakpoint(Walk& walk, const Point& bad, double hi) {
+  // The nodes infeasible just beyond switch; the new set's branch through it goes on ahead (no
+  // fold) or behind (a limit point).
+  ++breakpoints_;
+  const int m = d_.reactions();
+  // Every node at zero there and falling switches, ties together (mirror nodes of a symmetric
+  // member cross at one lambda to round-off, and the located point may lie on either side of one
+  // of them): falling as seen a little beyond, far above round-off, far below the spacing of
+  // breakpoints.
+  const std::vector<double> values = relative_values(set_, bad);
+  const auto probe = solve(set_, bad.lambda + walk.direction * 1e-7 * range_.span);
+  const std::vector<double> beyond = probe ? relative_values(set_, *probe) : values;
+  ContactSet switched = set_;
+  int first_switched = -1;
+  for (int i = 0; i < m; ++i)
+    if (values[i] < -tie_tolerance || (values[i] <= tie_tolerance && beyond[i] < -tie_tolerance)) {
+      switched[i] = !switched[i];
+      if (first_switched < 0) first_switched = i;
+    }
+  const ContactSet before = set_;
+  set_ = switched;
+  Point& current = *walk.current;
+  std::optional<Point> on = solve(set_, current.lambda);
+  if (!on) {
+    set_ = before;
+    emit_step(current);
+    finish(TraceTermination::solver_failure,
+           fmt::format("at the breakpoint lambda = {:.10g} the new contact set's system is singular", hi),
+           current.lambda);
+    return Go::stop;
+  }
+  const double chosen = feasible_side(current.lambda, walk.direction);
+  if (chosen == 0.0) {
+    set_ = before;
+    emit_step(current);
+    finish(TraceTermination::solver_failure,
+           fmt::format("the degenerate breakpoint at lambda = {:.10g} could not be resolved: the new contact set "
+                       "is feasible on neither side",
+                       current.lambda),
+           current.lambda);
+    return Go::stop;
+  }
+  current = *on;
+  emit_step(current);
+  if (chosen != walk.direction) {
+    ++folds_;
+    const double s = d_.mesh.nodes[d_.reaction_nodes[first_switched]];
+    emit_event({current.lambda, EventKind::limit_point, model_.user_from_s(s),
+                fmt::format("limit point: lambda reaches a {} (N = {:.6g}, amplitude {:.6g}) as the node at {:.6g} "
+                            "{}; the path turns back",
+                            walk.direction > 0 ? "maximum" : "minimum",
+                            model_.axial_force(current.lambda) * model_.scales.force(), result_.steps.back().amplitude,
+                            model_.user_from_s(s), before[first_switched] ? "lifts off" : "touches down")});
+    walk.direction = chosen;
+  }
+  // The switched nodes are at zero here (weakly active for the cone) but not on the branch beyond:
+  // the set's own count holds there, unless other nodes are weak too.
+  const std::vector<stability::NodeContact> contact =
+      stability::classify_contact(current.state.reaction, current.state.gap);
+  bool others_weak = false;
+  for (int i = 0; i < m; ++i)
+    others_weak |= contact[i] == stability::NodeContact::weakly_active && set_[i] == before[i];
+  walk.negative = others_weak ? -1 : negative_eigenvalues(set_, current.lambda);
+  walk.topology = topology_of(current);
+  // The next breakpoint is likely as far as this one was from the last.
+  walk.step = std::clamp(2.0 * std::abs(current.lambda - walk.last_breakpoint), range_.min_step, range_.initial_step);
+  walk.last_breakpoint = current.lambda;
+  return Go::on;
 }
 
 }  // namespace
