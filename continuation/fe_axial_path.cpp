@@ -8,6 +8,7 @@
 #include <functional>
 #include <limits>
 #include <optional>
+#include <string_view>
 
 #include "contact/active_set_system.hpp"
 #include "contact/contact_solver.hpp"
@@ -119,6 +120,16 @@ class AxialPath {
   // `event` (the bifurcation) is emitted here, its description completed with what the path does.
   Switch switch_branch(const Point& at, TraceEvent event, ContactTopology& topology, std::optional<Point>& current,
                        double& direction);
+  // The bifurcation's stages: the event completed with what the path does and emitted; the
+  // path's state at lambda on set_; whether node i's reaction (gap) falls along s times the mode;
+  // how far along it the contact conditions hold from base; where the amplitude bound cuts the
+  // branch (a_end if it does not); the branch drawn up to a_stop, its events located.
+  void announce(TraceEvent& event, std::string_view what);
+  Point bifurcation_origin(const Point& at, double lambda);
+  bool falls_along(const contact::ContactState& mode, int i, double s) const;
+  double branch_reach(const contact::ContactState& base, const contact::ContactState& mode, double s) const;
+  double amplitude_stop(const Family& on_branch, double a_end);
+  void draw_branch(const Family& on_branch, double a_stop, ContactTopology& topology);
   void finish(TraceTermination termination, std::string message, double lambda);
 
   // Where the walk along the path stands between steps.
@@ -494,88 +505,114 @@ double AxialPath::feasible_side(double lambda, double preferred) {
   return 0.0;
 }
 
+void AxialPath::announce(TraceEvent& event, std::string_view what) {
+  event.description += what;
+  emit_event(event);
+}
+
+Point AxialPath::bifurcation_origin(const Point& at, double lambda) {
+  // Extrapolated from `at` and a point before it on set_ (the matrix is singular at the
+  // bifurcation; the path is smooth through it).
+  Point origin = at;
+  origin.lambda = lambda;
+  const double h = std::max(std::abs(lambda - at.lambda), 1e-6 * std::max(std::abs(at.lambda), 1.0));
+  const auto here = solve(set_, at.lambda), before = solve(set_, at.lambda - h);
+  if (here && before) {
+    const double t = (lambda - at.lambda) / h;
+    origin.state.displacement = here->state.displacement + t * (here->state.displacement - before->state.displacement);
+    origin.state.reaction = here->state.reaction + t * (here->state.reaction - before->state.reaction);
+    origin.state.gap = here->state.gap + t * (here->state.gap - before->state.gap);
+  }
+  return origin;
+}
+
+bool AxialPath::falls_along(const contact::ContactState& mode, int i, double s) const {
+  auto scale = [](const VectorXd& v) { return std::max(v.lpNorm<Eigen::Infinity>(), 1e-300); };
+  const double rate = s * (set_[i] ? mode.reaction[i] : mode.gap[i]);
+  return rate < -tie_tolerance * (set_[i] ? scale(mode.reaction) : scale(mode.gap));
+}
+
+double AxialPath::branch_reach(const contact::ContactState& base, const contact::ContactState& mode, double s) const {
+  // Along base + a s phi every reaction (in the set) and gap (off it) is linear in a: the branch
+  // meets the contact conditions up to the first that falls to zero, and not at all in a direction
+  // that pushes a node already at zero through it (a touching node with no reaction: the cone of
+  // admissible perturbations).
+  auto scale = [](const VectorXd& v) { return std::max(v.lpNorm<Eigen::Infinity>(), 1e-300); };
+  const double r_base = scale(base.reaction), g_base = scale(base.gap);
+  double a_max = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < d_.reactions(); ++i) {
+    if (!d_.tensionless || !falls_along(mode, i, s)) continue;
+    const double value = set_[i] ? base.reaction[i] : base.gap[i];
+    const double rate = s * (set_[i] ? mode.reaction[i] : mode.gap[i]);
+    const bool at_zero = value <= tie_tolerance * (set_[i] ? r_base : g_base);
+    a_max = std::min(a_max, at_zero ? 0.0 : value / -rate);
+  }
+  return a_max;
+}
+
+double AxialPath::amplitude_stop(const Family& on_branch, double a_end) {
+  // The amplitude bound on the branch, located by bisection on a (the amplitude grows with it).
+  if (!options_.max_amplitude || (std::isfinite(a_end) && amplitude(*on_branch(a_end)) < *options_.max_amplitude))
+    return a_end;
+  double lo = 0.0, hi = std::isfinite(a_end) ? a_end : 1.0;
+  for (int i = 0; i < 200 && amplitude(*on_branch(hi)) < *options_.max_amplitude; ++i) lo = hi, hi *= 2.0;
+  for (int i = 0; i < max_bisections && hi - lo > 1e-14 * hi; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (amplitude(*on_branch(mid)) < *options_.max_amplitude ? lo : hi) = mid;
+  }
+  return hi;
+}
+
+void AxialPath::draw_branch(const Family& on_branch, double a_stop, ContactTopology& topology) {
+  // The branch is straight at fixed lambda: a few steps draw it; its events are located along it.
+  // Its states are neutral: the tangent is singular along the mode (not positive definite).
+  on_neutral_branch_ = true;
+  constexpr int branch_steps = 4;
+  double a_previous = 0.0;
+  for (int k = 1; k <= branch_steps; ++k) {
+    const double a = a_stop * k / branch_steps;
+    const Point p = *on_branch(a);
+    locate_events(on_branch, a_previous, p, a, topology);
+    emit_step(p);
+    a_previous = a;
+  }
+  on_neutral_branch_ = false;
+}
+
 Switch AxialPath::switch_branch(const Point& at, TraceEvent event, ContactTopology& topology,
                                 std::optional<Point>& current, double& direction) {
-  auto announce = [&](std::string_view what) {
-    event.description += what;
-    emit_event(event);
-  };
   const ContactSet path_set = set_;
   const auto critical = bifurcation_mode(at);  // may move set_ to the cone's springs
   if (!critical) {
     set_ = path_set;
-    announce("; the critical mode could not be computed: the path goes on");
+    announce(event, "; the critical mode could not be computed: the path goes on");
     return Switch::stayed;
   }
   event.load_factor = critical->lambda;
-  const contact::ContactState* mode = &critical->mode;
-  // The path's state at the bifurcation, on the branch's set: extrapolated from `at` and a point
-  // before it (the matrix is singular there; the path is smooth through it).
-  Point origin = at;
-  origin.lambda = critical->lambda;
-  {
-    const double h = std::max(std::abs(critical->lambda - at.lambda), 1e-6 * std::max(std::abs(at.lambda), 1.0));
-    const auto here = solve(set_, at.lambda), before = solve(set_, at.lambda - h);
-    if (here && before) {
-      const double t = (critical->lambda - at.lambda) / h;
-      origin.state.displacement =
-          here->state.displacement + t * (here->state.displacement - before->state.displacement);
-      origin.state.reaction = here->state.reaction + t * (here->state.reaction - before->state.reaction);
-      origin.state.gap = here->state.gap + t * (here->state.gap - before->state.gap);
-    }
-  }
-  // Along base + a s phi every reaction (in the set) and gap (off it) is linear in a: the
-  // branch meets the contact conditions up to the first that falls to zero, and not at all in a
-  // direction that pushes a node already at zero through it (a touching node with no reaction:
-  // the cone of admissible perturbations).
-  const int m = d_.reactions();
-  const contact::ContactState& base = origin.state;
-  auto scale = [](const VectorXd& v) { return std::max(v.lpNorm<Eigen::Infinity>(), 1e-300); };
-  const double r_base = scale(base.reaction), g_base = scale(base.gap);
-  const double r_mode = scale(mode->reaction), g_mode = scale(mode->gap);
-  auto reach = [&](double s) {
-    double a_max = std::numeric_limits<double>::infinity();
-    for (int i = 0; i < m; ++i) {
-      const double value = set_[i] ? base.reaction[i] : base.gap[i];
-      const double rate = s * (set_[i] ? mode->reaction[i] : mode->gap[i]);
-      if (!d_.tensionless || rate >= -tie_tolerance * (set_[i] ? r_mode : g_mode)) continue;
-      const bool at_zero = value <= tie_tolerance * (set_[i] ? r_base : g_base);
-      a_max = std::min(a_max, at_zero ? 0.0 : value / -rate);
-    }
-    return a_max;
-  };
-  const double up = reach(1.0), down = reach(-1.0);
+  const contact::ContactState& mode = critical->mode;
+  const Point origin = bifurcation_origin(at, critical->lambda);
+  const double up = branch_reach(origin.state, mode, 1.0), down = branch_reach(origin.state, mode, -1.0);
   if (!(up > 0.0) && !(down > 0.0)) {
     set_ = path_set;
-    announce("; neither direction of the critical mode meets the contact conditions: the path goes on");
+    announce(event, "; neither direction of the critical mode meets the contact conditions: the path goes on");
     return Switch::stayed;
   }
   const double s = up >= down ? 1.0 : -1.0;  // ties: the largest deflection lifts
   const double a_end = std::max(up, down);
-  auto on_branch = [&, s](double a) -> std::optional<Point> {
+  const Family on_branch = [&, s](double a) -> std::optional<Point> {
     Point p = origin;
-    p.state.displacement += a * s * mode->displacement;
-    p.state.reaction += a * s * mode->reaction;
-    p.state.gap += a * s * mode->gap;
+    p.state.displacement += a * s * mode.displacement;
+    p.state.reaction += a * s * mode.reaction;
+    p.state.gap += a * s * mode.gap;
     return p;
   };
   const double n = model_.axial_force(origin.lambda) * model_.scales.force();
-  // The amplitude bound on the branch, located by bisection on a (the amplitude grows with it).
-  double a_stop = a_end;
-  if (options_.max_amplitude && (!std::isfinite(a_end) || amplitude(*on_branch(a_end)) >= *options_.max_amplitude)) {
-    double lo = 0.0, hi = std::isfinite(a_end) ? a_end : 1.0;
-    for (int i = 0; i < 200 && amplitude(*on_branch(hi)) < *options_.max_amplitude; ++i) lo = hi, hi *= 2.0;
-    for (int i = 0; i < max_bisections && hi - lo > 1e-14 * hi; ++i) {
-      const double mid = 0.5 * (lo + hi);
-      (amplitude(*on_branch(mid)) < *options_.max_amplitude ? lo : hi) = mid;
-    }
-    a_stop = hi;
-  }
+  const double a_stop = amplitude_stop(on_branch, a_end);
   if (!std::isfinite(a_stop)) {
-    announce(
-        fmt::format("; the bifurcated branch stays at N = {:.6g} for every amplitude of the mode with no node "
-                    "switching (second-order theory: a neutral branch); set [trace] max_amplitude to follow it",
-                    n));
+    announce(event,
+             fmt::format("; the bifurcated branch stays at N = {:.6g} for every amplitude of the mode with no node "
+                         "switching (second-order theory: a neutral branch); set [trace] max_amplitude to follow it",
+                         n));
     finish(TraceTermination::completed,
            fmt::format("bifurcation at lambda = {:.10g} onto a neutral branch (no amplitude bound given): {} limit "
                        "point(s), {} bifurcation(s)",
@@ -583,25 +620,10 @@ Switch AxialPath::switch_branch(const Point& at, TraceEvent event, ContactTopolo
            origin.lambda);
     return Switch::finished;
   }
-  // The branch is straight at fixed lambda: a few steps draw it; its events are located along it.
-  auto draw = [&] {
-    // Its states are neutral: the tangent is singular along the mode (not positive definite).
-    on_neutral_branch_ = true;
-    constexpr int branch_steps = 4;
-    double a_previous = 0.0;
-    for (int k = 1; k <= branch_steps; ++k) {
-      const double a = a_stop * k / branch_steps;
-      const Point p = *on_branch(a);
-      locate_events(on_branch, a_previous, p, a, topology);
-      emit_step(p);
-      a_previous = a;
-    }
-    on_neutral_branch_ = false;
-  };
   if (a_stop < a_end) {
-    announce(fmt::format("; the path follows the bifurcated branch at N = {:.6g} up to amplitude {:.6g}", n,
-                         *options_.max_amplitude));
-    draw();
+    announce(event, fmt::format("; the path follows the bifurcated branch at N = {:.6g} up to amplitude {:.6g}", n,
+                                *options_.max_amplitude));
+    draw_branch(on_branch, a_stop, topology);
     finish(TraceTermination::completed,
            fmt::format("amplitude {:.6g} reached (max_amplitude) on the bifurcated branch at lambda = {:.10g}: {} "
                        "limit point(s), {} bifurcation(s), {} event(s)",
@@ -611,17 +633,14 @@ Switch AxialPath::switch_branch(const Point& at, TraceEvent event, ContactTopolo
   }
   // A node switches where the branch ends (every one at zero there and falling along it: ties of
   // a symmetric member together); the new set's branch through that state goes on in lambda.
-  const Point end = *on_branch(a_end);
-  const std::vector<double> values = relative_values(set_, end);
+  const std::vector<double> values = relative_values(set_, *on_branch(a_end));
   ContactSet switched = set_;
   int first_switched = -1;
-  for (int i = 0; i < m; ++i) {
-    const double rate = s * (set_[i] ? mode->reaction[i] : mode->gap[i]);
-    if (values[i] <= tie_tolerance && rate < -tie_tolerance * (set_[i] ? r_mode : g_mode)) {
+  for (int i = 0; i < d_.reactions(); ++i)
+    if (values[i] <= tie_tolerance && falls_along(mode, i, s)) {
       switched[i] = !switched[i];
       if (first_switched < 0) first_switched = i;
     }
-  }
   const ContactSet before = set_;
   set_ = switched;
   const auto on = solve(set_, origin.lambda);
@@ -630,11 +649,11 @@ Switch AxialPath::switch_branch(const Point& at, TraceEvent event, ContactTopolo
   const char* how = before[std::max(first_switched, 0)] ? "lifts off" : "touches down";
   if (side == 0.0) {
     set_ = before;
-    announce(
-        fmt::format("; the bifurcated branch at N = {:.6g} ends where the node at {:.6g} {}, and no path goes "
-                    "on from there in lambda",
-                    n, where, how));
-    draw();
+    announce(event,
+             fmt::format("; the bifurcated branch at N = {:.6g} ends where the node at {:.6g} {}, and no path goes "
+                         "on from there in lambda",
+                         n, where, how));
+    draw_branch(on_branch, a_stop, topology);
     finish(TraceTermination::solver_failure,
            fmt::format("the bifurcated branch at lambda = {:.10g} could not be continued past its first switch",
                        origin.lambda),
@@ -642,16 +661,13 @@ Switch AxialPath::switch_branch(const Point& at, TraceEvent event, ContactTopolo
     return Switch::finished;
   }
   ++breakpoints_;
-  announce(
-      fmt::format("; the path follows the bifurcated branch at N = {:.6g} until the node at {:.6g} {}, then goes {} "
-                  "in lambda",
-                  n, where, how, side > 0 ? "up" : "down"));
-  {
-    const ContactSet on_set = set_;
-    set_ = before;  // the branch's steps are states of the set it leaves
-    draw();
-    set_ = on_set;
-  }
+  announce(event,
+           fmt::format("; the path follows the bifurcated branch at N = {:.6g} until the node at {:.6g} {}, then "
+                       "goes {} in lambda",
+                       n, where, how, side > 0 ? "up" : "down"));
+  set_ = before;  // the branch's steps are states of the set it leaves
+  draw_branch(on_branch, a_stop, topology);
+  set_ = switched;
   current = on;
   direction = side;
   return Switch::switched;
