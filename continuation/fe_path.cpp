@@ -111,6 +111,12 @@ class FePath {
   // A step at lambda, flagged requested if report_at asks for that load.
   TraceStep reported_step_at(double lambda);
   void finish(TraceTermination termination, std::string message, double lambda);
+  // The distance in lambda to the next breakpoint from lambda on set_ (infinite: none ahead).
+  double distance_to_breakpoint(double lambda);
+  // The path at the breakpoint it reached from lambda: the nodes at zero and falling switch (ties
+  // together), degenerate breakpoints resolved, the step recorded. at_once: at no distance from
+  // the last one. False: the trace ended there (result_ says how).
+  bool cross_breakpoint(double lambda, double breakpoint, bool at_once);
   // The state is continuous at a breakpoint: the sets on either side give it alike, up to
   // round-off. A jump (the new set's state at the breakpoint against the old one's) larger than
   // the path's own motion over the last segment of nonzero length means round-off decides the
@@ -132,7 +138,8 @@ class FePath {
   int pivots_since_step_ = 0;
   int solve_resolutions_ = 0;
   int rate_resolutions_ = 0;
-  Eigen::MatrixXd free_motions_;  // rigid motions only the foundation resists (on the equations)
+  int breakpoints_ = 0, breakpoints_here_ = 0;  // all, and in a row at one lambda
+  Eigen::MatrixXd free_motions_;                // rigid motions only the foundation resists (on the equations)
   bool free_motions_failed_ = false;
   // |du| and |dr| over the last segment of nonzero length; none yet: nothing to compare with.
   std::pair<double, double> segment_motion_{std::numeric_limits<double>::infinity(),
@@ -564,12 +571,101 @@ void FePath::finish(TraceTermination termination, std::string message, double la
   result_.summary.final_load_factor = lambda;
 }
 
+double FePath::distance_to_breakpoint(double lambda) {
+  update_scales(lambda);
+  double next = std::numeric_limits<double>::infinity();
+  if (d_.tensionless)
+    for (int i = 0; i < d_.reactions(); ++i) {
+      const double v = value(i, lambda), rho = rate(i);
+      if (!held_[i] && rho * span_ < -zero_tolerance * scale(i)) next = std::min(next, std::max(v, 0.0) / -rho);
+    }
+  return next;
+}
+
+bool FePath::cross_breakpoint(double lambda, double breakpoint, bool at_once) {
+  const int m = d_.reactions();
+  // Every node at zero there and falling switches, ties together.
+  TraceStep step = reported_step_at(breakpoint);  // the state is continuous: either set gives it
+  const VectorXd u_before = state_.displacement(breakpoint), r_before = state_.reaction(breakpoint);
+  const double moved_u = (u_before - state_.displacement(lambda)).lpNorm<Eigen::Infinity>(),
+               moved_r = (r_before - state_.reaction(lambda)).lpNorm<Eigen::Infinity>();
+  if (moved_u > 0.0) segment_motion_.first = moved_u;
+  if (moved_r > 0.0) segment_motion_.second = moved_r;
+  const ContactSet before = set_;
+  ContactSet switched = set_;
+  std::vector<int> pivoted, at_zero;
+  for (int i = 0; i < m; ++i) {
+    if (std::abs(value(i, breakpoint)) <= tie_tolerance * scale(i)) at_zero.push_back(i);
+    if (value(i, breakpoint) <= tie_tolerance * scale(i) && rate(i) * span_ < -zero_tolerance * scale(i)) {
+      switched[i] = !switched[i];
+      pivoted.push_back(i);
+    }
+  }
+  if (!holds_member(switched) && (!floating_load_ || direction_ * (*floating_load_ - breakpoint) > 0.0)) {
+    // The nodes leaving would leave the member floating while the loads can still be balanced:
+    // round-off has split the final tie, in which every remaining reaction vanishes together at
+    // the load beyond which the loads cannot be balanced (the lift-off load). Those nodes are held
+    // in the set, the path goes on with it, and it stops at that load.
+    for (int i : pivoted)
+      if (set_[i]) {
+        switched[i] = true;
+        held_[i] = true;
+      }
+    pivoted.erase(std::remove_if(pivoted.begin(), pivoted.end(), [&](int i) { return held_[i]; }), pivoted.end());
+  }
+  const int pivots = static_cast<int>(pivoted.size());
+  result_.summary.pivots += pivots;
+  pivots_since_step_ += pivots;
+  ++breakpoints_;
+  breakpoints_here_ = at_once ? breakpoints_here_ + 1 : 0;
+  if (breakpoints_here_ > m + 1) {
+    emit_step(std::move(step));
+    finish(TraceTermination::solver_failure,
+           fmt::format("the pivoting cycles at lambda = {:.10g} (degenerate breakpoint)", breakpoint), breakpoint);
+    return false;
+  }
+  if (pivoted.empty()) {  // only held nodes: nothing switches, nothing to refactorise
+    step.state.assign(set_.begin(), set_.end());
+    emit_step(std::move(step));
+    return true;
+  }
+  bool carried = load_set(switched);
+  if (carried) {
+    // Degenerate if a node just switched would switch straight back. Another node found at zero
+    // and falling (a tie that round-off split) is simply the next breakpoint, at once.
+    update_scales(breakpoint);
+    carried = carries_on(breakpoint, pivoted);
+  }
+  if (!carried && resolve_by_rates(breakpoint, before, at_zero)) {
+    carried = true;
+    ++rate_resolutions_;
+  }
+  if (!carried && !resolve_by_solve(breakpoint)) {
+    emit_step(std::move(step));
+    finish(termination_, message_, breakpoint);
+    return false;
+  }
+  if (const auto jump = state_jump(breakpoint, u_before, r_before)) {
+    emit_step(std::move(step));
+    finish(TraceTermination::solver_failure, *jump, breakpoint);
+    return false;
+  }
+  step.state.assign(set_.begin(), set_.end());
+  emit_step(std::move(step));
+  if (result_.summary.steps >= options_.arc_length.max_steps) {
+    finish(TraceTermination::step_limit,
+           fmt::format("max_steps = {} reached at lambda = {:.10g}", options_.arc_length.max_steps, breakpoint),
+           breakpoint);
+    return false;
+  }
+  return true;
+}
+
 TraceResult FePath::run() {
   const auto start = std::chrono::steady_clock::now();
   TraceSummary& summary = result_.summary;
   summary.path = PathKind::fe;
   summary.pivots = 0;
-  const int m = d_.reactions();
 
   direction_ = options_.arc_length.lambda_max >= options_.arc_length.lambda_min ? 1.0 : -1.0;
   lambda_end_ = options_.arc_length.lambda_max;
@@ -610,17 +706,10 @@ TraceResult FePath::run() {
         state_.displacement(lambda).lpNorm<Eigen::Infinity>() == 0.0
             ? contact_topology(model_, d_, d_.expand(direction_ * state_.live.displacement), points_)
             : topology_at(lambda);
-    int breakpoints = 0, breakpoints_here = 0;
 
     while (true) {
       // The next breakpoint: the first reaction in the set or gap outside it to reach zero.
-      update_scales(lambda);
-      double next = std::numeric_limits<double>::infinity();  // distance in lambda
-      if (d_.tensionless)
-        for (int i = 0; i < m; ++i) {
-          const double v = value(i, lambda), rho = rate(i);
-          if (!held_[i] && rho * span_ < -zero_tolerance * scale(i)) next = std::min(next, std::max(v, 0.0) / -rho);
-        }
+      const double next = distance_to_breakpoint(lambda);
       const double breakpoint = lambda + direction_ * next;
       if (floating_load_ && !(direction_ * (breakpoint - *floating_load_) < 0.0)) {
         // The held nodes' reactions vanish together here and nothing balances the loads beyond.
@@ -634,89 +723,14 @@ TraceResult FePath::run() {
         if (result_.steps.empty() || result_.steps.back().load_factor != lambda_end_)
           emit_step(reported_step_at(lambda_end_));
         finish(TraceTermination::completed,
-               fmt::format("lambda = {:.10g} reached: {} breakpoint(s), {} event(s)", lambda_end_, breakpoints,
+               fmt::format("lambda = {:.10g} reached: {} breakpoint(s), {} event(s)", lambda_end_, breakpoints_,
                            result_.events.size()),
                lambda_end_);
         return done();
       }
       advance(lambda, breakpoint, topology);
-
-      // Every node at zero there and falling switches, ties together.
-      TraceStep step = reported_step_at(breakpoint);  // the state is continuous: either set gives it
-      const VectorXd u_before = state_.displacement(breakpoint), r_before = state_.reaction(breakpoint);
-      const double moved_u = (u_before - state_.displacement(lambda)).lpNorm<Eigen::Infinity>(),
-                   moved_r = (r_before - state_.reaction(lambda)).lpNorm<Eigen::Infinity>();
-      if (moved_u > 0.0) segment_motion_.first = moved_u;
-      if (moved_r > 0.0) segment_motion_.second = moved_r;
-      const ContactSet before = set_;
-      ContactSet switched = set_;
-      std::vector<int> pivoted, at_zero;
-      for (int i = 0; i < m; ++i) {
-        if (std::abs(value(i, breakpoint)) <= tie_tolerance * scale(i)) at_zero.push_back(i);
-        if (value(i, breakpoint) <= tie_tolerance * scale(i) && rate(i) * span_ < -zero_tolerance * scale(i)) {
-          switched[i] = !switched[i];
-          pivoted.push_back(i);
-        }
-      }
-      if (!holds_member(switched) && (!floating_load_ || direction_ * (*floating_load_ - breakpoint) > 0.0)) {
-        // The nodes leaving would leave the member floating while the loads can still be
-        // balanced: round-off has split the final tie, in which every remaining reaction vanishes
-        // together at the load beyond which the loads cannot be balanced (the lift-off load).
-        // Those nodes are held in the set, the path goes on with it, and it stops at that load.
-        for (int i : pivoted)
-          if (set_[i]) {
-            switched[i] = true;
-            held_[i] = true;
-          }
-        pivoted.erase(std::remove_if(pivoted.begin(), pivoted.end(), [&](int i) { return held_[i]; }), pivoted.end());
-      }
-      const int pivots = static_cast<int>(pivoted.size());
-      summary.pivots += pivots;
-      pivots_since_step_ += pivots;
-      ++breakpoints;
-      breakpoints_here = next == 0.0 ? breakpoints_here + 1 : 0;
-      if (breakpoints_here > m + 1) {
-        emit_step(std::move(step));
-        finish(TraceTermination::solver_failure,
-               fmt::format("the pivoting cycles at lambda = {:.10g} (degenerate breakpoint)", breakpoint), breakpoint);
-        return done();
-      }
-      if (pivoted.empty()) {  // only held nodes: nothing switches, nothing to refactorise
-        step.state.assign(set_.begin(), set_.end());
-        emit_step(std::move(step));
-        lambda = breakpoint;
-        continue;
-      }
-      bool carried = load_set(switched);
-      if (carried) {
-        // Degenerate if a node just switched would switch straight back. Another node found at
-        // zero and falling (a tie that round-off split) is simply the next breakpoint, at once.
-        update_scales(breakpoint);
-        carried = carries_on(breakpoint, pivoted);
-      }
-      if (!carried && resolve_by_rates(breakpoint, before, at_zero)) {
-        carried = true;
-        ++rate_resolutions_;
-      }
-      if (!carried && !resolve_by_solve(breakpoint)) {
-        emit_step(std::move(step));
-        finish(termination_, message_, breakpoint);
-        return done();
-      }
-      if (const auto jump = state_jump(breakpoint, u_before, r_before)) {
-        emit_step(std::move(step));
-        finish(TraceTermination::solver_failure, *jump, breakpoint);
-        return done();
-      }
-      step.state.assign(set_.begin(), set_.end());
-      emit_step(std::move(step));
+      if (!cross_breakpoint(lambda, breakpoint, next == 0.0)) return done();
       lambda = breakpoint;
-      if (result_.summary.steps >= options_.arc_length.max_steps) {
-        finish(TraceTermination::step_limit,
-               fmt::format("max_steps = {} reached at lambda = {:.10g}", options_.arc_length.max_steps, lambda),
-               lambda);
-        return done();
-      }
     }
   } catch (const StepNotCertified& failure) {
     finish(TraceTermination::solver_failure, failure.message, failure.lambda);
