@@ -17,7 +17,6 @@
 #include "continuation/fe_states.hpp"
 #include "continuation/step_state.hpp"
 #include "fe/discretisation.hpp"
-#include "model/from_scene.hpp"
 #include "model/member_model.hpp"
 #include "stability/critical_load.hpp"
 
@@ -59,10 +58,10 @@ enum class Switch {
 
 class AxialPath {
  public:
-  AxialPath(const scene::Scene& scene, const TraceOptions& options, const TraceSink& sink)
+  AxialPath(const model::MemberModel& member, const TraceOptions& options, const TraceSink& sink)
       : options_(options),
         sink_(sink),
-        model_(model::make_member_model(scene)),
+        model_(member),
         d_(fe::discretise(model_, options.elements)),
         stiffness_at_one_(d_.stiffness),
         axial_at_one_(d_.axial_force),
@@ -954,9 +953,9 @@ AxialPath::Go AxialPath::at_breakpoint(Walk& walk, const Point& bad, double hi) 
 
 }  // namespace
 
-TraceResult trace_fe_axial(const scene::Scene& scene, const TraceOptions& options, const TraceSink& sink) {
-  options.validate(scene.begin(), scene.end());
-  AxialPath path(scene, options, sink);
+TraceResult trace_fe_axial(const model::MemberModel& member, const TraceOptions& options, const TraceSink& sink) {
+  options.validate(member.user_from_s(member.s_begin), member.user_from_s(member.s_end));
+  AxialPath path(member, options, sink);
   return path.run();
 }
 

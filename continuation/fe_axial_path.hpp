@@ -54,10 +54,10 @@
 // with a reason in the summary): a resumed trace.
 
 #include "continuation/trace.hpp"
-#include "scene/scene.hpp"
+#include "model/member_model.hpp"
 
 namespace liftoff::continuation {
 
-TraceResult trace_fe_axial(const scene::Scene& scene, const TraceOptions& options, const TraceSink& sink = {});
+TraceResult trace_fe_axial(const model::MemberModel& member, const TraceOptions& options, const TraceSink& sink = {});
 
 }  // namespace liftoff::continuation

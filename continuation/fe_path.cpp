@@ -18,7 +18,6 @@
 #include "continuation/step_state.hpp"
 #include "fe/discretisation.hpp"
 #include "lcp/lemke.hpp"
-#include "model/from_scene.hpp"
 #include "model/member_model.hpp"
 
 namespace liftoff::continuation {
@@ -51,10 +50,10 @@ struct AffineState {
 
 class FePath {
  public:
-  FePath(const scene::Scene& scene, const TraceOptions& options, const TraceSink& sink)
+  FePath(const model::MemberModel& member, const TraceOptions& options, const TraceSink& sink)
       : options_(options),
         sink_(sink),
-        model_(model::make_member_model(scene)),
+        model_(member),
         d_(fe::discretise(model_, options.elements)),
         system_(d_),
         points_(special_points(model_)) {}
@@ -740,26 +739,23 @@ TraceResult FePath::run() {
 
 }  // namespace
 
-TraceResult trace_fe(const scene::Scene& scene, const TraceOptions& options, const TraceSink& sink) {
+TraceResult trace_fe(const model::MemberModel& member, const TraceOptions& options, const TraceSink& sink) {
   // A beam under an axial force, dead or live: K(N) varies along the path, no longer piecewise linear.
-  if (const model::MemberModel model = model::make_member_model(scene);
-      model.kind == model::StructureKind::beam && model.has_axial_force())
-    return trace_fe_axial(scene, options, sink);
+  if (member.kind == model::StructureKind::beam && member.has_axial_force())
+    return trace_fe_axial(member, options, sink);
   // A von Karman beam: the membrane force makes the path curve and fold (models/fe_member.hpp).
-  if (const model::MemberModel model = model::make_member_model(scene); model.theory == model::Theory::von_karman) {
-    options.validate(scene.begin(), scene.end());
-    return trace_fe_von_karman(model, options, sink);
-  }
-  options.validate(scene.begin(), scene.end());
-  FePath path(scene, options, sink);
+  if (member.theory == model::Theory::von_karman) return trace_fe_von_karman(member, options, sink);
+  options.validate(member.user_from_s(member.s_begin), member.user_from_s(member.s_end));
+  FePath path(member, options, sink);
   return path.run();
 }
 
-EventErrors estimate_event_errors(const scene::Scene& scene, const TraceOptions& options, const TraceResult& base) {
+EventErrors estimate_event_errors(const model::MemberModel& member, const TraceOptions& options,
+                                  const TraceResult& base) {
   TraceOptions refined_options = options;
   refined_options.elements = 2 * options.elements;
   refined_options.resume_from.reset();
-  const TraceResult refined = trace_fe(scene, refined_options);
+  const TraceResult refined = trace_fe(member, refined_options);
   EventErrors errors;
   errors.elements = options.elements;
   errors.refined_elements = refined_options.elements;
@@ -767,7 +763,7 @@ EventErrors estimate_event_errors(const scene::Scene& scene, const TraceOptions&
   // Match each event with the refined run's unmatched event of its kind nearest in load, then
   // in position (mirror-image events share a load).
   std::vector<bool> used(refined.events.size(), false);
-  const double length = std::abs(scene.end() - scene.begin());
+  const double length = std::abs(member.user_from_s(member.s_end) - member.user_from_s(member.s_begin));
   for (const TraceEvent& event : base.events) {
     EventErrorEstimate estimate;
     estimate.event = event;

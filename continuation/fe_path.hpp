@@ -42,14 +42,14 @@
 #include <vector>
 
 #include "continuation/trace.hpp"
-#include "scene/scene.hpp"
+#include "model/member_model.hpp"
 
 namespace liftoff::continuation {
 
-TraceResult trace_fe(const scene::Scene& scene, const TraceOptions& options, const TraceSink& sink = {});
+TraceResult trace_fe(const model::MemberModel& member, const TraceOptions& options, const TraceSink& sink = {});
 
 // The discretisation error of the event loads, estimated from a second trace on twice the
-// elements: per event of `base` (a trace_fe of the same scene and options), the refined run's
+// elements: per event of `base` (a trace_fe of the same member and options), the refined run's
 // event of the same kind nearest to it, and the difference of their loads.
 struct EventErrorEstimate {
   TraceEvent event;                   // from `base`
@@ -62,6 +62,7 @@ struct EventErrors {
   std::vector<EventErrorEstimate> events;
   TraceSummary refined_summary;
 };
-EventErrors estimate_event_errors(const scene::Scene& scene, const TraceOptions& options, const TraceResult& base);
+EventErrors estimate_event_errors(const model::MemberModel& member, const TraceOptions& options,
+                                  const TraceResult& base);
 
 }  // namespace liftoff::continuation

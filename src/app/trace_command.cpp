@@ -250,11 +250,11 @@ std::string event_state_line(const PathTrace& p, std::size_t event, const Summar
 }  // namespace
 
 TracePaths default_trace_paths() {
-  return {[](const scene::Scene& s, const TraceOptions& o, const continuation::TraceSink& k) {
-            return continuation::trace_fe(s, o, k);
+  return {[](const model::MemberModel& m, const TraceOptions& o, const continuation::TraceSink& k) {
+            return continuation::trace_fe(m, o, k);
           },
-          [](const scene::Scene& s, const TraceOptions& o, const continuation::TraceSink& k) {
-            return continuation::trace_ritz(model::make_member_model(s), o, k);
+          [](const model::MemberModel& m, const TraceOptions& o, const continuation::TraceSink& k) {
+            return continuation::trace_ritz(m, o, k);
           }};
 }
 
@@ -401,11 +401,10 @@ TraceOutcome run_trace(const scene::Scene& scene, const TraceRequest& request, c
   outcome.report_at = options.report_at;
   outcome.arch = scene.structure.kind == scene::StructureKind::arch;
   outcome.von_karman = scene.structure.theory == scene::Theory::von_karman;
-  {  // the foundation's scale (no mesh resolution here: the paths choose their own meshes)
-    const model::MemberModel model = model::make_member_model(scene);
-    for (std::string& w : post::scale_warnings(scene, model, post::scale_figures(model)))
-      outcome.warnings.push_back(std::move(w));
-  }
+  const model::MemberModel member = model::make_member_model(scene);
+  // The foundation's scale (no mesh resolution here: the paths choose their own meshes).
+  for (std::string& w : post::scale_warnings(scene, member, post::scale_figures(member)))
+    outcome.warnings.push_back(std::move(w));
 
   std::unique_ptr<io::TraceWriter> writer;
   if (request.resume) {
@@ -472,7 +471,7 @@ TraceOutcome run_trace(const scene::Scene& scene, const TraceRequest& request, c
     const TracePath& path = name == "ritz" ? paths.ritz : paths.fe;
     continuation::TraceResult result;
     try {
-      result = path(scene, path_options, sink);
+      result = path(member, path_options, sink);
     } catch (...) {
       // Refused before its first step (a mechanism, a scene the Ritz model cannot take): no
       // half-written file is left behind. Once steps are written they are kept, to resume.

@@ -15,11 +15,13 @@
 #include <vector>
 
 #include "continuation/trace.hpp"
+#include "model/member_model.hpp"
 #include "scene/scene.hpp"
 
 namespace liftoff::app {
 
-using TracePath = std::function<continuation::TraceResult(const scene::Scene&, const continuation::TraceOptions&,
+// A path runs on the member model, built once per trace from the scene (run_trace).
+using TracePath = std::function<continuation::TraceResult(const model::MemberModel&, const continuation::TraceOptions&,
                                                           const continuation::TraceSink&)>;
 
 struct TracePaths {

@@ -26,6 +26,7 @@
 #include "app/trace_load.hpp"
 #include "core/error.hpp"
 #include "io/trace_writer.hpp"
+#include "model/member_model.hpp"
 #include "scene/scene_reader.hpp"
 #include "support/cli.hpp"
 #include "support/scenes.hpp"
@@ -70,9 +71,11 @@ struct SyntheticPath {
   std::vector<TraceOptions> calls;  // the options of every call, resume_from included
 
   app::TracePath path() {
-    return [this](const scene::Scene& scene, const TraceOptions& o, const continuation::TraceSink& sink) {
+    return [this](const model::MemberModel& member, const TraceOptions& o, const continuation::TraceSink& sink) {
       calls.push_back(o);
-      const double range = o.arc_length.lambda_max - o.arc_length.lambda_min, length = scene.end() - scene.begin();
+      const double begin = member.user_from_s(member.s_begin);
+      const double range = o.arc_length.lambda_max - o.arc_length.lambda_min,
+                   length = member.user_from_s(member.s_end) - begin;
       const int n = static_cast<int>(std::ceil(range / o.arc_length.max_step - 1e-9));
       int first = 0;
       if (o.resume_from)
@@ -89,7 +92,7 @@ struct SyntheticPath {
         const double c = length * (1 - 0.5 * (lambda - o.arc_length.lambda_min) / range);
         TraceStep s;
         s.load_factor = lambda;
-        s.contact_regions = {{scene.begin(), scene.begin() + c}};
+        s.contact_regions = {{begin, begin + c}};
         for (const double x : o.sample_points) {
           s.deflection.push_back(1e-3 * (1 + lambda * (x - o.monitor)));
           s.reaction.push_back(500 * s.deflection.back());
@@ -104,7 +107,7 @@ struct SyntheticPath {
         for (int e = 0; e < 2; ++e) {
           if (i == 0 || !(previous < event_at[e] && event_at[e] <= lambda)) continue;
           const TraceEvent event{event_at[e], e == 0 ? EventKind::lift_off_opens : EventKind::limit_at_load,
-                                 scene.begin() + length * (1 - 0.5 * (event_at[e] - o.arc_length.lambda_min) / range),
+                                 begin + length * (1 - 0.5 * (event_at[e] - o.arc_length.lambda_min) / range),
                                  "synthetic event " + std::to_string(e)};
           sink.on_event(event);
           result.events.push_back(event);
@@ -373,7 +376,7 @@ TEST_CASE("trace: an interrupted trace keeps its steps and resumes to the uninte
 TEST_CASE("trace: a path that refuses the scene before its first step leaves no file", "[app][trace][errors]") {
   Scratch scratch;
   const scene::Scene s = scene_with_trace("lambda_max = 1\n");
-  const app::TracePath refuses = [](const scene::Scene&, const TraceOptions&,
+  const app::TracePath refuses = [](const model::MemberModel&, const TraceOptions&,
                                     const continuation::TraceSink&) -> continuation::TraceResult {
     throw InputError("beam.toml: a mechanism");
   };
@@ -872,7 +875,7 @@ namespace {
 // The synthetic path's steps with a record (design values, supports) and one requested step (at
 // lambda 1, as the engine records a load asked for): what the outputs of a requested step look like.
 app::TracePath recording(SyntheticPath& synthetic) {
-  return [&synthetic](const scene::Scene& scene, const TraceOptions& o, const continuation::TraceSink& sink) {
+  return [&synthetic](const model::MemberModel& member, const TraceOptions& o, const continuation::TraceSink& sink) {
     continuation::TraceSink decorated;
     decorated.on_event = sink.on_event;
     decorated.on_step = [&](const TraceStep& step) {
@@ -886,11 +889,12 @@ app::TracePath recording(SyntheticPath& synthetic) {
       s.design = d;
       s.supports = {{10.0, 0.5 * s.load_factor, 0.0, 0.0, false, 0.0}};
       // Nodal moments 3 lambda all along, so that M at the monitor is 3 lambda wherever it is.
-      s.fields.coordinate = {scene.begin(), 0.5 * (scene.begin() + scene.end()), scene.end()};
+      const double begin = member.user_from_s(member.s_begin), end = member.user_from_s(member.s_end);
+      s.fields.coordinate = {begin, 0.5 * (begin + end), end};
       s.fields.bending_moment.assign(3, 3.0 * s.load_factor);
       sink.on_step(s);
     };
-    return synthetic.path()(scene, o, decorated);
+    return synthetic.path()(member, o, decorated);
   };
 }
 }  // namespace

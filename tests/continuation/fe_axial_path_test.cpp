@@ -5,6 +5,7 @@
 // set on a member discretised at that N, certified), the limit load bracketed by fixed-N solves,
 // the stability indicator, and the strut's approach to the Euler load.
 
+#include "support/trace_scene.hpp"
 #include "continuation/fe_axial_path.hpp"
 
 #include <catch2/catch.hpp>
@@ -108,7 +109,7 @@ TEST_CASE("upheaval buckle: through the limit point, every step an independent e
   const scene::Scene scene = upheaval();
   const int elements = 200;
   const TraceOptions options = options_for(scene, elements);
-  const TraceResult result = continuation::trace_fe(scene, options);
+  const TraceResult result = test::trace_fe(scene, options);
   INFO(result.summary.message);
   REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
   REQUIRE(result.steps.back().amplitude == Approx(1.0).epsilon(1e-6));  // stopped by max_amplitude
@@ -196,7 +197,7 @@ TEST_CASE("upheaval buckle: the limit load lies between the fixed-N solves that 
           "[fe_axial_path]") {
   const scene::Scene scene = upheaval();
   const int elements = 200;
-  const TraceResult result = continuation::trace_fe(scene, options_for(scene, elements));
+  const TraceResult result = test::trace_fe(scene, options_for(scene, elements));
   const double limit = limit_load_factor(result);
   REQUIRE(limit > 0.0);
   // Bisect the fixed-N solves: lo solved (stable), hi refused.
@@ -226,7 +227,7 @@ TEST_CASE("upheaval buckle: the limit load converges with the mesh", "[fe_axial_
   for (int elements : {200, 400, 800}) {
     TraceOptions options = options_for(scene, elements);
     options.max_amplitude = 0.1;  // well past the fold
-    limits.push_back(limit_load_factor(continuation::trace_fe(scene, options)));
+    limits.push_back(limit_load_factor(test::trace_fe(scene, options)));
     REQUIRE(limits.back() > 0.0);
   }
   const double d1 = std::abs(limits[0] - limits[1]), d2 = std::abs(limits[1] - limits[2]);
@@ -261,7 +262,7 @@ max_amplitude = 0.1
 )";
   const scene::Scene scene = scene::parse_scene(text, "strut.toml");
   const TraceOptions options = options_for(scene, 64);
-  const TraceResult result = continuation::trace_fe(scene, options);
+  const TraceResult result = test::trace_fe(scene, options);
   INFO(result.summary.message);
   REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
   const double euler = std::numbers::pi * std::numbers::pi * 1e4 / 100.0;
@@ -281,7 +282,7 @@ TEST_CASE("a straight weightless strut lying on a tensionless foundation is stab
   TraceOptions options = options_for(scene, 64);
   options.switch_branch = false;  // stay on the straight path (the next test switches)
   options.max_amplitude.reset();
-  const TraceResult result = continuation::trace_fe(scene, options);
+  const TraceResult result = test::trace_fe(scene, options);
   INFO(result.summary.message);
   REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
   const double euler = closed_form::tensionless_pinned_strut_critical(6.0, 1.0e7);  // 2.74e6 N
@@ -315,7 +316,7 @@ TEST_CASE("a straight weightless strut on a tensionless foundation: the bifurcat
   const scene::Scene scene = straight_strut();                                      // max_amplitude 0.03 m
   const double euler = closed_form::tensionless_pinned_strut_critical(6.0, 1.0e7);  // 2.74e6 N
   auto bifurcation = [&](int elements) {
-    const TraceResult result = continuation::trace_fe(scene, options_for(scene, elements));
+    const TraceResult result = test::trace_fe(scene, options_for(scene, elements));
     INFO(result.summary.message);
     REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
     REQUIRE(result.events.size() == 1);
@@ -395,8 +396,8 @@ max_amplitude = 0.02
     FAIL("no bifurcation: " << result.summary.message);
     return 0.0;
   };
-  const TraceResult result = continuation::trace_fe(scene, options_for(scene, 64));
-  const TraceResult coarse = continuation::trace_fe(scene, options_for(scene, 32));
+  const TraceResult result = test::trace_fe(scene, options_for(scene, 64));
+  const TraceResult coarse = test::trace_fe(scene, options_for(scene, 32));
   INFO(result.summary.message);
   REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
   const double n64 = bifurcation_load(result), n32 = bifurcation_load(coarse);
@@ -428,7 +429,7 @@ max_amplitude = 0.02
 
   TraceOptions stay = options_for(scene, 64);
   stay.switch_branch = false;
-  const TraceResult flat = continuation::trace_fe(scene, stay);
+  const TraceResult flat = test::trace_fe(scene, stay);
   INFO(flat.summary.message);
   REQUIRE(flat.summary.termination == continuation::TraceTermination::completed);
   CHECK(bifurcation_load(flat) == Approx(n64).epsilon(1e-9));
@@ -453,7 +454,7 @@ TEST_CASE(
   TraceOptions options = options_for(scene, 200);
   options.arc_length.lambda_max = 14.0;
   options.max_amplitude = 0.1;
-  const TraceResult result = continuation::trace_fe(scene, options);
+  const TraceResult result = test::trace_fe(scene, options);
   INFO(result.summary.message);
   REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
   const double critical = 2.0 * std::sqrt(2.0e5 * 1.8011e8) / 1e6;
@@ -511,7 +512,7 @@ TEST_CASE("the perfect pipeline's descending branch is the closed-form localized
     TraceOptions options = options_for(scene, elements);
     options.arc_length.lambda_max = 14.0;
     options.max_amplitude = uplift;
-    const TraceResult result = continuation::trace_fe(scene, options);
+    const TraceResult result = test::trace_fe(scene, options);
     INFO(result.summary.message);
     REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
     const continuation::TraceStep& last = result.steps.back();
@@ -556,7 +557,7 @@ lambda_max = 3.0
   TraceOptions options = options_for(scene, 100);
   options.sample_points.clear();
   for (int i = 0; i <= 1000; ++i) options.sample_points.push_back(i / 1000.0);
-  const TraceResult result = continuation::trace_fe(scene, options);
+  const TraceResult result = test::trace_fe(scene, options);
   INFO(result.summary.message);
   REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
   int lifted_steps = 0;
@@ -607,7 +608,7 @@ TEST_CASE("settled supports under a live axial force: a straight member stays at
   TraceOptions options = options_for(scene, 100);
   options.arc_length.lambda_max = 3.0;
   options.max_amplitude.reset();
-  const TraceResult result = continuation::trace_fe(scene, options);
+  const TraceResult result = test::trace_fe(scene, options);
   INFO(result.summary.message);
   REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
   CHECK(result.events.empty());
@@ -632,7 +633,7 @@ TEST_CASE("settled supports under a live axial force: the trace agrees with solv
   TraceOptions options = options_for(scene, elements);
   options.arc_length.lambda_max = 5.5;  // below the limit point (5.84 unsettled)
   options.max_amplitude.reset();
-  const TraceResult result = continuation::trace_fe(scene, options);
+  const TraceResult result = test::trace_fe(scene, options);
   INFO(result.summary.message);
   REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
   int compared = 0;
@@ -663,7 +664,7 @@ TEST_CASE("upheaval buckle: the states at requested loads on both branches", "[f
   const int elements = 200;
   TraceOptions options = options_for(scene, elements);
   options.report_at = {5.0};
-  const TraceResult result = continuation::trace_fe(scene, options);
+  const TraceResult result = test::trace_fe(scene, options);
   INFO(result.summary.message);
   REQUIRE(result.summary.is_usable());
   std::vector<const continuation::TraceStep*> requested;

@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "support/trace_scene.hpp"
 #include "app/trace_command.hpp"
 #include "closed_form/beam_on_foundation.hpp"
 #include "contact/active_set_system.hpp"
@@ -48,7 +49,7 @@ TraceResult fe_run(const scene::Scene& s, int elements, double lambda_max) {
   TraceOptions o = app::trace_options(s, {});
   o.elements = elements;
   o.arc_length.lambda_max = lambda_max;
-  return continuation::trace_fe(s, o);
+  return test::trace_fe(s, o);
 }
 
 // The footing (the scene file's numbers) in the closed form, one load case at a time.
@@ -284,7 +285,7 @@ TEST_CASE("a member about to tip over: the path stops where round-off decides it
     TraceOptions o;
     o.arc_length.lambda_max = 6.0;
     o.elements = n;
-    const TraceResult r = continuation::trace_fe(s, o);
+    const TraceResult r = test::trace_fe(s, o);
     INFO(r.summary.message);
     REQUIRE(r.events.size() == 1);
     CHECK(r.events[0].kind == EventKind::limit_at_end);

@@ -3,6 +3,7 @@
 // events where independent solves say the topology changes, and event loads converging to the
 // closed form as the mesh is refined.
 
+#include "support/trace_scene.hpp"
 #include "continuation/fe_path.hpp"
 
 #include <catch2/catch.hpp>
@@ -149,7 +150,7 @@ TEST_CASE("the shared scene's first lift-off converges to the closed form as the
   const double exact = closed_form_lift_off_load();
   std::vector<double> h, error, load;
   for (int elements : {20, 40, 80, 160}) {
-    const TraceResult result = continuation::trace_fe(free_free_uplift(), options_for(0.0, 8.0, elements));
+    const TraceResult result = test::trace_fe(free_free_uplift(), options_for(0.0, 8.0, elements));
     INFO(elements << " elements: " << result.summary.message);
     REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
     const auto* event = first_event(result, EventKind::lift_off_opens);
@@ -178,8 +179,8 @@ TEST_CASE("the shared scene's first lift-off converges to the closed form as the
   CHECK(error[3] > 0.5 * estimate);
   // And estimate_event_errors, which traces on twice the elements, bounds the error of the
   // 80-element run by the same argument.
-  const TraceResult coarse = continuation::trace_fe(free_free_uplift(), options_for(0.0, 8.0, 80));
-  const auto estimates = continuation::estimate_event_errors(free_free_uplift(), options_for(0.0, 8.0, 80), coarse);
+  const TraceResult coarse = test::trace_fe(free_free_uplift(), options_for(0.0, 8.0, 80));
+  const auto estimates = test::estimate_event_errors(free_free_uplift(), options_for(0.0, 8.0, 80), coarse);
   REQUIRE(estimates.refined_elements == 160);
   REQUIRE(!estimates.events.empty());
   REQUIRE(estimates.events.front().refined.has_value());
@@ -200,7 +201,7 @@ TEST_CASE("between breakpoints the path is exact, and no breakpoint is missed") 
     CAPTURE(c.name);
     TraceOptions options = options_for(0.0, c.lambda_max, c.elements);
     options.sample_points = node_positions(c.scene, c.elements);
-    const TraceResult result = continuation::trace_fe(c.scene, options);
+    const TraceResult result = test::trace_fe(c.scene, options);
     INFO(result.summary.message);
     REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
     REQUIRE(result.steps.size() >= 3);  // the scene has breakpoints in its range
@@ -237,7 +238,7 @@ TEST_CASE("one factorisation per contact set: none while the set is unchanged") 
   // Load ranges short of the loads that lift the free-free beams off (10 and 4).
   for (const auto& [scene, lambda_max] : {std::pair{free_free_uplift(), 8.0}, std::pair{pinned_end_moments(), 8.0},
                                           std::pair{central_region_split(), 3.9}}) {
-    const TraceResult result = continuation::trace_fe(scene, options_for(0.0, lambda_max, 80));
+    const TraceResult result = test::trace_fe(scene, options_for(0.0, lambda_max, 80));
     INFO(result.summary.message);
     REQUIRE(result.summary.termination != continuation::TraceTermination::solver_failure);
     std::set<std::vector<bool>> sets;
@@ -293,7 +294,7 @@ void check_events_against_lemke(const scene::Scene& scene, const TraceOptions& o
 
 TEST_CASE("simply supported beam under end moments: events agree with Lemke on either side") {
   const TraceOptions options = options_for(0.0, 5.0, 80);
-  const TraceResult result = continuation::trace_fe(pinned_end_moments(), options);
+  const TraceResult result = test::trace_fe(pinned_end_moments(), options);
   INFO(result.summary.message);
   REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
   // Full contact at first; the moments then lift the left end: a lift-off zone opens at the
@@ -307,7 +308,7 @@ TEST_CASE("simply supported beam under end moments: events agree with Lemke on e
 
 TEST_CASE("a central contact region splits in two") {
   const TraceOptions options = options_for(0.0, 3.9, 80);
-  const TraceResult result = continuation::trace_fe(central_region_split(), options);
+  const TraceResult result = test::trace_fe(central_region_split(), options);
   INFO(result.summary.message);
   REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
   // The dead load over the middle presses a central region only: both ends are lifted off.
@@ -340,7 +341,7 @@ TEST_CASE("a free-free beam lifted off by its loads stops with no equilibrium at
   for (int elements : {80, 200}) {
     CAPTURE(elements);
     const TraceOptions options = options_for(0.0, 12.0, elements);
-    const TraceResult result = continuation::trace_fe(free_free_uplift(), options);
+    const TraceResult result = test::trace_fe(free_free_uplift(), options);
     INFO(result.summary.message);
     CHECK(result.summary.termination == continuation::TraceTermination::no_equilibrium);
     CHECK(result.summary.final_load_factor == Approx(10.0).margin(10 * options.event_tolerance));
@@ -358,8 +359,8 @@ TEST_CASE("the path does not depend on units") {
   TraceOptions metres_options = options_for(0.0, 8.0, 40), millimetres_options = metres_options;
   metres_options.sample_points = {2.5};
   millimetres_options.sample_points = {2.5e3};
-  const TraceResult a = continuation::trace_fe(free_free_uplift(), metres_options);
-  const TraceResult b = continuation::trace_fe(millimetres, millimetres_options);
+  const TraceResult a = test::trace_fe(free_free_uplift(), metres_options);
+  const TraceResult b = test::trace_fe(millimetres, millimetres_options);
   REQUIRE(a.steps.size() == b.steps.size());
   REQUIRE(a.events.size() == b.events.size());
   for (std::size_t k = 0; k < a.events.size(); ++k) {
@@ -377,7 +378,7 @@ TEST_CASE("a resumed trace reproduces the rest of the path and its events") {
   TraceOptions options = options_for(0.0, 3.9, 80);
   options.sample_points = {2.0, 5.0, 8.0};
   options.monitor = 5.0;
-  const TraceResult full = continuation::trace_fe(central_region_split(), options);
+  const TraceResult full = test::trace_fe(central_region_split(), options);
   REQUIRE(full.summary.termination == continuation::TraceTermination::completed);
   REQUIRE(full.events.size() >= 2);
   // Resume from the last step before the first event: every event is still ahead.
@@ -387,7 +388,7 @@ TEST_CASE("a resumed trace reproduces the rest of the path and its events") {
   options.resume_from = full.steps[from];
   std::vector<TraceStep> written;
   std::vector<continuation::TraceEvent> events;
-  const TraceResult resumed = continuation::trace_fe(central_region_split(), options,
+  const TraceResult resumed = test::trace_fe(central_region_split(), options,
                                                      {[&](const TraceStep& s) { written.push_back(s); },
                                                       [&](const continuation::TraceEvent& e) { events.push_back(e); }});
   REQUIRE(resumed.summary.termination == continuation::TraceTermination::completed);
@@ -418,7 +419,7 @@ TEST_CASE("a path through zero load: the degenerate breakpoint there is resolved
   scene.loads.push_back(test::point_moment(1.0, 1.0));
   TraceOptions options = options_for(-1.0, 1.0, 40);
   options.sample_points = node_positions(scene, 40);
-  const TraceResult result = continuation::trace_fe(scene, options);
+  const TraceResult result = test::trace_fe(scene, options);
   INFO(result.summary.message);
   REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
   CHECK(result.summary.message.find("degenerate") != std::string::npos);
@@ -441,7 +442,7 @@ TEST_CASE("a shipped arch traced from no load to lambda = 1 ends where solve doe
   const auto scene = test::shipped_scene("seed_arch_roller");
   TraceOptions options = options_for(0.0, 1.0, 80);
   options.monitor = 0.0;
-  const TraceResult result = continuation::trace_fe(scene, options);
+  const TraceResult result = test::trace_fe(scene, options);
   INFO(result.summary.message);
   REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
   CHECK(result.steps.size() == 2);
@@ -469,7 +470,7 @@ TEST_CASE("limits reaching a point support and point loads are events, as Lemke 
   scene.loads.push_back(test::point_force(6.0, 0.5, LoadCase::dead));
   scene.loads.push_back(test::point_force(8.0, -1.0, LoadCase::live));
   const TraceOptions options = options_for(0.0, 6.0, 80);
-  const TraceResult result = continuation::trace_fe(scene, options);
+  const TraceResult result = test::trace_fe(scene, options);
   INFO(result.summary.message);
   REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
   std::set<EventKind> kinds;
@@ -489,10 +490,10 @@ TEST_CASE("the refined run's estimate of the event loads' discretisation error f
   // each is matched in the run on twice the elements, and the difference shrinks like the
   // error it estimates (at least halving per halving of h; test 1 measures h^3).
   const auto coarse_options = options_for(0.0, 3.9, 40), fine_options = options_for(0.0, 3.9, 80);
-  const auto coarse = continuation::estimate_event_errors(
-      central_region_split(), coarse_options, continuation::trace_fe(central_region_split(), coarse_options));
-  const auto fine = continuation::estimate_event_errors(central_region_split(), fine_options,
-                                                        continuation::trace_fe(central_region_split(), fine_options));
+  const auto coarse = test::estimate_event_errors(
+      central_region_split(), coarse_options, test::trace_fe(central_region_split(), coarse_options));
+  const auto fine = test::estimate_event_errors(central_region_split(), fine_options,
+                                                        test::trace_fe(central_region_split(), fine_options));
   REQUIRE(coarse.events.size() >= 2);
   REQUIRE(coarse.events.size() == fine.events.size());
   for (std::size_t k = 0; k < coarse.events.size(); ++k) {
@@ -514,7 +515,7 @@ TEST_CASE("FE path: every reported state passes the certificate, and a wrong con
     const scene::Scene s = test::continuation_scene(name);
     TraceOptions o = app::trace_options(s, {});
     o.elements = 60;
-    const TraceResult r = continuation::trace_fe(s, o);
+    const TraceResult r = test::trace_fe(s, o);
     CAPTURE(name, r.summary.message);
     REQUIRE(r.summary.termination == continuation::TraceTermination::completed);
     const auto model = model::make_member_model(s);
@@ -582,7 +583,7 @@ struct PathEnd {
 PathEnd path_ends_on_solve(const scene::Scene& scene, int elements) {
   TraceOptions options = options_for(0.0, 1.0, elements);
   options.sample_points = node_positions(scene, elements);
-  const TraceResult result = continuation::trace_fe(scene, options);
+  const TraceResult result = test::trace_fe(scene, options);
   INFO(result.summary.message);
   REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
   test::Solved solved = test::solve(scene, contact::Method::fast, elements, 1.0);
@@ -662,7 +663,7 @@ TEST_CASE("FE path: the states at requested loads, in order, as the path's end t
   TraceOptions options = options_for(0.0, 8.0, 80);
   options.sample_points = node_positions(scene, 80);
   options.report_at = {6.0, 2.5};
-  const TraceResult result = continuation::trace_fe(scene, options);
+  const TraceResult result = test::trace_fe(scene, options);
   REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
   std::vector<std::size_t> requested;
   for (std::size_t i = 0; i < result.steps.size(); ++i)
@@ -678,7 +679,7 @@ TEST_CASE("FE path: the states at requested loads, in order, as the path's end t
     CHECK(result.steps[i + 1].load_factor > load);
     TraceOptions to_load = options_for(0.0, load, 80);
     to_load.sample_points = options.sample_points;
-    const TraceResult ending = continuation::trace_fe(scene, to_load);
+    const TraceResult ending = test::trace_fe(scene, to_load);
     REQUIRE(ending.summary.termination == continuation::TraceTermination::completed);
     const TraceStep& there = ending.steps.back();
     REQUIRE(there.load_factor == load);
@@ -689,5 +690,5 @@ TEST_CASE("FE path: the states at requested loads, in order, as the path's end t
     CHECK(result.steps[i].design->moment_max.value == Approx(there.design->moment_max.value).epsilon(1e-12));
   }
   // Without report_at no step is requested.
-  for (const TraceStep& step : continuation::trace_fe(scene, options_for(0.0, 8.0, 80)).steps) CHECK(!step.requested);
+  for (const TraceStep& step : test::trace_fe(scene, options_for(0.0, 8.0, 80)).steps) CHECK(!step.requested);
 }

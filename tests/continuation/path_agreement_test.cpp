@@ -29,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "support/trace_scene.hpp"
 #include "app/trace_command.hpp"
 #include "closed_form/scene_problem.hpp"
 #include "continuation/fe_path.hpp"
@@ -53,7 +54,7 @@ TraceOptions options_for(const scene::Scene& s) { return app::trace_options(s, {
 TraceResult fe_run(const scene::Scene& s, int elements) {
   TraceOptions o = options_for(s);
   o.elements = elements;
-  TraceResult r = continuation::trace_fe(s, o);
+  TraceResult r = test::trace_fe(s, o);
   REQUIRE(r.summary.is_usable());
   return r;
 }
@@ -96,7 +97,7 @@ Agreement check_agreement(const std::string& name) {
   const double length = std::abs(s.end() - s.begin());
   Agreement g;
   g.fe = fe_run(s, options_for(s).elements);
-  const continuation::EventErrors errors = continuation::estimate_event_errors(s, options_for(s), g.fe);
+  const continuation::EventErrors errors = test::estimate_event_errors(s, options_for(s), g.fe);
   g.ritz = ritz_run(s, ritz_modes);
   const TraceResult fewer = ritz_run(s, ritz_fewer_modes);
 

@@ -17,6 +17,7 @@
 #include <sstream>
 #include <string>
 
+#include "support/trace_scene.hpp"
 #include "closed_form/beam_on_foundation.hpp"
 #include "continuation/fe_path.hpp"
 #include "continuation/models/ritz.hpp"
@@ -405,9 +406,9 @@ TEST_CASE("ritz path: the pipeline lifts off at Hetenyi's load, as the FE path s
   // The FE path: its event at 200 elements, with the change to 400 times 3 as its error (the
   // event load converges at h^2 or faster here: 0.19901, 0.19979 against 0.19992).
   TraceOptions fe_options = options;
-  const TraceResult fe = trace_fe(s, fe_options);
+  const TraceResult fe = test::trace_fe(s, fe_options);
   fe_options.elements = 400;
-  const TraceResult fine = trace_fe(s, fe_options);
+  const TraceResult fine = test::trace_fe(s, fe_options);
   REQUIRE(fe.events.size() == 1);
   REQUIRE(fine.events.size() == 1);
   const double fe_error = 3.0 * std::abs(fe.events[0].load_factor - fine.events[0].load_factor);
@@ -455,9 +456,9 @@ TEST_CASE("ritz path: the arch culvert's events agree with the FE path's, and no
   const TraceResult ritz = test::trace_ritz_scene(s, options);
   options.ritz.modes = 36;
   const TraceResult fewer = test::trace_ritz_scene(s, options);
-  const TraceResult fe = trace_fe(s, options);
+  const TraceResult fe = test::trace_fe(s, options);
   options.elements = 400;
-  const TraceResult fine = trace_fe(s, options);
+  const TraceResult fine = test::trace_fe(s, options);
   INFO(ritz.summary.message << " | " << fewer.summary.message);
   REQUIRE(ritz.summary.termination == TraceTermination::completed);
   REQUIRE(fewer.summary.termination == TraceTermination::completed);

@@ -16,6 +16,7 @@
 // beam, design 7.8e-12), 6.7e-13 (arch), 2.2e-15 (beam-column), 3.2e-11 (von Karman), 5.3e-14
 // (Ritz). A wrong record is far off: another step's fields differ by the change of the load between
 // steps (percent), V and M by derivatives instead of statics by the element's truncation (1e-3).
+#include "support/trace_scene.hpp"
 #include "continuation/step_state.hpp"
 
 #include <fmt/format.h>
@@ -180,7 +181,7 @@ app::SolveRequest solve_request(scene::Method method, int elements) {
 std::vector<TraceStep> fe_steps(const scene::Scene& scene, int elements) {
   app::TraceRequest request;
   request.elements = elements;
-  const continuation::TraceResult result = continuation::trace_fe(scene, app::trace_options(scene, request));
+  const continuation::TraceResult result = test::trace_fe(scene, app::trace_options(scene, request));
   REQUIRE(result.summary.is_usable());
   return result.steps;
 }

@@ -9,6 +9,7 @@
 #include <sstream>
 #include <string>
 
+#include "support/trace_scene.hpp"
 #include "continuation/fe_path.hpp"
 #include "continuation/models/ritz.hpp"
 #include "model/from_scene.hpp"
@@ -70,10 +71,10 @@ TEST_CASE("ritz path stress: the pipeline to lambda = 3, every step a contact so
   REQUIRE(end.contact_regions.size() == 2);
   const double a_ritz = end.contact_regions[0].end;
   CHECK(std::abs(end.contact_regions[1].begin - (500.0 - a_ritz)) < 1e-9 * 500.0);  // symmetric
-  const TraceResult fe = trace_fe(s, options);
+  const TraceResult fe = test::trace_fe(s, options);
   TraceOptions fine_options = options;
   fine_options.elements = 400;
-  const TraceResult fine = trace_fe(s, fine_options);
+  const TraceResult fine = test::trace_fe(s, fine_options);
   REQUIRE(fe.summary.termination == TraceTermination::completed);
   REQUIRE(fine.summary.termination == TraceTermination::completed);
   REQUIRE(fe.steps.back().contact_regions.size() == 2);
