@@ -310,11 +310,7 @@ std::optional<ContactSet> AxialPath::start_set(double lambda) {
   fixed.axial_dead = model_.axial_force(lambda);
   fixed.axial_live = 0.0;
   const fe::Discretisation d = fe::discretise(fixed, options_.elements);
-  contact::ContactOptions options;
-  const contact::Method asked = options_.contact_method;
-  options.method = asked == contact::Method::dual || asked == contact::Method::primal ? asked : contact::Method::fast;
-  options.load_factor = lambda;
-  const contact::ContactSolution solution = contact::solve_contact(d, options);
+  const contact::ContactSolution solution = fe_states::contact_solve(d, options_.contact_method, lambda);
   ++result_.summary.contact_solves;
   result_.summary.contact_method = solution.summary.method;
   if (!solution.summary.is_usable()) {
@@ -324,10 +320,7 @@ std::optional<ContactSet> AxialPath::start_set(double lambda) {
            fmt::format("the contact solver at lambda = {:.10g}: {}", lambda, solution.summary.message), lambda);
     return std::nullopt;
   }
-  const double r_scale = std::max(solution.reaction.lpNorm<Eigen::Infinity>(), 1e-300);
-  const double g_scale = std::max((d.flexibility * solution.reaction).lpNorm<Eigen::Infinity>(), 1e-300);
-  ContactSet set(m);
-  for (int i = 0; i < m; ++i) set[i] = solution.reaction[i] / r_scale > solution.gap[i] / g_scale;
+  const ContactSet set = fe_states::contact_set_of(d, solution);
   const auto p = solve(set, lambda);
   if (!p || !feasible(set, *p)) {
     finish(TraceTermination::solver_failure,

@@ -168,11 +168,7 @@ bool FePath::load_set(const ContactSet& set) {
 }
 
 std::optional<ContactSet> FePath::solved_set(double lambda) {
-  contact::ContactOptions options;
-  const contact::Method asked = options_.contact_method;
-  options.method = asked == contact::Method::dual || asked == contact::Method::primal ? asked : contact::Method::fast;
-  options.load_factor = lambda;
-  const contact::ContactSolution solution = contact::solve_contact(d_, options);
+  const contact::ContactSolution solution = fe_states::contact_solve(d_, options_.contact_method, lambda);
   ++result_.summary.contact_solves;
   result_.summary.contact_method = solution.summary.method;
   result_.summary.pivots += std::max(solution.summary.pivots, 0);
@@ -187,14 +183,7 @@ std::optional<ContactSet> FePath::solved_set(double lambda) {
     message_ = fmt::format("the contact solver at lambda = {:.10g}: {}", lambda, solution.summary.message);
     return std::nullopt;
   }
-  // In contact where the reaction, not the gap, is the basic (non-zero) one, each relative to
-  // its own size.
-  // (The gap's size is that of its terms, T r and C u: in full contact the gaps are round-off.)
-  const double r_scale = std::max(solution.reaction.lpNorm<Eigen::Infinity>(), 1e-300);
-  const double g_scale = std::max((d_.flexibility * solution.reaction).lpNorm<Eigen::Infinity>(), 1e-300);
-  ContactSet set(d_.reactions());
-  for (int i = 0; i < d_.reactions(); ++i) set[i] = solution.reaction[i] / r_scale > solution.gap[i] / g_scale;
-  return set;
+  return fe_states::contact_set_of(d_, solution);
 }
 
 double FePath::value(int node, double lambda) const {

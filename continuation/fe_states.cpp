@@ -59,4 +59,19 @@ certify::Certificate certify_state(const model::MemberModel& model, const fe::Di
   return certificate;
 }
 
+contact::ContactSolution contact_solve(const fe::Discretisation& d, contact::Method asked, double lambda) {
+  contact::ContactOptions options;
+  options.method = asked == contact::Method::dual || asked == contact::Method::primal ? asked : contact::Method::fast;
+  options.load_factor = lambda;
+  return contact::solve_contact(d, options);
+}
+
+std::vector<bool> contact_set_of(const fe::Discretisation& d, const contact::ContactSolution& solution) {
+  const double r_scale = std::max(solution.reaction.lpNorm<Eigen::Infinity>(), 1e-300);
+  const double g_scale = std::max((d.flexibility * solution.reaction).lpNorm<Eigen::Infinity>(), 1e-300);
+  std::vector<bool> set(d.reactions());
+  for (int i = 0; i < d.reactions(); ++i) set[i] = solution.reaction[i] / r_scale > solution.gap[i] / g_scale;
+  return set;
+}
+
 }  // namespace liftoff::continuation::fe_states

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "certify/certificate.hpp"
+#include "contact/contact_solver.hpp"
 #include "continuation/events.hpp"
 #include "continuation/trace.hpp"
 #include "fe/discretisation.hpp"
@@ -48,5 +49,14 @@ struct StepNotCertified {
 // step_state.hpp); throws StepNotCertified when it fails.
 certify::Certificate certify_state(const model::MemberModel& model, const fe::Discretisation& d, double lambda,
                                    const Eigen::VectorXd& displacement, const Eigen::VectorXd& reaction);
+
+// The contact solve that gives an FE path its contact set at lambda: the Lemke LCP the trace asks
+// for (dual, primal), else the sparse active-set solver (fast, with Lemke as its own fallback).
+contact::ContactSolution contact_solve(const fe::Discretisation& d, contact::Method asked, double lambda);
+
+// The contact set of a contact solution: in contact where the reaction, not the gap, is the basic
+// (non-zero) one, each relative to its own size (the gap's size is that of its terms, T r and C u:
+// in full contact the gaps are round-off).
+std::vector<bool> contact_set_of(const fe::Discretisation& d, const contact::ContactSolution& solution);
 
 }  // namespace liftoff::continuation::fe_states
