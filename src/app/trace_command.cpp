@@ -555,10 +555,11 @@ std::string text_summary(const TraceOutcome& outcome) {
     out += fmt::format("load          lambda only ({})\n", outcome.no_physical_load);
   const SummaryUnits units{outcome.arch, outcome.units};
   for (const PathTrace& p : outcome.paths) {
-    out += fmt::format("path {:<8} {}: {} steps{}, lambda {:.8g}{}\n", p.path,
+    const double final_lambda = p.steps.empty() ? p.summary.final_load_factor : p.steps.back().load_factor;
+    out += fmt::format("path {:<8} {}: {} steps{}, lambda {:.8g}{}{}\n", p.path,
                        continuation::to_string(p.summary.termination), p.steps.size(),
-                       p.resumed_steps > 0 ? fmt::format(" ({} resumed)", p.resumed_steps) : "",
-                       p.steps.empty() ? p.summary.final_load_factor : p.steps.back().load_factor,
+                       p.resumed_steps > 0 ? fmt::format(" ({} resumed)", p.resumed_steps) : "", final_lambda,
+                       outcome.physical_load ? " (" + load_text(outcome.physical_load, final_lambda) + ")" : "",
                        p.summary.message.empty() ? "" : " (" + p.summary.message + ")");
     for (std::size_t i = 0; i < p.events.size(); ++i) {
       const TraceEvent& e = p.events[i];

@@ -946,6 +946,7 @@ TEST_CASE("trace: JSON, CSV and summary carry each step's load, design values, s
   const std::string summary = app::text_summary(outcome);
   CHECK_THAT(summary, Catch::Matchers::Contains("load          P = lambda x -1: the live point force (loads[1])"));
   CHECK_THAT(summary, Catch::Matchers::Contains("lambda 0.6 (P = -0.6)"));
+  CHECK_THAT(summary, Catch::Matchers::Contains("9 steps, lambda 2 (P = -2)"));  // where the path ended
   CHECK_THAT(summary, Catch::Matchers::Contains("requested     P = -1 (lambda 1)"));
   CHECK_THAT(summary, Catch::Matchers::Contains("moment max 2 at x = 4, min -1 at x = 1"));
   CHECK_THAT(summary, Catch::Matchers::Contains("M there 3;"));
