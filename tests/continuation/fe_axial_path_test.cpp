@@ -5,7 +5,6 @@
 // set on a member discretised at that N, certified), the limit load bracketed by fixed-N solves,
 // the stability indicator, and the strut's approach to the Euler load.
 
-#include "support/trace_scene.hpp"
 #include "continuation/fe_axial_path.hpp"
 
 #include <catch2/catch.hpp>
@@ -26,6 +25,7 @@
 #include "post/fields.hpp"
 #include "scene/scene_reader.hpp"
 #include "support/scene_text.hpp"
+#include "support/trace_scene.hpp"
 
 using namespace liftoff;
 using continuation::EventKind;

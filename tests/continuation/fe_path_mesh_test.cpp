@@ -26,7 +26,6 @@
 #include <string>
 #include <vector>
 
-#include "support/trace_scene.hpp"
 #include "app/trace_command.hpp"
 #include "closed_form/beam_on_foundation.hpp"
 #include "contact/active_set_system.hpp"
@@ -36,6 +35,7 @@
 #include "model/member_model.hpp"
 #include "scene/scene_reader.hpp"
 #include "support/scenes.hpp"
+#include "support/trace_scene.hpp"
 
 using namespace liftoff;
 using continuation::EventKind;

@@ -3,7 +3,6 @@
 // events where independent solves say the topology changes, and event loads converging to the
 // closed form as the mesh is refined.
 
-#include "support/trace_scene.hpp"
 #include "continuation/fe_path.hpp"
 
 #include <catch2/catch.hpp>
@@ -22,6 +21,7 @@
 #include "scene/scene_reader.hpp"
 #include "support/scenes.hpp"
 #include "support/solve.hpp"
+#include "support/trace_scene.hpp"
 
 using namespace liftoff;
 using continuation::EventKind;
@@ -389,8 +389,8 @@ TEST_CASE("a resumed trace reproduces the rest of the path and its events") {
   std::vector<TraceStep> written;
   std::vector<continuation::TraceEvent> events;
   const TraceResult resumed = test::trace_fe(central_region_split(), options,
-                                                     {[&](const TraceStep& s) { written.push_back(s); },
-                                                      [&](const continuation::TraceEvent& e) { events.push_back(e); }});
+                                             {[&](const TraceStep& s) { written.push_back(s); },
+                                              [&](const continuation::TraceEvent& e) { events.push_back(e); }});
   REQUIRE(resumed.summary.termination == continuation::TraceTermination::completed);
   REQUIRE(written.size() == full.steps.size() - from - 1);
   for (std::size_t k = 0; k < written.size(); ++k) {
@@ -490,10 +490,10 @@ TEST_CASE("the refined run's estimate of the event loads' discretisation error f
   // each is matched in the run on twice the elements, and the difference shrinks like the
   // error it estimates (at least halving per halving of h; test 1 measures h^3).
   const auto coarse_options = options_for(0.0, 3.9, 40), fine_options = options_for(0.0, 3.9, 80);
-  const auto coarse = test::estimate_event_errors(
-      central_region_split(), coarse_options, test::trace_fe(central_region_split(), coarse_options));
+  const auto coarse = test::estimate_event_errors(central_region_split(), coarse_options,
+                                                  test::trace_fe(central_region_split(), coarse_options));
   const auto fine = test::estimate_event_errors(central_region_split(), fine_options,
-                                                        test::trace_fe(central_region_split(), fine_options));
+                                                test::trace_fe(central_region_split(), fine_options));
   REQUIRE(coarse.events.size() >= 2);
   REQUIRE(coarse.events.size() == fine.events.size());
   for (std::size_t k = 0; k < coarse.events.size(); ++k) {

@@ -29,7 +29,6 @@
 #include <string>
 #include <vector>
 
-#include "support/trace_scene.hpp"
 #include "app/trace_command.hpp"
 #include "closed_form/scene_problem.hpp"
 #include "continuation/fe_path.hpp"
@@ -37,6 +36,7 @@
 #include "scene/scene_reader.hpp"
 #include "support/ritz_trace.hpp"
 #include "support/scenes.hpp"
+#include "support/trace_scene.hpp"
 
 using namespace liftoff;
 using continuation::EventKind;

@@ -17,13 +17,13 @@
 #include <sstream>
 #include <string>
 
-#include "support/trace_scene.hpp"
 #include "closed_form/beam_on_foundation.hpp"
 #include "continuation/fe_path.hpp"
 #include "continuation/models/ritz.hpp"
 #include "scene/scene_reader.hpp"
 #include "support/ritz_trace.hpp"
 #include "support/scenes.hpp"
+#include "support/trace_scene.hpp"
 
 using namespace liftoff;
 using namespace liftoff::continuation;

@@ -16,7 +16,6 @@
 // beam, design 7.8e-12), 6.7e-13 (arch), 2.2e-15 (beam-column), 3.2e-11 (von Karman), 5.3e-14
 // (Ritz). A wrong record is far off: another step's fields differ by the change of the load between
 // steps (percent), V and M by derivatives instead of statics by the element's truncation (1e-3).
-#include "support/trace_scene.hpp"
 #include "continuation/step_state.hpp"
 
 #include <fmt/format.h>
@@ -32,6 +31,7 @@
 #include "continuation/models/ritz.hpp"
 #include "model/from_scene.hpp"
 #include "scene/scene_reader.hpp"
+#include "support/trace_scene.hpp"
 
 using namespace liftoff;
 using continuation::TraceStep;

@@ -9,7 +9,6 @@
 #include <sstream>
 #include <string>
 
-#include "support/trace_scene.hpp"
 #include "continuation/fe_path.hpp"
 #include "continuation/models/ritz.hpp"
 #include "model/from_scene.hpp"
@@ -18,6 +17,7 @@
 #include "scene/scene_reader.hpp"
 #include "support/ritz_trace.hpp"
 #include "support/scenes.hpp"
+#include "support/trace_scene.hpp"
 
 using namespace liftoff;
 using namespace liftoff::continuation;
