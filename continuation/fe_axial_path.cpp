@@ -120,12 +120,12 @@ class AxialPath {
   Switch switch_branch(const Point& at, TraceEvent event, ContactTopology& topology, std::optional<Point>& current,
                        double& direction);
   // The bifurcation's stages: the event completed with what the path does and emitted; the
-  // path's state at lambda on set_; whether node i's reaction (gap) falls along s times the mode;
+  // path's state at lambda on set_; whether each node's reaction (gap) falls along s times the mode;
   // how far along it the contact conditions hold from base; where the amplitude bound cuts the
   // branch (a_end if it does not); the branch drawn up to a_stop, its events located.
   void announce(TraceEvent& event, std::string_view what);
   Point bifurcation_origin(const Point& at, double lambda);
-  bool falls_along(const contact::ContactState& mode, int i, double s) const;
+  std::vector<bool> falling_along(const contact::ContactState& mode, double s) const;
   double branch_reach(const contact::ContactState& base, const contact::ContactState& mode, double s) const;
   double amplitude_stop(const Family& on_branch, double a_end);
   void draw_branch(const Family& on_branch, double a_stop, ContactTopology& topology);
@@ -518,10 +518,15 @@ Point AxialPath::bifurcation_origin(const Point& at, double lambda) {
   return origin;
 }
 
-bool AxialPath::falls_along(const contact::ContactState& mode, int i, double s) const {
-  auto scale = [](const VectorXd& v) { return std::max(v.lpNorm<Eigen::Infinity>(), 1e-300); };
-  const double rate = s * (set_[i] ? mode.reaction[i] : mode.gap[i]);
-  return rate < -tie_tolerance * (set_[i] ? scale(mode.reaction) : scale(mode.gap));
+double magnitude(const VectorXd& v) { return std::max(v.lpNorm<Eigen::Infinity>(), 1e-300); }
+
+std::vector<bool> AxialPath::falling_along(const contact::ContactState& mode, double s) const {
+  // Falling beyond round-off of the mode's own largest reaction (gap).
+  const double r_mode = magnitude(mode.reaction), g_mode = magnitude(mode.gap);
+  std::vector<bool> falling(d_.reactions());
+  for (int i = 0; i < d_.reactions(); ++i)
+    falling[i] = s * (set_[i] ? mode.reaction[i] : mode.gap[i]) < -tie_tolerance * (set_[i] ? r_mode : g_mode);
+  return falling;
 }
 
 double AxialPath::branch_reach(const contact::ContactState& base, const contact::ContactState& mode, double s) const {
@@ -529,11 +534,12 @@ double AxialPath::branch_reach(const contact::ContactState& base, const contact:
   // meets the contact conditions up to the first that falls to zero, and not at all in a direction
   // that pushes a node already at zero through it (a touching node with no reaction: the cone of
   // admissible perturbations).
-  auto scale = [](const VectorXd& v) { return std::max(v.lpNorm<Eigen::Infinity>(), 1e-300); };
-  const double r_base = scale(base.reaction), g_base = scale(base.gap);
+  if (!d_.tensionless) return std::numeric_limits<double>::infinity();
+  const double r_base = magnitude(base.reaction), g_base = magnitude(base.gap);
+  const std::vector<bool> falling = falling_along(mode, s);
   double a_max = std::numeric_limits<double>::infinity();
   for (int i = 0; i < d_.reactions(); ++i) {
-    if (!d_.tensionless || !falls_along(mode, i, s)) continue;
+    if (!falling[i]) continue;
     const double value = set_[i] ? base.reaction[i] : base.gap[i];
     const double rate = s * (set_[i] ? mode.reaction[i] : mode.gap[i]);
     const bool at_zero = value <= tie_tolerance * (set_[i] ? r_base : g_base);
@@ -626,10 +632,11 @@ Switch AxialPath::switch_branch(const Point& at, TraceEvent event, ContactTopolo
   // A node switches where the branch ends (every one at zero there and falling along it: ties of
   // a symmetric member together); the new set's branch through that state goes on in lambda.
   const std::vector<double> values = relative_values(set_, *on_branch(a_end));
+  const std::vector<bool> falling = falling_along(mode, s);
   ContactSet switched = set_;
   int first_switched = -1;
   for (int i = 0; i < d_.reactions(); ++i)
-    if (values[i] <= tie_tolerance && falls_along(mode, i, s)) {
+    if (values[i] <= tie_tolerance && falling[i]) {
       switched[i] = !switched[i];
       if (first_switched < 0) first_switched = i;
     }
