@@ -168,7 +168,7 @@ def compare(name, lift, lift2, refs, scale, assert_order=True):
 def read_for_reference(scene, tmp):
     """The scene as the reference reads it: only the tables it reads (vk.TABLES). The others say
     nothing about the solution it is checked against: [units] only names the units of the numbers
-    (liftoff converts nothing: README, "Scale and warnings"), [trace] drives `liftoff trace`. A
+    (liftoff converts nothing: src/scene/README.md, "Scale and warnings"), [trace] drives `liftoff trace`. A
     misspelt key inside a kept table is still refused by the reference."""
     with open(scene) as fh:
         lines = fh.read().splitlines(keepends=True)

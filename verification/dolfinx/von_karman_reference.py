@@ -102,7 +102,7 @@ class Problem:
 
 
 # ---------------------------------------------------------------------------------------------
-# scene reading (the keys of liftoff's README; only what this model needs, the rest refused)
+# scene reading (the keys of liftoff's src/scene/README.md; only what this model needs, the rest refused)
 
 def _number(table, key, where, required=True, default=None):
     v = table.get(key, default)

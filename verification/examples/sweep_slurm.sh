@@ -1,5 +1,5 @@
 #!/bin/bash
-# A distributed sweep on a Slurm cluster (README, "Sweeps on several machines: MPI"): 1000 cases of
+# A distributed sweep on a Slurm cluster (src/app/README.md, "Sweeps on several machines: MPI"): 1000 cases of
 # the 500 m pipeline over 64 ranks, one thread each, one HDF5 file and one CSV written by rank 0.
 # Submit from the liftoff source tree (a file system the compute nodes share): sbatch
 # verification/examples/sweep_slurm.sh. liftoff must be built against the cluster's MPI (module load
