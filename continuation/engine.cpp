@@ -126,7 +126,10 @@ bool Engine::keep(const PathPoint& point, const Crossing* crossing, bool request
   step.requested = requested;
   if (options_.physical_load) step.load = options_.physical_load->at(step.load_factor);
   if (model_.stability_measure() != StabilityMeasure::none)
-    step.stability = (stability ? *stability : model_.stability(point)).verdict();
+    step.stability = (stability  ? *stability
+                      : crossing ? model_.stability_at_crossing(point, *crossing)
+                                 : model_.stability(point))
+                         .verdict();
   if (sink_.on_step) sink_.on_step(step);
   result_.summary.final_load_factor = step.load_factor;
   result_.steps.push_back(std::move(step));
@@ -258,7 +261,10 @@ void Engine::detect_amplitude(const PathFollower& follower, const PathPoint& fro
   const double bound = *options_.max_amplitude;
   const auto excess = [&](const PathPoint& p) { return model_.amplitude(p) - bound; };
   if (!(excess(from) < 0.0) || excess(to) < 0.0) return;
-  std::optional<PathPoint> located = follower.locate(from, to, excess, options_.event_tolerance);
+  // Located to round-off in the arclength: near a stationary lambda (a strut near its Euler load)
+  // a bracket of event_tolerance in lambda leaves the amplitude off by 1e-3 of the bound.
+  std::optional<PathPoint> located = follower.locate(from, to, excess, 0.0);
+  if (!located) located = follower.locate(from, to, excess, options_.event_tolerance);
   Found f(Found::Kind::amplitude, model_.refine(located ? *located : to, false));
   f.lambda = f.point.lambda;
   found.push_back(std::move(f));
@@ -328,7 +334,8 @@ bool Engine::take(const PathFollower& follower, Found& f, double step) {
     case Found::Kind::crossing: {
       const Crossing& c = *f.crossing;
       if (!c.at_start && !c.point_after && !keep(f.point, &c, false, std::nullopt, step)) return true;
-      for (const TraceEvent& e : c.events) event(e);
+      if (!c.point_after)  // (else after its point, recorded once the model has entered: run())
+        for (const TraceEvent& e : c.events) event(e);
       if (c.switches) pending_.enter = c;
       return c.switches;
     }
@@ -473,6 +480,7 @@ TraceResult Engine::run() {
         // A whole step was taken: the next one grows as after any accepted step.
         step_length = follower.next_step(step_length, point.iterations);
         if (!keep(point, nullptr, false, std::nullopt, step_length)) return finish(finished_->first, finished_->second);
+        for (const TraceEvent& e : pending_.enter->events) event(e);
       }
     }
     if (pending_.branch) {

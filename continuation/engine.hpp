@@ -193,6 +193,12 @@ class PathModel {
   // Stability.
   virtual StabilityMeasure stability_measure() const { return StabilityMeasure::none; }
   virtual StabilityState stability(const PathPoint& /*point*/) const { return {}; }
+  // The stability a state recorded at a crossing reports (default: stability(point), of the
+  // configuration before it); a model whose record carries on with the configuration after it may
+  // give that one's.
+  virtual StabilityState stability_at_crossing(const PathPoint& point, const Crossing& /*crossing*/) const {
+    return stability(point);
+  }
   // A located bifurcation's point and lambda refined where the model can (default: as located).
   virtual PathPoint refine_bifurcation(const PathPoint& point) const { return point; }
   // Leaves the path along the critical mode at the bifurcation point `at` (default: none).

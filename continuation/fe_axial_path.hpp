@@ -1,6 +1,6 @@
 #pragma once
 // The FE + LCP load history of a beam under an axial force N = N_dead + lambda N_live (second-order
-// theory, issue 15): trace_fe (fe_path.hpp) hands a beam with an axial force, dead or live, to this.
+// theory): trace_fe (models/fe_member.hpp) hands a beam with an axial force, dead or live, to this.
 //
 // The stiffness K(N) = K - N K_g depends on lambda, so the path is no longer piecewise linear; it is
 // curved and has folds. With the contact set A fixed (nodes in contact bilateral, lifted nodes free)

@@ -37,6 +37,7 @@ TraceStep step_of(const model::MemberModel& model, const fe::Discretisation& d, 
   step.lifted_length = lift.lifted_length;
   step.state_topology = continuation::FeContactSet{};
   step.state.assign(set.begin(), set.end());
+  step.state.resize(set.size() + fe_state_tail, 0.0);
   return step;
 }
 

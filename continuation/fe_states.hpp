@@ -1,6 +1,7 @@
 #pragma once
-// What the two FE paths (fe_path.hpp, fe_axial_path.hpp) share about the states they report: the
-// tolerances of their fixed-set solves, the TraceStep of a state, and its certificate.
+// What the beam-column path (fe_axial_path.hpp) shares with the engine's FE model (models/): the
+// tolerances of its fixed-set solves, the TraceStep of a state and its certificate, and the contact
+// solve a path starts from.
 
 #include <Eigen/Dense>
 #include <stdexcept>
@@ -30,7 +31,8 @@ inline constexpr double acceptable_residual = 1e-8;
 
 // The step of the state (displacement on every dof, reaction per reaction node) at lambda on the
 // contact set `set`: contact regions, w at the monitor and w and r at the sample points (user
-// units), amplitude and lifted length (events.hpp), the set as the step's state. Not filled:
+// units), amplitude and lifted length (events.hpp), the set as the step's state (with a tail of
+// fe_state_tail zeros: the beam-column path does not resume from it). Not filled:
 // axial_force, stability, iterations.
 TraceStep step_of(const model::MemberModel& model, const fe::Discretisation& d, const SpecialPoints& points,
                   const TraceOptions& options, double lambda, const Eigen::VectorXd& displacement,

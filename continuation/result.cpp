@@ -38,6 +38,13 @@ std::string_view to_string(TraceTermination termination) {
 std::string_view to_string(PathKind path) { return name_in<PathKind>(path_kind_names, path); }
 std::string_view to_string(Stability stability) { return name_in<Stability>(stability_names, stability); }
 
+std::vector<bool> fe_contact_set(const TraceStep& step) {
+  if (!std::holds_alternative<FeContactSet>(step.state_topology) || step.state.size() < fe_state_tail) return {};
+  std::vector<bool> set;
+  for (std::size_t i = 0; i + fe_state_tail < step.state.size(); ++i) set.push_back(step.state[i] > 0.5);
+  return set;
+}
+
 }  // namespace liftoff::continuation
 
 namespace liftoff {

@@ -4,8 +4,8 @@
 //
 // Two paths produce it, both through this one interface so that `liftoff trace`, the HDF5
 // trace writer and the tests do not care which one ran:
-//  - trace_fe   (fe_path.hpp):   the FE + LCP model, traced exactly by parametric pivoting (the
-//                                discrete solution is piecewise linear in lambda);
+//  - trace_fe   (models/fe_member.hpp): the FE model on its contact sets (linear, beam-column,
+//                                von Karman), followed by the path engine (engine.hpp);
 //  - trace_ritz (models/ritz.hpp): the Ritz model with moving limits, followed by the
 //                                pseudo-arc-length driver (arclength.hpp), events located by
 //                                secant/bisection on their event functions.
@@ -138,11 +138,18 @@ struct TraceStep {
   Stability stability = Stability::unknown;
   // What a resumed trace needs to continue from this step without redoing anything, read by
   // the path that wrote it. Ritz: its topology and (unknowns, tangent, next step length,
-  // amplitude scale), so a resumed run takes the same steps; FE: FeContactSet and one 0/1 per
-  // reaction node, so it restarts without Lemke.
+  // amplitude scale), so a resumed run takes the same steps; FE: FeContactSet, one 0/1 per
+  // reaction node (the set that carries the path on, fe_contact_set()), then the step length the
+  // path goes on with, the sense of lambda (+1 or -1) and the metric's reference deflection
+  // (fe_state_tail entries; zeros where the path does not resume from it: the beam-column path),
+  // so that it restarts without a contact solve and takes the same steps.
   StateTopology state_topology;
   std::vector<double> state;
 };
+
+inline constexpr std::size_t fe_state_tail = 3;
+// The contact set of an FE step (empty for any other step).
+std::vector<bool> fe_contact_set(const TraceStep& step);
 
 enum class TraceTermination {
   completed,       // lambda_max (or lambda_min going down) reached

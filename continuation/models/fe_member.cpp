@@ -18,6 +18,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -28,9 +29,12 @@
 #include "contact/von_karman_solve.hpp"
 #include "continuation/engine.hpp"
 #include "continuation/events.hpp"
+#include "continuation/fe_axial_path.hpp"
 #include "continuation/fe_states.hpp"
+#include "continuation/models/member_kinematics.hpp"
 #include "continuation/step_state.hpp"
 #include "post/fields.hpp"
+#include "stability/critical_load.hpp"
 
 namespace liftoff::continuation {
 
@@ -47,6 +51,12 @@ constexpr double tie_tolerance = 1e-8;
 // The switched branch has met the path it left once its amplitude is within the corrector's
 // relative accuracy (1e-7 of w_ref) of the largest it reached: closer, the two are not told apart.
 constexpr double branch_accuracy = 1e-7;
+// A state of a kinematics linear in its unknowns is taken as it is when its residual is below this
+// fraction of its terms (the certificate's backward error tolerance is 1e-8 of the same terms).
+constexpr double linear_accuracy = 1e-12;
+
+// The transition of the crossing at the lift-off load (the path ends there).
+struct LiftOff {};
 
 // The eigenvalue of S nearest zero and its eigenvector (with its reactions' response).
 struct Eigenpair {
@@ -57,23 +67,28 @@ struct Eigenpair {
 
 class FeMemberPath final : public PathModel {
  public:
-  FeMemberPath(const model::MemberModel& member, const TraceOptions& options, const VonKarmanLiveLoad& live_load,
-               VonKarmanStateSeam seam);
+  FeMemberPath(std::unique_ptr<MemberKinematics> kinematics, const TraceOptions& options, VonKarmanStateSeam seam);
 
   PathKind kind() const override { return PathKind::fe; }
   PathProblem problem() const override { return problem_on(set_); }
   Start start(const ArcLengthOptions& options) override;
   PathPoint refine(const PathPoint& point, bool fixed_lambda) const override {
-    return polished(set_, point, fixed_lambda);
+    PathPoint p = polished(set_, point, fixed_lambda);
+    // On a straight bifurcated branch lambda is constant: its tangent's lambda component is zero
+    // (round-off of either sign would read as folds).
+    if (on_straight_branch_) p.tangent_lambda = 0.0;
+    return p;
   }
   CrossingSearch crossing(const PathPoint& from, const PathPoint& to, const PathFollower& follower,
                           bool alone) override;
   Entry enter(const Crossing& crossing, const ArcLengthOptions& options) override;
-  StabilityMeasure stability_measure() const override { return StabilityMeasure::count; }
-  StabilityState stability(const PathPoint& point) const override {
-    return {negative_eigenvalues(set_, point.x), std::numeric_limits<double>::quiet_NaN()};
+  StabilityMeasure stability_measure() const override {
+    return kin_->convex() ? StabilityMeasure::none : StabilityMeasure::count;
   }
+  StabilityState stability(const PathPoint& point) const override;
+  StabilityState stability_at_crossing(const PathPoint& point, const Crossing& crossing) const override;
   BranchSwitch switch_branch(const PathPoint& at, const PathFollower& follower) override;
+  PathPoint refine_bifurcation(const PathPoint& point) const override;
   std::optional<PathPoint> refine_return(const PathPoint& located, double peak, const PathFollower& follower) override;
   double event_position(const PathPoint&) const override { return options_.monitor; }
   std::string describe_state(const PathPoint& point) const override;
@@ -81,12 +96,19 @@ class FeMemberPath final : public PathModel {
   std::optional<std::string> certify(const PathPoint& point) const override;
   TraceStep record(const PathPoint& point, const RecordContext& context) const override;
   std::string summary_note() const override { return fmt::format("{} elements", options_.elements); }
+  bool wants_new_problem(PathPoint& point) override;
+  void fill_summary(TraceSummary& summary) const override {
+    summary.factorisations = factorisations_;
+    summary.contact_solves = contact_solves_;
+    summary.contact_method = contact_method_;
+  }
 
  private:
   // The bordered equations of a set.
   PathProblem problem_on(const ContactSet& set) const;
   bool residual(const ContactSet& set, const VectorXd& y, double lambda, VectorXd& g) const;
-  SparseMatrix saddle(const ContactSet& set, const VectorXd& y) const;
+  // primal: on the displacement alone, the tangent stiffness K_t (S's inertia: no -H block).
+  SparseMatrix saddle(const ContactSet& set, const VectorXd& y, double lambda, bool primal = false) const;
   VectorXd unknown_scale(const ContactSet& set) const;
   VectorXd residual_scale(const ContactSet& set) const;
   // The point with Newton corrections of the bordered system (see refine; `mode`: at fixed lambda
@@ -94,16 +116,44 @@ class FeMemberPath final : public PathModel {
   PathPoint polished(const ContactSet& set, const PathPoint& point, bool fixed_lambda,
                      const VectorXd* mode = nullptr) const;
   VectorXd reactions(const ContactSet& set, const VectorXd& y) const;
+  // One Newton correction at the point's lambda (kept if it reduces the residual).
+  PathPoint corrected_at_lambda(const ContactSet& set, const PathPoint& point) const;
   // Per reaction unknown: r_i / (k w_ref) on the set, gap_i / (h w_ref) off it (>= 0: the sign holds).
   VectorXd sign_values(const ContactSet& set, const VectorXd& y) const;
-  int negative_eigenvalues(const ContactSet& set, const VectorXd& y) const;
-  Eigenpair nearest_eigenpair(const VectorXd& y) const;
+  int negative_eigenvalues(const ContactSet& set, const VectorXd& y, double lambda) const;
+  Eigenpair nearest_eigenpair(const VectorXd& y, double lambda) const;
+  // The cone's verdict where nodes are weakly active along the path (second order; else nullopt).
+  std::optional<ConeVerdict> cone_at(const PathPoint& point) const;
   certify::Certificate certificate(VectorXd y, double lambda) const;
   certify::Check backward_error(const ContactSet& set, const VectorXd& y, double lambda) const;
-  certify::VonKarmanAnswer answer_of(const ContactSet& set, const VectorXd& y) const;
   double user_position(int reaction) const { return member_.user_from_s(d_.mesh.nodes[d_.reaction_nodes[reaction]]); }
-  double axial_force(const VectorXd& y) const;
-  // The events of switching `flipped` in the node set `before`, from the set's pieces.
+  double axial_force(const PathPoint& p) const { return kin_->axial_force(p.x.head(n_), p.lambda); }
+  VectorXd displacement(const VectorXd& y) const { return d_.expand_displacement(y.head(d_.equations)); }
+  ContactTopology topology_of(const VectorXd& y) const {
+    return contact_topology(member_, d_, displacement(y), points_);
+  }
+  // The contact topology at `from` (as found on the set before, if `from` began this set).
+  ContactTopology topology_at_start(const PathPoint& from) const;
+  // Cubic naming: the changes of the contact topology on the segment from `from` to `end` (on set_,
+  // end = step(from, its arclength)), located by bisection, as crossings that do not switch.
+  std::vector<Crossing> topology_events(const PathPoint& from, const PathPoint& end, const PathFollower& follower);
+  // The unloaded state inside the step (a load reversal, a linear member with no ground gap and no
+  // settlement): at it every node has zero reaction and zero gap, any set holds, and round-off of
+  // the signs cannot choose the set beyond it; the crossing there switches to the set of a contact
+  // solve beyond it (the path there is one ray: the loads and the state are proportional to the
+  // distance from it).
+  std::optional<Crossing> unloaded_crossing(const PathPoint& from, const PathPoint& to, const PathFollower& follower);
+  // A member only the foundation holds: the crossing at the lift-off load, if the step reaches it.
+  std::optional<Crossing> lift_off_crossing(const PathPoint& from, const PathPoint& to, const PathFollower& follower);
+  // The path's sign values' rates along the tangent of `p` on `set` (sign_values is affine in y).
+  VectorXd sign_rates(const ContactSet& set, const PathPoint& p) const {
+    return sign_values(set, p.x + p.tangent_x) - sign_values(set, p.x);
+  }
+  // The reference deflection of a kinematics that has none: the start's state and its rate over the range.
+  double reference_deflection(const ContactSet& set, const PathPoint& start) const;
+  void set_units(double w_ref);
+  TraceEvent fold_at_switch(const Crossing& crossing, const ContactSet& next, double new_tangent_lambda)
+      const;  // The events of switching `flipped` in the node set `before`, from the set's pieces.
   std::vector<TraceEvent> set_events(const std::vector<bool>& before, const std::vector<int>& flipped,
                                      double lambda) const;
   // The contact event inside the step (nodes at zero at its start left out), located.
@@ -113,20 +163,40 @@ class FeMemberPath final : public PathModel {
   // node set keep their number and order: a limit moves on by a node or a few), the state solved
   // there on the new set; nullopt where that state is not the path's (see crossing()).
   std::optional<Crossing> taken_at_end(const PathPoint& from, const PathPoint& to, std::vector<int> failing,
-                                       const PathFollower& follower) const;
+                                       const PathFollower& follower);
+  struct Across {
+    PathPoint point;
+    std::vector<bool> in_contact;
+  };
+  // at_lambda: the state at that lambda (the range's end, landed on exactly), not on the hyperplane.
+  // with_tangent false: the state alone (its tangent a stand-in, a factorisation less).
+  std::optional<Across> solved_across(const PathPoint& from, double sigma, std::vector<int> failing,
+                                      const PathFollower& follower, std::optional<double> at_lambda = std::nullopt,
+                                      bool with_tangent = true) const;
 
+  std::unique_ptr<MemberKinematics> kin_;
   const model::MemberModel& member_;
   const TraceOptions& options_;
-  const fe::Discretisation d_;
-  const contact::VonKarmanSystem system_;
+  const fe::Discretisation& d_;
   VonKarmanStateSeam seam_;
   const bool certified_;
   const SpecialPoints points_;
+  const bool cubics_;  // events named from the element cubics' topology (else from the node set)
   int n_ = 0;
-  VectorXd dead_, live_;
   double w_ref_ = 1e-3, reaction_unit_ = 1.0, gap_unit_ = 1.0;
+  std::optional<double> lift_off_;  // the load beyond which nothing balances the loads
+  // Topologies found at the ends of segments (from the set before), by the lambda of the point.
+  std::vector<std::pair<double, ContactTopology>> known_topologies_;
+  bool on_straight_branch_ = false;
+  int straight_branch_count_ = 1;  // switched onto a straight bifurcated branch (until a set change)
+  mutable int factorisations_ = 0;
+  int contact_solves_ = 0;  // the kinematics' contact solves (the start)
+  contact::Method contact_method_ = contact::Method::automatic;
   ContactSet set_;
   int immediate_switches_ = 0;  // switches back at a step's start, in a row
+  // The sets solved_across visits within one step's search, with their followers (a bisection
+  // visits the same few sets again and again: their equations and solvers are set up once).
+  mutable std::map<std::vector<bool>, std::pair<ContactSet, std::shared_ptr<const PathFollower>>> across_followers_;
   // The certificate of the point certify() saw last: record() follows it on the same point (the
   // engine's keep), and the step's supports are that certificate's.
   mutable std::optional<certify::Certificate> last_certificate_;
@@ -134,27 +204,22 @@ class FeMemberPath final : public PathModel {
   VectorXd branch_mode_, branch_origin_;
 };
 
-FeMemberPath::FeMemberPath(const model::MemberModel& member, const TraceOptions& options,
-                           const VonKarmanLiveLoad& live_load, VonKarmanStateSeam seam)
-    : member_(member),
+FeMemberPath::FeMemberPath(std::unique_ptr<MemberKinematics> kinematics, const TraceOptions& options,
+                           VonKarmanStateSeam seam)
+    : kin_(std::move(kinematics)),
+      member_(kin_->member()),
       options_(options),
-      d_(fe::discretise(member, options.elements)),
-      system_(member, d_),
+      d_(kin_->discretisation()),
       seam_(std::move(seam)),
-      certified_(!live_load),
-      points_(special_points(member)) {
-  n_ = system_.unknowns();
-  if (live_load) {
-    live_ = live_load(d_, system_);
-    dead_ = VectorXd::Zero(n_);
-    if (live_.size() != n_)
-      throw std::invalid_argument(
-          fmt::format("trace_fe_von_karman: live_load has {} entries, expected {}", live_.size(), n_));
-  } else {
-    dead_ = system_.load(0.0);
-    live_ = system_.load(1.0) - dead_;
-  }
-  w_ref_ = member.initial_sine ? std::max(std::abs(member.initial_sine->amplitude), 1e-6) : 1e-3;
+      certified_(kin_->certified()),
+      points_(special_points(member_)),
+      cubics_(kin_->naming() == EventNaming::cubics),
+      n_(kin_->unknowns()) {
+  set_units(kin_->reference_deflection() > 0.0 ? kin_->reference_deflection() : 1e-3);
+}
+
+void FeMemberPath::set_units(double w_ref) {
+  w_ref_ = w_ref;
   double h = std::numeric_limits<double>::infinity();
   for (int e = 0; e < d_.mesh.elements(); ++e) h = std::min(h, d_.mesh.element_size(e));
   reaction_unit_ = std::max(d_.k, 1e-300) * w_ref_;
@@ -168,14 +233,15 @@ PathProblem FeMemberPath::problem_on(const ContactSet& on) const {
   PathProblem p;
   p.unknowns = n_ + m;
   p.residual = [this, set](const VectorXd& y, double lambda, VectorXd& g) { return residual(*set, y, lambda, g); };
-  p.sparse_jacobian = [this, set](const VectorXd& y, double, SparseMatrix& g_y) {
+  p.sparse_jacobian = [this, set](const VectorXd& y, double lambda, SparseMatrix& g_y) {
     if (!y.allFinite()) return false;
-    g_y = saddle(*set, y);
+    g_y = saddle(*set, y, lambda);
+    ++factorisations_;
     return true;
   };
-  p.lambda_derivative = [this, m](const VectorXd&, double, VectorXd& g_lambda) {
+  p.lambda_derivative = [this, m](const VectorXd& y, double lambda, VectorXd& g_lambda) {
     g_lambda = VectorXd::Zero(n_ + m);
-    g_lambda.head(n_) = -live_;
+    g_lambda.head(n_) = kin_->lambda_derivative(y.head(n_), lambda);
     return true;
   };
   p.unknown_scale = unknown_scale(*set);
@@ -190,7 +256,9 @@ bool FeMemberPath::residual(const ContactSet& set, const VectorXd& y, double lam
   if (!y.allFinite()) return false;
   const int m = set.size(), neq = d_.equations;
   g.resize(n_ + m);
-  g.head(n_) = system_.internal_force(y.head(n_)) - dead_ - lambda * live_;
+  VectorXd f;
+  if (!kin_->force(y.head(n_), lambda, f)) return false;
+  g.head(n_) = f;
   if (m > 0) {
     g.head(neq) += set.coupling.transpose() * y.tail(m);
     g.tail(m) = set.coupling * y.head(neq) - set.ground_gap - set.flexibility * y.tail(m);
@@ -198,45 +266,48 @@ bool FeMemberPath::residual(const ContactSet& set, const VectorXd& y, double lam
   return g.allFinite();
 }
 
-SparseMatrix FeMemberPath::saddle(const ContactSet& set, const VectorXd& y) const {
+SparseMatrix FeMemberPath::saddle(const ContactSet& set, const VectorXd& y, double lambda, bool primal) const {
   const int m = set.size();
-  const SparseMatrix kt = system_.tangent_stiffness(y.head(n_));
+  const SparseMatrix kt = primal ? kin_->stiffness(y.head(n_), lambda) : kin_->tangent(y.head(n_), lambda);
+  const int n = static_cast<int>(kt.rows());  // the primal form's unknowns: the displacement alone
   Triplets t;
   t.reserve(kt.nonZeros() + 2 * set.coupling.nonZeros() + set.flexibility.nonZeros());
   for (int k = 0; k < kt.outerSize(); ++k)
     for (SparseMatrix::InnerIterator it(kt, k); it; ++it) t.emplace_back(it.row(), it.col(), it.value());
   for (int k = 0; k < set.coupling.outerSize(); ++k)
     for (SparseMatrix::InnerIterator it(set.coupling, k); it; ++it) {
-      t.emplace_back(n_ + it.row(), it.col(), it.value());
-      t.emplace_back(it.col(), n_ + it.row(), it.value());
+      t.emplace_back(n + it.row(), it.col(), it.value());
+      t.emplace_back(it.col(), n + it.row(), it.value());
     }
   for (int k = 0; k < set.flexibility.outerSize(); ++k)
     for (SparseMatrix::InnerIterator it(set.flexibility, k); it; ++it)
-      t.emplace_back(n_ + it.row(), n_ + it.col(), -it.value());
-  SparseMatrix a(n_ + m, n_ + m);
+      t.emplace_back(n + it.row(), n + it.col(), -it.value());
+  SparseMatrix a(n + m, n + m);
   a.setFromTriplets(t.begin(), t.end());
   return a;
 }
 
 VectorXd FeMemberPath::residual_scale(const ContactSet& set) const {
   const int m = set.size();
-  VectorXd typical = VectorXd::Constant(n_ + m, w_ref_);
+  VectorXd typical(n_ + m);
+  typical.head(n_) = kin_->typical(w_ref_);
   if (m > 0) typical.tail(m).setConstant(reaction_unit_);
-  const SparseMatrix j0 = saddle(set, VectorXd::Zero(n_ + m));
+  const SparseMatrix j0 = saddle(set, VectorXd::Zero(n_ + m), options_.arc_length.lambda_min);
   const VectorXd size = SparseMatrix(j0.cwiseAbs()) * typical;
   return size.cwiseMax(std::numeric_limits<double>::min()).cwiseInverse();
 }
 
-// The metric's weights: the root mean square of the change of the member's unknowns over w_ref,
-// times the load range (a change of the shape by w_ref weighs as a change of lambda over the whole
-// range: neither dominates the step's length, which stays in units of lambda), the reactions 1e-3
-// less. (Divided by sqrt(n): a plain sum over the nodes would make a step's length grow like the
-// square root of the number of elements for the same change of shape, and the steps shrink with
-// the mesh.)
+// The metric's weights: the root mean square of the change of the member's unknowns over w_ref
+// (the kinematics' metric), times the load range (a change of the shape by w_ref weighs as a change
+// of lambda over the whole range: neither dominates the step's length, which stays in units of
+// lambda), the reactions 1e-3 less. (Divided by sqrt(n): a plain sum over the nodes would make a
+// step's length grow like the square root of the number of elements for the same change of shape,
+// and the steps shrink with the mesh.)
 VectorXd FeMemberPath::unknown_scale(const ContactSet& set) const {
   const double range = std::abs(options_.arc_length.lambda_max - options_.arc_length.lambda_min);
   const double rms = range / std::sqrt(static_cast<double>(n_));
-  VectorXd scale = VectorXd::Constant(n_ + set.size(), rms / w_ref_);
+  VectorXd scale(n_ + set.size());
+  scale.head(n_) = range * kin_->metric(w_ref_);
   scale.tail(set.size()).setConstant(rms * 1e-3 / reaction_unit_);
   return scale;
 }
@@ -254,28 +325,37 @@ VectorXd FeMemberPath::unknown_scale(const ContactSet& set) const {
 // there (phi spans G_y's null space, so it is not in its range), lambda fixed.
 PathPoint FeMemberPath::polished(const ContactSet& set, const PathPoint& point, bool fixed_lambda,
                                  const VectorXd* mode) const {
+  // Linear in the unknowns at fixed lambda (second order): one Newton correction at the point's
+  // lambda is exact; a fixed set's branch is a graph over lambda (no fold), so it is regular there.
+  // (Not on the straight bifurcated branch itself, at the singular lambda.)
+  if (kin_->straight_bifurcated_branch() && !mode) return on_straight_branch_ ? point : corrected_at_lambda(set, point);
   PathPoint best = point;
   VectorXd g;
   if (!residual(set, best.x, best.lambda, g)) return point;
   VectorXd weight;
-  if (!certified_) {
-    VectorXd terms = SparseMatrix(saddle(set, best.x).cwiseAbs()) * best.x.cwiseAbs();
-    terms.head(n_) += (dead_ + best.lambda * live_).cwiseAbs();
+  const bool by_certificate = certified_ && kin_->measured_by_certificate();
+  if (!by_certificate) {
+    VectorXd terms = SparseMatrix(saddle(set, best.x, best.lambda).cwiseAbs()) * best.x.cwiseAbs();
+    terms.head(n_) += kin_->load(best.lambda).cwiseAbs();
     terms.tail(set.size()) += set.ground_gap.cwiseAbs();
     weight = terms.cwiseMax(std::numeric_limits<double>::min()).cwiseInverse();
   }
   // Certified: the backward error relative to its tolerance (<= 1 passes); else the weighted |G|.
   const auto measure = [&](const PathPoint& p, const VectorXd& g_p) {
-    if (!certified_) return g_p.cwiseProduct(weight).lpNorm<Eigen::Infinity>();
+    if (!by_certificate) return g_p.cwiseProduct(weight).lpNorm<Eigen::Infinity>();
     const certify::Check backward = backward_error(set, p.x, p.lambda);
     return backward.value / backward.tolerance;
   };
   double norm = measure(best, g);
+  // Linear in the unknowns at fixed lambda (the mixed form): the corrector's Newton step is exact
+  // up to the solve's round-off, which on a stiff arch's fine mesh (EA h^2 / EI ~ 1e3 at 400
+  // elements) left the balance 10 times above the certificate's tolerance: corrected only then.
+  if (kin_->linear_in_state() && !mode && norm <= linear_accuracy) return point;
   VectorXd normal = VectorXd::Zero(best.x.size());
   if (point.tangent_x.size() == best.x.size() && !fixed_lambda)
     normal = point.tangent_x.cwiseProduct(unknown_scale(set).array().square().matrix());
   VectorXd g_lambda = VectorXd::Zero(best.x.size());
-  g_lambda.head(n_) = -live_;
+  g_lambda.head(n_) = kin_->lambda_derivative(best.x.head(n_), best.lambda);
   if (mode) {
     if (mode->size() != best.x.size()) return best;
     fixed_lambda = true;
@@ -288,7 +368,7 @@ PathPoint FeMemberPath::polished(const ContactSet& set, const PathPoint& point, 
   // point stalled at 3e-13, against the certificate's 1.1e-13). Factorised once, at the
   // corrector's point: the corrections are at its accuracy, where J changes by less than they
   // need (chord steps then converge as fast as Newton's, at the cost of one factorisation).
-  const SparseMatrix j = saddle(set, best.x);
+  const SparseMatrix j = saddle(set, best.x, best.lambda);
   Triplets t;
   t.reserve(j.nonZeros() + 2 * size + 1);
   for (int k = 0; k < j.outerSize(); ++k)
@@ -319,6 +399,24 @@ PathPoint FeMemberPath::polished(const ContactSet& set, const PathPoint& point, 
   return best;
 }
 
+PathPoint FeMemberPath::corrected_at_lambda(const ContactSet& set, const PathPoint& point) const {
+  VectorXd g;
+  if (!residual(set, point.x, point.lambda, g)) return point;
+  Eigen::SparseLU<SparseMatrix> lu(saddle(set, point.x, point.lambda));
+  ++factorisations_;
+  if (lu.info() != Eigen::Success) return point;
+  PathPoint next = point;
+  const VectorXd step = lu.solve(g);
+  if (lu.info() != Eigen::Success || !step.allFinite()) return point;
+  next.x -= step;
+  VectorXd g_next;
+  if (!residual(set, next.x, next.lambda, g_next)) return point;
+  const VectorXd& weight = residual_scale(set);
+  return g_next.cwiseProduct(weight).lpNorm<Eigen::Infinity>() < g.cwiseProduct(weight).lpNorm<Eigen::Infinity>()
+             ? next
+             : point;
+}
+
 VectorXd FeMemberPath::reactions(const ContactSet& set, const VectorXd& y) const {
   VectorXd r = VectorXd::Zero(d_.reactions());
   for (int a = 0; a < set.size(); ++a) r[set.members[a]] = y[n_ + a];
@@ -332,8 +430,9 @@ VectorXd FeMemberPath::sign_values(const ContactSet& set, const VectorXd& y) con
   return v;
 }
 
-int FeMemberPath::negative_eigenvalues(const ContactSet& set, const VectorXd& y) const {
-  Eigen::SimplicialLDLT<SparseMatrix> ldlt(saddle(set, y));
+int FeMemberPath::negative_eigenvalues(const ContactSet& set, const VectorXd& y, double lambda) const {
+  Eigen::SimplicialLDLT<SparseMatrix> ldlt(saddle(set, y, lambda, true));
+  ++factorisations_;
   if (ldlt.info() != Eigen::Success || !ldlt.vectorD().allFinite()) return -1;
   int negative = 0;
   for (Eigen::Index i = 0; i < ldlt.vectorD().size(); ++i) negative += ldlt.vectorD()[i] < 0.0;
@@ -346,8 +445,8 @@ int FeMemberPath::negative_eigenvalues(const ContactSet& set, const VectorXd& y)
 // last iterate u = S^-1 v, u.S u / u.u = u.v / u.u, signed (NaN if the factor fails); its
 // round-off is about eps |A|_inf, A the saddle matrix (a backward-stable solve is exact for a
 // matrix that close to A; the secant of refine_return saw 0.02 to 0.1 of it, at 16 to 64 elements).
-Eigenpair FeMemberPath::nearest_eigenpair(const VectorXd& y) const {
-  const SparseMatrix a = saddle(set_, y);
+Eigenpair FeMemberPath::nearest_eigenpair(const VectorXd& y, double lambda) const {
+  const SparseMatrix a = saddle(set_, y, lambda);
   Eigen::SparseLU<SparseMatrix> lu(a);
   Eigenpair pair;
   VectorXd& full = pair.vector;
@@ -375,31 +474,8 @@ Eigenpair FeMemberPath::nearest_eigenpair(const VectorXd& y) const {
   return pair;
 }
 
-certify::VonKarmanAnswer FeMemberPath::answer_of(const ContactSet& set, const VectorXd& y) const {
-  certify::VonKarmanAnswer answer;
-  answer.displacement = d_.expand_displacement(y.head(d_.equations));
-  answer.reaction = reactions(set, y);
-  const int nodes = d_.mesh.elements() + 1;
-  answer.axial = VectorXd::Zero(nodes);
-  for (int node = 0; node < nodes; ++node)  // an arch's u is a dof of the discretisation
-    if (d_.kind == model::StructureKind::arch)
-      answer.axial[node] = answer.displacement[d_.tangential_dof(node)];
-    else if (const int k = system_.axial_unknown(node); k >= 0)
-      answer.axial[node] = y[k];
-  answer.normal_force = system_.normal_forces(y.head(n_));
-  return answer;
-}
-
-certify::CertifyOptions certificate_options(double lambda) {
-  certify::CertifyOptions o;
-  o.load_factor = lambda;
-  o.round_off = false;
-  o.pointwise = false;
-  return o;
-}
-
-// The certificate of a path point (certify/certificate.hpp, the von Karman answer from its fields
-// alone) at the path's own accuracy:
+// The certificate of a path point (the kinematics' own, from its fields alone) at the path's own
+// accuracy:
 //  - backward error: the certificate's own tolerance, for y polished to round-off.
 //  - signs: the path accepts a node's value r_i / (k w_ref) or gap_i / (h w_ref) down to
 //    -max(tie_tolerance, event_tolerance) (below, an event is located or a node switches at
@@ -409,22 +485,20 @@ certify::CertifyOptions certificate_options(double lambda) {
 //    unloaded one, whose nodes' signs the certificate then checks more finely than the path).
 certify::Certificate FeMemberPath::certificate(VectorXd y, double lambda) const {
   if (seam_) seam_(lambda, y);
-  const certify::VonKarmanAnswer answer = answer_of(set_, y);
-  const int nodes = d_.mesh.elements() + 1;
+  const VectorXd reaction = reactions(set_, y), all = displacement(y);
   double w_largest = 0.0;
-  for (int node = 0; node < nodes; ++node)
-    w_largest = std::max(w_largest, std::abs(answer.displacement[d_.deflection_dof(node)]));
-  const double r_largest = answer.reaction.size() > 0 ? answer.reaction.cwiseAbs().maxCoeff() : 0.0;
+  for (int node = 0; node <= d_.mesh.elements(); ++node)
+    w_largest = std::max(w_largest, std::abs(all[d_.deflection_dof(node)]));
+  const double r_largest = reaction.size() > 0 ? reaction.cwiseAbs().maxCoeff() : 0.0;
   const double tiny = std::numeric_limits<double>::min();
   const double w_ratio = std::max(1.0, w_ref_ / std::max(w_largest, tiny));
-  certify::CertifyOptions o = certificate_options(lambda);
-  o.sign_floor = std::min(1e-4, std::max(tie_tolerance, options_.event_tolerance) *
-                                    std::max(w_ratio, r_largest > 0.0 ? reaction_unit_ / r_largest : 0.0));
-  return certify::certify(member_, d_, answer, o);
+  const double floor = std::min(1e-4, std::max(tie_tolerance, options_.event_tolerance) *
+                                          std::max(w_ratio, r_largest > 0.0 ? reaction_unit_ / r_largest : 0.0));
+  return kin_->certificate(y.head(n_), reaction, lambda, floor);
 }
 
 certify::Check FeMemberPath::backward_error(const ContactSet& set, const VectorXd& y, double lambda) const {
-  const certify::Certificate c = certify::certify(member_, d_, answer_of(set, y), certificate_options(lambda));
+  const certify::Certificate c = kin_->certificate(y.head(n_), reactions(set, y), lambda, 0.0);
   if (const certify::Check* check = c.find(certify::check_name::backward_error)) return *check;
   certify::Check none;  // no answer to certify (not finite): infinitely far
   none.value = std::numeric_limits<double>::infinity(), none.tolerance = 1.0;
@@ -441,86 +515,165 @@ std::optional<std::string> FeMemberPath::certify(const PathPoint& point) const {
          (backward && !backward->passed ? " (the Newton corrections of the state stagnated above its tolerance)" : "");
 }
 
-// The thrust -N as a compressive force (user force units): N is constant along a member with both
-// ends restrained; the mean otherwise.
-double FeMemberPath::axial_force(const VectorXd& y) const {
-  const std::vector<double> forces = system_.normal_forces(y.head(n_));
-  double mean = 0.0;
-  for (double f : forces) mean += f;
-  if (!forces.empty()) mean /= static_cast<double>(forces.size());
-  return -mean * member_.scales.force();
-}
-
-TraceStep FeMemberPath::record(const PathPoint& point, const RecordContext&) const {
-  const VectorXd displacement = d_.expand_displacement(point.x.head(d_.equations));
-  TraceStep step = fe_states::step_of(member_, d_, points_, options_, point.lambda, displacement,
-                                      reactions(set_, point.x), set_.in_contact);
-  step.axial_force = axial_force(point.x);
+// The step records the set that carries the path on from the point (after a crossing there: the
+// set after it), then the step length the follower takes from it, the sense of lambda there and
+// the metric's reference deflection, so that a resumed trace takes the same steps.
+TraceStep FeMemberPath::record(const PathPoint& point, const RecordContext& context) const {
+  std::vector<bool> carries_on = set_.in_contact;
+  if (context.crossing && context.crossing->switches &&
+      context.crossing->transition.type() == typeid(std::vector<bool>))
+    carries_on = std::any_cast<std::vector<bool>>(context.crossing->transition);
+  TraceStep step = fe_states::step_of(member_, d_, points_, options_, point.lambda, displacement(point.x),
+                                      reactions(set_, point.x), carries_on);
+  const std::size_t m = carries_on.size();
+  step.state[m] = context.next_step;
+  step.state[m + 1] = point.tangent_lambda < 0.0 ? -1.0 : 1.0;
+  step.state[m + 2] = w_ref_;
+  step.axial_force = axial_force(point);
   step.iterations = point.iterations;
   // The whole state, with the certificate the engine certified it with just before (certify()).
-  record_von_karman_state(step, member_, d_, point.lambda, answer_of(set_, point.x),
-                          certified_ && last_certificate_ ? &*last_certificate_ : nullptr);
+  kin_->record_state(step, point.x.head(n_), reactions(set_, point.x), point.lambda,
+                     certified_ && last_certificate_ ? &*last_certificate_ : nullptr);
   return step;
 }
 
 double FeMemberPath::amplitude(const PathPoint& point) const {
-  return lift_measures(member_, d_, d_.expand_displacement(point.x.head(d_.equations)), points_).amplitude;
+  return lift_measures(member_, d_, displacement(point.x), points_).amplitude;
 }
 
 std::string FeMemberPath::describe_state(const PathPoint& point) const {
   const model::Scales& scales = member_.scales;
-  const VectorXd displacement = d_.expand_displacement(point.x.head(d_.equations));
+  const VectorXd all = displacement(point.x);
   const double s = std::clamp(member_.s_from_user(options_.monitor), member_.s_begin, member_.s_end);
   const int e = d_.mesh.element_containing(s);
-  const double crown =
-      post::evaluate(d_, displacement, e, (s - d_.mesh.nodes[e]) / d_.mesh.element_size(e)).w * scales.displacement();
-  return fmt::format("crown deflection {:.6g}, thrust {:.6g}", crown, axial_force(point.x));
+  const double w =
+      post::evaluate(d_, all, e, (s - d_.mesh.nodes[e]) / d_.mesh.element_size(e)).w * scales.displacement();
+  if (!cubics_) return fmt::format("crown deflection {:.6g}, thrust {:.6g}", w, axial_force(point));
+  return fmt::format("deflection {:.6g} at {:.6g}, axial force {:.6g}, amplitude {:.6g}", w, options_.monitor,
+                     axial_force(point), amplitude(point));
+}
+
+// A kinematics with no reference deflection of its own measures steps in the largest deflection
+// the path has reached (the start's and its rate over the range, at first): a linear member's
+// deflection can grow by orders after the first lift-off (the pipeline's uplift: 3e3 times from
+// lambda = 0.2 to 3), and a metric fixed at the start made the steps shrink in proportion.
+bool FeMemberPath::wants_new_problem(PathPoint& point) {
+  if (kin_->reference_deflection() > 0.0) return false;
+  const VectorXd all = displacement(point.x);
+  double w = 0.0;
+  for (int node = 0; node <= d_.mesh.elements(); ++node) w = std::max(w, std::abs(all[d_.deflection_dof(node)]));
+  if (!(w > 2.0 * w_ref_)) return false;
+  set_units(w);
+  // The point's unit tangent in the new metric (its sense kept): measured in the old one, the next
+  // step's tangent would look turned back.
+  const VectorXd scale = unknown_scale(set_);
+  const double norm =
+      std::sqrt((scale.array() * point.tangent_x.array()).square().sum() + point.tangent_lambda * point.tangent_lambda);
+  if (norm > 0.0) {
+    point.tangent_x /= norm;
+    point.tangent_lambda /= norm;
+  }
+  return true;
+}
+
+double FeMemberPath::reference_deflection(const ContactSet& set, const PathPoint& start) const {
+  // The start's deflection and its rate over the load range (one solve with the saddle factor).
+  const VectorXd all = displacement(start.x);
+  double w = 0.0;
+  for (int node = 0; node <= d_.mesh.elements(); ++node) w = std::max(w, std::abs(all[d_.deflection_dof(node)]));
+  Eigen::SparseLU<SparseMatrix> lu(saddle(set, start.x, start.lambda));
+  if (lu.info() == Eigen::Success) {
+    VectorXd rhs = VectorXd::Zero(start.x.size());
+    rhs.head(n_) = -kin_->lambda_derivative(start.x.head(n_), start.lambda);
+    const VectorXd rate = displacement(lu.solve(rhs));
+    const double span = std::abs(options_.arc_length.lambda_max - options_.arc_length.lambda_min);
+    if (rate.allFinite())
+      for (int node = 0; node <= d_.mesh.elements(); ++node)
+        w = std::max(w, span * std::abs(rate[d_.deflection_dof(node)]));
+  }
+  return w > 0.0 ? w : 1e-3;
 }
 
 PathModel::Start FeMemberPath::start(const ArcLengthOptions& options) {
   Start out;
+  const double lambda0 = options_.resume_from ? options_.resume_from->load_factor : options.lambda_min;
+  const int m = d_.reactions();
+  std::vector<bool> first_set;
+  VectorXd x0 = VectorXd::Zero(n_), r0 = VectorXd::Zero(m);
   if (options_.resume_from) {
-    out.why =
-        "TraceOptions.resume_from: refused: the FE von Karman path does not resume yet (run the trace again from "
-        "the start)";
-    return out;
-  }
-  // The contact solve at lambda_min from zero.
-  const double lambda0 = options.lambda_min;
-  const contact::VonKarmanResult first = system_.solve(dead_ + lambda0 * live_, contact::VonKarmanOptions{});
-  if (!first.is_usable()) {
-    out.why = fmt::format("no equilibrium found at lambda = {:.10g}: {}", lambda0, first.message);
-    return out;
-  }
-  std::vector<bool> first_set = first.in_contact;
-  if (d_.tensionless && first.x.lpNorm<Eigen::Infinity>() == 0.0) {
-    // The unloaded state: every node is at zero reaction and zero gap, so any set holds there; the
-    // one the path leaves on is that of the first loads (near zero the response is linear in lambda,
-    // so the set of a small step is the set of every small step).
-    const double probe = lambda0 + options.direction * options.min_step;
-    const contact::VonKarmanResult near = system_.solve(dead_ + probe * live_, contact::VonKarmanOptions{});
-    if (near.is_usable()) first_set = near.in_contact;
+    const TraceStep& from = *options_.resume_from;
+    if (!kin_->resumable()) {
+      out.why =
+          "TraceOptions.resume_from: refused: the FE von Karman path does not resume yet (run the trace again from "
+          "the start)";
+      return out;
+    }
+    if (!std::holds_alternative<FeContactSet>(from.state_topology) ||
+        from.state.size() != static_cast<std::size_t>(m) + fe_state_tail) {
+      out.why = "TraceOptions.resume_from: the step holds no FE contact set of this mesh";
+      return out;
+    }
+    first_set = fe_contact_set(from);
+    out.record = false;
+    out.first_step = from.state[m];
+    set_units(from.state[m + 2]);
+  } else {
+    // The contact solve at lambda_min.
+    const KinematicsStart first = kin_->solve(lambda0, options_.contact_method);
+    contact_solves_ += first.contact_solves;
+    if (first.contact_solves > 0) contact_method_ = first.method;
+    if (first.x.size() == 0) {
+      out.failure = first.no_equilibrium ? TraceTermination::no_equilibrium : TraceTermination::solver_failure;
+      out.why =
+          first.no_equilibrium ? fmt::format("no equilibrium at lambda = {:.10g}: {}", lambda0, first.why) : first.why;
+      return out;
+    }
+    first_set = first.in_contact;
+    x0 = first.x, r0 = first.reaction;
+    if (d_.tensionless && first.x.lpNorm<Eigen::Infinity>() == 0.0) {
+      // The unloaded state: every node is at zero reaction and zero gap, so any set holds there; the
+      // one the path leaves on is that of the first loads (near zero the response is linear in
+      // lambda, so the set of a small step is the set of every small step).
+      const KinematicsStart near = kin_->solve(lambda0 + options.direction * options.min_step, options_.contact_method);
+      contact_solves_ += near.contact_solves;
+      if (near.x.size() > 0) first_set = near.in_contact;
+    }
   }
   set_ = contact::select_contact_set(d_, first_set);
   VectorXd y(n_ + set_.size());
-  y.head(n_) = first.x;
-  for (int a = 0; a < set_.size(); ++a)
-    y[n_ + a] = first.in_contact[set_.members[a]] ? first.reaction[set_.members[a]] : 0.0;
-  const PathFollower follower(problem(), options);
-  nonlinear::NewtonSummary summary;
-  std::optional<PathPoint> point = follower.start(y, lambda0, &summary);
-  if (!point) {
-    out.why =
-        fmt::format("the start at lambda = {:.10g} did not converge on its contact set: {}", lambda0, summary.message);
-    return out;
+  y.head(n_) = x0;
+  for (int a = 0; a < set_.size(); ++a) y[n_ + a] = first_set[set_.members[a]] ? r0[set_.members[a]] : 0.0;
+  std::optional<PathPoint> orientation;
+  if (options_.resume_from) {  // the sense of lambda the step had
+    orientation = PathPoint{};
+    orientation->x = y;
+    orientation->tangent_x = VectorXd::Zero(y.size());
+    orientation->tangent_lambda = options_.resume_from->state[m + 1];
   }
-  out.point = polished(set_, *point, true);
+  for (int pass = 0; pass < 2; ++pass) {
+    const PathFollower follower(problem(), options);
+    nonlinear::NewtonSummary summary;
+    std::optional<PathPoint> point = follower.start(y, lambda0, &summary, orientation);
+    if (!point) {
+      out.why = fmt::format("the start at lambda = {:.10g} did not converge on its contact set: {}", lambda0,
+                            summary.message);
+      return out;
+    }
+    out.point = polished(set_, *point, true);
+    // A kinematics with no reference deflection of its own takes the start's: the metric and the
+    // sign units are set, and the start solved again in them.
+    if (pass > 0 || kin_->reference_deflection() > 0.0 || options_.resume_from) break;
+    set_units(reference_deflection(set_, *out.point));
+    y = out.point->x;
+  }
+  lift_off_ = kin_->lift_off_load(lambda0, options.lambda_max, options_.event_tolerance);
   return out;
 }
 
 std::vector<TraceEvent> FeMemberPath::set_events(const std::vector<bool>& before, const std::vector<int>& flipped,
                                                  double lambda) const {
   std::vector<TraceEvent> events;
+  if (cubics_) return events;  // named from the cubics' topology instead (topology_events)
   // A supported end's node has w = 0: its sign is that of w' there (times h^2), no piece of its
   // own; the pieces are counted on the nodes inside, the end's limit at its neighbour.
   const int first = points_.begin_supported ? 1 : 0;
@@ -625,7 +778,12 @@ std::optional<Crossing> FeMemberPath::contact_event(const PathPoint& from, const
     for (int i = 0; i < d_.reactions(); ++i)
       if (start_values[i] > tie_tolerance && past[i] < 0.0 && at[i] <= smallest + tie_tolerance) flipped.push_back(i);
   };
-  std::optional<PathPoint> located = follower.locate(from, to, least_of(false), options_.event_tolerance, false);
+  // (A kinematics linear in its unknowns at fixed lambda polishes a state exactly, with one
+  // factorisation: its crossings are located on polished points from the start. Near the
+  // beam-column's limit point the set's tangent is nearly singular and the corrector's points
+  // leave a node's value off by 1e-6 of its scale.)
+  const bool exact = kin_->linear_in_state() || kin_->straight_bifurcated_branch();
+  std::optional<PathPoint> located = follower.locate(from, to, least_of(exact), options_.event_tolerance, false);
   std::vector<int> flipped;
   if (located) {
     *located = polished(set_, *located, false);
@@ -660,48 +818,136 @@ std::optional<Crossing> FeMemberPath::contact_event(const PathPoint& from, const
   return c;
 }
 
-// Taken at the step's end: the state solved on the new set at the step's arclength (the same
-// hyperplane), its sign values checked, the nodes still failing switched too, at most 8 rounds,
-// the pieces kept throughout. It is the path's state there (an equilibrium of the tensionless
-// problem: every reaction on its set and gap off it holds) and nothing the engine watches happened
-// on the way, as far as its ends tell: lambda's tangent keeps its sign (no fold) and the count of
-// negative eigenvalues is the step start's (no change of stability). Otherwise nullopt: the
-// crossing is located (contact_event).
-std::optional<Crossing> FeMemberPath::taken_at_end(const PathPoint& from, const PathPoint& to, std::vector<int> failing,
-                                                   const PathFollower& follower) const {
+// The path's state at arclength sigma from `from` across node switches: the state solved on the
+// new set on the same hyperplane, its sign values checked, the nodes still failing switched too, at
+// most 8 rounds (node naming: the pieces kept throughout). It is the path's state there (an
+// equilibrium of the tensionless problem: every reaction on its set and gap off it holds) if
+// nothing the engine watches happened on the way (checked by the caller). nullopt: none found.
+std::optional<FeMemberPath::Across> FeMemberPath::solved_across(const PathPoint& from, double sigma,
+                                                                std::vector<int> failing, const PathFollower& follower,
+                                                                std::optional<double> at_lambda,
+                                                                bool with_tangent) const {
   const int first = points_.begin_supported ? 1 : 0;
   const int last = d_.reactions() - 1 - (points_.end_supported ? 1 : 0);
-  const double ds = to.arclength - from.arclength;
   std::vector<bool> in_contact = set_.in_contact;
-  const int negative = negative_eigenvalues(set_, from.x);
   for (int round = 0; round < 8 && !failing.empty(); ++round) {
     for (int i : failing) in_contact[i] = !in_contact[i];
-    if (!same_pieces(set_.in_contact, in_contact, first, last)) return std::nullopt;
-    const ContactSet next = contact::select_contact_set(d_, in_contact);
-    const PathFollower on_next(problem_on(next), follower.options());
-    // At the range's end (landed on exactly) the new set's state at that lambda, else on the step's
-    // hyperplane.
-    const ArcLengthOptions& o = follower.options();
-    const bool at_end = to.lambda == o.lambda_max || to.lambda == o.lambda_min || o.control == PathControl::load;
+    if (!cubics_ && !same_pieces(set_.in_contact, in_contact, first, last)) return std::nullopt;
+    auto& cached = across_followers_[in_contact];
+    if (!cached.second)
+      cached = {contact::select_contact_set(d_, in_contact),
+                std::make_shared<const PathFollower>(problem_on(contact::select_contact_set(d_, in_contact)),
+                                                     follower.options())};
+    const ContactSet& next = cached.first;
+    const PathFollower& on_next = *cached.second;
     const PathPoint start = carry(from, set_, next, n_);
-    StepOutcome step = at_end ? on_next.step_to_lambda(start, to.lambda) : on_next.step(start, ds);
+    StepOutcome step = at_lambda ? on_next.step_to_lambda(start, *at_lambda) : on_next.step(start, sigma, with_tangent);
     if (!step.point) return std::nullopt;
-    const PathPoint p = polished(next, *step.point, at_end);
+    PathPoint p = polished(next, *step.point, at_lambda.has_value());
     const VectorXd values = sign_values(next, p.x);
     failing.clear();
     for (int i = 0; i < d_.reactions(); ++i)
       if (values[i] < -tie_tolerance) failing.push_back(i);
-    if (!failing.empty()) continue;
-    const bool fold =
-        follower.options().control == PathControl::arc_length && (from.tangent_lambda > 0) != (p.tangent_lambda > 0);
-    if (fold || negative < 0 || negative_eigenvalues(next, p.x) != negative) return std::nullopt;
-    Crossing c;
-    c.point = p;
-    c.point_after = true;
-    c.transition = std::move(in_contact);
-    return c;
+    if (failing.empty()) return Across{std::move(p), std::move(in_contact)};
   }
   return std::nullopt;
+}
+
+// Taken at the step's end (solved_across) where nothing the engine watches happened on the way, as
+// far as its ends tell: lambda's tangent keeps its sign (no fold) and the count of negative
+// eigenvalues is the step start's (no change of stability); with cubic naming, a change of the
+// contact topology on the way is located by bisection on the arclength of such states and the
+// step taken to the first state past it, its events with it. Otherwise nullopt: the crossing is
+// located (contact_event).
+std::optional<Crossing> FeMemberPath::taken_at_end(const PathPoint& from, const PathPoint& to, std::vector<int> failing,
+                                                   const PathFollower& follower) {
+  // A straight bifurcated branch ends at its first switch, located: the new set's branch runs in
+  // lambda, on the side where it holds (enter).
+  if (on_straight_branch_) return std::nullopt;
+  across_followers_.clear();
+  const bool counted = stability_measure() == StabilityMeasure::count;
+  const int negative = counted ? negative_eigenvalues(set_, from.x, from.lambda) : 0;
+  const double ds = to.arclength - from.arclength;
+  // At the range's end (landed on exactly) the new set's state at that lambda, else on the step's
+  // hyperplane.
+  const ArcLengthOptions& o = follower.options();
+  const bool range_end = to.lambda == o.lambda_max || to.lambda == o.lambda_min || o.control == PathControl::load;
+  std::optional<Across> end =
+      solved_across(from, ds, failing, follower, range_end ? std::optional<double>(to.lambda) : std::nullopt);
+  if (!end) return std::nullopt;
+  const PathPoint& p = end->point;
+  const bool fold =
+      follower.options().control == PathControl::arc_length && (from.tangent_lambda > 0) != (p.tangent_lambda > 0);
+  // (The amplitude bound is located by the engine on one set: a state past it is not taken here.)
+  if (options_.max_amplitude && amplitude(p) >= *options_.max_amplitude) return std::nullopt;
+  if (fold || negative < 0 ||
+      (counted && negative_eigenvalues(contact::select_contact_set(d_, end->in_contact), p.x, p.lambda) != negative))
+    return std::nullopt;
+  Crossing c;
+  c.point_after = true;
+  const ContactTopology start = topology_at_start(from);
+  ContactTopology at_end = cubics_ ? topology_of(p.x) : ContactTopology{};
+  if (cubics_ && !at_end.same_as(start)) {
+    // The first change of topology: bisection on sigma to event_tolerance in lambda.
+    double lo = 0.0, hi = ds;
+    double lambda_lo = from.lambda;
+    ContactTopology before = start;
+    for (int i = 0; i < 200 && std::abs(end->point.lambda - lambda_lo) > options_.event_tolerance; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      if (!(mid > lo && mid < hi)) break;
+      std::vector<int> failing_mid;
+      // (States only, their tangents stand-ins: the one taken is given its own below.)
+      std::optional<PathPoint> plain = follower.step(from, mid, false).point;
+      if (!plain) return std::nullopt;
+      const VectorXd values = sign_values(set_, plain->x);
+      for (int k = 0; k < d_.reactions(); ++k)
+        if (values[k] < -tie_tolerance) failing_mid.push_back(k);
+      std::optional<Across> at_mid = failing_mid.empty()
+                                         ? std::optional<Across>(Across{*plain, set_.in_contact})
+                                         : solved_across(from, mid, failing_mid, follower, std::nullopt, false);
+      if (!at_mid) return std::nullopt;
+      ContactTopology topology = topology_of(at_mid->point.x);
+      if (topology.same_as(start)) {
+        lo = mid, lambda_lo = at_mid->point.lambda, before = std::move(topology);
+      } else {
+        hi = mid, end = std::move(at_mid), at_end = std::move(topology);
+      }
+    }
+    c.events = classify_events(member_, points_, before, at_end, end->point.lambda);
+    // The tangent of the state taken, on its set, in the sense of the step.
+    const ContactSet taken = contact::select_contact_set(d_, end->in_contact);
+    const PathFollower on_taken(problem_on(taken), follower.options());
+    const PathPoint sense = carry(from, set_, taken, n_);
+    const auto tangent = on_taken.tangent(end->point.x, end->point.lambda, &sense);
+    if (!tangent) return std::nullopt;
+    end->point.tangent_x = tangent->first;
+    end->point.tangent_lambda = tangent->second;
+  }
+  if (cubics_) known_topologies_ = {{end->point.lambda, at_end}};
+  c.point = std::move(end->point);
+  c.transition = std::move(end->in_contact);
+  return c;
+}
+
+// The crossing at the lift-off load of a member only the foundation holds (kinematics'
+// lift_off_load): where the step reaches it, the path's state there (a crossing the model enters
+// to end the path: no equilibrium beyond). Node crossings located well before it come first; near
+// it the last reactions vanish together, which round-off would split into node switches that
+// leave the member floating.
+std::optional<Crossing> FeMemberPath::lift_off_crossing(const PathPoint& from, const PathPoint& to,
+                                                        const PathFollower& follower) {
+  if (!lift_off_) return std::nullopt;
+  const double load = *lift_off_;
+  if (!((to.lambda - load) * (from.lambda - load) <= 0.0) || from.lambda == load) return std::nullopt;
+  std::optional<PathPoint> at = follower.locate(
+      from, to, [load](const PathPoint& p) { return p.lambda - load; }, options_.event_tolerance);
+  if (!at) return std::nullopt;
+  if (at->lambda != load)
+    if (StepOutcome landed = follower.step_to_lambda(*at, load); landed.point) at = std::move(landed.point);
+  Crossing c;
+  c.point = polished(set_, *at, true);
+  c.transition = LiftOff{};
+  return c;
 }
 
 CrossingSearch FeMemberPath::crossing(const PathPoint& from, const PathPoint& to, const PathFollower& follower,
@@ -734,7 +980,13 @@ CrossingSearch FeMemberPath::crossing(const PathPoint& from, const PathPoint& to
     return search;
   }
   immediate_switches_ = 0;
-  if (alone) {
+  if (std::optional<Crossing> c = unloaded_crossing(from, to, follower)) {
+    search.crossings.push_back(std::move(*c));
+    return search;
+  }
+  std::optional<Crossing> lift_off = lift_off_crossing(from, to, follower);
+  const PathPoint& until = lift_off ? lift_off->point : to;
+  if (alone && !lift_off) {
     std::vector<int> failing;
     for (int i = 0; i < d_.reactions(); ++i)
       if (start_values[i] > tie_tolerance && end_values[i] < -options_.event_tolerance) failing.push_back(i);
@@ -745,57 +997,298 @@ CrossingSearch FeMemberPath::crossing(const PathPoint& from, const PathPoint& to
       }
   }
   std::string failure;
-  if (std::optional<Crossing> c = contact_event(from, to, start_values, follower, failure))
-    search.crossings.push_back(std::move(*c));
-  else if (!failure.empty())
+  std::optional<Crossing> node = contact_event(from, until, start_values, follower, failure);
+  if (!node && !failure.empty()) {
     search.fail = std::move(failure);
+    return search;
+  }
+  if (lift_off && node &&
+      std::abs(node->point.lambda - lift_off->point.lambda) <=
+          1e-6 * std::abs(options_.arc_length.lambda_max - options_.arc_length.lambda_min))
+    node.reset();  // the last reactions vanishing together at the lift-off load
+  std::optional<Crossing> switching = node ? std::move(node) : std::move(lift_off);
+  if (cubics_) search.crossings = topology_events(from, switching ? switching->point : until, follower);
+  if (switching) search.crossings.push_back(std::move(*switching));
   return search;
+}
+
+std::optional<Crossing> FeMemberPath::unloaded_crossing(const PathPoint& from, const PathPoint& to,
+                                                        const PathFollower& follower) {
+  if (!kin_->linear_in_state() || d_.has_ground_gap() || d_.prescribed.lpNorm<Eigen::Infinity>() > 0.0)
+    return std::nullopt;
+  // F(lambda) = F_dead + lambda F_live vanishes at lambda0 only if F_dead is -lambda0 F_live.
+  const VectorXd dead = d_.load(0.0), live = d_.load(1.0) - dead;
+  if (!(live.squaredNorm() > 0.0)) return std::nullopt;
+  const double lambda0 = -dead.dot(live) / live.squaredNorm();
+  const double size = std::max(dead.lpNorm<Eigen::Infinity>(), std::abs(lambda0) * live.lpNorm<Eigen::Infinity>());
+  if ((dead + lambda0 * live).lpNorm<Eigen::Infinity>() > 64 * std::numeric_limits<double>::epsilon() * size)
+    return std::nullopt;
+  // Strictly past the step's start (a path that starts there took its set from a solve beyond it).
+  if (!((from.lambda - lambda0) * (to.lambda - lambda0) < 0.0 || to.lambda == lambda0)) return std::nullopt;
+  const KinematicsStart beyond = kin_->solve(0.5 * (lambda0 + to.lambda), options_.contact_method);
+  contact_solves_ += beyond.contact_solves;
+  if (beyond.x.size() == 0) return std::nullopt;
+  StepOutcome at = follower.step_to_lambda(from, lambda0);
+  if (!at.point) return std::nullopt;
+  Crossing c;
+  c.point = *at.point;
+  c.point.x.setZero();  // (the unloaded state exactly: every value of it is zero)
+  if (cubics_) c.events = classify_events(member_, points_, topology_at_start(from), topology_of(beyond.x), lambda0);
+  c.transition = beyond.in_contact;
+  return c;
+}
+
+ContactTopology FeMemberPath::topology_at_start(const PathPoint& from) const {
+  for (const auto& [lambda, topology] : known_topologies_)
+    if (lambda == from.lambda) return topology;
+  // Unloaded, the member touches nothing, but along the first step its deflection is that of the
+  // tangent: its topology is the tangent's.
+  if (displacement(from.x).lpNorm<Eigen::Infinity>() == 0.0 && from.tangent_x.size() == from.x.size())
+    return contact_topology(
+        member_, d_, displacement(from.tangent_lambda < 0.0 ? VectorXd(-from.tangent_x) : from.tangent_x), points_);
+  return topology_of(from.x);
+}
+
+// Why events are located on w and not at node switches: contact in the reports (and in the Ritz
+// model, which the events are compared with) is w > 0 of the element cubic, while a switch is a
+// nodal reaction or gap reaching zero: a lift-off zone opens inside an element, a little after
+// the nearest node's reaction reached zero. Located by bisection on the arclength of the segment
+// (on one set) to event_tolerance in lambda, each change classified between the last topology
+// found equal to the one before and the first found different, never recomputed at the segment's
+// start: there it comes from the set before, and an event that falls on a switch shows in one
+// set's round-off and not in the other's (a heel lifting off a free end: w(0) and the end node's
+// reaction vanish together, to O(h^5); the footing trace lost it on 152 of the meshes from 50 to
+// 400 elements when it was recomputed).
+std::vector<Crossing> FeMemberPath::topology_events(const PathPoint& from, const PathPoint& end,
+                                                    const PathFollower& follower) {
+  std::vector<Crossing> out;
+  ContactTopology topology_a = topology_at_start(from);
+  const ContactTopology topology_b = topology_of(end.x);
+  const double length = end.arclength - from.arclength;
+  const auto point_at = [&](double sigma) -> std::optional<PathPoint> {
+    if (sigma >= length) return end;
+    StepOutcome outcome = follower.step(from, sigma);
+    if (!outcome.point) return std::nullopt;
+    return polished(set_, *outcome.point, false);
+  };
+  double a = 0.0;
+  ContactTopology last = topology_a;
+  for (int guard = 0; guard < 64 && !topology_a.same_as(topology_b); ++guard) {
+    double lo = a, hi = length;
+    PathPoint lo_point = from, hi_point = end;
+    ContactTopology before = topology_a;
+    for (int i = 0; i < 200 && std::abs(hi_point.lambda - lo_point.lambda) > options_.event_tolerance; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      if (!(mid > lo && mid < hi)) break;
+      std::optional<PathPoint> p = point_at(mid);
+      if (!p) break;
+      ContactTopology at_mid = topology_of(p->x);
+      if (at_mid.same_as(topology_a)) {
+        lo = mid, lo_point = std::move(*p), before = std::move(at_mid);
+      } else {
+        hi = mid, hi_point = std::move(*p);
+      }
+    }
+    const ContactTopology after = topology_of(hi_point.x);
+    std::vector<TraceEvent> events = classify_events(member_, points_, before, after, hi_point.lambda);
+    if (!events.empty() && hi < length) {
+      Crossing c;
+      c.point = hi_point;
+      c.events = std::move(events);
+      c.switches = false;
+      out.push_back(std::move(c));
+    } else if (!events.empty()) {  // at the segment's end: recorded with it
+      Crossing c;
+      c.point = end;
+      c.events = std::move(events);
+      c.switches = false;
+      out.push_back(std::move(c));
+    }
+    a = hi;
+    topology_a = after;
+    last = after;
+  }
+  known_topologies_ = {{end.lambda, topology_a.same_as(topology_b) ? last : topology_b}};
+  return out;
+}
+
+// The fold where the path turns back at a change of set: a limit point at the crossing.
+TraceEvent FeMemberPath::fold_at_switch(const Crossing& crossing, const ContactSet& next,
+                                        double new_tangent_lambda) const {
+  int node = 0;
+  for (int i = 0; i < d_.reactions(); ++i)
+    if (next.in_contact[i] != set_.in_contact[i]) {
+      node = i;
+      break;
+    }
+  const double at = user_position(node);
+  return {crossing.point.lambda, EventKind::limit_point, at,
+          fmt::format("limit point: lambda reaches a {} {:.10g} ({}) as the node at {:.6g} {}; the path turns back",
+                      new_tangent_lambda < 0.0 ? "maximum" : "minimum", crossing.point.lambda,
+                      describe_state(crossing.point), at, set_.in_contact[node] ? "lifts off" : "touches down")};
 }
 
 PathModel::Entry FeMemberPath::enter(const Crossing& crossing, const ArcLengthOptions& options) {
   Entry entry;
+  if (crossing.transition.type() == typeid(LiftOff)) {
+    entry.failure = TraceTermination::no_equilibrium;
+    entry.why = fmt::format(
+        "no equilibrium beyond lambda = {:.10g}: the live loads lift the member off the foundation (compressive "
+        "reactions can no longer balance the loads on its free rigid motions, {}), and no support holds it",
+        crossing.point.lambda, d_.stability_note);
+    return entry;
+  }
   ContactSet next = contact::select_contact_set(d_, std::any_cast<std::vector<bool>>(crossing.transition));
-  if (crossing.point_after) {  // solved there already
+  const bool from_straight = on_straight_branch_;  // (no fold: lambda was constant on it)
+  on_straight_branch_ = false;  // (a straight branch ends at its first switch: the new set's runs in lambda)
+  if (crossing.point_after) {   // solved there already
     set_ = std::move(next);
     entry.point = crossing.point;
     return entry;
   }
   const PathPoint carried = carry(crossing.point, set_, next, n_);
-  set_ = std::move(next);
-  // Continue from the crossing on the new set, oriented as before.
-  const PathFollower follower(problem(), options);
+  // Continue from the crossing on the new set, on the side where it holds: the switched nodes'
+  // values (a leaving node's gap, a joining node's reaction) grow along the tangent; else as before.
+  const PathFollower follower(problem_on(next), options);
   nonlinear::NewtonSummary summary;
   entry.point = follower.start(carried.x, carried.lambda, &summary, carried);
-  if (!entry.point)
+  if (!entry.point) {
     entry.why =
         fmt::format("no equilibrium on the new contact set at lambda = {:.10g}: {}", carried.lambda, summary.message);
+    set_ = std::move(next);
+    return entry;
+  }
+  const VectorXd rates = sign_rates(next, *entry.point);
+  double growing = 0.0, falling = 0.0;
+  for (int i = 0; i < d_.reactions(); ++i)
+    if (next.in_contact[i] != set_.in_contact[i]) (rates[i] > 0.0 ? growing : falling) += std::abs(rates[i]);
+  // (Cubic naming, the small-displacement members, whose folds are all at set changes; a von
+  // Karman member's branch is oriented as before, its folds smooth and located by the engine.)
+  if (cubics_ && falling > growing) {
+    entry.point->tangent_x = -entry.point->tangent_x;
+    entry.point->tangent_lambda = -entry.point->tangent_lambda;
+  }
+  // A straight branch goes on across a switch where the new set is singular at its lambda too.
+  if (from_straight && std::abs(entry.point->tangent_lambda) <= 1e-8) {
+    on_straight_branch_ = true;
+    entry.point->tangent_lambda = 0.0;
+  }
+  if (options.control == PathControl::arc_length && !from_straight && crossing.point.tangent_lambda != 0.0 &&
+      (crossing.point.tangent_lambda > 0.0) != (entry.point->tangent_lambda > 0.0))
+    entry.events.push_back(fold_at_switch(crossing, next, entry.point->tangent_lambda));
+  set_ = std::move(next);
   return entry;
 }
 
-BranchSwitch FeMemberPath::switch_branch(const PathPoint& at, const PathFollower& follower) {
+// Second-order theory (a tangent linear in lambda): the singular point's lambda from the Rayleigh
+// quotient of the critical mode phi (inverse iteration with the mixed saddle factor) on the primal
+// S(lambda) = [K_t C_A^T; C_A -T_AA]: lambda_c = lambda - phi.S phi / phi.S' phi, stationary in phi,
+// so second-order accurate; the state there extrapolated along the tangent. The count's bisection
+// alone is early or late by the inertia's round-off (the primal pivots' eps cond(S): 1.7e-8 in
+// lambda on the free-free beam at 200 elements). Not at weakly active nodes (the cone decides there).
+PathPoint FeMemberPath::refine_bifurcation(const PathPoint& point) const {
+  if (!kin_->straight_bifurcated_branch() || cone_at(point) || !(std::abs(point.tangent_lambda) > 0.0)) return point;
+  const double span = std::abs(options_.arc_length.lambda_max - options_.arc_length.lambda_min);
+  PathPoint refined = point;
+  // Iterated: the mode at the refined lambda, its quotient again (the mode of the mixed factor is
+  // S's null vector only at the singular point: one quotient left 7e-9 in lambda).
+  for (int iteration = 0; iteration < 4; ++iteration) {
+    const VectorXd mode = nearest_eigenpair(refined.x, refined.lambda).vector;
+    const VectorXd u = mode.head(d_.equations), r = mode.tail(set_.size());
+    const auto quadratic = [&](double lambda) {
+      const SparseMatrix k = kin_->stiffness(refined.x.head(n_), lambda);
+      return u.dot(k * u) + 2.0 * r.dot(set_.coupling * u) - r.dot(set_.flexibility * r);
+    };
+    const double at = quadratic(refined.lambda), slope = quadratic(refined.lambda + span) - at;  // linear
+    if (!(std::abs(slope) > 0.0)) return point;
+    const double lambda = refined.lambda - span * at / slope;
+    // Trusted near the located point only (else the iteration found another mode).
+    if (!(std::abs(lambda - point.lambda) <= 1e-2 * std::max(std::abs(point.lambda), 1e-3 * span))) return point;
+    const double change = lambda - refined.lambda;
+    refined.x = point.x + (lambda - point.lambda) / point.tangent_lambda * point.tangent_x;
+    refined.lambda = lambda;
+    if (std::abs(change) <= 1e-3 * options_.event_tolerance) break;
+  }
+  return refined;
+}
+
+StabilityState FeMemberPath::stability(const PathPoint& point) const {
+  // A straight bifurcated branch is neutral (its tangent singular all along): reported unstable,
+  // its count kept from the switch, so that round-off in the singular pivot reads as no change.
+  if (on_straight_branch_) return {straight_branch_count_, std::numeric_limits<double>::quiet_NaN()};
+  int count = negative_eigenvalues(set_, point.x, point.lambda);
+  if (const std::optional<ConeVerdict> cone = cone_at(point); cone && cone->known)
+    count = cone->stable ? 0 : std::max(count, 1);
+  return {count, std::numeric_limits<double>::quiet_NaN()};
+}
+
+// Cubic naming (the small-displacement members): a state recorded where the set changes reports the
+// stability on the set after it, the one its record carries on with (the upheaval buckle's limit
+// point: the new set is beyond its critical load there, the old one not).
+StabilityState FeMemberPath::stability_at_crossing(const PathPoint& point, const Crossing& crossing) const {
+  if (!cubics_ || on_straight_branch_ || !crossing.switches || crossing.transition.type() != typeid(std::vector<bool>))
+    return stability(point);
+  const ContactSet next = contact::select_contact_set(d_, std::any_cast<std::vector<bool>>(crossing.transition));
+  const PathPoint carried = carry(point, set_, next, n_);
+  return {negative_eigenvalues(next, carried.x, carried.lambda), std::numeric_limits<double>::quiet_NaN()};
+}
+
+// Weakly active along the path: at zero (reaction and gap) here and not moving off zero along the
+// tangent (a node passing zero here, at a switch, is no weak node: the set's count holds beyond).
+std::optional<ConeVerdict> FeMemberPath::cone_at(const PathPoint& point) const {
+  if (!d_.tensionless || d_.reactions() == 0) return std::nullopt;
+  const VectorXd r = reactions(set_, point.x), g = d_.gap_of(r, point.x.head(d_.equations));
+  std::vector<stability::NodeContact> contact = stability::classify_contact(r, g);
+  if (point.tangent_x.size() == point.x.size()) {
+    const VectorXd rates = sign_rates(set_, point);
+    for (int i = 0; i < d_.reactions(); ++i)
+      if (contact[i] == stability::NodeContact::weakly_active && std::abs(rates[i]) > tie_tolerance)
+        contact[i] = set_.in_contact[i] ? stability::NodeContact::in_contact : stability::NodeContact::lifted;
+  }
+  return kin_->cone(contact, point.lambda);
+}
+
+BranchSwitch FeMemberPath::switch_branch(const PathPoint& bifurcation, const PathFollower& path_follower) {
   BranchSwitch out;
+  // Weakly active nodes: the cone's spring set is the set whose tangent turned singular (the
+  // path's state is on it too: those nodes carry nothing); the branch leaves on it.
+  PathPoint at = bifurcation;
+  std::optional<PathFollower> on_springs;
+  if (const std::optional<ConeVerdict> cone = cone_at(bifurcation);
+      cone && cone->springs.size() == set_.in_contact.size()) {
+    ContactSet springs = contact::select_contact_set(d_, cone->springs);
+    at = carry(bifurcation, set_, springs, n_);
+    set_ = std::move(springs);
+    on_springs.emplace(problem(), path_follower.options());
+  }
+  const PathFollower& follower = on_springs ? *on_springs : path_follower;
+  on_straight_branch_ = kin_->straight_bifurcated_branch();  // (its states are not corrected at lambda)
   // A pseudo-arc-length step along the null vector from the bifurcation point.
-  VectorXd direction = nearest_eigenpair(at.x).vector;
-  branch_mode_ = direction.head(n_);
+  VectorXd direction = nearest_eigenpair(at.x, at.lambda).vector;
   branch_origin_ = at.x.head(n_);
   const VectorXd& scale = follower.problem().unknown_scale;
   direction /= std::sqrt((direction.array() * scale.array()).square().sum());
-  PathPoint b = at;
-  b.tangent_x = direction;
-  b.tangent_lambda = 0.0;
   // A short first step (a tenth of initial_step: the path's steps grow from there by its own
   // control), and the first point holds the set's contact conditions (else a contact event would lie
-  // between it and the bifurcation point, stepped over): the step is halved until it does.
+  // between it and the bifurcation point, stepped over): the step is halved until it does, in the
+  // sense making the mode's largest component positive, else in the other (the conditions admit
+  // one sense only where the mode pushes a node at zero through it).
   std::optional<PathPoint> branch;
-  for (double ds = 0.1 * options_.arc_length.initial_step; ds >= options_.arc_length.min_step; ds *= 0.5) {
-    StepOutcome outcome = follower.step(b, ds);
-    if (!outcome.point) continue;
-    const VectorXd values = sign_values(set_, polished(set_, *outcome.point, false).x);
-    if (d_.tensionless && (values.array() < -tie_tolerance).any()) continue;
-    branch = std::move(outcome.point);
-    break;
-  }
+  for (double sense : {1.0, -1.0})
+    for (double ds = 0.1 * options_.arc_length.initial_step; !branch && ds >= options_.arc_length.min_step; ds *= 0.5) {
+      PathPoint b = at;
+      b.tangent_x = sense * direction;
+      b.tangent_lambda = 0.0;
+      StepOutcome outcome = follower.step(b, ds);
+      if (!outcome.point) continue;
+      const VectorXd values = sign_values(set_, polished(set_, *outcome.point, false).x);
+      if (d_.tensionless && (values.array() < -tie_tolerance).any()) continue;
+      branch = std::move(outcome.point);
+      branch_mode_ = sense * direction.head(n_);
+      branch_mode_ /= branch_mode_.norm();
+    }
   if (!branch) {
+    on_straight_branch_ = false;
     out.why_not = fmt::format("no point found on the bifurcated branch at lambda = {:.10g}", at.lambda);
     return out;
   }
@@ -805,6 +1298,11 @@ BranchSwitch FeMemberPath::switch_branch(const PathPoint& at, const PathFollower
   start.return_accuracy = branch_accuracy;
   start.return_tolerance = options_.event_tolerance;
   start.description = "along the critical mode";
+  if (on_straight_branch_) {
+    straight_branch_count_ = std::max(1, negative_eigenvalues(set_, start.point.x, start.point.lambda));
+    start.point.tangent_lambda = 0.0;
+    start.description += ", straight at fixed lambda";
+  }
   out.branch = std::move(start);
   return out;
 }
@@ -830,19 +1328,19 @@ std::optional<PathPoint> FeMemberPath::refine_return(const PathPoint& near, doub
   const auto solved = [&](double lambda) -> std::optional<PathPoint> {
     std::optional<PathPoint> p = follower.step_to_lambda(guess, lambda, &guess.x).point;
     if (!p) return p;
-    const VectorXd mode = nearest_eigenpair(p->x).vector;
+    const VectorXd mode = nearest_eigenpair(p->x, p->lambda).vector;
     p = polished(set_, *p, true, &mode);
     if (!(std::abs(branch_mode_.dot(p->x.head(n_) - branch_origin_)) <= off_path)) return std::nullopt;
     return p;
   };
   std::optional<PathPoint> a = solved(near.lambda);
   if (!a) return std::nullopt;
-  double margin_a = nearest_eigenpair(a->x).value;
+  double margin_a = nearest_eigenpair(a->x, a->lambda).value;
   std::optional<PathPoint> b = solved(near.lambda + 1e-6 * std::max(1.0, std::abs(near.lambda)));
   for (int iteration = 0; b && iteration < 30; ++iteration) {
     // Converged: the last secant step within event_tolerance, or the eigenvalue zero within its
     // round-off (at 64 elements ~5e-11 against a slope ~0.1: 1e-9 in lambda, above the tolerance).
-    const Eigenpair margin = nearest_eigenpair(b->x);
+    const Eigenpair margin = nearest_eigenpair(b->x, b->lambda);
     if (std::abs(b->lambda - a->lambda) <= options_.event_tolerance || std::abs(margin.value) <= margin.round_off)
       return polished(set_, *b, true, &margin.vector);
     if (!std::isfinite(margin.value) || margin.value == margin_a) break;
@@ -859,8 +1357,61 @@ std::optional<PathPoint> FeMemberPath::refine_return(const PathPoint& near, doub
 TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOptions& options, const TraceSink& sink,
                                 const VonKarmanLiveLoad& live_load, const VonKarmanStateSeam& seam) {
   options.validate(member.user_from_s(member.s_begin), member.user_from_s(member.s_end));
-  FeMemberPath model(member, options, live_load, seam);
+  FeMemberPath model(make_kinematics(member, options.elements, live_load), options, seam);
   return follow_path(model, options, sink);
+}
+
+TraceResult trace_fe_on_engine(const model::MemberModel& member, const TraceOptions& options, const TraceSink& sink) {
+  options.validate(member.user_from_s(member.s_begin), member.user_from_s(member.s_end));
+  FeMemberPath model(make_kinematics(member, options.elements), options, {});
+  return follow_path(model, options, sink);
+}
+
+TraceResult trace_fe(const model::MemberModel& member, const TraceOptions& options, const TraceSink& sink) {
+  if (member.theory != model::Theory::von_karman && member.kind == model::StructureKind::beam &&
+      member.has_axial_force())
+    return trace_fe_axial(member, options, sink);
+  return trace_fe_on_engine(member, options, sink);
+}
+
+EventErrors estimate_event_errors(const model::MemberModel& member, const TraceOptions& options,
+                                  const TraceResult& base) {
+  TraceOptions refined_options = options;
+  refined_options.elements = 2 * options.elements;
+  refined_options.resume_from.reset();
+  const TraceResult refined = trace_fe(member, refined_options);
+  EventErrors errors;
+  errors.elements = options.elements;
+  errors.refined_elements = refined_options.elements;
+  errors.refined_summary = refined.summary;
+  // Match each event with the refined run's unmatched event of its kind nearest in load, then
+  // in position (mirror-image events share a load).
+  std::vector<bool> used(refined.events.size(), false);
+  const double length = std::abs(member.user_from_s(member.s_end) - member.user_from_s(member.s_begin));
+  for (const TraceEvent& event : base.events) {
+    EventErrorEstimate estimate;
+    estimate.event = event;
+    double best = std::numeric_limits<double>::infinity();
+    std::size_t best_index = 0;
+    for (std::size_t j = 0; j < refined.events.size(); ++j) {
+      if (used[j] || refined.events[j].kind != event.kind) continue;
+      const double distance =
+          std::abs(refined.events[j].load_factor - event.load_factor) /
+              std::max(std::abs(options.arc_length.lambda_max - options.arc_length.lambda_min), 1e-300) +
+          std::abs(refined.events[j].at - event.at) / length;
+      if (distance < best) {
+        best = distance;
+        best_index = j;
+      }
+    }
+    if (std::isfinite(best)) {
+      used[best_index] = true;
+      estimate.refined = refined.events[best_index];
+      estimate.load_factor_error = std::abs(event.load_factor - estimate.refined->load_factor);
+    }
+    errors.events.push_back(estimate);
+  }
+  return errors;
 }
 
 }  // namespace liftoff::continuation

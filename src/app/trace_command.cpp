@@ -10,7 +10,7 @@
 #include "app/theory_gate.hpp"
 #include "app/trace_load.hpp"
 #include "contact/from_scene.hpp"
-#include "continuation/fe_path.hpp"
+#include "continuation/models/fe_member.hpp"
 #include "continuation/models/ritz.hpp"
 #include "core/error.hpp"
 #include "io/report.hpp"
@@ -47,8 +47,8 @@ const scene::TraceSettings& trace_settings(const scene::Scene& scene) {
           "{}: key 'loads[{}].case': expected \"dead\" or \"live\" for `liftoff trace` (F = F_dead + lambda "
           "F_live), got \"{}\" (free case names are for [[combinations]] and `liftoff envelope`)",
           scene.source_name, i, scene.loads[i].case_name));
-  // An axial force (second-order theory) is traced on beams (continuation/fe_axial_path.hpp); an arch's
-  // axial force is `solve`'s only.
+  // An axial force (second-order theory) is traced on beams (continuation/fe_axial_path.hpp, which
+  // trace_fe hands them to); an arch's axial force is `solve`'s only.
   for (std::size_t i = 0; i < scene.loads.size(); ++i)
     if ((scene.loads[i].kind == scene::LoadKind::axial || scene.loads[i].kind == scene::LoadKind::temperature) &&
         scene.structure.kind != scene::StructureKind::beam)

@@ -124,7 +124,7 @@ class Discretisation {
   // `stiffness` is K(N) = K - N K_g with N = axial_force, the force at the solve's load factor 1
   // (dead + live), from K and geometric_stiffness, K_g on the equations (empty without N),
   // assembled once in the element loop (a caller following N along a path, as
-  // continuation/fe_axial_path.cpp does, forms K - N K_g the same way); and
+  // continuation/models/member_kinematics.cpp does, forms K - N K_g the same way); and
   // the mixed form above stays that of K alone (contact::ActiveSetSystem adds -N K_g to its
   // displacement block). The initial shape w0 enters as the load N integral of N_w'^T w0'
   // (= N K_g w0 for w0 in the Hermite space; exact for the piecewise linear w0), split dead and

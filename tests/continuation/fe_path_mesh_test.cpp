@@ -29,7 +29,7 @@
 #include "app/trace_command.hpp"
 #include "closed_form/beam_on_foundation.hpp"
 #include "contact/active_set_system.hpp"
-#include "continuation/fe_path.hpp"
+#include "continuation/models/fe_member.hpp"
 #include "fe/discretisation.hpp"
 #include "model/from_scene.hpp"
 #include "model/member_model.hpp"
@@ -141,11 +141,7 @@ Convergence convergence(EventAt event_at) {
 // The contact set of the step recorded at an event (the set of the segment it lies in).
 std::vector<bool> set_at(const TraceResult& r, const TraceEvent& e) {
   for (const auto& step : r.steps)
-    if (step.load_factor == e.load_factor) {
-      std::vector<bool> set;
-      for (double f : step.state) set.push_back(f > 0.5);
-      return set;
-    }
+    if (step.load_factor == e.load_factor) return continuation::fe_contact_set(step);
   FAIL("no step at the event's load");
   return {};
 }

@@ -217,12 +217,13 @@ TEST_CASE("FE von Karman path: bilateral and tensionless foundations agree until
     CHECK(first_contact->kind == EventKind::limit_at_support);
     CHECK(first_contact->description.find("lift-off zone opens at the end") != std::string::npos);
     errors.push_back(first_contact->load_factor - analysis.first_lift_off.load);
-    // Until the tensionless path's contact set first changes (the step's state: one 0/1 per
+    // Until the tensionless path's contact set first changes (fe_contact_set of the step: one per
     // reaction; the first change may be the pinned end's node, whose sign is w' there, no event), the two paths solve
     // the same equations: the same steps, to the last bit.
     std::size_t until = 0;
     const auto full = [](const TraceStep& step) {
-      return std::all_of(step.state.begin(), step.state.end(), [](double c) { return c == 1.0; });
+      const std::vector<bool> set = continuation::fe_contact_set(step);
+      return !set.empty() && std::all_of(set.begin(), set.end(), [](bool c) { return c; });
     };
     while (until < tensionless.steps.size() && full(tensionless.steps[until])) ++until;
     REQUIRE(until < tensionless.steps.size());

@@ -18,7 +18,7 @@
 #include <string>
 
 #include "closed_form/beam_on_foundation.hpp"
-#include "continuation/fe_path.hpp"
+#include "continuation/models/fe_member.hpp"
 #include "continuation/models/ritz.hpp"
 #include "scene/scene_reader.hpp"
 #include "support/ritz_trace.hpp"

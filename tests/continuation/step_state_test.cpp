@@ -9,8 +9,8 @@
 // Tolerances. The two sides solve the same discrete equations by different routes, so they agree
 // to those solvers' accuracy, not bitwise: each field within the tolerance of its largest
 // magnitude, each design value of its own, each position within it of the member's length. The FE
-// paths' fixed-set states are accepted at a relative residual of 1e-8 (fe_states::acceptable_residual):
-// 1e-8. The von Karman corrector leaves a state within 1e-7 of w_ref where it is least accurate
+// paths' states are certified at a backward error of 1e-8 of their terms (the certificate's
+// tolerance): 1e-8. The von Karman corrector leaves a state within 1e-7 of w_ref where it is least accurate
 // (models/fe_member.hpp; polished to the certificate's backward error otherwise): 1e-7. The Ritz
 // corrector converges to 1e-11 of its scaled residual: 1e-8. Measured (printed): 2.5e-12 (FE
 // beam, design 7.8e-12), 6.7e-13 (arch), 2.2e-15 (beam-column), 3.2e-11 (von Karman), 5.3e-14
@@ -27,7 +27,7 @@
 
 #include "app/solve_command.hpp"
 #include "app/trace_command.hpp"
-#include "continuation/fe_path.hpp"
+#include "continuation/models/fe_member.hpp"
 #include "continuation/models/ritz.hpp"
 #include "model/from_scene.hpp"
 #include "scene/scene_reader.hpp"

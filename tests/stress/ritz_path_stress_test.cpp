@@ -9,7 +9,7 @@
 #include <sstream>
 #include <string>
 
-#include "continuation/fe_path.hpp"
+#include "continuation/models/fe_member.hpp"
 #include "continuation/models/ritz.hpp"
 #include "model/from_scene.hpp"
 #include "model/member_model.hpp"

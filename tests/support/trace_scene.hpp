@@ -2,7 +2,7 @@
 // The FE path of a scene, as `liftoff trace` runs it: the member model built from the scene, then
 // continuation::trace_fe (the paths take members; scenes stay above app/).
 
-#include "continuation/fe_path.hpp"
+#include "continuation/models/fe_member.hpp"
 #include "model/from_scene.hpp"
 #include "scene/scene.hpp"
 
