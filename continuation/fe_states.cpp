@@ -41,8 +41,9 @@ TraceStep step_of(const model::MemberModel& model, const fe::Discretisation& d, 
   return step;
 }
 
-certify::Certificate certify_state(const model::MemberModel& model, const fe::Discretisation& d, double lambda,
-                                   const Eigen::VectorXd& displacement, const Eigen::VectorXd& reaction) {
+certify::Certificate certificate_of(const model::MemberModel& model, const fe::Discretisation& d, double lambda,
+                                    const Eigen::VectorXd& displacement, const Eigen::VectorXd& reaction,
+                                    double sign_floor) {
   contact::ContactSolution answer;
   answer.displacement = displacement;
   answer.reaction = reaction;
@@ -51,9 +52,14 @@ certify::Certificate certify_state(const model::MemberModel& model, const fe::Di
   options.round_off = false;
   options.backward_tolerance = acceptable_residual;  // the path's own acceptance
   options.pointwise = false;                         // at the nodes (the discrete conditions), see CertifyOptions
-  options.sign_floor = acceptable_residual;          // its states' accuracy decides signs no finer
-  options.global_scale = true;                       // as the path's own scales
-  const certify::Certificate certificate = certify::certify(model, d, answer, options);
+  options.sign_floor = std::max(acceptable_residual, sign_floor);  // its states' accuracy decides signs no finer
+  options.global_scale = true;                                     // as the path's own scales
+  return certify::certify(model, d, answer, options);
+}
+
+certify::Certificate certify_state(const model::MemberModel& model, const fe::Discretisation& d, double lambda,
+                                   const Eigen::VectorXd& displacement, const Eigen::VectorXd& reaction) {
+  const certify::Certificate certificate = certificate_of(model, d, lambda, displacement, reaction);
   if (!certificate.passed)
     throw StepNotCertified{
         lambda, fmt::format("the state at lambda = {:.10g} failed its certificate: {}", lambda, certificate.message)};

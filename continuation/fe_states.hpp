@@ -51,6 +51,11 @@ struct StepNotCertified {
 // step_state.hpp); throws StepNotCertified when it fails.
 certify::Certificate certify_state(const model::MemberModel& model, const fe::Discretisation& d, double lambda,
                                    const Eigen::VectorXd& displacement, const Eigen::VectorXd& reaction);
+// The same certificate, returned whether it passes or not; its signs decided no finer than
+// max(acceptable_residual, sign_floor) (the engine's FE model: its own accuracy of the signs).
+certify::Certificate certificate_of(const model::MemberModel& model, const fe::Discretisation& d, double lambda,
+                                    const Eigen::VectorXd& displacement, const Eigen::VectorXd& reaction,
+                                    double sign_floor = 0.0);
 
 // The contact solve that gives an FE path its contact set at lambda: the Lemke LCP the trace asks
 // for (dual, primal), else the sparse active-set solver (fast, with Lemke as its own fallback).

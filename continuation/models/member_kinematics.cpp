@@ -32,19 +32,6 @@ MemberKinematics::MemberKinematics(const model::MemberModel& member, int element
 
 namespace {
 
-// A fixed-set state of the linear and second-order members is accepted to this backward error
-// (the contact solver's own), and its signs decided no finer.
-constexpr double acceptable_residual = 1e-8;
-
-// On the equations: the displacement on every dof less what the supports prescribe.
-VectorXd on_equations(const fe::Discretisation& d, const VectorXd& displacement) {
-  VectorXd x = VectorXd::Zero(d.equations);
-  for (int dof = 0; dof < d.dofs(); ++dof)
-    if (const int eq = d.equation_of_dof[dof]; eq >= 0)
-      x[eq] = displacement[dof] - (d.prescribed.size() == d.dofs() ? d.prescribed[dof] : 0.0);
-  return x;
-}
-
 // The contact set of a contact solve at lambda on `d` (method: dual or primal as asked, else fast).
 KinematicsStart contact_start(const fe::Discretisation& d, double lambda, contact::Method asked) {
   KinematicsStart out;
@@ -58,7 +45,7 @@ KinematicsStart contact_start(const fe::Discretisation& d, double lambda, contac
   }
   // A bilateral foundation holds every node, whatever the reaction's sign.
   out.in_contact = d.tensionless ? fe_states::contact_set_of(d, solution) : std::vector<bool>(d.reactions(), true);
-  out.x = on_equations(d, solution.displacement);
+  out.x = d.on_equations(solution.displacement);
   out.reaction = solution.reaction;
   return out;
 }
@@ -87,23 +74,6 @@ KinematicsStart complete(KinematicsStart start, const fe::Discretisation& d) {
   return start;
 }
 
-// The certificate of a linear or second-order state (`d` assembled at its lambda): balance with
-// the support reactions, the contact inequalities at the nodes, the backward error.
-certify::Certificate fe_certificate(const model::MemberModel& member, const fe::Discretisation& d, const VectorXd& x,
-                                    const VectorXd& reaction, double lambda, double sign_floor) {
-  contact::ContactSolution answer;
-  answer.displacement = d.expand_displacement(x.head(d.equations));
-  answer.reaction = reaction;
-  certify::CertifyOptions options;
-  options.load_factor = lambda;
-  options.round_off = false;
-  options.backward_tolerance = acceptable_residual;
-  options.pointwise = false;  // at the nodes (the discrete conditions)
-  options.sign_floor = std::max(acceptable_residual, sign_floor);
-  options.global_scale = true;  // as the path's own scales
-  return certify::certify(member, d, answer, options);
-}
-
 // The linear and the second-order member (N = 0 for the linear one) in the mixed form of the
 // contact system (contact/active_set_system.hpp): x = (u, m), the element stress resultants
 // m = H^-1 G u beside the displacement, so that the saddle matrix
@@ -118,14 +88,7 @@ class SmallDisplacementKinematics : public MemberKinematics {
   SmallDisplacementKinematics(const model::MemberModel& member, int elements)
       : MemberKinematics(member, elements),
         axial_(member.kind == model::StructureKind::beam && member.has_axial_force()),
-        at_(d_) {
-    const int s = d_.stresses();
-    SparseMatrix h(s, s);
-    std::vector<Eigen::Triplet<double>> t;
-    for (int i = 0; i < s; ++i) t.emplace_back(i, i, d_.compliance[i]);
-    h.setFromTriplets(t.begin(), t.end());
-    compliance_ = h;
-  }
+        at_(d_) {}
   int unknowns() const override { return d_.equations + d_.stresses(); }
   SparseMatrix stiffness(const VectorXd&, double lambda) const override {
     return axial_ ? SparseMatrix(d_.stiffness - (member_.axial_force(lambda) - d_.axial_force) * d_.geometric_stiffness)
@@ -180,7 +143,8 @@ class SmallDisplacementKinematics : public MemberKinematics {
   }
   certify::Certificate certificate(const VectorXd& x, const VectorXd& reaction, double lambda,
                                    double sign_floor) const override {
-    return fe_certificate(member_, at(lambda), x, reaction, lambda, sign_floor);
+    return fe_states::certificate_of(member_, at(lambda), lambda, d_.expand_displacement(x.head(d_.equations)),
+                                     reaction, sign_floor);
   }
   void record_state(TraceStep& step, const VectorXd& x, const VectorXd& reaction, double lambda,
                     const certify::Certificate* certificate) const override {
@@ -205,7 +169,6 @@ class SmallDisplacementKinematics : public MemberKinematics {
     return at_;
   }
   bool axial_ = false;
-  SparseMatrix compliance_;
   mutable fe::Discretisation at_;
 };
 

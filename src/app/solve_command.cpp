@@ -171,10 +171,7 @@ void attach_critical_load(io::SolveReport& report, const model::MemberModel& mod
   // cone is asked only about a state that satisfies K(N) u + C^T r = F, r >= 0 and gap >= 0 (1e-8
   // of their scales; the solver's own acceptance is far tighter).
   if (refused) {
-    Eigen::VectorXd u = Eigen::VectorXd::Zero(d.equations);
-    for (int dof = 0; dof < d.dofs(); ++dof)
-      if (const int eq = d.equation_of_dof[dof]; eq >= 0)
-        u[eq] = solution.displacement[dof] - (d.prescribed.size() == d.dofs() ? d.prescribed[dof] : 0.0);
+    const Eigen::VectorXd u = d.on_equations(solution.displacement);
     const Eigen::VectorXd ku = d.stiffness * u, cr = d.coupling.transpose() * solution.reaction, f = d.load(1.0);
     const double scale =
         std::max({ku.lpNorm<Eigen::Infinity>(), cr.lpNorm<Eigen::Infinity>(), f.lpNorm<Eigen::Infinity>()});

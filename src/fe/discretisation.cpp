@@ -78,6 +78,14 @@ Eigen::VectorXd Discretisation::expand_displacement(const Eigen::VectorXd& on_eq
   return all;
 }
 
+Eigen::VectorXd Discretisation::on_equations(const Eigen::VectorXd& displacement) const {
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(equations);
+  for (int dof = 0; dof < dofs(); ++dof)
+    if (const int eq = equation_of_dof[dof]; eq >= 0)
+      x[eq] = displacement[dof] - (prescribed.size() == dofs() ? prescribed[dof] : 0.0);
+  return x;
+}
+
 namespace {
 
 int dof_count(model::StructureKind kind, int elements) {

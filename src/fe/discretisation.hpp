@@ -170,6 +170,8 @@ class Discretisation {
   Eigen::VectorXd expand(const Eigen::VectorXd& on_equations) const;
   // A displacement on the equations -> on every dof, the settled supports' w included.
   Eigen::VectorXd expand_displacement(const Eigen::VectorXd& on_equations) const;
+  // Its inverse: a displacement on every dof -> on the equations, less what the supports prescribe.
+  Eigen::VectorXd on_equations(const Eigen::VectorXd& displacement) const;
 
   // Dof numbering. Beam: node j has (w, w') at 2j, 2j+1. Arch: node j has (u, w, w') at
   // 6j..6j+2 and element j's interior u at 6j+3..6j+5.
