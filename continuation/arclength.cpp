@@ -194,7 +194,8 @@ std::optional<std::pair<VectorXd, double>> PathFollower::tangent(const VectorXd&
   nonlinear::BorderedSolver& bordered = *workspace().bordered;
   bordered.zero();
   VectorXd g_lambda;
-  if (!fill_jacobian(x, lambda, bordered.inner()) || !evaluate_lambda_derivative(x, lambda, g_lambda))
+  if ((!bordered.inner_held() && !fill_jacobian(x, lambda, bordered.inner())) ||
+      !evaluate_lambda_derivative(x, lambda, g_lambda))
     return std::nullopt;
   bordered.column() = g_lambda;
   if (reference) {
@@ -204,6 +205,7 @@ std::optional<std::pair<VectorXd, double>> PathFollower::tangent(const VectorXd&
     bordered.corner() = options_.direction;
   }
   if (bordered.factorise() != nonlinear::Factorisation::ok) return std::nullopt;
+  if (problem_.jacobian_constant && !bordered.used_fallback()) bordered.hold_inner(true);
   VectorXd t = VectorXd::Zero(n + 1);
   t(n) = 1.0;
   if (!bordered.solve(t) || !t.allFinite()) return std::nullopt;
@@ -270,7 +272,8 @@ StepOutcome PathFollower::step(const PathPoint& from, double ds, bool with_tange
   nonlinear::BorderedSolver& bordered = *w.bordered;
   VectorXd g_lambda;
   const auto jacobian = [&](const VectorXd& y, const VectorXd&) {  // zeroed by the adapter
-    if (!fill_jacobian(y.head(n), y(n), bordered.inner()) || !evaluate_lambda_derivative(y.head(n), y(n), g_lambda))
+    if ((!bordered.inner_held() && !fill_jacobian(y.head(n), y(n), bordered.inner())) ||
+        !evaluate_lambda_derivative(y.head(n), y(n), g_lambda))
       return false;
     bordered.column() = g_lambda;
     bordered.row() = weights;
@@ -298,6 +301,8 @@ StepOutcome PathFollower::step(const PathPoint& from, double ds, bool with_tange
   if (!w.corrector) w.corrector = std::make_unique<nonlinear::NewtonSolver>(bordered);
   outcome.corrector = w.corrector->solve(residual, jacobian, z, newton);
   if (!outcome.corrector.is_usable()) return outcome;
+  if (problem_.jacobian_constant && outcome.corrector.jacobian_evaluations > 0 && !bordered.used_fallback())
+    bordered.hold_inner(true);
   PathPoint p;
   p.tangent_x = from.tangent_x;
   p.tangent_lambda = from.tangent_lambda;

@@ -62,7 +62,10 @@ struct PathProblem {
   Eigen::VectorXd unknown_scale;   // D: 1 / typical |x_i| (empty: ones)
   Eigen::VectorXd residual_scale;  // 1 / typical |G_i| for the corrector's test (empty: ones)
   Eigen::VectorXi constraints;     // KINSOL's sign codes per unknown (empty: none), see NewtonOptions
-  void validate() const;           // throws std::invalid_argument naming the field
+  // dG/dx is one matrix for every (x, lambda) (a model linear in x whose stiffness does not depend on
+  // lambda): the follower's bordered solves factorise it once and keep its factors.
+  bool jacobian_constant = false;
+  void validate() const;  // throws std::invalid_argument naming the field
 };
 
 struct ArcLengthOptions {

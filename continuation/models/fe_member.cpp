@@ -245,6 +245,7 @@ PathProblem FeMemberPath::problem_on(const ContactSet& on) const {
     return true;
   };
   p.unknown_scale = unknown_scale(*set);
+  p.jacobian_constant = kin_->linear_in_state();  // (the linear member's saddle matrix on a set)
   // The corrector's test relative to each equation's size: |G_i| against sum_j |dG_i/dy_j| y_ref_j
   // at the unloaded state (the membrane terms of EA and the h^-3 of bending included), so that its
   // tolerance means the same on every mesh.

@@ -25,7 +25,7 @@ BorderedSolver::BorderedSolver(LinearSolver& inner)
       correction_(inner.size() + 1) {}
 
 void BorderedSolver::zero() {
-  inner_.zero();
+  if (!hold_inner_) inner_.zero();
   column_.setZero();
   row_.setZero();
   corner_ = 0.0;
@@ -57,7 +57,8 @@ Factorisation BorderedSolver::factorise() {
   sign_ = 0;
   zero_pivot_ = 0;
   if (!column_.allFinite() || !row_.allFinite() || !std::isfinite(corner_)) return Factorisation::not_finite;
-  const Factorisation inner = inner_.factorise();
+  const Factorisation inner = hold_inner_ ? inner_state_ : inner_.factorise();
+  inner_state_ = inner;
   if (inner == Factorisation::not_finite) return inner;
   if (inner == Factorisation::ok) {
     y_ = column_;

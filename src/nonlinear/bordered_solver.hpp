@@ -47,6 +47,11 @@ class BorderedSolver final : public LinearSolver {
   Eigen::MatrixXd to_dense() const override;
 
   bool used_fallback() const { return fallback_.has_value(); }  // the last factorisation's route
+  // A held fixed: zero() leaves it and factorise() keeps its factors (the caller factorised it once
+  // with this solver, successfully), so only the border is eliminated again (one solve). For a
+  // G_x that does not change (a linear model on a fixed configuration).
+  void hold_inner(bool hold) { hold_inner_ = hold; }
+  bool inner_held() const { return hold_inner_; }
 
  private:
   bool eliminate(const Eigen::VectorXd& rhs, Eigen::VectorXd& x) const;
@@ -62,6 +67,8 @@ class BorderedSolver final : public LinearSolver {
   };
   std::optional<Dense> fallback_;
   bool factorised_ = false;
+  bool hold_inner_ = false;
+  Factorisation inner_state_ = Factorisation::singular;  // the held A's
   int sign_ = 0;
   mutable Eigen::VectorXd residual_, correction_;
 };
