@@ -259,10 +259,12 @@ void Engine::detect_amplitude(const PathFollower& follower, const PathPoint& fro
                               std::vector<Found>& found) {
   if (!options_.max_amplitude) return;
   const double bound = *options_.max_amplitude;
-  const auto excess = [&](const PathPoint& p) { return model_.amplitude(p) - bound; };
-  if (!(excess(from) < 0.0) || excess(to) < 0.0) return;
-  // Located to round-off in the arclength: near a stationary lambda (a strut near its Euler load)
-  // a bracket of event_tolerance in lambda leaves the amplitude off by 1e-3 of the bound.
+  // On the refined states: near a stationary lambda (a strut near its Euler load) the amplitude
+  // grows like 1 / (1 - P / P_E), and the corrector's state, within its tolerance, was 1e-3 off it.
+  const auto excess = [&](const PathPoint& p) { return model_.amplitude(model_.refine(p, false)) - bound; };
+  if (!(model_.amplitude(from) < bound) || model_.amplitude(to) < bound) return;
+  // Located to round-off in the arclength: there a bracket of event_tolerance in lambda leaves
+  // the amplitude off by 1e-3 of the bound.
   std::optional<PathPoint> located = follower.locate(from, to, excess, 0.0);
   if (!located) located = follower.locate(from, to, excess, options_.event_tolerance);
   Found f(Found::Kind::amplitude, model_.refine(located ? *located : to, false));

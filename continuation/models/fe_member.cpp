@@ -29,8 +29,7 @@
 #include "contact/von_karman_solve.hpp"
 #include "continuation/engine.hpp"
 #include "continuation/events.hpp"
-#include "continuation/fe_axial_path.hpp"
-#include "continuation/fe_states.hpp"
+#include "continuation/models/fe_states.hpp"
 #include "continuation/models/member_kinematics.hpp"
 #include "continuation/step_state.hpp"
 #include "post/fields.hpp"
@@ -118,6 +117,10 @@ class FeMemberPath final : public PathModel {
   VectorXd reactions(const ContactSet& set, const VectorXd& y) const;
   // One Newton correction at the point's lambda (kept if it reduces the residual).
   PathPoint corrected_at_lambda(const ContactSet& set, const PathPoint& point) const;
+  bool holds_ahead(const ContactSet& next, const PathPoint& point, const PathFollower& follower) const;
+  std::optional<PathPoint> first_zero(const PathPoint& from, const PathPoint& to,
+                                      const std::function<double(const PathPoint&)>& least,
+                                      const PathFollower& follower) const;
   // Per reaction unknown: r_i / (k w_ref) on the set, gap_i / (h w_ref) off it (>= 0: the sign holds).
   VectorXd sign_values(const ContactSet& set, const VectorXd& y) const;
   int negative_eigenvalues(const ContactSet& set, const VectorXd& y, double lambda) const;
@@ -750,6 +753,39 @@ bool same_pieces(const std::vector<bool>& before, const std::vector<bool>& after
   return true;
 }
 
+// The first crossing of `least` below zero (positive at `from`, negative at `to`) on the step: on
+// a set a node's value is linear in lambda for a linear kinematics, but rational (second order) or
+// nonlinear otherwise, and on a long step it may cross zero and come back, or touch zero and turn
+// back up: the secant's zero is then not the first crossing. Samples at a quarter, half and three
+// quarters of the way to the zero found look for an earlier one (on the perfect pipeline's
+// descending branch a step of 0.2 in lambda passed three node switches 1e-3 apart); one a little
+// beyond it tells a touch (the value is positive again: the node's gap closed to zero and opens
+// again, as the old exact path found there) from a crossing, and the search goes on past a touch.
+std::optional<PathPoint> FeMemberPath::first_zero(const PathPoint& from, const PathPoint& to,
+                                                  const std::function<double(const PathPoint&)>& least,
+                                                  const PathFollower& follower) const {
+  PathPoint start = from, end = to;
+  std::optional<PathPoint> located;
+  for (int round = 0; round < 8; ++round) {
+    located = follower.locate(start, end, least, options_.event_tolerance, false);
+    if (!located || kin_->linear_in_state()) return located;
+    const double sigma = located->arclength - start.arclength;
+    std::optional<PathPoint> earlier;
+    for (int k = 1; k <= 3 && !earlier; ++k) {
+      StepOutcome sample = follower.step(start, 0.25 * k * sigma, false);
+      if (sample.point && least(*sample.point) < -options_.event_tolerance) earlier = std::move(sample.point);
+    }
+    if (earlier) {
+      end = std::move(*earlier);
+      continue;
+    }
+    StepOutcome beyond = follower.step(start, sigma + 0.02 * (end.arclength - located->arclength));
+    if (!beyond.point || !(least(*beyond.point) > tie_tolerance)) return located;
+    start = std::move(*beyond.point);
+  }
+  return located;
+}
+
 std::optional<Crossing> FeMemberPath::contact_event(const PathPoint& from, const PathPoint& to,
                                                     const VectorXd& start_values, const PathFollower& follower,
                                                     std::string& failure) const {
@@ -770,21 +806,24 @@ std::optional<Crossing> FeMemberPath::contact_event(const PathPoint& from, const
   // crossing is located again on polished points (near a limit point the corrector's 1e-11 leaves
   // the state off by ~1e-7 of w_ref, which moved an event by 5e-7 in lambda), else (a limit moving
   // on by a node: no event) where it lies needs no more than a state that holds.
+  // The nodes at the located zero of the least value: not those failing at the step's end, which
+  // on a beam-column's long step may be others (a node's value is rational in lambda, and one went
+  // below zero and back within a step of the perfect pipeline's descending branch).
   const auto crossing_at = [&](const PathPoint& located, std::vector<int>& flipped) {
-    const VectorXd at = sign_values(set_, located.x), past = sign_values(set_, to.x);
+    const VectorXd at = sign_values(set_, located.x);
     double smallest = std::numeric_limits<double>::infinity();
     for (int i = 0; i < d_.reactions(); ++i)
-      if (start_values[i] > tie_tolerance && past[i] < 0.0) smallest = std::min(smallest, at[i]);
+      if (start_values[i] > tie_tolerance) smallest = std::min(smallest, at[i]);
     flipped.clear();
     for (int i = 0; i < d_.reactions(); ++i)
-      if (start_values[i] > tie_tolerance && past[i] < 0.0 && at[i] <= smallest + tie_tolerance) flipped.push_back(i);
+      if (start_values[i] > tie_tolerance && at[i] <= smallest + tie_tolerance) flipped.push_back(i);
   };
   // (A kinematics linear in its unknowns at fixed lambda polishes a state exactly, with one
   // factorisation: its crossings are located on polished points from the start. Near the
   // beam-column's limit point the set's tangent is nearly singular and the corrector's points
   // leave a node's value off by 1e-6 of its scale.)
   const bool exact = kin_->linear_in_state() || kin_->straight_bifurcated_branch();
-  std::optional<PathPoint> located = follower.locate(from, to, least_of(exact), options_.event_tolerance, false);
+  std::optional<PathPoint> located = first_zero(from, to, least_of(exact), follower);
   std::vector<int> flipped;
   if (located) {
     *located = polished(set_, *located, false);
@@ -955,10 +994,30 @@ CrossingSearch FeMemberPath::crossing(const PathPoint& from, const PathPoint& to
                                       bool alone) {
   CrossingSearch search;
   if (!d_.tensionless || d_.reactions() == 0) return search;
-  const VectorXd start_values = sign_values(set_, from.x), end_values = sign_values(set_, to.x);
+  VectorXd start_values = sign_values(set_, from.x);
+  const VectorXd end_values = sign_values(set_, to.x);
   // Nodes at zero at the step's start (just switched, or grazing: a pinned end's node, whose value
   // is w' there times h^2) failing at once switch back at the start itself, an event there; twice
-  // in a row at one point means no set holds there.
+  // in a row at one point means no set holds there. Second order, a node's value is rational in
+  // lambda: failing at the step's end is not failing at once (the perfect pipeline's node switched
+  // into contact at its descending branch's breakpoint holds on for 6e-3 in lambda, its reaction
+  // negative 0.2 further on); such a node is failing at once where it fails a short way ahead (as
+  // in holds_ahead), else its crossing is looked for as the others'.
+  std::optional<PathPoint> ahead;  // (the search for crossings then starts there)
+  if (!kin_->linear_in_state()) {
+    VectorXd ahead_values;
+    for (int i = 0; i < d_.reactions(); ++i) {
+      if (start_values[i] > tie_tolerance || !(end_values[i] < -tie_tolerance)) continue;
+      if (ahead_values.size() == 0) {
+        const double span = std::abs(options_.arc_length.lambda_max - options_.arc_length.lambda_min);
+        StepOutcome probe = follower.step(from, std::max(1e-6 * span, 100.0 * options_.event_tolerance), false);
+        if (!probe.point) break;
+        ahead = std::move(probe.point);
+        ahead_values = sign_values(set_, ahead->x);
+      }
+      if (ahead_values[i] > tie_tolerance) start_values[i] = ahead_values[i];
+    }
+  }
   std::vector<bool> in_contact = set_.in_contact;
   std::vector<int> flipped;
   for (int i = 0; i < d_.reactions(); ++i)
@@ -998,7 +1057,8 @@ CrossingSearch FeMemberPath::crossing(const PathPoint& from, const PathPoint& to
       }
   }
   std::string failure;
-  std::optional<Crossing> node = contact_event(from, until, start_values, follower, failure);
+  std::optional<Crossing> node = contact_event(ahead && start_values.minCoeff() > tie_tolerance ? *ahead : from, until,
+                                               start_values, follower, failure);
   if (!node && !failure.empty()) {
     search.fail = std::move(failure);
     return search;
@@ -1159,13 +1219,9 @@ PathModel::Entry FeMemberPath::enter(const Crossing& crossing, const ArcLengthOp
     set_ = std::move(next);
     return entry;
   }
-  const VectorXd rates = sign_rates(next, *entry.point);
-  double growing = 0.0, falling = 0.0;
-  for (int i = 0; i < d_.reactions(); ++i)
-    if (next.in_contact[i] != set_.in_contact[i]) (rates[i] > 0.0 ? growing : falling) += std::abs(rates[i]);
   // (Cubic naming, the small-displacement members, whose folds are all at set changes; a von
   // Karman member's branch is oriented as before, its folds smooth and located by the engine.)
-  if (cubics_ && falling > growing) {
+  if (cubics_ && !holds_ahead(next, *entry.point, follower)) {
     entry.point->tangent_x = -entry.point->tangent_x;
     entry.point->tangent_lambda = -entry.point->tangent_lambda;
   }
@@ -1179,6 +1235,29 @@ PathModel::Entry FeMemberPath::enter(const Crossing& crossing, const ArcLengthOp
     entry.events.push_back(fold_at_switch(crossing, next, entry.point->tangent_lambda));
   set_ = std::move(next);
   return entry;
+}
+
+// Whether the path on `next` holds ahead of `point` along its tangent. Linear kinematics: the
+// switched nodes' values grow along it (affine in lambda on a set, their rates decide). Second
+// order: the rates are first-order only, and on the perfect pipeline's descending branch, where
+// every set is near its critical load, they pointed back where the set held ahead (the old exact
+// path's test, kept): the state a short arclength ahead, 1e-6 of the load range and then 100 and
+// 10^4 times closer, has every node's value nonnegative.
+bool FeMemberPath::holds_ahead(const ContactSet& next, const PathPoint& point, const PathFollower& follower) const {
+  if (kin_->linear_in_state()) {
+    const VectorXd rates = sign_rates(next, point);
+    double growing = 0.0, falling = 0.0;
+    for (int i = 0; i < d_.reactions(); ++i)
+      if (next.in_contact[i] != set_.in_contact[i]) (rates[i] > 0.0 ? growing : falling) += std::abs(rates[i]);
+    return growing >= falling;
+  }
+  const double span = std::abs(options_.arc_length.lambda_max - options_.arc_length.lambda_min);
+  for (double offset = std::max(1e-6 * span, 100.0 * options_.event_tolerance);
+       offset >= 10.0 * options_.event_tolerance; offset *= 1e-2) {
+    const StepOutcome ahead = follower.step(point, offset, false);
+    if (ahead.point && sign_values(next, ahead.point->x).minCoeff() >= -tie_tolerance) return true;
+  }
+  return false;
 }
 
 // Second-order theory (a tangent linear in lambda): the singular point's lambda from the Rayleigh
@@ -1362,17 +1441,10 @@ TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOpt
   return follow_path(model, options, sink);
 }
 
-TraceResult trace_fe_on_engine(const model::MemberModel& member, const TraceOptions& options, const TraceSink& sink) {
+TraceResult trace_fe(const model::MemberModel& member, const TraceOptions& options, const TraceSink& sink) {
   options.validate(member.user_from_s(member.s_begin), member.user_from_s(member.s_end));
   FeMemberPath model(make_kinematics(member, options.elements), options, {});
   return follow_path(model, options, sink);
-}
-
-TraceResult trace_fe(const model::MemberModel& member, const TraceOptions& options, const TraceSink& sink) {
-  if (member.theory != model::Theory::von_karman && member.kind == model::StructureKind::beam &&
-      member.has_axial_force())
-    return trace_fe_axial(member, options, sink);
-  return trace_fe_on_engine(member, options, sink);
 }
 
 EventErrors estimate_event_errors(const model::MemberModel& member, const TraceOptions& options,

@@ -97,16 +97,9 @@ namespace liftoff::continuation {
 // what is recorded is the path's own state. Empty: none.
 using VonKarmanStateSeam = std::function<void(double lambda, Eigen::VectorXd& unknowns)>;
 
-// The FE path of `member` on TraceOptions::elements equal elements: followed by the path engine
-// (trace_fe_on_engine), but for a beam-column (a beam under an axial force, dead or live, in
-// second-order theory), which trace_fe_axial (fe_axial_path.hpp) follows until the engine's
-// second-order kinematics passes that path's verification (continuation/README.md lists what it
-// does not yet).
+// The FE path of `member` on TraceOptions::elements equal elements, followed by the path engine:
+// its kinematics (linear, second order, von Karman) from its theory and axial force.
 TraceResult trace_fe(const model::MemberModel& member, const TraceOptions& options, const TraceSink& sink = {});
-// The engine's FE path for any member: its kinematics (linear, second order, von Karman) from its
-// theory and axial force.
-TraceResult trace_fe_on_engine(const model::MemberModel& member, const TraceOptions& options,
-                               const TraceSink& sink = {});
 
 // The same for a von Karman member (theory = von_karman, beam or circular arch), with the seams.
 TraceResult trace_fe_von_karman(const model::MemberModel& member, const TraceOptions& options,

@@ -17,7 +17,7 @@
 
 #include "contact/contact_solver.hpp"
 #include "contact/von_karman_solve.hpp"
-#include "continuation/fe_states.hpp"
+#include "continuation/models/fe_states.hpp"
 #include "continuation/step_state.hpp"
 #include "lcp/lemke.hpp"
 #include "stability/critical_load.hpp"

@@ -47,8 +47,8 @@ const scene::TraceSettings& trace_settings(const scene::Scene& scene) {
           "{}: key 'loads[{}].case': expected \"dead\" or \"live\" for `liftoff trace` (F = F_dead + lambda "
           "F_live), got \"{}\" (free case names are for [[combinations]] and `liftoff envelope`)",
           scene.source_name, i, scene.loads[i].case_name));
-  // An axial force (second-order theory) is traced on beams (continuation/fe_axial_path.hpp, which
-  // trace_fe hands them to); an arch's axial force is `solve`'s only.
+  // An axial force (second-order theory) is traced on beams (the second-order kinematics of
+  // continuation/models/member_kinematics.hpp); an arch's axial force is `solve`'s only.
   for (std::size_t i = 0; i < scene.loads.size(); ++i)
     if ((scene.loads[i].kind == scene::LoadKind::axial || scene.loads[i].kind == scene::LoadKind::temperature) &&
         scene.structure.kind != scene::StructureKind::beam)

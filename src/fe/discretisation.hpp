@@ -101,7 +101,7 @@ class Discretisation {
   // limit-fitted solve), and the rigid motions the supports leave free, on the equations
   // (columns; the kernel of K, empty when the structure is stable). free_rigid_motions is computed
   // once, from the exact motions (member_rigid_motions), not from K: users share it rather than
-  // recompute it (continuation/fe_path.cpp orthonormalises it).
+  // recompute it (continuation/models/member_kinematics.cpp orthonormalises it).
   std::vector<bool> foundation_on_element;
   // The foundation's tensionless part under each element at its two nodes (linear between them;
   // 0 in a void and beyond the foundation), whether or not the foundation acts on it in this

@@ -738,7 +738,7 @@ TEST_CASE("trace CLI: the Ritz path killed with SIGKILL keeps its steps and resu
 TEST_CASE("trace CLI: a von Karman beam is traced by the FE path through its snap-through",
           "[app][trace][von_karman]") {
   // Issue 16's shallow arch (verification/dolfinx/scenes/issue16/), the theory gate open for trace:
-  // the FE path from the unloaded state through the limit point (fe_von_karman_path_test.cpp has
+  // the FE path from the unloaded state through the limit point (models/fe_member_von_karman_test.cpp has
   // the figures: 21.13167 on 64 elements) and back up, thrust and stability per step.
   std::ifstream in(std::string(LIFTOFF_SOURCE_DIR) +
                    "/verification/dolfinx/scenes/issue16/shallow_arch_tensionless.toml");

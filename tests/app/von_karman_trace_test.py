@@ -9,7 +9,7 @@
   maximum of lambda), the lift-off zone closing at the pinned end and the lower limit point. Their
   loads against the dolfinx reference at 64 elements (von_karman_reference.py: 21.14143, 20.50315,
   13.51771), an independent discretisation whose error is not estimated: a cross-check at 1e-3
-  relative, as tests/continuation/fe_von_karman_path_test.cpp does (observed 4.6e-4, 8e-5, 1.4e-3
+  relative, as tests/continuation/models/fe_member_von_karman_test.cpp does (observed 4.6e-4, 8e-5, 1.4e-3
   at the lower limit: that one at 2e-3). The stability: stable before the maximum, unstable between
   the two limit points, stable after.
 - verification/scenes/von_karman/steel_strip_membrane.toml: exit 0, no event (full contact), the
@@ -155,7 +155,7 @@ def bifurcating_arch(args, tmp):
     Ritz: its basis holds both modes exactly, so its loads are the closed form's up to the event
     location (1e-10 in lambda) and the states' Newton accuracy: 1e-9. FE: 32 and 64 elements, the
     64 elements' error within twice its Richardson estimate |l32 - l64| / (2^p - 1), p = 4 for the
-    bifurcations (the element's order; fe_von_karman_path_test) and 2 for the contact events (the
+    bifurcations (the element's order; fe_member_von_karman_test) and 2 for the contact events (the
     end's lift-off found at the node next to it: w(h) = w'(0) h + O(h^3) vanishes at w'(0) = O(h^2)).
     Every step stable (kappa = 8 > 4: a stable asymmetric branch) up to the second bifurcation."""
     scene_path = os.path.join(SCENES, "shallow_arch_bifurcation.toml")

@@ -167,7 +167,7 @@ TEST_CASE("free_free_uplift: both paths open the central zone at one load, the c
   CHECK(g.ritz.events[g.ritz_index[0]].load_factor == Approx(exact).epsilon(1e-8));
   CHECK(std::abs(g.fe.events.front().load_factor - exact) <= g.fe_error.front());
   // The estimate is no mere bound: the FE event load converges to the closed form at the
-  // order that makes fe_safety generous (h^3, see fe_path_test).
+  // order that makes fe_safety generous (h^3, see models/fe_member_linear_test).
   const double l100 = fe_run(s, 100).events.front().load_factor;
   const double l200 = g.fe.events.front().load_factor;
   const double l400 = fe_run(s, 400).events.front().load_factor;

@@ -269,7 +269,7 @@ TEST_CASE(
     "Issue 16's shallow arch (uniform load on the left half): FE and Ritz agree through the snap-through, "
     "the zone closing at the pinned end and the lower limit point",
     "[continuation][fe][ritz][von_karman]") {
-  // verification/dolfinx/scenes/issue16/shallow_arch_tensionless.toml (fe_von_karman_path_test.cpp
+  // verification/dolfinx/scenes/issue16/shallow_arch_tensionless.toml (models/fe_member_von_karman_test.cpp
   // traces it by FE against dolfinx): the unloaded half lifts off at once, the arch snaps through
   // (a maximum), the zone closes at the pinned end on the falling branch, and the path turns up
   // again at a minimum in full contact. The Ritz path starts automatically (the FE von Karman

@@ -416,7 +416,7 @@ TEST_CASE("rigid motions are computed once: the member's, and those the supports
     REQUIRE(z.cols() > 0);
     // Beams: K z = 0 but for the round-off of rows summing up to ~12 terms of size |K|max |z|max.
     // Arches: the motions' cos and sin are interpolated by the element's polynomials, whose error
-    // strains it slightly (1.6e-13 relative at 20 elements): the 1e-8 relative test fe_path.cpp
+    // strains it slightly (1.6e-13 relative at 20 elements): the 1e-8 relative test member_kinematics.cpp
     // applies before it uses them.
     const double scale = Eigen::MatrixXd(d.stiffness).cwiseAbs().maxCoeff() * z.cwiseAbs().maxCoeff();
     const double allowed =

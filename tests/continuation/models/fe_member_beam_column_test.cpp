@@ -1,11 +1,9 @@
-// The FE path in the axial force (continuation/fe_axial_path.hpp) on the upheaval buckle of issue
-// 15 (continuation/scenes/pipeline_upheaval.toml) and on a pinned strut bowed away from a
-// tensionless foundation: every step checked against independent solves of the same scene with
-// its axial force as a dead load (solve_contact, and the fixed-set system of the step's contact
-// set on a member discretised at that N, certified), the limit load bracketed by fixed-N solves,
-// the stability indicator, and the strut's approach to the Euler load.
-
-#include "continuation/fe_axial_path.hpp"
+// The FE path of a beam-column (the second-order kinematics of continuation/models/member_kinematics.hpp
+// on the path engine) on the upheaval buckle (continuation/scenes/pipeline_upheaval.toml) and on a pinned strut bowed
+// away from a tensionless foundation: every step checked against independent solves of the same scene with its axial
+// force as a dead load (solve_contact, and the fixed-set system of the step's contact set on a member discretised at
+// that N, certified), the limit load bracketed by fixed-N solves, the stability indicator, and the strut's approach to
+// the Euler load.
 
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -105,7 +103,7 @@ double limit_load_factor(const TraceResult& result) {
 
 }  // namespace
 
-TEST_CASE("upheaval buckle: through the limit point, every step an independent equilibrium", "[fe_axial_path]") {
+TEST_CASE("upheaval buckle: through the limit point, every step an independent equilibrium", "[beam_column]") {
   const scene::Scene scene = upheaval();
   const int elements = 200;
   const TraceOptions options = options_for(scene, elements);
@@ -193,7 +191,7 @@ TEST_CASE("upheaval buckle: through the limit point, every step an independent e
 }
 
 TEST_CASE("upheaval buckle: the limit load lies between the fixed-N solves that succeed and those refused",
-          "[fe_axial_path]") {
+          "[beam_column]") {
   const scene::Scene scene = upheaval();
   const int elements = 200;
   const TraceResult result = test::trace_fe(scene, options_for(scene, elements));
@@ -212,7 +210,7 @@ TEST_CASE("upheaval buckle: the limit load lies between the fixed-N solves that 
   CHECK(hi >= limit - 1e-9);
 }
 
-TEST_CASE("upheaval buckle: the limit load converges with the mesh", "[fe_axial_path][slow]") {
+TEST_CASE("upheaval buckle: the limit load converges with the mesh", "[beam_column][slow]") {
   // The limit load on 200, 400 and 800 elements. The discrete path's fold is at a breakpoint (a
   // node pair lifting), so its lambda samples the smooth maximum lambda(a) of the lifted length a
   // at spacings of h: an error O(h^2) whose constant depends on where the exact fold falls between
@@ -241,7 +239,7 @@ TEST_CASE("upheaval buckle: the limit load converges with the mesh", "[fe_axial_
 }
 
 TEST_CASE("a pinned weightless strut bowed away from a tensionless foundation buckles at the Euler load",
-          "[fe_axial_path]") {
+          "[beam_column]") {
   // The foundation follows the bow, so it carries nothing and the member lifts off it at once: the
   // amplitude a0 / (1 - P / P_E) of the half-sine bow grows without bound as P approaches
   // P_E = pi^2 EI / L^2 whatever k, and the trace stops at max_amplitude = 1000 a0, where
@@ -271,7 +269,7 @@ max_amplitude = 0.1
 }
 
 TEST_CASE("a straight weightless strut lying on a tensionless foundation is stable below the Euler load only",
-          "[fe_axial_path]") {
+          "[beam_column]") {
   // Nothing presses the strut on its foundation: every node touches it with neither reaction nor
   // gap (weakly active). Its full contact set's tangent (bilateral springs) stays positive definite
   // up to the bilateral load min_n (n^2 pi^2 + k / (n^2 pi^2)) EI / L^2 = 23.0 EI / L^2 (k = 129.6);
@@ -311,7 +309,7 @@ TEST_CASE("a straight weightless strut lying on a tensionless foundation is stab
 // member lifting off everywhere in a half-sine. P_E to the FE error: at most the change from 32 to
 // 64 elements (an estimate that holds for any order >= 1); the shape to the mode's FE error.
 TEST_CASE("a straight weightless strut on a tensionless foundation: the bifurcation at P_E and its lifted branch",
-          "[fe_axial_path]") {
+          "[beam_column]") {
   const scene::Scene scene = straight_strut();                                      // max_amplitude 0.03 m
   const double euler = closed_form::tensionless_pinned_strut_critical(6.0, 1.0e7);  // 2.74e6 N
   auto bifurcation = [&](int elements) {
@@ -371,7 +369,7 @@ TEST_CASE("a straight weightless strut on a tensionless foundation: the bifurcat
 // lower the critical load), unstable, the lifted length growing. switch_branch = false keeps the
 // flat path instead, through the bifurcation, unstable above it.
 TEST_CASE("a heavy free-free member: the bifurcation at its bilateral critical load, then a descending branch",
-          "[fe_axial_path]") {
+          "[beam_column]") {
   const std::string text =
       std::string("\n") + test::beam_text("2.0", "1.0e7", "\"free\"", "\"free\"") + R"(modulus = 1.0e6
 [[loads]]
@@ -441,7 +439,7 @@ max_amplitude = 0.02
 
 TEST_CASE(
     "the perfect pipeline: the fold at the bilateral critical load, bifurcations where the set's tangent is singular",
-    "[fe_axial_path]") {
+    "[beam_column]") {
   // Without the hump the straight member in full contact is a bilateral beam-column up to
   // 2 sqrt(K EI) = 12.00 MN (lambda = 12.0 for a long member; the clamped ends of the 200 m member
   // add a little). On the descending branch the lifted span's antisymmetric mode crosses zero on
@@ -495,7 +493,7 @@ closed_form::LocalizedBuckle buckle_with_uplift(double modulus, double bending_s
   return closed_form::localized_buckle(modulus, bending_stiffness, weight, 0.5 * (lo + hi));
 }
 
-TEST_CASE("the perfect pipeline's descending branch is the closed-form localized buckle", "[fe_axial_path][slow]") {
+TEST_CASE("the perfect pipeline's descending branch is the closed-form localized buckle", "[beam_column][slow]") {
   // Without the hump the path leaves the straight state at the bilateral critical load (the
   // clamped ends' boundary layer is the only imperfection) and follows the localized buckle down.
   // Far from the ends (beta L = 25.8) that branch is the infinite member's, known in closed form
@@ -533,7 +531,7 @@ TEST_CASE("the perfect pipeline's descending branch is the closed-form localized
   }
 }
 
-TEST_CASE("the exact FE path reports amplitude and lifted length", "[fe_axial_path]") {
+TEST_CASE("the exact FE path reports amplitude and lifted length", "[beam_column]") {
   // A simply supported beam pressed on its foundation and lifted at its left end by a live end
   // moment: without an axial force the exact path runs, with axial_force 0 and stability unknown;
   // its amplitude is the largest -w (sampled finely: no more than the sampled maximum's error
@@ -595,8 +593,7 @@ scene::Scene settled_upheaval(bool imperfect) {
 
 }  // namespace
 
-TEST_CASE("settled supports under a live axial force: a straight member stays at q / K for every N",
-          "[fe_axial_path]") {
+TEST_CASE("settled supports under a live axial force: a straight member stays at q / K for every N", "[beam_column]") {
   // Closed form: w = q / K, r = q everywhere is an equilibrium under any N (a uniform w has no
   // slope, so N K_g w = 0) and meets the clamped, settled ends; the FE space holds it exactly, so
   // every step must show it to round-off. A settlement load frozen at N(1) (as before) leaves
@@ -620,7 +617,7 @@ TEST_CASE("settled supports under a live axial force: a straight member stays at
   }
 }
 
-TEST_CASE("settled supports under a live axial force: the trace agrees with solves at fixed N", "[fe_axial_path]") {
+TEST_CASE("settled supports under a live axial force: the trace agrees with solves at fixed N", "[beam_column]") {
   // The imperfect upheaval buckle with its ends settled at q / K, traced through its lift-off, and
   // every step against the contact solve of the same scene with N(lambda) as a dead load (its
   // settlement load then N(lambda) K_g u_f by construction). The fixed-N solves are certified to
@@ -652,7 +649,7 @@ TEST_CASE("settled supports under a live axial force: the trace agrees with solv
   CHECK(result.steps.back().deflection.back() == Approx(0.015).epsilon(1e-12));
 }
 
-TEST_CASE("upheaval buckle: the states at requested loads on both branches", "[fe_axial_path]") {
+TEST_CASE("upheaval buckle: the states at requested loads on both branches", "[beam_column]") {
   // report_at = 5 (lift-off at 4.93, the limit point at 5.84, the path down to 2.7): the path passes
   // N = 5 MN twice, stable on the way up and unstable on the descending branch, a state on each.
   // The stable one is the contact solve of the scene at that N (exact fixed-set states against a
@@ -692,33 +689,4 @@ TEST_CASE("upheaval buckle: the states at requested loads on both branches", "[f
   const std::vector<double> w = sampled(model, d, solved.displacement, options.sample_points);
   CHECK(largest_difference(w, up.deflection) < 1e-7 * largest(w));
   CHECK(largest_difference(w, down.deflection) > 0.1 * largest(w));
-}
-
-TEST_CASE("the engine's second-order kinematics finds the upheaval buckle's events where this path does",
-          "[fe_axial_path]") {
-  // trace_fe hands beam-columns to this path (fe_axial_path.hpp) until the engine's FE model passes
-  // its verification; the engine's second-order kinematics (trace_fe_on_engine) already follows the
-  // upheaval buckle through its lift-off and its limit point. Both locate each event to
-  // event_tolerance in lambda on the same discrete equations (the limit point where a set ends), on
-  // exact states (this path's fixed-set solves; the engine's polished points): they agree to twice
-  // that, relative to lambda. Not yet on the engine: the perfect pipeline (its state at the
-  // bilateral critical load, where the set's tangent is singular, fails its certificate) and the
-  // strut's max_amplitude (located 1.1e-3 off near its stationary Euler load).
-  const scene::Scene scene = upheaval();
-  const TraceOptions options = options_for(scene, 200);
-  const TraceResult path = test::trace_fe(scene, options);
-  const TraceResult engine = continuation::trace_fe_on_engine(model::make_member_model(scene), options);
-  INFO(path.summary.message << " | " << engine.summary.message);
-  REQUIRE(path.summary.is_usable());
-  REQUIRE(engine.summary.is_usable());
-  REQUIRE(path.events.size() == engine.events.size());
-  REQUIRE(path.events.size() >= 2);
-  for (std::size_t i = 0; i < path.events.size(); ++i) {
-    const auto &a = path.events[i], &b = engine.events[i];
-    CAPTURE(i, a.description, b.description);
-    CHECK(a.kind == b.kind);
-    CHECK(a.at == Approx(b.at).margin(1e-9 * 200.0));  // (an extreme of w on states equal to round-off)
-    CHECK(std::abs(a.load_factor - b.load_factor) <=
-          2.0 * options.event_tolerance * std::max(1.0, std::abs(a.load_factor)));
-  }
 }

@@ -1,6 +1,4 @@
-#include "continuation/fe_states.hpp"
-
-#include <fmt/format.h>
+#include "continuation/models/fe_states.hpp"
 
 #include <algorithm>
 #include <utility>
@@ -55,15 +53,6 @@ certify::Certificate certificate_of(const model::MemberModel& model, const fe::D
   options.sign_floor = std::max(acceptable_residual, sign_floor);  // its states' accuracy decides signs no finer
   options.global_scale = true;                                     // as the path's own scales
   return certify::certify(model, d, answer, options);
-}
-
-certify::Certificate certify_state(const model::MemberModel& model, const fe::Discretisation& d, double lambda,
-                                   const Eigen::VectorXd& displacement, const Eigen::VectorXd& reaction) {
-  const certify::Certificate certificate = certificate_of(model, d, lambda, displacement, reaction);
-  if (!certificate.passed)
-    throw StepNotCertified{
-        lambda, fmt::format("the state at lambda = {:.10g} failed its certificate: {}", lambda, certificate.message)};
-  return certificate;
 }
 
 contact::ContactSolution contact_solve(const fe::Discretisation& d, contact::Method asked, double lambda) {

@@ -1,7 +1,6 @@
 #pragma once
-// What the beam-column path (fe_axial_path.hpp) shares with the engine's FE model (models/): the
-// tolerances of its fixed-set solves, the TraceStep of a state and its certificate, and the contact
-// solve a path starts from.
+// The FE model's states in the user's terms (fe_member.hpp, member_kinematics.hpp): the TraceStep
+// of a state, its certificate, and the contact solve a path starts from.
 
 #include <Eigen/Dense>
 #include <stdexcept>
@@ -17,41 +16,22 @@
 
 namespace liftoff::continuation::fe_states {
 
-// Nodes whose reaction (gap) is within this fraction of its scale at a breakpoint switch with
-// it. Mirror-image nodes of a symmetric scene reach zero at one lambda up to round-off, which
-// on a 160-element free-free beam (fixed-set system with cond ~1e10) is ~1e-9 of the scale;
-// two nodes that physically switch at different loads differ by the change of their values
-// over one element, orders above that. A tie that round-off splits anyway costs nothing: the
-// second node is found at zero and falling right after the switch, and is the next
-// breakpoint, at the same lambda, with one more factorisation. Switching a node 1e-9
-// (relative) early perturbs the state by as much, below the 1e-9 the path is tested to.
-inline constexpr double tie_tolerance = 1e-9;
 // A fixed-set solve whose relative residual exceeds this is not trusted (as contact_solver).
 inline constexpr double acceptable_residual = 1e-8;
 
 // The step of the state (displacement on every dof, reaction per reaction node) at lambda on the
 // contact set `set`: contact regions, w at the monitor and w and r at the sample points (user
 // units), amplitude and lifted length (events.hpp), the set as the step's state (with a tail of
-// fe_state_tail zeros: the beam-column path does not resume from it). Not filled:
+// fe_state_tail zeros, which the FE model fills). Not filled:
 // axial_force, stability, iterations.
 TraceStep step_of(const model::MemberModel& model, const fe::Discretisation& d, const SpecialPoints& points,
                   const TraceOptions& options, double lambda, const Eigen::VectorXd& displacement,
                   const Eigen::VectorXd& reaction, const std::vector<bool>& set);
 
-// A state that failed its certificate: the path ends before it (its message says why).
-struct StepNotCertified {
-  double lambda;
-  std::string message;
-};
-
-// Certifies the state from its own fields (src/certify: balance with the support reactions and
-// K(N) at lambda, the contact inequalities at the nodes, backward error to acceptable_residual);
-// round-off against the discretisation is left to the solve of the same mesh (it costs a second
-// solve). Returns the certificate (its support reactions go into the step's record,
-// step_state.hpp); throws StepNotCertified when it fails.
-certify::Certificate certify_state(const model::MemberModel& model, const fe::Discretisation& d, double lambda,
-                                   const Eigen::VectorXd& displacement, const Eigen::VectorXd& reaction);
-// The same certificate, returned whether it passes or not; its signs decided no finer than
+// The certificate of the state from its own fields (src/certify: balance with the support
+// reactions and K(N) at lambda, the contact inequalities at the nodes, backward error to
+// acceptable_residual), returned whether it passes or not; round-off against the discretisation is
+// left to the solve of the same mesh (it costs a second solve). Its signs decided no finer than
 // max(acceptable_residual, sign_floor) (the engine's FE model: its own accuracy of the signs).
 certify::Certificate certificate_of(const model::MemberModel& model, const fe::Discretisation& d, double lambda,
                                     const Eigen::VectorXd& displacement, const Eigen::VectorXd& reaction,

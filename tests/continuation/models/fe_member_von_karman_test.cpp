@@ -1,4 +1,4 @@
-// The FE load path of a von Karman beam (continuation/fe_von_karman_path.hpp, issue 16, item 4):
+// The FE load path of a von Karman beam (the von Karman kinematics of continuation/models/member_kinematics.hpp):
 // the sinusoidal shallow arch under q0 sin(pi x / L) against verification/closed_form/shallow_arch.hpp
 // (its limit point, its bifurcation and the asymmetric branch, with the orders of the FE error), a
 // bilateral against a tensionless foundation, and the snap-through of issue 16's scene with a contact
