@@ -118,6 +118,9 @@ class FeMemberPath final : public PathModel {
   // One Newton correction at the point's lambda (kept if it reduces the residual).
   PathPoint corrected_at_lambda(const ContactSet& set, const PathPoint& point) const;
   bool holds_ahead(const ContactSet& next, const PathPoint& point, const PathFollower& follower) const;
+  std::optional<PathPoint> first_zero_in_lambda(const PathPoint& from, const PathPoint& to,
+                                                const std::function<double(const PathPoint&)>& least,
+                                                const PathFollower& follower) const;
   std::optional<PathPoint> first_zero(const PathPoint& from, const PathPoint& to,
                                       const std::function<double(const PathPoint&)>& least,
                                       const PathFollower& follower) const;
@@ -786,6 +789,69 @@ std::optional<PathPoint> FeMemberPath::first_zero(const PathPoint& from, const P
   return located;
 }
 
+// The same for a second-order kinematics, in lambda: a set's branch is a graph over lambda (no fold
+// on a fixed set) and its state at lambda is exact after one fixed-lambda correction (one
+// factorisation), where a point of the arc-length corrector costs its iterations and a polish on
+// top. Illinois on lambda between the step's ends, the earlier zero and the touch as first_zero;
+// the located state is then the path's point at its lambda (its arclength and tangent).
+std::optional<PathPoint> FeMemberPath::first_zero_in_lambda(const PathPoint& from, const PathPoint& to,
+                                                            const std::function<double(const PathPoint&)>& least,
+                                                            const PathFollower& follower) const {
+  const auto state_at = [&](double lambda) {
+    PathPoint guess = from;
+    const double t = (lambda - from.lambda) / (to.lambda - from.lambda);
+    guess.x = from.x + t * (to.x - from.x);
+    guess.lambda = lambda;
+    return corrected_at_lambda(set_, guess);
+  };
+  if (!(to.lambda != from.lambda)) return first_zero(from, to, least, follower);
+  double la = from.lambda, lb = to.lambda, fa = least(from), fb = least(to);
+  for (int round = 0; round < 8; ++round) {
+    if (!(fa > 0.0) || !(fb < 0.0)) return std::nullopt;
+    PathPoint best = to;
+    int stale_side = 0;
+    const double start = la;
+    for (int iteration = 0; iteration < 200 && std::abs(lb - la) > options_.event_tolerance; ++iteration) {
+      double lc = lb - fb * (lb - la) / (fb - fa);
+      if (!(lc > std::min(la, lb) && lc < std::max(la, lb))) lc = 0.5 * (la + lb);
+      best = state_at(lc);
+      const double fc = least(best);
+      if (fc == 0.0) break;
+      if (fc < 0.0) {
+        lb = lc, fb = fc;
+        if (stale_side == -1) fa *= 0.5;  // (Illinois: a kept twice)
+        stale_side = -1;
+      } else {
+        la = lc, fa = fc;
+        if (stale_side == 1) fb *= 0.5;
+        stale_side = 1;
+      }
+    }
+    if (std::abs(lb - la) <= options_.event_tolerance && fb < 0.0 && best.lambda != lb) best = state_at(lb);
+    // An earlier zero (samples between the start and the zero found), or a touch (positive again
+    // a little beyond it): searched again.
+    std::optional<std::pair<double, double>> earlier;
+    for (int k = 1; k <= 3 && !earlier; ++k) {
+      const double lambda = start + 0.25 * k * (best.lambda - start);
+      const double value = least(state_at(lambda));
+      if (value < -options_.event_tolerance) earlier = {lambda, value};
+    }
+    if (earlier) {
+      la = start, fa = least(state_at(start)), lb = earlier->first, fb = earlier->second;
+      continue;
+    }
+    const double past = best.lambda + 0.02 * (to.lambda - best.lambda);
+    const double beyond = least(state_at(past));
+    if (beyond > tie_tolerance) {
+      la = past, fa = beyond, lb = to.lambda, fb = least(to);
+      continue;
+    }
+    StepOutcome at = follower.step_to_lambda(from, best.lambda, &best.x);
+    return at.point;
+  }
+  return std::nullopt;
+}
+
 std::optional<Crossing> FeMemberPath::contact_event(const PathPoint& from, const PathPoint& to,
                                                     const VectorXd& start_values, const PathFollower& follower,
                                                     std::string& failure) const {
@@ -822,17 +888,21 @@ std::optional<Crossing> FeMemberPath::contact_event(const PathPoint& from, const
   // factorisation: its crossings are located on polished points from the start. Near the
   // beam-column's limit point the set's tangent is nearly singular and the corrector's points
   // leave a node's value off by 1e-6 of its scale.)
-  const bool exact = kin_->linear_in_state() || kin_->straight_bifurcated_branch();
-  std::optional<PathPoint> located = first_zero(from, to, least_of(exact), follower);
+  // Second order off a straight branch: located in lambda on exact states (below).
+  const bool in_lambda = kin_->straight_bifurcated_branch() && !on_straight_branch_;
+  const bool exact = kin_->linear_in_state() || in_lambda;
+  std::optional<PathPoint> located = in_lambda ? first_zero_in_lambda(from, to, least_of(false), follower)
+                                               : first_zero(from, to, least_of(exact), follower);
   std::vector<int> flipped;
   if (located) {
     *located = polished(set_, *located, false);
     crossing_at(*located, flipped);
     // Polishing moves the point along the step's hyperplane (on a bifurcated branch by 7e-7 in
     // lambda): where the node is then past zero (penetrating by 1e-7 of a gap), the certificate
-    // on the set would fail: located again on polished points too.
+    // on the set would fail: located again on polished points too (located on exact states
+    // already: nothing to gain).
     const bool past = sign_values(set_, located->x).minCoeff() < -tie_tolerance;
-    if (!flipped.empty() && (past || !set_events(set_.in_contact, flipped, located->lambda).empty())) {
+    if (!exact && !flipped.empty() && (past || !set_events(set_.in_contact, flipped, located->lambda).empty())) {
       located = follower.locate(from, to, least_of(true), options_.event_tolerance, false);
       if (located) {
         *located = polished(set_, *located, false);
