@@ -40,7 +40,7 @@ const scene::TraceSettings& trace_settings(const scene::Scene& scene) {
     throw InputError(fmt::format("{}{}: key 'trace.lambda_max': missing (expected a number > lambda_min = {})",
                                  scene.source_name, t.line > 0 ? fmt::format(":{}", t.line) : "", t.lambda_min));
   // A free load case (for [[combinations]]) has no place in F_dead + lambda F_live: refused, not
-  // guessed (README, "Load cases").
+  // guessed (src/scene/README.md, `[[loads]]` key `case`).
   for (std::size_t i = 0; i < scene.loads.size(); ++i)
     if (scene.loads[i].case_name != "dead" && scene.loads[i].case_name != "live")
       throw InputError(fmt::format(

@@ -2,7 +2,7 @@
 // The one place that talks to HDF5. A result file is written under a temporary name and
 // renamed when complete, so a failed run never leaves a half-written file (OutputError).
 //
-// Layout (README, "Output"):
+// Layout (src/io/README.md, "`liftoff solve`", HDF5):
 //   /                 attributes: liftoff_version, scene_name, structure, method, method_requested,
 //                     termination, message, coordinate, sign_convention, tensionless, k
 //   /scene            the scene's TOML text
