@@ -57,12 +57,22 @@ SolveReport common_report(const scene::Scene& scene, const model::MemberModel& m
 
 }  // namespace
 
+std::vector<std::string> methods_run(const contact::ContactSummary& summary) {
+  // The fast solver's count of contact sets under a Lemke method: fast ran first and fell back
+  // inside the solver (contact/contact_solver.cpp).
+  std::vector<std::string> run;
+  if (summary.method != contact::Method::fast && summary.iterations >= 0) run.emplace_back("fast");
+  run.emplace_back(contact::to_string(summary.method));
+  return run;
+}
+
 SolveReport make_report(const scene::Scene& scene, const model::MemberModel& model, const fe::Discretisation& d,
                         const contact::ContactSolution& solution, const post::Fields& fields,
                         const std::vector<ContactRegion>& regions) {
   SolveReport r = common_report(scene, model, fields, regions);
   const contact::ContactSummary& summary = solution.summary;
   r.method = contact::to_string(summary.method);
+  r.methods_run = methods_run(summary);
   r.method_reason = summary.method_reason;
   r.termination = contact::to_string(summary.termination);
   r.message = summary.message;
@@ -129,6 +139,7 @@ SolveReport make_report(const scene::Scene& scene, const model::MemberModel& mod
     r.kind = scene.structure.kind;
   }
   r.method = "ritz";
+  r.methods_run = {r.method};
   r.termination = ritz::to_string(summary.termination);
   r.message = summary.message;
   r.usable = summary.is_usable();
@@ -289,6 +300,23 @@ nlohmann::json units_json(const scene::Units& units) {
   return j;
 }
 
+namespace {
+// A report without an answer: every answer field null, so that a script cannot take a failed or
+// refused solve's figures (zeros, a residual of -1, a state that failed its certificate) for a
+// result, and `method` names a solver only if one ran, with the whole list in `methods_run`. The
+// evidence of the failure stays: termination, message, the certificate, the ray, the stability,
+// the residual history, the counters of the solvers that ran (the -1 of one that did not: null).
+void without_answer(nlohmann::json& j, const SolveReport& r) {
+  for (const char* key : answer_keys) j[key] = nullptr;
+  for (const char* key : {"support_reactions", "foundation_resultant", "amplitudes", "membrane_force", "u"})
+    if (j.contains(key)) j[key] = nullptr;
+  for (const char* key : {"pivots", "lcp_size", "modes", "newton_iterations"})
+    if (j.contains(key) && j[key].is_number_integer() && j[key].get<int>() < 0) j[key] = nullptr;
+  j["method"] = r.methods_run.empty() ? nlohmann::json() : nlohmann::json(r.methods_run.back());
+  j["methods_run"] = r.methods_run;
+}
+}  // namespace
+
 nlohmann::json to_json(const SolveReport& r) {
   nlohmann::json j;
   j["scene"] = r.scene_name;
@@ -373,6 +401,7 @@ nlohmann::json to_json(const SolveReport& r) {
   j["units"] = units_json(r.units);
   if (r.scale) j["scale"] = scale_json(*r.scale);
   j["warnings"] = r.warnings;
+  if (!r.usable) without_answer(j, r);
   return j;
 }
 

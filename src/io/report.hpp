@@ -98,6 +98,10 @@ struct SolveReport {
   std::string method;            // the formulation that produced the answer: "dual", "primal", "fast", "ritz"
   std::string method_requested;  // what the user asked for: "auto", "dual", ... (keys --method all, sweeps)
   std::string method_reason;     // why (auto, a fallback), or how the Ritz topology was found
+  // The solvers that ran, in order: the formulation, then a fallback after a failed certificate.
+  // Empty when none ran (the resultant check's no_equilibrium, a refusal before solving), so a
+  // failure's JSON names only these (`method` the last of them, else null).
+  std::vector<std::string> methods_run;
   SolveOutcome outcome = SolveOutcome::ran;
   std::string termination;  // the solver's own termination name ("refused" when refused)
   std::string message;      // in words
@@ -167,12 +171,24 @@ void attach_certificate(SolveReport& report, const certify::Certificate& certifi
 // Stores the design values in the report, converted to the user's units.
 void attach_design(SolveReport& report, const post::DesignValues& design, const model::MemberModel& model);
 
+// The formulations a contact solve ran, in order: its method, after fast where the contact solver
+// fell back from fast to Lemke itself.
+std::vector<std::string> methods_run(const contact::ContactSummary& summary);
 SolveReport make_report(const scene::Scene& scene, const model::MemberModel& model, const fe::Discretisation& d,
                         const contact::ContactSolution& solution, const post::Fields& fields,
                         const std::vector<ContactRegion>& regions);
 SolveReport make_report(const scene::Scene& scene, const model::MemberModel& model, const ritz::RitzSolution& solution,
                         int samples);
 
+// The answer's keys in a solve's JSON that every object carries: null in a report without an
+// answer and in the failure object of `liftoff solve --json`.
+inline constexpr std::array<const char*, 7> answer_keys = {"contact_regions", "w_max",        "at_w_max", "w_min",
+                                                           "at_w_min",        "max_reaction", "residual"};
+
+// An answer's JSON; a report without one (usable false) has null for every answer field
+// (contact_regions, the extremes, max_reaction, residual, support_reactions, foundation_resultant,
+// amplitudes, membrane_force, u) and `method` null unless a solver ran (src/io/README.md,
+// "Failure object").
 nlohmann::json to_json(const SolveReport& report);
 // The JSON `design` object of a report (and of a trace step): each value with its `at` (null where
 // there is no such point), from_statics, and the closure when from statics.

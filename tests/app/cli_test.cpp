@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "io/report.hpp"
 #include "support/cli.hpp"
 #include "support/scene_text.hpp"
 #include "support/scenes.hpp"
@@ -364,6 +365,89 @@ TEST_CASE("cli: --json prints exactly one object for every outcome", "[app][erro
   j = one_object(r);
   CHECK(j["method_requested"] == "all");
   CHECK(j["methods"].size() == 4);
+}
+
+// A script must not take a failure's figures for an answer: every answer key null, and `method`
+// only a solver that ran (null when none did), `methods_run` all of them.
+TEST_CASE("cli: a failure's JSON has null for every answer field and names only the solvers that ran",
+          "[app][errors]") {
+  Scratch scratch;
+  const auto check_no_answer = [](const nlohmann::json& j) {
+    for (const char* key : liftoff::io::answer_keys) {
+      CAPTURE(key);
+      REQUIRE(j.contains(key));
+      CHECK(j[key].is_null());
+    }
+  };
+  // Pulled off its foundation: the resultant check decides before the primal Lemke runs (w_max
+  // was 0.0, max_reaction 0.0, residual -1 and method "primal").
+  const fs::path lift =
+      scratch.write("lift.toml", free_beam(100.0, -1.0) + "[solve]\nmethod = \"primal\"\nelements = 10\n");
+  Run r = run_cli({"solve", lift.string(), "--json"});
+  CHECK(r.status == 3);
+  nlohmann::json j = one_object(r);
+  CHECK(j["termination"] == "no_equilibrium");
+  check_no_answer(j);
+  CHECK(j["method"].is_null());
+  CHECK(j["methods_run"] == nlohmann::json::array());
+  CHECK(j["pivots"].is_null());  // not -1
+  CHECK(j["elements"] == 10);    // the discretisation was made: not an answer
+
+  // The shipped strut bowed away from its support beyond its Euler load (exit 5): auto runs fast
+  // first (which hands over to Lemke inside the contact solver when it finds no contact set).
+  std::ifstream in(std::string(LIFTOFF_SOURCE_DIR) + "/verification/scenes/axial/pinned_strut_one_sided.toml");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  text.replace(text.find("amplitude = 0.012"), 17, "amplitude = -0.012");
+  text.replace(text.find("value = 2.467e6"), 15, "value = 3.300e6");
+  r = run_cli({"solve", scratch.write("away.toml", text).string(), "--json"});
+  CHECK(r.status == 5);
+  j = one_object(r);
+  CHECK(j["termination"] == "unstable_equilibrium");
+  check_no_answer(j);
+  REQUIRE_FALSE(j["methods_run"].empty());
+  CHECK(j["methods_run"][0] == "fast");
+  CHECK(j["method"] == j["methods_run"].back());
+
+  // The Ritz model that cannot reach a tolerance within its modes: it ran; its amplitudes are no
+  // answer, its residual history is the evidence.
+  std::ifstream seed(scene_path("seed_beam_end_moments"));
+  const std::string seed_text((std::istreambuf_iterator<char>(seed)), std::istreambuf_iterator<char>());
+  r = run_cli({"solve",
+               scratch.write("few_modes.toml", seed_text + "tolerance = 1e-12\n[ritz]\nmax_modes = 16\n").string(),
+               "--method", "ritz", "--json"});
+  CHECK(r.status == 3);
+  j = one_object(r);
+  CHECK(j["termination"] == "tolerance_not_reached");
+  check_no_answer(j);
+  CHECK(j["amplitudes"].is_null());
+  CHECK(j["method"] == "ritz");
+  CHECK_FALSE(j["residual_history"].empty());
+
+  // A refusal before solving (the dual form on a member only the foundation holds), and bad input:
+  // the failure object, its answer keys null too.
+  const fs::path free = scratch.write("free.toml", free_beam(100.0, 1.0) + "[solve]\nelements = 10\n");
+  r = run_cli({"solve", free.string(), "--method", "dual", "--json"});
+  CHECK(r.status == 3);
+  j = one_object(r);
+  CHECK(j["termination"] == "refused");
+  check_no_answer(j);
+  r = run_cli({"solve", "/no/such/scene.toml", "--json"});
+  CHECK(r.status == 2);
+  j = one_object(r);
+  check_no_answer(j);
+  CHECK(j["method"].is_null());
+
+  // --method all: the refused dual's object names no method; the answers keep theirs.
+  j = one_object(run_cli({"solve", free.string(), "--json", "--method", "all", "--modes", "8"}));
+  REQUIRE(j["methods"].size() == 4);
+  const nlohmann::json& dual = j["methods"][1];
+  CHECK(dual["method_requested"] == "dual");
+  CHECK(dual["termination"] == "refused");
+  CHECK(dual["method"].is_null());
+  check_no_answer(dual);
+  CHECK(j["methods"][2]["method"] == "fast");
+  CHECK(j["methods"][2]["w_max"].is_number());
+  CHECK_FALSE(j["methods"][2].contains("methods_run"));
 }
 
 TEST_CASE("cli: --method all shows the scene's k and no counters for a refused method", "[app]") {
