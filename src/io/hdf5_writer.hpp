@@ -20,7 +20,7 @@
 //                     <name> and <name>_tolerance (certify/certificate.hpp)
 //   /no_equilibrium_certificate  a Lemke ray's no_equilibrium only: attributes kind ("lemke_ray"),
 //                     formulation, q_dot_ray; dataset ray (io/report.hpp's RayCertificate)
-//   /support_reactions  n x 3: at, force, moment (arches n x 4: + tangential), the user's units
+//   /support_reactions  n x 3: at, force, moment (arches n x 6: + tangential, horizontal, vertical), the user's units
 //   /design           attributes: moment_max, moment_min, shear_max_abs, pressure_max, uplift_max and
 //                     each's <name>_at (NaN: no such point), from_statics, shear_closure,
 //                     moment_closure (io/report.hpp's DesignTable, post/design.hpp)

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "post/ritz_fields.hpp"
 
@@ -38,6 +39,7 @@ SolveReport common_report(const scene::Scene& scene, const model::MemberModel& m
   r.kind = scene.structure.kind;
   r.coordinate_name = model.kind == model::StructureKind::beam ? "x" : "theta_deg";
   r.tensionless = model.tensionless;
+  r.foundation_outside = model.foundation_outside;
   r.k = model.k;
   for (const auto& region : regions)
     r.contact_regions.push_back({model.user_from_s(region.begin), model.user_from_s(region.end)});
@@ -137,6 +139,7 @@ SolveReport make_report(const scene::Scene& scene, const model::MemberModel& mod
     r.scene_text = scene.text;
     r.comparison = scene.compare;
     r.kind = scene.structure.kind;
+    r.foundation_outside = model.foundation_outside;
   }
   r.method = "ritz";
   r.methods_run = {r.method};
@@ -195,12 +198,21 @@ nlohmann::json design_json(const DesignTable& t) {
   return j;
 }
 
+certify::HorizontalVertical user_arch_components(const certify::SupportReaction& reaction, bool outside) {
+  return certify::arch_components(reaction.at * std::numbers::pi / 180.0, reaction.force, reaction.tangential, outside);
+}
+
 nlohmann::json support_reactions_json(const std::vector<certify::SupportReaction>& reactions, bool arch,
-                                      bool von_karman) {
+                                      bool von_karman, bool outside) {
   nlohmann::json all = nlohmann::json::array();
   for (const certify::SupportReaction& s : reactions) {
     nlohmann::json one{{"at", s.at}, {"force", s.force}, {"moment", s.moment}};
-    if (arch) one["tangential"] = s.tangential;
+    if (arch) {
+      one["tangential"] = s.tangential;
+      const certify::HorizontalVertical hv = user_arch_components(s, outside);
+      one["horizontal"] = hv.horizontal;
+      one["vertical"] = hv.vertical;
+    }
     if (von_karman && !arch)
       one["horizontal"] = s.tangential;  // a beam's axial reaction, along +x (arches: `tangential`)
     if (s.spring) one["spring"] = true;  // an elastic support: its springs' force
@@ -231,7 +243,7 @@ nlohmann::json critical_load_json(const StabilityTable& t) {
 
 nlohmann::json report_support_reactions(const SolveReport& r) {
   return support_reactions_json(r.certificate_figures.support_reactions, r.kind == StructureKind::arch,
-                                r.theory == "von_karman");
+                                r.theory == "von_karman", r.foundation_outside);
 }
 
 // {"system", "length", "force", "moment", ...}: the labels (empty strings when none are stated).
@@ -514,6 +526,10 @@ std::string certificate_lines(const SolveReport& r) {
         supports += fmt::format(", horizontal {:.6g}{}", s.tangential, force);
       if (s.moment != 0.0) supports += fmt::format(", moment {:.6g}{}", s.moment, moment);
       if (arch && s.tangential != 0.0) supports += fmt::format(", tangential {:.6g}{}", s.tangential, force);
+      if (arch) {
+        const certify::HorizontalVertical hv = user_arch_components(s, r.foundation_outside);
+        supports += fmt::format(" (H {:.6g}{}, V {:.6g}{})", hv.horizontal, force, hv.vertical, force);
+      }
     }
     out += "  supports      " + supports + "\n";
   }

@@ -74,7 +74,8 @@ struct SolveReport {
   scene::StructureKind kind = scene::StructureKind::beam;
   std::string coordinate_name;  // "x" or "theta_deg"
   bool tensionless = true;
-  double k = 0.0;  // k = K l^4 / EI
+  bool foundation_outside = false;  // arches: [foundation] side = "outside" (how H and V resolve)
+  double k = 0.0;                   // k = K l^4 / EI
   // Beams under an axial force: the acting compressive force N (dead + live at lambda = 1, force
   // units, positive compresses); absent without one.
   std::optional<double> axial_force;
@@ -193,10 +194,14 @@ nlohmann::json to_json(const SolveReport& report);
 // The JSON `design` object of a report (and of a trace step): each value with its `at` (null where
 // there is no such point), from_statics, and the closure when from statics.
 nlohmann::json design_json(const DesignTable& design);
-// The JSON `support_reactions` array: at, force, moment; arches also tangential, von Karman beams
+// An arch support's horizontal and vertical reaction from its reaction in the user's units (at:
+// theta in degrees); `outside`: [foundation] side = "outside".
+certify::HorizontalVertical user_arch_components(const certify::SupportReaction& reaction, bool outside);
+// The JSON `support_reactions` array: at, force, moment; arches also tangential, horizontal and
+// vertical (certify::arch_components; `outside`: [foundation] side = "outside"), von Karman beams
 // horizontal (the axial reaction along +x); spring and settlement where they apply.
 nlohmann::json support_reactions_json(const std::vector<certify::SupportReaction>& reactions, bool arch,
-                                      bool von_karman);
+                                      bool von_karman, bool outside = false);
 // The CSV columns of the design values: moment_max,at_moment_max,moment_min,at_moment_min,
 // shear_max_abs,at_shear_max_abs,pressure_max,at_pressure_max,uplift_max,at_uplift_max (the header
 // without a trailing comma), and a row's (empty cells without a table; `at` empty where none).

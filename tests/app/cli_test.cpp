@@ -450,6 +450,53 @@ TEST_CASE("cli: a failure's JSON has null for every answer field and names only 
   CHECK_FALSE(j["methods"][2].contains("methods_run"));
 }
 
+// Arch supports resolved horizontally and vertically: the supports' V and the foundation carry the
+// vertical load, the H and the foundation the horizontal one, and a symmetric arch's two H are
+// equal and opposite. The certificate's force balance (certify/README.md) accepts an imbalance up
+// to its round-off tolerance; H and V are a rotation of the same reactions, so they balance within
+// it too (a wrong sign or angle would be off by the reactions themselves).
+TEST_CASE("cli: arch support reactions as H and V balance the loads; a symmetric arch's thrusts are opposite",
+          "[app][design]") {
+  // The pinned seed arch (foundation inside, a crown load) and the buried culvert (side = "outside",
+  // gravity and cover; its hand calculation: the footings carry 246.9 kN/m, 5.2 kN/m more than the
+  // loads, and the thrust is below the 47.6 kN of the arch without fill).
+  for (const std::string scene :
+       {scene_path("seed_arch_pinned"),
+        std::string(LIFTOFF_SOURCE_DIR) + "/verification/scenes/engineering/buried_arch_gravity.toml"}) {
+    CAPTURE(scene);
+    const Run r = run_cli({"solve", scene, "--json"});
+    REQUIRE(r.status == 0);
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    const nlohmann::json& c = j["certificate"];
+    double tolerance = 0.0;
+    for (const auto& check : c["checks"])
+      if (check["name"] == "force_balance_x" || check["name"] == "force_balance_y")
+        tolerance = std::max(tolerance, check["tolerance"].get<double>());
+    REQUIRE(tolerance > 0.0);
+    const nlohmann::json& supports = j["support_reactions"];
+    REQUIRE(supports.size() == 2);
+    double sum_h = 0.0, sum_v = 0.0;
+    for (const auto& s : supports) {
+      sum_h += s["horizontal"].get<double>();
+      sum_v += s["vertical"].get<double>();
+    }
+    const double applied = c["applied_force"].get<double>();  // downward: toward the inside at the crown
+    CHECK(std::abs(sum_v - (applied - c["foundation_resultant"].get<double>())) <= tolerance * std::abs(applied));
+    CHECK(std::abs(sum_h - (c["applied_force_x"].get<double>() - c["foundation_resultant_x"].get<double>())) <=
+          tolerance * std::abs(applied));
+    const double left = supports[0]["horizontal"].get<double>(), right = supports[1]["horizontal"].get<double>();
+    CHECK(left > 0.0);  // the left support pushes the arch to the right: a thrust
+    CHECK(std::abs(left + right) <= tolerance * left);
+    CHECK(std::abs(supports[0]["vertical"].get<double>() - supports[1]["vertical"].get<double>()) <=
+          tolerance * std::abs(sum_v));
+    CHECK_THAT(run_cli({"solve", scene}).out, Catch::Matchers::Contains("(H "));
+    if (scene.find("buried") != std::string::npos) {
+      CHECK(sum_v == Approx(246.9e3).epsilon(5e-4));  // the scene's figure, to its four digits
+      CHECK(left < 47.6e3);
+    }
+  }
+}
+
 TEST_CASE("cli: --method all shows the scene's k and no counters for a refused method", "[app]") {
   Scratch scratch;
   // Primal is listed first; with k known only from the methods that ran, a refused first column
