@@ -497,6 +497,58 @@ TEST_CASE("cli: arch support reactions as H and V balance the loads; a symmetric
   }
 }
 
+namespace {
+// Every key of a JSON value, objects' and those of the first element of each array, with its path.
+void collect_keys(const nlohmann::json& j, const std::string& path, std::vector<std::string>& out) {
+  if (j.is_object()) {
+    for (const auto& [key, value] : j.items()) {
+      out.push_back(path + "." + key);
+      collect_keys(value, path + "." + key, out);
+    }
+  } else if (j.is_array() && !j.empty()) {
+    collect_keys(j.front(), path + "[]", out);
+  }
+}
+}  // namespace
+
+// The output reference lists every field the JSON writers emit: each key of a solve (an arch, a
+// beam-column, a tolerance, the Ritz model, a failure) and of a trace must be named, as `key` or
+// "key", in src/io/README.md or the documents it defers to (the certificate's, the trace's).
+TEST_CASE("cli: every JSON output field is named in the output reference", "[app][json]") {
+  std::string reference;
+  for (const char* doc : {"/src/io/README.md", "/src/certify/README.md", "/continuation/README.md"}) {
+    std::ifstream in(std::string(LIFTOFF_SOURCE_DIR) + doc);
+    REQUIRE(in.good());
+    reference += std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  }
+  const std::string engineering = std::string(LIFTOFF_SOURCE_DIR) + "/verification/scenes/";
+  Scratch scratch;
+  const fs::path lift = scratch.write("lift.toml", free_beam(100.0, -1.0) + "[solve]\nelements = 10\n");
+  const std::vector<std::vector<std::string>> runs = {
+      {"solve", "--json"},
+      {"solve", engineering + "axial/pinned_strut_one_sided.toml", "--json"},
+      {"solve", scene_path("seed_beam_end_moments"), "--json", "--tolerance", "1e-6"},
+      {"solve", scene_path("seed_beam_end_moments"), "--json", "--method", "ritz"},
+      {"solve", lift.string(), "--json"},
+      {"trace", std::string(LIFTOFF_SOURCE_DIR) + "/continuation/scenes/arch_culvert.toml", "--json"}};
+  for (const std::vector<std::string>& args : runs) {
+    CAPTURE(args);
+    const Run r = run_cli(args);
+    std::vector<std::string> keys;
+    collect_keys(nlohmann::json::parse(r.out), "", keys);
+    CHECK(keys.size() > 10);
+    std::vector<std::string> missing;
+    for (const std::string& path : keys) {
+      const std::string key = path.substr(path.rfind('.') + 1);
+      if (reference.find("`" + key + "`") == std::string::npos &&
+          reference.find("\"" + key + "\"") == std::string::npos)
+        missing.push_back(path);
+    }
+    CAPTURE(missing);
+    CHECK(missing.empty());
+  }
+}
+
 TEST_CASE("cli: --method all shows the scene's k and no counters for a refused method", "[app]") {
   Scratch scratch;
   // Primal is listed first; with k known only from the methods that ran, a refused first column
