@@ -77,6 +77,7 @@ void add_problem_options(CLI::App* command, ProblemArguments& args) {
 struct RunContext {
   std::string scene;                            // the scene's name, as in every message (empty: unknown)
   std::optional<std::string> method_requested;  // --method, else the scene's; unknown before the scene is read
+  bool solve = false;                           // `liftoff solve`: the object carries the answer's keys, null
 };
 
 // The failure object of --json: one on stdout for every run that gives no answer, whatever the
@@ -89,6 +90,15 @@ nlohmann::json failure_json(const RunContext& context, const std::string& termin
   j["termination"] = termination;
   j["message"] = message;
   j["exit_code"] = code(exit_code);
+  if (context.solve) {  // no answer: its keys null, as in a report without one (io/report.hpp)
+    for (const char* key : io::answer_keys) j[key] = nullptr;
+    // Bad input: no solver ran. An error thrown later may come after one (the Ritz start's FE
+    // solve, an answer whose file could not be written): which ran is not known, so not said.
+    if (termination == "bad_input") {
+      j["method"] = nullptr;
+      j["methods_run"] = nlohmann::json::array();
+    }
+  }
   return j;
 }
 
@@ -677,6 +687,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
                                         : *trace_command ? &trace.problem
                                         : *sweep_command ? &sweep.problem
                                                          : nullptr;
+      context.solve = static_cast<bool>(*solve_command);
       if (problem != nullptr) {
         context.scene = problem->scene_path;
         if (!problem->method.empty()) context.method_requested = problem->method;
@@ -692,6 +703,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
                                                         : trace.problem;
   context.scene = problem.scene_path.empty() ? std::string(default_scene_name) : problem.scene_path;
   if (!problem.method.empty()) context.method_requested = problem.method;
+  context.solve = static_cast<bool>(*solve_command);
   const bool json = (*solve_command && solve.json) || (*trace_command && trace.json);
   const auto fail = [&](const std::string& termination, const std::string& message, ExitCode status) {
     err << "liftoff: " << message << "\n";

@@ -55,15 +55,18 @@ struct FeResult {
   fe::Discretisation discretisation;
   contact::ContactSolution solution;
   std::vector<ContactRegion> regions;
+  bool solver_ran = true;  // false: the resultant check decided before any solver (contact_answer)
 };
 
 // The answer of one formulation on a discretisation: no_equilibrium at once when the resultant
 // cannot be balanced by compressive foundation reactions (certify/resultant_check.hpp), else the
-// contact solve. Throws SolverFailure (a refused formulation) with the scene's name.
+// contact solve (`solver_ran` says which). Throws SolverFailure (a refused formulation) with the
+// scene's name.
 contact::ContactSolution contact_answer(const scene::Scene& scene, const model::MemberModel& model,
                                         const fe::Discretisation& d, Method method,
-                                        std::vector<bool> initial_contact = {}) {
+                                        std::vector<bool> initial_contact = {}, bool* solver_ran = nullptr) {
   const certify::ResultantCheck resultant = certify::check_resultant(model, d);
+  if (solver_ran != nullptr) *solver_ran = resultant.balanced;
   if (!resultant.balanced) {
     contact::ContactSolution none;
     none.displacement = Eigen::VectorXd::Zero(d.dofs());
@@ -107,8 +110,8 @@ FeResult solve_fe(const scene::Scene& scene, const model::MemberModel& model, Me
                   const std::optional<std::vector<ContactRegion>>& warm_start = std::nullopt) {
   FeResult fe;
   fe.discretisation = discretise(scene, model, elements);
-  fe.solution =
-      contact_answer(scene, model, fe.discretisation, method, warm_start_set(model, fe.discretisation, warm_start));
+  fe.solution = contact_answer(scene, model, fe.discretisation, method,
+                               warm_start_set(model, fe.discretisation, warm_start), &fe.solver_ran);
   fe.regions = post::contact_regions(model, fe.discretisation, fe.solution.displacement);
   return fe;
 }
@@ -268,6 +271,8 @@ io::SolveReport fe_report(const scene::Scene& scene, Method method, const SolveR
   // The certificate; a failed one means a fallback, or a failure that names the check.
   std::optional<certify::Certificate> certificate;
   std::string fallback_reason;
+  std::vector<std::string> methods_run;
+  if (fe.solver_ran) methods_run = io::methods_run(fe.solution.summary);
   if (fe.solution.summary.is_usable()) {
     certificate = certify::certify(model, d, fe.solution);
     if (!certificate->passed) {
@@ -282,6 +287,7 @@ io::SolveReport fe_report(const scene::Scene& scene, Method method, const SolveR
       if (fallback) {
         try {
           contact::ContactSolution second = contact_answer(scene, model, d, *fallback);
+          for (std::string& m : io::methods_run(second.summary)) methods_run.push_back(std::move(m));
           if (second.summary.is_usable()) {
             certify::Certificate second_certificate = certify::certify(model, d, second);
             if (second_certificate.passed) {
@@ -316,6 +322,7 @@ io::SolveReport fe_report(const scene::Scene& scene, Method method, const SolveR
   const std::optional<post::DesignValues> design =
       certified ? design_values(model, d, fe.solution, *certificate, fields) : std::nullopt;
   io::SolveReport report = io::make_report(scene, model, d, fe.solution, fields, fe.regions);
+  report.methods_run = methods_run;
   if (design) io::attach_design(report, *design, model);
   if (!certificate || certified) attach_critical_load(report, model, d, fe.solution);
   report.method_requested = std::string(to_string(method));
@@ -380,6 +387,7 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   const contact::ContactSummary& first = node_based.solution.summary;
   if (!first.is_usable()) {
     io::SolveReport r = io::make_report(scene, model, d0, node_based.solution, post::Fields{}, node_based.regions);
+    if (!node_based.solver_ran) r.methods_run.clear();
     r.method_requested = std::string(to_string(method));
     r.tolerance = tolerance;
     r.message = fmt::format("the node-based {} solve on {} elements that gives the contact topology failed: {}",
@@ -423,6 +431,7 @@ io::SolveReport fitted_report(const scene::Scene& scene, Method method, const So
   if (!refined.summary.is_usable()) {
     io::SolveReport r =
         refused_report(scene, model, first.method, "tolerance_not_reached", "refused: " + refined.summary.message);
+    r.methods_run = {r.method};  // the node-based solve ran; the limit-fitted solves did not reach the tolerance
     r.method_requested = std::string(to_string(method));
     r.method_reason = how;
     add_accuracy(r);

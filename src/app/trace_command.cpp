@@ -40,7 +40,7 @@ const scene::TraceSettings& trace_settings(const scene::Scene& scene) {
     throw InputError(fmt::format("{}{}: key 'trace.lambda_max': missing (expected a number > lambda_min = {})",
                                  scene.source_name, t.line > 0 ? fmt::format(":{}", t.line) : "", t.lambda_min));
   // A free load case (for [[combinations]]) has no place in F_dead + lambda F_live: refused, not
-  // guessed (README, "Load cases").
+  // guessed (src/scene/README.md, `[[loads]]` key `case`).
   for (std::size_t i = 0; i < scene.loads.size(); ++i)
     if (scene.loads[i].case_name != "dead" && scene.loads[i].case_name != "live")
       throw InputError(fmt::format(
@@ -157,6 +157,7 @@ nlohmann::json to_json(const EventComparison& c) {
 struct JsonStyle {
   bool arch = false, von_karman = false;
   std::optional<continuation::PhysicalLoad> load;
+  bool foundation_outside = false;
 };
 
 nlohmann::json to_json(const TraceStep& s, const JsonStyle& style) {
@@ -172,7 +173,7 @@ nlohmann::json to_json(const TraceStep& s, const JsonStyle& style) {
             {"stability", continuation::to_string(s.stability)},
             {"requested", s.requested}});
   if (s.design) j["design"] = io::design_json(*s.design);
-  j["supports"] = io::support_reactions_json(s.supports, style.arch, style.von_karman);
+  j["supports"] = io::support_reactions_json(s.supports, style.arch, style.von_karman, style.foundation_outside);
   return j;
 }
 
@@ -402,6 +403,7 @@ TraceOutcome run_trace(const scene::Scene& scene, const TraceRequest& request, c
   outcome.arch = scene.structure.kind == scene::StructureKind::arch;
   outcome.von_karman = scene.structure.theory == scene::Theory::von_karman;
   const model::MemberModel member = model::make_member_model(scene);
+  outcome.foundation_outside = member.foundation_outside;
   // The foundation's scale (no mesh resolution here: the paths choose their own meshes).
   for (std::string& w : post::scale_warnings(scene, member, post::scale_figures(member)))
     outcome.warnings.push_back(std::move(w));
@@ -531,11 +533,12 @@ nlohmann::json to_json(const TraceOutcome& outcome) {
   // The first path's events and steps at the top level: what a single-path trace is about.
   if (!outcome.paths.empty()) {
     const nlohmann::json first =
-        to_json(outcome.paths.front(), JsonStyle{outcome.arch, outcome.von_karman, outcome.physical_load});
+        to_json(outcome.paths.front(),
+                JsonStyle{outcome.arch, outcome.von_karman, outcome.physical_load, outcome.foundation_outside});
     for (const char* key : {"path", "termination", "message", "final_lambda", "events", "steps"}) j[key] = first[key];
   }
   j["paths"] = nlohmann::json::array();
-  const JsonStyle style{outcome.arch, outcome.von_karman, outcome.physical_load};
+  const JsonStyle style{outcome.arch, outcome.von_karman, outcome.physical_load, outcome.foundation_outside};
   for (const PathTrace& p : outcome.paths) j["paths"].push_back(to_json(p, style));
   if (outcome.comparison) j["comparison"] = to_json(*outcome.comparison);
   if (outcome.discretisation_error) j["discretisation_error"] = to_json(*outcome.discretisation_error);

@@ -93,6 +93,7 @@ struct TraceOutcome {
   std::string no_physical_load;
   std::vector<double> report_at;          // the load factors asked for (TraceOptions::report_at)
   bool arch = false, von_karman = false;  // how the support reactions read (io::support_reactions_json)
+  bool foundation_outside = false;        // arches: [foundation] side = "outside"
   std::vector<std::string> warnings;      // the scene reader's and the foundation scale's (post/scale.hpp)
   bool usable() const;                    // every path reached lambda_max
 };

@@ -3,6 +3,8 @@
 // Plain data, so that the results that carry it (a trace's steps, continuation/result.hpp) need
 // nothing else of the certificate.
 
+#include <cmath>
+
 namespace liftoff::certify {
 
 // Nondimensional in a Certificate (force in EI/l^2, moment in EI/l, at in s); in the user's units
@@ -16,5 +18,18 @@ struct SupportReaction {
   double settlement = 0.0;  // the support's (or its spring's far end's) prescribed w, in l
   bool operator==(const SupportReaction&) const = default;
 };
+
+// An arch support's reaction as the engineer resolves it: horizontal (H > 0 to the right, the
+// thrust) and vertical (V > 0 upward). At theta (radians from the crown, the centre below it) the
+// tangent toward increasing theta is t = (cos theta, -sin theta) and `force` pushes against w > 0:
+// along (sin theta, cos theta) with the foundation inside (w > 0 toward the centre), the opposite
+// with it outside. Units as the force's.
+struct HorizontalVertical {
+  double horizontal = 0.0, vertical = 0.0;
+};
+inline HorizontalVertical arch_components(double theta, double force, double tangential, bool foundation_outside) {
+  const double away = foundation_outside ? -force : force;
+  return {away * std::sin(theta) + tangential * std::cos(theta), away * std::cos(theta) - tangential * std::sin(theta)};
+}
 
 }  // namespace liftoff::certify

@@ -19,7 +19,8 @@
 // its entries (integers and +-2/h for beams, identical in every element of a segment) are exact
 // data of a nearby mesh. The bilateral seed beam's nodal error against the closed form, with the
 // K form and with this one: 2.7e-9 and 1.2e-15 at 1e4 elements, 0.75 and 1.2e-15 at 1e5, and
-// 1.2e-15 still at 1e6 (verification/bench/accuracy_bench.cpp roundoff; arches: README).
+// 1.2e-15 still at 1e6 (verification/bench/accuracy_bench.cpp roundoff; arches:
+// src/README.md, "Mesh size and round-off").
 //
 // The mixed matrix is indefinite with a zero block, so it is factorised by LU with partial
 // pivoting (linalg/banded_lu.hpp) after symmetric equilibration, with the unknowns numbered

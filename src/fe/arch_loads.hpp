@@ -1,7 +1,7 @@
 #pragma once
 // Loads on a circular arch in any direction, as work-equivalent (consistent) nodal forces.
 //
-// Geometry (README "Arch"): theta = 0 at the crown, the centre of curvature below it, theta
+// Geometry (src/README.md, "The model", Arch): theta = 0 at the crown, the centre of curvature below it, theta
 // increasing to the right. The point at theta sits at R (sin theta, cos theta) from the centre
 // (x to the right, y up); the unit tangent toward increasing theta is t = (cos theta, -sin theta)
 // and the inward normal n = -(sin theta, cos theta). A load of unit value is the force vector

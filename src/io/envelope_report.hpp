@@ -64,7 +64,7 @@ struct EnvelopeReport {
 
 nlohmann::json to_json(const EnvelopeReport& report);
 std::string text_summary(const EnvelopeReport& report);
-// Layout (README, "liftoff envelope"): root attributes kind = "envelope", liftoff_version,
+// Layout (src/io/README.md, "`liftoff envelope`"): root attributes kind = "envelope", liftoff_version,
 // scene_name, coordinate, sign_convention, complete, warm_start, units_system and units_<name>
 // (as in a solve file); /scene (TOML text);
 // /envelope/{coordinate, w_max, w_min, pressure_max, pressure_min, moment_max, moment_min,

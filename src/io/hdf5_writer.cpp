@@ -38,7 +38,8 @@ void write_table(hid_t file, const char* group_name, const FieldTable& t) {
 }
 
 // /certificate (attributes: passed, message, the resultants, <check> and <check>_tolerance per
-// check) and /support_reactions (rows at, force, moment; arches also tangential).
+// check) and /support_reactions (rows at, force, moment; arches also tangential, horizontal,
+// vertical).
 void write_certificate(hid_t file, const SolveReport& r) {
   const certify::Certificate& c = *r.certificate;
   const certify::UserFigures& u = r.certificate_figures;
@@ -57,14 +58,19 @@ void write_certificate(hid_t file, const SolveReport& r) {
     write_number_attribute(group, check.name, check.value);
     write_number_attribute(group, check.name + "_tolerance", check.tolerance);
   }
-  // Arches: the tangential reaction; von Karman beams: the horizontal (axial) one, along +x.
-  const bool fourth = r.kind == scene::StructureKind::arch || r.theory == "von_karman";
+  // Arches: the tangential reaction, then horizontal and vertical; von Karman beams: the
+  // horizontal (axial) one, along +x.
+  const bool arch = r.kind == scene::StructureKind::arch, fourth = arch || r.theory == "von_karman";
   std::vector<double> rows;
   for (const certify::SupportReaction& s : u.support_reactions) {
     rows.insert(rows.end(), {s.at, s.force, s.moment});
     if (fourth) rows.push_back(s.tangential);
+    if (arch) {
+      const certify::HorizontalVertical hv = user_arch_components(s, r.foundation_outside);
+      rows.insert(rows.end(), {hv.horizontal, hv.vertical});
+    }
   }
-  write_array(file, "support_reactions", rows, fourth ? 4 : 3);
+  write_array(file, "support_reactions", rows, arch ? 6 : fourth ? 4 : 3);
 }
 
 // /design (attributes: <name> and <name>_at for moment_max, moment_min, shear_max_abs,

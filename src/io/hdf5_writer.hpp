@@ -2,7 +2,7 @@
 // The one place that talks to HDF5. A result file is written under a temporary name and
 // renamed when complete, so a failed run never leaves a half-written file (OutputError).
 //
-// Layout (README, "Output"):
+// Layout (src/io/README.md, "`liftoff solve`", HDF5):
 //   /                 attributes: liftoff_version, scene_name, structure, method, method_requested,
 //                     termination, message, coordinate, sign_convention, tensionless, k
 //   /scene            the scene's TOML text
@@ -20,7 +20,7 @@
 //                     <name> and <name>_tolerance (certify/certificate.hpp)
 //   /no_equilibrium_certificate  a Lemke ray's no_equilibrium only: attributes kind ("lemke_ray"),
 //                     formulation, q_dot_ray; dataset ray (io/report.hpp's RayCertificate)
-//   /support_reactions  n x 3: at, force, moment (arches n x 4: + tangential), the user's units
+//   /support_reactions  n x 3: at, force, moment (arches n x 6: + tangential, horizontal, vertical), the user's units
 //   /design           attributes: moment_max, moment_min, shear_max_abs, pressure_max, uplift_max and
 //                     each's <name>_at (NaN: no such point), from_statics, shear_closure,
 //                     moment_closure (io/report.hpp's DesignTable, post/design.hpp)

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "post/ritz_fields.hpp"
 
@@ -38,6 +39,7 @@ SolveReport common_report(const scene::Scene& scene, const model::MemberModel& m
   r.kind = scene.structure.kind;
   r.coordinate_name = model.kind == model::StructureKind::beam ? "x" : "theta_deg";
   r.tensionless = model.tensionless;
+  r.foundation_outside = model.foundation_outside;
   r.k = model.k;
   for (const auto& region : regions)
     r.contact_regions.push_back({model.user_from_s(region.begin), model.user_from_s(region.end)});
@@ -57,12 +59,22 @@ SolveReport common_report(const scene::Scene& scene, const model::MemberModel& m
 
 }  // namespace
 
+std::vector<std::string> methods_run(const contact::ContactSummary& summary) {
+  // The fast solver's count of contact sets under a Lemke method: fast ran first and fell back
+  // inside the solver (contact/contact_solver.cpp).
+  std::vector<std::string> run;
+  if (summary.method != contact::Method::fast && summary.iterations >= 0) run.emplace_back("fast");
+  run.emplace_back(contact::to_string(summary.method));
+  return run;
+}
+
 SolveReport make_report(const scene::Scene& scene, const model::MemberModel& model, const fe::Discretisation& d,
                         const contact::ContactSolution& solution, const post::Fields& fields,
                         const std::vector<ContactRegion>& regions) {
   SolveReport r = common_report(scene, model, fields, regions);
   const contact::ContactSummary& summary = solution.summary;
   r.method = contact::to_string(summary.method);
+  r.methods_run = methods_run(summary);
   r.method_reason = summary.method_reason;
   r.termination = contact::to_string(summary.termination);
   r.message = summary.message;
@@ -127,8 +139,10 @@ SolveReport make_report(const scene::Scene& scene, const model::MemberModel& mod
     r.scene_text = scene.text;
     r.comparison = scene.compare;
     r.kind = scene.structure.kind;
+    r.foundation_outside = model.foundation_outside;
   }
   r.method = "ritz";
+  r.methods_run = {r.method};
   r.termination = ritz::to_string(summary.termination);
   r.message = summary.message;
   r.usable = summary.is_usable();
@@ -184,12 +198,21 @@ nlohmann::json design_json(const DesignTable& t) {
   return j;
 }
 
+certify::HorizontalVertical user_arch_components(const certify::SupportReaction& reaction, bool outside) {
+  return certify::arch_components(reaction.at * std::numbers::pi / 180.0, reaction.force, reaction.tangential, outside);
+}
+
 nlohmann::json support_reactions_json(const std::vector<certify::SupportReaction>& reactions, bool arch,
-                                      bool von_karman) {
+                                      bool von_karman, bool outside) {
   nlohmann::json all = nlohmann::json::array();
   for (const certify::SupportReaction& s : reactions) {
     nlohmann::json one{{"at", s.at}, {"force", s.force}, {"moment", s.moment}};
-    if (arch) one["tangential"] = s.tangential;
+    if (arch) {
+      one["tangential"] = s.tangential;
+      const certify::HorizontalVertical hv = user_arch_components(s, outside);
+      one["horizontal"] = hv.horizontal;
+      one["vertical"] = hv.vertical;
+    }
     if (von_karman && !arch)
       one["horizontal"] = s.tangential;  // a beam's axial reaction, along +x (arches: `tangential`)
     if (s.spring) one["spring"] = true;  // an elastic support: its springs' force
@@ -220,7 +243,7 @@ nlohmann::json critical_load_json(const StabilityTable& t) {
 
 nlohmann::json report_support_reactions(const SolveReport& r) {
   return support_reactions_json(r.certificate_figures.support_reactions, r.kind == StructureKind::arch,
-                                r.theory == "von_karman");
+                                r.theory == "von_karman", r.foundation_outside);
 }
 
 // {"system", "length", "force", "moment", ...}: the labels (empty strings when none are stated).
@@ -288,6 +311,23 @@ nlohmann::json units_json(const scene::Units& units) {
   for (const auto& [name, label] : scene::unit_labels(units)) j[name] = label;
   return j;
 }
+
+namespace {
+// A report without an answer: every answer field null, so that a script cannot take a failed or
+// refused solve's figures (zeros, a residual of -1, a state that failed its certificate) for a
+// result, and `method` names a solver only if one ran, with the whole list in `methods_run`. The
+// evidence of the failure stays: termination, message, the certificate, the ray, the stability,
+// the residual history, the counters of the solvers that ran (the -1 of one that did not: null).
+void without_answer(nlohmann::json& j, const SolveReport& r) {
+  for (const char* key : answer_keys) j[key] = nullptr;
+  for (const char* key : {"support_reactions", "foundation_resultant", "amplitudes", "membrane_force", "u"})
+    if (j.contains(key)) j[key] = nullptr;
+  for (const char* key : {"pivots", "lcp_size", "modes", "newton_iterations"})
+    if (j.contains(key) && j[key].is_number_integer() && j[key].get<int>() < 0) j[key] = nullptr;
+  j["method"] = r.methods_run.empty() ? nlohmann::json() : nlohmann::json(r.methods_run.back());
+  j["methods_run"] = r.methods_run;
+}
+}  // namespace
 
 nlohmann::json to_json(const SolveReport& r) {
   nlohmann::json j;
@@ -373,6 +413,7 @@ nlohmann::json to_json(const SolveReport& r) {
   j["units"] = units_json(r.units);
   if (r.scale) j["scale"] = scale_json(*r.scale);
   j["warnings"] = r.warnings;
+  if (!r.usable) without_answer(j, r);
   return j;
 }
 
@@ -485,6 +526,10 @@ std::string certificate_lines(const SolveReport& r) {
         supports += fmt::format(", horizontal {:.6g}{}", s.tangential, force);
       if (s.moment != 0.0) supports += fmt::format(", moment {:.6g}{}", s.moment, moment);
       if (arch && s.tangential != 0.0) supports += fmt::format(", tangential {:.6g}{}", s.tangential, force);
+      if (arch) {
+        const certify::HorizontalVertical hv = user_arch_components(s, r.foundation_outside);
+        supports += fmt::format(" (H {:.6g}{}, V {:.6g}{})", hv.horizontal, force, hv.vertical, force);
+      }
     }
     out += "  supports      " + supports + "\n";
   }

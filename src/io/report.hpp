@@ -74,7 +74,8 @@ struct SolveReport {
   scene::StructureKind kind = scene::StructureKind::beam;
   std::string coordinate_name;  // "x" or "theta_deg"
   bool tensionless = true;
-  double k = 0.0;  // k = K l^4 / EI
+  bool foundation_outside = false;  // arches: [foundation] side = "outside" (how H and V resolve)
+  double k = 0.0;                   // k = K l^4 / EI
   // Beams under an axial force: the acting compressive force N (dead + live at lambda = 1, force
   // units, positive compresses); absent without one.
   std::optional<double> axial_force;
@@ -98,6 +99,10 @@ struct SolveReport {
   std::string method;            // the formulation that produced the answer: "dual", "primal", "fast", "ritz"
   std::string method_requested;  // what the user asked for: "auto", "dual", ... (keys --method all, sweeps)
   std::string method_reason;     // why (auto, a fallback), or how the Ritz topology was found
+  // The solvers that ran, in order: the formulation, then a fallback after a failed certificate.
+  // Empty when none ran (the resultant check's no_equilibrium, a refusal before solving), so a
+  // failure's JSON names only these (`method` the last of them, else null).
+  std::vector<std::string> methods_run;
   SolveOutcome outcome = SolveOutcome::ran;
   std::string termination;  // the solver's own termination name ("refused" when refused)
   std::string message;      // in words
@@ -167,20 +172,36 @@ void attach_certificate(SolveReport& report, const certify::Certificate& certifi
 // Stores the design values in the report, converted to the user's units.
 void attach_design(SolveReport& report, const post::DesignValues& design, const model::MemberModel& model);
 
+// The formulations a contact solve ran, in order: its method, after fast where the contact solver
+// fell back from fast to Lemke itself.
+std::vector<std::string> methods_run(const contact::ContactSummary& summary);
 SolveReport make_report(const scene::Scene& scene, const model::MemberModel& model, const fe::Discretisation& d,
                         const contact::ContactSolution& solution, const post::Fields& fields,
                         const std::vector<ContactRegion>& regions);
 SolveReport make_report(const scene::Scene& scene, const model::MemberModel& model, const ritz::RitzSolution& solution,
                         int samples);
 
+// The answer's keys in a solve's JSON that every object carries: null in a report without an
+// answer and in the failure object of `liftoff solve --json`.
+inline constexpr std::array<const char*, 7> answer_keys = {"contact_regions", "w_max",        "at_w_max", "w_min",
+                                                           "at_w_min",        "max_reaction", "residual"};
+
+// An answer's JSON; a report without one (usable false) has null for every answer field
+// (contact_regions, the extremes, max_reaction, residual, support_reactions, foundation_resultant,
+// amplitudes, membrane_force, u) and `method` null unless a solver ran (src/io/README.md,
+// "Failure object").
 nlohmann::json to_json(const SolveReport& report);
 // The JSON `design` object of a report (and of a trace step): each value with its `at` (null where
 // there is no such point), from_statics, and the closure when from statics.
 nlohmann::json design_json(const DesignTable& design);
-// The JSON `support_reactions` array: at, force, moment; arches also tangential, von Karman beams
+// An arch support's horizontal and vertical reaction from its reaction in the user's units (at:
+// theta in degrees); `outside`: [foundation] side = "outside".
+certify::HorizontalVertical user_arch_components(const certify::SupportReaction& reaction, bool outside);
+// The JSON `support_reactions` array: at, force, moment; arches also tangential, horizontal and
+// vertical (certify::arch_components; `outside`: [foundation] side = "outside"), von Karman beams
 // horizontal (the axial reaction along +x); spring and settlement where they apply.
 nlohmann::json support_reactions_json(const std::vector<certify::SupportReaction>& reactions, bool arch,
-                                      bool von_karman);
+                                      bool von_karman, bool outside = false);
 // The CSV columns of the design values: moment_max,at_moment_max,moment_min,at_moment_min,
 // shear_max_abs,at_shear_max_abs,pressure_max,at_pressure_max,uplift_max,at_uplift_max (the header
 // without a trailing comma), and a row's (empty cells without a table; `at` empty where none).

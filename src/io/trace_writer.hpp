@@ -13,7 +13,7 @@
 // take the whole copy with more steps; the backup is removed when the writer closes normally.
 // Rows of a step that was being written when the run stopped are dropped on reading back.
 //
-// Layout (README, "liftoff trace"):
+// Layout (src/io/README.md, "`liftoff trace`"):
 //   /                attributes: liftoff_version, scene_name, coordinate, sign_convention,
 //                    options (JSON), paths ("fe", "ritz" or "fe,ritz"), complete (0 until the
 //                    last path ends), units_<name> (TraceFileInfo::units), and where the live load

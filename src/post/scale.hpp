@@ -44,7 +44,7 @@ struct ScaleFigures {
 // The figures of the model's foundation; `mesh_nodes` (s, ascending) adds beta h (empty: none).
 ScaleFigures scale_figures(const model::MemberModel& model, const std::vector<double>& mesh_nodes = {});
 
-// Thresholds of the warnings (README, "Scale and warnings").
+// Thresholds of the warnings (src/scene/README.md, "Scale and warnings").
 inline constexpr double rigid_beta_length = 0.1;      // beta L below: practically rigid
 inline constexpr double long_beta_length = 20.0;      // beta L above: suspicious if k looks like K
 inline constexpr double unresolved_beta_h = 1.0;      // beta h above: the mesh misses 1/beta

@@ -24,45 +24,12 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "scene/schema.hpp"
 
 namespace liftoff::scene {
 namespace {
 
 constexpr double inf = std::numeric_limits<double>::infinity();
-
-// ---------------------------------------------------------------------------------------------
-// The schema: every table a scene may hold and the keys of each. Anything not listed here is an
-// error, so a typo is never ignored. Adding a table or a key is one line here (plus the code
-// below that reads it).
-struct TableSpec {
-  std::string_view name;
-  bool array_of_tables;  // [[loads]] rather than [structure]
-  std::vector<std::string_view> keys;
-};
-
-const std::vector<TableSpec>& schema() {
-  static const std::vector<TableSpec> tables = {
-      {"structure", false, {"kind", "length", "radius", "half_angle_deg", "EI", "EA", "theory"}},
-      {"supports", false, {"left", "right", "interior"}},
-      {"foundation",
-       false,
-       {"nondimensional_k", "modulus", "tensionless", "from", "to", "segments", "side", "gap", "gap_file",
-        "tension_modulus", "tension_nondimensional_k", "k", "tension_k"}},
-      {"loads", true, {"kind", "at", "value", "from", "to", "case", "direction", "per", "alpha", "n"}},
-      {"geometry", false, {"initial_shape"}},
-      {"solve", false, {"method", "elements", "tolerance"}},
-      {"ritz", false, {"modes", "max_modes", "mode_tolerance", "topology", "limits"}},
-      {"trace",
-       false,
-       {"lambda_max", "lambda_min", "method", "control", "initial_step", "min_step", "max_step", "max_steps", "monitor",
-        "samples", "refine", "max_amplitude", "switch_branch", "report_at"}},
-      {"compare", false, {"source", "contact_half_angle_deg"}},
-      {"units", false, {"system", "length", "force"}},
-      {"combinations", true, {"name", "factors"}},
-      {"moving", false, {"loads", "from", "to", "step", "positions", "case"}},
-  };
-  return tables;
-}
 
 std::string header(const TableSpec& spec) {
   return spec.array_of_tables ? fmt::format("[[{}]]", spec.name) : fmt::format("[{}]", spec.name);
@@ -425,14 +392,14 @@ class Section {
 void check_schema(const Section& root, const std::string& source) {
   std::vector<std::string_view> table_names;
   std::vector<std::string> headers;
-  for (const TableSpec& spec : schema()) {
+  for (const TableSpec& spec : top_level_tables()) {
     table_names.push_back(spec.name);
     headers.push_back(header(spec));
   }
   for (const auto& [key, node] : root.table()) {
-    const auto spec =
-        std::find_if(schema().begin(), schema().end(), [&](const TableSpec& s) { return s.name == key.str(); });
-    if (spec == schema().end()) {
+    const auto spec = std::find_if(top_level_tables().begin(), top_level_tables().end(),
+                                   [&](const TableSpec& s) { return s.name == key.str(); });
+    if (spec == top_level_tables().end()) {
       fail(source, &key.source(), key.str(),
            fmt::format("unknown {}{}; the tables of a scene are {}", node.is_table() ? "table" : "key",
                        suggestion(key.str(), table_names), fmt::join(headers, ", ")));
@@ -509,10 +476,8 @@ bool axially_restrained_by_default(EndSupport kind, bool spring) {
 EndSupport read_support_table(const Section& t, const Member& member, Theory theory, bool interior,
                               SupportDetail& detail, bool* axially_restrained = nullptr) {
   const std::string name = t.path("");
-  const TableSpec spec{
-      std::string_view(name).substr(0, name.size() - 1), false,
-      interior ? std::vector<std::string_view>{"at", "kind", "stiffness", "rotational_stiffness", "settlement"}
-               : std::vector<std::string_view>{"kind", "stiffness", "rotational_stiffness", "settlement", "axial"}};
+  const TableSpec spec{std::string_view(name).substr(0, name.size() - 1), false,
+                       (interior ? nested::interior_support() : nested::end_support()).keys};
   t.check_keys(spec);
   const toml::node* kind_node = t.find("kind");
   const toml::value<std::string>* kind_text = kind_node != nullptr ? kind_node->as_string() : nullptr;
@@ -664,8 +629,7 @@ std::string_view renamed_key(const Section& s, std::string_view name, std::strin
 // One [[foundation.segments]] entry: from < to inside the member, exactly one of nondimensional_k
 // and modulus.
 FoundationSegment read_segment(const Section& s, const Member& member, std::vector<std::string>& warnings) {
-  static const TableSpec spec{"foundation.segments", true, {"from", "to", "nondimensional_k", "modulus", "k"}};
-  s.check_keys(spec);
+  s.check_keys(nested::foundation_segment());
   FoundationSegment piece;
   piece.from = s.required_number("from", member.position());
   piece.to = s.required_number("to", member.position());
@@ -712,8 +676,7 @@ void read_gap_table(const Section& s, Foundation& f) {
   if (!node->is_table())
     s.wrong("gap", "a table { at = [...], value = [...] } of the ground's distance below the axis");
   const Section table(s.source(), *node->as_table(), s.path("gap"));
-  static const TableSpec spec{"foundation.gap", false, {"at", "value"}};
-  table.check_keys(spec);
+  table.check_keys(nested::foundation_gap());
   f.gap_at = table.number_array("at", any_number(), "a non-empty array of non-decreasing positions");
   check_gap_positions(f.gap_at, [&](const std::string& problem) { table.fail("at", problem); });
   f.gap_value = table.number_array("value", any_number(), "an array of gaps (length), one per position in 'at'");
@@ -1009,7 +972,6 @@ MovingLoads read_moving(const Section& s, const Member& member) {
   if (loads == nullptr) s.missing("loads", expected_group);
   const toml::array* array = loads->as_array();
   if (array == nullptr || array->empty()) s.wrong("loads", expected_group);
-  static const TableSpec group_spec{"moving.loads", true, {"kind", "offset", "value"}};
   for (std::size_t i = 0; i < array->size(); ++i) {
     const toml::node& item = *array->get(i);
     const std::string item_path = fmt::format("moving.loads[{}]", i);
@@ -1017,7 +979,7 @@ MovingLoads read_moving(const Section& s, const Member& member) {
       fail(s.source(), &item.source(), item_path,
            fmt::format("expected a table {{kind, offset, value}}, got {}", describe(item)));
     const Section one(s.source(), *item.as_table(), item_path);
-    one.check_keys(group_spec);
+    one.check_keys(nested::moving_load());
     Load load;
     load.kind = one.required_choice("kind", {LoadKind::force, LoadKind::moment});
     load.at = one.required_number("offset", any_number());
@@ -1248,8 +1210,7 @@ InitialShape read_initial_shape(const Section& s, const Member& member) {
   if (!node->is_table()) s.wrong("initial_shape", expected);
   const Section table(s.source(), *node->as_table(), s.path("initial_shape"));
   if (table.find("shape") == nullptr) {
-    static const TableSpec spec{"geometry.initial_shape", false, {"at", "value"}};
-    table.check_keys(spec);
+    table.check_keys(nested::initial_shape_points());
     shape.shape = "table";
     shape.at = table.number_array("at", any_number(), "a non-empty array of increasing positions");
     for (std::size_t i = 1; i < shape.at.size(); ++i)  // the member has no steps
@@ -1271,11 +1232,9 @@ InitialShape read_initial_shape(const Section& s, const Member& member) {
   const double amplitude = table.required_number("amplitude", any_number());
   double from = member.begin, length = member.end - member.begin;
   if (shape.shape == "half_sine") {
-    static const TableSpec spec{"geometry.initial_shape", false, {"shape", "amplitude"}};
-    table.check_keys(spec);
+    table.check_keys(nested::initial_shape_half_sine());
   } else {
-    static const TableSpec spec{"geometry.initial_shape", false, {"shape", "amplitude", "at", "length"}};
-    table.check_keys(spec);
+    table.check_keys(nested::initial_shape_bump());
     const double centre = table.required_number("at", member.position());
     length = table.required_number("length", positive());
     from = centre - 0.5 * length;

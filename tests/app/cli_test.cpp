@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "io/report.hpp"
 #include "support/cli.hpp"
 #include "support/scene_text.hpp"
 #include "support/scenes.hpp"
@@ -364,6 +365,188 @@ TEST_CASE("cli: --json prints exactly one object for every outcome", "[app][erro
   j = one_object(r);
   CHECK(j["method_requested"] == "all");
   CHECK(j["methods"].size() == 4);
+}
+
+// A script must not take a failure's figures for an answer: every answer key null, and `method`
+// only a solver that ran (null when none did), `methods_run` all of them.
+TEST_CASE("cli: a failure's JSON has null for every answer field and names only the solvers that ran",
+          "[app][errors]") {
+  Scratch scratch;
+  const auto check_no_answer = [](const nlohmann::json& j) {
+    for (const char* key : liftoff::io::answer_keys) {
+      CAPTURE(key);
+      REQUIRE(j.contains(key));
+      CHECK(j[key].is_null());
+    }
+  };
+  // Pulled off its foundation: the resultant check decides before the primal Lemke runs (w_max
+  // was 0.0, max_reaction 0.0, residual -1 and method "primal").
+  const fs::path lift =
+      scratch.write("lift.toml", free_beam(100.0, -1.0) + "[solve]\nmethod = \"primal\"\nelements = 10\n");
+  Run r = run_cli({"solve", lift.string(), "--json"});
+  CHECK(r.status == 3);
+  nlohmann::json j = one_object(r);
+  CHECK(j["termination"] == "no_equilibrium");
+  check_no_answer(j);
+  CHECK(j["method"].is_null());
+  CHECK(j["methods_run"] == nlohmann::json::array());
+  CHECK(j["pivots"].is_null());  // not -1
+  CHECK(j["elements"] == 10);    // the discretisation was made: not an answer
+
+  // The shipped strut bowed away from its support beyond its Euler load (exit 5): auto runs fast
+  // first (which hands over to Lemke inside the contact solver when it finds no contact set).
+  std::ifstream in(std::string(LIFTOFF_SOURCE_DIR) + "/verification/scenes/axial/pinned_strut_one_sided.toml");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  text.replace(text.find("amplitude = 0.012"), 17, "amplitude = -0.012");
+  text.replace(text.find("value = 2.467e6"), 15, "value = 3.300e6");
+  r = run_cli({"solve", scratch.write("away.toml", text).string(), "--json"});
+  CHECK(r.status == 5);
+  j = one_object(r);
+  CHECK(j["termination"] == "unstable_equilibrium");
+  check_no_answer(j);
+  REQUIRE_FALSE(j["methods_run"].empty());
+  CHECK(j["methods_run"][0] == "fast");
+  CHECK(j["method"] == j["methods_run"].back());
+
+  // The Ritz model that cannot reach a tolerance within its modes: it ran; its amplitudes are no
+  // answer, its residual history is the evidence.
+  std::ifstream seed(scene_path("seed_beam_end_moments"));
+  const std::string seed_text((std::istreambuf_iterator<char>(seed)), std::istreambuf_iterator<char>());
+  r = run_cli({"solve",
+               scratch.write("few_modes.toml", seed_text + "tolerance = 1e-12\n[ritz]\nmax_modes = 16\n").string(),
+               "--method", "ritz", "--json"});
+  CHECK(r.status == 3);
+  j = one_object(r);
+  CHECK(j["termination"] == "tolerance_not_reached");
+  check_no_answer(j);
+  CHECK(j["amplitudes"].is_null());
+  CHECK(j["method"] == "ritz");
+  CHECK_FALSE(j["residual_history"].empty());
+
+  // A refusal before solving (the dual form on a member only the foundation holds), and bad input:
+  // the failure object, its answer keys null too.
+  const fs::path free = scratch.write("free.toml", free_beam(100.0, 1.0) + "[solve]\nelements = 10\n");
+  r = run_cli({"solve", free.string(), "--method", "dual", "--json"});
+  CHECK(r.status == 3);
+  j = one_object(r);
+  CHECK(j["termination"] == "refused");
+  check_no_answer(j);
+  r = run_cli({"solve", "/no/such/scene.toml", "--json"});
+  CHECK(r.status == 2);
+  j = one_object(r);
+  check_no_answer(j);
+  CHECK(j["method"].is_null());
+
+  // --method all: the refused dual's object names no method; the answers keep theirs.
+  j = one_object(run_cli({"solve", free.string(), "--json", "--method", "all", "--modes", "8"}));
+  REQUIRE(j["methods"].size() == 4);
+  const nlohmann::json& dual = j["methods"][1];
+  CHECK(dual["method_requested"] == "dual");
+  CHECK(dual["termination"] == "refused");
+  CHECK(dual["method"].is_null());
+  check_no_answer(dual);
+  CHECK(j["methods"][2]["method"] == "fast");
+  CHECK(j["methods"][2]["w_max"].is_number());
+  CHECK_FALSE(j["methods"][2].contains("methods_run"));
+}
+
+// Arch supports resolved horizontally and vertically: the supports' V and the foundation carry the
+// vertical load, the H and the foundation the horizontal one, and a symmetric arch's two H are
+// equal and opposite. The certificate's force balance (certify/README.md) accepts an imbalance up
+// to its round-off tolerance; H and V are a rotation of the same reactions, so they balance within
+// it too (a wrong sign or angle would be off by the reactions themselves).
+TEST_CASE("cli: arch support reactions as H and V balance the loads; a symmetric arch's thrusts are opposite",
+          "[app][design]") {
+  // The pinned seed arch (foundation inside, a crown load) and the buried culvert (side = "outside",
+  // gravity and cover; its hand calculation: the footings carry 246.9 kN/m, 5.2 kN/m more than the
+  // loads, and the thrust is below the 47.6 kN of the arch without fill).
+  for (const std::string scene :
+       {scene_path("seed_arch_pinned"),
+        std::string(LIFTOFF_SOURCE_DIR) + "/verification/scenes/engineering/buried_arch_gravity.toml"}) {
+    CAPTURE(scene);
+    const Run r = run_cli({"solve", scene, "--json"});
+    REQUIRE(r.status == 0);
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    const nlohmann::json& c = j["certificate"];
+    double tolerance = 0.0;
+    for (const auto& check : c["checks"])
+      if (check["name"] == "force_balance_x" || check["name"] == "force_balance_y")
+        tolerance = std::max(tolerance, check["tolerance"].get<double>());
+    REQUIRE(tolerance > 0.0);
+    const nlohmann::json& supports = j["support_reactions"];
+    REQUIRE(supports.size() == 2);
+    double sum_h = 0.0, sum_v = 0.0;
+    for (const auto& s : supports) {
+      sum_h += s["horizontal"].get<double>();
+      sum_v += s["vertical"].get<double>();
+    }
+    const double applied = c["applied_force"].get<double>();  // downward: toward the inside at the crown
+    CHECK(std::abs(sum_v - (applied - c["foundation_resultant"].get<double>())) <= tolerance * std::abs(applied));
+    CHECK(std::abs(sum_h - (c["applied_force_x"].get<double>() - c["foundation_resultant_x"].get<double>())) <=
+          tolerance * std::abs(applied));
+    const double left = supports[0]["horizontal"].get<double>(), right = supports[1]["horizontal"].get<double>();
+    CHECK(left > 0.0);  // the left support pushes the arch to the right: a thrust
+    CHECK(std::abs(left + right) <= tolerance * left);
+    CHECK(std::abs(supports[0]["vertical"].get<double>() - supports[1]["vertical"].get<double>()) <=
+          tolerance * std::abs(sum_v));
+    CHECK_THAT(run_cli({"solve", scene}).out, Catch::Matchers::Contains("(H "));
+    if (scene.find("buried") != std::string::npos) {
+      CHECK(sum_v == Approx(246.9e3).epsilon(5e-4));  // the scene's figure, to its four digits
+      CHECK(left < 47.6e3);
+    }
+  }
+}
+
+namespace {
+// Every key of a JSON value, objects' and those of the first element of each array, with its path.
+void collect_keys(const nlohmann::json& j, const std::string& path, std::vector<std::string>& out) {
+  if (j.is_object()) {
+    for (const auto& [key, value] : j.items()) {
+      out.push_back(path + "." + key);
+      collect_keys(value, path + "." + key, out);
+    }
+  } else if (j.is_array() && !j.empty()) {
+    collect_keys(j.front(), path + "[]", out);
+  }
+}
+}  // namespace
+
+// The output reference lists every field the JSON writers emit: each key of a solve (an arch, a
+// beam-column, a tolerance, the Ritz model, a failure) and of a trace must be named, as `key` or
+// "key", in src/io/README.md or the documents it defers to (the certificate's, the trace's).
+TEST_CASE("cli: every JSON output field is named in the output reference", "[app][json]") {
+  std::string reference;
+  for (const char* doc : {"/src/io/README.md", "/src/certify/README.md", "/continuation/README.md"}) {
+    std::ifstream in(std::string(LIFTOFF_SOURCE_DIR) + doc);
+    REQUIRE(in.good());
+    reference += std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  }
+  const std::string engineering = std::string(LIFTOFF_SOURCE_DIR) + "/verification/scenes/";
+  Scratch scratch;
+  const fs::path lift = scratch.write("lift.toml", free_beam(100.0, -1.0) + "[solve]\nelements = 10\n");
+  const std::vector<std::vector<std::string>> runs = {
+      {"solve", "--json"},
+      {"solve", engineering + "axial/pinned_strut_one_sided.toml", "--json"},
+      {"solve", scene_path("seed_beam_end_moments"), "--json", "--tolerance", "1e-6"},
+      {"solve", scene_path("seed_beam_end_moments"), "--json", "--method", "ritz"},
+      {"solve", lift.string(), "--json"},
+      {"trace", std::string(LIFTOFF_SOURCE_DIR) + "/continuation/scenes/arch_culvert.toml", "--json"}};
+  for (const std::vector<std::string>& args : runs) {
+    CAPTURE(args);
+    const Run r = run_cli(args);
+    std::vector<std::string> keys;
+    collect_keys(nlohmann::json::parse(r.out), "", keys);
+    CHECK(keys.size() > 10);
+    std::vector<std::string> missing;
+    for (const std::string& path : keys) {
+      const std::string key = path.substr(path.rfind('.') + 1);
+      if (reference.find("`" + key + "`") == std::string::npos &&
+          reference.find("\"" + key + "\"") == std::string::npos)
+        missing.push_back(path);
+    }
+    CAPTURE(missing);
+    CHECK(missing.empty());
+  }
 }
 
 TEST_CASE("cli: --method all shows the scene's k and no counters for a refused method", "[app]") {

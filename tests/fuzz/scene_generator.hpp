@@ -1,6 +1,6 @@
 #pragma once
 // Random scenes for the fuzzer, reproducible from a seed: valid ones across the whole scene schema
-// of README.md (beams and arches, every support, foundation k or modulus over all or part of the
+// of src/scene/README.md (beams and arches, every support, foundation k or modulus over all or part of the
 // member, tensionless or not, force / moment / uniform loads of both cases, [solve], [ritz],
 // [trace]) and malformed ones made from a valid one by one mutation (a missing, unknown or
 // mistyped key, an out-of-range, non-finite, huge or inexact number, a TOML syntax error, junk).

@@ -74,6 +74,43 @@ TEST_CASE("report: Lemke's ray reaches the JSON and the HDF5 file as the certifi
   CHECK_FALSE(io::to_json(report_of(pressed, s)).contains("no_equilibrium_certificate"));
 }
 
+// A report without an answer: null for every answer field, `method` the solver that ran (null when
+// none did), and the evidence of the failure kept.
+TEST_CASE("report: a failure's JSON has null answer fields and names only the solvers that ran", "[io][json]") {
+  scene::Scene s = test::beam_scene(1.0, 1.0, scene::EndSupport::free, scene::EndSupport::free, 1e3);
+  s.loads = {test::point_force(0.5, -1.0)};
+  const test::Solved solved = test::solve(s, contact::Method::primal, 20);
+  io::SolveReport r = report_of(solved, s);
+  REQUIRE_FALSE(r.usable);
+  nlohmann::json j = io::to_json(r);
+  for (const char* key : io::answer_keys) {
+    CAPTURE(key);
+    CHECK(j[key].is_null());
+  }
+  CHECK(j["method"] == "primal");  // Lemke ran and ended on a ray: its certificate stays
+  CHECK(j["methods_run"] == nlohmann::json::array({"primal"}));
+  CHECK(j.contains("no_equilibrium_certificate"));
+  CHECK(j["pivots"].get<int>() > 0);
+  CHECK(j["elements"] == 20);
+
+  r.methods_run.clear();  // as when the resultant check decides before any solver
+  j = io::to_json(r);
+  CHECK(j["method"].is_null());
+  CHECK(j["methods_run"] == nlohmann::json::array());
+
+  // An answer keeps its figures and its method, and has no methods_run.
+  s.loads = {test::point_force(0.5, 1.0)};
+  const test::Solved pressed = test::solve(s, contact::Method::primal, 20);
+  REQUIRE(pressed.solution.summary.is_usable());
+  j = io::to_json(report_of(pressed, s));
+  for (const char* key : io::answer_keys) {
+    CAPTURE(key);
+    CHECK_FALSE(j[key].is_null());
+  }
+  CHECK(j["method"] == "primal");
+  CHECK_FALSE(j.contains("methods_run"));
+}
+
 // A refused method is told by its typed outcome; the outputs spell it "refused" as they always did.
 TEST_CASE("report: the solve outcome's names come from one table, refused spelled as the outputs have it") {
   CHECK(io::to_string(io::SolveOutcome::refused) == "refused");

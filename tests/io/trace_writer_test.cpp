@@ -168,7 +168,7 @@ TEST_CASE("trace writer: the whole state of every step reads back, laid out step
   CHECK_FALSE(fe.steps[1].design.has_value());
   CHECK_FALSE(fe.steps[3].design->uplift_max.at.has_value());
 
-  // The layout the README gives: per field steps x nodes, chunked; the coordinate once.
+  // The layout src/io/README.md gives: per field steps x nodes, chunked; the coordinate once.
   bool chunked = false;
   for (const char* field : {"w", "u", "rotation", "bending_moment", "shear_force", "normal_force", "reaction", "gap"}) {
     CHECK(dims_of(path, std::string("fe/steps/fields/") + field, &chunked) == std::vector<hsize_t>{4, 4});

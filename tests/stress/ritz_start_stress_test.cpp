@@ -1,5 +1,5 @@
 // Stress: the Ritz model started from poor initial contact limits (bunched near one end, or
-// near the middle), with the right topology. The contract (README): an answer is returned only
+// near the middle), with the right topology. The contract (src/README.md, Ritz model): an answer is returned only
 // if it is a contact solution; a start from which Newton reaches a spurious root of
 // w(t_m) = 0 is reported, never returned. So every start must end either in a converged answer
 // that passes the checks here (not taken from the solver: the energy's gradient in the
@@ -69,7 +69,7 @@ TEST_CASE("stress: Ritz from poor initial limits reaches the contact solution", 
   REQUIRE(x.size() == model.unknowns());
 
   // Equilibrium of the Ritz model: dPi/dA = K A + k G(t) W - F, relative to |F|; the solver's
-  // convergence test is a relative residual of 1e-12 (README), plus the round-off of forming it
+  // convergence test is a relative residual of 1e-12 (src/README.md), plus the round-off of forming it
   // (the terms of K A are each up to |K||A|).
   const int a = model.amplitudes();
   const Eigen::VectorXd gradient = model.gradient(x, 1.0).head(a);

@@ -20,7 +20,7 @@ Discretisation (deliberately different from liftoff's Hermite cubics + P1 reacti
     the same structure on the boundary.
   * u (arches only): continuous Lagrange of degree --u-degree (default 3: then u' can equal w
     exactly for every continuous P2 w, so inextensional bending is representable and the
-    element does not lock; degree 2 locks, see README.md).
+    element does not lock; degree 2 locks, see README.md here, "The discretisation").
   * foundation: the residual integral of K max(w, 0) v, integrated EXACTLY on each cell: the
     P2 w is split at its roots and each positive piece is integrated by 3-point Gauss (exact
     for the quartic integrands). Its Jacobian is the integral of K v_i v_j over {w > 0} (the

@@ -17,7 +17,7 @@
 //  - location: events are bisected to the trace's event_tolerance (1e-10) in lambda.
 // With the stiffness form K, round-off dominated this stiff footing on a soft foundation (k = 4.5)
 // from about 60 elements on, growing like N^4 (2.2e-5 off the closed form at 357 elements). The
-// sparse solves now use the mixed form (README, "Mesh size and round-off"): the heel event is
+// sparse solves now use the mixed form (src/README.md, "Mesh size and round-off"): the heel event is
 // 6e-11 off an independent 40-digit closed form (mpmath) at 130 and 200 elements, which is the
 // bisection's tolerance, not the discretisation's or round-off's.
 
