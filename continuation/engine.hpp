@@ -166,14 +166,18 @@ class PathModel {
   }
 
   // The constraint crossings of the current configuration inside the step, located: every event
-  // along it up to the first change of configuration. `alone`: nothing else happens in the step
-  // (no fold, bifurcation, load asked for, return or amplitude bound): a change of configuration
-  // that changes no event (a contact limit moving on by a node) may then be taken at the step's end
-  // without being located (Crossing::point_after), so that the number of steps does not grow with
-  // the mesh; the model must fall back to locating it when the state there is not the path's (a
-  // fold or a change of stability between the step's start and that state).
+  // along it up to the first change of configuration. `may_take` (false on a step where a
+  // switched branch's return was found, or whose ends differ in stability on the configuration): a
+  // change of configuration that changes no event (a
+  // contact limit moving on by a node) may be taken without being located, at the step's end or
+  // at the furthest point of the step where the state across it holds (Crossing::point_after),
+  // so that the number of steps does not grow with the mesh; the model must then guarantee that
+  // nothing the engine watches lies between the step's start and that point (a fold: the sign of
+  // d lambda / ds; a change of stability; a load of TraceOptions::report_at; the amplitude bound),
+  // which the engine does not look for on such a step, and fall back to locating the switch where
+  // it cannot.
   virtual CrossingSearch crossing(const PathPoint& from, const PathPoint& to, const PathFollower& follower,
-                                  bool alone) = 0;
+                                  bool may_take) = 0;
 
   // Enters the configuration after `crossing` (located at crossing.point) and returns its first
   // point there, its tangent oriented along the path (the side where the new configuration holds).

@@ -79,7 +79,7 @@ class FeMemberPath final : public PathModel {
     return p;
   }
   CrossingSearch crossing(const PathPoint& from, const PathPoint& to, const PathFollower& follower,
-                          bool alone) override;
+                          bool may_take) override;
   Entry enter(const Crossing& crossing, const ArcLengthOptions& options) override;
   StabilityMeasure stability_measure() const override {
     return kin_->convex() ? StabilityMeasure::none : StabilityMeasure::count;
@@ -176,9 +176,15 @@ class FeMemberPath final : public PathModel {
   };
   // at_lambda: the state at that lambda (the range's end, landed on exactly), not on the hyperplane.
   // with_tangent false: the state alone (its tangent a stand-in, a factorisation less).
+  // count >= 0: every set tried must have that many negative eigenvalues at its state there (a
+  // set on the way whose stability changed before the step's end: nullopt).
   std::optional<Across> solved_across(const PathPoint& from, double sigma, std::vector<int> failing,
                                       const PathFollower& follower, std::optional<double> at_lambda = std::nullopt,
-                                      bool with_tangent = true) const;
+                                      bool with_tangent = true, int count = -1) const;
+  // The furthest state of the step solved across that `holds` (bisection on the arclength, 12
+  // halvings); nullopt: none past the step's start's own set.
+  std::optional<Across> furthest_across(const PathPoint& from, double ds, const PathFollower& follower,
+                                        const std::function<bool(const Across&)>& holds, int count) const;
 
   std::unique_ptr<MemberKinematics> kin_;
   const model::MemberModel& member_;
@@ -935,8 +941,8 @@ std::optional<Crossing> FeMemberPath::contact_event(const PathPoint& from, const
 // nothing the engine watches happened on the way (checked by the caller). nullopt: none found.
 std::optional<FeMemberPath::Across> FeMemberPath::solved_across(const PathPoint& from, double sigma,
                                                                 std::vector<int> failing, const PathFollower& follower,
-                                                                std::optional<double> at_lambda,
-                                                                bool with_tangent) const {
+                                                                std::optional<double> at_lambda, bool with_tangent,
+                                                                int count) const {
   const int first = points_.begin_supported ? 1 : 0;
   const int last = d_.reactions() - 1 - (points_.end_supported ? 1 : 0);
   std::vector<bool> in_contact = set_.in_contact;
@@ -954,6 +960,7 @@ std::optional<FeMemberPath::Across> FeMemberPath::solved_across(const PathPoint&
     StepOutcome step = at_lambda ? on_next.step_to_lambda(start, *at_lambda) : on_next.step(start, sigma, with_tangent);
     if (!step.point) return std::nullopt;
     PathPoint p = polished(next, *step.point, at_lambda.has_value());
+    if (count >= 0 && negative_eigenvalues(next, p.x, p.lambda) != count) return std::nullopt;
     const VectorXd values = sign_values(next, p.x);
     failing.clear();
     for (int i = 0; i < d_.reactions(); ++i)
@@ -963,12 +970,46 @@ std::optional<FeMemberPath::Across> FeMemberPath::solved_across(const PathPoint&
   return std::nullopt;
 }
 
+// Where the step's end is not the path's (past a limit point at a set change, where no set holds
+// on: the upheaval buckle's rising branch ends at a node pair lifting, and each step of it located
+// one node pair's switch, a step per pair, more as the mesh is refined; or a piece of the node set
+// opening or vanishing, an event), the path goes on across the switches as far as a state holds:
+// bisection on the arclength, deciding on whether a state solved across holds (12 halvings leave
+// the boundary within 1/4096 of the step ahead, located from there as any crossing).
+std::optional<FeMemberPath::Across> FeMemberPath::furthest_across(const PathPoint& from, double ds,
+                                                                  const PathFollower& follower,
+                                                                  const std::function<bool(const Across&)>& holds,
+                                                                  int count) const {
+  double lo = 0.0, hi = ds;
+  std::optional<Across> furthest;
+  for (int i = 0; i < 12; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    std::optional<PathPoint> plain = follower.step(from, mid).point;
+    if (!plain) break;
+    const VectorXd values = sign_values(set_, plain->x);
+    std::vector<int> failing;
+    for (int k = 0; k < d_.reactions(); ++k)
+      if (values[k] < -tie_tolerance) failing.push_back(k);
+    std::optional<Across> at_mid = failing.empty()
+                                       ? std::optional<Across>(Across{std::move(*plain), set_.in_contact})
+                                       : solved_across(from, mid, failing, follower, std::nullopt, true, count);
+    if (at_mid && holds(*at_mid))
+      lo = mid, furthest = std::move(at_mid);
+    else
+      hi = mid;
+  }
+  // (On the start's own set: nothing to take across, the crossing is located from the start.)
+  if (!furthest || furthest->in_contact == set_.in_contact) return std::nullopt;
+  return furthest;
+}
+
 // Taken at the step's end (solved_across) where nothing the engine watches happened on the way, as
 // far as its ends tell: lambda's tangent keeps its sign (no fold) and the count of negative
 // eigenvalues is the step start's (no change of stability); with cubic naming, a change of the
 // contact topology on the way is located by bisection on the arclength of such states and the
-// step taken to the first state past it, its events with it. Otherwise nullopt: the crossing is
-// located (contact_event).
+// step taken to the first state past it, its events with it. Where the step's end does not hold,
+// the furthest state that does (furthest_across). Otherwise nullopt: the crossing is located
+// (contact_event).
 std::optional<Crossing> FeMemberPath::taken_at_end(const PathPoint& from, const PathPoint& to, std::vector<int> failing,
                                                    const PathFollower& follower) {
   // A straight bifurcated branch ends at its first switch, located: the new set's branch runs in
@@ -982,23 +1023,48 @@ std::optional<Crossing> FeMemberPath::taken_at_end(const PathPoint& from, const 
   // hyperplane.
   const ArcLengthOptions& o = follower.options();
   const bool range_end = to.lambda == o.lambda_max || to.lambda == o.lambda_min || o.control == PathControl::load;
-  std::optional<Across> end =
-      solved_across(from, ds, failing, follower, range_end ? std::optional<double>(to.lambda) : std::nullopt);
+  // Whether a state solved across is the path's, as far as the step's ends tell (node naming: the
+  // pieces kept, an event being located, not stepped over).
+  const int first = points_.begin_supported ? 1 : 0;
+  const int last = d_.reactions() - 1 - (points_.end_supported ? 1 : 0);
+  const auto holds = [&](const Across& a) {
+    const PathPoint& p = a.point;
+    const bool fold = o.control == PathControl::arc_length && (from.tangent_lambda > 0) != (p.tangent_lambda > 0);
+    // (The amplitude bound and the loads asked for are located by the engine on one set: a state
+    // past one is not taken here.)
+    if (fold || (options_.max_amplitude && amplitude(p) >= *options_.max_amplitude)) return false;
+    for (double target : options_.report_at)
+      if ((from.lambda - target) * (p.lambda - target) <= 0.0 && from.lambda != target) return false;
+    if (!cubics_ && !same_pieces(set_.in_contact, a.in_contact, first, last)) return false;
+    return !counted || negative_eigenvalues(contact::select_contact_set(d_, a.in_contact), p.x, p.lambda) == negative;
+  };
+  // Every set tried on the way must keep the start's count of negative eigenvalues at its state
+  // across (beyond the part of the path where it holds, so past a change of its stability there),
+  // not only the set at the end. A change and its reversal on one set within one step are seen by
+  // neither, here as on a step on one set: the steps' length is the resolution (the perfect
+  // pipeline's descending branch has pairs 0.4 apart in lambda).
+  if (negative < 0) return std::nullopt;
+  const int count = counted ? negative : -1;
+  std::optional<Across> end = solved_across(from, ds, failing, follower,
+                                            range_end ? std::optional<double>(to.lambda) : std::nullopt, true, count);
+  if (!end || !holds(*end)) end = furthest_across(from, ds, follower, holds, count);
   if (!end) return std::nullopt;
   const PathPoint& p = end->point;
-  const bool fold =
-      follower.options().control == PathControl::arc_length && (from.tangent_lambda > 0) != (p.tangent_lambda > 0);
-  // (The amplitude bound is located by the engine on one set: a state past it is not taken here.)
-  if (options_.max_amplitude && amplitude(p) >= *options_.max_amplitude) return std::nullopt;
-  if (fold || negative < 0 ||
-      (counted && negative_eigenvalues(contact::select_contact_set(d_, end->in_contact), p.x, p.lambda) != negative))
-    return std::nullopt;
   Crossing c;
   c.point_after = true;
   const ContactTopology start = topology_at_start(from);
   ContactTopology at_end = cubics_ ? topology_of(p.x) : ContactTopology{};
   if (cubics_ && !at_end.same_as(start)) {
-    // The first change of topology: bisection on sigma to event_tolerance in lambda.
+    // The first change of topology: bisection on sigma to event_tolerance in lambda, on the
+    // step's hyperplanes. (A step landed on the range's end by a fixed-lambda solve is not on its
+    // hyperplane: its state across is taken on the hyperplane instead, else the footing's column
+    // event at 10 elements was reported at lambda_max, 0.1 past where it lies.)
+    if (range_end) {
+      end = solved_across(from, ds, failing, follower, std::nullopt, true, count);
+      if (!end || !holds(*end)) return std::nullopt;
+      at_end = topology_of(end->point.x);
+      if (at_end.same_as(start)) return std::nullopt;
+    }
     double lo = 0.0, hi = ds;
     double lambda_lo = from.lambda;
     ContactTopology before = start;
@@ -1014,7 +1080,7 @@ std::optional<Crossing> FeMemberPath::taken_at_end(const PathPoint& from, const 
         if (values[k] < -tie_tolerance) failing_mid.push_back(k);
       std::optional<Across> at_mid = failing_mid.empty()
                                          ? std::optional<Across>(Across{*plain, set_.in_contact})
-                                         : solved_across(from, mid, failing_mid, follower, std::nullopt, false);
+                                         : solved_across(from, mid, failing_mid, follower, std::nullopt, false, count);
       if (!at_mid) return std::nullopt;
       ContactTopology topology = topology_of(at_mid->point.x);
       if (topology.same_as(start)) {
@@ -1061,7 +1127,7 @@ std::optional<Crossing> FeMemberPath::lift_off_crossing(const PathPoint& from, c
 }
 
 CrossingSearch FeMemberPath::crossing(const PathPoint& from, const PathPoint& to, const PathFollower& follower,
-                                      bool alone) {
+                                      bool may_take) {
   CrossingSearch search;
   if (!d_.tensionless || d_.reactions() == 0) return search;
   VectorXd start_values = sign_values(set_, from.x);
@@ -1116,7 +1182,7 @@ CrossingSearch FeMemberPath::crossing(const PathPoint& from, const PathPoint& to
   }
   std::optional<Crossing> lift_off = lift_off_crossing(from, to, follower);
   const PathPoint& until = lift_off ? lift_off->point : to;
-  if (alone && !lift_off) {
+  if (may_take && !lift_off) {
     std::vector<int> failing;
     for (int i = 0; i < d_.reactions(); ++i)
       if (start_values[i] > tie_tolerance && end_values[i] < -options_.event_tolerance) failing.push_back(i);
@@ -1283,6 +1349,11 @@ PathModel::Entry FeMemberPath::enter(const Crossing& crossing, const ArcLengthOp
   const PathFollower follower(problem_on(next), options);
   nonlinear::NewtonSummary summary;
   entry.point = follower.start(carried.x, carried.lambda, &summary, carried);
+  // At a fixed lambda the set's equations are singular at a fold: a crossing located next to the
+  // shallow arch's limit point stalled there (residual 1e-10 for 1e-11); bordered by the crossing's
+  // tangent (its own hyperplane, sigma = 0) they are not.
+  if (!entry.point && carried.tangent_x.size() == carried.x.size())
+    if (StepOutcome bordered = follower.step(carried, 0.0); bordered.point) entry.point = std::move(bordered.point);
   if (!entry.point) {
     entry.why =
         fmt::format("no equilibrium on the new contact set at lambda = {:.10g}: {}", carried.lambda, summary.message);

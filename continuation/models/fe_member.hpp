@@ -23,8 +23,11 @@
 // Constraints (tensionless foundations): r_i >= 0 on A, gap_i >= 0 off A, watched on
 // r_i / (k w_ref) and gap_i / (h w_ref) (nodes at zero at the step's start left out). A node switch
 // that changes no event is taken at the step's end: the state solved on the new set on the step's
-// hyperplane, every node's sign checked, the failing ones switched too (at most 8 rounds), unless
-// a fold or a change of stability lies between (then the first crossing is located by secant
+// hyperplane, every node's sign checked, the failing ones switched too (at most 8 rounds), each
+// set tried keeping the start's count of negative eigenvalues; where the step's end is not the
+// path's (past a fold at a set change, a change of the node set's pieces, the amplitude bound or
+// a load asked for), the furthest state of the step that is (bisection on the arclength, 12
+// halvings); unless a change of stability lies between (then the first crossing is located by secant
 // (Illinois) on the nodes' least value along the step; the crossing node(s) with the least value
 // there, ties within 1e-8, switch, and the path continues from the crossing on the new set, on the
 // side where the switched nodes' values grow: where lambda's sense turns there, a `limit_point`).

@@ -103,7 +103,7 @@ class RitzPath final : public PathModel {
   Start start(const ArcLengthOptions& options) override;
   Screening screen(const PathPoint& from, PathPoint& to, const PathFollower& follower) override;
   CrossingSearch crossing(const PathPoint& from, const PathPoint& to, const PathFollower& follower,
-                          bool alone) override;
+                          bool may_take) override;
   Entry enter(const Crossing& crossing, const ArcLengthOptions& options) override;
   StabilityMeasure stability_measure() const override;
   StabilityState stability(const PathPoint& point) const override;

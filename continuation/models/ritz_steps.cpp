@@ -135,7 +135,7 @@ std::optional<std::string> RitzPath::turned_back(const PathPoint& from, const Pa
 }
 
 CrossingSearch RitzPath::crossing(const PathPoint& from, const PathPoint& to, const PathFollower& follower,
-                                  bool /*alone*/) {
+                                  bool /*may_take*/) {
   std::vector<std::size_t> changed = changed_events(from, to);
   CrossingSearch search = located_events(from, to, follower, changed);
   if (search.reject || !search.crossings.empty()) return search;

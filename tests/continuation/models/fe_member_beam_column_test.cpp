@@ -106,7 +106,11 @@ double limit_load_factor(const TraceResult& result) {
 TEST_CASE("upheaval buckle: through the limit point, every step an independent equilibrium", "[beam_column]") {
   const scene::Scene scene = upheaval();
   const int elements = 200;
-  const TraceOptions options = options_for(scene, elements);
+  TraceOptions options = options_for(scene, elements);
+  // States asked for on the rising branch (the path's own steps are few: a step goes on across
+  // the node switches of a growing lift-off zone), each compared below with a solve at its load;
+  // on the descending branch the path passes 3, 4 and 5 again, unstable.
+  options.report_at = {1.0, 2.0, 3.0, 4.0, 4.5, 5.0, 5.5};
   const TraceResult result = test::trace_fe(scene, options);
   INFO(result.summary.message);
   REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
@@ -451,6 +455,11 @@ TEST_CASE(
   TraceOptions options = options_for(scene, 200);
   options.arc_length.lambda_max = 14.0;
   options.max_amplitude = 0.1;
+  // Bifurcations are seen where a set's count differs between a step's ends: pairs 0.4 apart in
+  // lambda on this branch (a rise and its fall within one step) need steps this short (the
+  // default is a quarter of the load range, 3.5).
+  options.arc_length.max_step = 0.25;
+  options.arc_length.initial_step = std::min(options.arc_length.initial_step, 0.25);
   const TraceResult result = test::trace_fe(scene, options);
   INFO(result.summary.message);
   REQUIRE(result.summary.termination == continuation::TraceTermination::completed);
