@@ -15,6 +15,7 @@ packages=(
   libcli11-dev                     # command line
   nlohmann-json3-dev               # --json output
   libfmt-dev                       # formatting
+  libudunits2-dev                  # UDUNITS-2: scene values with their units ("30 MN/m^2"), src/scene/unit_library.hpp
   python3-h5py                     # tests read the HDF5 output as a user would
   python3-matplotlib               # verification/plots (figures of sweeps)
   python3-dolfinx                  # verification only: the independent penalty-contact reference

@@ -171,6 +171,9 @@ void attach_scale(SolveReport& report, const scene::Scene& scene, const model::M
   report.scale = post::scale_figures(model, mesh);
   report.warnings = scene.warnings;
   for (std::string& w : post::scale_warnings(scene, model, *report.scale)) report.warnings.push_back(std::move(w));
+  const double w_extreme = std::max(std::abs(report.w_max), std::abs(report.w_min));
+  for (std::string& w : post::deflection_warnings(scene, *report.scale, w_extreme))
+    report.warnings.push_back(std::move(w));
   // The critical load's disagreement with the contact solver's check (StabilityTable::warning).
   if (report.stability && !report.stability->warning.empty()) report.warnings.push_back(report.stability->warning);
 }

@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
+#include <optional>
 
 namespace liftoff::post {
 namespace {
@@ -15,6 +17,64 @@ double beta_s(double k) { return std::pow(k / 4.0, 0.25); }
 std::string g(double x) { return fmt::format("{:.3g}", x); }
 
 std::string with_unit(const std::string& label) { return label.empty() ? std::string() : " " + label; }
+
+// A slip of units: a plain number written in `unit` (a sibling system's) where the scene's is
+// meant; the scene reads x where the user meant x * factor in its units.
+struct Slip {
+  std::string unit;
+  double factor = 1.0;
+};
+
+// The slips a plain number of force^a length^b may hold, nearest first (a force's prefix before
+// a length's), each at least a factor of 100: smaller factors are no unit slip and no plausibility
+// test here is sharp enough for them.
+std::vector<Slip> slips(const scene::Units& units, int a, int b,
+                        const std::function<std::string(const scene::Units&)>& label) {
+  std::vector<std::pair<double, Slip>> ranked;
+  for (const scene::Units& other : scene::sibling_systems(units)) {
+    const double factor =
+        std::pow(*other.newtons() / *units.newtons(), a) * std::pow(*other.metres() / *units.metres(), b);
+    const double distance = std::abs(std::log10(factor));
+    if (distance < 2 - 1e-9) continue;
+    ranked.push_back({distance + (other.length == units.length ? 0.0 : 0.5), {label(other), factor}});
+  }
+  std::stable_sort(ranked.begin(), ranked.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  std::vector<Slip> out;
+  for (const auto& [unused, slip] : ranked) out.push_back(slip);
+  return out;
+}
+
+// The first slip that makes `plausible` hold of the value it would have meant.
+std::optional<Slip> first_slip(double x, const std::vector<Slip>& candidates,
+                               const std::function<bool(double)>& plausible) {
+  for (const Slip& slip : candidates)
+    if (plausible(x * slip.factor)) return slip;
+  return std::nullopt;
+}
+
+// "EI = 5.4e+08 looks like N m^2 in a kN-m scene: 1000x"
+std::string slip_text(std::string_view name, double x, const Slip& slip, const scene::Units& units) {
+  const std::string scene = units.system.empty() ? fmt::format("a scene of {} and {}", units.force, units.length)
+                                                 : fmt::format("a {} scene", units.system);
+  return fmt::format("{} = {} looks like {} in {}: {:.4g}x", name, g(x), slip.unit, scene,
+                     std::max(slip.factor, 1.0 / slip.factor));
+}
+
+bool given_with_unit(const scene::Scene& scene, std::string_view path) {
+  return std::find(scene.given_with_unit.begin(), scene.given_with_unit.end(), path) != scene.given_with_unit.end();
+}
+
+// "FILE: key 'structure.EI'", as the reader's warnings start.
+std::string keyed(const scene::Scene& scene, std::string_view path) {
+  return fmt::format("{}: key '{}'", scene.source_name, path);
+}
+
+// The plain dimensional modulus of a one-piece foundation, the one key a slip can be named in.
+std::optional<double> plain_modulus(const scene::Scene& scene) {
+  const scene::Foundation& f = scene.foundation;
+  if (!f.segments.empty() || !f.modulus || given_with_unit(scene, "foundation.modulus")) return std::nullopt;
+  return f.modulus;
+}
 
 }  // namespace
 
@@ -122,6 +182,56 @@ std::vector<std::string> scale_warnings(const scene::Scene& scene, const model::
                        : fmt::format(" ({} N/m^2)", g(largest > largest_real_modulus ? largest : least)),
           least_real_modulus, largest_real_modulus));
   }
+  // A member as stiff as a section cannot be: the radius of gyration sqrt(EI/EA) more than a
+  // quarter of L (of R on an arch); a rectangle's is 0.29 of its depth. EI in N m^2 in a kN-m
+  // scene makes it 32 times too large, and so does EA in MN: each plain key whose slip would
+  // explain it gets its warning.
+  const std::optional<double> EA = scene.structure.axial_stiffness;
+  const double EI = scene.structure.bending_stiffness;
+  const bool si_known = units.metres() && units.newtons();
+  if (EA && si_known && std::sqrt(EI / *EA) > l / max_gyration_ratio) {
+    const auto deep = [&](double ei, double ea) { return std::sqrt(ei / ea) > l / max_gyration_ratio; };
+    const std::string figure =
+        fmt::format("the radius of gyration sqrt(EI/EA) = {}{} is more than {}/{:g} = {}{}: no section is that deep",
+                    g(std::sqrt(EI / *EA)), length_unit, f.arch ? "R" : "L", max_gyration_ratio,
+                    g(l / max_gyration_ratio), length_unit);
+    std::vector<std::string> named;
+    if (!given_with_unit(scene, "structure.EI"))
+      if (const auto s = first_slip(EI, slips(units, 1, 2, [](const scene::Units& u) { return u.bending_stiffness(); }),
+                                    [&](double ei) { return !deep(ei, *EA); }))
+        named.push_back(fmt::format(
+            "{}: {}; {} (as {}{} it gives {}{})", keyed(scene, "structure.EI"), figure, slip_text("EI", EI, *s, units),
+            g(EI * s->factor), with_unit(units.bending_stiffness()), g(std::sqrt(EI * s->factor / *EA)), length_unit));
+    if (!given_with_unit(scene, "structure.EA"))
+      if (const auto s = first_slip(*EA, slips(units, 1, 0, [](const scene::Units& u) { return u.force; }),
+                                    [&](double ea) { return !deep(EI, ea); }))
+        named.push_back(fmt::format("{}: {}; {} (as {}{} it gives {}{})", keyed(scene, "structure.EA"), figure,
+                                    slip_text("EA", *EA, *s, units), g(*EA * s->factor), with_unit(units.force),
+                                    g(std::sqrt(EI / (*EA * s->factor))), length_unit));
+    if (named.empty()) named.push_back(fmt::format("{}; check EI, EA and the [units]", figure));
+    for (std::string& w : named) out.push_back(std::move(w));
+  }
+  if (f.beta_length_max < rigid_beta_length && si_known) {
+    // A practically rigid member whose EI, or modulus, read in a sibling unit would not be: name
+    // each slip that would explain it (beta L goes as (K/EI)^(1/4): 1000x in EI is 5.6x in beta L).
+    const auto ordinary = [&](double ratio) {  // K/EI scaled by `ratio`
+      const double bl = f.beta_length_max * std::pow(ratio, 0.25);
+      return bl >= rigid_beta_length && bl <= long_beta_length;
+    };
+    if (!given_with_unit(scene, "structure.EI"))
+      if (const auto s = first_slip(EI, slips(units, 1, 2, [](const scene::Units& u) { return u.bending_stiffness(); }),
+                                    [&](double ei) { return ordinary(EI / ei); }))
+        out.push_back(fmt::format("{}: {} (as {}{} it gives beta {} = {})", keyed(scene, "structure.EI"),
+                                  slip_text("EI", EI, *s, units), g(EI * s->factor),
+                                  with_unit(units.bending_stiffness()), member,
+                                  g(f.beta_length_max * std::pow(1.0 / s->factor, 0.25))));
+    if (const std::optional<double> K = plain_modulus(scene))
+      if (const auto s = first_slip(*K, slips(units, 1, -2, [](const scene::Units& u) { return u.modulus(); }),
+                                    [&](double k) { return ordinary(k / *K); }))
+        out.push_back(fmt::format("{}: {} (as {}{} it gives beta {} = {})", keyed(scene, "foundation.modulus"),
+                                  slip_text("modulus", *K, *s, units), g(*K * s->factor), with_unit(units.modulus()),
+                                  member, g(f.beta_length_max * std::pow(s->factor, 0.25))));
+  }
   if (f.beta_length_max < rigid_beta_length)
     out.push_back(fmt::format(
         "beta {} = {} < {:g}: the member is practically rigid on this foundation ({} = 4 (beta {})^4 = {}: its "
@@ -136,6 +246,34 @@ std::vector<std::string> scale_warnings(const scene::Scene& scene, const model::
         g(f.characteristic_length()), length_unit, g(f.element_size), length_unit, g(f.beta_h), unresolved_beta_h,
         // (less a round-off margin: 5 elements at beta h = 2 need 10, not 11)
         static_cast<long long>(std::ceil(f.elements * f.beta_h / unresolved_beta_h * (1 - 1e-12)))));
+  return out;
+}
+
+std::vector<std::string> deflection_warnings(const scene::Scene& scene, const ScaleFigures& f, double w_extreme) {
+  std::vector<std::string> out;
+  const scene::Units& units = scene.units;
+  const double w = std::abs(w_extreme);
+  if (!units.stated() || !(w > f.member_length / max_deflection_ratio)) return out;
+  const char* member = f.arch ? "S" : "L";
+  // w goes as 1/K where the foundation carries the loads: a modulus whose sibling unit brings w
+  // below the limit is the likely slip.
+  std::string slip;
+  // Only a soft modulus is suspected (an ordinary bed under a deflection this large points to the
+  // loads), and only a slip to a real bed's modulus.
+  const double to_si = units.metres() && units.newtons() ? *units.newtons() / std::pow(*units.metres(), 2) : 0.0;
+  const auto real = [&](double k) { return k * to_si >= least_real_modulus && k * to_si <= largest_real_modulus; };
+  if (const std::optional<double> K = plain_modulus(scene); K && to_si > 0 && *K * to_si < soft_modulus)
+    if (const auto s = first_slip(
+            *K, slips(units, 1, -2, [](const scene::Units& u) { return u.modulus(); }),
+            [&](double k) { return k > *K && real(k) && w * *K / k <= f.member_length / max_deflection_ratio; }))
+      slip = fmt::format("; {}: {} (as {}{} w is about {}{})", keyed(scene, "foundation.modulus"),
+                         slip_text("modulus", *K, *s, units), g(*K * s->factor), with_unit(units.modulus()),
+                         g(w / s->factor), with_unit(units.length));
+  out.push_back(fmt::format(
+      "deflection: |w| up to {}{} is {} of the member's length {} = {}{} (more than 1/{:g}: a linear model needs w "
+      "small against the length); check the loads, the modulus, EI and their units{}",
+      g(w), with_unit(units.length), g(w / f.member_length), member, g(f.member_length), with_unit(units.length),
+      max_deflection_ratio, slip));
   return out;
 }
 

@@ -50,11 +50,22 @@ inline constexpr double long_beta_length = 20.0;      // beta L above: suspiciou
 inline constexpr double unresolved_beta_h = 1.0;      // beta h above: the mesh misses 1/beta
 inline constexpr double least_real_modulus = 1e3;     // N/m^2: soft soil under a narrow member
 inline constexpr double largest_real_modulus = 1e11;  // N/m^2: rock under a wide one
+inline constexpr double max_gyration_ratio = 4.0;     // sqrt(EI/EA) above L/4 (R/4): no section
+inline constexpr double max_deflection_ratio = 10.0;  // |w| above L/10: no linear model
+inline constexpr double soft_modulus = 1e6;           // N/m^2: soft clay under a narrow member, or softer
 
 // One line each: a nondimensional modulus that reads like a dimensional one (or the reverse), a
 // modulus outside any real bed's (only when [units] names a system), a practically rigid member,
 // a mesh that does not resolve 1/beta.
+// Slips of units are named where a plain number in a sibling unit (N m^2 in a kN-m scene) would
+// make an implausible figure ordinary: "FILE: key 'structure.EI': EI = 5.4e+08 looks like N m^2
+// in a kN-m scene: 1000x". Also a radius of gyration sqrt(EI/EA) above l/4 (only with [units]).
+// Numbers written with their unit (Scene::given_with_unit) are never suspected.
 std::vector<std::string> scale_warnings(const scene::Scene& scene, const model::MemberModel& model,
                                         const ScaleFigures& figures);
+
+// With [units] stated: the answer's largest |w| (w_extreme) above the member's length / 10, with
+// the slip of a plain modulus below soft_modulus that would explain it (w taken as 1/K).
+std::vector<std::string> deflection_warnings(const scene::Scene& scene, const ScaleFigures& figures, double w_extreme);
 
 }  // namespace liftoff::post

@@ -301,6 +301,9 @@ struct Scene {
   // What the reader accepted but the user should hear about (an old key name), one line each,
   // "FILE:LINE: key 'PATH': ...": every output carries them (SolveReport::warnings).
   std::vector<std::string> warnings;
+  // The keys whose numbers were written with their unit ("loads[0].value"): their units were
+  // stated, so no slip of units is suspected in them (post/scale.hpp's warnings).
+  std::vector<std::string> given_with_unit;
   std::vector<Combination> combinations;  // [[combinations]] (`liftoff envelope` only)
   std::optional<MovingLoads> moving;      // [moving] (`liftoff envelope` only)
 

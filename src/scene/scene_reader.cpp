@@ -25,6 +25,7 @@
 
 #include "core/error.hpp"
 #include "scene/schema.hpp"
+#include "scene/unit_library.hpp"
 
 namespace liftoff::scene {
 namespace {
@@ -199,16 +200,41 @@ struct Hint {
 };
 
 // ---------------------------------------------------------------------------------------------
+// What a number written with its unit needs to be read: the scene's [units] (read first), the
+// member's kind (a position is a length on a beam, an angle on an arch) and, inside a load, the
+// load's kind (its value's dimension). Shared by every Section of one scene; a load's Sections
+// point to a copy that adds the kind.
+struct Context {
+  std::string source;
+  std::optional<Units> units;                     // [units], when the scene states them
+  bool arch = false;                              // known after [structure]
+  std::optional<LoadKind> load_kind;              // inside a load's table
+  Dimension live_load = Dimension::none;          // trace.report_at's dimension (after [[loads]])
+  std::vector<std::string>* with_unit = nullptr;  // the paths of numbers written with a unit
+
+  // A key's dimension with position, load_value and live_load made concrete.
+  Dimension resolve(Dimension d) const {
+    if (d == Dimension::position) return arch ? Dimension::angle : Dimension::length;
+    if (d == Dimension::load_value) return load_kind ? load_value_dimension(*load_kind) : Dimension::none;
+    if (d == Dimension::live_load) return live_load;
+    return d;
+  }
+};
+
+// ---------------------------------------------------------------------------------------------
 // One table of the scene with its path for messages ("structure", "loads[2]"). Each getter
 // returns nothing when the key is absent, the validated value when it is present, and throws
 // InputError otherwise; the required_* forms also refuse an absent key.
 class Section {
  public:
-  Section(const std::string& source, const toml::table& table, std::string path)
-      : source_(source), table_(table), path_(std::move(path)) {}
+  Section(const Context& context, const toml::table& table, std::string path)
+      : context_(&context), source_(context.source), table_(table), path_(std::move(path)) {}
 
   const toml::table& table() const { return table_; }
   const std::string& source() const { return source_; }
+  const Context& context() const { return *context_; }
+  // The same table read with another context (a load's, once its kind is known).
+  Section with(const Context& context) const { return {context, table_, path_}; }
   const toml::node* find(std::string_view key) const { return table_.get(key); }
   std::string path(std::string_view key) const {
     return path_.empty() ? std::string(key) : fmt::format("{}.{}", path_, key);
@@ -241,7 +267,7 @@ class Section {
   Section section(std::string_view key) const {
     static const toml::table empty;
     const toml::node* node = find(key);
-    return {source_, node != nullptr ? *node->as_table() : empty, path(key)};
+    return {*context_, node != nullptr ? *node->as_table() : empty, path(key)};
   }
   Section required_section(std::string_view key) const {
     if (find(key) == nullptr) missing(key, fmt::format("a table [{}]", key));
@@ -332,11 +358,12 @@ class Section {
 
   // Refuses keys and sub-tables the schema does not list.
   void check_keys(const TableSpec& spec) const {
+    const std::vector<std::string_view> names = spec.key_names();
     for (const auto& [key, node] : table_) {
-      if (std::find(spec.keys.begin(), spec.keys.end(), key.str()) == spec.keys.end()) {
+      if (std::find(names.begin(), names.end(), key.str()) == names.end()) {
         scene::fail(source_, &key.source(), path(key.str()),
-                    fmt::format("unknown key{}; the keys of {} are {}", suggestion(key.str(), spec.keys), header(spec),
-                                joined(spec.keys)));
+                    fmt::format("unknown key{}; the keys of {} are {}", suggestion(key.str(), names), header(spec),
+                                joined(names)));
       }
     }
   }
@@ -365,12 +392,71 @@ class Section {
       x = range.accept(d);
     } else if (const toml::value<double>* floating = node.as_floating_point()) {
       x = range.accept(floating->get());
+    } else if (const toml::value<std::string>* text = node.as_string()) {
+      if (const std::optional<double> converted = with_unit(node, text->get(), node_path, range)) {
+        x = range.accept(*converted);
+        if (!x)
+          scene::fail(source_, &node.source(), node_path,
+                      fmt::format("expected {}, got {} ({} in the scene's units)", range.expected, describe(node),
+                                  toml_float(*converted)));
+      }
     }
     if (!x) {
       scene::fail(source_, &node.source(), node_path,
                   fmt::format("expected {}, got {}", range.expected, describe(node)));
     }
     return *x;
+  }
+
+  // A number written with its unit ("30 MN/m^2"), converted to the scene's unit of the key's
+  // dimension (schema.hpp); every way it cannot be is refused with the key. nullopt for a string
+  // that does not start with a number.
+  std::optional<double> with_unit(const toml::node& node, const std::string& text, const std::string& node_path,
+                                  const Range& range) const {
+    const auto refuse = [&](const std::string& expected, const std::string& why) {
+      scene::fail(source_, &node.source(), node_path,
+                  fmt::format("expected {}, got {}{}", expected, describe(node), why.empty() ? "" : " (" + why + ")"));
+    };
+    const std::optional<unit_library::Quantity> quantity = unit_library::split(text);
+    if (!quantity) return std::nullopt;  // no number at all: the plain "expected ..., got ..."
+    const Dimension dimension = context_->resolve(key_dimension(node_path).value_or(Dimension::none));
+    if (dimension == Dimension::none || dimension == Dimension::not_a_number)
+      refuse(fmt::format("{}, a plain number", range.expected), "this key is nondimensional: it takes no unit");
+    const std::string named =
+        fmt::format("{} {} ({})", dimension == Dimension::angle ? "an" : "a", to_string(dimension), range.expected);
+    if (quantity->unit.empty())
+      refuse(fmt::format("{}: a plain number, or a number and its unit", named), "a string without a unit");
+    const Units& units = context_->units ? *context_->units : Units{};
+    const std::string target = unit_in(dimension, units);
+    const bool scene_based = dimension != Dimension::angle && dimension != Dimension::temperature &&
+                             dimension != Dimension::inverse_temperature;
+    if (scene_based && !units.stated())
+      refuse(fmt::format("{} as a plain number", named),
+             "a unit needs the scene's [units] to convert to: add [units] system = \"kN-m\" or another system");
+    if (scene_based && !unit_library::known(target))
+      refuse(fmt::format("{} as a plain number", named),
+             fmt::format("the scene's [units] labels make its unit \"{}\", which UDUNITS-2 does not know, so no "
+                         "unit converts to it",
+                         escaped(target)));
+    if (!unit_library::known(quantity->unit))
+      refuse(fmt::format("{} with a unit UDUNITS-2 knows (e.g. \"{}\")", named, si_unit(dimension)),
+             fmt::format("unknown unit \"{}\"", escaped(quantity->unit)));
+    const unit_library::Conversion conversion =
+        unit_library::convert(quantity->number, quantity->unit, target, dimension == Dimension::temperature);
+    if (conversion.outcome != unit_library::Outcome::converted) {
+      std::string actual;  // the dimension the user's unit has, when it is one of ours
+      for (const Dimension d : {Dimension::length, Dimension::force, Dimension::force_length, Dimension::force_length2,
+                                Dimension::force_per_length, Dimension::force_per_length2, Dimension::inverse_length,
+                                Dimension::temperature, Dimension::inverse_temperature})
+        if (actual.empty() && unit_library::convertible(quantity->unit, si_unit(d)))
+          actual = fmt::format("\"{}\" is a {}", escaped(quantity->unit), to_string(d));
+      if (actual.empty() && unit_library::dimensionless(quantity->unit))
+        actual = fmt::format("\"{}\" is a pure number", escaped(quantity->unit));
+      if (actual.empty()) actual = fmt::format("\"{}\" is of another dimension", escaped(quantity->unit));
+      refuse(fmt::format("{} in {} or a unit convertible to it", named, target), actual);
+    }
+    if (context_->with_unit != nullptr) context_->with_unit->push_back(node_path);
+    return conversion.value;
   }
 
   template <class Enum>
@@ -380,6 +466,7 @@ class Section {
     return one_of(quoted_names);
   }
 
+  const Context* context_;
   const std::string& source_;
   const toml::table& table_;
   std::string path_;
@@ -418,7 +505,7 @@ void check_schema(const Section& root, const std::string& source) {
         fail(source, &item.source(), item_path,
              fmt::format("expected a table {}, got {}", header(*spec), describe(item)));
       }
-      Section(source, *item.as_table(), item_path).check_keys(*spec);
+      Section(root.context(), *item.as_table(), item_path).check_keys(*spec);
     }
   }
 }
@@ -571,7 +658,7 @@ Supports read_supports(const Section& s, const Member& member, Theory theory) {
       SupportDetail detail;
       double at = 0.0;
       if (item.is_table()) {
-        const Section t(s.source(), *item.as_table(), item_path);
+        const Section t(s.context(), *item.as_table(), item_path);
         read_support_table(t, member, theory, true, detail);
         at = t.required_number("at", inside);
       } else {
@@ -675,7 +762,7 @@ void read_gap_table(const Section& s, Foundation& f) {
   const toml::node* node = s.find("gap");
   if (!node->is_table())
     s.wrong("gap", "a table { at = [...], value = [...] } of the ground's distance below the axis");
-  const Section table(s.source(), *node->as_table(), s.path("gap"));
+  const Section table(s.context(), *node->as_table(), s.path("gap"));
   table.check_keys(nested::foundation_gap());
   f.gap_at = table.number_array("at", any_number(), "a non-empty array of non-decreasing positions");
   check_gap_positions(f.gap_at, [&](const std::string& problem) { table.fail("at", problem); });
@@ -780,7 +867,7 @@ Foundation read_foundation_moduli(const Section& s, const Member& member, std::v
       const toml::node& item = *array->get(i);
       const std::string path = s.path(fmt::format("segments[{}]", i));
       if (!item.is_table()) s.wrong("segments", "an array of tables [[foundation.segments]]");
-      pieces.emplace_back(read_segment(Section(s.source(), *item.as_table(), path), member, warnings), i);
+      pieces.emplace_back(read_segment(Section(s.context(), *item.as_table(), path), member, warnings), i);
     }
     std::sort(pieces.begin(), pieces.end(), [](const auto& a, const auto& b) { return a.first.from < b.first.from; });
     for (std::size_t i = 1; i < pieces.size(); ++i) {
@@ -899,10 +986,14 @@ std::string read_case_name(const Section& s) {
   return name;
 }
 
-Load read_load(const Section& s, const Member& member) {
+Load read_load(const Section& table, const Member& member) {
   Load load;
-  load.kind = s.required_choice("kind", {LoadKind::force, LoadKind::moment, LoadKind::uniform, LoadKind::distributed,
-                                         LoadKind::curvature, LoadKind::axial, LoadKind::temperature, LoadKind::sine});
+  load.kind =
+      table.required_choice("kind", {LoadKind::force, LoadKind::moment, LoadKind::uniform, LoadKind::distributed,
+                                     LoadKind::curvature, LoadKind::axial, LoadKind::temperature, LoadKind::sine});
+  Context of_kind = table.context();  // the value's dimension is its kind's
+  of_kind.load_kind = load.kind;
+  const Section s = table.with(of_kind);
   if (load.kind == LoadKind::sine && member.arch)
     s.fail("kind",
            "expected \"force\", \"moment\", \"uniform\" or \"distributed\" for an arch, got \"sine\" (a sinusoidal "
@@ -978,12 +1069,15 @@ MovingLoads read_moving(const Section& s, const Member& member) {
     if (!item.is_table())
       fail(s.source(), &item.source(), item_path,
            fmt::format("expected a table {{kind, offset, value}}, got {}", describe(item)));
-    const Section one(s.source(), *item.as_table(), item_path);
+    const Section one(s.context(), *item.as_table(), item_path);
     one.check_keys(nested::moving_load());
     Load load;
     load.kind = one.required_choice("kind", {LoadKind::force, LoadKind::moment});
-    load.at = one.required_number("offset", any_number());
-    load.value = one.required_number("value", any_number());
+    Context of_kind = s.context();  // the value's dimension is its kind's
+    of_kind.load_kind = load.kind;
+    const Section kind_known = one.with(of_kind);
+    load.at = kind_known.required_number("offset", any_number());
+    load.value = kind_known.required_number("value", any_number());
     load.case_name = moving.case_name;
     load.load_case = moving.case_name == "dead" ? LoadCase::dead : LoadCase::live;
     moving.group.push_back(load);
@@ -1153,6 +1247,28 @@ TraceSettings read_trace(const Section& s, const Member& member) {
   return trace;
 }
 
+// trace.report_at's dimension: the live loads' where they share one (and, for temperature rises,
+// one alpha: app/trace_load.hpp's physical load), else none (load factors).
+Dimension live_load_dimension(const std::vector<Load>& loads) {
+  // Kinds of one physical quantity: the distributed ones together; a point force and an axial
+  // force are both forces but not one quantity.
+  const auto quantity = [](LoadKind k) {
+    return k == LoadKind::distributed || k == LoadKind::sine ? LoadKind::uniform : k;
+  };
+  std::optional<LoadKind> shared;
+  std::optional<double> alpha;
+  for (const Load& load : loads) {
+    if (load.load_case != LoadCase::live) continue;
+    if (shared && *shared != quantity(load.kind)) return Dimension::none;
+    if (load.kind == LoadKind::temperature) {
+      if (alpha && *alpha != load.alpha) return Dimension::none;
+      alpha = load.alpha;
+    }
+    shared = quantity(load.kind);
+  }
+  return shared ? load_value_dimension(*shared) : Dimension::none;
+}
+
 // [compare]: a published result to set beside the answer; `source` says where it comes from.
 Comparison read_compare(const Section& s, const Structure& structure) {
   Comparison c;
@@ -1208,7 +1324,7 @@ InitialShape read_initial_shape(const Section& s, const Member& member) {
       "{ shape = \"bump\", amplitude = a, at = x0, length = l }";
   if (member.arch) s.fail("initial_shape", "not allowed for an arch (an initial shape is supported on beams only)");
   if (!node->is_table()) s.wrong("initial_shape", expected);
-  const Section table(s.source(), *node->as_table(), s.path("initial_shape"));
+  const Section table(s.context(), *node->as_table(), s.path("initial_shape"));
   if (table.find("shape") == nullptr) {
     table.check_keys(nested::initial_shape_points());
     shape.shape = "table";
@@ -1272,16 +1388,21 @@ Scene parse_scene(std::string_view toml_text, std::string source_name) {
                                  e.source().begin.column, description));
   }
 
-  const Section root(source, document, "");
+  Context context;  // [units] first: every number written with its unit is converted to them
+  context.source = source;
+  context.with_unit = &scene.given_with_unit;
+  const Section root(context, document, "");
   check_schema(root, source);
+  if (root.find("units") != nullptr) context.units = scene.units = read_units(root.section("units"));
   scene.structure = read_structure(root.required_section("structure"));
   const Member member{scene.begin(), scene.end(), scene.structure.kind == StructureKind::arch};
+  context.arch = member.arch;
   scene.supports = read_supports(root.required_section("supports"), member, scene.structure.theory);
   scene.foundation = read_foundation(root.required_section("foundation"), member, scene.warnings);
   if (const toml::node* loads = root.find("loads")) {
     const toml::array& array = *loads->as_array();  // the shape is checked above
     for (std::size_t i = 0; i < array.size(); ++i) {
-      const Section load(source, *array.get(i)->as_table(), fmt::format("loads[{}]", i));
+      const Section load(context, *array.get(i)->as_table(), fmt::format("loads[{}]", i));
       scene.loads.push_back(read_load(load, member));
       const Load& read = scene.loads.back();
       if ((read.kind == LoadKind::axial || read.kind == LoadKind::temperature) &&
@@ -1303,18 +1424,18 @@ Scene parse_scene(std::string_view toml_text, std::string source_name) {
   if (root.find("geometry") != nullptr) scene.initial_shape = read_initial_shape(root.section("geometry"), member);
   scene.solve = read_solve(root.section("solve"));
   scene.ritz = read_ritz(root.section("ritz"), scene.foundation, member);
+  context.live_load = live_load_dimension(scene.loads);
   if (root.find("trace") != nullptr) scene.trace = read_trace(root.section("trace"), member);
   if (root.find("compare") != nullptr) {
     if (!member.arch) root.refuse("compare", "for a beam (arches only: the contact half-angle around the crown)");
     scene.compare = read_compare(root.section("compare"), scene.structure);
   }
-  if (root.find("units") != nullptr) scene.units = read_units(root.section("units"));
   if (root.find("moving") != nullptr) scene.moving = read_moving(root.section("moving"), member);
   if (const toml::node* combinations = root.find("combinations")) {
     const std::vector<std::string> cases = case_names(scene.loads, scene.moving);
     const toml::array& array = *combinations->as_array();  // the shape is checked above
     for (std::size_t i = 0; i < array.size(); ++i) {
-      const Section c(source, *array.get(i)->as_table(), fmt::format("combinations[{}]", i));
+      const Section c(context, *array.get(i)->as_table(), fmt::format("combinations[{}]", i));
       scene.combinations.push_back(read_combination(c, cases));
       for (std::size_t j = 0; j < i; ++j)
         if (scene.combinations[j].name == scene.combinations[i].name)

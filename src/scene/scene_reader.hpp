@@ -6,6 +6,8 @@
 // (LINE where the parser knows it). Unknown keys are errors too, so a typo is never ignored.
 // After a successful read the scene is meaningful: stiffnesses and lengths positive, loads and
 // supports inside the member, exactly one of foundation k and modulus, defaults filled in.
+// Numbers written with their unit ("30 MN/m^2") are converted into the scene's [units] by the
+// dimension schema.hpp gives their key (unit_library.hpp); the numbers of a Scene are plain.
 
 #include <filesystem>
 #include <string>

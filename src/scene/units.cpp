@@ -50,6 +50,18 @@ std::optional<Units> units_of_system(std::string_view system) {
   return Units{std::string(system), std::string(length), std::string(force)};
 }
 
+std::vector<Units> sibling_systems(const Units& units) {
+  const auto us = [](std::string_view unit) { return unit == "lbf" || unit == "kip" || unit == "in" || unit == "ft"; };
+  std::vector<Units> out;
+  if (!units.metres() || !units.newtons()) return out;
+  for (const auto& [force, unused_f] : forces)
+    for (const auto& [length, unused_l] : lengths)
+      if (us(force) == us(units.force) && us(length) == us(units.length) &&
+          (force != units.force || length != units.length))
+        out.push_back({fmt::format("{}-{}", force, length), std::string(length), std::string(force)});
+  return out;
+}
+
 std::string unit_systems() {
   std::string out;
   for (const auto& [force, unused_f] : forces)

@@ -35,6 +35,10 @@ struct Units {
 
 // The units of a system "FORCE-LENGTH"; nullopt if it is not one.
 std::optional<Units> units_of_system(std::string_view system);
+// The other systems of the same family as `units` (SI: N, kN, MN with m, cm, mm; US customary:
+// lbf, kip with in, ft), the units a value might have been written in by mistake; none when the
+// scene's units are not a known system (or labels naming one).
+std::vector<Units> sibling_systems(const Units& units);
 // Every system, quoted and joined ("\"N-m\", \"N-cm\", ..."), for messages.
 std::string unit_systems();
 // Every label by name, in a fixed order: length, force, moment, distributed_force, modulus,

@@ -1127,3 +1127,62 @@ TEST_CASE(
     CHECK_FALSE(fs::exists(output));
   }
 }
+
+namespace {
+
+// The eccentric footing of verification/scenes/engineering/footing_eccentric_column.toml in kN
+// and m, with its EI and modulus as written.
+std::string footing_kn(const std::string& EI, const std::string& modulus = "3.0e4") {
+  return "[structure]\nkind = \"beam\"\nlength = 3.0\nEI = " + EI +
+         "\n[supports]\nleft = \"free\"\nright = \"free\"\n[foundation]\nmodulus = " + modulus +
+         "\n[[loads]]\nkind = \"force\"\nat = 1.8\nvalue = 800.0\n[[loads]]\nkind = \"moment\"\nat = 1.8\n"
+         "value = -400.0\n[solve]\nelements = 100\n[units]\nsystem = \"kN-m\"\n";
+}
+
+}  // namespace
+
+TEST_CASE("cli: the kN-m footing with EI written in N m^2 gives the answer of EI in kN m^2, bit for bit",
+          "[app][units]") {
+  Scratch scratch;
+  const Run plain = run_cli({"solve", scratch.write("plain.toml", footing_kn("5.4e5")).string(), "--json"});
+  const Run newtons =
+      run_cli({"solve", scratch.write("newtons.toml", footing_kn("\"5.4e8 N m^2\"")).string(), "--json"});
+  REQUIRE(plain.status == 0);
+  REQUIRE(newtons.status == 0);
+  nlohmann::json a = one_object(plain), b = one_object(newtons);
+  // Everything but the scene's name and the time taken: the JSON compares its doubles exactly.
+  for (nlohmann::json* j : {&a, &b}) j->erase("scene"), j->erase("time_s");
+  CHECK(a == b);
+  CHECK(a["termination"] == "solved");
+  CHECK(a["warnings"].empty());
+}
+
+TEST_CASE("cli: a value of the wrong dimension is exit 2, one line naming the key", "[app][units][errors]") {
+  Scratch scratch;
+  const Run r = run_cli({"solve", scratch.write("wrong.toml", footing_kn("\"30 MN/m^2\"")).string()});
+  CHECK(r.status == 2);
+  CHECK(r.out.empty());
+  CHECK(r.err == "liftoff: " + (scratch.dir / "wrong.toml").string() +
+                     ":4: key 'structure.EI': expected a force*length^2 (a number > 0) in kN m^2 or a unit convertible "
+                     "to it, got \"30 MN/m^2\" (\"MN/m^2\" is a force/length^2)\n");
+}
+
+TEST_CASE("cli: a modulus in MN/m^2 in a kN-m scene is named by the deflection it makes", "[app][units][warnings]") {
+  // modulus = 30 meant as 30 MN/m^2: the rigid footing sinks about 800 / (30 x 3) = 8.9 m on its
+  // 3 m; as 3e4 kN/m^2, about 9 mm.
+  Scratch scratch;
+  const Run r = run_cli({"solve", scratch.write("soft.toml", footing_kn("5.4e5", "30.0")).string(), "--json"});
+  REQUIRE(r.status == 0);
+  const nlohmann::json j = one_object(r);
+  std::string deflection;
+  for (const auto& w : j["warnings"])
+    if (w.get<std::string>().rfind("deflection:", 0) == 0) deflection = w.get<std::string>();
+  INFO(j["warnings"].dump());
+  CHECK_THAT(deflection, Catch::Matchers::Contains("of the member's length L = 3 m") &&
+                             Catch::Matchers::Contains("key 'foundation.modulus': modulus = 30 looks like MN/m^2 in a "
+                                                       "kN-m scene: 1000x (as 3e+04 kN/m^2 w is about"));
+  // The same modulus written with its unit solves the footing with no warning.
+  const Run stated =
+      run_cli({"solve", scratch.write("stated.toml", footing_kn("5.4e5", "\"30 MN/m^2\"")).string(), "--json"});
+  CHECK(one_object(stated)["warnings"].empty());
+}

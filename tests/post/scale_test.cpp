@@ -3,6 +3,7 @@
 
 #include "post/scale.hpp"
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
@@ -127,9 +128,9 @@ TEST_CASE("scale: a mesh that does not resolve 1/beta is named, with the element
 TEST_CASE("scale: the shipped scenes warn of nothing", "[post][scale][warnings]") {
   // Every scene shipped in verification/scenes (the seed's and the engineering corpus): the new
   // key names (no reader warning) and sensible scales, on the scene's own element count.
-  const std::filesystem::path root = std::string(LIFTOFF_SOURCE_DIR) + "/verification/scenes";
   int scenes = 0;
-  for (const auto& entry : std::filesystem::recursive_directory_iterator(root)) {
+  for (const auto& entry :
+       std::filesystem::recursive_directory_iterator(std::string(LIFTOFF_SOURCE_DIR) + "/verification/scenes")) {
     if (entry.path().extension() != ".toml") continue;
     const scene::Scene s = scene::read_scene_file(entry.path());
     INFO(entry.path());
@@ -138,4 +139,76 @@ TEST_CASE("scale: the shipped scenes warn of nothing", "[post][scale][warnings]"
     ++scenes;
   }
   CHECK(scenes >= 20);
+  // The load paths' scenes too (continuation/scenes).
+  for (const auto& entry :
+       std::filesystem::recursive_directory_iterator(std::string(LIFTOFF_SOURCE_DIR) + "/continuation/scenes")) {
+    if (entry.path().extension() != ".toml") continue;
+    const scene::Scene s = scene::read_scene_file(entry.path());
+    INFO(entry.path());
+    CHECK(warnings_of(s, s.solve.elements).empty());
+  }
+}
+
+namespace {
+
+// A strip footing in kN and m (verification/scenes/engineering/footing_eccentric_column.toml's
+// section, 0.6 m thick, K = 3e4 kN/m^2) of length L, with `structure` lines after its EI line.
+scene::Scene footing_kn(double length, const std::string& EI, const std::string& modulus,
+                        const std::string& structure = "") {
+  return scene::parse_scene("[structure]\nkind = \"beam\"\nlength = " + std::to_string(length) + "\nEI = " + EI + "\n" +
+                                structure +
+                                "[supports]\nleft = \"free\"\nright = \"free\"\n[foundation]\nmodulus = " + modulus +
+                                "\n[[loads]]\nkind = \"force\"\nat = 0.5\nvalue = 800.0\n[units]\nsystem = \"kN-m\"\n",
+                            "footing.toml");
+}
+
+}  // namespace
+
+// How many of the warnings contain `text`.
+long warned(const std::vector<std::string>& warnings, const std::string& text) {
+  return std::count_if(warnings.begin(), warnings.end(),
+                       [&](const std::string& w) { return w.find(text) != std::string::npos; });
+}
+
+TEST_CASE("scale: EI in N m^2 in a kN-m scene is named where it makes the member rigid", "[post][scale][warnings]") {
+  // L = 1.5 m: beta L = (3e4 / (4 x 5.4e5))^(1/4) x 1.5 = 0.515 with EI in kN m^2; the same
+  // number in N m^2 (5.4e8 read as kN m^2) is 1000x stiffer, beta L = 0.515 / 1000^(1/4) = 0.0916.
+  const auto slip = warnings_of(footing_kn(1.5, "5.4e8", "3.0e4"));
+  INFO(slip.size());
+  CHECK(warned(slip,
+               "footing.toml: key 'structure.EI': EI = 5.4e+08 looks like N m^2 in a kN-m scene: 1000x (as "
+               "5.4e+05 kN m^2 it gives beta L = 0.515)") == 1);
+  CHECK(warned(slip, "beta L = 0.0916 < 0.1: the member is practically rigid") == 1);
+  CHECK(warnings_of(footing_kn(1.5, "5.4e5", "3.0e4")).empty());  // the control
+  // Written with its unit, EI is what the user said: rigid, but no slip of EI suspected.
+  const auto stated = warnings_of(footing_kn(1.5, "\"5.4e11 N m^2\"", "3.0e4"));
+  CHECK(warned(stated, "practically rigid") == 1);
+  CHECK(warned(stated, "key 'structure.EI'") == 0);
+}
+
+TEST_CASE("scale: a modulus in MN/m^2 in a kN-m scene is named where it makes the member rigid",
+          "[post][scale][warnings]") {
+  // modulus = 30 meant as MN/m^2: K 1000x too soft, beta L = 0.515 / 1000^(1/4) = 0.0916.
+  const auto slip = warnings_of(footing_kn(1.5, "5.4e5", "30.0"));
+  CHECK(warned(slip,
+               "footing.toml: key 'foundation.modulus': modulus = 30 looks like MN/m^2 in a kN-m scene: "
+               "1000x (as 3e+04 kN/m^2 it gives beta L = 0.515)") == 1);
+  // With both written with their units, neither is suspected.
+  CHECK(warned(warnings_of(footing_kn(1.5, "\"5.4e5 kN m^2\"", "\"30 MN/m^2\"")), "looks like") == 0);
+}
+
+TEST_CASE("scale: EI or EA a factor 1000 off makes a radius of gyration no section has", "[post][scale][warnings]") {
+  // EA = 30e9 x 0.6 = 1.8e7 kN: r = sqrt(EI/EA) = 0.173 m (0.6 / sqrt(12)) with EI in kN m^2;
+  // EI in N m^2 gives 5.48 m on a 3 m footing, and so would EA in MN: each plain key is named.
+  CHECK(warnings_of(footing_kn(3.0, "5.4e5", "3.0e4", "EA = 1.8e7\n")).empty());
+  const auto ei = warnings_of(footing_kn(3.0, "5.4e8", "3.0e4", "EA = 1.8e7\n"));
+  CHECK(warned(ei,
+               "footing.toml: key 'structure.EI': the radius of gyration sqrt(EI/EA) = 5.48 m is more than "
+               "L/4 = 0.75 m: no section is that deep; EI = 5.4e+08 looks like N m^2 in a kN-m scene: 1000x (as "
+               "5.4e+05 kN m^2 it gives 0.173 m)") == 1);
+  // EI stated with its unit: only EA can hold the slip.
+  const auto ea = warnings_of(footing_kn(3.0, "\"5.4e5 kN m^2\"", "3.0e4", "EA = 1.8e4\n"));
+  REQUIRE(ea.size() == 1);
+  CHECK_THAT(ea[0], Contains("footing.toml: key 'structure.EA': the radius of gyration sqrt(EI/EA) = 5.48 m") &&
+                        Contains("EA = 1.8e+04 looks like MN in a kN-m scene: 1000x (as 1.8e+07 kN it gives 0.173 m)"));
 }

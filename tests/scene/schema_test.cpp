@@ -97,7 +97,7 @@ std::vector<std::string> undocumented_keys(const std::string& reference) {
     }
     const bool nested = top != name;
     const std::vector<std::string> rows = first_column_keys(section);
-    for (std::string_view key_view : spec->keys) {
+    for (std::string_view key_view : spec->key_names()) {
       const std::string key(key_view);
       const bool documented = nested ? mentioned(section, key) : std::find(rows.begin(), rows.end(), key) != rows.end();
       if (!documented) missing.push_back("[" + name + "] " + key);
@@ -142,7 +142,7 @@ TEST_CASE("scene schema: every table has keys, and no key is listed twice", "[sc
   for (const scene::TableSpec* spec : scene::every_table()) {
     CAPTURE(spec->name);
     CHECK_FALSE(spec->keys.empty());
-    std::vector<std::string_view> keys = spec->keys;
+    std::vector<std::string_view> keys = spec->key_names();
     std::sort(keys.begin(), keys.end());
     CHECK(std::adjacent_find(keys.begin(), keys.end()) == keys.end());
   }
