@@ -70,7 +70,9 @@ std::optional<Quantity> split(std::string_view text) {
 }
 
 bool known(std::string_view unit) {
-  const std::lock_guard<std::mutex> lock(library); return parse(unit) != nullptr; }
+  const std::lock_guard<std::mutex> lock(library);
+  return parse(unit) != nullptr;
+}
 
 // Of one dimension: UDUNITS also calls a unit and its reciprocal convertible (m and 1/m, by
 // x -> 1/x); their quotient is a pure number only when they share a dimension.

@@ -44,8 +44,7 @@ std::string with_load(const std::string& lines, const std::string& units = "syst
 
 }  // namespace
 
-TEST_CASE("units: a value with its unit reads as the same value in the scene's units, bit for bit",
-          "[scene][units]") {
+TEST_CASE("units: a value with its unit reads as the same value in the scene's units, bit for bit", "[scene][units]") {
   // The issue's check: the kN-m footing with EI in N m^2 is the same scene as with kN m^2.
   const Scene plain = read(footing());
   const Scene in_newtons = read(footing("\"5.4e8 N m^2\""));
@@ -71,10 +70,11 @@ TEST_CASE("units: kip-ft scenes, springs, settlements, gaps and arrays convert",
   const Scene us = read(footing("\"1.0e6 kip in^2\"", "\"1 kN/m^2\"", "system = \"kip-ft\""));
   CHECK(us.structure.bending_stiffness == Approx(1.0e6 / 144).epsilon(round_off));
   CHECK(*us.foundation.modulus == Approx(ft * ft / lbf).epsilon(4 * round_off));  // 1 kN = 1/lbf kip
-  const Scene spring = read(footing("5.4e5", "3.0e4", "system = \"kN-m\"").replace(
-      footing().find("left = \"free\""), 13,
-      "left = { kind = \"spring\", stiffness = \"2 MN/m\", rotational_stiffness = \"3e6 N m\", settlement = \"5 mm\" "
-      "}"));
+  const Scene spring = read(footing("5.4e5", "3.0e4", "system = \"kN-m\"")
+                                .replace(footing().find("left = \"free\""), 13,
+                                         "left = { kind = \"spring\", stiffness = \"2 MN/m\", rotational_stiffness = "
+                                         "\"3e6 N m\", settlement = \"5 mm\" "
+                                         "}"));
   CHECK(spring.supports.left_detail.stiffness == 2000.0);
   CHECK(spring.supports.left_detail.rotational_stiffness == 3000.0);
   CHECK(spring.supports.left_detail.settlement == 0.005);
@@ -85,9 +85,10 @@ TEST_CASE("units: kip-ft scenes, springs, settlements, gaps and arrays convert",
 
 TEST_CASE("units: temperatures in kelvin, angles in degrees, and trace.report_at in the live load's unit",
           "[scene][units]") {
-  const Scene thermal = read(footing("5.4e5\nEA = 1.8e7", "3.0e4", "system = \"kN-m\"",
-                                     "[[loads]]\nkind = \"temperature\"\nvalue = \"36 degF\"\nalpha = \"1e-5 1/degF\"\n"));
-  CHECK(thermal.loads.back().value == Approx(20.0).epsilon(1e-14));     // a rise: the slope, no offset
+  const Scene thermal =
+      read(footing("5.4e5\nEA = 1.8e7", "3.0e4", "system = \"kN-m\"",
+                   "[[loads]]\nkind = \"temperature\"\nvalue = \"36 degF\"\nalpha = \"1e-5 1/degF\"\n"));
+  CHECK(thermal.loads.back().value == Approx(20.0).epsilon(1e-14));    // a rise: the slope, no offset
   CHECK(thermal.loads.back().alpha == Approx(1.8e-5).epsilon(1e-14));  // per kelvin
   const std::string arch =
       "[structure]\nkind = \"arch\"\nradius = 10.0\nhalf_angle_deg = \"0.5 rad\"\nEI = 1.0e4\nEA = 1.0e6\n"
@@ -107,8 +108,8 @@ TEST_CASE("units: temperatures in kelvin, angles in degrees, and trace.report_at
   forces.replace(forces.find("value = -400.0\n"), 15, "value = -400.0\ncase = \"dead\"\n");
   CHECK(read(forces).trace->report_at == std::vector<double>{900.0, 1200.0});
   // Both live: no single physical load, report_at is load factors and takes no unit.
-  const std::string mixed = footing("5.4e5", "3.0e4", "system = \"kN-m\"",
-                                    "[trace]\nlambda_max = 2.0\nreport_at = [\"900 kN\"]\n");
+  const std::string mixed =
+      footing("5.4e5", "3.0e4", "system = \"kN-m\"", "[trace]\nlambda_max = 2.0\nreport_at = [\"900 kN\"]\n");
   CHECK_THAT(error_of(mixed), Contains("key 'trace.report_at[0]': expected a finite number, a plain number, got "
                                        "\"900 kN\" (this key is nondimensional: it takes no unit)"));
 }
