@@ -460,7 +460,7 @@ TEST_CASE("cli: arch support reactions as H and V balance the loads; a symmetric
   // The pinned seed arch (foundation inside, a crown load) and the buried culvert (side = "outside",
   // gravity and cover; its hand calculation: the footings carry 246.9 kN/m, 5.2 kN/m more than the
   // loads, and the thrust is below the 47.6 kN of the arch without fill).
-  for (const std::string scene :
+  for (const std::string& scene :
        {scene_path("seed_arch_pinned"),
         std::string(LIFTOFF_SOURCE_DIR) + "/verification/scenes/engineering/buried_arch_gravity.toml"}) {
     CAPTURE(scene);
