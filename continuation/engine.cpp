@@ -283,12 +283,14 @@ std::optional<std::string> Engine::detect(const PathFollower& follower, const Pa
     // this step; a located one bounds the search for a fold or a change of stability (near the
     // shallow arch's limit point a lift-off limit moves on by a node at every step, and the fold
     // beyond each switch was located on each of those steps in vain). Where the configuration's
-    // stability changes between the step's ends, its switches are located, none taken at once:
-    // the change is then looked for on the part of the step where the configuration holds.
+    // stability changes between the step's ends away from a fold (where the change is the fold's),
+    // its switches are located, none taken at once: the change is then looked for on the part of
+    // the step where the configuration holds.
     const bool changes = stability_.negative_eigenvalues != candidate_.negative_eigenvalues ||
                          (std::isfinite(stability_.margin) && std::isfinite(candidate_.margin) &&
                           (stability_.margin > 0.0) != (candidate_.margin > 0.0));
-    searched = model_.crossing(from, to, follower, !changes);
+    const bool turns = from.tangent_lambda != 0.0 && (from.tangent_lambda > 0) != (to.tangent_lambda > 0);
+    searched = model_.crossing(from, to, follower, !changes || turns);
     bool nothing_before = false;  // the step switches at its start, or at once across (point_after)
     std::optional<PathPoint> until;
     for (const Crossing& c : searched->crossings) {

@@ -167,7 +167,8 @@ class PathModel {
 
   // The constraint crossings of the current configuration inside the step, located: every event
   // along it up to the first change of configuration. `may_take` (false on a step where a
-  // switched branch's return was found, or whose ends differ in stability on the configuration): a
+  // switched branch's return was found, or whose ends differ in stability on the configuration
+  // away from a fold): a
   // change of configuration that changes no event (a
   // contact limit moving on by a node) may be taken without being located, at the step's end or
   // at the furthest point of the step where the state across it holds (Crossing::point_after),
